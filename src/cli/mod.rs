@@ -1,0 +1,125 @@
+//! Command-line layer: argument parsing (clap), reading inputs, writing
+//! outputs, exit codes. Every computation is the library's.
+//!
+//! Exit codes: 0 success; 1 when `--check`/`--diff` finds changes or a gate
+//! (`--fail-above`) fails; 2 for usage and input errors.
+
+mod correct;
+mod diagnose;
+mod heating;
+mod kinematics;
+mod targets;
+
+use clap::{Parser, Subcommand};
+use rapidtherm::error::{Error, Result};
+use std::io::{Read, Write};
+use std::path::Path;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "rapidtherm",
+    version,
+    about = "Thermal drift correction for ABB RAPID programs, and sim-to-real diagnosis",
+    propagate_version = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List every target of RAPID programs (declared, array elements, record fields, inline).
+    Targets(targets::TargetsArgs),
+    /// Forward kinematics: flange pose for joint angles (degrees), optionally warm.
+    Fk(kinematics::FkArgs),
+    /// Inverse kinematics: joint solutions for a flange pose.
+    Ik(kinematics::IkArgs),
+    /// Heating curves: fit recordings, evaluate profiles.
+    #[command(subcommand)]
+    Heating(heating::HeatingCommand),
+    /// Estimate when each target of a program is reached (CSV schedule).
+    Schedule(correct::ScheduleArgs),
+    /// Rewrite a program's targets so that the warm robot reaches what the cold program meant.
+    Correct(correct::CorrectArgs),
+    /// Compare the targets of two programs.
+    Diff(correct::DiffArgs),
+    /// Show the model the simulation uses.
+    #[command(subcommand)]
+    Model(correct::ModelCommand),
+    /// Make simulated measurements ("real" data) with chosen effects and noise.
+    Simulate(diagnose::SimulateArgs),
+    /// Diagnose the sim-to-real gap of measured positions.
+    Diagnose(diagnose::DiagnoseArgs),
+    /// RMS and max gap of a model on measured data.
+    Gap(diagnose::GapArgs),
+}
+
+/// How a command that ran without error ended.
+pub enum Status {
+    /// Exit 0.
+    Success,
+    /// Exit 1: `--check`/`--diff` found changes, or a gate failed.
+    Changes,
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Targets(a) => targets::run(a),
+        Command::Fk(a) => kinematics::run_fk(a),
+        Command::Ik(a) => kinematics::run_ik(a),
+        Command::Heating(c) => heating::run(c),
+        Command::Schedule(a) => correct::run_schedule(a),
+        Command::Correct(a) => correct::run_correct(a),
+        Command::Diff(a) => correct::run_diff(a),
+        Command::Model(c) => correct::run_model(c),
+        Command::Simulate(a) => diagnose::run_simulate(a),
+        Command::Diagnose(a) => diagnose::run_diagnose(a),
+        Command::Gap(a) => diagnose::run_gap(a),
+    };
+    match result {
+        Ok(Status::Success) => ExitCode::SUCCESS,
+        Ok(Status::Changes) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Read a whole input file, or standard input for `-`. Returns the name to
+/// use in messages and the bytes.
+pub fn read_input(path: &Path) -> Result<(String, Vec<u8>)> {
+    if path == Path::new("-") {
+        let mut buf = Vec::new();
+        std::io::stdin()
+            .read_to_end(&mut buf)
+            .map_err(|e| Error::io(Path::new("<stdin>"), &e))?;
+        Ok(("<stdin>".to_string(), buf))
+    } else {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+        Ok((path.display().to_string(), bytes))
+    }
+}
+
+/// Write data to standard output (a closed pipe is not an error worth a
+/// panic: the reader has what it wanted).
+pub fn write_stdout(bytes: &[u8]) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(bytes).and_then(|_| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(Error::io(Path::new("<stdout>"), &e)),
+    }
+}
+
+/// Write to a file atomically, or to standard output for `-`.
+pub fn write_output(path: &Path, bytes: &[u8]) -> Result<()> {
+    if path == Path::new("-") {
+        write_stdout(bytes)
+    } else {
+        rapidtherm::output::write_atomic(path, bytes, None)
+    }
+}

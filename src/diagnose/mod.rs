@@ -1,0 +1,1 @@
+//! Diagnosis of the sim-to-real gap.

@@ -1,0 +1,1 @@
+//! Reading RAPID programs losslessly and rewriting their targets in place.

@@ -1,0 +1,214 @@
+//! The robot model: nominal geometry of a six-axis arm with an offset
+//! shoulder and a spherical wrist (OPW parameters), forward kinematics with
+//! typed frames, and the base thermal-expansion model of
+//! `shared/spec/irb140.md` (link lengths scaled by link temperature).
+//!
+//! Joint angles are radians inside the library, degrees in files and on the
+//! command line; lengths are millimetres.
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Joint angles of axes 1..6 in radians, ABB sign convention.
+pub type Joints = [f64; 6];
+
+/// Motor temperatures of axes 1..6 in °C.
+pub type MotorTemps = [f64; 6];
+
+/// The five lengths that expand (and the two offsets that the IRB 140 has
+/// at zero) in the OPW parameterisation, in mm.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Opw {
+    pub c1: f64,
+    pub a1: f64,
+    pub c2: f64,
+    pub c3: f64,
+    pub c4: f64,
+    pub a2: f64,
+    pub b: f64,
+}
+
+/// Nominal ABB IRB 140 (`shared/spec/irb140.md`).
+pub const IRB140: Opw = Opw {
+    c1: 352.0,
+    a1: 70.0,
+    c2: 360.0,
+    c3: 380.0,
+    c4: 65.0,
+    a2: 0.0,
+    b: 0.0,
+};
+
+/// ABB's axis 3 is zero with the upper arm horizontal; OPW's with it in line
+/// with the lower arm: θ3 = q3 + 90°.
+pub const OPW_OFFSET_Q3: f64 = std::f64::consts::FRAC_PI_2;
+
+impl Opw {
+    /// Flange (tool0) pose in the base frame for joint angles `q`.
+    pub fn fk(&self, q: &Joints) -> Isometry3<f64> {
+        let (t1, t2, t3) = (q[0], q[1], q[2] + OPW_OFFSET_Q3);
+        let psi3 = self.a2.atan2(self.c3);
+        let k = (self.a2 * self.a2 + self.c3 * self.c3).sqrt();
+        let cx1 = self.c2 * t2.sin() + k * (t2 + t3 + psi3).sin() + self.a1;
+        let cy1 = self.b;
+        let cz1 = self.c2 * t2.cos() + k * (t2 + t3 + psi3).cos();
+        let (s1, c1) = t1.sin_cos();
+        let wrist = Vector3::new(cx1 * c1 - cy1 * s1, cx1 * s1 + cy1 * c1, cz1 + self.c1);
+        let rot = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), t1)
+            * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), t2 + t3)
+            * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), q[3])
+            * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), q[4])
+            * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), q[5]);
+        let flange = wrist + rot * Vector3::new(0.0, 0.0, self.c4);
+        Isometry3::from_parts(Translation3::from(flange), rot)
+    }
+}
+
+/// Which motors set the temperature of a link: the link temperature is the
+/// mean of the listed motors' temperatures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LinkThermal {
+    /// Linear expansion coefficient, 1/K.
+    pub alpha: f64,
+    /// Motor axes (1-based) whose mean temperature is the link's.
+    pub motors: Vec<usize>,
+}
+
+/// The base thermal-expansion model: each link's lengths grow with
+/// α·(T_link − T_ref).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ThermalExpansion {
+    /// Temperature at which the program's targets were taught, °C.
+    pub t_ref: f64,
+    /// Base link: c1 and a1.
+    pub base: LinkThermal,
+    /// Lower arm: c2.
+    pub lower_arm: LinkThermal,
+    /// Upper arm: c3 (and a2).
+    pub upper_arm: LinkThermal,
+    /// Wrist: c4.
+    pub wrist: LinkThermal,
+}
+
+/// Aluminium alloy A380 (NADCA typical value), 1/K.
+pub const ALPHA_A380: f64 = 21.8e-6;
+
+impl Default for ThermalExpansion {
+    /// The table of `irb140.md`: T_ref 7 °C, A380 everywhere.
+    fn default() -> Self {
+        let link = |motors: &[usize]| LinkThermal {
+            alpha: ALPHA_A380,
+            motors: motors.to_vec(),
+        };
+        ThermalExpansion {
+            t_ref: 7.0,
+            base: link(&[1]),
+            lower_arm: link(&[2, 3]),
+            upper_arm: link(&[4, 5, 6]),
+            wrist: link(&[5, 6]),
+        }
+    }
+}
+
+impl LinkThermal {
+    /// Mean temperature of this link's motors.
+    pub fn temperature(&self, motors: &MotorTemps) -> f64 {
+        if self.motors.is_empty() {
+            return f64::NAN;
+        }
+        self.motors.iter().map(|&m| motors[m - 1]).sum::<f64>() / self.motors.len() as f64
+    }
+
+    /// Length scale factor 1 + α·(T_link − T_ref).
+    pub fn scale(&self, motors: &MotorTemps, t_ref: f64) -> f64 {
+        1.0 + self.alpha * (self.temperature(motors) - t_ref)
+    }
+}
+
+impl ThermalExpansion {
+    /// Link temperatures (base, lower arm, upper arm, wrist) in °C.
+    pub fn link_temps(&self, motors: &MotorTemps) -> [f64; 4] {
+        [
+            self.base.temperature(motors),
+            self.lower_arm.temperature(motors),
+            self.upper_arm.temperature(motors),
+            self.wrist.temperature(motors),
+        ]
+    }
+
+    /// The geometry of the warm arm.
+    pub fn expand(&self, nominal: &Opw, motors: &MotorTemps) -> Opw {
+        let sb = self.base.scale(motors, self.t_ref);
+        let sl = self.lower_arm.scale(motors, self.t_ref);
+        let su = self.upper_arm.scale(motors, self.t_ref);
+        let sw = self.wrist.scale(motors, self.t_ref);
+        Opw {
+            c1: nominal.c1 * sb,
+            a1: nominal.a1 * sb,
+            c2: nominal.c2 * sl,
+            c3: nominal.c3 * su,
+            c4: nominal.c4 * sw,
+            a2: nominal.a2 * su,
+            b: nominal.b * sb,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn deg(q: [f64; 6]) -> Joints {
+        q.map(f64::to_radians)
+    }
+
+    /// The check poses of `shared/spec/irb140.md`.
+    #[test]
+    fn check_poses() {
+        let cases = [
+            (
+                [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                [515.0, 0.0, 712.0],
+                [0.70711, 0.0, 0.70711, 0.0],
+            ),
+            (
+                [0.0, 0.0, 0.0, 0.0, 90.0, 0.0],
+                [450.0, 0.0, 647.0],
+                [0.0, 0.0, 1.0, 0.0],
+            ),
+            (
+                [90.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                [0.0, 515.0, 712.0],
+                [0.5, -0.5, 0.5, 0.5],
+            ),
+            (
+                [30.0, 20.0, -40.0, 50.0, 60.0, 70.0],
+                [492.1012, 333.9077, 797.3712],
+                [0.07631, -0.31555, -0.75926, -0.56403],
+            ),
+        ];
+        for (q, p, quat) in cases {
+            let pose = IRB140.fk(&deg(q));
+            let t = pose.translation.vector;
+            assert_relative_eq!(t.x, p[0], epsilon = 1e-4);
+            assert_relative_eq!(t.y, p[1], epsilon = 1e-4);
+            assert_relative_eq!(t.z, p[2], epsilon = 1e-4);
+            let r = pose.rotation.quaternion();
+            // q and -q are one rotation; the spec prints w >= 0.
+            let sign = if r.w < -1e-12 { -1.0 } else { 1.0 };
+            assert_relative_eq!(sign * r.w, quat[0], epsilon = 1e-5);
+            assert_relative_eq!(sign * r.i, quat[1], epsilon = 1e-5);
+            assert_relative_eq!(sign * r.j, quat[2], epsilon = 1e-5);
+            assert_relative_eq!(sign * r.k, quat[3], epsilon = 1e-5);
+        }
+    }
+
+    #[test]
+    fn expansion_at_reference_temperature_is_nominal() {
+        let th = ThermalExpansion::default();
+        assert_eq!(th.expand(&IRB140, &[7.0; 6]), IRB140);
+        let warm = th.expand(&IRB140, &[17.0; 6]);
+        assert_relative_eq!(warm.c2, 360.0 * (1.0 + 21.8e-6 * 10.0), epsilon = 1e-12);
+    }
+}

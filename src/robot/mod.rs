@@ -163,7 +163,8 @@ mod tests {
         q.map(f64::to_radians)
     }
 
-    /// The check poses of `shared/spec/irb140.md`.
+    /// The check poses of `shared/spec/irb140.md`, as printed there.
+    #[allow(clippy::approx_constant)]
     #[test]
     fn check_poses() {
         let cases = [

@@ -1,0 +1,1 @@
+//! SVG plot of measured and fitted heating curves.

@@ -48,7 +48,8 @@ impl SatCurve {
 }
 
 /// Fit `n_terms` exponential terms (1 or 2) to the points. With `pin_t0`,
-/// T(0) is fixed to that value instead of fitted.
+/// T(0) is fixed to that value instead of fitted. Time constants are kept
+/// between [`TAU_MIN`] and [`TAU_MAX_SPANS`] times the recorded span.
 pub fn fit_saturating(
     t: &[f64],
     y: &[f64],
@@ -68,78 +69,83 @@ pub fn fit_saturating(
             "time does not advance past 0 min: no time constant can be fitted",
         ));
     }
-    let problem = Problem {
+    let mut problem = Problem {
         t: t[..n].to_vec(),
         y: y[..n].to_vec(),
         pin_t0,
-        n_terms,
-        p: DVector::zeros(params),
+        ln_tau_lo: TAU_MIN.ln(),
+        ln_tau_hi: (TAU_MAX_SPANS * span).ln(),
+        u: DVector::zeros(n_terms),
     };
     let start = grid_start(&problem, span)?;
-    let mut problem = problem;
     problem.set_params(&start);
     let (problem, report) = LevenbergMarquardt::new()
         .with_patience(200)
         .minimize(problem);
     let curve = problem.curve();
-    let finite = curve.t0.is_finite()
-        && curve
-            .terms
-            .iter()
-            .all(|k| k.delta.is_finite() && k.tau.is_finite() && k.tau > 0.0);
-    if !report.termination.was_successful() || !finite {
-        return Err(Error::new(
+    let finite = curve.as_ref().is_some_and(|c| {
+        c.t0.is_finite()
+            && c.terms
+                .iter()
+                .all(|k| k.delta.is_finite() && k.tau.is_finite() && k.tau > 0.0)
+    });
+    match curve {
+        Some(c) if report.termination.was_successful() && finite => Ok(c),
+        _ => Err(Error::new(
             ErrorKind::NoConvergence,
             format!(
                 "the {n_terms}-time-constant fit did not converge ({:?})",
                 report.termination
             ),
-        ));
+        )),
     }
-    Ok(curve)
 }
 
+/// Shortest time constant a fit may take, minutes (well below a 5-s sample
+/// step: a jump).
+pub const TAU_MIN: f64 = 0.01;
+/// Longest time constant, in recorded spans (beyond it the term is a
+/// straight line over the record and its ΔT is not identifiable).
+pub const TAU_MAX_SPANS: f64 = 100.0;
+
+/// Variable projection: for fixed time constants the model is linear in T0
+/// and the ΔT, which are solved exactly; Levenberg–Marquardt searches only
+/// the time constants. This stays well posed when two time constants merge
+/// or one runs to its bound, where a search over all parameters drifts off
+/// to ΔT1 = −ΔT2 → ∞.
 #[derive(Debug, Clone)]
 struct Problem {
     t: Vec<f64>,
     y: Vec<f64>,
     pin_t0: Option<f64>,
-    n_terms: usize,
-    /// [T0 (unless pinned), ΔT1, ln τ1, ΔT2, ln τ2 ...]
-    p: DVector<f64>,
+    ln_tau_lo: f64,
+    ln_tau_hi: f64,
+    /// Unbounded parameters, one per term: ln τ = lo + (hi − lo)·σ(u).
+    u: DVector<f64>,
 }
 
 impl Problem {
-    fn offset(&self) -> usize {
-        usize::from(self.pin_t0.is_none())
+    fn tau(&self, u: f64) -> f64 {
+        let sig = 1.0 / (1.0 + (-u).exp());
+        (self.ln_tau_lo + (self.ln_tau_hi - self.ln_tau_lo) * sig).exp()
     }
 
-    fn curve_from(&self, p: &DVector<f64>) -> SatCurve {
-        let o = self.offset();
-        let mut terms: Vec<SatTerm> = (0..self.n_terms)
-            .map(|j| SatTerm {
-                delta: p[o + 2 * j],
-                tau: p[o + 2 * j + 1].exp(),
-            })
-            .collect();
-        terms.sort_by(|a, b| a.tau.total_cmp(&b.tau));
-        SatCurve {
-            t0: self.pin_t0.unwrap_or_else(|| p[0]),
-            terms,
-        }
+    fn u_of(&self, tau: f64) -> f64 {
+        let f = ((tau.ln() - self.ln_tau_lo) / (self.ln_tau_hi - self.ln_tau_lo))
+            .clamp(1e-9, 1.0 - 1e-9);
+        (f / (1.0 - f)).ln()
     }
 
-    fn curve(&self) -> SatCurve {
-        self.curve_from(&self.p)
+    fn taus(&self, u: &DVector<f64>) -> Vec<f64> {
+        u.iter().map(|&v| self.tau(v)).collect()
     }
 
-    /// Best linear fit of T0 and the ΔT for fixed time constants: returns
-    /// the parameter vector and its sum of squared residuals.
-    fn linear_for(&self, taus: &[f64]) -> Option<(DVector<f64>, f64)> {
-        let o = self.offset();
-        let cols = o + taus.len();
+    /// Best T0 (unless pinned) and ΔT for fixed time constants, and the
+    /// residuals (model − data).
+    fn linear_for(&self, taus: &[f64]) -> Option<(DVector<f64>, DVector<f64>)> {
+        let o = usize::from(self.pin_t0.is_none());
         let base = self.pin_t0.unwrap_or(0.0);
-        let a = DMatrix::from_fn(self.t.len(), cols, |i, c| {
+        let a = DMatrix::from_fn(self.t.len(), o + taus.len(), |i, c| {
             if c < o {
                 1.0
             } else {
@@ -147,17 +153,31 @@ impl Problem {
             }
         });
         let b = DVector::from_iterator(self.y.len(), self.y.iter().map(|v| v - base));
-        let x = a.clone().svd(true, true).solve(&b, 1e-12).ok()?;
-        let sse = (a * &x - b).norm_squared();
-        let mut p = DVector::zeros(o + 2 * taus.len());
-        if o == 1 {
-            p[0] = x[0];
-        }
-        for (j, tau) in taus.iter().enumerate() {
-            p[o + 2 * j] = x[o + j];
-            p[o + 2 * j + 1] = tau.ln();
-        }
-        sse.is_finite().then_some((p, sse))
+        let svd = a.clone().svd(true, true);
+        // Relative cut-off: merged time constants make the columns equal.
+        let eps = svd.singular_values.max() * 1e-10;
+        let x = svd.solve(&b, eps).ok()?;
+        let r = a * &x - b;
+        (x.iter().all(|v| v.is_finite()) && r.iter().all(|v| v.is_finite())).then_some((x, r))
+    }
+
+    fn curve(&self) -> Option<SatCurve> {
+        let taus = self.taus(&self.u);
+        let (x, _) = self.linear_for(&taus)?;
+        let o = usize::from(self.pin_t0.is_none());
+        let mut terms: Vec<SatTerm> = taus
+            .iter()
+            .enumerate()
+            .map(|(j, &tau)| SatTerm {
+                delta: x[o + j],
+                tau,
+            })
+            .collect();
+        terms.sort_by(|a, b| a.tau.total_cmp(&b.tau));
+        Some(SatCurve {
+            t0: self.pin_t0.unwrap_or_else(|| x[0]),
+            terms,
+        })
     }
 }
 
@@ -169,15 +189,16 @@ fn grid_start(problem: &Problem, span: f64) -> Result<DVector<f64>> {
     let grid: Vec<f64> = (0..steps)
         .map(|i| (lo + (hi - lo) * i as f64 / (steps - 1) as f64).exp())
         .collect();
-    let mut best: Option<(DVector<f64>, f64)> = None;
+    let mut best: Option<(Vec<f64>, f64)> = None;
     let mut consider = |taus: &[f64]| {
-        if let Some((p, sse)) = problem.linear_for(taus) {
+        if let Some((_, r)) = problem.linear_for(taus) {
+            let sse = r.norm_squared();
             if best.as_ref().is_none_or(|(_, b)| sse < *b) {
-                best = Some((p, sse));
+                best = Some((taus.to_vec(), sse));
             }
         }
     };
-    match problem.n_terms {
+    match problem.u.len() {
         1 => grid.iter().for_each(|&tau| consider(&[tau])),
         _ => {
             for (i, &t1) in grid.iter().enumerate() {
@@ -187,12 +208,16 @@ fn grid_start(problem: &Problem, span: f64) -> Result<DVector<f64>> {
             }
         }
     }
-    best.map(|(p, _)| p).ok_or_else(|| {
+    let (taus, _) = best.ok_or_else(|| {
         Error::new(
             ErrorKind::NoConvergence,
             "no starting point for the saturating fit (data not finite?)",
         )
-    })
+    })?;
+    Ok(DVector::from_iterator(
+        taus.len(),
+        taus.iter().map(|&tau| problem.u_of(tau)),
+    ))
 }
 
 impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem {
@@ -201,48 +226,33 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem {
     type ParameterStorage = Owned<f64, Dyn>;
 
     fn set_params(&mut self, x: &DVector<f64>) {
-        self.p.copy_from(x);
+        self.u.copy_from(x);
     }
 
     fn params(&self) -> DVector<f64> {
-        self.p.clone()
+        self.u.clone()
     }
 
     fn residuals(&self) -> Option<DVector<f64>> {
-        // Unsorted evaluation straight from the parameters.
-        let o = self.offset();
-        let t0 = self.pin_t0.unwrap_or_else(|| self.p[0]);
-        let r = DVector::from_iterator(
-            self.t.len(),
-            self.t.iter().zip(&self.y).map(|(&t, &y)| {
-                let mut v = t0;
-                for j in 0..self.n_terms {
-                    let tau = self.p[o + 2 * j + 1].exp();
-                    v += self.p[o + 2 * j] * -(-t / tau).exp_m1();
-                }
-                v - y
-            }),
-        );
-        r.iter().all(|v| v.is_finite()).then_some(r)
+        self.linear_for(&self.taus(&self.u)).map(|(_, r)| r)
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let o = self.offset();
-        let mut jac = DMatrix::zeros(self.t.len(), self.p.len());
-        for (i, &t) in self.t.iter().enumerate() {
-            if o == 1 {
-                jac[(i, 0)] = 1.0;
-            }
-            for j in 0..self.n_terms {
-                let delta = self.p[o + 2 * j];
-                let tau = self.p[o + 2 * j + 1].exp();
-                let e = (-t / tau).exp();
-                jac[(i, o + 2 * j)] = -(-t / tau).exp_m1();
-                // d/d(ln τ) of ΔT·(1 − e^(−t/τ)) = −ΔT·e^(−t/τ)·t/τ
-                jac[(i, o + 2 * j + 1)] = -delta * e * t / tau;
-            }
+        // Central differences of the projected residuals: two linear solves
+        // per time constant, cheaper to get right than the analytic VarPro
+        // Jacobian and accurate enough for the search.
+        let mut jac = DMatrix::zeros(self.t.len(), self.u.len());
+        for j in 0..self.u.len() {
+            let h = 1e-6 * self.u[j].abs().max(1.0);
+            let mut up = self.u.clone();
+            let mut down = self.u.clone();
+            up[j] += h;
+            down[j] -= h;
+            let (_, ru) = self.linear_for(&self.taus(&up))?;
+            let (_, rd) = self.linear_for(&self.taus(&down))?;
+            jac.set_column(j, &((ru - rd) / (2.0 * h)));
         }
-        jac.iter().all(|v| v.is_finite()).then_some(jac)
+        Some(jac)
     }
 }
 

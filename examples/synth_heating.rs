@@ -75,12 +75,16 @@ fn main() {
     );
     let _ = writeln!(
         header,
-        "#   these times is y = {:.4e}x^3 - 0.001969x^2 + 0.247369x + 7.769163 (the paper's cubic; a printed as 0.000005 and",
-        cubic1[3]
+        "#   these times is y = {:e}x^3 {:+e}x^2 {:+}x {:+}:",
+        cubic1[3], cubic1[2], cubic1[1], cubic1[0]
     );
     let _ = writeln!(
         header,
-        "#   set so that the paper's linear and quadratic fits are its projections), plus the small cubic remainder,"
+        "#   the cubic whose digits round to the paper's printed cubic and whose linear and quadratic least-squares"
+    );
+    let _ = writeln!(
+        header,
+        "#   projections round to the paper's printed linear and quadratic fits; plus the small cubic remainder,"
     );
     let _ = writeln!(
         header,
@@ -109,13 +113,13 @@ fn main() {
 
     let mut csv = String::new();
     csv.push_str("# SYNTHESISED reference heating recording for rapidtherm, NOT measured data.\n");
-    csv.push_str("# It imitates the recording of Cristoiu et al. (IRB 140, 60 % of maximum speed, cold lab at about 7 C):\n");
+    csv.push_str("# It imitates the recording of Cristoiu and Ivan (IRB 140, 60 % of maximum speed, cold lab at about 7 C):\n");
     csv.push_str("# 2017 rows at 5 s (0 to 168 min), motor temperatures of axes 1..6 in C, 0.01 C resolution.\n");
     let _ = writeln!(
         csv,
         "# Generator: cargo run --example synth_heating -- samples/heating_irb140_60pct.csv (ChaCha8 seed {SEED})."
     );
-    csv.push_str("# Axes 2..6 reach the table-1 maxima of Cristoiu et al. (FEA paper) at 168 min. Model per axis (t in min):\n");
+    csv.push_str("# Axes 2..6 reach the table-1 maxima of Cristoiu et al. 2020 (the FEA paper) at 168 min. Model per axis (t in min):\n");
     csv.push_str(&header);
     csv.push_str("time_min,t1_c,t2_c,t3_c,t4_c,t5_c,t6_c\n");
     for (i, t) in times.iter().enumerate() {
@@ -147,33 +151,47 @@ fn project_cubic(t: &[f64], y: &[f64]) -> Vec<f64> {
 const PAPER_LINEAR: [f64; 2] = [11.9655, 0.0522];
 const PAPER_QUADRATIC: [f64; 3] = [9.0328, 0.1570, -0.0006];
 
-/// The cubic's leading coefficient (printed 0.000005) that makes the
-/// printed linear and quadratic fits the least-squares projections of the
-/// cubic over these times, as they must be if all three were fitted to one
-/// data set: weighted least squares over the five printed lower-order
-/// coefficients, each weighted by its printed half-unit.
-fn leading_coefficient(t: &[f64]) -> f64 {
-    let lower = |deg: usize, a: f64| -> Vec<f64> {
-        let mut c = PAPER_CUBIC;
-        c[3] = a;
-        let y: Vec<f64> = t.iter().map(|&x| eval_power(&c, x)).collect();
+/// The cubic of axis 1 at full precision: the paper printed it, and the
+/// linear and quadratic fits of the same data, rounded. Least-squares fits of
+/// one data set are projections of each other, so the full-precision cubic
+/// is the one whose own digits and whose linear and quadratic projections
+/// over these times all round to the printed numbers: found by weighted
+/// least squares over those nine printed numbers (each weighted by its
+/// printed half-unit), then checked.
+fn paper_cubic(t: &[f64]) -> [f64; 4] {
+    // Projection of each monomial x^j on polynomials of degree `deg`.
+    let project = |deg: usize, j: usize| -> Vec<f64> {
+        let y: Vec<f64> = t.iter().map(|&x| x.powi(j as i32)).collect();
         fit_poly(t, &y, deg).expect("projection").coefficients()
     };
-    // Every projected coefficient is affine in a: value(a) = v0 + a·v1.
-    let (mut num, mut den) = (0.0, 0.0);
-    for (deg, printed, half) in [
-        (1, &PAPER_LINEAR[..], [5e-5, 5e-5, 0.0]),
-        (2, &PAPER_QUADRATIC[..], [5e-5, 5e-5, 5e-5]),
-    ] {
-        let (v0, v1) = (lower(deg, 0.0), lower(deg, 1e-6));
-        for k in 0..=deg {
-            let slope = (v1[k] - v0[k]) / 1e-6;
-            let w = 1.0 / (half[k] * half[k]);
-            num += w * slope * (printed[k] - v0[k]);
-            den += w * slope * slope;
+    // Rows: (coefficient of the printed number as a function of the cubic's
+    // [d, c, b, a], printed value, half-unit).
+    let mut rows: Vec<([f64; 4], f64, f64)> = Vec::new();
+    for k in 0..4 {
+        let mut unit = [0.0; 4];
+        unit[k] = 1.0;
+        rows.push((unit, PAPER_CUBIC[k], 5e-7));
+    }
+    for (deg, printed) in [(1, &PAPER_LINEAR[..]), (2, &PAPER_QUADRATIC[..])] {
+        let proj: Vec<Vec<f64>> = (0..4).map(|j| project(deg, j)).collect();
+        for (k, &value) in printed.iter().enumerate() {
+            rows.push((std::array::from_fn(|j| proj[j][k]), value, 5e-5));
         }
     }
-    num / den
+    // Unknowns scaled by 168^k so the system is well conditioned.
+    let s = t[t.len() - 1];
+    let a = DMatrix::from_fn(rows.len(), 4, |r, j| rows[r].0[j] * s.powi(-(j as i32)) / rows[r].2);
+    let b = DVector::from_iterator(rows.len(), rows.iter().map(|r| r.1 / r.2));
+    let x = a.svd(true, true).solve(&b, 1e-12).expect("weighted fit");
+    let cubic: [f64; 4] = std::array::from_fn(|j| x[j] * s.powi(-(j as i32)));
+    for (coef, value, half) in &rows {
+        let v: f64 = coef.iter().zip(&cubic).map(|(c, k)| c * k).sum();
+        eprintln!(
+            "printed {value:>10} reproduced {v:.9} ({:+.2} of the rounding half-width)",
+            (v - value) / half
+        );
+    }
+    cubic
 }
 
 /// The cubic of axis 1 ([d, c, b, a]), the two-time-constant curve from
@@ -181,8 +199,7 @@ fn leading_coefficient(t: &[f64]) -> f64 {
 /// closest to it, and that curve plus the remaining cubic difference (whose
 /// cubic projection is then exactly the cubic).
 fn axis1_base(t: &[f64]) -> ([f64; 4], [f64; 4], Vec<f64>) {
-    let mut cubic = PAPER_CUBIC;
-    cubic[3] = leading_coefficient(t);
+    let cubic = paper_cubic(t);
     let target_fn: Vec<f64> = t.iter().map(|&x| eval_power(&cubic, x)).collect();
     let b = DVector::from_iterator(t.len(), target_fn.iter().map(|v| v - COLD_C));
     let proj_e = |tau: f64| -> Vec<f64> {
@@ -296,7 +313,7 @@ fn quantise_keeping_cubic(t: &[f64], y: &[f64], cubic: &[f64; 4]) -> Vec<i64> {
         err = best.2;
     }
     let err = coef(&q);
-    eprintln!("axis 1 cubic, error in half-units of the printed digit: {err:?}");
+    eprintln!("axis 1 cubic after rounding, error / tolerance: {err:?}");
     assert!(
         err.iter().all(|e| e.abs() < 0.5),
         "could not keep the printed cubic"

@@ -15,6 +15,7 @@ pub mod poly;
 pub mod profile;
 pub mod record;
 pub mod saturating;
+pub mod table;
 
 pub use fit::{fit_axis, AxisFit, Curve, Metrics, ModelKind};
 pub use profile::{default_profile, FittedProfile, SaturatingProfile, COLD_START_C};

@@ -180,7 +180,9 @@ fn paper_cubic(t: &[f64]) -> [f64; 4] {
     }
     // Unknowns scaled by 168^k so the system is well conditioned.
     let s = t[t.len() - 1];
-    let a = DMatrix::from_fn(rows.len(), 4, |r, j| rows[r].0[j] * s.powi(-(j as i32)) / rows[r].2);
+    let a = DMatrix::from_fn(rows.len(), 4, |r, j| {
+        rows[r].0[j] * s.powi(-(j as i32)) / rows[r].2
+    });
     let b = DVector::from_iterator(rows.len(), rows.iter().map(|r| r.1 / r.2));
     let x = a.svd(true, true).solve(&b, 1e-12).expect("weighted fit");
     let cubic: [f64; 4] = std::array::from_fn(|j| x[j] * s.powi(-(j as i32)));

@@ -107,10 +107,14 @@ fn run_fit(a: FitArgs) -> Result<Status> {
     let mut axes = a.axes.clone();
     axes.dedup();
     if let Some(bad) = axes.iter().find(|x| !(1..=6).contains(*x)) {
-        return Err(Error::usage(format!("--axes: axis {bad} does not exist (1..6)")));
+        return Err(Error::usage(format!(
+            "--axes: axis {bad} does not exist (1..6)"
+        )));
     }
     if let Some(t0) = a.pin_t0.filter(|v| !v.is_finite()) {
-        return Err(Error::usage(format!("--pin-t0 {t0} is not a finite temperature")));
+        return Err(Error::usage(format!(
+            "--pin-t0 {t0} is not a finite temperature"
+        )));
     }
     let record = read_record(&a.records)?;
     let mut fits: Vec<AxisFit> = Vec::new();

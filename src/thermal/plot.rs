@@ -129,7 +129,9 @@ pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
                 .draw_series(LineSeries::new(measured, MEASURED.stroke_width(5)))
                 .map_err(plot_error)?
                 .label("measured")
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], MEASURED.stroke_width(5)));
+                .legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], MEASURED.stroke_width(5))
+                });
             for (index, points) in curves {
                 let color = PALETTE[index % PALETTE.len()];
                 let name = models.get(index).cloned().unwrap_or_default();

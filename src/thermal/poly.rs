@@ -87,6 +87,32 @@ impl PolyCurve {
     }
 }
 
+impl PolyCurve {
+    /// The polynomial with these power-series coefficients in t (constant
+    /// first), valid over `[t_lo, t_hi]`: for curves printed elsewhere, such
+    /// as the paper's. Errors if the window is empty or a coefficient is not
+    /// finite.
+    pub fn from_coefficients(t_lo: f64, t_hi: f64, coefficients: &[f64]) -> Result<PolyCurve> {
+        if !(t_hi > t_lo) || coefficients.is_empty() || !coefficients.iter().all(|c| c.is_finite())
+        {
+            return Err(Error::usage(
+                "a polynomial needs finite coefficients and a window with t_hi > t_lo",
+            ));
+        }
+        // Interpolating values at enough points recovers the coefficients in
+        // the Legendre basis to rounding error.
+        let n = coefficients.len() * 4;
+        let t: Vec<f64> = (0..n)
+            .map(|i| t_lo + (t_hi - t_lo) * i as f64 / (n - 1) as f64)
+            .collect();
+        let y: Vec<f64> = t
+            .iter()
+            .map(|&x| coefficients.iter().rev().fold(0.0, |acc, c| acc * x + c))
+            .collect();
+        fit_poly(&t, &y, coefficients.len() - 1)
+    }
+}
+
 fn scale(t: f64, lo: f64, hi: f64) -> f64 {
     (2.0 * t - lo - hi) / (hi - lo)
 }

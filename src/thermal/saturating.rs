@@ -145,19 +145,20 @@ impl Problem {
     fn linear_for(&self, taus: &[f64]) -> Option<(DVector<f64>, DVector<f64>)> {
         let o = usize::from(self.pin_t0.is_none());
         let base = self.pin_t0.unwrap_or(0.0);
-        let a = DMatrix::from_fn(self.t.len(), o + taus.len(), |i, c| {
-            if c < o {
-                1.0
-            } else {
-                -(-self.t[i] / taus[c - o]).exp_m1()
-            }
-        });
-        let b = DVector::from_iterator(self.y.len(), self.y.iter().map(|v| v - base));
-        let svd = a.clone().svd(true, true);
-        // Relative cut-off: merged time constants make the columns equal.
-        let eps = svd.singular_values.max() * 1e-10;
-        let x = svd.solve(&b, eps).ok()?;
-        let r = a * &x - b;
+        let mut cols: Vec<Vec<f64>> = Vec::with_capacity(o + taus.len());
+        if o == 1 {
+            cols.push(vec![1.0; self.t.len()]);
+        }
+        for tau in taus {
+            cols.push(self.t.iter().map(|&t| -(-t / tau).exp_m1()).collect());
+        }
+        let b: Vec<f64> = self.y.iter().map(|v| v - base).collect();
+        let x = small_least_squares(&cols, &b)?;
+        let r = DVector::from_iterator(
+            b.len(),
+            (0..b.len()).map(|i| cols.iter().zip(&x).map(|(c, k)| c[i] * k).sum::<f64>() - b[i]),
+        );
+        let x = DVector::from_vec(x);
         (x.iter().all(|v| v.is_finite()) && r.iter().all(|v| v.is_finite())).then_some((x, r))
     }
 
@@ -179,6 +180,54 @@ impl Problem {
             terms,
         })
     }
+}
+
+/// Least squares with a few columns by modified Gram–Schmidt (run twice for
+/// orthogonality): stable like QR, and plain loops rather than a general
+/// matrix decomposition, which matters as it runs thousands of times per
+/// fit. A column that is (nearly) a combination of earlier ones, as when two
+/// time constants merge, gets coefficient 0.
+fn small_least_squares(cols: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
+    let k = cols.len();
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+    let mut q: Vec<Vec<f64>> = Vec::with_capacity(k);
+    let mut r = vec![vec![0.0; k]; k];
+    let mut kept = vec![false; k];
+    for j in 0..k {
+        let mut v = cols[j].clone();
+        let norm0 = dot(&v, &v).sqrt();
+        for _ in 0..2 {
+            for (i, qi) in q.iter().enumerate() {
+                if !kept[i] {
+                    continue;
+                }
+                let c = dot(qi, &v);
+                r[i][j] += c;
+                v.iter_mut().zip(qi).for_each(|(a, b)| *a -= c * b);
+            }
+        }
+        let norm = dot(&v, &v).sqrt();
+        if norm > 1e-10 * norm0 && norm > 0.0 {
+            v.iter_mut().for_each(|a| *a /= norm);
+            r[j][j] = norm;
+            kept[j] = true;
+        }
+        q.push(v);
+    }
+    // Back substitution over the kept columns.
+    let qb: Vec<f64> = q.iter().map(|qi| dot(qi, b)).collect();
+    let mut x = vec![0.0; k];
+    for j in (0..k).rev() {
+        if !kept[j] {
+            continue;
+        }
+        let s: f64 = (j + 1..k)
+            .filter(|&l| kept[l])
+            .map(|l| r[j][l] * x[l])
+            .sum();
+        x[j] = (qb[j] - s) / r[j][j];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// Starting point: the best of a log-spaced grid of time constants from

@@ -131,9 +131,9 @@ pub fn render_fits_table(fits: &[AxisFit]) -> String {
     let prows: Vec<Vec<String>> = fits
         .iter()
         .flat_map(|f| {
-            parameters(&f.curve).into_iter().map(move |(name, v)| {
-                vec![f.axis.to_string(), f.kind.to_string(), name, exact(v)]
-            })
+            parameters(&f.curve)
+                .into_iter()
+                .map(move |(name, v)| vec![f.axis.to_string(), f.kind.to_string(), name, exact(v)])
         })
         .collect();
     out.push_str(&render_table(

@@ -33,8 +33,9 @@ fn nan_names_line_and_column() {
 
 #[test]
 fn time_going_backwards_names_the_row() {
-    let (line, col, msg) =
-        located(&format!("{HEADER}0,7,7,7,7,7,7\n1,7,7,7,7,7,7\n\n0.5,7,7,7,7,7,7\n"));
+    let (line, col, msg) = located(&format!(
+        "{HEADER}0,7,7,7,7,7,7\n1,7,7,7,7,7,7\n\n0.5,7,7,7,7,7,7\n"
+    ));
     assert_eq!((line, col), (5, 1));
     assert!(msg.contains("goes backwards"), "{msg}");
 }
@@ -66,7 +67,10 @@ fn recorded_profile_interpolates_the_sample_between_rows() {
     let src = format!("{HEADER}10,7,8,9,10,11,12\n10.5,8,9,10,11,12,14\n");
     let rec = HeatingRecord::parse("rec.csv", src.as_bytes()).unwrap();
     let p = RecordedProfile::new(&rec);
-    assert_eq!(p.temps_at(10.25).unwrap(), [7.5, 8.5, 9.5, 10.5, 11.5, 13.0]);
+    assert_eq!(
+        p.temps_at(10.25).unwrap(),
+        [7.5, 8.5, 9.5, 10.5, 11.5, 13.0]
+    );
     let e = p.temps_at(5.0).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unsupported);
     assert_eq!(p.holding_ends().temps_at(5.0).unwrap()[0], 7.0);

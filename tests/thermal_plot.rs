@@ -35,6 +35,10 @@ fn plot_is_deterministic_and_labelled() {
     // Two panels, each with the measured curve (grey) and the two fitted
     // ones (first and second palette colours), each once more in its legend.
     for colour in ["#AAAAAA", "#D62728", "#1F77B4"] {
-        assert_eq!(a.matches(&format!("stroke=\"{colour}\"")).count(), 4, "{colour}");
+        assert_eq!(
+            a.matches(&format!("stroke=\"{colour}\"")).count(),
+            4,
+            "{colour}"
+        );
     }
 }

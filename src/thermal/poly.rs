@@ -93,7 +93,9 @@ impl PolyCurve {
     /// as the paper's. Errors if the window is empty or a coefficient is not
     /// finite.
     pub fn from_coefficients(t_lo: f64, t_hi: f64, coefficients: &[f64]) -> Result<PolyCurve> {
-        if !(t_hi > t_lo) || coefficients.is_empty() || !coefficients.iter().all(|c| c.is_finite())
+        if t_hi.partial_cmp(&t_lo) != Some(std::cmp::Ordering::Greater)
+            || coefficients.is_empty()
+            || !coefficients.iter().all(|c| c.is_finite())
         {
             return Err(Error::usage(
                 "a polynomial needs finite coefficients and a window with t_hi > t_lo",
@@ -174,7 +176,7 @@ pub fn fit_poly(t: &[f64], y: &[f64], degree: usize) -> Result<PolyCurve> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         });
-    if !(hi > lo) {
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::input(format!(
             "time does not advance (every row at {lo} min): no curve can be fitted"
         )));

@@ -104,8 +104,12 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
 
 fn run_fit(a: FitArgs) -> Result<Status> {
     let models = parse_models(&a.model)?;
-    let mut axes = a.axes.clone();
-    axes.dedup();
+    let mut axes: Vec<usize> = Vec::new();
+    for x in &a.axes {
+        if !axes.contains(x) {
+            axes.push(*x);
+        }
+    }
     if let Some(bad) = axes.iter().find(|x| !(1..=6).contains(*x)) {
         return Err(Error::usage(format!(
             "--axes: axis {bad} does not exist (1..6)"

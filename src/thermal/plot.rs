@@ -69,7 +69,7 @@ pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
         let rows = axes.len().div_ceil(cols).max(1);
         let panels = root.split_evenly((rows, cols));
         for (panel, &axis) in panels.iter().zip(&axes) {
-            let Some(y) = record.temps.get(axis - 1) else {
+            let Some(y) = axis.checked_sub(1).and_then(|a| record.temps.get(a)) else {
                 continue;
             };
             // The range covers the data and every fitted curve drawn.

@@ -56,6 +56,16 @@ pub fn fit_saturating(
     n_terms: usize,
     pin_t0: Option<f64>,
 ) -> Result<SatCurve> {
+    if let Some(v) = pin_t0.filter(|v| !v.is_finite()) {
+        return Err(Error::usage(format!(
+            "T(0) pinned at {v}: not a temperature"
+        )));
+    }
+    if !(1..=2).contains(&n_terms) {
+        return Err(Error::usage(
+            "saturating models have one or two time constants",
+        ));
+    }
     let n = t.len().min(y.len());
     let params = n_terms * 2 + usize::from(pin_t0.is_none());
     if n < params {

@@ -8,6 +8,7 @@
 //! - [`fit`]: fitting one axis, metrics (R, R², Ā, RMSE, max, held-out).
 //! - [`profile`]: profiles from fitted curves and [`default_profile`].
 //! - [`plot`]: SVG of measured and fitted curves.
+//! - [`table`]: fit results as the paper-like table, CSV and JSON.
 
 pub mod fit;
 pub mod plot;

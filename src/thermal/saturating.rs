@@ -354,6 +354,16 @@ mod tests {
     }
 
     #[test]
+    fn overflowing_data_is_no_convergence_not_a_curve() {
+        let t: Vec<f64> = (0..20).map(f64::from).collect();
+        let y: Vec<f64> = (0..20)
+            .map(|i| if i % 2 == 0 { 1e308 } else { -1e308 })
+            .collect();
+        let e = fit_saturating(&t, &y, 2, None).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::NoConvergence);
+    }
+
+    #[test]
     fn too_few_points_refused() {
         assert!(fit_saturating(&[0.0, 1.0], &[7.0, 8.0], 1, None).is_err());
         assert!(fit_saturating(&[0.0, 1.0, 2.0, 3.0], &[7.0, 8.0, 9.0, 9.5], 2, None).is_err());

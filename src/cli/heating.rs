@@ -1,15 +1,188 @@
-use super::Status;
-use rapidtherm::error::{Error, ErrorKind, Result};
+use super::{read_input, write_output, write_stdout, Status};
+use rapidtherm::error::{Error, Result};
+use rapidtherm::report::{render_csv, render_table, Align, Format};
+use rapidtherm::thermal::fit::{fit_axis, AxisFit, ModelKind};
+use rapidtherm::thermal::plot::plot_fits;
+use rapidtherm::thermal::table::{render_fits_csv, render_fits_json, render_fits_table};
+use rapidtherm::thermal::{
+    default_profile, FittedProfile, HeatingProfile, HeatingRecord, RecordedProfile,
+};
+use std::path::PathBuf;
 
 #[derive(clap::Subcommand)]
 pub enum HeatingCommand {
-    /// Fit heating models to a recording.
-    Fit {},
+    /// Fit heating models to a recording (time_min,t1_c..t6_c): per-axis
+    /// coefficients, R, R², mean relative error Ā, RMSE, max error, and the
+    /// error on the last 20 % of the rows when fitted to the first 80 %.
+    Fit(FitArgs),
+    /// Motor temperatures at given minutes: the embedded default profile, a
+    /// model fitted to a recording, or a recording interpolated.
+    Eval(EvalArgs),
 }
 
-pub fn run(_cmd: HeatingCommand) -> Result<Status> {
-    Err(Error::new(
-        ErrorKind::Unsupported,
-        "`heating` is not built yet",
-    ))
+#[derive(clap::Args)]
+pub struct FitArgs {
+    /// Heating record CSV (`-` for standard input).
+    pub records: PathBuf,
+    /// Models, comma separated: poly1..poly20, first-order, two-tau, or
+    /// `all` (poly1, poly2, poly3, first-order, two-tau).
+    #[arg(long, value_delimiter = ',', default_value = "poly3")]
+    pub model: Vec<String>,
+    /// Axes to fit, comma separated (1..6).
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5,6")]
+    pub axes: Vec<usize>,
+    /// Fix T(0) of the saturating models to this temperature (°C) instead
+    /// of fitting it (the default profile pins 7.0).
+    #[arg(long, value_name = "CELSIUS")]
+    pub pin_t0: Option<f64>,
+    /// Write an SVG plot of measured and fitted curves (`-`: the SVG goes to
+    /// standard output instead of the table).
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+}
+
+#[derive(clap::Args)]
+pub struct EvalArgs {
+    /// Minutes since the cold start, comma separated.
+    #[arg(long, value_delimiter = ',', required = true, value_name = "MIN")]
+    pub at: Vec<f64>,
+    /// Fit this recording instead of using the embedded default profile.
+    #[arg(long, value_name = "RECORDS.csv", conflicts_with = "measured")]
+    pub records: Option<PathBuf>,
+    /// Model fitted to `--records` (a polynomial refuses minutes outside
+    /// the recording).
+    #[arg(long, default_value = "two-tau", requires = "records")]
+    pub model: String,
+    /// Fix T(0) of a saturating model fitted to `--records` (°C).
+    #[arg(long, value_name = "CELSIUS", requires = "records")]
+    pub pin_t0: Option<f64>,
+    /// Use measured temperatures directly, interpolated linearly in time.
+    #[arg(long, value_name = "RECORDS.csv")]
+    pub measured: Option<PathBuf>,
+    /// With `--measured`: hold the first/last row outside the recording
+    /// instead of refusing.
+    #[arg(long, requires = "measured")]
+    pub hold_ends: bool,
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+}
+
+pub fn run(cmd: HeatingCommand) -> Result<Status> {
+    match cmd {
+        HeatingCommand::Fit(a) => run_fit(a),
+        HeatingCommand::Eval(a) => run_eval(a),
+    }
+}
+
+fn parse_models(names: &[String]) -> Result<Vec<ModelKind>> {
+    let mut out = Vec::new();
+    for name in names {
+        let kinds = if name.trim().eq_ignore_ascii_case("all") {
+            ModelKind::all()
+        } else {
+            vec![name.parse::<ModelKind>()?]
+        };
+        for k in kinds {
+            if !out.contains(&k) {
+                out.push(k);
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
+    let (name, bytes) = read_input(path)?;
+    let record = HeatingRecord::parse(&name, &bytes)?;
+    for col in &record.ignored_columns {
+        eprintln!("warning: {name}: ignoring unknown column `{col}`");
+    }
+    Ok(record)
+}
+
+fn run_fit(a: FitArgs) -> Result<Status> {
+    let models = parse_models(&a.model)?;
+    let mut axes: Vec<usize> = Vec::new();
+    for x in &a.axes {
+        if !axes.contains(x) {
+            axes.push(*x);
+        }
+    }
+    if let Some(bad) = axes.iter().find(|x| !(1..=6).contains(*x)) {
+        return Err(Error::usage(format!(
+            "--axes: axis {bad} does not exist (1..6)"
+        )));
+    }
+    if let Some(t0) = a.pin_t0.filter(|v| !v.is_finite()) {
+        return Err(Error::usage(format!(
+            "--pin-t0 {t0} is not a finite temperature"
+        )));
+    }
+    let record = read_record(&a.records)?;
+    let mut fits: Vec<AxisFit> = Vec::new();
+    for &axis in &axes {
+        for &kind in &models {
+            fits.push(fit_axis(&record, axis, kind, a.pin_t0)?);
+        }
+    }
+    let svg = a
+        .plot
+        .as_ref()
+        .map(|_| plot_fits(&record, &fits))
+        .transpose()?;
+    let text = match a.format {
+        Format::Table => render_fits_table(&fits),
+        Format::Csv => render_fits_csv(&fits),
+        Format::Json => render_fits_json(record.file(), record.len(), &fits),
+    };
+    match (&a.plot, svg) {
+        (Some(path), Some(svg)) if path.as_os_str() == "-" => write_stdout(svg.as_bytes())?,
+        (Some(path), Some(svg)) => {
+            write_output(path, svg.as_bytes())?;
+            write_stdout(text.as_bytes())?;
+        }
+        _ => write_stdout(text.as_bytes())?,
+    }
+    Ok(Status::Success)
+}
+
+fn run_eval(a: EvalArgs) -> Result<Status> {
+    let profile: Box<dyn HeatingProfile> = match (&a.records, &a.measured) {
+        (Some(path), _) => {
+            let record = read_record(path)?;
+            let kind: ModelKind = a.model.parse()?;
+            Box::new(FittedProfile::fit(&record, kind, a.pin_t0)?)
+        }
+        (None, Some(path)) => {
+            let record = read_record(path)?;
+            let p = RecordedProfile::new(&record);
+            Box::new(if a.hold_ends { p.holding_ends() } else { p })
+        }
+        (None, None) => Box::new(default_profile()),
+    };
+    let mut rows = Vec::new();
+    for &t in &a.at {
+        let temps = profile.temps_at(t)?;
+        let mut row = vec![format!("{t}")];
+        row.extend(temps.iter().map(|v| format!("{v:.3}")));
+        rows.push(row);
+    }
+    let header = ["time_min", "t1_c", "t2_c", "t3_c", "t4_c", "t5_c", "t6_c"];
+    let text = match a.format {
+        Format::Table => render_table(&header, &[Align::Right; 7], &rows),
+        Format::Csv => render_csv(&header, &rows),
+        Format::Json => {
+            let mut out = Vec::new();
+            for &t in &a.at {
+                out.push(serde_json::json!({"time_min": t, "temps_c": profile.temps_at(t)?}));
+            }
+            let mut s = serde_json::to_string_pretty(&out).unwrap_or_default();
+            s.push('\n');
+            s
+        }
+    };
+    write_stdout(text.as_bytes())?;
+    Ok(Status::Success)
 }

@@ -1,5 +1,26 @@
 //! Motor temperatures over time: heating models fitted to recordings and the
 //! embedded default profile of the IRB 140 at 60 % speed.
+//!
+//! - [`record`]: heating records (CSV) and [`RecordedProfile`], measured
+//!   temperatures interpolated in time.
+//! - [`poly`]: polynomial curves (the paper's regression), solved stably.
+//! - [`saturating`]: first-order and two-time-constant curves.
+//! - [`fit`]: fitting one axis, metrics (R, R², Ā, RMSE, max, held-out).
+//! - [`profile`]: profiles from fitted curves and [`default_profile`].
+//! - [`plot`]: SVG of measured and fitted curves.
+//! - [`table`]: fit results as the paper-like table, CSV and JSON.
+
+pub mod fit;
+pub mod plot;
+pub mod poly;
+pub mod profile;
+pub mod record;
+pub mod saturating;
+pub mod table;
+
+pub use fit::{fit_axis, AxisFit, Curve, Metrics, ModelKind};
+pub use profile::{default_profile, FittedProfile, SaturatingProfile, COLD_START_C};
+pub use record::{HeatingRecord, RecordedProfile};
 
 use crate::error::Result;
 use crate::robot::MotorTemps;
@@ -14,46 +35,20 @@ pub trait HeatingProfile: Send + Sync {
 /// Table 1 of the FEA paper: maximum motor temperatures, °C.
 pub const TABLE1_TMAX: MotorTemps = [18.837, 21.596, 18.849, 21.665, 27.537, 30.705];
 
-/// First-order heating per axis: T(t) = T0 + ΔT·(1 − e^(−t/τ)).
-#[derive(Debug, Clone, PartialEq)]
-pub struct FirstOrderProfile {
-    pub t0: MotorTemps,
-    pub delta: MotorTemps,
-    pub tau_min: MotorTemps,
-}
-
-impl HeatingProfile for FirstOrderProfile {
-    fn temps_at(&self, t_min: f64) -> Result<MotorTemps> {
-        let t = t_min.max(0.0);
-        Ok(std::array::from_fn(|i| {
-            self.t0[i] + self.delta[i] * (1.0 - (-t / self.tau_min[i]).exp())
-        }))
-    }
-}
-
-/// The profile used when the user gives no recording.
-// Provisional: a first-order curve from 7 °C that reaches 99 % of the
-// table-1 maxima at 180 min; replaced by the fit to the reference sample.
-pub fn default_profile() -> FirstOrderProfile {
-    let t0 = [7.0; 6];
-    FirstOrderProfile {
-        t0,
-        delta: std::array::from_fn(|i| TABLE1_TMAX[i] - t0[i]),
-        tau_min: [180.0 / 4.6; 6],
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn default_profile_starts_at_reference_and_saturates() {
+    fn default_profile_starts_at_reference_and_stays_bounded() {
         let p = default_profile();
         assert_eq!(p.temps_at(0.0).unwrap(), [7.0; 6]);
         let late = p.temps_at(10_000.0).unwrap();
-        for i in 0..6 {
-            assert!((late[i] - TABLE1_TMAX[i]).abs() < 1e-9);
+        for (i, c) in p.axes.iter().enumerate() {
+            assert!((late[i] - c.steady()).abs() < 1e-9);
+            assert!(late[i] < 40.0);
         }
+        assert!(p.temps_at(-1.0).is_err());
+        assert!(p.temps_at(f64::NAN).is_err());
     }
 }

@@ -34,7 +34,10 @@ fn bench(c: &mut Criterion) {
     let pose = robot.fk(&q, None);
     let t = pose.translation.vector;
     let r = pose.rotation.quaternion();
-    let ref_pose = Pose::from_parts(DVec3::new(t.x, t.y, t.z), DQuat::from_xyzw(r.i, r.j, r.k, r.w));
+    let ref_pose = Pose::from_parts(
+        DVec3::new(t.x, t.y, t.z),
+        DQuat::from_xyzw(r.i, r.j, r.k, r.w),
+    );
     let conf = robot.conf_of(&q);
 
     let mut g = c.benchmark_group("fk");
@@ -42,8 +45,12 @@ fn bench(c: &mut Criterion) {
     g.bench_function("rapidtherm_warm", |b| {
         b.iter(|| robot.fk(black_box(&q), Some(black_box(&temps))))
     });
-    g.bench_function("rapidtherm_urdf_chain", |b| b.iter(|| robot.chain.fk(black_box(&q))));
-    g.bench_function("rs_opw_kinematics", |b| b.iter(|| reference.forward(black_box(&q))));
+    g.bench_function("rapidtherm_urdf_chain", |b| {
+        b.iter(|| robot.chain.fk(black_box(&q)))
+    });
+    g.bench_function("rs_opw_kinematics", |b| {
+        b.iter(|| reference.forward(black_box(&q)))
+    });
     g.finish();
 
     let mut g = c.benchmark_group("ik");
@@ -56,7 +63,9 @@ fn bench(c: &mut Criterion) {
     g.bench_function("rapidtherm_with_robconf", |b| {
         b.iter(|| robot.ik_conf(black_box(&pose), &conf, None))
     });
-    g.bench_function("rs_opw_kinematics", |b| b.iter(|| reference.inverse(black_box(&ref_pose))));
+    g.bench_function("rs_opw_kinematics", |b| {
+        b.iter(|| reference.inverse(black_box(&ref_pose)))
+    });
     g.finish();
 }
 

@@ -203,6 +203,7 @@ impl Robot {
             IkFailure::JointLimits(v) => {
                 let list: Vec<String> = v
                     .iter()
+                    .flatten()
                     .map(|(j, q, (lo, hi))| {
                         format!(
                             "axis {} at {:.3}° (limits {:.1}..{:.1})",

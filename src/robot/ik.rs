@@ -5,7 +5,7 @@
 
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
 use super::{Joints, Opw};
-use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::{PI, TAU};
 
 /// |sin θ5| below this is the wrist singularity: axes 4 and 6 in line, only
@@ -17,10 +17,11 @@ pub const SHOULDER_SINGULAR_EPS: f64 = 1e-9;
 /// Joint values this close (rad) outside a limit count as on the limit
 /// (rounding of a target taught exactly at the limit).
 pub const LIMIT_EPS: f64 = 1e-9;
-/// Room for all solutions: 8 arm/wrist branches, each with up to 2 turns of
-/// axis 4 (±200°) and 3 of axis 6 (±400°) on the IRB 140; other arms with
-/// wider limits fill it further, and what does not fit is dropped.
-pub const MAX_SOLUTIONS: usize = 64;
+/// Room for all solutions of the IRB 140: 8 arm/wrist branches, each with
+/// up to 2 turns of axis 4 (±200°) and 3 of axis 6 (±400°), and axis 1 at
+/// exactly ±180° counted twice. Arms with wider limits may have more; what
+/// does not fit is dropped.
+pub const MAX_SOLUTIONS: usize = 96;
 
 /// Angle wrapped into [-π, π].
 pub fn wrap(a: f64) -> f64 {
@@ -51,6 +52,10 @@ pub struct Branches {
     /// Distances (mm) of the wrist centre from axis 2 for the front and
     /// the back arm solutions, and the arm's reach interval from axis 2.
     pub reach: Reach,
+    /// Per branch: the wrist centre's forward distance from axis 1 and its
+    /// side of the lower arm (as [`Opw::cfx_geometry`], from the triangle).
+    pub forward: [f64; 8],
+    pub side: [f64; 8],
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,29 +70,40 @@ impl Opw {
     /// Flange pose for OPW angles θ (θ3 = 0 with the forearm in line with
     /// the lower arm, all axes pointing up; no joint offsets).
     pub fn fk_theta(&self, t: &Joints) -> Isometry3<f64> {
-        let (t1, t2, t3) = (t[0], t[1], t[2]);
-        let psi3 = self.a2.atan2(self.c3);
-        let k = (self.a2 * self.a2 + self.c3 * self.c3).sqrt();
-        let (s2, c2) = t2.sin_cos();
-        let (s23p, c23p) = (t2 + t3 + psi3).sin_cos();
-        let cx1 = self.c2 * s2 + k * s23p + self.a1;
+        // Half-angle sines and cosines build the quaternion directly; the
+        // full angles for the position come from them (6 sin_cos in all).
+        let h = |a: f64| (0.5 * a).sin_cos();
+        let (sh1, ch1) = h(t[0]);
+        let t23 = t[1] + t[2];
+        let (sh23, ch23) = h(t23);
+        let (s2, c2) = t[1].sin_cos();
+        let (s1, c1) = (2.0 * sh1 * ch1, ch1 * ch1 - sh1 * sh1);
+        let (s23, c23) = (2.0 * sh23 * ch23, ch23 * ch23 - sh23 * sh23);
+        // k·sin(θ2+θ3+ψ3) = c3·sin θ23 + a2·cos θ23 (no atan2, no sqrt).
+        let cx1 = self.c2 * s2 + self.c3 * s23 + self.a2 * c23 + self.a1;
         let cy1 = self.b;
-        let cz1 = self.c2 * c2 + k * c23p;
-        let (s1, c1) = t1.sin_cos();
+        let cz1 = self.c2 * c2 + self.c3 * c23 - self.a2 * s23;
         let wrist = Vector3::new(cx1 * c1 - cy1 * s1, cx1 * s1 + cy1 * c1, cz1 + self.c1);
-        let rot = rot_z(t1) * rot_y(t2 + t3) * rot_z(t[3]) * rot_y(t[4]) * rot_z(t[5]);
+        // Rz(θ1)·Ry(θ23) and the wrist's Rz·Ry·Rz.
+        let arm = Quaternion::new(ch1 * ch23, -sh1 * sh23, ch1 * sh23, sh1 * ch23);
+        let (sh4, ch4) = h(t[3]);
+        let (sh5, ch5) = h(t[4]);
+        let (sh6, ch6) = h(t[5]);
+        let zy = Quaternion::new(ch4 * ch5, -sh4 * sh5, ch4 * sh5, sh4 * ch5);
+        let wrist_rot = zy * Quaternion::new(ch6, 0.0, 0.0, sh6);
+        let rot = UnitQuaternion::new_unchecked(arm * wrist_rot);
         let flange = wrist + rot * Vector3::new(0.0, 0.0, self.c4);
         Isometry3::from_parts(Translation3::from(flange), rot)
     }
 
     /// Forward coordinate of the wrist centre in the arm plane (from axis
-    /// 1) and its side of the lower-arm line (positive = in front).
+    /// 1) and its side of the lower-arm line (positive = in front), mm.
     pub fn cfx_geometry(&self, t: &Joints) -> (f64, f64) {
-        let psi3 = self.a2.atan2(self.c3);
-        let k = (self.a2 * self.a2 + self.c3 * self.c3).sqrt();
-        let forward = self.c2 * t[1].sin() + k * (t[1] + t[2] + psi3).sin() + self.a1;
+        let (s23, c23) = (t[1] + t[2]).sin_cos();
+        let (s3, c3) = t[2].sin_cos();
+        let forward = self.c2 * t[1].sin() + self.c3 * s23 + self.a2 * c23 + self.a1;
         // (wrist − axis 2) · (forward normal of the lower arm) = k·sin(θ3+ψ3).
-        let side = k * (t[2] + psi3).sin();
+        let side = self.c3 * s3 + self.a2 * c3;
         (forward, side)
     }
 
@@ -126,14 +142,17 @@ impl Opw {
         let back_ok = in_acos_domain(arg2b) && in_acos_domain(arg3b);
         // The triangle's angles by atan2 with Heron's area: acos loses
         // half the digits near full stretch and full fold.
-        let (a2a, a3a) = self.triangle(s1, s1_2);
-        let (a2b, a3b) = self.triangle(s2, s2_2);
+        let (a2a, a3a, sidea) = self.triangle(s1, s1_2);
+        let (a2b, a3b, sideb) = self.triangle(s2, s2_2);
         let psi3 = self.a2.atan2(self.c3);
+        // The front arms face the wrist centre (forward = its lateral
+        // distance from axis 1), the back arms turn away from it; elbow
+        // sign decides the side of the lower arm.
         let arms = [
-            (t1_i, -a2a + tmp1, a3a - psi3, front_ok),
-            (t1_i, a2a + tmp1, -a3a - psi3, front_ok),
-            (t1_ii, -a2b - tmp2, a3b - psi3, back_ok),
-            (t1_ii, a2b - tmp2, -a3b - psi3, back_ok),
+            (t1_i, -a2a + tmp1, a3a - psi3, front_ok, lateral, sidea),
+            (t1_i, a2a + tmp1, -a3a - psi3, front_ok, lateral, -sidea),
+            (t1_ii, -a2b - tmp2, a3b - psi3, back_ok, -lateral, sideb),
+            (t1_ii, a2b - tmp2, -a3b - psi3, back_ok, -lateral, -sideb),
         ];
         let mut out = Branches {
             theta: [[0.0; 6]; 8],
@@ -146,11 +165,17 @@ impl Opw {
                 min: (self.c2 - k).abs(),
                 max: self.c2 + k,
             },
+            forward: [0.0; 8],
+            side: [0.0; 8],
         };
-        for (j, &(t1, t2, t3, ok)) in arms.iter().enumerate() {
-            if !ok || !(t1.is_finite() && t2.is_finite() && t3.is_finite()) {
+        for (j, &(t1, t2, t3, ok, forward, side)) in arms.iter().enumerate() {
+            if !(ok && t1.is_finite() && t2.is_finite() && t3.is_finite()) {
                 continue;
             }
+            out.forward[2 * j] = forward;
+            out.forward[2 * j + 1] = forward;
+            out.side[2 * j] = side;
+            out.side[2 * j + 1] = side;
             let (st1, ct1) = t1.sin_cos();
             let (sa, ca) = (t2 + t3).sin_cos();
             // Rows of R03ᵀ with R03 = Rz(θ1)·Ry(θ2+θ3).
@@ -161,7 +186,7 @@ impl Opw {
             let m13 = x.dot(&r2);
             let m23 = y.dot(&r2);
             let m33 = z.dot(&r2);
-            let sb = m13.hypot(m23);
+            let sb = (m13 * m13 + m23 * m23).sqrt();
             let t5 = sb.atan2(m33);
             let (t1w, t2w, t3w) = (wrap(t1), wrap(t2), wrap(t3));
             let i = 2 * j;
@@ -194,7 +219,9 @@ impl Opw {
 impl Opw {
     /// Angles at axis 2 (between the lower arm and the line to the wrist
     /// centre) and at axis 3 (θ3 + ψ3) of the triangle with sides c2, k, s.
-    fn triangle(&self, s: f64, s_2: f64) -> (f64, f64) {
+    /// Also k·sin(θ3+ψ3) = 2·area/c2 (≥ 0), the wrist centre's distance
+    /// from the lower-arm line.
+    fn triangle(&self, s: f64, s_2: f64) -> (f64, f64, f64) {
         let c2 = self.c2;
         let k2 = self.a2 * self.a2 + self.c3 * self.c3;
         let k = k2.sqrt();
@@ -203,23 +230,13 @@ impl Opw {
         let root = p.sqrt();
         let at2 = root.atan2(s_2 + c2 * c2 - k2);
         let at3 = root.atan2(s_2 - c2 * c2 - k2);
-        (at2, at3)
+        (at2, at3, 0.5 * root / c2)
     }
 }
 
 fn in_acos_domain(x: f64) -> bool {
     // Targets exactly at full stretch land a rounding error outside.
     x.abs() <= 1.0 + 1e-12
-}
-
-fn rot_z(a: f64) -> UnitQuaternion<f64> {
-    let (s, c) = (0.5 * a).sin_cos();
-    UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(c, 0.0, 0.0, s))
-}
-
-fn rot_y(a: f64) -> UnitQuaternion<f64> {
-    let (s, c) = (0.5 * a).sin_cos();
-    UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(c, 0.0, s, 0.0))
 }
 
 /// An OPW arm in the robot's own joint convention: θ_i = sign_i·q_i +
@@ -299,16 +316,23 @@ impl<'a> IntoIterator for &'a Solutions {
 /// Joint limits, rad, inclusive.
 pub type Limits = [(f64, f64); 6];
 
-/// Why a pose has no solution.
+/// A joint outside its limits in every turn: axis (0-based), angle (rad),
+/// limits (rad).
+pub type Violation = (usize, f64, (f64, f64));
+
+/// Why a pose has no solution. Held inline (no allocation in IK); its
+/// size is small beside the 6 kB of [`Solutions`] in the Ok variant.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum IkFailure {
     /// The wrist centre is out of the arm's reach (all branches).
     OutOfReach(Reach),
     /// Arm solutions exist but each violates a joint limit: the first
-    /// violation of each branch (axis 0-based, value, limits).
-    JointLimits(Vec<(usize, f64, (f64, f64))>),
+    /// violation of each branch (kept inline: IK does not allocate).
+    JointLimits([Option<Violation>; 8]),
 }
 
+#[allow(clippy::result_large_err)] // see IkFailure
 impl OpwArm {
     /// The IRB 140 in ABB's joint convention.
     pub fn abb(geom: Opw) -> OpwArm {
@@ -356,8 +380,9 @@ impl OpwArm {
             let (lo, hi) = quadrant_range(c.cf1);
             0.5 * (lo + hi)
         });
-        self.solve_hinted(pose, limits, want, q1_hint)
-            .map(|(s, _)| s)
+        let mut out = Solutions::default();
+        self.solve_hinted(pose, limits, want, q1_hint, &mut out)?;
+        Ok(out)
     }
 
     /// The solution with robconf `want` (see [`pick_conf`]), or `Ok(None)`
@@ -371,15 +396,21 @@ impl OpwArm {
         want: &RobConf,
     ) -> Result<(Option<Solution>, Solutions), IkFailure> {
         let (lo, hi) = quadrant_range(want.cf1);
-        let (sols, singular) = self.solve_hinted(pose, limits, Some(want), 0.5 * (lo + hi))?;
+        let mut sols = Solutions::default();
+        let singular = self.solve_hinted(pose, limits, Some(want), 0.5 * (lo + hi), &mut sols)?;
         if let Some(s) = pick_conf(&sols, want) {
             return Ok((Some(s), sols));
         }
         if singular {
             const STEPS: i32 = 18;
+            let mut more = Solutions::default();
             for i in 0..STEPS {
                 let hint = lo + (hi - lo) * (f64::from(i) + 0.5) / f64::from(STEPS);
-                if let Ok((more, _)) = self.solve_hinted(pose, limits, Some(want), hint) {
+                more.len = 0;
+                if self
+                    .solve_hinted(pose, limits, Some(want), hint, &mut more)
+                    .is_ok()
+                {
                     if let Some(s) = more.iter().find(|s| s.conf == *want) {
                         return Ok((Some(*s), more));
                     }
@@ -395,15 +426,15 @@ impl OpwArm {
         limits: &Limits,
         want: Option<&RobConf>,
         q1_hint: f64,
-    ) -> Result<(Solutions, bool), IkFailure> {
+        out: &mut Solutions,
+    ) -> Result<bool, IkFailure> {
         let rot = (pose.rotation * self.tip.inverse()).to_rotation_matrix();
         let p = pose.translation.vector;
         let theta1_hint = self.signs[0] * q1_hint + self.offsets[0];
         let br = self.geom.ik_theta(rot.matrix(), &p, theta1_hint);
-        let mut out = Solutions::default();
-        let mut violations = Vec::new();
+        let mut violations: [Option<Violation>; 8] = [None; 8];
         let mut any = false;
-        for i in 0..8 {
+        for (i, violation) in violations.iter_mut().enumerate() {
             if !br.valid[i] {
                 continue;
             }
@@ -425,15 +456,13 @@ impl OpwArm {
                     want,
                 ),
             }
-            let (forward, side) = self.geom.cfx_geometry(&theta);
+            let (forward, side) = (br.forward[i], br.side[i]);
             let before = out.len;
-            push_turns(&q, limits, &mut out, &|qq| {
+            push_turns(&q, limits, out, &|qq| {
                 RobConf::from_parts(qq, cfx_bits(forward, side, qq[4]))
             });
             if out.len == before {
-                if let Some(v) = first_violation(&q, limits) {
-                    violations.push(v);
-                }
+                *violation = first_violation(&q, limits);
             }
         }
         if !any {
@@ -442,7 +471,7 @@ impl OpwArm {
         if out.is_empty() {
             return Err(IkFailure::JointLimits(violations));
         }
-        Ok((out, br.shoulder_singular))
+        Ok(br.shoulder_singular)
     }
 
     /// At the wrist singularity only s4·q4 + e·q6 ≡ t (mod 2π) is fixed.
@@ -547,7 +576,7 @@ fn push_turns(q: &Joints, limits: &Limits, out: &mut Solutions, conf: &dyn Fn(&J
     }
 }
 
-fn first_violation(q: &Joints, limits: &Limits) -> Option<(usize, f64, (f64, f64))> {
+fn first_violation(q: &Joints, limits: &Limits) -> Option<Violation> {
     (0..6).find_map(|j| {
         let (lo, hi) = limits[j];
         let inside = (-2..=2).any(|k| {

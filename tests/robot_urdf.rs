@@ -346,3 +346,26 @@ fn urdf_errors_name_the_problem() {
     let e = Robot::from_urdf_str("axis.urdf", &zero_axis).unwrap_err();
     assert!(e.message.contains("axis"), "{}", e.message);
 }
+
+#[test]
+fn robconf_finds_turns_beyond_the_all_solutions_buffer() {
+    // Every axis ±12 rad (±688°): thousands of turn combinations, far more
+    // than the all-solutions buffer; the robconf still picks the taught one.
+    let text = irb120().replace(
+        LIM,
+        r#"<limit lower="-12.0" upper="12.0" effort="0" velocity="2.0"/>"#,
+    );
+    let robot = Robot::from_urdf_str("wide.urdf", &text).unwrap();
+    let q = [0.5, 0.3, 0.2, 11.0, 0.7, -10.0];
+    let pose = robot.fk(&q, None);
+    let all = robot.ik(&pose, None).unwrap();
+    assert_eq!(all.len(), rapidtherm::robot::ik::MAX_SOLUTIONS);
+    let back = robot.ik_conf(&pose, &robot.conf_of(&q), None).unwrap();
+    // robconf fixes the turns of axes 1, 4 and 6 (axes 2, 3, 5 of an ABB
+    // arm cannot turn a full circle, this test arm can).
+    for i in [0, 3, 5] {
+        assert!((back[i] - q[i]).abs() < 1e-9, "{back:?}");
+    }
+    let (dp, dr) = dist(&robot.fk(&back, None), &pose);
+    assert!(dp < 1e-9 && dr < 1e-9);
+}

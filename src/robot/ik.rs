@@ -381,7 +381,7 @@ impl OpwArm {
             0.5 * (lo + hi)
         });
         let mut out = Solutions::default();
-        self.solve_hinted(pose, limits, want, q1_hint, &mut out)?;
+        self.solve_hinted(pose, limits, want, q1_hint, &mut out, false)?;
         Ok(out)
     }
 
@@ -395,28 +395,33 @@ impl OpwArm {
         limits: &Limits,
         want: &RobConf,
     ) -> Result<(Option<Solution>, Solutions), IkFailure> {
+        // Only near matches are kept while searching: an arm with wide
+        // limits has more turns than the buffer holds.
         let (lo, hi) = quadrant_range(want.cf1);
+        let mid = 0.5 * (lo + hi);
         let mut sols = Solutions::default();
-        let singular = self.solve_hinted(pose, limits, Some(want), 0.5 * (lo + hi), &mut sols)?;
+        let singular = self.solve_hinted(pose, limits, Some(want), mid, &mut sols, true)?;
         if let Some(s) = pick_conf(&sols, want) {
             return Ok((Some(s), sols));
         }
         if singular {
             const STEPS: i32 = 18;
-            let mut more = Solutions::default();
             for i in 0..STEPS {
                 let hint = lo + (hi - lo) * (f64::from(i) + 0.5) / f64::from(STEPS);
-                more.len = 0;
+                sols.len = 0;
                 if self
-                    .solve_hinted(pose, limits, Some(want), hint, &mut more)
+                    .solve_hinted(pose, limits, Some(want), hint, &mut sols, true)
                     .is_ok()
                 {
-                    if let Some(s) = more.iter().find(|s| s.conf == *want) {
-                        return Ok((Some(*s), more));
+                    if let Some(s) = sols.iter().find(|s| s.conf == *want) {
+                        return Ok((Some(*s), sols));
                     }
                 }
             }
         }
+        // None: all solutions, for the message.
+        sols.len = 0;
+        self.solve_hinted(pose, limits, Some(want), mid, &mut sols, false)?;
         Ok((None, sols))
     }
 
@@ -427,6 +432,7 @@ impl OpwArm {
         want: Option<&RobConf>,
         q1_hint: f64,
         out: &mut Solutions,
+        only_near_want: bool,
     ) -> Result<bool, IkFailure> {
         let rot = (pose.rotation * self.tip.inverse()).to_rotation_matrix();
         let p = pose.translation.vector;
@@ -434,6 +440,8 @@ impl OpwArm {
         let br = self.geom.ik_theta(rot.matrix(), &p, theta1_hint);
         let mut violations: [Option<Violation>; 8] = [None; 8];
         let mut any = false;
+        let mut in_limits = false;
+        let keep = if only_near_want { want } else { None };
         for (i, violation) in violations.iter_mut().enumerate() {
             if !br.valid[i] {
                 continue;
@@ -457,18 +465,17 @@ impl OpwArm {
                 ),
             }
             let (forward, side) = (br.forward[i], br.side[i]);
-            let before = out.len;
-            push_turns(&q, limits, out, &|qq| {
-                RobConf::from_parts(qq, cfx_bits(forward, side, qq[4]))
-            });
-            if out.len == before {
+            let conf = |qq: &Joints| RobConf::from_parts(qq, cfx_bits(forward, side, qq[4]));
+            if push_turns(&q, limits, out, &conf, keep) {
+                in_limits = true;
+            } else {
                 *violation = first_violation(&q, limits);
             }
         }
         if !any {
             return Err(IkFailure::OutOfReach(br.reach));
         }
-        if out.is_empty() {
+        if !in_limits {
             return Err(IkFailure::JointLimits(violations));
         }
         Ok(br.shoulder_singular)
@@ -537,34 +544,44 @@ fn cfx_bits(forward: f64, side: f64, q5: f64) -> CfxBits {
 
 /// Push every combination of 2π turns of the joints that stays within the
 /// limits.
-fn push_turns(q: &Joints, limits: &Limits, out: &mut Solutions, conf: &dyn Fn(&Joints) -> RobConf) {
-    let mut reps = [[0.0f64; 3]; 6];
+/// Returns whether any combination was within the limits (kept or not).
+fn push_turns(
+    q: &Joints,
+    limits: &Limits,
+    out: &mut Solutions,
+    conf: &dyn Fn(&Joints) -> RobConf,
+    keep: Option<&RobConf>,
+) -> bool {
+    let mut reps = [[0.0f64; 5]; 6];
     let mut counts = [0usize; 6];
     for j in 0..6 {
         let (lo, hi) = limits[j];
         for k in -2..=2 {
             let v = q[j] + TAU * f64::from(k);
-            if v >= lo - LIMIT_EPS && v <= hi + LIMIT_EPS && counts[j] < 3 {
+            if v >= lo - LIMIT_EPS && v <= hi + LIMIT_EPS {
                 reps[j][counts[j]] = v.clamp(lo, hi);
                 counts[j] += 1;
             }
         }
         if counts[j] == 0 {
-            return;
+            return false;
         }
     }
     let mut idx = [0usize; 6];
     loop {
         let qq: Joints = std::array::from_fn(|j| reps[j][idx[j]]);
-        out.push(Solution {
+        let s = Solution {
             q: qq,
             conf: conf(&qq),
-        });
+        };
+        if keep.is_none_or(|want| conf_mismatch(&s, want).is_some()) {
+            out.push(s);
+        }
         // Odometer over the representations.
         let mut j = 0;
         loop {
             if j == 6 {
-                return;
+                return true;
             }
             idx[j] += 1;
             if idx[j] < counts[j] {
@@ -597,27 +614,41 @@ pub const CONF_TOLERANCE: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// The solution that has robconf `want`: an exact match, else the closest
 /// one within [`CONF_TOLERANCE`] (cfx's arm bits must match exactly).
 pub fn pick_conf(solutions: &Solutions, want: &RobConf) -> Option<Solution> {
-    if let Some(s) = solutions.iter().find(|s| s.conf == *want) {
-        return Some(*s);
-    }
-    let want_bits = CfxBits::from_cfx(want.cfx)?;
     let mut best: Option<(f64, Solution)> = None;
     for s in solutions {
-        let bits = CfxBits::from_cfx(s.conf.cfx)?;
-        if bits.behind_axis1 != want_bits.behind_axis1
-            || bits.behind_lower_arm != want_bits.behind_lower_arm
-        {
-            continue;
-        }
-        let mut d = super::conf::quadrant_distance(s.q[0], want.cf1)
-            .max(super::conf::quadrant_distance(s.q[3], want.cf4))
-            .max(super::conf::quadrant_distance(s.q[5], want.cf6));
-        if bits.axis5_negative != want_bits.axis5_negative {
-            d = d.max(s.q[4].abs());
-        }
-        if d <= CONF_TOLERANCE && best.is_none_or(|(bd, _)| d < bd) {
-            best = Some((d, *s));
+        if let Some(d) = conf_mismatch(s, want) {
+            if d == 0.0 && s.conf == *want {
+                return Some(*s);
+            }
+            if best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, *s));
+            }
         }
     }
     best.map(|(_, s)| s)
+}
+
+/// How far (rad) a solution is from having robconf `want`: 0 for an exact
+/// match, up to [`CONF_TOLERANCE`] for a near one, None beyond or when
+/// cfx's arm bits differ.
+fn conf_mismatch(s: &Solution, want: &RobConf) -> Option<f64> {
+    if s.conf == *want {
+        return Some(0.0);
+    }
+    let want_bits = CfxBits::from_cfx(want.cfx)?;
+    let bits = CfxBits::from_cfx(s.conf.cfx)?;
+    if bits.behind_axis1 != want_bits.behind_axis1
+        || bits.behind_lower_arm != want_bits.behind_lower_arm
+    {
+        return None;
+    }
+    let mut d = super::conf::quadrant_distance(s.q[0], want.cf1)
+        .max(super::conf::quadrant_distance(s.q[3], want.cf4))
+        .max(super::conf::quadrant_distance(s.q[5], want.cf6));
+    if bits.axis5_negative != want_bits.axis5_negative {
+        d = d.max(s.q[4].abs());
+    }
+    // A mismatch of exactly 0 is impossible here (the confs differ), so a
+    // near match never passes for an exact one.
+    (d <= CONF_TOLERANCE).then_some(d.max(f64::MIN_POSITIVE))
 }

@@ -2,6 +2,9 @@
 //! robconf) → flange → robtarget reproduces the target, for the kinds of
 //! tooldata and wobjdata RAPID programs use.
 
+// Quaternions as RAPID programs print them (0.7071, not 1/√2): on purpose.
+#![allow(clippy::approx_constant)]
+
 use nalgebra::{Isometry3, Point3};
 use rapidtherm::error::ErrorKind;
 use rapidtherm::robot::frames::{

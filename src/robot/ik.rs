@@ -1,7 +1,8 @@
 //! Closed-form inverse kinematics of arms with an offset shoulder and a
 //! spherical wrist (OPW: Brandstötter, Angerer, Hofbaur 2014), with joint
 //! limits, the ±360° turns of axes that allow them, robconf and defined
-//! choices at the wrist and shoulder singularities. No heap allocation.
+//! choices at the wrist and shoulder singularities. No heap allocation
+//! (except for the error of a pose whose every solution violates a limit).
 
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
 use super::{Joints, Opw};
@@ -320,19 +321,16 @@ pub type Limits = [(f64, f64); 6];
 /// limits (rad).
 pub type Violation = (usize, f64, (f64, f64));
 
-/// Why a pose has no solution. Held inline (no allocation in IK); its
-/// size is small beside the 6 kB of [`Solutions`] in the Ok variant.
-#[allow(clippy::large_enum_variant)]
+/// Why a pose has no solution.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IkFailure {
     /// The wrist centre is out of the arm's reach (all branches).
     OutOfReach(Reach),
     /// Arm solutions exist but each violates a joint limit: the first
-    /// violation of each branch (kept inline: IK does not allocate).
-    JointLimits([Option<Violation>; 8]),
+    /// violation of each branch (boxed: only this failure allocates).
+    JointLimits(Box<[Option<Violation>; 8]>),
 }
 
-#[allow(clippy::result_large_err)] // see IkFailure
 impl OpwArm {
     /// The IRB 140 in ABB's joint convention.
     pub fn abb(geom: Opw) -> OpwArm {
@@ -476,7 +474,7 @@ impl OpwArm {
             return Err(IkFailure::OutOfReach(br.reach));
         }
         if !in_limits {
-            return Err(IkFailure::JointLimits(violations));
+            return Err(IkFailure::JointLimits(Box::new(violations)));
         }
         Ok(br.shoulder_singular)
     }

@@ -11,6 +11,7 @@ use crate::error::{Error, ErrorKind, Result};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
+use std::sync::OnceLock;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Robot {
@@ -25,11 +26,17 @@ pub struct Robot {
 }
 
 impl Robot {
-    /// The ABB IRB 140 from the embedded URDF.
+    /// The ABB IRB 140 from the embedded URDF (parsed once per process).
     pub fn irb140() -> Robot {
-        // The embedded file is tested to parse to exactly the built-in
-        // model; the fallback only keeps this infallible.
-        Robot::from_urdf_str("irb140.urdf", IRB140_URDF).unwrap_or_else(|_| Robot::irb140_builtin())
+        static IRB140_ROBOT: OnceLock<Robot> = OnceLock::new();
+        IRB140_ROBOT
+            .get_or_init(|| {
+                // The embedded file is tested to parse to exactly the
+                // built-in model; the fallback only keeps this infallible.
+                Robot::from_urdf_str("irb140.urdf", IRB140_URDF)
+                    .unwrap_or_else(|_| Robot::irb140_builtin())
+            })
+            .clone()
     }
 
     /// The IRB 140 built from the spec's numbers in code (the reference the

@@ -428,3 +428,22 @@ fn thermal_model_is_data() {
     let e = ThermalExpansion::from_toml("m.toml", typo).unwrap_err();
     assert_eq!(e.location.as_ref().map(|l| l.line), Some(2));
 }
+
+#[test]
+fn near_the_wrist_singularity_every_solution_still_reaches_the_pose() {
+    let robot = Robot::irb140();
+    for q5 in [
+        0.0, 1e-14, 1e-12, 1e-11, 1e-9, 1e-7, 1e-5, -1e-12, -1e-9, -1e-5,
+    ] {
+        let q = [0.4, 0.3, -0.2, 1.0, q5, -0.5];
+        let pose = robot.fk(&q, None);
+        let sols = robot.ik(&pose, None).unwrap();
+        for s in &sols {
+            let (dp, dr) = pose_dist(&robot.fk(&s.q, None), &pose);
+            assert!(dp < 1e-9 && dr < 1e-9, "q5 {q5}: {dp} mm {dr} rad");
+        }
+        let back = robot.ik_conf(&pose, &robot.conf_of(&q), None).unwrap();
+        let (dp, dr) = pose_dist(&robot.fk(&back, None), &pose);
+        assert!(dp < 1e-9 && dr < 1e-9, "q5 {q5}: {dp} mm {dr} rad");
+    }
+}

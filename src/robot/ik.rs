@@ -7,11 +7,14 @@
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
 use super::{Joints, Opw};
 use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// |sin θ5| below this is the wrist singularity: axes 4 and 6 in line, only
-/// their sum (or difference) is defined.
-pub const WRIST_SINGULAR_EPS: f64 = 1e-10;
+/// their sum (or difference) is defined, and the split between them is
+/// chosen. Choosing it moves the flange by at most 2·c4·|sin θ5| (1.3e-10
+/// mm on the IRB 140); above it θ4 and θ6 come from the pose, with the sum
+/// taken from its well-conditioned form.
+pub const WRIST_SINGULAR_EPS: f64 = 1e-12;
 /// Wrist centre closer than this (mm) to axis 1 is the shoulder
 /// singularity: axis 1 is free.
 pub const SHOULDER_SINGULAR_EPS: f64 = 1e-9;
@@ -191,22 +194,46 @@ impl Opw {
             let t5 = sb.atan2(m33);
             let (t1w, t2w, t3w) = (wrap(t1), wrap(t2), wrap(t3));
             let i = 2 * j;
+            let m11 = x.dot(&r0);
+            let m21 = y.dot(&r0);
+            // θ4 + θ6 from the upper-left block, (1 + cos θ5)·(cos, sin) of
+            // the sum: well conditioned for θ5 < 90°, where the separate
+            // atan2s of θ4 and θ6 lose precision as θ5 → 0.
+            let sum = if m33 > 0.0 {
+                let m12 = x.dot(&r1);
+                let m22 = y.dot(&r1);
+                Some((m21 - m12).atan2(m11 + m22))
+            } else {
+                None
+            };
             if sb < WRIST_SINGULAR_EPS {
-                let m11 = x.dot(&r0);
-                let m21 = y.dot(&r0);
-                let (t6, kind) = if m33 > 0.0 {
-                    let sum = m21.atan2(m11);
-                    (sum, Wrist::Sum(sum))
-                } else {
-                    let diff = (-m21).atan2(-m11);
-                    (-diff, Wrist::Diff(diff))
+                let (t6, kind) = match sum {
+                    Some(sum) => (sum, Wrist::Sum(sum)),
+                    None => {
+                        let diff = (-m21).atan2(-m11);
+                        (-diff, Wrist::Diff(diff))
+                    }
                 };
                 out.theta[i] = [t1w, t2w, t3w, 0.0, t5, wrap(t6)];
                 out.valid[i] = true;
                 out.wrist[i] = kind;
             } else {
-                let t4 = m23.atan2(m13);
-                let t6 = z.dot(&r1).atan2(-z.dot(&r0));
+                let mut t4 = m23.atan2(m13);
+                let mut t6 = z.dot(&r1).atan2(-z.dot(&r0));
+                if let Some(sum) = sum {
+                    // Keep θ4 − θ6 from the atan2s (its error only matters
+                    // in proportion to sin θ5) and the sum from above.
+                    let diff = t4 - t6;
+                    let half = 0.5 * (sum + diff);
+                    // (sum + diff)/2 is θ4 up to π: take the one nearer θ4.
+                    let refined = if wrap(half - t4).abs() <= FRAC_PI_2 {
+                        half
+                    } else {
+                        half + PI
+                    };
+                    t4 = wrap(refined);
+                    t6 = wrap(sum - refined);
+                }
                 out.theta[i] = [t1w, t2w, t3w, t4, t5, t6];
                 out.theta[i + 1] = [t1w, t2w, t3w, wrap(t4 + PI), -t5, wrap(t6 + PI)];
                 out.valid[i] = true;

@@ -5,6 +5,14 @@
 //!
 //! Joint angles are radians inside the library, degrees in files and on the
 //! command line; lengths are millimetres.
+//!
+//! - [`Robot`] (`arm`): the robot with its model; `Robot::irb140()`, `fk`,
+//!   `ik`, `ik_conf`, `conf_of`. What later code calls.
+//! - `urdf`: the embedded IRB 140 URDF and the reader for other arms.
+//! - `chain`: forward kinematics of any serial chain, OPW extraction.
+//! - `ik`: the closed-form OPW solution, turns, limits, singularities.
+//! - `conf`: robconf (confdata) and the cfx table.
+//! - `frames`: tooldata / wobjdata, robtarget ↔ flange.
 
 pub mod arm;
 pub mod chain;

@@ -34,7 +34,7 @@ pub struct ModelArgs {
 #[command(allow_negative_numbers = true)]
 pub struct FkArgs {
     /// Joint angles of axes 1..6, degrees (ABB convention).
-    #[arg(value_name = "J", num_args = 6, required = true)]
+    #[arg(value_names = ["J1", "J2", "J3", "J4", "J5", "J6"], num_args = 6, required = true)]
     joints: Vec<f64>,
     #[command(flatten)]
     model: ModelArgs,
@@ -45,7 +45,7 @@ pub struct FkArgs {
 pub struct IkArgs {
     /// Flange (tool0) pose in the base frame: x y z (mm) and quaternion
     /// q1 q2 q3 q4 (w x y z, normalised on input as the controller does).
-    #[arg(value_name = "X Y Z Q1 Q2 Q3 Q4", num_args = 7, required = true)]
+    #[arg(value_names = ["X", "Y", "Z", "Q1", "Q2", "Q3", "Q4"], num_args = 7, required = true)]
     pose: Vec<f64>,
     /// Only the solution with this robconf.
     #[arg(

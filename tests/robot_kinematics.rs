@@ -447,3 +447,21 @@ fn near_the_wrist_singularity_every_solution_still_reaches_the_pose() {
         assert!(dp < 1e-9 && dr < 1e-9, "q5 {q5}: {dp} mm {dr} rad");
     }
 }
+
+#[test]
+fn the_most_solutions_the_irb140_can_have_fit_the_buffer() {
+    // Axis 1 exactly at 180° (both ±180° are within the limits), axis 4 at
+    // 170° (also −190°), axis 6 at 10° (also ±350°/370°).
+    let robot = Robot::irb140();
+    let q = deg([180.0, 10.0, 10.0, 170.0, 30.0, 10.0]);
+    let sols = robot.ik(&robot.fk(&q, None), None).unwrap();
+    assert!(sols.len() < rapidtherm::robot::ik::MAX_SOLUTIONS);
+    assert!(sols.len() >= 12, "{}", sols.len());
+    let has = |t: [f64; 6]| {
+        let t = deg(t);
+        sols.iter()
+            .any(|s| (0..6).all(|i| (s.q[i] - t[i]).abs() < 1e-7))
+    };
+    assert!(has([180.0, 10.0, 10.0, 170.0, 30.0, 10.0]));
+    assert!(has([-180.0, 10.0, 10.0, -190.0, 30.0, 370.0]));
+}

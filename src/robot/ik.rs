@@ -21,11 +21,13 @@ pub const SHOULDER_SINGULAR_EPS: f64 = 1e-9;
 /// Joint values this close (rad) outside a limit count as on the limit
 /// (rounding of a target taught exactly at the limit).
 pub const LIMIT_EPS: f64 = 1e-9;
-/// Room for all solutions of the IRB 140: 8 arm/wrist branches, each with
-/// up to 2 turns of axis 4 (±200°) and 3 of axis 6 (±400°), and axis 1 at
-/// exactly ±180° counted twice. Arms with wider limits may have more; what
-/// does not fit is dropped.
-pub const MAX_SOLUTIONS: usize = 96;
+/// Room for all solutions. The IRB 140 has at most 48: per arm branch, a
+/// wrist and its flip together have at most 8 turns of axes 4 (±200°) and 6
+/// (±400°), and axis 1 at exactly ±180° doubles the two front (or back)
+/// branches. Arms with wider limits may have more; what does not fit is
+/// dropped from the list (a search by robconf keeps only near matches and
+/// is not limited by it).
+pub const MAX_SOLUTIONS: usize = 64;
 
 /// Angle wrapped into [-π, π].
 pub fn wrap(a: f64) -> f64 {

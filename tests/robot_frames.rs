@@ -152,3 +152,33 @@ fn moving_and_inconsistent_frames_are_refused() {
     let e = flange_of_target(&Isometry3::identity(), &st, &fixture()).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Input);
 }
+
+#[test]
+fn warm_correction_through_the_programs_frames() {
+    // What a correction does: the joints the cold program meant, where the
+    // warm arm puts the tool with them, and the target that brings the warm
+    // arm back to the cold position.
+    let robot = Robot::irb140();
+    let (tool, wobj) = (torch(), fixture());
+    let temps = rapidtherm::thermal::TABLE1_TMAX;
+    let q = [15.0, 25.0, 5.0, 20.0, 50.0, 30.0].map(f64::to_radians);
+    let conf = robot.conf_of(&q);
+    let target = robot.target_of_joints(&q, &tool, &wobj, None).unwrap();
+    let q_cold = robot
+        .target_joints(&target, &conf, &tool, &wobj, None)
+        .unwrap();
+    let warm = robot
+        .target_of_joints(&q_cold, &tool, &wobj, Some(&temps))
+        .unwrap();
+    let drift = (warm.translation.vector - target.translation.vector).norm();
+    assert!(drift > 0.1 && drift < 1.0, "{drift} mm");
+    // Joints for the target on the warm arm reach the cold position warm.
+    let q_warm = robot
+        .target_joints(&target, &conf, &tool, &wobj, Some(&temps))
+        .unwrap();
+    let reached = robot
+        .target_of_joints(&q_warm, &tool, &wobj, Some(&temps))
+        .unwrap();
+    assert!((reached.translation.vector - target.translation.vector).norm() < 1e-9);
+    assert!(reached.rotation.angle_to(&target.rotation) < 1e-12);
+}

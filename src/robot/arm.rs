@@ -4,6 +4,7 @@
 
 use super::chain::{Chain, ChainJoint};
 use super::conf::{CfxBits, RobConf};
+use super::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions};
 use super::urdf::{self, IRB140_URDF};
 use super::{Joints, MotorTemps, ThermalExpansion, IRB140};
@@ -228,6 +229,32 @@ impl Robot {
                 .with_note(list.join("; "))
             }
         }
+    }
+
+    /// Joint angles that put `tool` at the robtarget pose `target` in
+    /// `wobj`, with robconf `conf` (on the warm arm when temperatures are
+    /// given).
+    pub fn target_joints(
+        &self,
+        target: &Isometry3<f64>,
+        conf: &RobConf,
+        tool: &ToolData,
+        wobj: &WobjData,
+        temps: Option<&MotorTemps>,
+    ) -> Result<Joints> {
+        let flange = flange_of_target(target, tool, wobj)?;
+        self.ik_conf(&flange, conf, temps)
+    }
+
+    /// The robtarget pose (in `wobj`, for `tool`) that joint angles reach.
+    pub fn target_of_joints(
+        &self,
+        q: &Joints,
+        tool: &ToolData,
+        wobj: &WobjData,
+        temps: Option<&MotorTemps>,
+    ) -> Result<Isometry3<f64>> {
+        target_of_flange(&self.fk(q, temps), tool, wobj)
     }
 
     /// robconf of joint angles (on the nominal arm).

@@ -428,8 +428,11 @@ impl OpwArm {
         let mid = 0.5 * (lo + hi);
         let mut sols = Solutions::default();
         let singular = self.solve_hinted(pose, limits, Some(want), mid, &mut sols, true)?;
-        if let Some(s) = pick_conf(&sols, want) {
-            return Ok((Some(s), sols));
+        let first = pick_conf(&sols, want);
+        if let Some(s) = first {
+            if s.conf == *want || !singular {
+                return Ok((Some(s), sols));
+            }
         }
         if singular {
             const STEPS: i32 = 18;
@@ -445,6 +448,9 @@ impl OpwArm {
                     }
                 }
             }
+        }
+        if first.is_some() {
+            return Ok((first, sols));
         }
         // None: all solutions, for the message.
         sols.len = 0;

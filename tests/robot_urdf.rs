@@ -369,3 +369,14 @@ fn robconf_finds_turns_beyond_the_all_solutions_buffer() {
     let (dp, dr) = dist(&robot.fk(&back, None), &pose);
     assert!(dp < 1e-9 && dr < 1e-9);
 }
+
+#[test]
+fn meshes_are_ignored_not_resolved() {
+    let text = irb120().replace(
+        r#"<link name="link_1"/>"#,
+        r#"<link name="link_1"><visual><geometry><mesh filename="package://abb_irb120_support/meshes/link_1.stl"/></geometry></visual><inertial><mass value="3.0"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>"#,
+    );
+    assert!(text.contains("package://"));
+    let robot = Robot::from_urdf_str("meshes.urdf", &text).unwrap();
+    assert!(robot.opw.is_ok());
+}

@@ -1,16 +1,222 @@
-use super::Status;
-use rapidtherm::error::{Error, ErrorKind, Result};
+//! `fk` and `ik`: the robot model by hand.
 
+use super::{write_stdout, Status};
+use rapidtherm::error::{Error, Result};
+use rapidtherm::report::{mm, render_csv, render_table, Align, Format};
+use rapidtherm::robot::frames::{pose_from_rapid, pose_to_rapid};
+use rapidtherm::robot::{MotorTemps, RobConf, Robot, ThermalExpansion};
+use serde_json::json;
+use std::path::PathBuf;
+
+/// Options shared by `fk` and `ik`.
 #[derive(clap::Args)]
-pub struct FkArgs {}
-
-#[derive(clap::Args)]
-pub struct IkArgs {}
-
-pub fn run_fk(_args: FkArgs) -> Result<Status> {
-    Err(Error::new(ErrorKind::Unsupported, "`fk` is not built yet"))
+pub struct ModelArgs {
+    /// Motor temperatures of axes 1..6 (°C): use the warm (expanded) arm.
+    #[arg(
+        long,
+        value_name = "T1,..,T6",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    temps: Option<Vec<f64>>,
+    /// Another serial six-axis arm (URDF) instead of the embedded IRB 140.
+    #[arg(long, value_name = "FILE.urdf")]
+    robot: Option<PathBuf>,
+    /// Thermal-expansion model (TOML: t_ref, and alpha/motors per link).
+    #[arg(long, value_name = "FILE.toml")]
+    thermal: Option<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
 }
 
-pub fn run_ik(_args: IkArgs) -> Result<Status> {
-    Err(Error::new(ErrorKind::Unsupported, "`ik` is not built yet"))
+#[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
+pub struct FkArgs {
+    /// Joint angles of axes 1..6, degrees (ABB convention).
+    #[arg(value_names = ["J1", "J2", "J3", "J4", "J5", "J6"], num_args = 6, required = true)]
+    joints: Vec<f64>,
+    #[command(flatten)]
+    model: ModelArgs,
+}
+
+#[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
+pub struct IkArgs {
+    /// Flange (tool0) pose in the base frame: x y z (mm) and quaternion
+    /// q1 q2 q3 q4 (w x y z, normalised on input as the controller does).
+    #[arg(value_names = ["X", "Y", "Z", "Q1", "Q2", "Q3", "Q4"], num_args = 7, required = true)]
+    pose: Vec<f64>,
+    /// Only the solution with this robconf.
+    #[arg(
+        long,
+        value_name = "CF1,CF4,CF6,CFX",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    conf: Option<Vec<i32>>,
+    #[command(flatten)]
+    model: ModelArgs,
+}
+
+fn six(values: &[f64], what: &str) -> Result<[f64; 6]> {
+    let arr: [f64; 6] = values
+        .try_into()
+        .map_err(|_| Error::usage(format!("{what}: six values needed, got {}", values.len())))?;
+    if let Some(v) = arr.iter().find(|v| !v.is_finite()) {
+        return Err(Error::usage(format!("{what}: {v} is not a finite number")));
+    }
+    Ok(arr)
+}
+
+impl ModelArgs {
+    fn robot(&self) -> Result<Robot> {
+        let mut robot = match &self.robot {
+            Some(path) => Robot::from_urdf_file(path)?,
+            None => Robot::irb140(),
+        };
+        if let Some(path) = &self.thermal {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+            robot.thermal = ThermalExpansion::from_toml(&path.display().to_string(), &text)?;
+        }
+        Ok(robot)
+    }
+
+    fn temps(&self) -> Result<Option<MotorTemps>> {
+        self.temps.as_deref().map(|t| six(t, "--temps")).transpose()
+    }
+}
+
+fn deg(v: f64) -> String {
+    mm(v, 4)
+}
+
+/// A number for JSON, rounded far below any physical meaning (1e-9 mm,
+/// 1e-9°, 1e-12 in a quaternion) so that libm's last bits do not reach the
+/// output; −0 printed as 0.
+fn round(v: f64, decimals: i32) -> f64 {
+    let f = 10f64.powi(decimals);
+    let r = (v * f).round() / f;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+pub fn run_fk(args: FkArgs) -> Result<Status> {
+    let q = six(&args.joints, "joint angles")?.map(f64::to_radians);
+    let robot = args.model.robot()?;
+    let temps = args.model.temps()?;
+    let conf = robot.conf_of(&q);
+    let mut rows = vec![("nominal", robot.fk(&q, None))];
+    if let Some(t) = &temps {
+        rows.push(("warm", robot.fk(&q, Some(t))));
+    }
+    let out = match args.model.format {
+        Format::Json => {
+            let poses: Vec<_> = rows
+                .iter()
+                .map(|(model, pose)| {
+                    let (t, r) = pose_to_rapid(pose);
+                    json!({
+                        "model": model,
+                        "x_mm": round(t[0], 9),
+                        "y_mm": round(t[1], 9),
+                        "z_mm": round(t[2], 9),
+                        "q": r.map(|v| round(v, 12)),
+                    })
+                })
+                .collect();
+            let v = json!({
+                "joints_deg": args.joints,
+                "temps_c": temps,
+                "robconf": [conf.cf1, conf.cf4, conf.cf6, conf.cfx],
+                "poses": poses,
+            });
+            format!("{v:#}\n")
+        }
+        format => {
+            let header = [
+                "model", "x_mm", "y_mm", "z_mm", "q1", "q2", "q3", "q4", "robconf",
+            ];
+            let cells: Vec<Vec<String>> = rows
+                .iter()
+                .map(|(model, pose)| {
+                    let (t, r) = pose_to_rapid(pose);
+                    let mut row = vec![model.to_string()];
+                    row.extend(t.iter().map(|v| mm(*v, 4)));
+                    row.extend(r.iter().map(|v| mm(*v, 6)));
+                    row.push(conf.to_string());
+                    row
+                })
+                .collect();
+            if format == Format::Csv {
+                render_csv(&header, &cells)
+            } else {
+                let mut align = vec![Align::Left];
+                align.extend([Align::Right; 7]);
+                align.push(Align::Left);
+                render_table(&header, &align, &cells)
+            }
+        }
+    };
+    write_stdout(out.as_bytes())?;
+    Ok(Status::Success)
+}
+
+pub fn run_ik(args: IkArgs) -> Result<Status> {
+    let [x, y, z, q1, q2, q3, q4] = <[f64; 7]>::try_from(args.pose.as_slice())
+        .map_err(|_| Error::usage("pose: x y z q1 q2 q3 q4 needed"))?;
+    let pose = pose_from_rapid([x, y, z], [q1, q2, q3, q4])?;
+    let robot = args.model.robot()?;
+    let temps = args.model.temps()?;
+    let solutions: Vec<([f64; 6], RobConf)> = match &args.conf {
+        Some(c) => {
+            let [cf1, cf4, cf6, cfx] = <[i32; 4]>::try_from(c.as_slice())
+                .map_err(|_| Error::usage("--conf: four integers cf1,cf4,cf6,cfx needed"))?;
+            let conf = RobConf::new(cf1, cf4, cf6, cfx);
+            let q = robot.ik_conf(&pose, &conf, temps.as_ref())?;
+            vec![(q, robot.conf_of(&q))]
+        }
+        None => robot
+            .ik(&pose, temps.as_ref())?
+            .iter()
+            .map(|s| (s.q, s.conf))
+            .collect(),
+    };
+    let out = match args.model.format {
+        Format::Json => {
+            let list: Vec<_> = solutions
+                .iter()
+                .map(|(q, c)| {
+                    json!({
+                        "joints_deg": q.map(|v| round(v.to_degrees(), 9)),
+                        "robconf": [c.cf1, c.cf4, c.cf6, c.cfx],
+                    })
+                })
+                .collect();
+            format!("{:#}\n", json!({ "solutions": list }))
+        }
+        format => {
+            let header = ["j1", "j2", "j3", "j4", "j5", "j6", "robconf"];
+            let cells: Vec<Vec<String>> = solutions
+                .iter()
+                .map(|(q, c)| {
+                    let mut row: Vec<String> = q.iter().map(|v| deg(v.to_degrees())).collect();
+                    row.push(c.to_string());
+                    row
+                })
+                .collect();
+            if format == Format::Csv {
+                render_csv(&header, &cells)
+            } else {
+                let mut align = vec![Align::Right; 6];
+                align.push(Align::Left);
+                render_table(&header, &align, &cells)
+            }
+        }
+    };
+    write_stdout(out.as_bytes())?;
+    Ok(Status::Success)
 }

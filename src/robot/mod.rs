@@ -5,8 +5,29 @@
 //!
 //! Joint angles are radians inside the library, degrees in files and on the
 //! command line; lengths are millimetres.
+//!
+//! - [`Robot`] (`arm`): the robot with its model; `Robot::irb140()`, `fk`,
+//!   `ik`, `ik_conf`, `conf_of`. What later code calls.
+//! - `urdf`: the embedded IRB 140 URDF and the reader for other arms.
+//! - `chain`: forward kinematics of any serial chain, OPW extraction.
+//! - `ik`: the closed-form OPW solution, turns, limits, singularities.
+//! - `conf`: robconf (confdata) and the cfx table.
+//! - `frames`: tooldata / wobjdata, robtarget ↔ flange.
 
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+pub mod arm;
+pub mod chain;
+pub mod conf;
+pub mod frames;
+pub mod ik;
+pub mod urdf;
+
+pub use arm::Robot;
+pub use conf::RobConf;
+pub use frames::{ToolData, WobjData};
+pub use ik::{Solution, Solutions};
+
+use crate::error::{Error, Location, Result};
+use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
 
 /// Joint angles of axes 1..6 in radians, ABB sign convention.
@@ -44,29 +65,17 @@ pub const IRB140: Opw = Opw {
 pub const OPW_OFFSET_Q3: f64 = std::f64::consts::FRAC_PI_2;
 
 impl Opw {
-    /// Flange (tool0) pose in the base frame for joint angles `q`.
+    /// Flange (tool0) pose in the base frame for joint angles `q` (ABB
+    /// convention: θ3 = q3 + 90°).
     pub fn fk(&self, q: &Joints) -> Isometry3<f64> {
-        let (t1, t2, t3) = (q[0], q[1], q[2] + OPW_OFFSET_Q3);
-        let psi3 = self.a2.atan2(self.c3);
-        let k = (self.a2 * self.a2 + self.c3 * self.c3).sqrt();
-        let cx1 = self.c2 * t2.sin() + k * (t2 + t3 + psi3).sin() + self.a1;
-        let cy1 = self.b;
-        let cz1 = self.c2 * t2.cos() + k * (t2 + t3 + psi3).cos();
-        let (s1, c1) = t1.sin_cos();
-        let wrist = Vector3::new(cx1 * c1 - cy1 * s1, cx1 * s1 + cy1 * c1, cz1 + self.c1);
-        let rot = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), t1)
-            * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), t2 + t3)
-            * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), q[3])
-            * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), q[4])
-            * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), q[5]);
-        let flange = wrist + rot * Vector3::new(0.0, 0.0, self.c4);
-        Isometry3::from_parts(Translation3::from(flange), rot)
+        self.fk_theta(&[q[0], q[1], q[2] + OPW_OFFSET_Q3, q[3], q[4], q[5]])
     }
 }
 
 /// Which motors set the temperature of a link: the link temperature is the
 /// mean of the listed motors' temperatures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LinkThermal {
     /// Linear expansion coefficient, 1/K.
     pub alpha: f64,
@@ -77,6 +86,7 @@ pub struct LinkThermal {
 /// The base thermal-expansion model: each link's lengths grow with
 /// α·(T_link − T_ref).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ThermalExpansion {
     /// Temperature at which the program's targets were taught, °C.
     pub t_ref: f64,
@@ -116,7 +126,18 @@ impl LinkThermal {
         if self.motors.is_empty() {
             return f64::NAN;
         }
-        self.motors.iter().map(|&m| motors[m - 1]).sum::<f64>() / self.motors.len() as f64
+        // An axis number outside 1..6 (refused by `from_toml`) gives NaN,
+        // never a panic.
+        self.motors
+            .iter()
+            .map(|&m| {
+                m.checked_sub(1)
+                    .and_then(|i| motors.get(i))
+                    .copied()
+                    .unwrap_or(f64::NAN)
+            })
+            .sum::<f64>()
+            / self.motors.len() as f64
     }
 
     /// Length scale factor 1 + α·(T_link − T_ref).
@@ -136,12 +157,61 @@ impl ThermalExpansion {
         ]
     }
 
+    /// Length scale factors of base, lower arm, upper arm and wrist.
+    pub fn scales(&self, motors: &MotorTemps) -> [f64; 4] {
+        [
+            self.base.scale(motors, self.t_ref),
+            self.lower_arm.scale(motors, self.t_ref),
+            self.upper_arm.scale(motors, self.t_ref),
+            self.wrist.scale(motors, self.t_ref),
+        ]
+    }
+
+    /// A thermal model from TOML text (`file` names it in messages):
+    ///
+    /// ```toml
+    /// t_ref = 7.0
+    /// [base]
+    /// alpha = 21.8e-6
+    /// motors = [1]
+    /// [lower_arm]
+    /// ...
+    /// ```
+    /// with tables `base`, `lower_arm`, `upper_arm`, `wrist`.
+    pub fn from_toml(file: &str, text: &str) -> Result<ThermalExpansion> {
+        let th: ThermalExpansion = toml::from_str(text).map_err(|e| {
+            let err = Error::input(format!("thermal model: {}", e.message()));
+            match e.span() {
+                Some(span) => err.at(Location::from_offset(file, text.as_bytes(), span.start)),
+                None => err.with_note(format!("in {file}")),
+            }
+        })?;
+        let bad = |msg: String| Error::input(format!("{file}: thermal model: {msg}"));
+        if !th.t_ref.is_finite() {
+            return Err(bad("t_ref must be a finite temperature".into()));
+        }
+        for (name, link) in [
+            ("base", &th.base),
+            ("lower_arm", &th.lower_arm),
+            ("upper_arm", &th.upper_arm),
+            ("wrist", &th.wrist),
+        ] {
+            if !link.alpha.is_finite() {
+                return Err(bad(format!("{name}.alpha must be a finite number")));
+            }
+            if link.motors.is_empty() || link.motors.iter().any(|m| !(1..=6).contains(m)) {
+                return Err(bad(format!(
+                    "{name}.motors must list axis numbers 1..6 (got {:?})",
+                    link.motors
+                )));
+            }
+        }
+        Ok(th)
+    }
+
     /// The geometry of the warm arm.
     pub fn expand(&self, nominal: &Opw, motors: &MotorTemps) -> Opw {
-        let sb = self.base.scale(motors, self.t_ref);
-        let sl = self.lower_arm.scale(motors, self.t_ref);
-        let su = self.upper_arm.scale(motors, self.t_ref);
-        let sw = self.wrist.scale(motors, self.t_ref);
+        let [sb, sl, su, sw] = self.scales(motors);
         Opw {
             c1: nominal.c1 * sb,
             a1: nominal.a1 * sb,

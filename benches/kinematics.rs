@@ -1,0 +1,73 @@
+//! FK and IK per call, rapidtherm beside rs-opw-kinematics (same arm, same
+//! poses, same run). `cargo bench --bench kinematics`.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use rapidtherm::robot::{Joints, Robot, IRB140};
+use rs_opw_kinematics::glam::{DQuat, DVec3};
+use rs_opw_kinematics::kinematic_traits::{Kinematics, Pose};
+use rs_opw_kinematics::kinematics_impl::OPWKinematics;
+use rs_opw_kinematics::parameters::opw_kinematics::Parameters;
+use std::hint::black_box;
+
+fn reference() -> OPWKinematics {
+    OPWKinematics::new(Parameters {
+        a1: IRB140.a1,
+        a2: IRB140.a2,
+        b: IRB140.b,
+        c1: IRB140.c1,
+        c2: IRB140.c2,
+        c3: IRB140.c3,
+        c4: IRB140.c4,
+        offsets: [0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0],
+        sign_corrections: [1; 6],
+        dof: 6,
+    })
+}
+
+fn bench(c: &mut Criterion) {
+    let robot = Robot::irb140();
+    let arm = robot.opw.clone().expect("the IRB 140 has OPW form");
+    let wide = [(-std::f64::consts::PI, std::f64::consts::PI); 6];
+    let reference = reference();
+    let q: Joints = [30.0f64, 20.0, -40.0, 50.0, 60.0, 70.0].map(f64::to_radians);
+    let temps = rapidtherm::thermal::TABLE1_TMAX;
+    let pose = robot.fk(&q, None);
+    let t = pose.translation.vector;
+    let r = pose.rotation.quaternion();
+    let ref_pose = Pose::from_parts(
+        DVec3::new(t.x, t.y, t.z),
+        DQuat::from_xyzw(r.i, r.j, r.k, r.w),
+    );
+    let conf = robot.conf_of(&q);
+
+    let mut g = c.benchmark_group("fk");
+    g.bench_function("rapidtherm", |b| b.iter(|| robot.fk(black_box(&q), None)));
+    g.bench_function("rapidtherm_warm", |b| {
+        b.iter(|| robot.fk(black_box(&q), Some(black_box(&temps))))
+    });
+    g.bench_function("rapidtherm_urdf_chain", |b| {
+        b.iter(|| robot.chain.fk(black_box(&q)))
+    });
+    g.bench_function("rs_opw_kinematics", |b| {
+        b.iter(|| reference.forward(black_box(&q)))
+    });
+    g.finish();
+
+    let mut g = c.benchmark_group("ik");
+    g.bench_function("rapidtherm_8_branches", |b| {
+        b.iter(|| arm.solve(black_box(&pose), &wide, None))
+    });
+    g.bench_function("rapidtherm_all_turns_in_limits", |b| {
+        b.iter(|| robot.ik(black_box(&pose), None))
+    });
+    g.bench_function("rapidtherm_with_robconf", |b| {
+        b.iter(|| robot.ik_conf(black_box(&pose), &conf, None))
+    });
+    g.bench_function("rs_opw_kinematics", |b| {
+        b.iter(|| reference.inverse(black_box(&ref_pose)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

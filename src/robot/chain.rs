@@ -1,0 +1,262 @@
+//! Any serial six-axis chain: fixed transforms and revolute joint axes
+//! (forward kinematics for every arm a URDF can describe), link lengths
+//! scaled by link temperature, and extraction of the OPW parameters for
+//! the arms that have that shape.
+//!
+//! Thermal mapping for a general chain: each joint's origin translation
+//! belongs to the link it is fixed in (its parent). Origins of joints 1 and
+//! 2 are in the base (c1, a1), joint 3's in the lower arm (c2), joints 4
+//! and 5's in the upper arm (c3, a2), joint 6's and the flange's (tool0) in
+//! the wrist (c4). For the IRB 140 this is exactly the OPW expansion.
+
+use super::ik::{wrap, OpwArm};
+use super::{Joints, Opw};
+use nalgebra::{Isometry3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
+use std::f64::consts::FRAC_PI_2;
+
+/// Which link's temperature scales a joint origin's translation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Segment {
+    Base,
+    LowerArm,
+    UpperArm,
+    Wrist,
+}
+
+impl Segment {
+    /// The segment of joint `i` (0-based) origin.
+    pub fn of_joint(i: usize) -> Segment {
+        match i {
+            0 | 1 => Segment::Base,
+            2 => Segment::LowerArm,
+            3 | 4 => Segment::UpperArm,
+            _ => Segment::Wrist,
+        }
+    }
+
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// One revolute joint: its frame relative to the previous joint's frame at
+/// q = 0 (mm), and its axis in its own frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainJoint {
+    pub name: String,
+    pub origin: Isometry3<f64>,
+    pub axis: Unit<Vector3<f64>>,
+}
+
+/// A serial chain of six revolute joints from the base frame to the flange.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chain {
+    pub joints: [ChainJoint; 6],
+    /// Flange (tool0) in the last joint's frame.
+    pub tip: Isometry3<f64>,
+}
+
+fn scaled(iso: &Isometry3<f64>, s: f64) -> Isometry3<f64> {
+    Isometry3::from_parts(Translation3::from(iso.translation.vector * s), iso.rotation)
+}
+
+impl Chain {
+    /// Flange pose in the base frame.
+    pub fn fk(&self, q: &Joints) -> Isometry3<f64> {
+        self.fk_scaled(q, &[1.0; 4])
+    }
+
+    /// Flange pose with each segment's translations scaled (base, lower
+    /// arm, upper arm, wrist).
+    pub fn fk_scaled(&self, q: &Joints, scale: &[f64; 4]) -> Isometry3<f64> {
+        let mut t = Isometry3::identity();
+        for (i, j) in self.joints.iter().enumerate() {
+            let s = scale[Segment::of_joint(i).index()];
+            t = t * scaled(&j.origin, s) * UnitQuaternion::from_axis_angle(&j.axis, q[i]);
+        }
+        t * scaled(&self.tip, scale[Segment::Wrist.index()])
+    }
+
+    /// Frames of the six joints (before their own rotation) at `q`.
+    pub fn joint_frames(&self, q: &Joints) -> [Isometry3<f64>; 6] {
+        let mut out = [Isometry3::identity(); 6];
+        let mut t = Isometry3::identity();
+        for (i, j) in self.joints.iter().enumerate() {
+            t *= j.origin;
+            out[i] = t;
+            t *= UnitQuaternion::from_axis_angle(&j.axis, q[i]);
+        }
+        out
+    }
+
+    /// Point on and direction of each joint axis in the base frame at `q`.
+    pub fn axes(&self, q: &Joints) -> [(Vector3<f64>, Vector3<f64>); 6] {
+        let f = self.joint_frames(q);
+        std::array::from_fn(|i| {
+            (
+                f[i].translation.vector,
+                f[i].rotation * self.joints[i].axis.into_inner(),
+            )
+        })
+    }
+
+    /// The OPW parameters, joint signs and offsets of this chain, or what
+    /// keeps it from having that shape (axis 1 vertical through the base
+    /// origin; axes 2 and 3 parallel and horizontal; axes 4, 5, 6 meeting
+    /// in one point; tool0 on axis 6). The result is verified against this
+    /// chain's own forward kinematics.
+    pub fn extract_opw(&self) -> Result<OpwArm, String> {
+        const ANG: f64 = 1e-9;
+        const POS: f64 = 1e-6;
+        let ez = Vector3::z();
+        let ax = self.axes(&[0.0; 6]);
+        let (p1, d1) = ax[0];
+        let (p2, d2) = ax[1];
+        let (p3, d3) = ax[2];
+        let (p4, d4) = ax[3];
+        let (p5, d5) = ax[4];
+        let (p6, d6) = ax[5];
+        if d1.cross(&ez).norm() > ANG || p1.xy().norm() > POS {
+            return Err("axis 1 is not the vertical (z) axis through the base origin".into());
+        }
+        let s1 = d1.z.signum();
+        if d2.z.abs() > ANG {
+            return Err("axis 2 is not perpendicular to axis 1".into());
+        }
+        if d3.cross(&d2).norm() > ANG {
+            return Err("axes 2 and 3 are not parallel".into());
+        }
+        let w = intersect(p4, d4, p5, d5)
+            .filter(|w| dist_to_line(w, p6, d6) < POS)
+            .ok_or("axes 4, 5 and 6 do not meet in one point (no spherical wrist)")?;
+        // Forward direction: axis 2 is OPW's +y after axis 1 turned.
+        let mut y = d2;
+        let a1_plus = p2.dot(&y.cross(&ez));
+        let w_plus = w.dot(&y.cross(&ez));
+        if a1_plus < -POS || (a1_plus.abs() <= POS && w_plus < -POS) {
+            y = -y;
+        }
+        let f = y.cross(&ez);
+        let s2 = d2.dot(&y).signum();
+        let s3 = d3.dot(&y).signum();
+        let o1 = f.y.atan2(f.x);
+        let c1 = p2.z;
+        let a1 = p2.dot(&f);
+        let b = w.dot(&y);
+        let v = p3 - p2;
+        let (vx, vz) = (v.dot(&f), v.z);
+        let c2 = vx.hypot(vz);
+        let o2 = vx.atan2(vz);
+        let u = w - p3;
+        if d4.dot(&y).abs() > ANG {
+            return Err("axis 4 is not perpendicular to axes 2 and 3".into());
+        }
+        let e4 = if d4.dot(&u) >= 0.0 { d4 } else { -d4 };
+        let s4 = d4.dot(&e4).signum();
+        let (ex, ez4) = (e4.dot(&f), e4.z);
+        let phi = ex.atan2(ez4);
+        let o3 = phi - o2;
+        let (ux, uz) = (u.dot(&f), u.z);
+        let c3 = ux * ex + uz * ez4;
+        let a2 = ux * ez4 - uz * ex;
+        let r03 = Rotation3::from_axis_angle(&Vector3::z_axis(), o1)
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), phi);
+        let d5l = r03.inverse() * d5;
+        if d5l.z.abs() > ANG {
+            return Err("axis 5 is not perpendicular to axis 4".into());
+        }
+        let (mut s5, mut o4) = (1.0, (-d5l.x).atan2(d5l.y));
+        if o4.abs() > FRAC_PI_2 + ANG {
+            s5 = -1.0;
+            o4 = d5l.x.atan2(-d5l.y);
+        }
+        let r04 = r03 * Rotation3::from_axis_angle(&Vector3::z_axis(), o4);
+        let d6l = r04.inverse() * d6;
+        if d6l.y.abs() > ANG {
+            return Err("axis 6 is not perpendicular to axis 5".into());
+        }
+        let (mut s6, mut o5) = (1.0, d6l.x.atan2(d6l.z));
+        if o5.abs() > FRAC_PI_2 + ANG {
+            s6 = -1.0;
+            o5 = (-d6l.x).atan2(-d6l.z);
+        }
+        let r06 = r04 * Rotation3::from_axis_angle(&Vector3::y_axis(), o5);
+        let e6 = r06 * Vector3::z();
+        let tool = self.fk(&[0.0; 6]);
+        let vt = tool.translation.vector - w;
+        let c4 = vt.dot(&e6);
+        if (vt - c4 * e6).norm() > POS {
+            return Err("the flange (tool0) is not on axis 6".into());
+        }
+        let tip = UnitQuaternion::from_rotation_matrix(&r06).inverse() * tool.rotation;
+        let arm = OpwArm {
+            geom: Opw {
+                c1,
+                a1,
+                c2,
+                c3,
+                c4,
+                a2,
+                b,
+            },
+            signs: [s1, s2, s3, s4, s5, s6],
+            offsets: [o1, o2, o3, o4, o5, 0.0].map(clean_angle),
+            tip,
+        };
+        // Whatever the shape tests missed shows up here.
+        for q in VERIFY_POSES {
+            let q = q.map(f64::to_radians);
+            let (a, b) = (self.fk(&q), arm.fk(&q));
+            let dp = (a.translation.vector - b.translation.vector).norm();
+            let dr = a.rotation.angle_to(&b.rotation);
+            if dp > POS || dr > ANG * 10.0 {
+                return Err(format!(
+                    "the chain has the OPW features but its kinematics differ from the OPW model by {dp:.3e} mm / {dr:.3e} rad"
+                ));
+            }
+        }
+        Ok(arm)
+    }
+}
+
+const VERIFY_POSES: [[f64; 6]; 4] = [
+    [10.0, 20.0, 30.0, 40.0, 50.0, 60.0],
+    [-100.0, -35.0, 70.0, -150.0, -80.0, 200.0],
+    [170.0, 80.0, -120.0, 10.0, 5.0, -300.0],
+    [-45.0, 5.0, -200.0, 95.0, -110.0, 15.0],
+];
+
+/// Snap angles within rounding of a multiple of 90° onto it (offsets read
+/// from a URDF's rpy and atan2 carry 1e-16 noise).
+fn clean_angle(a: f64) -> f64 {
+    let q = (a / FRAC_PI_2).round();
+    if (a - q * FRAC_PI_2).abs() < 1e-12 {
+        wrap(q * FRAC_PI_2)
+    } else {
+        a
+    }
+}
+
+fn dist_to_line(x: &Vector3<f64>, p: Vector3<f64>, d: Vector3<f64>) -> f64 {
+    (x - p).cross(&d).norm() / d.norm()
+}
+
+/// The common point of two lines, if they meet (within 1e-6 mm).
+fn intersect(
+    p: Vector3<f64>,
+    d: Vector3<f64>,
+    q: Vector3<f64>,
+    e: Vector3<f64>,
+) -> Option<Vector3<f64>> {
+    let n = d.cross(&e);
+    let nn = n.norm_squared();
+    if nn < 1e-18 {
+        return None;
+    }
+    let r = q - p;
+    let t = r.cross(&e).dot(&n) / nn;
+    let s = r.cross(&d).dot(&n) / nn;
+    let a = p + d * t;
+    let b = q + e * s;
+    ((a - b).norm() < 1e-6).then_some(0.5 * (a + b))
+}

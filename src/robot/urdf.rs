@@ -1,0 +1,174 @@
+//! Reading a serial six-axis arm from a URDF (urdf-rs). Meshes, inertias
+//! and collision geometry are ignored: no `package://` lookups, no ROS.
+//! URDF lengths are metres; the chain is built in millimetres.
+
+use super::chain::{Chain, ChainJoint};
+use super::ik::Limits;
+use crate::error::{Error, ErrorKind, Result};
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+use std::collections::HashMap;
+
+/// The IRB 140 written for this project from `shared/spec/irb140.md`.
+pub const IRB140_URDF: &str = include_str!("irb140.urdf");
+
+/// What a URDF gives the robot model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UrdfArm {
+    pub name: String,
+    pub chain: Chain,
+    pub limits: Limits,
+    /// Joint velocity limits, °/s (0 where the URDF gives none).
+    pub max_speed_deg_s: [f64; 6],
+}
+
+fn pose_of(origin: &urdf_rs::Pose) -> Isometry3<f64> {
+    let [x, y, z] = origin.xyz.0;
+    let [r, p, yaw] = origin.rpy.0;
+    Isometry3::from_parts(
+        Translation3::new(x * 1000.0, y * 1000.0, z * 1000.0),
+        UnitQuaternion::from_euler_angles(r, p, yaw),
+    )
+}
+
+/// Parse a URDF text (`file` names it in messages).
+pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
+    let robot = urdf_rs::read_from_string(text)
+        .map_err(|e| Error::input(format!("{file}: not a readable URDF: {e}")))?;
+    let bad = |msg: String| Error::input(format!("{file}: {msg}"));
+    let mut parent_joint: HashMap<&str, usize> = HashMap::new();
+    for (i, j) in robot.joints.iter().enumerate() {
+        if parent_joint.insert(j.child.link.as_str(), i).is_some() {
+            return Err(bad(format!(
+                "link `{}` is the child of more than one joint (not a tree)",
+                j.child.link
+            )));
+        }
+    }
+    let movable = |j: &urdf_rs::Joint| {
+        matches!(
+            j.joint_type,
+            urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous
+        )
+    };
+    // Joints from the root down to `tip`, or None on a cycle.
+    let path_to = |tip: &str| -> Option<Vec<usize>> {
+        let mut path = Vec::new();
+        let mut link = tip;
+        while let Some(&i) = parent_joint.get(link) {
+            if path.len() > robot.joints.len() {
+                return None;
+            }
+            path.push(i);
+            link = robot.joints[i].parent.link.as_str();
+        }
+        path.reverse();
+        Some(path)
+    };
+    let tip_name = if robot.links.iter().any(|l| l.name == "tool0") {
+        "tool0".to_string()
+    } else {
+        let parents: Vec<&str> = robot
+            .joints
+            .iter()
+            .map(|j| j.parent.link.as_str())
+            .collect();
+        let leaves: Vec<&str> = robot
+            .links
+            .iter()
+            .map(|l| l.name.as_str())
+            .filter(|l| !parents.contains(l))
+            .filter(|l| {
+                path_to(l)
+                    .is_some_and(|p| p.iter().filter(|&&i| movable(&robot.joints[i])).count() == 6)
+            })
+            .collect();
+        match leaves.as_slice() {
+            [one] => one.to_string(),
+            [] => return Err(bad(
+                "no link is reached through six revolute joints (a six-axis serial arm is needed)"
+                    .into(),
+            )),
+            many => {
+                return Err(bad(format!(
+                    "several end links ({}); name the flange link `tool0`",
+                    many.join(", ")
+                )))
+            }
+        }
+    };
+    let path = path_to(&tip_name).ok_or_else(|| bad("the joints form a cycle".into()))?;
+    let mut joints: Vec<ChainJoint> = Vec::with_capacity(6);
+    let mut limits: Vec<(f64, f64)> = Vec::with_capacity(6);
+    let mut speeds: Vec<f64> = Vec::with_capacity(6);
+    let mut pending = Isometry3::identity();
+    for &i in &path {
+        let j = &robot.joints[i];
+        match &j.joint_type {
+            urdf_rs::JointType::Fixed => pending *= pose_of(&j.origin),
+            urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
+                let axis = Vector3::from(j.axis.xyz.0);
+                let axis = Unit::try_new(axis, 1e-12)
+                    .filter(|_| axis.iter().all(|v| v.is_finite()))
+                    .ok_or_else(|| bad(format!("joint `{}` has a zero or invalid axis", j.name)))?;
+                let lim = if j.joint_type == urdf_rs::JointType::Continuous {
+                    // A continuous joint turns freely; one turn each way is
+                    // what the IK enumerates.
+                    (-std::f64::consts::PI, std::f64::consts::PI)
+                } else {
+                    let (lo, hi) = (j.limit.lower, j.limit.upper);
+                    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                        return Err(bad(format!(
+                            "revolute joint `{}` needs limits with lower < upper (got {lo} .. {hi})",
+                            j.name
+                        )));
+                    }
+                    (lo, hi)
+                };
+                joints.push(ChainJoint {
+                    name: j.name.clone(),
+                    origin: pending * pose_of(&j.origin),
+                    axis,
+                });
+                pending = Isometry3::identity();
+                limits.push(lim);
+                let v = j.limit.velocity;
+                speeds.push(if v.is_finite() && v > 0.0 {
+                    v.to_degrees()
+                } else {
+                    0.0
+                });
+            }
+            other => {
+                return Err(Error::new(
+                    ErrorKind::Unsupported,
+                    format!(
+                        "{file}: joint `{}` is {:?}; only revolute and fixed joints are modelled",
+                        j.name, other
+                    ),
+                ))
+            }
+        }
+    }
+    let n = joints.len();
+    let joints: [ChainJoint; 6] = joints.try_into().map_err(|_| {
+        bad(format!(
+            "{n} revolute joints between the root and `{tip_name}`; a six-axis serial arm is needed"
+        ))
+    })?;
+    let finite = joints.iter().all(|j| {
+        j.origin.translation.vector.iter().all(|v| v.is_finite())
+            && j.origin.rotation.coords.iter().all(|v| v.is_finite())
+    });
+    if !finite {
+        return Err(bad("a joint origin is not finite".into()));
+    }
+    Ok(UrdfArm {
+        name: robot.name.clone(),
+        chain: Chain {
+            joints,
+            tip: pending,
+        },
+        limits: std::array::from_fn(|i| limits[i]),
+        max_speed_deg_s: std::array::from_fn(|i| speeds[i]),
+    })
+}

@@ -281,7 +281,7 @@ mod tests {
         let src = b"a 12 b \xe9 34\r\n";
         let e = vec![
             Edit {
-                span: 11..13,
+                span: 9..11,
                 expected_old: b"34".to_vec(),
                 new: b"35.5".to_vec(),
             },

@@ -2474,6 +2474,7 @@ fn describe_rule(r: Rule) -> Option<&'static str> {
         R::EOI => "the end of the statement",
         R::late_binding => "a procedure name",
         R::module_attributes => "`(`",
+        R::module_attribute => "SYSMODULE, NOVIEW, NOSTEPIN, VIEWONLY or READONLY",
         R::access => "VAR, PERS or INOUT",
         R::array_dim => "`{*}`",
         _ => return None,
@@ -2481,7 +2482,12 @@ fn describe_rule(r: Rule) -> Option<&'static str> {
 }
 
 fn describe_token(token: &str) -> Option<String> {
-    if token == "BUILTIN_RULE" || (token.len() > 3 && token.contains("..")) {
+    if token == "BUILTIN_RULE"
+        || (token.len() > 3 && token.contains(".."))
+        || token.is_empty()
+        || token.chars().all(|c| c.is_control() || c == '_')
+        || (token.len() == 1 && token.chars().all(|c| c.is_ascii_alphanumeric()))
+    {
         return None;
     }
     {

@@ -209,7 +209,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                 pest::set_error_detail(true);
                 let detailed = RapidParser::parse(rule, &text).err();
                 pest::set_error_detail(false);
-                return Err(self.pest_error(detailed.as_ref().unwrap_or(&e), piece.start));
+                return Err(self.pest_error(detailed.as_ref().unwrap_or(&e), piece.start, rule));
             }
         };
         let Some(pair) = pairs.next() else {
@@ -218,7 +218,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
         f(self, pair)
     }
 
-    fn pest_error(&self, e: &pest::error::Error<Rule>, base: usize) -> Error {
+    fn pest_error(&self, e: &pest::error::Error<Rule>, base: usize, rule: Rule) -> Error {
         let at = match e.location {
             pest::error::InputLocation::Pos(p) => p,
             pest::error::InputLocation::Span((s, _)) => s,
@@ -238,6 +238,11 @@ impl<'a, 'b> FileParser<'a, 'b> {
         }
         if let pest::error::ErrorVariant::ParsingError { positives, .. } = &e.variant {
             for r in positives {
+                if *r == Rule::EOI && rule == Rule::test_head {
+                    for w in ["CASE", "DEFAULT", "ENDTEST"] {
+                        push(w.to_string());
+                    }
+                }
                 if let Some(s) = describe_rule(*r) {
                     push(s.to_string());
                 }
@@ -248,7 +253,17 @@ impl<'a, 'b> FileParser<'a, 'b> {
         }
         order_expected(&mut expected);
         let abs = base + at;
+        if self.src.get(abs) == Some(&b'"') {
+            return self.err(abs, "string not closed on this line");
+        }
         let found = found_at(self.src, abs);
+        // A missing `;` (or `,`) is noticed on the next line: point at the
+        // end of the line where it belongs, as compilers do.
+        let abs = if expected.iter().any(|s| s == "`;`" || s == "`,`") {
+            end_of_previous_code(self.src, abs, base)
+        } else {
+            abs
+        };
         let msg = if expected.is_empty() {
             format!("unexpected {found}")
         } else {
@@ -511,9 +526,12 @@ impl<'a, 'b> FileParser<'a, 'b> {
                 }
                 _ => {
                     let f = self.found(&p);
-                    return Err(
-                        self.err(p.start, format!("expected {}, found {f}", end_word(r.kind)))
-                    );
+                    let mut e =
+                        self.err(p.start, format!("expected {}, found {f}", end_word(r.kind)));
+                    if let Some(note) = stray_note(&upper_word(self.src, &p)) {
+                        e = e.with_note(note);
+                    }
+                    return Err(e);
                 }
             }
         }
@@ -1480,6 +1498,19 @@ impl<'a, 'b> FileParser<'a, 'b> {
     }
 }
 
+/// Why a block keyword may appear where it has no block to close.
+fn stray_note(word: &str) -> Option<&'static str> {
+    Some(match word {
+        "ENDIF" | "ELSE" | "ELSEIF" => {
+            "no IF ... THEN is open here (is THEN missing? a one-line IF has no ENDIF)"
+        }
+        "ENDFOR" => "no FOR ... DO is open here (is DO missing?)",
+        "ENDWHILE" => "no WHILE ... DO is open here (is DO missing?)",
+        "ENDTEST" | "CASE" | "DEFAULT" => "no TEST is open here",
+        _ => return None,
+    })
+}
+
 fn end_word(k: RoutineKind) -> &'static str {
     match k {
         RoutineKind::Proc => "ENDPROC",
@@ -2440,7 +2471,7 @@ fn describe_rule(r: Rule) -> Option<&'static str> {
         | R::op_xor => "an operator",
         R::storage | R::kw_const | R::kw_pers | R::kw_var => "CONST, PERS or VAR",
         R::scope | R::kw_local | R::kw_task => "LOCAL or TASK",
-        R::optional_argument => "an optional argument `\\name`",
+        R::optional_argument => "an optional argument",
         R::required_argument | R::procedure_argument_list | R::function_argument_list => {
             "an argument"
         }
@@ -2485,7 +2516,10 @@ fn describe_token(token: &str) -> Option<String> {
     if token == "BUILTIN_RULE"
         || (token.len() > 3 && token.contains(".."))
         || token.is_empty()
-        || token.chars().all(|c| c.is_control() || c == '_')
+        || token == "!"
+        || token
+            .chars()
+            .all(|c| c.is_control() || c.is_whitespace() || c == '_')
         || (token.len() == 1 && token.chars().all(|c| c.is_ascii_alphanumeric()))
     {
         return None;
@@ -2493,10 +2527,9 @@ fn describe_token(token: &str) -> Option<String> {
     {
         {
             Some(match token {
-                "+" | "-" | "*" | "/" | "<" | ">" | "<=" | ">=" | "<>" | "=" => {
-                    "an operator".to_string()
-                }
-                "\\" => "an optional argument `\\name`".to_string(),
+                "+" | "-" | "*" | "/" | "<" | ">" | "<=" | ">=" | "<>" | "=" | "AND" | "OR"
+                | "XOR" | "DIV" | "MOD" => "an operator".to_string(),
+                "\\" => "an optional argument".to_string(),
                 "\"" => "a string".to_string(),
                 "0" => return None,
                 "." | "E" | "e" | "x" | "o" | "b" => return None,
@@ -2507,15 +2540,16 @@ fn describe_token(token: &str) -> Option<String> {
     }
 }
 
-/// Most useful words first: punctuation, keywords, then the general ones.
+/// Most useful words first: closing punctuation, keywords, then the
+/// general ones; what is possible after almost any name (`(`, `{`, `.`,
+/// `:=`) only when little else fits.
 fn order_expected(v: &mut Vec<String>) {
+    let minor = |s: &str| matches!(s, "`(`" | "`{`" | "`.`" | "`:=`");
     let rank = |s: &str| -> u8 {
-        if s.starts_with('`') {
-            if s == "`{`" || s == "`.`" {
-                6
-            } else {
-                0
-            }
+        if minor(s) {
+            6
+        } else if s.starts_with('`') {
+            0
         } else if s
             .chars()
             .all(|c| c.is_ascii_uppercase() || c == ',' || c == ' ')
@@ -2523,7 +2557,7 @@ fn order_expected(v: &mut Vec<String>) {
             1
         } else if s == "an expression" || s == "a name" || s == "a statement" {
             2
-        } else if s == "an optional argument `\\name`" {
+        } else if s == "an optional argument" {
             3
         } else if s == "an operator" {
             4
@@ -2532,11 +2566,13 @@ fn order_expected(v: &mut Vec<String>) {
         }
     };
     v.sort_by_key(|s| rank(s));
-    // Index and component are possible after almost any name; say them
-    // only when nothing else fits.
-    if v.len() > 1 {
-        v.retain(|s| s != "`{`" && s != "`.`" && s != "the end of the statement");
+    if v.iter().any(|s| s == "an expression") {
+        v.retain(|s| s != "a string" && s != "a number" && s != "a name");
     }
+    if v.iter().filter(|s| !minor(s)).count() >= 2 {
+        v.retain(|s| !minor(s));
+    }
+    v.retain(|s| s != "the end of the statement");
     v.truncate(5);
 }
 
@@ -2545,6 +2581,45 @@ fn join_or(v: &[String]) -> String {
         [] => String::new(),
         [a] => a.clone(),
         [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
+/// If only blanks and line breaks separate `offset` from the code before
+/// it (not before `floor`), the end of that code (before any comment).
+fn end_of_previous_code(src: &[u8], offset: usize, floor: usize) -> usize {
+    let mut p = offset.min(src.len());
+    let mut crossed = false;
+    while p > floor && src[p - 1].is_ascii_whitespace() {
+        crossed |= src[p - 1] == b'\n';
+        p -= 1;
+    }
+    if !crossed {
+        return offset;
+    }
+    // The line ending at `p`: cut a comment (a `!` outside strings).
+    let start = src[..p]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let mut in_str = false;
+    let mut end = p;
+    for (i, &b) in src[start..p].iter().enumerate() {
+        match b {
+            b'"' => in_str = !in_str,
+            b'!' if !in_str => {
+                end = start + i;
+                break;
+            }
+            _ => {}
+        }
+    }
+    while end > start && src[end - 1].is_ascii_whitespace() {
+        end -= 1;
+    }
+    if end <= floor.max(start) && end == start {
+        offset
+    } else {
+        end
     }
 }
 

@@ -284,11 +284,11 @@ proptest! {
             let num = prog.targets()[ti].value.as_ref().unwrap().trans[pick.index(3)].clone();
             if let Some(edit) = rewrite::number_edit(&src, &num, new_value, rewrite::POSITION_RESOLUTION) {
                 let out = rewrite::apply_edits("gen.mod", &src, std::slice::from_ref(&edit)).unwrap();
-                prop_assert_eq!(&out[..num.span.start], &src[..num.span.start]);
-                prop_assert_eq!(&out[num.span.start + edit.new.len()..], &src[num.span.end..]);
+                prop_assert_eq!(&out[..num.span().start], &src[..num.span().start]);
+                prop_assert_eq!(&out[num.span().start + edit.new.len()..], &src[num.span().end..]);
                 let prog2 = rapid::parse("gen.mod", &out).unwrap();
                 let n2 = prog2.targets()[ti].value.as_ref().unwrap().numbers()
-                    .find(|n| n.span.start == num.span.start).unwrap().value;
+                    .find(|n| n.span().start == num.span().start).unwrap().value;
                 prop_assert!((n2 - new_value).abs() <= 0.0005 + 1e-9, "{} -> {}", new_value, n2);
             }
         }

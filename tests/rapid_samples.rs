@@ -315,7 +315,7 @@ fn control_flow_statements_and_derived_targets() {
     let S::Call(c) = &pick.body[0].kind else {
         panic!()
     };
-    assert_eq!(c.name, "MoveJ");
+    assert_eq!(&*c.name, "MoveJ");
     assert_eq!(
         c.positional().nth(1).and_then(|e| e.as_name()),
         Some("vFast")

@@ -44,18 +44,32 @@ use std::sync::Arc;
 pub use parse::{parse, parse_files};
 
 /// One number literal of the source: its value and where its text is.
-/// The span includes a sign written directly before the digits.
+/// The span includes a sign written directly before the digits. (Offsets
+/// are stored as u32: files are limited to 4 GiB, and a CAM program of
+/// millions of targets stays small in memory.)
 #[derive(Debug, Clone, PartialEq)]
 pub struct Number {
     pub value: f64,
-    pub span: Range<usize>,
+    start: u32,
+    end: u32,
 }
 
 impl Number {
+    pub(crate) fn new(value: f64, span: Range<usize>) -> Number {
+        Number {
+            value,
+            start: span.start as u32,
+            end: span.end as u32,
+        }
+    }
+    /// Byte range of the literal in the original file.
+    pub fn span(&self) -> Range<usize> {
+        self.start as usize..self.end as usize
+    }
     /// The literal as written in `src` (the bytes the program was parsed
     /// from).
     pub fn text<'a>(&self, src: &'a [u8]) -> &'a str {
-        src.get(self.span.clone())
+        src.get(self.span())
             .and_then(|b| std::str::from_utf8(b).ok())
             .unwrap_or("")
     }
@@ -66,8 +80,8 @@ impl Number {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Pos {
     pub offset: usize,
-    pub line: usize,
-    pub col: usize,
+    pub line: u32,
+    pub col: u32,
 }
 
 /// The numbers of a robtarget literal `[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[eax_a..eax_f]]`.
@@ -189,9 +203,7 @@ pub struct Target {
     pub tool: Option<Arc<str>>,
     /// Work object named by that instruction (`\WObj:=`).
     pub wobj: Option<Arc<str>>,
-    pub derived: Option<Derivation>,
-    /// Lower-case name space the identifier is made unique in.
-    ns: Arc<str>,
+    pub derived: Option<Box<Derivation>>,
 }
 
 /// One jointtarget: `[[rax_1..rax_6],[eax_a..eax_f]]`, degrees.
@@ -207,7 +219,6 @@ pub struct JointTarget {
     pub instruction: Option<Arc<str>>,
     pub tool: Option<Arc<str>>,
     pub wobj: Option<Arc<str>>,
-    ns: Arc<str>,
 }
 
 /// A boolean, string or other non-number component as written.
@@ -327,8 +338,8 @@ impl Program {
     pub fn location(&self, origin: &Origin) -> Location {
         Location {
             file: self.files.get(origin.file).cloned().unwrap_or_default(),
-            line: origin.pos.line,
-            col: origin.pos.col,
+            line: origin.pos.line as usize,
+            col: origin.pos.col as usize,
             line_text: String::new(),
         }
     }
@@ -435,10 +446,10 @@ pub enum StatementKind {
         then: Box<Statement>,
     },
     For {
-        var: String,
+        var: Arc<str>,
         from: Expr,
         to: Expr,
-        step: Option<Expr>,
+        step: Option<Box<Expr>>,
         body: Vec<Statement>,
     },
     While {
@@ -469,7 +480,7 @@ pub enum StatementKind {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Call {
     /// The procedure (for a late-bound call `%expr%`, the expression text).
-    pub name: String,
+    pub name: Arc<str>,
     pub late_bound: bool,
     pub args: Vec<Arg>,
     /// Indices into [`Program::targets`] of the robtargets written in the
@@ -502,7 +513,7 @@ impl Call {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Arg {
     pub optional: bool,
-    pub name: Option<String>,
+    pub name: Option<Arc<str>>,
     pub value: Option<Expr>,
 }
 
@@ -532,33 +543,44 @@ pub enum BinaryOp {
     Xor,
 }
 
+/// An expression. Variants with more than one field are boxed so that an
+/// expression is 24 bytes: a CAM program holds millions of them.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expr {
     Num(Number),
-    Str(String),
+    Str(Box<str>),
     Bool(bool),
     /// `<EXP>` and other pendant placeholders.
-    Placeholder(String),
-    Name(String),
+    Placeholder(Box<str>),
+    Name(Arc<str>),
     /// `p.trans.x`
-    Component(Box<Expr>, String),
+    Component(Box<(Expr, Arc<str>)>),
     /// `arr{i, j}`
-    Index(Box<Expr>, Vec<Expr>),
-    Call {
-        name: String,
-        args: Vec<Arg>,
-        span: Range<usize>,
-    },
-    Aggregate {
-        items: Vec<Expr>,
-        span: Range<usize>,
-    },
+    Index(Box<(Expr, Vec<Expr>)>),
+    Call(Box<FunctionCall>),
+    Aggregate(Box<Aggregate>),
     Unary(UnaryOp, Box<Expr>),
-    Binary(BinaryOp, Box<Expr>, Box<Expr>),
+    Binary(Box<(BinaryOp, Expr, Expr)>),
     /// A robtarget literal: index into [`Program::targets`].
     Target(usize),
     /// A jointtarget literal: index into [`Program::jointtargets`].
     JointTarget(usize),
+}
+
+/// `Offs(p10, 0, 0, 50)`
+#[derive(Debug, Clone, PartialEq)]
+pub struct FunctionCall {
+    pub name: Arc<str>,
+    pub args: Vec<Arg>,
+    /// Byte range of the whole call in the original file.
+    pub span: Range<usize>,
+}
+
+/// `[a, b, ...]`
+#[derive(Debug, Clone, PartialEq)]
+pub struct Aggregate {
+    pub items: Vec<Expr>,
+    pub span: Range<usize>,
 }
 
 impl Expr {

@@ -64,7 +64,11 @@ fn pos_of(src: &[u8], lines: &[usize], offset: usize) -> Pos {
         Ok(s) => s.chars().count(),
         Err(_) => prefix.len(),
     };
-    Pos { offset, line, col }
+    Pos {
+        offset,
+        line: line as u32,
+        col: col as u32,
+    }
 }
 
 // ------------------------------------------------------------- builder
@@ -711,11 +715,11 @@ impl<'a, 'b> FileParser<'a, 'b> {
             }
             K::For => {
                 let (var, mut e) = self.with_pair(Rule::for_head, p, |s, pair| {
-                    let mut var = String::new();
+                    let mut var: Arc<str> = Arc::from("");
                     let mut es = Vec::new();
                     for c in pair.into_inner() {
                         match c.as_rule() {
-                            Rule::identifier => var = s.text(&c, p.start),
+                            Rule::identifier => var = s.name(&c, p.start),
                             Rule::expression => es.push(s.expr(c, p.start)?),
                             _ => {}
                         }
@@ -727,7 +731,11 @@ impl<'a, 'b> FileParser<'a, 'b> {
                 if e.len() < 2 {
                     return Err(self.err(p.start, "expected FROM and TO"));
                 }
-                let step = if e.len() > 2 { e.pop() } else { None };
+                let step = if e.len() > 2 {
+                    e.pop().map(Box::new)
+                } else {
+                    None
+                };
                 let to = e.pop().unwrap_or(Expr::Bool(false));
                 let from = e.pop().unwrap_or(Expr::Bool(false));
                 StatementKind::For {
@@ -876,7 +884,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
             .into_inner()
             .next()
             .is_some_and(|c| c.as_rule() == Rule::late_binding);
-        let name = self.text(&name_pair, base);
+        let name = self.name(&name_pair, base);
         let args = match inner.next() {
             Some(list) => self.args(list, base)?,
             None => Vec::new(),
@@ -890,11 +898,11 @@ impl<'a, 'b> FileParser<'a, 'b> {
                 .filter_map(|a| a.value.as_ref())
                 .collect();
             for &i in sig.robtargets {
-                if let Some(Expr::Aggregate { items, span }) = positional.get(i) {
-                    if let Err(why) = robtarget_shape(items) {
+                if let Some(Expr::Aggregate(a)) = positional.get(i) {
+                    if let Err(why) = robtarget_shape(&a.items) {
                         return Err(self
                             .err(
-                                span.start,
+                                a.span.start,
                                 format!("this robtarget value of {name} is malformed: {why}"),
                             )
                             .with_note(ROBTARGET_FORM));
@@ -902,11 +910,11 @@ impl<'a, 'b> FileParser<'a, 'b> {
                 }
             }
             for &i in sig.jointtargets {
-                if let Some(Expr::Aggregate { items, span }) = positional.get(i) {
-                    if let Err(why) = jointtarget_shape(items) {
+                if let Some(Expr::Aggregate(a)) = positional.get(i) {
+                    if let Err(why) = jointtarget_shape(&a.items) {
                         return Err(self
                             .err(
-                                span.start,
+                                a.span.start,
                                 format!("this jointtarget value of {name} is malformed: {why}"),
                             )
                             .with_note(JOINTTARGET_FORM));
@@ -916,7 +924,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
         }
         let (tool, wobj) = call_tool_wobj(&name, &args, &HashSet::new());
         let ctx = InlineCtx {
-            instruction: Some(self.b.intern(&name)),
+            instruction: Some(name.clone()),
             tool: tool.map(|t| self.b.intern(&t)),
             wobj: wobj.map(|w| self.b.intern(&w)),
             assigned_to: None,
@@ -947,7 +955,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
             let mut value = None;
             for c in a.into_inner() {
                 match c.as_rule() {
-                    Rule::identifier => name = Some(self.text(&c, base)),
+                    Rule::identifier => name = Some(self.name(&c, base)),
                     Rule::expression => value = Some(self.expr(c, base)?),
                     _ => {}
                 }
@@ -1056,14 +1064,16 @@ impl<'a, 'b> FileParser<'a, 'b> {
         index: &mut Vec<usize>,
     ) -> Result<Expr> {
         if dims > 0 {
-            if let Expr::Aggregate { items, span } = e {
+            if let Expr::Aggregate(mut a) = e {
+                let items = std::mem::take(&mut a.items);
                 let mut out = Vec::with_capacity(items.len());
                 for (i, it) in items.into_iter().enumerate() {
                     index.push(i + 1);
                     out.push(self.declared_robtargets(d, it, dims - 1, index)?);
                     index.pop();
                 }
-                return Ok(Expr::Aggregate { items: out, span });
+                a.items = out;
+                return Ok(Expr::Aggregate(a));
             }
             return Ok(e);
         }
@@ -1074,12 +1084,12 @@ impl<'a, 'b> FileParser<'a, 'b> {
             TargetKind::ArrayElement
         };
         match &e {
-            Expr::Aggregate { items, span } => match robtarget_shape(items) {
+            Expr::Aggregate(a) => match robtarget_shape(&a.items) {
                 Err(why) => Err(self
-                    .err(span.start, format!("robtarget {id} is malformed: {why}"))
+                    .err(a.span.start, format!("robtarget {id} is malformed: {why}"))
                     .with_note(ROBTARGET_FORM)),
                 Ok(Some(value)) => {
-                    let t = self.new_target(id, kind, span.start, Some(value));
+                    let t = self.new_target(id, kind, a.span.start, Some(value));
                     let t = Target {
                         name: Some(d.name.clone()),
                         storage: Some(d.storage),
@@ -1088,13 +1098,13 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     Ok(Expr::Target(self.push_target(t)))
                 }
                 Ok(None) => {
-                    let span = span.clone();
+                    let span = a.span.clone();
                     self.declared_derived(d, id, &e, span);
                     Ok(e)
                 }
             },
-            Expr::Call { span, .. } => {
-                let span = span.clone();
+            Expr::Call(c) => {
+                let span = c.span.clone();
                 self.declared_derived(d, id, &e, span);
                 Ok(e)
             }
@@ -1107,7 +1117,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
         let t = Target {
             name: Some(d.name.clone()),
             storage: Some(d.storage),
-            derived: Some(derivation(self.src, e, span)),
+            derived: Some(Box::new(derivation(self.src, e, span))),
             ..t
         };
         self.push_target(t);
@@ -1120,13 +1130,6 @@ impl<'a, 'b> FileParser<'a, 'b> {
         offset: usize,
         value: Option<RobTargetValue>,
     ) -> Target {
-        let ns = match kind {
-            TargetKind::Inline | TargetKind::Assigned => {
-                self.routine.clone().unwrap_or_else(|| Arc::from(""))
-            }
-            _ => Arc::from(id.split(['{', '.']).next().unwrap_or("")),
-        };
-        let ns = self.b.intern(&ns.to_lowercase());
         Target {
             id,
             kind,
@@ -1138,7 +1141,6 @@ impl<'a, 'b> FileParser<'a, 'b> {
             tool: None,
             wobj: None,
             derived: None,
-            ns,
         }
     }
 
@@ -1154,22 +1156,27 @@ impl<'a, 'b> FileParser<'a, 'b> {
         dims: usize,
         index: &mut Vec<usize>,
     ) -> Result<Expr> {
-        let Expr::Aggregate { items, span } = e else {
+        let Expr::Aggregate(mut a) = e else {
             return Ok(e);
         };
         if dims > 0 {
+            let items = std::mem::take(&mut a.items);
             let mut out = Vec::with_capacity(items.len());
             for (i, it) in items.into_iter().enumerate() {
                 index.push(i + 1);
                 out.push(self.declared_joints(d, it, dims - 1, index)?);
                 index.pop();
             }
-            return Ok(Expr::Aggregate { items: out, span });
+            a.items = out;
+            return Ok(Expr::Aggregate(a));
         }
         let id = Self::decl_id(&d.name, index);
-        match jointtarget_shape(&items) {
+        match jointtarget_shape(&a.items) {
             Err(why) => Err(self
-                .err(span.start, format!("jointtarget {id} is malformed: {why}"))
+                .err(
+                    a.span.start,
+                    format!("jointtarget {id} is malformed: {why}"),
+                )
                 .with_note(JOINTTARGET_FORM)),
             Ok(Some((robax, extax))) => {
                 let kind = if index.is_empty() {
@@ -1177,11 +1184,10 @@ impl<'a, 'b> FileParser<'a, 'b> {
                 } else {
                     TargetKind::ArrayElement
                 };
-                let ns = self.b.intern(&d.name.to_lowercase());
                 let j = JointTarget {
                     id,
                     kind,
-                    origin: self.origin(span.start),
+                    origin: self.origin(a.span.start),
                     name: Some(d.name.clone()),
                     storage: Some(d.storage),
                     robax,
@@ -1189,12 +1195,11 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     instruction: None,
                     tool: None,
                     wobj: None,
-                    ns,
                 };
                 self.b.prog.jointtargets.push(j);
                 Ok(Expr::JointTarget(self.b.prog.jointtargets.len() - 1))
             }
-            Ok(None) => Ok(Expr::Aggregate { items, span }),
+            Ok(None) => Ok(Expr::Aggregate(a)),
         }
     }
 
@@ -1261,8 +1266,8 @@ impl<'a, 'b> FileParser<'a, 'b> {
     /// expression by references to new inline targets.
     fn take_literals(&mut self, e: Expr, ctx: &InlineCtx) -> Expr {
         match e {
-            Expr::Aggregate { items, span } => {
-                if let Ok(Some(value)) = robtarget_shape(&items) {
+            Expr::Aggregate(mut a) => {
+                if let Ok(Some(value)) = robtarget_shape(&a.items) {
                     self.inline_k += 1;
                     let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
                     let id = format!("{}#{}", routine, self.inline_k);
@@ -1271,7 +1276,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     } else {
                         TargetKind::Inline
                     };
-                    let t = self.new_target(id, kind, span.start, Some(value));
+                    let t = self.new_target(id, kind, a.span.start, Some(value));
                     let t = Target {
                         name: ctx.assigned_to.clone(),
                         instruction: ctx.instruction.clone(),
@@ -1283,10 +1288,9 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     self.call_targets.push(i);
                     return Expr::Target(i);
                 }
-                if let Ok(Some((robax, extax))) = jointtarget_shape(&items) {
+                if let Ok(Some((robax, extax))) = jointtarget_shape(&a.items) {
                     self.joint_k += 1;
                     let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
-                    let ns = self.b.intern(&routine.to_lowercase());
                     let j = JointTarget {
                         id: format!("{}#{}", routine, self.joint_k),
                         kind: if ctx.assigned_to.is_some() {
@@ -1294,7 +1298,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                         } else {
                             TargetKind::Inline
                         },
-                        origin: self.origin(span.start),
+                        origin: self.origin(a.span.start),
                         name: ctx.assigned_to.clone(),
                         storage: None,
                         robax,
@@ -1302,42 +1306,53 @@ impl<'a, 'b> FileParser<'a, 'b> {
                         instruction: ctx.instruction.clone(),
                         tool: ctx.tool.clone(),
                         wobj: ctx.wobj.clone(),
-                        ns,
                     };
                     self.b.prog.jointtargets.push(j);
                     let i = self.b.prog.jointtargets.len() - 1;
                     self.call_joints.push(i);
                     return Expr::JointTarget(i);
                 }
-                let items = items
+                let items = std::mem::take(&mut a.items);
+                a.items = items
                     .into_iter()
                     .map(|x| self.take_literals(x, ctx))
                     .collect();
-                Expr::Aggregate { items, span }
+                Expr::Aggregate(a)
             }
-            Expr::Call { name, args, span } => Expr::Call {
-                name,
-                args: args
+            Expr::Call(mut c) => {
+                let args = std::mem::take(&mut c.args);
+                c.args = args
                     .into_iter()
                     .map(|a| Arg {
                         value: a.value.map(|v| self.take_literals(v, ctx)),
                         ..a
                     })
-                    .collect(),
-                span,
-            },
-            Expr::Unary(op, x) => Expr::Unary(op, Box::new(self.take_literals(*x, ctx))),
-            Expr::Binary(op, x, y) => {
-                let x = self.take_literals(*x, ctx);
-                let y = self.take_literals(*y, ctx);
-                Expr::Binary(op, Box::new(x), Box::new(y))
+                    .collect();
+                Expr::Call(c)
             }
-            Expr::Component(x, f) => Expr::Component(Box::new(self.take_literals(*x, ctx)), f),
+            Expr::Unary(op, x) => Expr::Unary(op, Box::new(self.take_literals(*x, ctx))),
+            Expr::Binary(b) => {
+                let (op, x, y) = *b;
+                let x = self.take_literals(x, ctx);
+                let y = self.take_literals(y, ctx);
+                Expr::Binary(Box::new((op, x, y)))
+            }
+            Expr::Component(b) => {
+                let (x, f) = *b;
+                Expr::Component(Box::new((self.take_literals(x, ctx), f)))
+            }
             other => other,
         }
     }
 
     // ----------------------------------------------------- expressions
+
+    /// A name as an interned string (the same few names recur millions of
+    /// times in a CAM program).
+    fn name(&mut self, pair: &Pair<'_, Rule>, base: usize) -> Arc<str> {
+        let t = self.text(pair, base);
+        self.b.intern(&t)
+    }
 
     fn text(&self, pair: &Pair<'_, Rule>, base: usize) -> String {
         let s = pair.as_span();
@@ -1347,9 +1362,9 @@ impl<'a, 'b> FileParser<'a, 'b> {
     fn variable(&mut self, v: Pair<'_, Rule>, base: usize) -> Result<Expr> {
         let mut it = v.into_inner();
         let Some(id) = it.next() else {
-            return Ok(Expr::Name(String::new()));
+            return Ok(Expr::Name(Arc::from("")));
         };
-        let mut e = Expr::Name(self.text(&id, base));
+        let mut e = Expr::Name(self.name(&id, base));
         for post in it {
             e = self.postfix(e, post, base)?;
         }
@@ -1363,15 +1378,14 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     .into_inner()
                     .map(|x| self.expr(x, base))
                     .collect::<Result<Vec<_>>>()?;
-                Expr::Index(Box::new(e), ix)
+                Expr::Index(Box::new((e, ix)))
             }
             Rule::component => {
-                let f = post
-                    .into_inner()
-                    .next()
-                    .map(|c| self.text(&c, base))
-                    .unwrap_or_default();
-                Expr::Component(Box::new(e), f)
+                let f = match post.into_inner().next() {
+                    Some(c) => self.name(&c, base),
+                    None => Arc::from(""),
+                };
+                Expr::Component(Box::new((e, f)))
             }
             _ => e,
         })
@@ -1426,17 +1440,11 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     // so that its span covers the sign.
                     while let Some((op, at)) = prefixes.pop() {
                         e = match (op, e) {
-                            (UnaryOp::Neg, Expr::Num(n)) if n.span.start == last_prefix_end => {
-                                Expr::Num(Number {
-                                    value: -n.value,
-                                    span: at..n.span.end,
-                                })
+                            (UnaryOp::Neg, Expr::Num(n)) if n.span().start == last_prefix_end => {
+                                Expr::Num(Number::new(-n.value, at..n.span().end))
                             }
-                            (UnaryOp::Plus, Expr::Num(n)) if n.span.start == last_prefix_end => {
-                                Expr::Num(Number {
-                                    value: n.value,
-                                    span: at..n.span.end,
-                                })
+                            (UnaryOp::Plus, Expr::Num(n)) if n.span().start == last_prefix_end => {
+                                Expr::Num(Number::new(n.value, at..n.span().end))
                             }
                             (op, e) => Expr::Unary(op, Box::new(e)),
                         };
@@ -1460,7 +1468,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                 let t = c.as_str();
                 let v = parse_num(t)
                     .ok_or_else(|| self.err(span.start, format!("number `{t}` out of range")))?;
-                Expr::Num(Number { value: v, span })
+                Expr::Num(Number::new(v, span))
             }
             Rule::string_literal => {
                 let raw = decode_lossless(&self.src[span.clone()]);
@@ -1468,10 +1476,10 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     .get(1..raw.len().saturating_sub(1))
                     .unwrap_or("")
                     .replace("\"\"", "\"");
-                Expr::Str(inner)
+                Expr::Str(inner.into())
             }
             Rule::bool_literal => Expr::Bool(c.as_str().eq_ignore_ascii_case("TRUE")),
-            Rule::placeholder => Expr::Placeholder(c.as_str().to_string()),
+            Rule::placeholder => Expr::Placeholder(c.as_str().into()),
             Rule::parenthesised => match c.into_inner().next() {
                 Some(e) => self.expr(e, base)?,
                 None => return Err(self.err(span.start, "expected an expression")),
@@ -1481,16 +1489,19 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     .into_inner()
                     .map(|x| self.expr(x, base))
                     .collect::<Result<Vec<_>>>()?;
-                Expr::Aggregate { items, span }
+                Expr::Aggregate(Box::new(Aggregate { items, span }))
             }
             Rule::function_call => {
                 let mut it = c.into_inner();
-                let name = it.next().map(|n| self.text(&n, base)).unwrap_or_default();
+                let name = match it.next() {
+                    Some(n) => self.name(&n, base),
+                    None => Arc::from(""),
+                };
                 let args = match it.next() {
                     Some(list) => self.args(list, base)?,
                     None => Vec::new(),
                 };
-                Expr::Call { name, args, span }
+                Expr::Call(Box::new(FunctionCall { name, args, span }))
             }
             Rule::variable => self.variable(c, base)?,
             _ => return Err(self.err(span.start, "expected an expression")),
@@ -1579,7 +1590,7 @@ fn climb(operands: Vec<Expr>, ops: Vec<BinaryOp>) -> Expr {
     let mut stack: Vec<BinaryOp> = Vec::new();
     let reduce = |out: &mut Vec<Expr>, op: BinaryOp| {
         if let (Some(b), Some(a)) = (out.pop(), out.pop()) {
-            out.push(Expr::Binary(op, Box::new(a), Box::new(b)));
+            out.push(Expr::Binary(Box::new((op, a, b))));
         }
     };
     let mut operands = operands.into_iter();
@@ -1620,11 +1631,11 @@ fn parse_num(t: &str) -> Option<f64> {
 
 fn expr_text(e: &Expr) -> String {
     match e {
-        Expr::Name(n) => n.clone(),
-        Expr::Component(x, f) => format!("{}.{f}", expr_text(x)),
-        Expr::Index(x, ix) => {
-            let ix: Vec<String> = ix.iter().map(expr_text).collect();
-            format!("{}{{{}}}", expr_text(x), ix.join(","))
+        Expr::Name(n) => n.to_string(),
+        Expr::Component(b) => format!("{}.{}", expr_text(&b.0), b.1),
+        Expr::Index(b) => {
+            let ix: Vec<String> = b.1.iter().map(expr_text).collect();
+            format!("{}{{{}}}", expr_text(&b.0), ix.join(","))
         }
         Expr::Num(n) => format_num(n.value),
         _ => "?".into(),
@@ -1661,7 +1672,7 @@ fn nums<const N: usize>(e: &Expr) -> Option<[Number; N]> {
 
 fn aggregate(e: &Expr, n: usize) -> Option<&[Expr]> {
     match e {
-        Expr::Aggregate { items, .. } if items.len() == n => Some(items),
+        Expr::Aggregate(a) if a.items.len() == n => Some(&a.items),
         _ => None,
     }
 }
@@ -1687,7 +1698,8 @@ fn robtarget_shape(items: &[Expr]) -> std::result::Result<Option<RobTargetValue>
     let mut all_literal = true;
     for (i, it) in items.iter().enumerate() {
         match it {
-            Expr::Aggregate { items: sub, .. } => {
+            Expr::Aggregate(a) => {
+                let sub = &a.items;
                 if sub.len() != SIZES[i] {
                     return Err(format!(
                         "{} has {} numbers instead of {}",
@@ -1728,7 +1740,8 @@ fn jointtarget_shape(items: &[Expr]) -> std::result::Result<Option<JointValue>, 
         return Err(format!("{} parts instead of 2", items.len()));
     }
     for (i, it) in items.iter().enumerate() {
-        if let Expr::Aggregate { items: sub, .. } = it {
+        if let Expr::Aggregate(a) = it {
+            let sub = &a.items;
             if sub.len() != 6 {
                 let what = if i == 0 { "robax" } else { "extax" };
                 return Err(format!("{what} has {} numbers instead of 6", sub.len()));
@@ -1764,7 +1777,7 @@ fn tooldata(e: &Expr, name: String, origin: Origin, storage: Storage) -> Option<
 fn wobjdata(e: &Expr, name: String, origin: Origin, storage: Storage) -> Option<WobjData> {
     let items = aggregate(e, 5)?;
     let ufmec = match &items[2] {
-        Expr::Str(s) => s.clone(),
+        Expr::Str(s) => s.to_string(),
         _ => return None,
     };
     let uf = aggregate(&items[3], 2)?;
@@ -1866,7 +1879,7 @@ fn derivation(src: &[u8], e: &Expr, span: Range<usize>) -> Derivation {
     let mut bases = Vec::new();
     collect_names(e, &mut bases);
     let function = match e {
-        Expr::Call { name, .. } => name.clone(),
+        Expr::Call(c) => c.name.to_string(),
         _ => String::new(),
     };
     Derivation {
@@ -1880,9 +1893,10 @@ fn derivation(src: &[u8], e: &Expr, span: Range<usize>) -> Derivation {
 /// to robtargets once the whole run is known).
 fn collect_names(e: &Expr, out: &mut Vec<String>) {
     match e {
-        Expr::Name(n) => out.push(n.clone()),
-        Expr::Index(x, ix) => {
-            if let (Expr::Name(n), true) = (&**x, ix.iter().all(|i| i.as_num().is_some())) {
+        Expr::Name(n) => out.push(n.to_string()),
+        Expr::Index(b) => {
+            let (x, ix) = &**b;
+            if let (Expr::Name(n), true) = (x, ix.iter().all(|i| i.as_num().is_some())) {
                 let ix: Vec<String> = ix.iter().map(expr_text).collect();
                 out.push(format!("{n}{{{}}}", ix.join(",")));
             } else {
@@ -1892,19 +1906,19 @@ fn collect_names(e: &Expr, out: &mut Vec<String>) {
                 collect_names(i, out);
             }
         }
-        Expr::Component(x, _) => collect_names(x, out),
-        Expr::Call { args, .. } => {
-            for a in args {
+        Expr::Component(b) => collect_names(&b.0, out),
+        Expr::Call(c) => {
+            for a in &c.args {
                 if let Some(v) = &a.value {
                     collect_names(v, out);
                 }
             }
         }
-        Expr::Aggregate { items, .. } => items.iter().for_each(|x| collect_names(x, out)),
+        Expr::Aggregate(a) => a.items.iter().for_each(|x| collect_names(x, out)),
         Expr::Unary(_, x) => collect_names(x, out),
-        Expr::Binary(_, x, y) => {
-            collect_names(x, out);
-            collect_names(y, out);
+        Expr::Binary(b) => {
+            collect_names(&b.1, out);
+            collect_names(&b.2, out);
         }
         _ => {}
     }
@@ -2028,11 +2042,9 @@ impl Builder {
         }
 
         // Identifiers unique across modules.
-        qualify(&mut self.prog.targets, |t| {
-            (&t.ns, &t.origin.module, &mut t.id)
-        });
+        qualify(&mut self.prog.targets, |t| (&t.origin.module, &mut t.id));
         qualify(&mut self.prog.jointtargets, |t| {
-            (&t.ns, &t.origin.module, &mut t.id)
+            (&t.origin.module, &mut t.id)
         });
 
         // Source order, and the AST's indices follow.
@@ -2064,35 +2076,63 @@ impl Builder {
     }
 }
 
-fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &Arc<str>, &mut String)) {
-    let mut modules_of: HashMap<Arc<str>, HashSet<Arc<str>>> = HashMap::new();
+/// The name space an identifier is unique in (lower case): the routine
+/// for `main#3` / `main@2`, else the declared name (`arr` for `arr{2}`,
+/// `w` for `w{3}.pos`).
+fn name_space(id: &str) -> String {
+    id.split(['#', '@', '{', '.'])
+        .next()
+        .unwrap_or("")
+        .to_lowercase()
+}
+
+/// Qualify with the module every identifier whose name space occurs in
+/// more than one module of the run.
+fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
+    let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
     for it in items.iter_mut() {
-        let (ns, m, _) = f(it);
+        let (m, id) = f(it);
         modules_of
-            .entry(ns.clone())
+            .entry(name_space(id))
             .or_default()
-            .insert(Arc::from(m.to_lowercase()));
+            .insert(m.to_lowercase());
     }
     for it in items.iter_mut() {
-        let (ns, m, id) = f(it);
-        if modules_of.get(ns).is_some_and(|s| s.len() > 1) {
+        let (m, id) = f(it);
+        if modules_of.get(&name_space(id)).is_some_and(|s| s.len() > 1) {
             *id = format!("{m}:{id}");
         }
     }
 }
 
-fn sort_by_origin<T>(items: &mut Vec<T>, key: impl Fn(&T) -> &Origin) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..items.len()).collect();
-    order.sort_by_key(|&i| {
-        let o = key(&items[i]);
+/// Sort by (file, offset) in place; returns old index -> new index. Most
+/// targets are already in order (only record fields and derived targets
+/// are appended later), and the permutation is applied by swaps, so that
+/// a list of millions of targets is never copied.
+fn sort_by_origin<T>(items: &mut [T], key: impl Fn(&T) -> &Origin) -> Vec<usize> {
+    let k = |t: &T| {
+        let o = key(t);
         (o.file, o.pos.offset)
-    });
+    };
+    if items.windows(2).all(|w| k(&w[0]) <= k(&w[1])) {
+        return (0..items.len()).collect();
+    }
+    // order[new] = old
+    let mut order: Vec<usize> = (0..items.len()).collect();
+    order.sort_by_key(|&i| k(&items[i]));
     let mut map = vec![0; items.len()];
     for (new, &old) in order.iter().enumerate() {
         map[old] = new;
     }
-    let mut slots: Vec<Option<T>> = std::mem::take(items).into_iter().map(Some).collect();
-    *items = order.iter().filter_map(|&i| slots[i].take()).collect();
+    // Move each item to its place: follow the cycles of `map`.
+    let mut place = map.clone();
+    for i in 0..items.len() {
+        while place[i] != i {
+            let j = place[i];
+            items.swap(i, j);
+            place.swap(i, j);
+        }
+    }
     map
 }
 
@@ -2100,19 +2140,21 @@ fn remap_expr(e: &mut Expr, t: &[usize], j: &[usize]) {
     match e {
         Expr::Target(i) => *i = t.get(*i).copied().unwrap_or(*i),
         Expr::JointTarget(i) => *i = j.get(*i).copied().unwrap_or(*i),
-        Expr::Aggregate { items, .. } => items.iter_mut().for_each(|x| remap_expr(x, t, j)),
-        Expr::Call { args, .. } => args
+        Expr::Aggregate(a) => a.items.iter_mut().for_each(|x| remap_expr(x, t, j)),
+        Expr::Call(c) => c
+            .args
             .iter_mut()
             .filter_map(|a| a.value.as_mut())
             .for_each(|x| remap_expr(x, t, j)),
-        Expr::Unary(_, x) | Expr::Component(x, _) => remap_expr(x, t, j),
-        Expr::Binary(_, x, y) => {
-            remap_expr(x, t, j);
-            remap_expr(y, t, j);
+        Expr::Unary(_, x) => remap_expr(x, t, j),
+        Expr::Component(b) => remap_expr(&mut b.0, t, j),
+        Expr::Binary(b) => {
+            remap_expr(&mut b.1, t, j);
+            remap_expr(&mut b.2, t, j);
         }
-        Expr::Index(x, ix) => {
-            remap_expr(x, t, j);
-            ix.iter_mut().for_each(|x| remap_expr(x, t, j));
+        Expr::Index(b) => {
+            remap_expr(&mut b.0, t, j);
+            b.1.iter_mut().for_each(|x| remap_expr(x, t, j));
         }
         _ => {}
     }
@@ -2229,9 +2271,10 @@ impl RecordWalk<'_> {
         if depth > 32 {
             return;
         }
-        let Expr::Aggregate { items, span } = e else {
+        let Expr::Aggregate(a) = e else {
             return;
         };
+        let (items, span) = (&a.items, &a.span);
         if dims > 0 {
             // Arrays of records: `w{3}`; 2-D `w{2,4}`.
             let (base, prefix) = match path.strip_suffix('}') {
@@ -2248,10 +2291,9 @@ impl RecordWalk<'_> {
         }
         match ty {
             "robtarget" => {
-                let ns = self.b.intern(&self.decl.name.to_lowercase());
                 let (value, derived) = match robtarget_shape(items) {
                     Ok(Some(v)) => (Some(v), None),
-                    Ok(None) => (None, Some(derivation(self.src, e, span.clone()))),
+                    Ok(None) => (None, Some(Box::new(derivation(self.src, e, span.clone())))),
                     Err(_) => return,
                 };
                 self.b.prog.targets.push(Target {
@@ -2265,12 +2307,10 @@ impl RecordWalk<'_> {
                     tool: None,
                     wobj: None,
                     derived,
-                    ns,
                 });
             }
             "jointtarget" => {
                 if let Ok(Some((robax, extax))) = jointtarget_shape(items) {
-                    let ns = self.b.intern(&self.decl.name.to_lowercase());
                     self.b.prog.jointtargets.push(JointTarget {
                         id: path,
                         kind: TargetKind::RecordField,
@@ -2282,7 +2322,6 @@ impl RecordWalk<'_> {
                         instruction: None,
                         tool: None,
                         wobj: None,
-                        ns,
                     });
                 }
             }
@@ -2319,13 +2358,14 @@ struct DerivedWalk<'a> {
 
 impl DerivedWalk<'_> {
     fn is_rt_call(&self, e: &Expr) -> bool {
-        matches!(e, Expr::Call { name, .. } if self.rt_funcs.contains(&name.to_lowercase()))
+        matches!(e, Expr::Call(c) if self.rt_funcs.contains(&c.name.to_lowercase()))
     }
 
     fn derived(&mut self, e: &Expr, name: Option<String>, call: Option<(&str, &[Arg])>) -> usize {
-        let Expr::Call { span, .. } = e else {
+        let Expr::Call(c) = e else {
             return usize::MAX;
         };
+        let span = &c.span;
         self.k += 1;
         let (instruction, tool, wobj) = match call {
             Some((n, args)) => {
@@ -2338,7 +2378,6 @@ impl DerivedWalk<'_> {
             }
             None => (None, None, None),
         };
-        let ns = self.b.intern(&self.routine.to_lowercase());
         self.b.prog.targets.push(Target {
             id: format!("{}@{}", self.routine, self.k),
             kind: TargetKind::Derived,
@@ -2354,8 +2393,7 @@ impl DerivedWalk<'_> {
             instruction,
             tool,
             wobj,
-            derived: Some(derivation(self.src, e, span.clone())),
-            ns,
+            derived: Some(Box::new(derivation(self.src, e, span.clone()))),
         });
         self.b.prog.targets.len() - 1
     }

@@ -82,11 +82,11 @@ pub fn apply_edits(file: &str, src: &[u8], edits: &[Edit]) -> Result<Vec<u8>> {
 /// like the old literal and within `resolution`; `None` when the text
 /// would not change.
 pub fn number_edit(src: &[u8], num: &Number, value: f64, resolution: f64) -> Option<Edit> {
-    let old = src.get(num.span.clone())?;
+    let old = src.get(num.span())?;
     let old_text = std::str::from_utf8(old).ok()?;
     let new = format_like(old_text, value, resolution);
     (new.as_bytes() != old).then(|| Edit {
-        span: num.span.clone(),
+        span: num.span(),
         expected_old: old.to_vec(),
         new: new.into_bytes(),
     })

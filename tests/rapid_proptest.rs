@@ -143,12 +143,11 @@ fn stmt() -> impl Strategy<Value = Stmt> {
     ]
 }
 
-/// The module text, and the expected (identifier, numbers) in source order.
-fn module(
-    items: &[Item],
-    stmts: &[Stmt],
-    eols: &[bool],
-) -> (Vec<u8>, Vec<(String, Vec<(String, f64)>)>) {
+/// Expected targets: identifier, and each number's text and value.
+type Expected = Vec<(String, Vec<(String, f64)>)>;
+
+/// The module text, and the expected targets in source order.
+fn module(items: &[Item], stmts: &[Stmt], eols: &[bool]) -> (Vec<u8>, Expected) {
     let mut lines: Vec<Vec<u8>> = vec![b"MODULE Gen".to_vec()];
     let mut expect = Vec::new();
     for (i, it) in items.iter().enumerate() {

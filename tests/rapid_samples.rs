@@ -114,12 +114,8 @@ fn editing_one_target_changes_only_its_number_bytes() {
                 continue;
             };
             if a.id == t.id {
-                for k in 0..3 {
-                    assert!(
-                        (vb.trans[k].value - new[k]).abs() <= 0.0005 + 1e-9,
-                        "{name} {}",
-                        a.id
-                    );
+                for (n, want) in vb.trans.iter().zip(new) {
+                    assert!((n.value - want).abs() <= 0.0005 + 1e-9, "{name} {}", a.id);
                 }
                 assert_eq!(va.rot_values(), vb.rot_values());
             } else {

@@ -2436,15 +2436,11 @@ impl DerivedWalk<'_> {
                         .map_or(0, |t| t.origin.pos.offset)
                 });
             }
-            StatementKind::Assign { target, value } => {
-                if self.is_rt_call(value) {
-                    self.derived(value, Some(expr_text(target)), None);
-                }
+            StatementKind::Assign { target, value } if self.is_rt_call(value) => {
+                self.derived(value, Some(expr_text(target)), None);
             }
-            StatementKind::Return(Some(e)) => {
-                if self.is_rt_call(e) {
-                    self.derived(e, None, None);
-                }
+            StatementKind::Return(Some(e)) if self.is_rt_call(e) => {
+                self.derived(e, None, None);
             }
             StatementKind::CompactIf { then, .. } => self.stmt(then),
             StatementKind::If {

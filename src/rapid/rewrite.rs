@@ -255,8 +255,8 @@ mod tests {
         );
         assert_eq!(format_like("-245E-2", -2.5, r), "-2.5E+0");
         assert_eq!(
-            format_like("0.70711", 0.7071068, QUATERNION_RESOLUTION),
-            "0.707107"
+            format_like("0.64279", 0.6427876, QUATERNION_RESOLUTION),
+            "0.642788"
         );
         assert_eq!(format_like("12.5", -0.0001, r), "0.0");
         assert_eq!(format_like("12.5", 12.5, r), "12.5");

@@ -132,9 +132,8 @@ impl<'a> Scanner<'a> {
             let mut e = p + 1;
             while e < s.len() {
                 let c = s[e];
-                if c.is_ascii_alphanumeric() || c == b'.' || c == b'_' {
-                    e += 1;
-                } else if (c == b'+' || c == b'-') && matches!(s[e - 1], b'e' | b'E') {
+                let exponent_sign = (c == b'+' || c == b'-') && matches!(s[e - 1], b'e' | b'E');
+                if c.is_ascii_alphanumeric() || c == b'.' || c == b'_' || exponent_sign {
                     e += 1;
                 } else {
                     break;

@@ -14,6 +14,9 @@ pub struct TargetsArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+    /// List the jointtargets (MoveAbsJ positions, degrees) instead.
+    #[arg(long)]
+    pub joints: bool,
 }
 
 /// Shortest text that reads back as the same number.
@@ -49,6 +52,10 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
         .map(|(n, b)| (n.as_str(), b.as_slice()))
         .collect();
     let prog = rapid::parse_files(&refs)?;
+    if args.joints {
+        write_stdout(joints(&prog, args.format).as_bytes())?;
+        return Ok(Status::Success);
+    }
     let several = inputs.len() > 1;
     let opt = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
     let out = match args.format {
@@ -182,4 +189,60 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
     };
     write_stdout(out.as_bytes())?;
     Ok(Status::Success)
+}
+
+fn joints(prog: &rapid::Program, format: Format) -> String {
+    let header = [
+        "target", "kind", "file", "line", "col", "j1", "j2", "j3", "j4", "j5", "j6", "tool", "wobj",
+    ];
+    let opt = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
+    let rows: Vec<Vec<String>> = prog
+        .jointtargets()
+        .iter()
+        .map(|j| {
+            let mut r = vec![
+                j.id.clone(),
+                j.kind.as_str().to_string(),
+                prog.files[j.origin.file].clone(),
+                j.origin.pos.line.to_string(),
+                j.origin.pos.col.to_string(),
+            ];
+            r.extend(j.robax.iter().map(|x| n(x.value)));
+            r.push(opt(&j.tool));
+            r.push(opt(&j.wobj));
+            r
+        })
+        .collect();
+    match format {
+        Format::Table => {
+            let mut align = vec![Align::Left; 5];
+            align.extend([Align::Right; 6]);
+            align.extend([Align::Left; 2]);
+            render_table(&header, &align, &rows)
+        }
+        Format::Csv => render_csv(&header, &rows),
+        Format::Json => {
+            let items: Vec<serde_json::Value> = prog
+                .jointtargets()
+                .iter()
+                .map(|j| {
+                    serde_json::json!({
+                        "target": j.id,
+                        "kind": j.kind.as_str(),
+                        "file": prog.files[j.origin.file],
+                        "line": j.origin.pos.line,
+                        "col": j.origin.pos.col,
+                        "robax": j.robax.iter().map(|x| x.value).collect::<Vec<_>>(),
+                        "extax": j.extax.iter().map(|x| x.value).collect::<Vec<_>>(),
+                        "instruction": j.instruction.as_deref(),
+                        "tool": j.tool.as_deref(),
+                        "wobj": j.wobj.as_deref(),
+                    })
+                })
+                .collect();
+            let mut s = serde_json::to_string_pretty(&items).unwrap_or_default();
+            s.push('\n');
+            s
+        }
+    }
 }

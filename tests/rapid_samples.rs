@@ -358,3 +358,81 @@ fn bom_utf8_and_mixed_line_endings() {
         Some("SearchL")
     );
 }
+
+#[test]
+fn motion_parts_for_a_schedule_estimator() {
+    use rapid::{Expr, MotionKind, StatementKind as S};
+    let (_, prog) = load("arc_pendant.mod");
+    let (_, r) = prog.routine("rWeldCircle").unwrap();
+    let motions: Vec<_> = r
+        .body
+        .iter()
+        .filter_map(|s| match &s.kind {
+            S::Call(c) => c.motion().map(|m| (c.name.to_string(), m)),
+            _ => None,
+        })
+        .collect();
+    let names: Vec<&str> = motions.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "movej",
+            "movel",
+            "movec",
+            "ArcLStart",
+            "arcl",
+            "arcc",
+            "ArcLEnd",
+            "movel"
+        ]
+    );
+    let (_, arcl) = &motions[4];
+    assert_eq!(arcl.signature.kind, MotionKind::Linear);
+    assert_eq!(arcl.speed.and_then(Expr::as_name), Some("v20"));
+    assert_eq!(arcl.zone.and_then(Expr::as_name), Some("z1"));
+    assert_eq!(arcl.tool.and_then(Expr::as_name), Some("tWeldGun"));
+    assert_eq!(arcl.wobj.and_then(Expr::as_name), Some("wJig"));
+    let Some(Expr::Target(i)) = arcl.to else {
+        panic!("{:?}", arcl.to)
+    };
+    assert_eq!(prog.targets()[*i].id, "rWeldCircle#5");
+    let (_, movec) = &motions[2];
+    assert_eq!(movec.signature.kind, MotionKind::Circular);
+    let (Some(Expr::Target(via)), Some(Expr::Target(to))) = (movec.via, movec.to) else {
+        panic!()
+    };
+    assert_eq!(
+        (
+            prog.targets()[*via].id.as_str(),
+            prog.targets()[*to].id.as_str()
+        ),
+        ("rWeldCircle#2", "rWeldCircle#3")
+    );
+    let (_, start) = &motions[3];
+    assert_eq!(start.zone.and_then(Expr::as_name), Some("fine"));
+
+    let (_, prog) = load("service_positions.mod");
+    let (_, r) = prog.routine("rCalibrate").unwrap();
+    let S::Call(c) = &r.body[2].kind else {
+        panic!()
+    };
+    let m = c.motion().unwrap();
+    assert_eq!(m.signature.kind, MotionKind::AbsJoint);
+    assert!(matches!(m.to, Some(Expr::JointTarget(_))));
+    assert_eq!(m.zone.and_then(Expr::as_name), Some("z50"));
+
+    let (_, prog) = load("control_flow.mod");
+    let (_, r) = prog.routine("PickPart").unwrap();
+    let S::Call(c) = &r.body[0].kind else {
+        panic!()
+    };
+    let m = c.motion().unwrap();
+    assert!(matches!(m.to, Some(Expr::Call(f)) if &*f.name == "Offs"));
+    assert_eq!(m.speed.and_then(Expr::as_name), Some("vFast"));
+    let S::Call(wait) = &r.body[3].kind else {
+        panic!()
+    };
+    assert_eq!(&*wait.name, "WaitTime");
+    assert!(wait.motion().is_none());
+    assert_eq!(wait.positional().next().and_then(Expr::as_num), Some(0.3));
+}

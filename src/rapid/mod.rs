@@ -33,6 +33,7 @@
 //! spans are those of the original bytes; names and strings are decoded
 //! from the original bytes (UTF-8 where valid, Latin-1 otherwise).
 
+mod motion;
 mod parse;
 pub mod rewrite;
 mod scan;
@@ -41,6 +42,7 @@ use crate::error::{Location, Result};
 use std::ops::Range;
 use std::sync::Arc;
 
+pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
 pub use parse::{parse, parse_files};
 
 /// One number literal of the source: its value and where its text is.

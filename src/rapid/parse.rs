@@ -3,6 +3,7 @@
 //! pass over the whole run for what needs every file (record types, FUNCs
 //! returning robtarget, identifiers unique across modules).
 
+use super::motion::{motion_signature, ArgAt};
 use super::scan::{Piece, PieceKind, Scanner};
 use super::*;
 use crate::error::{decode_lossless, Error, ErrorKind, Location};
@@ -889,7 +890,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
             Some(list) => self.args(list, base)?,
             None => Vec::new(),
         };
-        let sig = move_signature(&name);
+        let sig = motion_signature(&name);
         // A literal where the instruction takes a robtarget must be one.
         if let Some(sig) = &sig {
             let positional: Vec<&Expr> = args
@@ -1798,42 +1799,6 @@ fn wobjdata(e: &Expr, name: String, origin: Origin, storage: Storage) -> Option<
 
 // -------------------------------------------------- instruction table
 
-struct MoveSignature {
-    /// Positional arguments that are robtargets.
-    robtargets: &'static [usize],
-    jointtargets: &'static [usize],
-    /// Positional argument naming the tool.
-    tool: Option<usize>,
-}
-
-/// Positional arguments of the motion instructions of the RAPID manuals
-/// (and the Arc/Spot/Paint process instructions).
-fn move_signature(name: &str) -> Option<MoveSignature> {
-    let n = name.to_ascii_uppercase();
-    let sig = |robtargets, jointtargets, tool| {
-        Some(MoveSignature {
-            robtargets,
-            jointtargets,
-            tool,
-        })
-    };
-    match n.as_str() {
-        "MOVEL" | "MOVEJ" | "MOVELDO" | "MOVEJDO" | "MOVELSYNC" | "MOVEJSYNC" | "MOVELAO"
-        | "MOVEJAO" | "MOVELGO" | "MOVEJGO" | "TRIGGL" | "TRIGGJ" | "TRIGGLIOS" | "TRIGGJIOS"
-        | "CAPL" | "PAINTL" | "MOVELSTART" | "MOVEJSTART" => sig(&[0], &[], Some(3)),
-        "MOVEC" | "MOVECDO" | "MOVECSYNC" | "MOVECAO" | "MOVECGO" | "TRIGGC" | "CAPC"
-        | "PAINTC" => sig(&[0, 1], &[], Some(4)),
-        "MOVEABSJ" | "MOVEABSJDO" | "MOVEABSJSYNC" => sig(&[], &[0], Some(3)),
-        "MOVEEXTJ" => sig(&[], &[0], None),
-        "SEARCHL" | "SEARCHJ" => sig(&[2], &[], Some(4)),
-        "SEARCHC" => sig(&[2, 3], &[], Some(5)),
-        "ARCL" | "ARCL1" | "ARCL2" | "ARCLSTART" | "ARCLEND" => sig(&[0], &[], Some(6)),
-        "ARCC" | "ARCC1" | "ARCC2" | "ARCCSTART" | "ARCCEND" => sig(&[0, 1], &[], Some(7)),
-        "SPOTL" | "SPOTJ" => sig(&[0], &[], None),
-        _ => None,
-    }
-}
-
 /// Tool and work object an instruction names: `\Tool:=`/`\WObj:=`, the
 /// tool position of a known motion instruction, else the first argument
 /// naming a declared tooldata (or `tool0`).
@@ -1855,12 +1820,16 @@ fn call_tool_wobj(
         .collect();
     let mut tool = opt("Tool");
     if tool.is_none() {
-        if let Some(i) = move_signature(name).and_then(|s| s.tool) {
-            tool = positional
-                .get(i)
-                .and_then(|e| e.as_name())
-                .map(str::to_string);
-        }
+        let at = motion_signature(name).and_then(|s| s.tool);
+        let i = match at {
+            Some(ArgAt::Index(i)) => Some(i),
+            Some(ArgAt::FromEnd(k)) => positional.len().checked_sub(k),
+            None => None,
+        };
+        tool = i
+            .and_then(|i| positional.get(i))
+            .and_then(|e| e.as_name())
+            .map(str::to_string);
     }
     if tool.is_none() {
         tool = positional

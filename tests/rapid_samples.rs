@@ -436,3 +436,39 @@ fn motion_parts_for_a_schedule_estimator() {
     assert!(wait.motion().is_none());
     assert_eq!(wait.positional().next().and_then(Expr::as_num), Some(0.3));
 }
+
+#[test]
+fn deep_nesting_is_refused_not_overflowed() {
+    // 60 nested blocks parse (on a test thread's small stack, debug build);
+    // beyond the limit, a located error rather than a stack overflow.
+    let nest = |n: usize| {
+        let mut s = String::from("MODULE m\nPROC main()\n");
+        for _ in 0..n {
+            s.push_str("IF reg1 > 0 THEN\n");
+        }
+        s.push_str("MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n");
+        for _ in 0..n {
+            s.push_str("ENDIF\n");
+        }
+        s.push_str("ENDPROC\nENDMODULE\n");
+        s
+    };
+    let p = rapid::parse("deep.mod", nest(60).as_bytes()).unwrap();
+    assert_eq!(p.targets()[0].id, "main#1");
+    let e = rapid::parse("deep.mod", nest(500).as_bytes()).unwrap_err();
+    assert!(e.to_string().contains("nested deeper than 64"), "{e}");
+    let brackets = format!(
+        "MODULE m\nVAR num x := {}1{};\nENDMODULE\n",
+        "(".repeat(1000),
+        ")".repeat(1000)
+    );
+    let e = rapid::parse("deep.mod", brackets.as_bytes()).unwrap_err();
+    assert_eq!(e.location.as_ref().map(|l| l.line), Some(2));
+    let signs = format!("MODULE m\nVAR num x := {}1;\nENDMODULE\n", "-".repeat(5000));
+    assert!(rapid::parse("deep.mod", signs.as_bytes()).is_err());
+    let long = format!(
+        "MODULE m\nVAR num x := 1{};\nENDMODULE\n",
+        "+1".repeat(5000)
+    );
+    assert!(rapid::parse("deep.mod", long.as_bytes()).is_err());
+}

@@ -1,0 +1,319 @@
+//! Splicing new text into the original bytes of a program: every byte not
+//! inside an edit stays as it was (line endings, Latin-1, comments).
+
+use super::Number;
+use crate::error::{decode_lossless, Error, ErrorKind, Location, Result};
+use std::ops::Range;
+
+/// Positions: 0.001 mm is what the controller's single-precision `num`
+/// can meaningfully hold near 1 m; a written number is within half of it.
+pub const POSITION_RESOLUTION: f64 = 0.001;
+/// Quaternion components: six decimals keep the orientation within
+/// ~1e-4 degrees and renormalisable.
+pub const QUATERNION_RESOLUTION: f64 = 0.000_001;
+
+/// Replace the bytes `span` (which must currently be `expected_old`) by
+/// `new`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Edit {
+    pub span: Range<usize>,
+    pub expected_old: Vec<u8>,
+    pub new: Vec<u8>,
+}
+
+/// Apply edits to `src` (the file `file`): they are sorted by position;
+/// overlapping edits, spans outside the file and old bytes that are not
+/// what the edit expects are errors, and then nothing is changed.
+pub fn apply_edits(file: &str, src: &[u8], edits: &[Edit]) -> Result<Vec<u8>> {
+    let mut order: Vec<&Edit> = edits.iter().collect();
+    order.sort_by_key(|e| (e.span.start, e.span.end));
+    let mut prev_end = 0usize;
+    let mut prev_start: Option<usize> = None;
+    for e in &order {
+        if e.span.start > e.span.end || e.span.end > src.len() {
+            return Err(Error::new(
+                ErrorKind::Input,
+                format!(
+                    "edit {}..{} lies outside the file ({} bytes)",
+                    e.span.start,
+                    e.span.end,
+                    src.len()
+                ),
+            ));
+        }
+        if prev_start.is_some() && (e.span.start < prev_end || prev_start == Some(e.span.start)) {
+            return Err(Error::new(
+                ErrorKind::Input,
+                format!("edits overlap at byte {}", e.span.start),
+            )
+            .at(Location::from_offset(file, src, e.span.start)));
+        }
+        let old = &src[e.span.clone()];
+        if old != e.expected_old.as_slice() {
+            return Err(Error::new(
+                ErrorKind::Input,
+                format!(
+                    "the file changed: expected `{}` here, found `{}`",
+                    decode_lossless(&e.expected_old),
+                    decode_lossless(old)
+                ),
+            )
+            .at(Location::from_offset(file, src, e.span.start)));
+        }
+        prev_end = e.span.end;
+        prev_start = Some(e.span.start);
+    }
+    let grow: isize = order
+        .iter()
+        .map(|e| e.new.len() as isize - e.span.len() as isize)
+        .sum();
+    let mut out = Vec::with_capacity((src.len() as isize + grow).max(0) as usize);
+    let mut at = 0;
+    for e in order {
+        out.extend_from_slice(&src[at..e.span.start]);
+        out.extend_from_slice(&e.new);
+        at = e.span.end;
+    }
+    out.extend_from_slice(&src[at..]);
+    Ok(out)
+}
+
+/// The edit that writes `value` over the literal `num` of `src`, formatted
+/// like the old literal and within `resolution`; `None` when the text
+/// would not change.
+pub fn number_edit(src: &[u8], num: &Number, value: f64, resolution: f64) -> Option<Edit> {
+    let old = src.get(num.span())?;
+    let old_text = std::str::from_utf8(old).ok()?;
+    let new = format_like(old_text, value, resolution);
+    (new.as_bytes() != old).then(|| Edit {
+        span: num.span(),
+        expected_old: old.to_vec(),
+        new: new.into_bytes(),
+    })
+}
+
+/// How a number literal is written.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Style {
+    plus: bool,
+    /// Digits after the point, and whether a point is written at all.
+    decimals: usize,
+    point: bool,
+    /// `.5` rather than `0.5`.
+    bare_point: bool,
+    /// Exponent: letter, explicit sign, minimum digits.
+    exp: Option<(char, bool, usize)>,
+}
+
+fn style_of(old: &str) -> Style {
+    let t = old.trim();
+    let plus = t.starts_with('+');
+    let t = t.trim_start_matches(['+', '-']).trim_start();
+    let (mant, exp) = match t.find(['e', 'E']) {
+        Some(i) => {
+            let letter = t[i..].chars().next().unwrap_or('E');
+            let e = &t[i + 1..];
+            let signed = e.starts_with(['+', '-']);
+            let digits = e.trim_start_matches(['+', '-']).len();
+            (&t[..i], Some((letter, signed, digits.max(1))))
+        }
+        None => (t, None),
+    };
+    let (int, decimals, point) = match mant.find('.') {
+        Some(i) => (&mant[..i], mant.len() - i - 1, true),
+        None => (mant, 0, false),
+    };
+    Style {
+        plus,
+        decimals,
+        point,
+        bare_point: point && int.is_empty(),
+        exp,
+    }
+}
+
+/// Format `value` in the style of the literal `old` (decimals, exponent
+/// letter and sign, `.5`, `1.`), with more decimals only where needed to
+/// stay within `resolution / 2` of `value`. Deterministic: the same inputs
+/// give the same text. If `old` already denotes `value` exactly, it is
+/// returned unchanged.
+pub fn format_like(old: &str, value: f64, resolution: f64) -> String {
+    if !value.is_finite() {
+        return old.to_string();
+    }
+    if old.trim().parse::<f64>().ok() == Some(value) {
+        return old.to_string();
+    }
+    let st = style_of(old);
+    let tol = if resolution > 0.0 {
+        resolution / 2.0
+    } else {
+        0.0
+    };
+    let out = match st.exp {
+        Some((letter, signed, width)) => {
+            let mut d = st.decimals;
+            loop {
+                let s = format!("{:.*e}", d, value);
+                let back: f64 = s.parse().unwrap_or(f64::NAN);
+                if (back - value).abs() <= tol || d >= 17 {
+                    break render_exp(&s, letter, signed, width, st.point || d > 0, st.bare_point);
+                }
+                d += 1;
+            }
+        }
+        None => {
+            let mut d = st.decimals;
+            loop {
+                let s = format!("{:.*}", d, value);
+                let back: f64 = s.parse().unwrap_or(f64::NAN);
+                if (back - value).abs() <= tol || d >= 17 {
+                    break render_plain(&s, st.point, st.bare_point);
+                }
+                d += 1;
+            }
+        }
+    };
+    let out = if is_negative_zero(&out) {
+        out.trim_start_matches('-').to_string()
+    } else {
+        out
+    };
+    if st.plus && !out.starts_with('-') {
+        format!("+{out}")
+    } else {
+        out
+    }
+}
+
+fn is_negative_zero(s: &str) -> bool {
+    s.starts_with('-')
+        && s[1..]
+            .split(['e', 'E'])
+            .next()
+            .is_some_and(|m| m.chars().all(|c| c == '0' || c == '.'))
+}
+
+fn render_plain(s: &str, point: bool, bare_point: bool) -> String {
+    let mut s = s.to_string();
+    if point && !s.contains('.') {
+        s.push('.');
+    }
+    if bare_point {
+        if let Some(rest) = s.strip_prefix("0.") {
+            s = format!(".{rest}");
+        } else if let Some(rest) = s.strip_prefix("-0.") {
+            s = format!("-.{rest}");
+        }
+    }
+    s
+}
+
+/// Rust writes `1.5e-7`; RAPID files write `1.5E-07` or `9E+09`.
+fn render_exp(
+    s: &str,
+    letter: char,
+    signed: bool,
+    width: usize,
+    point: bool,
+    bare: bool,
+) -> String {
+    let (mant, exp) = s.split_once('e').unwrap_or((s, "0"));
+    let e: i32 = exp.parse().unwrap_or(0);
+    let sign = if e < 0 {
+        "-"
+    } else if signed {
+        "+"
+    } else {
+        ""
+    };
+    let mant = render_plain(mant, point && mant.contains('.'), bare);
+    format!("{mant}{letter}{sign}{:0width$}", e.abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keeps_style_and_precision() {
+        let r = POSITION_RESOLUTION;
+        assert_eq!(format_like("500", 501.0, r), "501");
+        assert_eq!(format_like("500", 500.1234, r), "500.123");
+        assert_eq!(format_like("500.00", 500.1, r), "500.10");
+        assert_eq!(format_like("500.12345", 500.2, r), "500.20000");
+        assert_eq!(format_like("-0.345", 0.5, r), "0.500");
+        assert_eq!(format_like(".5", 0.25, r), ".25");
+        assert_eq!(format_like(".5", -0.25, r), "-.25");
+        assert_eq!(format_like("1.", 2.0, r), "2.");
+        assert_eq!(format_like("1.", 2.5, r), "2.5");
+        assert_eq!(format_like("9E+09", 8e9, r), "8E+09");
+        assert_eq!(format_like("9e9", 8e9, r), "8e9");
+        assert_eq!(
+            format_like("3.75943E-07", 4.1e-7, QUATERNION_RESOLUTION),
+            "4.10000E-07"
+        );
+        assert_eq!(format_like("-245E-2", -2.5, r), "-2.5E+0");
+        assert_eq!(
+            format_like("0.64279", 0.6427876, QUATERNION_RESOLUTION),
+            "0.642788"
+        );
+        assert_eq!(format_like("12.5", -0.0001, r), "0.0");
+        assert_eq!(format_like("12.5", 12.5, r), "12.5");
+    }
+
+    #[test]
+    fn written_value_is_within_half_resolution() {
+        for &(old, v) in &[
+            ("1", 123.456789),
+            ("1.0", -987.65432),
+            ("1E2", 0.00123),
+            (".5", 3.3333),
+        ] {
+            let s = format_like(old, v, POSITION_RESOLUTION);
+            let back: f64 = s.parse().unwrap();
+            assert!((back - v).abs() <= 0.0005 + 1e-12, "{old} {v} -> {s}");
+        }
+    }
+
+    #[test]
+    fn edits_splice_and_verify() {
+        let src = b"a 12 b \xe9 34\r\n";
+        let e = vec![
+            Edit {
+                span: 9..11,
+                expected_old: b"34".to_vec(),
+                new: b"35.5".to_vec(),
+            },
+            Edit {
+                span: 2..4,
+                expected_old: b"12".to_vec(),
+                new: b"-1".to_vec(),
+            },
+        ];
+        assert_eq!(
+            apply_edits("f", src, &e).unwrap(),
+            b"a -1 b \xe9 35.5\r\n".to_vec()
+        );
+        let bad = vec![Edit {
+            span: 2..4,
+            expected_old: b"13".to_vec(),
+            new: b"0".to_vec(),
+        }];
+        assert!(apply_edits("f", src, &bad).is_err());
+        let overlap = vec![
+            Edit {
+                span: 2..4,
+                expected_old: b"12".to_vec(),
+                new: b"0".to_vec(),
+            },
+            Edit {
+                span: 3..4,
+                expected_old: b"2".to_vec(),
+                new: b"0".to_vec(),
+            },
+        ];
+        assert!(apply_edits("f", src, &overlap).is_err());
+        assert_eq!(apply_edits("f", src, &[]).unwrap(), src.to_vec());
+    }
+}

@@ -1,0 +1,3 @@
+MODULE m
+  CONST num n := 1.2.3;
+ENDMODULE

@@ -1,0 +1,5 @@
+MODULE m
+  PROC main()
+    MoveL p10 v100, z10, tool0;
+  ENDPROC
+ENDMODULE

@@ -1,0 +1,6 @@
+MODULE m
+  PROC main()
+    IF reg1 > 0 THEN
+      WaitTime 1;
+  ENDPROC
+ENDMODULE

@@ -1,0 +1,4 @@
+MODULE m
+  PROC main()
+    WaitTime 1;
+  ENDPROC

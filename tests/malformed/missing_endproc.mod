@@ -1,0 +1,4 @@
+MODULE m
+  PROC main()
+    MoveL p10, v100, z10, tool0;
+ENDMODULE

@@ -1,0 +1,3 @@
+PROC main()
+  WaitTime 1;
+ENDPROC

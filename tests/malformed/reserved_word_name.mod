@@ -1,0 +1,3 @@
+MODULE m
+  VAR num if := 1;
+ENDMODULE

@@ -1,0 +1,5 @@
+MODULE m
+  PROC main()
+    MoveL [[500,0,400],[0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z10, tool0;
+  ENDPROC
+ENDMODULE

@@ -1,0 +1,3 @@
+MODULE m
+  CONST robtarget p10 := [[500, 0, 400], [0, 0, 1, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9];
+ENDMODULE

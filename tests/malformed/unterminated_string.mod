@@ -1,0 +1,3 @@
+MODULE m
+  VAR string s := "open;
+ENDMODULE

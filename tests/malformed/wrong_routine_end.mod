@@ -1,0 +1,5 @@
+MODULE m
+  PROC main()
+    WaitTime 1;
+  ENDFUNC
+ENDMODULE

@@ -1,0 +1,302 @@
+//! From a program's RAPID values to robot frames: its tooldata and
+//! wobjdata as [`ToolData`]/[`WobjData`], each robtarget as a pose with its
+//! robconf, and for each target the tool and work object the program moves
+//! to it with.
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::rapid::{self, Call, Expr, Program, Statement, StatementKind, Target, TargetKind};
+use crate::robot::conf::RobConf;
+use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
+use nalgebra::Isometry3;
+use std::collections::HashMap;
+
+/// The tools and work objects a program declares, by lower-case name, with
+/// RAPID's predefined `tool0` and `wobj0`.
+#[derive(Debug, Clone)]
+pub struct Frames {
+    tools: HashMap<String, ToolData>,
+    wobjs: HashMap<String, WobjData>,
+}
+
+impl Frames {
+    /// Convert every tooldata and wobjdata declaration of the program.
+    pub fn of_program(program: &Program) -> Result<Frames> {
+        let mut tools = HashMap::from([("tool0".to_string(), ToolData::tool0())]);
+        for t in program.tools() {
+            let tool = ToolData::new(
+                t.robhold.value,
+                t.tframe_trans.each_ref().map(|n| n.value),
+                t.tframe_rot.each_ref().map(|n| n.value),
+            )
+            .map_err(|e| located(program, &t.origin, format!("tooldata `{}`: {}", t.name, e.message)))?;
+            tools.insert(t.name.to_ascii_lowercase(), tool);
+        }
+        let mut wobjs = HashMap::from([("wobj0".to_string(), WobjData::wobj0())]);
+        for w in program.wobjs() {
+            let frame = |trans: &[rapid::Number; 3], rot: &[rapid::Number; 4]| {
+                (trans.each_ref().map(|n| n.value), rot.each_ref().map(|n| n.value))
+            };
+            let wobj = WobjData::new(
+                w.robhold.value,
+                w.ufprog.value,
+                &w.ufmec,
+                frame(&w.uframe_trans, &w.uframe_rot),
+                frame(&w.oframe_trans, &w.oframe_rot),
+            )
+            .map_err(|e| located(program, &w.origin, format!("wobjdata `{}`: {}", w.name, e.message)))?;
+            wobjs.insert(w.name.to_ascii_lowercase(), wobj);
+        }
+        Ok(Frames { tools, wobjs })
+    }
+
+    /// The tooldata of this name (`tool0` when `None`).
+    pub fn tool(&self, name: Option<&str>) -> Option<&ToolData> {
+        self.tools.get(&name.unwrap_or("tool0").to_ascii_lowercase())
+    }
+
+    /// The wobjdata of this name (`wobj0` when `None`).
+    pub fn wobj(&self, name: Option<&str>) -> Option<&WobjData> {
+        self.wobjs.get(&name.unwrap_or("wobj0").to_ascii_lowercase())
+    }
+}
+
+fn located(program: &Program, origin: &rapid::Origin, message: String) -> Error {
+    Error::input(message).at(program.location(origin))
+}
+
+/// A robtarget's pose (TCP in its work object) and robconf, from its
+/// numbers.
+pub fn target_pose(program: &Program, target: &Target) -> Result<Option<(Isometry3<f64>, RobConf)>> {
+    let Some(v) = &target.value else {
+        return Ok(None);
+    };
+    let pose = pose_from_rapid(v.trans_values(), v.rot_values())
+        .map_err(|e| located(program, &target.origin, format!("target {}: {}", target.id, e.message)))?;
+    let cf = v.robconf_values();
+    let whole = |x: f64| {
+        (x.fract() == 0.0 && x.abs() < 1e6).then_some(x as i32).ok_or_else(|| {
+            located(
+                program,
+                &target.origin,
+                format!("target {}: robconf value {x} is not a whole number", target.id),
+            )
+        })
+    };
+    let conf = RobConf::new(whole(cf[0])?, whole(cf[1])?, whole(cf[2])?, whole(cf[3])?);
+    Ok(Some((pose, conf)))
+}
+
+/// The tool and work object one motion instruction uses for a target.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Usage {
+    pub tool: Option<String>,
+    pub wobj: Option<String>,
+    /// The instruction (`MoveL`) and where it is, for messages.
+    pub instruction: String,
+    pub routine: String,
+    pub line: u32,
+}
+
+/// For every target of the program (by index into [`Program::targets`]),
+/// the motion instructions that move to it with their tool and work
+/// object. Inline targets have the one instruction they are written in;
+/// declared targets (and array elements with a literal index) every move
+/// that names them; the bases of a derived target (`Offs(p10, ...)`) the
+/// moves to the derived pose, since the offset is taken in the same frame.
+pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
+    let by_id: HashMap<String, usize> = program
+        .targets()
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| t.kind != TargetKind::Inline && t.kind != TargetKind::Derived)
+        .map(|(i, t)| (t.id.to_ascii_lowercase(), i))
+        .collect();
+    let mut out: HashMap<usize, Vec<Usage>> = HashMap::new();
+    for module in &program.modules {
+        for routine in &module.routines {
+            let mut visit = |call: &Call, line: u32| {
+                let Some(m) = call.motion() else { return };
+                let usage = Usage {
+                    tool: m.tool.and_then(expr_name),
+                    wobj: m.wobj.and_then(expr_name),
+                    instruction: call.name.to_string(),
+                    routine: routine.name.to_string(),
+                    line,
+                };
+                for expr in [m.via, m.to].into_iter().flatten() {
+                    for index in referenced_targets(program, expr, &by_id, module.name.as_ref()) {
+                        let list = out.entry(index).or_default();
+                        if !list.contains(&usage) {
+                            list.push(usage.clone());
+                        }
+                    }
+                }
+            };
+            let bodies = [
+                Some(&routine.body),
+                routine.backward.as_ref(),
+                routine.undo.as_ref(),
+                routine.error.as_ref().map(|(_, s)| s),
+            ];
+            for body in bodies.into_iter().flatten() {
+                walk_calls(body, &mut visit);
+            }
+        }
+    }
+    out
+}
+
+/// Every procedure call in a statement list, nested ones included.
+pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) {
+    for s in statements {
+        match &s.kind {
+            StatementKind::Call(call) => visit(call, s.pos.line),
+            StatementKind::If { branches, otherwise } => {
+                for (_, body) in branches {
+                    walk_calls(body, visit);
+                }
+                if let Some(body) = otherwise {
+                    walk_calls(body, visit);
+                }
+            }
+            StatementKind::CompactIf { then, .. } => walk_calls(std::slice::from_ref(then), visit),
+            StatementKind::For { body, .. } | StatementKind::While { body, .. } => {
+                walk_calls(body, visit)
+            }
+            StatementKind::Test { cases, default, .. } => {
+                for (_, body) in cases {
+                    walk_calls(body, visit);
+                }
+                if let Some(body) = default {
+                    walk_calls(body, visit);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The name of a plain variable argument (`tool1`), or `None` for anything
+/// else (an array element of tools cannot be resolved statically).
+fn expr_name(expr: &Expr) -> Option<String> {
+    expr.as_name().map(str::to_string)
+}
+
+/// Targets an expression reads: a literal, a declared name, an array
+/// element with literal indices, or the bases of a derived expression.
+fn referenced_targets(
+    program: &Program,
+    expr: &Expr,
+    by_id: &HashMap<String, usize>,
+    module: &str,
+) -> Vec<usize> {
+    let lookup = |id: &str| {
+        by_id
+            .get(&id.to_ascii_lowercase())
+            .or_else(|| by_id.get(&format!("{module}:{id}").to_ascii_lowercase()))
+            .copied()
+    };
+    match expr {
+        Expr::Target(i) => {
+            let t = &program.targets()[*i];
+            match &t.derived {
+                Some(d) => d.bases.iter().filter_map(|b| lookup(b)).collect(),
+                None => vec![*i],
+            }
+        }
+        Expr::Name(n) => lookup(n).into_iter().collect(),
+        Expr::Index(b) => {
+            let (base, indices) = b.as_ref();
+            let (Some(name), Some(idx)) = (
+                base.as_name(),
+                indices
+                    .iter()
+                    .map(|e| e.as_num().filter(|v| v.fract() == 0.0).map(|v| v as i64))
+                    .collect::<Option<Vec<i64>>>(),
+            ) else {
+                return Vec::new();
+            };
+            let idx: Vec<String> = idx.iter().map(i64::to_string).collect();
+            lookup(&format!("{name}{{{}}}", idx.join(","))).into_iter().collect()
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// The one tool/work-object pair a target is corrected for: the first
+/// usage's. A target moved to with several different pairs is an error
+/// (one robtarget cannot be right for two frames), as is an unknown name.
+pub fn frames_of(
+    program: &Program,
+    frames: &Frames,
+    index: usize,
+    uses: Option<&Vec<Usage>>,
+) -> Result<(ToolData, WobjData, Option<String>, Option<String>)> {
+    let target = &program.targets()[index];
+    let (tool_name, wobj_name) = match uses.and_then(|u| u.first()) {
+        Some(first) => {
+            if let Some(other) = uses
+                .into_iter()
+                .flatten()
+                .find(|u| !same(&u.tool, &first.tool, "tool0") || !same(&u.wobj, &first.wobj, "wobj0"))
+            {
+                return Err(located(
+                    program,
+                    &target.origin,
+                    format!(
+                        "target {} is used with tool {} / wobj {} ({} in {} line {}) and with tool {} / wobj {} ({} in {} line {}): one robtarget cannot be corrected for both",
+                        target.id,
+                        first.tool.as_deref().unwrap_or("tool0"),
+                        first.wobj.as_deref().unwrap_or("wobj0"),
+                        first.instruction,
+                        first.routine,
+                        first.line,
+                        other.tool.as_deref().unwrap_or("tool0"),
+                        other.wobj.as_deref().unwrap_or("wobj0"),
+                        other.instruction,
+                        other.routine,
+                        other.line
+                    ),
+                ));
+            }
+            (first.tool.clone(), first.wobj.clone())
+        }
+        None => (
+            target.tool.as_deref().map(str::to_string),
+            target.wobj.as_deref().map(str::to_string),
+        ),
+    };
+    let tool = frames.tool(tool_name.as_deref()).ok_or_else(|| {
+        located(
+            program,
+            &target.origin,
+            format!(
+                "target {}: unknown tool `{}` (no tooldata of that name in the program)",
+                target.id,
+                tool_name.as_deref().unwrap_or("tool0")
+            ),
+        )
+    })?;
+    let wobj = frames.wobj(wobj_name.as_deref()).ok_or_else(|| {
+        located(
+            program,
+            &target.origin,
+            format!(
+                "target {}: unknown work object `{}` (no wobjdata of that name in the program)",
+                target.id,
+                wobj_name.as_deref().unwrap_or("wobj0")
+            ),
+        )
+    })?;
+    Ok((tool.clone(), wobj.clone(), tool_name, wobj_name))
+}
+
+fn same(a: &Option<String>, b: &Option<String>, default: &str) -> bool {
+    a.as_deref().unwrap_or(default).eq_ignore_ascii_case(b.as_deref().unwrap_or(default))
+}
+
+/// An error for a target whose frames cannot be modelled.
+pub fn unsupported(program: &Program, target: &Target, why: &str) -> Error {
+    Error::new(ErrorKind::Unsupported, format!("target {}: {why}", target.id))
+        .at(program.location(&target.origin))
+}

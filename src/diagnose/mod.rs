@@ -5,3 +5,4 @@
 pub mod chain;
 pub mod effects;
 pub mod measurements;
+pub mod fit;

@@ -58,3 +58,13 @@ fn probe() {
         );
     }
 }
+
+#[test]
+fn probe2() {
+    let profile = default_profile();
+    let meas = simulate(&spec(vec![scaled(EffectKind::GeometryOffset, 1.0)], 3), &profile).unwrap();
+    let d = run(&meas);
+    for c in &d.candidates {
+        eprintln!("{} cv {:.4} err {:?}", c.name, c.cv_rms_mm, c.error);
+    }
+}

@@ -206,63 +206,86 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     let r0 = residual(&theta);
     let all: Vec<usize> = (0..m).collect();
     let j0 = jacobian(&theta, &r0, &all);
-    let free = identifiable(&j0);
+    let typical: Vec<f64> = layout
+        .iter()
+        .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
+        .collect();
+    let free = identifiable(&j0, &typical);
     for p in 0..m {
         if !free.contains(&p) {
             theta[p] = 0.0;
         }
     }
 
-    // Levenberg–Marquardt with Marquardt's diagonal scaling.
+    // Levenberg–Marquardt with Marquardt's diagonal scaling. The Jacobian
+    // is reused while steps keep lowering the residual (the effects are
+    // nearly linear in their parameters) and recomputed when one fails.
     let mut r = residual(&theta);
     let mut rss = r.norm_squared();
-    let mut lambda = 1e-4;
+    let mut lambda = 1e-6;
     let mut iterations = 0;
     let mut converged = free.is_empty();
     let mut j = DMatrix::zeros(r.len(), free.len());
+    for (c, &p) in free.iter().enumerate() {
+        j.set_column(c, &j0.column(p));
+    }
+    let mut fresh = true;
     while !converged && iterations < MAX_ITER {
         iterations += 1;
-        j = jacobian(&theta, &r, &free);
         let g = j.transpose() * &r;
         let a = j.transpose() * &j;
-        if gradient_small(&a, &g, rss) {
-            converged = true;
-            break;
-        }
-        let mut accepted = false;
-        while lambda < 1e12 {
-            let Some(step) = solve_damped(&a, &g, lambda) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let mut t = theta.clone();
-            for (c, &p) in free.iter().enumerate() {
-                t[p] += step[c];
-            }
-            if let Some(li) = lag_index {
-                t[li] = t[li].max(0.0);
-            }
-            let r1 = residual(&t);
-            let rss1 = r1.norm_squared();
-            if rss1.is_finite() && rss1 <= rss {
-                let gain = (rss - rss1) / rss.max(1e-300);
-                theta = t;
-                r = r1;
-                rss = rss1;
-                lambda = (lambda / 5.0).max(1e-12);
-                accepted = true;
-                if gain < 1e-12 {
-                    converged = true;
-                }
+        if at_minimum(&a, &g, rss, n_obs) {
+            if fresh {
+                converged = true;
                 break;
             }
-            lambda *= 8.0;
+            j = jacobian(&theta, &r, &free);
+            fresh = true;
+            continue;
         }
-        if !accepted {
-            // No step lowers the residual: at a minimum if the gradient is
-            // negligible, otherwise the fit is stuck.
-            converged = gradient_small(&a, &g, rss * 1e4);
-            break;
+        let Some(step) = solve_damped(&a, &g, lambda) else {
+            lambda = (lambda * 10.0).max(1e-9);
+            if lambda > 1e12 {
+                break;
+            }
+            continue;
+        };
+        let mut t = theta.clone();
+        for (c, &p) in free.iter().enumerate() {
+            t[p] += step[c];
+        }
+        if let Some(li) = lag_index {
+            t[li] = t[li].max(0.0);
+        }
+        let r1 = residual(&t);
+        let rss1 = r1.norm_squared();
+        if rss1.is_finite() && rss1 <= rss {
+            let gain = (rss - rss1) / rss.max(1e-300);
+            theta = t;
+            r = r1;
+            rss = rss1;
+            lambda = (lambda / 5.0).max(1e-12);
+            if gain < 1e-12 {
+                if fresh {
+                    converged = true;
+                } else {
+                    j = jacobian(&theta, &r, &free);
+                    fresh = true;
+                }
+            } else {
+                fresh = false;
+            }
+        } else if !fresh {
+            j = jacobian(&theta, &r, &free);
+            fresh = true;
+        } else {
+            lambda = (lambda * 8.0).max(1e-9);
+            if lambda > 1e12 {
+                // No step lowers the residual: at a minimum if the gradient
+                // is negligible, otherwise the fit is stuck.
+                converged = gradient_small(&a, &g, rss * 1e4);
+                break;
+            }
         }
     }
     if !converged {
@@ -274,20 +297,15 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
             ),
         ));
     }
-    if !free.is_empty() {
-        j = jacobian(&theta, &r, &free);
-    }
     let dof = (n_obs - free.len()).max(1) as f64;
     let sigma2 = rss / dof;
     let cov = (j.transpose() * &j).try_inverse();
     let mut params: Vec<Vec<Param>> = kinds.iter().map(|k| Vec::with_capacity(k.params().len())).collect();
     let mut effect_index = 0;
-    let mut seen = 0;
-    for (p, &(kind, idx)) in layout.iter().enumerate() {
+    for (p, &(_, idx)) in layout.iter().enumerate() {
         if idx == 0 && p > 0 {
             effect_index += 1;
         }
-        let _ = kind;
         let stderr = free.iter().position(|&f| f == p).and_then(|c| {
             cov.as_ref()
                 .map(|cov| (cov[(c, c)] * sigma2).max(0.0).sqrt())
@@ -299,9 +317,7 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
                 stderr,
             });
         }
-        seen += 1;
     }
-    debug_assert_eq!(seen, m);
     Ok(Fit {
         effects: effects_of(&theta),
         params,
@@ -312,14 +328,16 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     })
 }
 
-/// Columns that the data identify: zero columns dropped, then while the
-/// column-scaled Jacobian is rank deficient, the parameter weighing most in
-/// its weakest direction (the later one on a tie).
-fn identifiable(j: &DMatrix<f64>) -> Vec<usize> {
+/// Columns that the data identify: parameters whose typical value moves
+/// the measured values by less than a nanometre RMS are dropped (e.g. the
+/// axis-6 zero without orientation data: its column is rounding noise),
+/// then, while the column-scaled Jacobian is rank deficient, the parameter
+/// weighing most in its weakest direction (the later one on a tie).
+fn identifiable(j: &DMatrix<f64>, typical: &[f64]) -> Vec<usize> {
     let norms: Vec<f64> = j.column_iter().map(|c| c.norm()).collect();
-    let max = norms.iter().copied().fold(0.0, f64::max);
+    let rows = (j.nrows().max(1) as f64).sqrt();
     let mut free: Vec<usize> = (0..j.ncols())
-        .filter(|&c| norms[c] > 1e-9 * max.max(1e-300) && norms[c] > 1e-12)
+        .filter(|&c| norms[c] * typical.get(c).copied().unwrap_or(1.0) / rows > 1e-6)
         .collect();
     while !free.is_empty() {
         let mut s = DMatrix::zeros(j.nrows(), free.len());
@@ -348,6 +366,19 @@ fn identifiable(j: &DMatrix<f64>) -> Vec<usize> {
         free.remove(worst);
     }
     free
+}
+
+/// Whether the fit is done: the gradient is negligible, or what a full
+/// Gauss–Newton step could still gain is a negligible fraction of one
+/// residual's variance (ill-conditioned fits otherwise crawl for ever).
+fn at_minimum(a: &DMatrix<f64>, g: &DVector<f64>, rss: f64, n_obs: usize) -> bool {
+    if gradient_small(a, g, rss) {
+        return true;
+    }
+    match solve_damped(a, g, 1e-12) {
+        Some(step) => g.dot(&step) <= 1e-4 * rss / n_obs.max(1) as f64,
+        None => false,
+    }
 }
 
 /// Whether the gradient is negligible: every parameter direction's cosine

@@ -435,8 +435,9 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         let runner = scored.get(1).filter(|r| r.fit.is_some());
         if let Some(r) = runner {
             let corr = select::collinearity(&best.contribution, &r.contribution);
-            let close = r.cv_rms_mm * r.cv_rms_mm - best.cv_rms_mm * best.cv_rms_mm
-                < 0.1 * (cur_cv * cur_cv - best.cv_rms_mm * best.cv_rms_mm).max(0.0) + 0.5 * nr2;
+            // Nearly equal held-out scores: closer than a quarter of the
+            // noise variance (the scores' own scatter is a few percent of it).
+            let close = r.cv_rms_mm * r.cv_rms_mm - best.cv_rms_mm * best.cv_rms_mm < 0.25 * nr2;
             if corr > 0.95 && close {
                 ambiguities.push(Ambiguity {
                     pair: [best.kind.name().into(), r.kind.name().into()],

@@ -348,29 +348,31 @@ fn follow_joint(problem: &Problem, gaps: &[Vector3<f64>]) -> Option<JointFollow>
         if s.len() < 12 {
             continue;
         }
+        let mut distinct: Vec<f64> = qk.clone();
+        distinct.sort_by(f64::total_cmp);
+        distinct.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+        let m = s.len();
+        let sw: Vec<f64> = w.iter().map(|v| v.sqrt()).collect();
+        let b = DVector::from_iterator(m, (0..m).map(|i| sw[i] * s[i]));
+        // Energy left after a constant alone (a zero offset, in the library).
+        let mean = (0..m).map(|i| w[i] * s[i]).sum::<f64>() / w.iter().sum::<f64>().max(1e-300);
+        let rss_const: f64 = (0..m).map(|i| w[i] * (s[i] - mean).powi(2)).sum();
         for harmonic in 1..=8usize {
-            let m = s.len();
-            let mut a = DMatrix::zeros(m, 3);
-            let mut b = DVector::zeros(m);
-            for i in 0..m {
-                let sw = w[i].sqrt();
-                let x = harmonic as f64 * qk[i];
-                a[(i, 0)] = sw;
-                a[(i, 1)] = sw * x.sin();
-                a[(i, 2)] = sw * x.cos();
-                b[i] = sw * s[i];
+            // A harmonic needs several distinct angles per cycle to be told
+            // from chance.
+            if distinct.len() < 4 * harmonic + 6 {
+                break;
             }
+            let a = DMatrix::from_fn(m, 3, |i, c| {
+                let x = harmonic as f64 * qk[i];
+                sw[i] * [1.0, x.sin(), x.cos()][c]
+            });
             let Ok(coef) = a.clone().svd(true, true).solve(&b, 1e-12) else {
                 continue;
             };
-            // Only the periodic part counts: a constant is a zero offset.
-            let mut explained = 0.0;
-            for i in 0..m {
-                let x = harmonic as f64 * qk[i];
-                let v = coef[1] * x.sin() + coef[2] * x.cos();
-                explained += w[i] * v * v;
-            }
-            let share = (explained / total).min(1.0);
+            let rss = (&a * &coef - &b).norm_squared();
+            // Only what the periodic part adds beyond a constant counts.
+            let share = ((rss_const - rss) / total).clamp(0.0, 1.0);
             let amp = (coef[1] * coef[1] + coef[2] * coef[2]).sqrt() * 1e3;
             if best.as_ref().is_none_or(|b| share > b.share + 1e-9) {
                 best = Some(JointFollow {

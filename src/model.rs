@@ -172,7 +172,9 @@ impl Model {
         let o = &self.robot.opw;
         let lengths = [o.c1, o.a1, o.c2, o.c3, o.c4, o.a2, o.b];
         if lengths.iter().any(|v| !v.is_finite()) || o.c2 <= 0.0 || o.c3 <= 0.0 {
-            return Err(Error::input("model: robot lengths must be finite, c2 and c3 positive"));
+            return Err(Error::input(
+                "model: robot lengths must be finite, c2 and c3 positive",
+            ));
         }
         let th = &self.thermal;
         for link in [&th.base, &th.lower_arm, &th.upper_arm, &th.wrist] {

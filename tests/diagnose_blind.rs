@@ -61,7 +61,11 @@ fn summary(d: &Diagnosis) -> String {
 }
 
 /// Replace the positions of `meas` by `real(row index, row) + noise`.
-fn remeasure(meas: &mut Measurements, seed: u64, real: impl Fn(usize, f64, &[f64; 6]) -> Vector3<f64>) {
+fn remeasure(
+    meas: &mut Measurements,
+    seed: u64,
+    real: impl Fn(usize, f64, &[f64; 6]) -> Vector3<f64>,
+) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let n = Normal::new(0.0, NOISE).unwrap();
     for (i, r) in meas.rows.iter_mut().enumerate() {
@@ -117,7 +121,11 @@ fn noise_only_gives_none() {
         let d = run(&meas);
         assert_eq!(d.verdict, vec!["none"], "{}", summary(&d));
         // The noise estimate from repeated poses is close to the truth.
-        assert!((d.noise.per_axis_mm - NOISE).abs() < 0.2 * NOISE, "{:?}", d.noise);
+        assert!(
+            (d.noise.per_axis_mm - NOISE).abs() < 0.2 * NOISE,
+            "{:?}",
+            d.noise
+        );
     }
 }
 
@@ -137,7 +145,11 @@ fn cyclic_gear_error_is_unexplained_and_located_on_its_axis() {
         });
         let d = run(&meas);
         assert_eq!(d.verdict, vec!["unexplained"], "{}", summary(&d));
-        let located = if d.partial.is_empty() { &d.where_ } else { &d.where_after };
+        let located = if d.partial.is_empty() {
+            &d.where_
+        } else {
+            &d.where_after
+        };
         let joint = located.joint.as_ref().expect("the joint it follows");
         assert_eq!(joint.axis, axis, "{}", summary(&d));
         assert_eq!(joint.harmonic as f64, harmonic, "{}", summary(&d));
@@ -153,7 +165,12 @@ fn sudden_base_jump_is_unexplained_and_located_in_time() {
     let base = Base::default();
     let jump = Vector3::new(0.02, 0.0, -0.1);
     remeasure(&mut meas, 21, |_, t, q| {
-        let p = base.thermal.expand(&base.nominal, &warm(t)).fk(q).translation.vector;
+        let p = base
+            .thermal
+            .expand(&base.nominal, &warm(t))
+            .fk(q)
+            .translation
+            .vector;
         if t > 93.0 {
             p + jump
         } else {
@@ -162,9 +179,18 @@ fn sudden_base_jump_is_unexplained_and_located_in_time() {
     });
     let d = run(&meas);
     assert_eq!(d.verdict, vec!["unexplained"], "{}", summary(&d));
-    let located = if d.partial.is_empty() { &d.where_ } else { &d.where_after };
+    let located = if d.partial.is_empty() {
+        &d.where_
+    } else {
+        &d.where_after
+    };
     let step = located.step.as_ref().expect("a step in time");
-    assert_eq!((step.before_min, step.after_min), (90.0, 96.0), "{}", summary(&d));
+    assert_eq!(
+        (step.before_min, step.after_min),
+        (90.0, 96.0),
+        "{}",
+        summary(&d)
+    );
     assert!(step.direction[2] < -0.9, "{:?}", step);
 }
 
@@ -175,7 +201,11 @@ fn mixture_of_two_effects_finds_both() {
         (EffectKind::ArmBending, EffectKind::TrackerFrame, 31u64),
         (EffectKind::MountDrift, EffectKind::GravitySag, 32),
     ] {
-        let meas = simulate(&spec(vec![scaled(a, 1.0), scaled(b, 1.0)], 12, 31, seed), &profile).unwrap();
+        let meas = simulate(
+            &spec(vec![scaled(a, 1.0), scaled(b, 1.0)], 12, 31, seed),
+            &profile,
+        )
+        .unwrap();
         let d = run(&meas);
         assert!(
             d.verdict.iter().any(|v| v == a.name()) && d.verdict.iter().any(|v| v == b.name()),
@@ -198,23 +228,41 @@ fn other_parameterisations_are_still_recognised() {
     one_link.params[2] = 1.0;
     let meas = simulate(&spec(vec![one_link], 12, 31, 41), &profile).unwrap();
     let d = run(&meas);
-    assert_eq!(d.verdict.first().map(String::as_str), Some("expansion-scale"), "{}", summary(&d));
+    assert_eq!(
+        d.verdict.first().map(String::as_str),
+        Some("expansion-scale"),
+        "{}",
+        summary(&d)
+    );
 
     // Second-order lag: the structure follows the motors through two
     // cascaded first-order lags (20 and 15 min).
     let hist = TempHistory::from_profile(&profile, 180.0, 0.5).unwrap();
     let first = hist.lagged(20.0);
-    let recs: Vec<(f64, MotorTemps)> = (0..=360).map(|i| (i as f64 * 0.5, first.at(i as f64 * 0.5))).collect();
+    let recs: Vec<(f64, MotorTemps)> = (0..=360)
+        .map(|i| (i as f64 * 0.5, first.at(i as f64 * 0.5)))
+        .collect();
     let second_hist = TempHistory::from_records(&recs, th.t_ref);
     let second = second_hist.lagged(15.0);
     let mut meas = simulate(&spec(vec![], 12, 31, 42), &profile).unwrap();
     let lag_marker = vec![Effect::zero(EffectKind::ThermalLag)];
     remeasure(&mut meas, 42, |_, t, q| {
-        let row = RowState { q: *q, temps: warm(t), lagged: Some(second.at(t)) };
-        rapidtherm::diagnose::effects::predict(&base, &lag_marker, &row).translation.vector
+        let row = RowState {
+            q: *q,
+            temps: warm(t),
+            lagged: Some(second.at(t)),
+        };
+        rapidtherm::diagnose::effects::predict(&base, &lag_marker, &row)
+            .translation
+            .vector
     });
     let d = run(&meas);
-    assert_eq!(d.verdict.first().map(String::as_str), Some("thermal-lag"), "{}", summary(&d));
+    assert_eq!(
+        d.verdict.first().map(String::as_str),
+        Some("thermal-lag"),
+        "{}",
+        summary(&d)
+    );
     assert!(d.gap_after_mm <= 1.5 * noise_rms(), "{}", summary(&d));
 
     // Nonuniform bending: curvature growing linearly along the lower arm
@@ -225,15 +273,19 @@ fn other_parameterisations_are_still_recognised() {
         let temps = warm(t);
         let rise = th.link_temps(&temps)[1] - th.t_ref;
         let theta = 40e-6 * rise;
-        let mut p = Perturbation::default();
-        p.kappa_lower = 4.0 / 3.0 * theta / base.nominal.c2;
-        p.dq[1] = -theta / 3.0;
+        let p = Perturbation {
+            kappa_lower: 4.0 / 3.0 * theta / base.nominal.c2,
+            dq: [0.0, -theta / 3.0, 0.0, 0.0, 0.0, 0.0],
+            ..Perturbation::default()
+        };
         let opw = th.expand(&base.nominal, &temps);
         fk_chain(&opw, q, &p).translation.vector
     });
     let d = run(&meas);
     let first = d.verdict.first().map(String::as_str);
     let named = first == Some("arm-bending")
-        || d.ambiguous.iter().any(|p| p.iter().any(|n| n == "arm-bending"));
+        || d.ambiguous
+            .iter()
+            .any(|p| p.iter().any(|n| n == "arm-bending"));
     assert!(named, "{}", summary(&d));
 }

@@ -45,7 +45,14 @@ fn parameters_are_recovered_within_their_standard_errors() {
             let se = est.stderr.expect("identifiable with these data");
             assert!(se.is_finite() && se > 0.0);
             let z = (est.value - true_value) / se;
-            assert!(z.abs() < 4.5, "{}.{}: {} vs {} ± {se}", kind.name(), info.name, est.value, true_value);
+            assert!(
+                z.abs() < 4.5,
+                "{}.{}: {} vs {} ± {se}",
+                kind.name(),
+                info.name,
+                est.value,
+                true_value
+            );
             z2.push(z * z);
         }
     }
@@ -59,14 +66,35 @@ fn unidentifiable_parameters_are_detected_not_nan() {
     // Axis-6 zero without orientation data, and geometry-offset together
     // with tracker-frame (c1 and the frame's z, axis-1 zero and the
     // frame's rotation about z are the same motion).
-    let meas = data(vec![Effect::with_defaults(EffectKind::GeometryOffset)], false, 9);
+    let meas = data(
+        vec![Effect::with_defaults(EffectKind::GeometryOffset)],
+        false,
+        9,
+    );
     let p = prepare(&meas, &Model::default(), false).unwrap();
     let all: Vec<usize> = (0..p.problem.rows.len()).collect();
-    let f = fit(&p.problem, &all, &[EffectKind::GeometryOffset, EffectKind::TrackerFrame]).unwrap();
+    let f = fit(
+        &p.problem,
+        &all,
+        &[EffectKind::GeometryOffset, EffectKind::TrackerFrame],
+    )
+    .unwrap();
     let geometry = &f.params[0];
-    assert!(geometry[10].stderr.is_none(), "dq6 without orientation: {:?}", geometry[10]);
-    let dropped = f.params.iter().flatten().filter(|p| p.stderr.is_none()).count();
-    assert!(dropped >= 3, "dq6, one of dc1/z and one of dq1/rz: {dropped} dropped");
+    assert!(
+        geometry[10].stderr.is_none(),
+        "dq6 without orientation: {:?}",
+        geometry[10]
+    );
+    let dropped = f
+        .params
+        .iter()
+        .flatten()
+        .filter(|p| p.stderr.is_none())
+        .count();
+    assert!(
+        dropped >= 3,
+        "dq6, one of dc1/z and one of dq1/rz: {dropped} dropped"
+    );
     for p in f.params.iter().flatten() {
         assert!(p.value.is_finite() && p.value.abs() < 10.0, "{p:?}");
     }
@@ -90,7 +118,11 @@ fn register_recovers_a_tracker_frame() {
     let r = reg.registration.clone().unwrap();
     let t = Vector3::from(r.translation_mm);
     assert!((t - frame.translation.vector).norm() < 0.05, "{t}");
-    assert!((r.rotation_deg[2] - 0.6f64.to_degrees()).abs() < 0.2, "{:?}", r.rotation_deg);
+    assert!(
+        (r.rotation_deg[2] - 0.6f64.to_degrees()).abs() < 0.2,
+        "{:?}",
+        r.rotation_deg
+    );
     assert!(gap(&reg).rms_mm < 0.025, "{}", gap(&reg).rms_mm);
 }
 
@@ -111,7 +143,11 @@ fn too_few_rows_is_a_clear_error() {
 fn a_model_with_effects_simulates_base_plus_effects() {
     // The diagnosed model reproduces the data it was diagnosed on, and
     // diagnosing again with it finds nothing more.
-    let meas = data(vec![Effect::with_defaults(EffectKind::JointOffsetDrift)], false, 13);
+    let meas = data(
+        vec![Effect::with_defaults(EffectKind::JointOffsetDrift)],
+        false,
+        13,
+    );
     let p = prepare(&meas, &Model::default(), false).unwrap();
     let d = diagnose(&p, &Options::default()).unwrap();
     assert_eq!(d.verdict, vec!["joint-offset-drift"]);

@@ -71,13 +71,28 @@ fn corrections_with_the_diagnosed_model_land_closer() {
 
         // Goals: poses taught on the cold robot (its nominal model), reached
         // during the warm-up.
-        let goals = random_poses(20, &[(-170.0, 170.0), (-40.0, 80.0), (-120.0, 30.0), (-150.0, 150.0), (-100.0, -20.0), (-180.0, 180.0)], seed + 1000);
+        let goals = random_poses(
+            20,
+            &[
+                (-170.0, 170.0),
+                (-40.0, 80.0),
+                (-120.0, 30.0),
+                (-150.0, 150.0),
+                (-100.0, -20.0),
+                (-180.0, 180.0),
+            ],
+            seed + 1000,
+        );
         let (mut base_sq, mut diag_sq, mut none_sq, mut n) = (0.0, 0.0, 0.0, 0.0);
         for (i, (_, qg)) in goals.iter().enumerate() {
             let t = [30.0, 90.0, 180.0][i % 3];
             let goal = base_model.robot.opw.fk(qg);
             let real = |q: &Joints| {
-                let row = RowState { q: *q, temps: profile.temps_at(t).unwrap(), lagged: None };
+                let row = RowState {
+                    q: *q,
+                    temps: profile.temps_at(t).unwrap(),
+                    lagged: None,
+                };
                 predict(&Base::default(), &truth, &row).translation.vector
             };
             let miss = |q: &Joints| -> f64 { (real(q) - goal.translation.vector).norm_squared() };
@@ -86,7 +101,11 @@ fn corrections_with_the_diagnosed_model_land_closer() {
             diag_sq += miss(&correct(&diagnosed, &goal, qg, t));
             n += 1.0;
         }
-        let (none, base, diag) = ((none_sq / n).sqrt(), (base_sq / n).sqrt(), (diag_sq / n).sqrt());
+        let (none, base, diag) = (
+            (none_sq / n).sqrt(),
+            (base_sq / n).sqrt(),
+            (diag_sq / n).sqrt(),
+        );
         eprintln!(
             "{}: uncorrected {none:.4} mm, corrected with base model {base:.4} mm, with diagnosed model {diag:.4} mm (verdict {:?})",
             kind.name(),

@@ -91,6 +91,9 @@ pub struct GapArgs {
     /// Robot description (URDF).
     #[arg(long, value_name = "FILE.urdf")]
     robot: Option<PathBuf>,
+    /// Exit with status 1 when the RMS gap exceeds this many mm (a gate for scripts).
+    #[arg(long, value_name = "MM")]
+    fail_above: Option<f64>,
 }
 
 fn load_model(path: &Option<PathBuf>) -> Result<Model> {
@@ -105,7 +108,10 @@ fn no_urdf(robot: &Option<PathBuf>) -> Result<()> {
         // The URDF loader belongs to the robot module; wired up on merge.
         Some(p) => Err(Error::new(
             ErrorKind::Unsupported,
-            format!("--robot {}: URDF robots are not supported yet (IRB 140 only)", p.display()),
+            format!(
+                "--robot {}: URDF robots are not supported yet (IRB 140 only)",
+                p.display()
+            ),
         )),
         None => Ok(()),
     }
@@ -143,8 +149,11 @@ fn read_poses(spec: &str, seed: u64) -> Result<Vec<(String, [f64; 6])>> {
                 let v = table.number(row, cols[i])?;
                 let (lo, hi) = IRB140_LIMITS_DEG[i];
                 if v < lo || v > hi {
-                    return Err(Error::input(format!("axis {} at {v}° is outside {lo}..{hi}°", i + 1))
-                        .at(table.field_location(row, cols[i])));
+                    return Err(Error::input(format!(
+                        "axis {} at {v}° is outside {lo}..{hi}°",
+                        i + 1
+                    ))
+                    .at(table.field_location(row, cols[i])));
                 }
                 q[i] = v.to_radians();
             }
@@ -212,7 +221,11 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
         }
         Format::Csv => render_csv(
             &["rms_mm", "max_mm", "n"],
-            &[vec![format!("{:.5}", g.rms_mm), format!("{:.5}", g.max_mm), g.n.to_string()]],
+            &[vec![
+                format!("{:.5}", g.rms_mm),
+                format!("{:.5}", g.max_mm),
+                g.n.to_string(),
+            ]],
         ),
         Format::Table => {
             let mut s = String::new();
@@ -227,7 +240,16 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
         }
     };
     write_stdout(text.as_bytes())?;
-    Ok(Status::Success)
+    match args.fail_above {
+        Some(limit) if !(limit.is_finite() && limit >= 0.0) => {
+            Err(Error::usage("--fail-above must be a number of mm >= 0"))
+        }
+        Some(limit) if g.rms_mm > limit => {
+            eprintln!("gap {:.4} mm RMS is above {limit} mm", g.rms_mm);
+            Ok(Status::Changes)
+        }
+        _ => Ok(Status::Success),
+    }
 }
 
 fn registration_words(r: &diagnose::Registration) -> String {
@@ -294,7 +316,11 @@ fn candidate_rows(d: &Diagnosis) -> Vec<Vec<String>> {
                 } else {
                     format!("{:.0}", 100.0 * c.explained.max(0.0))
                 },
-                if c.selected { "yes".into() } else { String::new() },
+                if c.selected {
+                    "yes".into()
+                } else {
+                    String::new()
+                },
                 c.error.clone().unwrap_or_default(),
             ]
         })
@@ -303,7 +329,13 @@ fn candidate_rows(d: &Diagnosis) -> Vec<Vec<String>> {
 
 fn candidate_csv(d: &Diagnosis) -> String {
     render_csv(
-        &["effect", "heldout_rms_mm", "explained_pct", "selected", "note"],
+        &[
+            "effect",
+            "heldout_rms_mm",
+            "explained_pct",
+            "selected",
+            "note",
+        ],
         &candidate_rows(d),
     )
 }
@@ -320,8 +352,20 @@ fn diagnosis_table(d: &Diagnosis) -> String {
     s.push('\n');
     s.push_str("Each effect alone, scored on held-out times and poses:\n");
     s.push_str(&render_table(
-        &["effect", "held-out RMS mm", "explained %", "selected", "note"],
-        &[Align::Left, Align::Right, Align::Right, Align::Left, Align::Left],
+        &[
+            "effect",
+            "held-out RMS mm",
+            "explained %",
+            "selected",
+            "note",
+        ],
+        &[
+            Align::Left,
+            Align::Right,
+            Align::Right,
+            Align::Left,
+            Align::Left,
+        ],
         &candidate_rows(d),
     ));
     let selected: Vec<_> = d.candidates.iter().filter(|c| c.selected).collect();

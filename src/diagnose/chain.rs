@@ -132,6 +132,10 @@ mod tests {
         // Second-order terms (445·(1 − cos κL) ≈ 3e-5 mm) aside.
         assert_relative_eq!(d.x, expect_x, epsilon = 1e-4);
         assert_relative_eq!(d.z, expect_z, epsilon = 1e-4);
-        assert_relative_eq!(bent.rotation.angle_to(&nominal.rotation), turn, epsilon = 1e-12);
+        assert_relative_eq!(
+            bent.rotation.angle_to(&nominal.rotation),
+            turn,
+            epsilon = 1e-12
+        );
     }
 }

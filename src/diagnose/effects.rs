@@ -73,17 +73,62 @@ const BENDING: &[ParamInfo] = &[
     ),
 ];
 const JOINT_DRIFT: &[ParamInfo] = &[
-    p("c1_urad_per_k", "urad/K", "axis-1 zero drift per K of motor 1", 20.0),
-    p("c2_urad_per_k", "urad/K", "axis-2 zero drift per K of motor 2", 30.0),
-    p("c3_urad_per_k", "urad/K", "axis-3 zero drift per K of motor 3", -30.0),
-    p("c4_urad_per_k", "urad/K", "axis-4 zero drift per K of motor 4", 20.0),
-    p("c5_urad_per_k", "urad/K", "axis-5 zero drift per K of motor 5", 20.0),
-    p("c6_urad_per_k", "urad/K", "axis-6 zero drift per K of motor 6", 20.0),
+    p(
+        "c1_urad_per_k",
+        "urad/K",
+        "axis-1 zero drift per K of motor 1",
+        20.0,
+    ),
+    p(
+        "c2_urad_per_k",
+        "urad/K",
+        "axis-2 zero drift per K of motor 2",
+        30.0,
+    ),
+    p(
+        "c3_urad_per_k",
+        "urad/K",
+        "axis-3 zero drift per K of motor 3",
+        -30.0,
+    ),
+    p(
+        "c4_urad_per_k",
+        "urad/K",
+        "axis-4 zero drift per K of motor 4",
+        20.0,
+    ),
+    p(
+        "c5_urad_per_k",
+        "urad/K",
+        "axis-5 zero drift per K of motor 5",
+        20.0,
+    ),
+    p(
+        "c6_urad_per_k",
+        "urad/K",
+        "axis-6 zero drift per K of motor 6",
+        20.0,
+    ),
 ];
 const MOUNT: &[ParamInfo] = &[
-    p("x_um_per_k", "um/K", "base shift along x per K of motor-1 rise", 1.0),
-    p("y_um_per_k", "um/K", "base shift along y per K of motor-1 rise", 1.0),
-    p("z_um_per_k", "um/K", "base shift along z per K of motor-1 rise", 5.0),
+    p(
+        "x_um_per_k",
+        "um/K",
+        "base shift along x per K of motor-1 rise",
+        1.0,
+    ),
+    p(
+        "y_um_per_k",
+        "um/K",
+        "base shift along y per K of motor-1 rise",
+        1.0,
+    ),
+    p(
+        "z_um_per_k",
+        "um/K",
+        "base shift along z per K of motor-1 rise",
+        5.0,
+    ),
     p("rx_urad_per_k", "urad/K", "base tilt about x per K", 2.0),
     p("ry_urad_per_k", "urad/K", "base tilt about y per K", 2.0),
 ];
@@ -324,10 +369,8 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
             EffectKind::ThermalLag => thermal_lengths = true,
             EffectKind::ArmBending => {
                 // κ = (tip rotation per K)·ΔT / L.
-                pert.kappa_lower +=
-                    e.get(0) * 1e-6 * struct_rise[1] / base.nominal.c2.max(1e-9);
-                pert.kappa_upper +=
-                    e.get(1) * 1e-6 * struct_rise[2] / base.nominal.c3.max(1e-9);
+                pert.kappa_lower += e.get(0) * 1e-6 * struct_rise[1] / base.nominal.c2.max(1e-9);
+                pert.kappa_upper += e.get(1) * 1e-6 * struct_rise[2] / base.nominal.c3.max(1e-9);
             }
             EffectKind::JointOffsetDrift => {
                 for i in 0..6 {
@@ -374,8 +417,14 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
     if thermal_lengths {
         // Structure expansion replaces the base model's motor-driven one.
         let nominal = &base.nominal;
-        let alpha = [th.base.alpha, th.lower_arm.alpha, th.upper_arm.alpha, th.wrist.alpha];
-        let extra = |link: usize| alpha[link] * (scale[link] * struct_rise[link] - motor_rise[link]);
+        let alpha = [
+            th.base.alpha,
+            th.lower_arm.alpha,
+            th.upper_arm.alpha,
+            th.wrist.alpha,
+        ];
+        let extra =
+            |link: usize| alpha[link] * (scale[link] * struct_rise[link] - motor_rise[link]);
         pert.dlen[0] += nominal.c1 * extra(0);
         pert.dlen[1] += nominal.a1 * extra(0);
         pert.dlen[2] += nominal.c2 * extra(1);
@@ -559,7 +608,9 @@ mod tests {
     #[test]
     fn lag_of_a_ramp_trails_by_tau() {
         // u = t: the exact first-order response is t − τ(1 − e^(−t/τ)).
-        let recs: Vec<(f64, MotorTemps)> = (0..=10).map(|i| (i as f64 * 10.0, [i as f64 * 10.0; 6])).collect();
+        let recs: Vec<(f64, MotorTemps)> = (0..=10)
+            .map(|i| (i as f64 * 10.0, [i as f64 * 10.0; 6]))
+            .collect();
         let h = TempHistory::from_records(&recs, 0.0);
         let tau = 15.0;
         let lag = h.lagged(tau);

@@ -170,7 +170,9 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     };
 
     let mut theta = vec![0.0; m];
-    let lag_index = layout.iter().position(|&(k, _)| k == EffectKind::ThermalLag);
+    let lag_index = layout
+        .iter()
+        .position(|&(k, _)| k == EffectKind::ThermalLag);
     if n_obs <= m {
         return Err(Error::input(format!(
             "too few measurements for a fit: {} rows give {n_obs} values for {m} parameters",
@@ -211,9 +213,9 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
         .collect();
     let free = identifiable(&j0, &typical);
-    for p in 0..m {
+    for (p, value) in theta.iter_mut().enumerate() {
         if !free.contains(&p) {
-            theta[p] = 0.0;
+            *value = 0.0;
         }
     }
 
@@ -293,14 +295,21 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
             ErrorKind::NoConvergence,
             format!(
                 "the fit of {} did not converge in {iterations} iterations",
-                kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ")
+                kinds
+                    .iter()
+                    .map(|k| k.name())
+                    .collect::<Vec<_>>()
+                    .join(" + ")
             ),
         ));
     }
     let dof = (n_obs - free.len()).max(1) as f64;
     let sigma2 = rss / dof;
     let cov = (j.transpose() * &j).try_inverse();
-    let mut params: Vec<Vec<Param>> = kinds.iter().map(|k| Vec::with_capacity(k.params().len())).collect();
+    let mut params: Vec<Vec<Param>> = kinds
+        .iter()
+        .map(|k| Vec::with_capacity(k.params().len()))
+        .collect();
     let mut effect_index = 0;
     for (p, &(_, idx)) in layout.iter().enumerate() {
         if idx == 0 && p > 0 {
@@ -346,12 +355,10 @@ fn identifiable(j: &DMatrix<f64>, typical: &[f64]) -> Vec<usize> {
         }
         let svd = s.svd(false, true);
         let Some(vt) = svd.v_t else { break };
-        let (imin, smin) = svd
-            .singular_values
-            .iter()
-            .copied()
-            .enumerate()
-            .fold((0, f64::INFINITY), |a, (i, v)| if v < a.1 { (i, v) } else { a });
+        let (imin, smin) = svd.singular_values.iter().copied().enumerate().fold(
+            (0, f64::INFINITY),
+            |a, (i, v)| if v < a.1 { (i, v) } else { a },
+        );
         let smax = svd.singular_values.max();
         if smin >= IDENTIFIABLE * smax {
             break;

@@ -87,11 +87,13 @@ fn rms(v: &[Vector3<f64>]) -> f64 {
 /// Describe a unit direction in words: `+z`, or components.
 pub fn direction_words(d: &Vector3<f64>) -> String {
     let names = ["x", "y", "z"];
-    let (i, v) = d
-        .iter()
-        .copied()
-        .enumerate()
-        .fold((0, 0.0), |a, (i, v)| if v.abs() > f64::abs(a.1) { (i, v) } else { a });
+    let (i, v) = d.iter().copied().enumerate().fold((0, 0.0), |a, (i, v)| {
+        if v.abs() > f64::abs(a.1) {
+            (i, v)
+        } else {
+            a
+        }
+    });
     if v.abs() > 0.9 {
         format!("{}{}", if v > 0.0 { "+" } else { "-" }, names[i])
     } else {
@@ -101,7 +103,12 @@ pub fn direction_words(d: &Vector3<f64>) -> String {
 
 /// Localise `gaps` (one per row of `problem`, mm). `pose_names` labels pose
 /// ids; `noise_rms` (3-D RMS of noise, mm) sets what counts as large.
-pub fn locate(problem: &Problem, gaps: &[Vector3<f64>], pose_names: &[String], noise_rms: f64) -> Where {
+pub fn locate(
+    problem: &Problem,
+    gaps: &[Vector3<f64>],
+    pose_names: &[String],
+    noise_rms: f64,
+) -> Where {
     let rows = &problem.rows;
     let n = gaps.len().min(rows.len());
     let total = rms(&gaps[..n]);
@@ -111,7 +118,9 @@ pub fn locate(problem: &Problem, gaps: &[Vector3<f64>], pose_names: &[String], n
     let (tmin, tmax) = rows
         .iter()
         .take(n)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| (a.0.min(r.time_min), a.1.max(r.time_min)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| {
+            (a.0.min(r.time_min), a.1.max(r.time_min))
+        });
     let mut time_bins = Vec::new();
     if n > 0 && tmax > tmin {
         let nb = 6;
@@ -171,12 +180,15 @@ pub fn locate(problem: &Problem, gaps: &[Vector3<f64>], pose_names: &[String], n
     let nf = n.max(1) as f64;
     mean /= nf;
     let eig = second.symmetric_eigen();
-    let (imax, lmax) = eig
-        .eigenvalues
-        .iter()
-        .copied()
-        .enumerate()
-        .fold((0, f64::NEG_INFINITY), |a, (i, v)| if v > a.1 { (i, v) } else { a });
+    let (imax, lmax) =
+        eig.eigenvalues
+            .iter()
+            .copied()
+            .enumerate()
+            .fold(
+                (0, f64::NEG_INFINITY),
+                |a, (i, v)| if v > a.1 { (i, v) } else { a },
+            );
     let mut dominant: Vector3<f64> = eig.eigenvectors.column(imax).into();
     if dominant.dot(&mean) < 0.0 {
         dominant = -dominant;
@@ -205,7 +217,10 @@ pub fn locate(problem: &Problem, gaps: &[Vector3<f64>], pose_names: &[String], n
     let mut worst_poses: Vec<PoseGap> = per_pose
         .iter()
         .map(|(&p, v)| PoseGap {
-            pose: pose_names.get(p).cloned().unwrap_or_else(|| format!("#{}", p + 1)),
+            pose: pose_names
+                .get(p)
+                .cloned()
+                .unwrap_or_else(|| format!("#{}", p + 1)),
             rms_mm: rms(v),
             n: v.len(),
         })
@@ -223,8 +238,15 @@ pub fn locate(problem: &Problem, gaps: &[Vector3<f64>], pose_names: &[String], n
 
     // Workspace regions: reach and height split at their medians.
     let nominal = problem.base.nominal;
-    let flange: Vec<Vector3<f64>> = rows.iter().take(n).map(|r| nominal.fk(&r.q).translation.vector).collect();
-    let reach: Vec<f64> = flange.iter().map(|p| (p.x * p.x + p.y * p.y).sqrt()).collect();
+    let flange: Vec<Vector3<f64>> = rows
+        .iter()
+        .take(n)
+        .map(|r| nominal.fk(&r.q).translation.vector)
+        .collect();
+    let reach: Vec<f64> = flange
+        .iter()
+        .map(|p| (p.x * p.x + p.y * p.y).sqrt())
+        .collect();
     let height: Vec<f64> = flange.iter().map(|p| p.z).collect();
     let mut regions = Vec::new();
     for (what, vals, lo_name, hi_name) in [
@@ -232,16 +254,31 @@ pub fn locate(problem: &Problem, gaps: &[Vector3<f64>], pose_names: &[String], n
         ("height", &height, "low", "high"),
     ] {
         let med = median(vals);
-        let lo: Vec<Vector3<f64>> = (0..n).filter(|&i| vals[i] <= med).map(|i| gaps[i]).collect();
+        let lo: Vec<Vector3<f64>> = (0..n)
+            .filter(|&i| vals[i] <= med)
+            .map(|i| gaps[i])
+            .collect();
         let hi: Vec<Vector3<f64>> = (0..n).filter(|&i| vals[i] > med).map(|i| gaps[i]).collect();
         if lo.is_empty() || hi.is_empty() {
             continue;
         }
         let (rl, rh) = (rms(&lo), rms(&hi));
-        regions.push(Region { name: format!("{lo_name} ({what} <= {med:.0} mm)"), rms_mm: rl, n: lo.len() });
-        regions.push(Region { name: format!("{hi_name} ({what} > {med:.0} mm)"), rms_mm: rh, n: hi.len() });
+        regions.push(Region {
+            name: format!("{lo_name} ({what} <= {med:.0} mm)"),
+            rms_mm: rl,
+            n: lo.len(),
+        });
+        regions.push(Region {
+            name: format!("{hi_name} ({what} > {med:.0} mm)"),
+            rms_mm: rh,
+            n: hi.len(),
+        });
         if total > 1.5 * noise_rms && (rh > 1.5 * rl || rl > 1.5 * rh) {
-            let (big, small, name) = if rh > rl { (rh, rl, hi_name) } else { (rl, rh, lo_name) };
+            let (big, small, name) = if rh > rl {
+                (rh, rl, hi_name)
+            } else {
+                (rl, rh, lo_name)
+            };
             words.push(format!(
                 "Larger at {name} ({what} split at {med:.0} mm): {big:.3} mm vs {small:.3} mm."
             ));
@@ -334,8 +371,12 @@ fn follow_joint(problem: &Problem, gaps: &[Vector3<f64>]) -> Option<JointFollow>
             let h = 1e-6;
             let mut q1 = r.q;
             q1[k] += h;
-            let p0 = fk_chain(&opw, &r.q, &Perturbation::default()).translation.vector;
-            let p1 = fk_chain(&opw, &q1, &Perturbation::default()).translation.vector;
+            let p0 = fk_chain(&opw, &r.q, &Perturbation::default())
+                .translation
+                .vector;
+            let p1 = fk_chain(&opw, &q1, &Perturbation::default())
+                .translation
+                .vector;
             let jk = (p1 - p0) / h;
             let n2 = jk.norm_squared();
             if n2 < 1.0 {
@@ -393,7 +434,9 @@ fn find_step(problem: &Problem, gaps: &[Vector3<f64>], noise_rms: f64) -> Option
     let mut by_time: BTreeMap<u64, (f64, Vector3<f64>, usize)> = BTreeMap::new();
     for (r, g) in problem.rows.iter().zip(gaps) {
         let key = (r.time_min * 1e6).round().max(0.0) as u64;
-        let e = by_time.entry(key).or_insert((r.time_min, Vector3::zeros(), 0));
+        let e = by_time
+            .entry(key)
+            .or_insert((r.time_min, Vector3::zeros(), 0));
         e.1 += g;
         e.2 += 1;
     }
@@ -447,7 +490,9 @@ fn find_step(problem: &Problem, gaps: &[Vector3<f64>], noise_rms: f64) -> Option
     // Noise of a per-time mean, per axis.
     let sd_noise = noise_rms / 3f64.sqrt() / rows_per_time.sqrt();
     let sd_fit = (rss_step / (3.0 * (tn as f64 - 4.0)).max(1.0)).sqrt();
-    let se = sd_noise.max(sd_fit) * (1.0 / split as f64 + 1.0 / (tn - split) as f64).sqrt() * 3f64.sqrt();
+    let se = sd_noise.max(sd_fit)
+        * (1.0 / split as f64 + 1.0 / (tn - split) as f64).sqrt()
+        * 3f64.sqrt();
     if rss_step < 0.25 * rss_smooth && d.norm() > 6.0 * se && d.norm() > 0.5 * noise_rms {
         let dir = d.normalize();
         Some(Step {

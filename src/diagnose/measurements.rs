@@ -210,7 +210,10 @@ fn csv_text(s: &str) -> String {
 }
 
 /// All or none of a group of columns: a partial group is an error.
-fn optional_group<const N: usize>(table: &CsvTable, cols: &[&str; N]) -> Result<Option<[usize; N]>> {
+fn optional_group<const N: usize>(
+    table: &CsvTable,
+    cols: &[&str; N],
+) -> Result<Option<[usize; N]>> {
     let found: Vec<Option<usize>> = cols.iter().map(|c| table.column(c)).collect();
     if found.iter().all(Option::is_none) {
         return Ok(None);
@@ -235,7 +238,8 @@ mod tests {
         assert_eq!(m.rows.len(), 2);
         assert_eq!(m.rows[1].position.x, 515.01);
         assert_eq!(m.rows[0].pose.as_deref(), Some("p1"));
-        let again = Measurements::parse("m2.csv", m.to_csv().as_bytes(), &IRB140_LIMITS_DEG).unwrap();
+        let again =
+            Measurements::parse("m2.csv", m.to_csv().as_bytes(), &IRB140_LIMITS_DEG).unwrap();
         assert_eq!(again.rows[1].position, m.rows[1].position);
     }
 

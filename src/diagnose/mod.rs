@@ -142,7 +142,9 @@ fn register_frame(problem: &Problem) -> Result<Registration> {
     }
     let svd = h.svd(true, true);
     let (Some(u), Some(vt)) = (svd.u, svd.v_t) else {
-        return Err(Error::input("--register: the measured points do not fix a frame"));
+        return Err(Error::input(
+            "--register: the measured points do not fix a frame",
+        ));
     };
     let s = svd.singular_values;
     if s.min() < 1e-9 * s.max().max(1e-300) {
@@ -393,7 +395,10 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let n_obs = (3 * n) as f64;
     let bic0 = n_obs * (rss0.max(1e-300) / n_obs).ln();
 
-    let lag_fixed = problem.fixed.iter().any(|e| e.kind == EffectKind::ThermalLag);
+    let lag_fixed = problem
+        .fixed
+        .iter()
+        .any(|e| e.kind == EffectKind::ThermalLag);
     let mut pool: Vec<EffectKind> = EffectKind::ALL
         .into_iter()
         .filter(|k| !(lag_fixed && *k == EffectKind::ThermalLag))
@@ -407,7 +412,10 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let mut ambiguities = Vec::new();
     let nr2 = noise.rms_mm * noise.rms_mm;
     while selected.len() < opts.max_effects && !pool.is_empty() {
-        let cur_effects = current_fit.as_ref().map(|f| f.effects.clone()).unwrap_or_default();
+        let cur_effects = current_fit
+            .as_ref()
+            .map(|f| f.effects.clone())
+            .unwrap_or_default();
         let mut scored = select::score_candidates(problem, &folds, &selected, &cur_effects, &pool);
         if steps.is_empty() {
             candidates = scored
@@ -425,7 +433,9 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         }
         scored.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
         let Some(best) = scored.first() else { break };
-        let Some(best_fit) = best.fit.clone() else { break };
+        let Some(best_fit) = best.fit.clone() else {
+            break;
+        };
         let drop_ok = best.cv_rms_mm < 0.9 * cur_cv
             && cur_cv * cur_cv - best.cv_rms_mm * best.cv_rms_mm > 0.2 * nr2
             && best_fit.bic() < cur_bic - 10.0;
@@ -468,13 +478,19 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     } else {
         Some(fit::fit(problem, &all, &selected).map_err(|e| {
             if e.kind == ErrorKind::NoConvergence {
-                Error::new(ErrorKind::NoConvergence, format!("{}; no verdict", e.message))
+                Error::new(
+                    ErrorKind::NoConvergence,
+                    format!("{}; no verdict", e.message),
+                )
             } else {
                 e
             }
         })?)
     };
-    let final_effects = final_fit.as_ref().map(|f| f.effects.clone()).unwrap_or_default();
+    let final_effects = final_fit
+        .as_ref()
+        .map(|f| f.effects.clone())
+        .unwrap_or_default();
     let gaps_after = problem.position_gaps(&final_effects, &all);
     for c in &mut candidates {
         c.selected = selected.iter().any(|k| k.name() == c.name);
@@ -495,7 +511,11 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     // Verdict.
     let base2 = cv0 * cv0;
     let fin2 = cur_cv * cur_cv;
-    let excess_explained = if base2 > nr2 { (base2 - fin2) / (base2 - nr2) } else { 1.0 };
+    let excess_explained = if base2 > nr2 {
+        (base2 - fin2) / (base2 - nr2)
+    } else {
+        1.0
+    };
     let mut partial = Vec::new();
     let verdict: Vec<String> = if selected.is_empty() {
         if cv0 <= 1.5 * noise.rms_mm {
@@ -518,7 +538,8 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         gap.rms_mm, gap.max_mm, n, noise.rms_mm, noise.source
     ));
     match verdict.first().map(String::as_str) {
-        Some("none") => words.push("Verdict: none. The gap is at the measurement noise; nothing to explain.".into()),
+        Some("none") => words
+            .push("Verdict: none. The gap is at the measurement noise; nothing to explain.".into()),
         Some("unexplained") => {
             words.push(format!(
                 "Verdict: unexplained. No effect of the library explains the gap (held-out {:.3} mm, {:.3} mm after the best candidates{}).",
@@ -530,7 +551,11 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
                     format!(", which explain only part of it: {}", partial.join(", "))
                 }
             ));
-            let loc = if partial.is_empty() { &where_ } else { &where_after };
+            let loc = if partial.is_empty() {
+                &where_
+            } else {
+                &where_after
+            };
             words.extend(loc.words.iter().cloned());
         }
         _ => {

@@ -16,7 +16,9 @@ fn plot_err<E: std::fmt::Display>(e: E) -> Error {
 fn rms_by_time(times: &[f64], gaps: &[Vector3<f64>]) -> Vec<(f64, f64)> {
     let mut acc: BTreeMap<u64, (f64, f64, usize)> = BTreeMap::new();
     for (t, g) in times.iter().zip(gaps) {
-        let e = acc.entry((t * 1e6).round().max(0.0) as u64).or_insert((*t, 0.0, 0));
+        let e = acc
+            .entry((t * 1e6).round().max(0.0) as u64)
+            .or_insert((*t, 0.0, 0));
         e.1 += g.norm_squared();
         e.2 += 1;
     }
@@ -44,7 +46,10 @@ pub fn gap_over_time_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
         let root = SVGBackend::with_string(&mut svg, (800, 480)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption("Gap over the warm-up (red: current model, blue: with the diagnosed effects)", ("sans-serif", 16))
+            .caption(
+                "Gap over the warm-up (red: current model, blue: with the diagnosed effects)",
+                ("sans-serif", 16),
+            )
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
@@ -63,8 +68,12 @@ pub fn gap_over_time_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
                 .map(move |(t, g)| Circle::new((*t, g.norm()), 2, color.mix(0.35).filled()))
                 .collect::<Vec<_>>()
         };
-        chart.draw_series(dots(&d.gaps_before, RED)).map_err(plot_err)?;
-        chart.draw_series(dots(&d.gaps_after, BLUE)).map_err(plot_err)?;
+        chart
+            .draw_series(dots(&d.gaps_before, RED))
+            .map_err(plot_err)?;
+        chart
+            .draw_series(dots(&d.gaps_after, BLUE))
+            .map_err(plot_err)?;
         chart
             .draw_series(LineSeries::new(before, RED.stroke_width(2)))
             .map_err(plot_err)?;
@@ -80,14 +89,19 @@ pub fn gap_over_time_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
 /// (magnified), before and after.
 pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
     let rows = &prepared.problem.rows;
-    let mut per_pose: BTreeMap<usize, (Vector3<f64>, Vector3<f64>, Vector3<f64>, usize)> = BTreeMap::new();
+    // Per pose: sums of position, gap before, gap after; count.
+    type Sums = (Vector3<f64>, Vector3<f64>, Vector3<f64>, usize);
+    let mut per_pose: BTreeMap<usize, Sums> = BTreeMap::new();
     for (i, r) in rows.iter().enumerate() {
         let (Some(gb), Some(ga)) = (d.gaps_before.get(i), d.gaps_after.get(i)) else {
             continue;
         };
-        let e = per_pose
-            .entry(r.pose)
-            .or_insert((Vector3::zeros(), Vector3::zeros(), Vector3::zeros(), 0));
+        let e = per_pose.entry(r.pose).or_insert((
+            Vector3::zeros(),
+            Vector3::zeros(),
+            Vector3::zeros(),
+            0,
+        ));
         e.0 += r.position;
         e.1 += gb;
         e.2 += ga;
@@ -113,7 +127,10 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
         let root = SVGBackend::with_string(&mut svg, (640, 640)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption(format!("Mean gap per pose, top view, ×{scale:.0} (red: before, blue: after)"), ("sans-serif", 16))
+            .caption(
+                format!("Mean gap per pose, top view, ×{scale:.0} (red: before, blue: after)"),
+                ("sans-serif", 16),
+            )
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
@@ -126,7 +143,11 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
             .draw()
             .map_err(plot_err)?;
         chart
-            .draw_series(poses.iter().map(|p| Circle::new((p.0.x, p.0.y), 3, BLACK.filled())))
+            .draw_series(
+                poses
+                    .iter()
+                    .map(|p| Circle::new((p.0.x, p.0.y), 3, BLACK.filled())),
+            )
             .map_err(plot_err)?;
         for (color, pick) in [(RED, 1usize), (BLUE, 2)] {
             chart

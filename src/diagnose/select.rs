@@ -104,7 +104,8 @@ pub fn score_candidates(
     let score = |kind: EffectKind| -> Scored {
         let mut kinds = current.to_vec();
         kinds.push(kind);
-        let result = cv_rms(problem, folds, &kinds).and_then(|cv| Ok((cv, fit(problem, &all, &kinds)?)));
+        let result =
+            cv_rms(problem, folds, &kinds).and_then(|cv| Ok((cv, fit(problem, &all, &kinds)?)));
         match result {
             Ok((cv, full)) => {
                 let after = problem.predict_rows(&full.effects, &all);
@@ -146,7 +147,8 @@ pub fn score_candidates(
     }
     let mut out: Vec<Option<Scored>> = vec![None; candidates.len()];
     std::thread::scope(|s| {
-        let chunks: Vec<&mut [Option<Scored>]> = out.chunks_mut(candidates.len().div_ceil(threads)).collect();
+        let chunks: Vec<&mut [Option<Scored>]> =
+            out.chunks_mut(candidates.len().div_ceil(threads)).collect();
         let mut start = 0;
         for chunk in chunks {
             let begin = start;

@@ -51,9 +51,17 @@ pub fn random_poses(n: usize, limits_deg: &[(f64, f64); 6], seed: u64) -> Vec<(S
 
 /// Parse `START:END:STEP` (inclusive) or a comma list of minutes.
 pub fn parse_times(text: &str) -> Result<Vec<f64>> {
-    let bad = || Error::usage(format!("--times `{text}`: expected START:END:STEP or a comma list of minutes"));
+    let bad = || {
+        Error::usage(format!(
+            "--times `{text}`: expected START:END:STEP or a comma list of minutes"
+        ))
+    };
     let num = |s: &str| -> Result<f64> {
-        s.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(bad)
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(bad)
     };
     let parts: Vec<&str> = text.split(':').collect();
     let times: Vec<f64> = match parts.as_slice() {
@@ -72,7 +80,9 @@ pub fn parse_times(text: &str) -> Result<Vec<f64>> {
         _ => return Err(bad()),
     };
     if times.is_empty() || times.iter().any(|&t| t < 0.0) || times.windows(2).any(|w| w[1] < w[0]) {
-        return Err(Error::usage(format!("--times `{text}`: minutes must be >= 0 and increasing")));
+        return Err(Error::usage(format!(
+            "--times `{text}`: minutes must be >= 0 and increasing"
+        )));
     }
     Ok(times)
 }
@@ -94,7 +104,15 @@ pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurem
         let temps = profile.temps_at(t)?;
         let lagged = lag.as_ref().map(|l| l.at(t));
         for (label, q) in &spec.poses {
-            let pose = predict(&spec.base, &spec.effects, &RowState { q: *q, temps, lagged });
+            let pose = predict(
+                &spec.base,
+                &spec.effects,
+                &RowState {
+                    q: *q,
+                    temps,
+                    lagged,
+                },
+            );
             let noise = Vector3::new(
                 pos_noise.sample(&mut rng),
                 pos_noise.sample(&mut rng),
@@ -148,7 +166,9 @@ mod tests {
             base: Base::default(),
             poses: random_poses(3, &IRB140_LIMITS_DEG, 7),
             times: vec![0.0, 60.0],
-            effects: vec![Effect::with_defaults(super::super::effects::EffectKind::ThermalLag)],
+            effects: vec![Effect::with_defaults(
+                super::super::effects::EffectKind::ThermalLag,
+            )],
             noise_mm: 0.01,
             orientation: true,
             measured_temps: true,

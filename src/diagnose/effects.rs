@@ -459,6 +459,9 @@ pub struct TempHistory {
 impl TempHistory {
     /// Sample a heating profile every `step` minutes from 0 to `t_end`.
     pub fn from_profile(profile: &dyn HeatingProfile, t_end: f64, step: f64) -> Result<Self> {
+        // At most 20,000 samples whatever the span (a lag needs no finer
+        // steps than span/20,000).
+        let step = step.max(t_end.max(0.0) / 20_000.0).max(1e-6);
         let n = (t_end.max(0.0) / step).ceil() as usize + 1;
         let mut times = Vec::with_capacity(n);
         let mut temps = Vec::with_capacity(n);

@@ -167,6 +167,13 @@ pub fn locate(
         .collect();
     let size: Vec<f64> = gaps[..n].iter().map(|g| g.norm()).collect();
     let temperature_correlation = pearson(&rise, &size);
+    if let Some(c) = temperature_correlation {
+        if c > 0.8 && total > 1.5 * noise_rms {
+            words.push(format!(
+                "Its size follows the motor temperature rise (correlation {c:.2})."
+            ));
+        }
+    }
 
     // Directions.
     let mut mean = Vector3::zeros();

@@ -92,6 +92,9 @@ pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurem
     if !(spec.noise_mm.is_finite() && spec.noise_mm >= 0.0) {
         return Err(Error::usage("--noise must be a finite number >= 0"));
     }
+    if spec.times.len().saturating_mul(spec.poses.len()) > 5_000_000 {
+        return Err(Error::usage("simulate: more than 5,000,000 rows asked for"));
+    }
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
     let pos_noise = Normal::new(0.0, spec.noise_mm).map_err(|e| Error::usage(e.to_string()))?;
     let ori_noise = Normal::new(0.0, ORIENTATION_NOISE_MRAD * 1e-3 * (spec.noise_mm / 0.01))

@@ -159,3 +159,46 @@ fn a_model_with_effects_simulates_base_plus_effects() {
     let d2 = diagnose(&p2, &Options::default()).unwrap();
     assert_eq!(d2.verdict, vec!["none"], "{:?}", d2.words);
 }
+
+#[test]
+fn folds_hold_out_whole_poses_and_whole_time_blocks() {
+    let meas = data(vec![], false, 14);
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let folds = rapidtherm::diagnose::select::make_folds(&p.problem, 4);
+    assert_eq!(folds.folds.len(), 4);
+    let rows = &p.problem.rows;
+    let mut tested = vec![false; rows.len()];
+    let all_times: std::collections::BTreeSet<u64> =
+        rows.iter().map(|r| r.time_min as u64).collect();
+    let all_poses: std::collections::BTreeSet<usize> = rows.iter().map(|r| r.pose).collect();
+    for (train, test) in &folds.folds {
+        let train_poses: std::collections::BTreeSet<usize> =
+            train.iter().map(|&i| rows[i].pose).collect();
+        let train_times: std::collections::BTreeSet<u64> =
+            train.iter().map(|&i| rows[i].time_min as u64).collect();
+        // Whole poses and a whole contiguous block of times are absent from
+        // training, and every row of theirs is scored.
+        let unseen_poses: Vec<usize> = all_poses.difference(&train_poses).copied().collect();
+        let unseen_times: Vec<u64> = all_times.difference(&train_times).copied().collect();
+        assert!(unseen_poses.len() >= 3, "{unseen_poses:?}");
+        assert!(unseen_times.len() >= 5, "{unseen_times:?}");
+        let block: Vec<u64> = all_times
+            .iter()
+            .copied()
+            .filter(|t| (unseen_times[0]..=*unseen_times.last().unwrap()).contains(t))
+            .collect();
+        assert_eq!(block, unseen_times, "the held-out times are contiguous");
+        for (i, r) in rows.iter().enumerate() {
+            let held =
+                unseen_poses.contains(&r.pose) || unseen_times.contains(&(r.time_min as u64));
+            assert_eq!(held, test.contains(&i));
+        }
+        for &i in test {
+            tested[i] = true;
+        }
+    }
+    assert!(
+        tested.iter().all(|&t| t),
+        "every row is scored once or more"
+    );
+}

@@ -214,6 +214,10 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     let text = match args.format {
         Format::Json => {
             let mut v = serde_json::json!({"rms_mm": g.rms_mm, "max_mm": g.max_mm, "n": g.n});
+            if let Some((rms, max)) = diagnose::orientation_gap(&prepared) {
+                v["rot_rms_mrad"] = rms.into();
+                v["rot_max_mrad"] = max.into();
+            }
             if let Some(r) = &prepared.registration {
                 v["registration"] = serde_json::to_value(r).unwrap_or_default();
             }
@@ -236,6 +240,11 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
                 "gap: {:.4} mm RMS, {:.4} mm max over {} rows\n",
                 g.rms_mm, g.max_mm, g.n
             ));
+            if let Some((rms, max)) = diagnose::orientation_gap(&prepared) {
+                s.push_str(&format!(
+                    "orientation gap: {rms:.4} mrad RMS, {max:.4} mrad max\n"
+                ));
+            }
             s
         }
     };

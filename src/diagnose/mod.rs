@@ -208,6 +208,27 @@ pub fn gap(prepared: &Prepared) -> GapStats {
     gap_stats(&prepared.problem.position_gaps(&[], &all))
 }
 
+/// RMS and max orientation gap (rotation vector of R_model⁻¹·R_measured),
+/// mrad, when every row carries an orientation.
+pub fn orientation_gap(prepared: &Prepared) -> Option<(f64, f64)> {
+    let problem = &prepared.problem;
+    if problem.rows.is_empty() || problem.rows.iter().any(|r| r.orientation.is_none()) {
+        return None;
+    }
+    let all: Vec<usize> = (0..problem.rows.len()).collect();
+    let poses = problem.predict_rows(&[], &all);
+    let angles: Vec<f64> = poses
+        .iter()
+        .zip(&problem.rows)
+        .filter_map(|(p, r)| {
+            r.orientation
+                .map(|m| chain::rotation_gap(&p.rotation, &m).norm() * 1e3)
+        })
+        .collect();
+    let rms = (angles.iter().map(|a| a * a).sum::<f64>() / angles.len() as f64).sqrt();
+    Some((rms, angles.iter().copied().fold(0.0, f64::max)))
+}
+
 /// The measurement noise level used for verdicts.
 #[derive(Debug, Clone, Serialize)]
 pub struct Noise {

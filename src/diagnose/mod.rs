@@ -590,6 +590,29 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             }
         }
     }
+    // What to do about it.
+    match verdict.first().map(String::as_str) {
+        Some("none") => words.push("Nothing to do: the model is as good as the measurement.".into()),
+        Some("unexplained") => {
+            let mut hint = String::from("Look where it points");
+            let loc = if partial.is_empty() { &where_ } else { &where_after };
+            if let Some(j) = &loc.joint {
+                hint.push_str(&format!(" (axis {}: its gearbox or encoder)", j.axis));
+            }
+            if let Some(s) = &loc.step {
+                hint.push_str(&format!(
+                    " (what happened between minute {:.0} and {:.0}: a knock, a slipping fixture or tracker)",
+                    s.before_min, s.after_min
+                ));
+            }
+            hint.push_str(", and measure more poses and times there before trusting a correction.");
+            words.push(hint);
+        }
+        _ => words.push(format!(
+            "Save the model with --save-model FILE.toml and correct programs with it: the held-out gap goes from {:.3} to {:.3} mm.",
+            cv0, cur_cv
+        )),
+    }
     for a in &ambiguities {
         words.push(format!(
             "{} and {} are nearly indistinguishable on these poses (correlation {:.2}): {}.",

@@ -452,7 +452,7 @@ fn find_step(problem: &Problem, gaps: &[Vector3<f64>], noise_rms: f64) -> Option
         .map(|(t, s, c)| (t, s / c as f64, c))
         .collect();
     let tn = series.len();
-    if tn < 8 {
+    if tn < 6 {
         return None;
     }
     let t0 = series[0].0;
@@ -485,7 +485,7 @@ fn find_step(problem: &Problem, gaps: &[Vector3<f64>], noise_rms: f64) -> Option
     };
     let (rss_smooth, _) = fit(&design(None))?;
     let mut best: Option<(f64, usize, Vector3<f64>)> = None;
-    for split in 3..tn - 2 {
+    for split in 2..=tn - 2 {
         if let Some((rss, d)) = fit(&design(Some(split))) {
             if best.as_ref().is_none_or(|b| rss < b.0) {
                 best = Some((rss, split, d));

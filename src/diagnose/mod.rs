@@ -572,12 +572,11 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
                     format!(", which explain only part of it: {}", partial.join(", "))
                 }
             ));
-            let loc = if partial.is_empty() {
-                &where_
-            } else {
-                &where_after
-            };
-            words.extend(loc.words.iter().cloned());
+            words.extend(where_.words.iter().cloned());
+            if !partial.is_empty() && !where_after.words.is_empty() {
+                words.push(format!("What {} leaves:", partial.join(" + ")));
+                words.extend(where_after.words.iter().map(|w| format!("  {w}")));
+            }
         }
         _ => {
             words.push(format!("Verdict: {}.", verdict.join(" + ")));
@@ -595,11 +594,12 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         Some("none") => words.push("Nothing to do: the model is as good as the measurement.".into()),
         Some("unexplained") => {
             let mut hint = String::from("Look where it points");
-            let loc = if partial.is_empty() { &where_ } else { &where_after };
-            if let Some(j) = &loc.joint {
+            let joint = where_.joint.as_ref().or(where_after.joint.as_ref());
+            let step = where_.step.as_ref().or(where_after.step.as_ref());
+            if let Some(j) = joint {
                 hint.push_str(&format!(" (axis {}: its gearbox or encoder)", j.axis));
             }
-            if let Some(s) = &loc.step {
+            if let Some(s) = step {
                 hint.push_str(&format!(
                     " (what happened between minute {:.0} and {:.0}: a knock, a slipping fixture or tracker)",
                     s.before_min, s.after_min

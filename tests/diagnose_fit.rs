@@ -202,3 +202,36 @@ fn folds_hold_out_whole_poses_and_whole_time_blocks() {
         "every row is scored once or more"
     );
 }
+
+#[test]
+fn a_single_pose_cannot_tell_a_tilt_from_a_shift() {
+    // One pose over the warm-up: a base tilt moves it exactly like a base
+    // shift, up to the arm's tiny expansion. The tilts must be dropped, not
+    // fitted to huge compensating values.
+    let spec = SimSpec {
+        base: Base::default(),
+        poses: random_poses(1, &IRB140_LIMITS_DEG, 3),
+        times: (0..=30).map(|i| i as f64 * 6.0).collect(),
+        effects: vec![Effect::with_defaults(EffectKind::MountDrift)],
+        noise_mm: 0.01,
+        orientation: false,
+        measured_temps: false,
+        seed: 3,
+    };
+    let meas = simulate(&spec, &default_profile()).unwrap();
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let all: Vec<usize> = (0..p.problem.rows.len()).collect();
+    let f = fit(&p.problem, &all, &[EffectKind::MountDrift]).unwrap();
+    let params = &f.params[0];
+    assert!(
+        params[3].stderr.is_none() && params[4].stderr.is_none(),
+        "{params:?}"
+    );
+    for (info, p) in EffectKind::MountDrift.params().iter().zip(params) {
+        assert!(
+            p.value.abs() < 10.0 * info.default.abs().max(1.0),
+            "{}: {p:?}",
+            info.name
+        );
+    }
+}

@@ -237,7 +237,10 @@ impl EffectKind {
                     .params()
                     .get(index)
                     .map_or(1.0, |p| p.default.abs().max(1e-3));
-                1e-4 * typical.max(value.abs())
+                // Large enough that rounding in the kinematics (1e-13 mm)
+                // stays far below the step's effect: near-collinear columns
+                // must not look independent through rounding noise.
+                1e-2 * typical.max(value.abs())
             }
         }
     }

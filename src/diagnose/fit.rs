@@ -33,6 +33,9 @@ pub struct Problem {
     /// Weight of orientation residuals, mm per mrad (position noise over
     /// orientation noise); 0 ignores orientation.
     pub w_ori: f64,
+    /// Measurement noise per residual, mm: parameter directions that move
+    /// the data less than this are not identifiable.
+    pub noise_mm: f64,
 }
 
 impl Problem {
@@ -130,7 +133,7 @@ impl Fit {
 
 /// Relative singular value under which a parameter direction counts as not
 /// identifiable on these data.
-const IDENTIFIABLE: f64 = 1e-6;
+const IDENTIFIABLE: f64 = 1e-5;
 const MAX_ITER: usize = 60;
 
 /// Fit the parameters of `kinds` (added to the problem's fixed effects) to
@@ -212,7 +215,7 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         .iter()
         .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
         .collect();
-    let free = identifiable(&j0, &typical);
+    let free = identifiable(&j0, &typical, problem.noise_mm);
     for (p, value) in theta.iter_mut().enumerate() {
         if !free.contains(&p) {
             *value = 0.0;
@@ -337,21 +340,29 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     })
 }
 
-/// Columns that the data identify: parameters whose typical value moves
-/// the measured values by less than a nanometre RMS are dropped (e.g. the
-/// axis-6 zero without orientation data: its column is rounding noise),
-/// then, while the column-scaled Jacobian is rank deficient, the parameter
-/// weighing most in its weakest direction (the later one on a tie).
-fn identifiable(j: &DMatrix<f64>, typical: &[f64]) -> Vec<usize> {
-    let norms: Vec<f64> = j.column_iter().map(|c| c.norm()).collect();
-    let rows = (j.nrows().max(1) as f64).sqrt();
-    let mut free: Vec<usize> = (0..j.ncols())
-        .filter(|&c| norms[c] * typical.get(c).copied().unwrap_or(1.0) / rows > 1e-6)
+/// Parameters the data identify. Columns are scaled by each parameter's
+/// typical size, so a singular value is how far (mm, over all residuals)
+/// the data move when the parameters move one typical size along that
+/// direction. A direction that moves them less than the noise `sigma` (or
+/// is numerically degenerate) cannot be told from noise: the parameter
+/// weighing most in it is held at zero, and the test repeats. This drops
+/// the axis-6 zero without orientation data, c1 against a tracker's z, or a
+/// base tilt seen from a single pose, instead of fitting them to huge
+/// values.
+fn identifiable(j: &DMatrix<f64>, typical: &[f64], sigma: f64) -> Vec<usize> {
+    let scale: Vec<f64> = (0..j.ncols())
+        .map(|c| typical.get(c).copied().unwrap_or(1.0))
         .collect();
+    let norms: Vec<f64> = j
+        .column_iter()
+        .zip(&scale)
+        .map(|(c, t)| c.norm() * t)
+        .collect();
+    let mut free: Vec<usize> = (0..j.ncols()).filter(|&c| norms[c] > 1e-9).collect();
     while !free.is_empty() {
         let mut s = DMatrix::zeros(j.nrows(), free.len());
         for (c, &p) in free.iter().enumerate() {
-            s.set_column(c, &(j.column(p) / norms[p]));
+            s.set_column(c, &(j.column(p) * scale[p]));
         }
         let svd = s.svd(false, true);
         let Some(vt) = svd.v_t else { break };
@@ -360,7 +371,7 @@ fn identifiable(j: &DMatrix<f64>, typical: &[f64]) -> Vec<usize> {
             |a, (i, v)| if v < a.1 { (i, v) } else { a },
         );
         let smax = svd.singular_values.max();
-        if smin >= IDENTIFIABLE * smax {
+        if smin >= sigma.max(IDENTIFIABLE * smax) {
             break;
         }
         let row = vt.row(imin);

@@ -105,6 +105,7 @@ pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Pre
         rows,
         history,
         w_ori: DEFAULT_NOISE_MM / simulate::ORIENTATION_NOISE_MRAD,
+        noise_mm: DEFAULT_NOISE_MM,
     };
     let registration = if register {
         let reg = register_frame(&problem)?;
@@ -405,6 +406,12 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             },
         },
     };
+    // Fits judge identifiability against the noise of these data.
+    let tuned = Problem {
+        noise_mm: noise.per_axis_mm,
+        ..problem.clone()
+    };
+    let problem = &tuned;
     let folds = select::make_folds(problem, opts.folds);
     if folds.folds.len() < 2 {
         return Err(Error::input(

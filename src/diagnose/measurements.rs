@@ -20,6 +20,11 @@ pub const IRB140_LIMITS_DEG: [(f64, f64); 6] = [
     (-400.0, 400.0),
 ];
 
+/// Largest plausible measured coordinate, mm.
+pub const MAX_POSITION_MM: f64 = 100_000.0;
+/// Longest plausible time since the cold start: a year, in minutes.
+pub const MAX_TIME_MIN: f64 = 525_600.0;
+
 /// One measured pose.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Measurement {
@@ -92,11 +97,22 @@ impl Measurements {
                 }
                 q[i] = deg.to_radians();
             }
-            let position = Vector3::new(
-                table.number(row, xyz[0])?,
-                table.number(row, xyz[1])?,
-                table.number(row, xyz[2])?,
-            );
+            let mut xyz_v = [0.0; 3];
+            for (k, &c) in xyz.iter().enumerate() {
+                let v = table.number(row, c)?;
+                // Even a tracker's own frame is not kilometres away: such a
+                // value is a unit or column mistake.
+                if v.abs() > MAX_POSITION_MM {
+                    return Err(Error::input(format!(
+                        "`{}` = {v:e} mm is not a plausible position (more than {} m from the origin)",
+                        table.header[c],
+                        MAX_POSITION_MM / 1000.0
+                    ))
+                    .at(table.field_location(row, c)));
+                }
+                xyz_v[k] = v;
+            }
+            let position = Vector3::from(xyz_v);
             let orientation = match &quat {
                 Some(c) => {
                     let v = [
@@ -123,6 +139,13 @@ impl Measurements {
                     let mut t = [0.0; 6];
                     for i in 0..6 {
                         t[i] = table.number(row, c[i])?;
+                        if !(-60.0..=250.0).contains(&t[i]) {
+                            return Err(Error::input(format!(
+                                "motor temperature {} °C is not plausible (expected -60..250 °C)",
+                                t[i]
+                            ))
+                            .at(table.field_location(row, c[i])));
+                        }
                     }
                     Some(t)
                 }
@@ -132,9 +155,16 @@ impl Measurements {
                 Some(c) => Some(table.text(row, c)?.to_string()).filter(|s| !s.is_empty()),
                 None => None,
             };
+            let time_min = table.number(row, time)?;
+            if !(0.0..=MAX_TIME_MIN).contains(&time_min) {
+                return Err(Error::input(format!(
+                    "time {time_min} min is outside 0..{MAX_TIME_MIN} (minutes since the cold start)"
+                ))
+                .at(table.field_location(row, time)));
+            }
             rows.push(Measurement {
                 line: row.line,
-                time_min: table.number(row, time)?,
+                time_min,
                 joints: q,
                 position,
                 orientation,

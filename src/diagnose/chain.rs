@@ -14,8 +14,8 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 /// curvatures in 1/mm.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Perturbation {
-    /// Added to c1, a1, c2, c3, c4.
-    pub dlen: [f64; 5],
+    /// Added to c1, a1, c2, c3, c4, a2, b.
+    pub dlen: [f64; 7],
     /// Added to the joint angles.
     pub dq: Joints,
     /// Uniform curvature of the lower arm in its plane of motion.
@@ -32,7 +32,7 @@ pub struct Perturbation {
 impl Default for Perturbation {
     fn default() -> Self {
         Perturbation {
-            dlen: [0.0; 5],
+            dlen: [0.0; 7],
             dq: [0.0; 6],
             kappa_lower: 0.0,
             kappa_upper: 0.0,
@@ -67,10 +67,10 @@ pub fn fk_chain(opw: &Opw, q: &Joints, p: &Perturbation) -> Isometry3<f64> {
     let c3 = opw.c3 + p.dlen[3];
     let c4 = opw.c4 + p.dlen[4];
     let iso = |r: UnitQuaternion<f64>| Isometry3::from_parts(Translation3::identity(), r);
-    let shoulder = iso(rz(q[0] + p.dq[0])) * Isometry3::translation(a1, opw.b, c1);
+    let shoulder = iso(rz(q[0] + p.dq[0])) * Isometry3::translation(a1, opw.b + p.dlen[6], c1);
     let lower = iso(ry(q[1] + p.dq[1])) * link(c2, p.kappa_lower);
     let upper = iso(ry(q[2] + OPW_OFFSET_Q3 + p.dq[2]))
-        * Isometry3::translation(opw.a2, 0.0, 0.0)
+        * Isometry3::translation(opw.a2 + p.dlen[5], 0.0, 0.0)
         * link(c3, p.kappa_upper);
     let wrist = iso(rz(q[3] + p.dq[3]) * ry(q[4] + p.dq[4]) * rz(q[5] + p.dq[5]))
         * Isometry3::translation(0.0, 0.0, c4);

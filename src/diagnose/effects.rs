@@ -164,6 +164,8 @@ const GEOMETRY: &[ParamInfo] = &[
     p("dq4_mrad", "mrad", "zero offset of axis 4", 0.2),
     p("dq5_mrad", "mrad", "zero offset of axis 5", -0.2),
     p("dq6_mrad", "mrad", "zero offset of axis 6", 0.3),
+    p("da2_mm", "mm", "offset of the wrist centre across the upper arm (a2)", 0.05),
+    p("db_mm", "mm", "lateral offset of the arm plane from axis 1 (b)", -0.05),
 ];
 const TRACKER: &[ParamInfo] = &[
     p("x_mm", "mm", "tracker frame origin x", 0.2),
@@ -405,6 +407,8 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
                 for i in 0..6 {
                     pert.dq[i] += 1e-3 * e.get(5 + i);
                 }
+                pert.dlen[5] += e.get(11);
+                pert.dlen[6] += e.get(12);
             }
             EffectKind::TrackerFrame => {
                 let t = Translation3::new(e.get(0), e.get(1), e.get(2));

@@ -1,30 +1,410 @@
-use super::Status;
+//! `simulate`, `diagnose` and `gap`: argument parsing and printing only.
+
+use super::{read_input, write_output, write_stdout, Status};
+use rapidtherm::csv_table::CsvTable;
+use rapidtherm::diagnose::effects::{Base, Effect};
+use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::simulate::{parse_times, random_poses, simulate, SimSpec};
+use rapidtherm::diagnose::{self, Diagnosis, Options};
 use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::model::Model;
+use rapidtherm::report::{render_csv, render_table, Align, Format};
+use std::path::{Path, PathBuf};
 
-#[derive(clap::Args)]
-pub struct SimulateArgs {}
-
-#[derive(clap::Args)]
-pub struct DiagnoseArgs {}
-
-#[derive(clap::Args)]
-pub struct GapArgs {}
-
-fn not_yet(what: &str) -> Result<Status> {
-    Err(Error::new(
-        ErrorKind::Unsupported,
-        format!("`{what}` is not built yet"),
-    ))
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TempsSource {
+    /// Write t1_c..t6_c columns.
+    Measured,
+    /// Leave temperatures to the reader's heating profile.
+    Profile,
 }
 
-pub fn run_simulate(_args: SimulateArgs) -> Result<Status> {
-    not_yet("simulate")
+#[derive(clap::Args)]
+pub struct SimulateArgs {
+    /// Poses: `random:N` (uniform within the joint limits), `joints:FILE.csv`
+    /// (columns j1_deg..j6_deg, optional pose), `iso-cube` or `program:FILE`.
+    #[arg(long, default_value = "random:12")]
+    poses: String,
+    /// Minutes since the cold start: START:END:STEP or a comma list.
+    #[arg(long, default_value = "0:180:6")]
+    times: String,
+    /// An effect to add, `NAME[:param=value,...]` (repeatable).
+    #[arg(long = "effect", value_name = "NAME[:P=V,...]")]
+    effects: Vec<String>,
+    /// Tracker noise, mm per axis.
+    #[arg(long, default_value_t = 0.01)]
+    noise: f64,
+    /// Also write the measured orientation (qw, qx, qy, qz).
+    #[arg(long)]
+    orientation: bool,
+    /// Write motor temperatures, or leave them to the heating profile.
+    #[arg(long, value_enum, default_value_t = TempsSource::Profile)]
+    temps: TempsSource,
+    /// Random seed (poses and noise).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// The model the "real" robot departs from (default: nominal IRB 140).
+    #[arg(long)]
+    model: Option<PathBuf>,
+    /// Output CSV (`-`: standard output).
+    #[arg(short = 'o', long = "output", default_value = "-")]
+    output: PathBuf,
 }
 
-pub fn run_diagnose(_args: DiagnoseArgs) -> Result<Status> {
-    not_yet("diagnose")
+#[derive(clap::Args)]
+pub struct DiagnoseArgs {
+    /// Measurements CSV (`-`: standard input).
+    data: PathBuf,
+    /// The current model (default: nominal IRB 140 with the base thermal model).
+    #[arg(long)]
+    model: Option<PathBuf>,
+    /// Tracker noise, mm per axis (default: estimated from repeated poses, else 0.01).
+    #[arg(long)]
+    noise: Option<f64>,
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
+    /// Write the model with the diagnosed effects added.
+    #[arg(long, value_name = "FILE.toml")]
+    save_model: Option<PathBuf>,
+    /// Write SVG plots of the gap before and after into this directory.
+    #[arg(long, value_name = "DIR")]
+    plot: Option<PathBuf>,
+    /// First fit the rigid transform from the instrument's frame to the robot base.
+    #[arg(long)]
+    register: bool,
+    /// Robot description (URDF).
+    #[arg(long, value_name = "FILE.urdf")]
+    robot: Option<PathBuf>,
 }
 
-pub fn run_gap(_args: GapArgs) -> Result<Status> {
-    not_yet("gap")
+#[derive(clap::Args)]
+pub struct GapArgs {
+    /// Measurements CSV (`-`: standard input).
+    data: PathBuf,
+    #[arg(long)]
+    model: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
+    /// First fit the rigid transform from the instrument's frame to the robot base.
+    #[arg(long)]
+    register: bool,
+    /// Robot description (URDF).
+    #[arg(long, value_name = "FILE.urdf")]
+    robot: Option<PathBuf>,
+    /// Exit with status 1 when the RMS gap exceeds this many mm (a gate for scripts).
+    #[arg(long, value_name = "MM")]
+    fail_above: Option<f64>,
+}
+
+fn load_model(path: &Option<PathBuf>) -> Result<Model> {
+    match path {
+        Some(p) => Model::load(p),
+        None => Ok(Model::default()),
+    }
+}
+
+fn no_urdf(robot: &Option<PathBuf>) -> Result<()> {
+    match robot {
+        // The URDF loader belongs to the robot module; wired up on merge.
+        Some(p) => Err(Error::new(
+            ErrorKind::Unsupported,
+            format!(
+                "--robot {}: URDF robots are not supported yet (IRB 140 only)",
+                p.display()
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn read_measurements(path: &Path) -> Result<Measurements> {
+    let (name, bytes) = read_input(path)?;
+    let meas = Measurements::parse(&name, &bytes, &IRB140_LIMITS_DEG)?;
+    for w in &meas.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(meas)
+}
+
+fn read_poses(spec: &str, seed: u64) -> Result<Vec<(String, [f64; 6])>> {
+    if let Some(n) = spec.strip_prefix("random:") {
+        let n: usize = n
+            .parse()
+            .ok()
+            .filter(|&n| n > 0 && n <= 100_000)
+            .ok_or_else(|| Error::usage(format!("--poses {spec}: N must be 1..100000")))?;
+        return Ok(random_poses(n, &IRB140_LIMITS_DEG, seed));
+    }
+    if let Some(file) = spec.strip_prefix("joints:") {
+        let (name, bytes) = read_input(Path::new(file))?;
+        let table = CsvTable::parse(&name, &bytes)?;
+        let cols: Vec<usize> = (1..=6)
+            .map(|i| table.require(&format!("j{i}_deg")))
+            .collect::<Result<_>>()?;
+        let label = table.column("pose");
+        let mut out = Vec::new();
+        for (k, row) in table.rows.iter().enumerate() {
+            let mut q = [0.0; 6];
+            for i in 0..6 {
+                let v = table.number(row, cols[i])?;
+                let (lo, hi) = IRB140_LIMITS_DEG[i];
+                if v < lo || v > hi {
+                    return Err(Error::input(format!(
+                        "axis {} at {v}° is outside {lo}..{hi}°",
+                        i + 1
+                    ))
+                    .at(table.field_location(row, cols[i])));
+                }
+                q[i] = v.to_radians();
+            }
+            let name = match label {
+                Some(c) => table.text(row, c)?.to_string(),
+                None => format!("P{}", k + 1),
+            };
+            out.push((name, q));
+        }
+        if out.is_empty() {
+            return Err(Error::input(format!("{name}: no poses")));
+        }
+        return Ok(out);
+    }
+    if spec == "iso-cube" || spec.starts_with("program:") {
+        // Both need inverse kinematics (robot module), wired up on merge.
+        return Err(Error::new(
+            ErrorKind::Unsupported,
+            format!("--poses {spec}: needs inverse kinematics, not available yet; use random:N or joints:FILE.csv"),
+        ));
+    }
+    Err(Error::usage(format!(
+        "--poses `{spec}`: expected random:N, joints:FILE.csv, iso-cube or program:FILE"
+    )))
+}
+
+pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
+    let model = load_model(&args.model)?;
+    let mut effects = model.effects()?;
+    for spec in &args.effects {
+        effects.push(Effect::parse_spec(spec)?);
+    }
+    let spec = SimSpec {
+        base: Base {
+            nominal: model.robot.opw,
+            thermal: model.thermal.clone(),
+        },
+        poses: read_poses(&args.poses, args.seed)?,
+        times: parse_times(&args.times)?,
+        effects,
+        noise_mm: args.noise,
+        orientation: args.orientation,
+        measured_temps: args.temps == TempsSource::Measured,
+        seed: args.seed,
+    };
+    let profile = model.profile()?;
+    let meas = simulate(&spec, profile.as_ref())?;
+    write_output(&args.output, meas.to_csv().as_bytes())?;
+    Ok(Status::Success)
+}
+
+pub fn run_gap(args: GapArgs) -> Result<Status> {
+    no_urdf(&args.robot)?;
+    let model = load_model(&args.model)?;
+    let meas = read_measurements(&args.data)?;
+    let prepared = diagnose::prepare(&meas, &model, args.register)?;
+    let g = diagnose::gap(&prepared);
+    let text = match args.format {
+        Format::Json => {
+            let mut v = serde_json::json!({"rms_mm": g.rms_mm, "max_mm": g.max_mm, "n": g.n});
+            if let Some((rms, max)) = diagnose::orientation_gap(&prepared) {
+                v["rot_rms_mrad"] = rms.into();
+                v["rot_max_mrad"] = max.into();
+            }
+            if let Some(r) = &prepared.registration {
+                v["registration"] = serde_json::to_value(r).unwrap_or_default();
+            }
+            format!("{v}\n")
+        }
+        Format::Csv => render_csv(
+            &["rms_mm", "max_mm", "n"],
+            &[vec![
+                format!("{:.5}", g.rms_mm),
+                format!("{:.5}", g.max_mm),
+                g.n.to_string(),
+            ]],
+        ),
+        Format::Table => {
+            let mut s = String::new();
+            if let Some(r) = &prepared.registration {
+                s.push_str(&registration_words(r));
+            }
+            s.push_str(&format!(
+                "gap: {:.4} mm RMS, {:.4} mm max over {} rows\n",
+                g.rms_mm, g.max_mm, g.n
+            ));
+            if let Some((rms, max)) = diagnose::orientation_gap(&prepared) {
+                s.push_str(&format!(
+                    "orientation gap: {rms:.4} mrad RMS, {max:.4} mrad max\n"
+                ));
+            }
+            s
+        }
+    };
+    write_stdout(text.as_bytes())?;
+    match args.fail_above {
+        Some(limit) if !(limit.is_finite() && limit >= 0.0) => {
+            Err(Error::usage("--fail-above must be a number of mm >= 0"))
+        }
+        Some(limit) if g.rms_mm > limit => {
+            eprintln!("gap {:.4} mm RMS is above {limit} mm", g.rms_mm);
+            Ok(Status::Changes)
+        }
+        _ => Ok(Status::Success),
+    }
+}
+
+fn registration_words(r: &diagnose::Registration) -> String {
+    format!(
+        "instrument frame: translation ({:.3}, {:.3}, {:.3}) mm, rotation vector ({:.4}, {:.4}, {:.4})°, rigid-fit RMS {:.4} mm\n",
+        r.translation_mm[0],
+        r.translation_mm[1],
+        r.translation_mm[2],
+        r.rotation_deg[0],
+        r.rotation_deg[1],
+        r.rotation_deg[2],
+        r.rms_mm
+    )
+}
+
+pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
+    no_urdf(&args.robot)?;
+    let model = load_model(&args.model)?;
+    let meas = read_measurements(&args.data)?;
+    let prepared = diagnose::prepare(&meas, &model, args.register)?;
+    let opts = Options {
+        noise_mm: args.noise,
+        ..Options::default()
+    };
+    let d = diagnose::diagnose(&prepared, &opts)?;
+    if let Some(dir) = &args.plot {
+        let files = diagnose::plot::write_plots(dir, &prepared, &d)?;
+        for f in files {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    if let Some(path) = &args.save_model {
+        let m = diagnose::diagnosed_model(&model, &d);
+        rapidtherm::output::write_atomic(path, m.to_toml()?.as_bytes(), None)?;
+        eprintln!("wrote {}", path.display());
+    }
+    let text = match args.format {
+        Format::Json => {
+            let v = serde_json::to_string_pretty(&d)
+                .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write JSON: {e}")))?;
+            format!("{v}\n")
+        }
+        Format::Csv => candidate_csv(&d),
+        Format::Table => diagnosis_table(&d),
+    };
+    write_stdout(text.as_bytes())?;
+    Ok(Status::Success)
+}
+
+fn candidate_rows(d: &Diagnosis) -> Vec<Vec<String>> {
+    let mut c = d.candidates.clone();
+    c.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
+    c.iter()
+        .map(|c| {
+            vec![
+                c.name.clone(),
+                if c.cv_rms_mm.is_finite() {
+                    format!("{:.4}", c.cv_rms_mm)
+                } else {
+                    "-".into()
+                },
+                if c.error.is_some() {
+                    "-".into()
+                } else {
+                    format!("{:.0}", 100.0 * c.explained.max(0.0))
+                },
+                if c.selected {
+                    "yes".into()
+                } else {
+                    String::new()
+                },
+                c.error.clone().unwrap_or_default(),
+            ]
+        })
+        .collect()
+}
+
+fn candidate_csv(d: &Diagnosis) -> String {
+    render_csv(
+        &[
+            "effect",
+            "heldout_rms_mm",
+            "explained_pct",
+            "selected",
+            "note",
+        ],
+        &candidate_rows(d),
+    )
+}
+
+fn diagnosis_table(d: &Diagnosis) -> String {
+    let mut s = String::new();
+    if let Some(r) = &d.registration {
+        s.push_str(&registration_words(r));
+    }
+    for w in &d.words {
+        s.push_str(w);
+        s.push('\n');
+    }
+    s.push('\n');
+    s.push_str("Each effect alone, scored on held-out times and poses:\n");
+    s.push_str(&render_table(
+        &[
+            "effect",
+            "held-out RMS mm",
+            "explained %",
+            "selected",
+            "note",
+        ],
+        &[
+            Align::Left,
+            Align::Right,
+            Align::Right,
+            Align::Left,
+            Align::Left,
+        ],
+        &candidate_rows(d),
+    ));
+    let selected: Vec<_> = d.candidates.iter().filter(|c| c.selected).collect();
+    if !selected.is_empty() {
+        s.push_str("\nFitted parameters (± standard error):\n");
+        let rows: Vec<Vec<String>> = selected
+            .iter()
+            .flat_map(|c| c.params.iter())
+            .map(|p| {
+                vec![
+                    p.name.clone(),
+                    format!("{:.4}", p.value),
+                    p.stderr
+                        .map(|e| format!("{e:.4}"))
+                        .unwrap_or_else(|| "not identifiable".into()),
+                    p.unit.clone(),
+                ]
+            })
+            .collect();
+        s.push_str(&render_table(
+            &["parameter", "value", "± stderr", "unit"],
+            &[Align::Left, Align::Right, Align::Right, Align::Left],
+            &rows,
+        ));
+    }
+    s.push_str(&format!(
+        "\nHeld-out gap: {:.4} mm before, {:.4} mm after ({:.0} % smaller).\n",
+        d.gap_before_mm,
+        d.gap_after_mm,
+        100.0 * (1.0 - d.gap_after_mm / d.gap_before_mm.max(1e-300))
+    ));
+    s
 }

@@ -1,0 +1,656 @@
+//! The effect library of `shared/spec/effects.md`: each physical departure
+//! from the base model, its parameters (units documented per parameter) and
+//! how it perturbs the kinematic chain of a row.
+//!
+//! Every parameter vector of zeros is the base model exactly, so a fit
+//! starts from the simulation the user already has.
+
+use super::chain::Perturbation;
+use crate::error::{Error, Result};
+use crate::robot::{Joints, MotorTemps, Opw, ThermalExpansion};
+use crate::thermal::HeatingProfile;
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// The effects the diagnosis knows, by their names in `effects.md`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EffectKind {
+    ExpansionScale,
+    ThermalLag,
+    ArmBending,
+    JointOffsetDrift,
+    MountDrift,
+    GravitySag,
+    GeometryOffset,
+    TrackerFrame,
+}
+
+/// One parameter of an effect.
+#[derive(Debug, Clone, Copy)]
+pub struct ParamInfo {
+    pub name: &'static str,
+    pub unit: &'static str,
+    pub what: &'static str,
+    /// Value used by `simulate` when the user gives none: a magnitude that
+    /// moves the IRB 140's flange by a few hundredths to tenths of a mm.
+    pub default: f64,
+}
+
+const fn p(name: &'static str, unit: &'static str, what: &'static str, default: f64) -> ParamInfo {
+    ParamInfo {
+        name,
+        unit,
+        what,
+        default,
+    }
+}
+
+const EXPANSION: &[ParamInfo] = &[
+    p("dk_base", "1", "k - 1 of the base link (c1, a1)", -0.5),
+    p("dk_lower", "1", "k - 1 of the lower arm (c2)", -0.6),
+    p("dk_upper", "1", "k - 1 of the upper arm (c3)", -0.6),
+    p("dk_wrist", "1", "k - 1 of the wrist (c4)", -0.5),
+];
+const LAG: &[ParamInfo] = &[p(
+    "tau_min",
+    "min",
+    "time constant of the structure temperature behind the motors'",
+    30.0,
+)];
+const BENDING: &[ParamInfo] = &[
+    p(
+        "lower_urad_per_k",
+        "urad/K",
+        "tip rotation kL of the lower arm per K of its temperature rise",
+        20.0,
+    ),
+    p(
+        "upper_urad_per_k",
+        "urad/K",
+        "tip rotation kL of the upper arm per K of its temperature rise",
+        30.0,
+    ),
+];
+const JOINT_DRIFT: &[ParamInfo] = &[
+    p(
+        "c1_urad_per_k",
+        "urad/K",
+        "axis-1 zero drift per K of motor 1",
+        20.0,
+    ),
+    p(
+        "c2_urad_per_k",
+        "urad/K",
+        "axis-2 zero drift per K of motor 2",
+        30.0,
+    ),
+    p(
+        "c3_urad_per_k",
+        "urad/K",
+        "axis-3 zero drift per K of motor 3",
+        -30.0,
+    ),
+    p(
+        "c4_urad_per_k",
+        "urad/K",
+        "axis-4 zero drift per K of motor 4",
+        20.0,
+    ),
+    p(
+        "c5_urad_per_k",
+        "urad/K",
+        "axis-5 zero drift per K of motor 5",
+        20.0,
+    ),
+    p(
+        "c6_urad_per_k",
+        "urad/K",
+        "axis-6 zero drift per K of motor 6",
+        20.0,
+    ),
+];
+const MOUNT: &[ParamInfo] = &[
+    p(
+        "x_um_per_k",
+        "um/K",
+        "base shift along x per K of motor-1 rise",
+        1.0,
+    ),
+    p(
+        "y_um_per_k",
+        "um/K",
+        "base shift along y per K of motor-1 rise",
+        1.0,
+    ),
+    p(
+        "z_um_per_k",
+        "um/K",
+        "base shift along z per K of motor-1 rise",
+        5.0,
+    ),
+    p("rx_urad_per_k", "urad/K", "base tilt about x per K", 2.0),
+    p("ry_urad_per_k", "urad/K", "base tilt about y per K", 2.0),
+];
+const SAG: &[ParamInfo] = &[
+    p(
+        "axis2_lower_urad",
+        "urad",
+        "axis-2 twist at the lower arm horizontal (lever c2*sin q2)",
+        100.0,
+    ),
+    p(
+        "axis2_upper_urad",
+        "urad",
+        "axis-2 twist from the upper arm's weight at it horizontal (lever cos(q2+q3))",
+        150.0,
+    ),
+    p(
+        "axis3_urad",
+        "urad",
+        "axis-3 twist with the upper arm horizontal (lever cos(q2+q3))",
+        120.0,
+    ),
+];
+const GEOMETRY: &[ParamInfo] = &[
+    p("dc1_mm", "mm", "error of c1", 0.1),
+    p("da1_mm", "mm", "error of a1", -0.05),
+    p("dc2_mm", "mm", "error of c2", 0.08),
+    p("dc3_mm", "mm", "error of c3", -0.1),
+    p("dc4_mm", "mm", "error of c4", 0.05),
+    p("dq1_mrad", "mrad", "zero offset of axis 1", 0.1),
+    p("dq2_mrad", "mrad", "zero offset of axis 2", -0.15),
+    p("dq3_mrad", "mrad", "zero offset of axis 3", 0.1),
+    p("dq4_mrad", "mrad", "zero offset of axis 4", 0.2),
+    p("dq5_mrad", "mrad", "zero offset of axis 5", -0.2),
+    p("dq6_mrad", "mrad", "zero offset of axis 6", 0.3),
+    p("da2_mm", "mm", "offset of the wrist centre across the upper arm (a2)", 0.05),
+    p("db_mm", "mm", "lateral offset of the arm plane from axis 1 (b)", -0.05),
+];
+const TRACKER: &[ParamInfo] = &[
+    p("x_mm", "mm", "tracker frame origin x", 0.2),
+    p("y_mm", "mm", "tracker frame origin y", -0.1),
+    p("z_mm", "mm", "tracker frame origin z", 0.15),
+    p("rx_mrad", "mrad", "tracker frame rotation about x", 0.1),
+    p("ry_mrad", "mrad", "tracker frame rotation about y", -0.1),
+    p("rz_mrad", "mrad", "tracker frame rotation about z", 0.2),
+];
+
+impl EffectKind {
+    pub const ALL: [EffectKind; 8] = [
+        EffectKind::ExpansionScale,
+        EffectKind::ThermalLag,
+        EffectKind::ArmBending,
+        EffectKind::JointOffsetDrift,
+        EffectKind::MountDrift,
+        EffectKind::GravitySag,
+        EffectKind::GeometryOffset,
+        EffectKind::TrackerFrame,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            EffectKind::ExpansionScale => "expansion-scale",
+            EffectKind::ThermalLag => "thermal-lag",
+            EffectKind::ArmBending => "arm-bending",
+            EffectKind::JointOffsetDrift => "joint-offset-drift",
+            EffectKind::MountDrift => "mount-drift",
+            EffectKind::GravitySag => "gravity-sag",
+            EffectKind::GeometryOffset => "geometry-offset",
+            EffectKind::TrackerFrame => "tracker-frame",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<EffectKind> {
+        EffectKind::ALL
+            .into_iter()
+            .find(|k| k.name().eq_ignore_ascii_case(name.trim()))
+    }
+
+    pub fn params(self) -> &'static [ParamInfo] {
+        match self {
+            EffectKind::ExpansionScale => EXPANSION,
+            EffectKind::ThermalLag => LAG,
+            EffectKind::ArmBending => BENDING,
+            EffectKind::JointOffsetDrift => JOINT_DRIFT,
+            EffectKind::MountDrift => MOUNT,
+            EffectKind::GravitySag => SAG,
+            EffectKind::GeometryOffset => GEOMETRY,
+            EffectKind::TrackerFrame => TRACKER,
+        }
+    }
+
+    /// Thermal effects vanish at T_ref (the cold start) and grow with the
+    /// warm-up; static ones are there from the start.
+    pub fn is_thermal(self) -> bool {
+        !matches!(
+            self,
+            EffectKind::GravitySag | EffectKind::GeometryOffset | EffectKind::TrackerFrame
+        )
+    }
+
+    /// A parameter step for numeric derivatives, in the parameter's unit,
+    /// small against its typical size.
+    pub fn step(self, index: usize, value: f64) -> f64 {
+        match self {
+            EffectKind::ThermalLag => 1e-3 * (1.0 + value.abs()),
+            _ => {
+                let typical = self
+                    .params()
+                    .get(index)
+                    .map_or(1.0, |p| p.default.abs().max(1e-3));
+                // Large enough that rounding in the kinematics (1e-13 mm)
+                // stays far below the step's effect: near-collinear columns
+                // must not look independent through rounding noise.
+                1e-2 * typical.max(value.abs())
+            }
+        }
+    }
+}
+
+/// An effect with its parameter values (in the units of [`ParamInfo`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Effect {
+    pub kind: EffectKind,
+    pub params: Vec<f64>,
+}
+
+impl Effect {
+    pub fn zero(kind: EffectKind) -> Effect {
+        Effect {
+            kind,
+            params: vec![0.0; kind.params().len()],
+        }
+    }
+
+    pub fn with_defaults(kind: EffectKind) -> Effect {
+        Effect {
+            kind,
+            params: kind.params().iter().map(|p| p.default).collect(),
+        }
+    }
+
+    /// Parse `NAME[:param=value,...]` (the `--effect` syntax); parameters
+    /// not given take their defaults.
+    pub fn parse_spec(spec: &str) -> Result<Effect> {
+        let (name, rest) = spec.split_once(':').unwrap_or((spec, ""));
+        let kind = EffectKind::from_name(name).ok_or_else(|| {
+            Error::usage(format!(
+                "unknown effect `{name}`; known: {}",
+                EffectKind::ALL.map(|k| k.name()).join(", ")
+            ))
+        })?;
+        let mut effect = Effect::with_defaults(kind);
+        for item in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let (key, value) = item.split_once('=').ok_or_else(|| {
+                Error::usage(format!("effect parameter `{item}` is not NAME=VALUE"))
+            })?;
+            effect.set(key.trim(), value.trim())?;
+        }
+        Ok(effect)
+    }
+
+    /// Set one parameter by name from text.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<()> {
+        let infos = self.kind.params();
+        let index = infos
+            .iter()
+            .position(|p| p.name.eq_ignore_ascii_case(key))
+            .ok_or_else(|| {
+                Error::usage(format!(
+                    "effect `{}` has no parameter `{key}`; it has: {}",
+                    self.kind.name(),
+                    infos.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+                ))
+            })?;
+        let v: f64 = value
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(|| Error::usage(format!("`{value}` is not a finite number ({key})")))?;
+        if self.kind == EffectKind::ThermalLag && v < 0.0 {
+            return Err(Error::usage("tau_min must not be negative"));
+        }
+        self.params[index] = v;
+        Ok(())
+    }
+
+    fn get(&self, i: usize) -> f64 {
+        self.params.get(i).copied().unwrap_or(0.0)
+    }
+}
+
+/// The simulation the diagnosis starts from: nominal geometry and the base
+/// thermal-expansion model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Base {
+    pub nominal: Opw,
+    pub thermal: ThermalExpansion,
+}
+
+impl Default for Base {
+    fn default() -> Self {
+        Base {
+            nominal: crate::robot::IRB140,
+            thermal: ThermalExpansion::default(),
+        }
+    }
+}
+
+/// What the effects of one row depend on.
+#[derive(Debug, Clone, Copy)]
+pub struct RowState {
+    pub q: Joints,
+    /// Motor temperatures at the row's time.
+    pub temps: MotorTemps,
+    /// Structure temperatures (motor temperatures through the thermal lag),
+    /// present when a thermal-lag effect is in the set.
+    pub lagged: Option<MotorTemps>,
+}
+
+/// The expanded base geometry of a row and the perturbation of `effects`.
+pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Perturbation) {
+    let th = &base.thermal;
+    let opw = th.expand(&base.nominal, &row.temps);
+    let mut pert = Perturbation::default();
+    let motor_rise = th.link_temps(&row.temps).map(|t| t - th.t_ref);
+    // The structure's temperature: the motors' unless a lag is modelled.
+    let has_lag = effects.iter().any(|e| e.kind == EffectKind::ThermalLag);
+    let structure = match row.lagged {
+        Some(l) if has_lag => l,
+        _ => row.temps,
+    };
+    let struct_rise = th.link_temps(&structure).map(|t| t - th.t_ref);
+    let mut scale = [1.0; 4];
+    let mut thermal_lengths = false;
+    for e in effects {
+        match e.kind {
+            EffectKind::ExpansionScale => {
+                thermal_lengths = true;
+                for (i, s) in scale.iter_mut().enumerate() {
+                    *s += e.get(i);
+                }
+            }
+            EffectKind::ThermalLag => thermal_lengths = true,
+            EffectKind::ArmBending => {
+                // κ = (tip rotation per K)·ΔT / L.
+                pert.kappa_lower += e.get(0) * 1e-6 * struct_rise[1] / base.nominal.c2.max(1e-9);
+                pert.kappa_upper += e.get(1) * 1e-6 * struct_rise[2] / base.nominal.c3.max(1e-9);
+            }
+            EffectKind::JointOffsetDrift => {
+                for i in 0..6 {
+                    pert.dq[i] += e.get(i) * 1e-6 * (row.temps[i] - th.t_ref);
+                }
+            }
+            EffectKind::MountDrift => {
+                let rise = row.temps[0] - th.t_ref;
+                let t = Vector3::new(e.get(0), e.get(1), e.get(2)) * (1e-3 * rise);
+                let r = UnitQuaternion::from_scaled_axis(Vector3::new(
+                    e.get(3) * 1e-6 * rise,
+                    e.get(4) * 1e-6 * rise,
+                    0.0,
+                ));
+                pert.base = Isometry3::from_parts(Translation3::from(t), r) * pert.base;
+            }
+            EffectKind::GravitySag => {
+                // Gravity torques of a two-link arm in its vertical plane are
+                // combinations of the two lever arms, whatever the masses.
+                let lower_lever = row.q[1].sin();
+                let upper_lever = (row.q[1] + row.q[2]).cos();
+                pert.dq[1] += 1e-6 * (e.get(0) * lower_lever + e.get(1) * upper_lever);
+                pert.dq[2] += 1e-6 * e.get(2) * upper_lever;
+            }
+            EffectKind::GeometryOffset => {
+                for i in 0..5 {
+                    pert.dlen[i] += e.get(i);
+                }
+                for i in 0..6 {
+                    pert.dq[i] += 1e-3 * e.get(5 + i);
+                }
+                pert.dlen[5] += e.get(11);
+                pert.dlen[6] += e.get(12);
+            }
+            EffectKind::TrackerFrame => {
+                let t = Translation3::new(e.get(0), e.get(1), e.get(2));
+                let r = UnitQuaternion::from_scaled_axis(Vector3::new(
+                    e.get(3) * 1e-3,
+                    e.get(4) * 1e-3,
+                    e.get(5) * 1e-3,
+                ));
+                pert.frame = Isometry3::from_parts(t, r) * pert.frame;
+            }
+        }
+    }
+    if thermal_lengths {
+        // Structure expansion replaces the base model's motor-driven one.
+        let nominal = &base.nominal;
+        let alpha = [
+            th.base.alpha,
+            th.lower_arm.alpha,
+            th.upper_arm.alpha,
+            th.wrist.alpha,
+        ];
+        let extra =
+            |link: usize| alpha[link] * (scale[link] * struct_rise[link] - motor_rise[link]);
+        pert.dlen[0] += nominal.c1 * extra(0);
+        pert.dlen[1] += nominal.a1 * extra(0);
+        pert.dlen[2] += nominal.c2 * extra(1);
+        pert.dlen[3] += nominal.c3 * extra(2);
+        pert.dlen[4] += nominal.c4 * extra(3);
+    }
+    (opw, pert)
+}
+
+/// Flange pose of a row with `effects` added to the base model.
+pub fn predict(base: &Base, effects: &[Effect], row: &RowState) -> Isometry3<f64> {
+    let (opw, pert) = perturbation(base, effects, row);
+    super::chain::fk_chain(&opw, &row.q, &pert)
+}
+
+/// The thermal-lag time constant of a set of effects, if it has one.
+pub fn lag_tau(effects: &[Effect]) -> Option<f64> {
+    effects
+        .iter()
+        .find(|e| e.kind == EffectKind::ThermalLag)
+        .map(|e| e.get(0).max(0.0))
+}
+
+/// Motor temperatures over time as a piecewise-linear history, the input of
+/// the thermal lag.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TempHistory {
+    times: Vec<f64>,
+    temps: Vec<MotorTemps>,
+}
+
+impl TempHistory {
+    /// Sample a heating profile every `step` minutes from 0 to `t_end`.
+    pub fn from_profile(profile: &dyn HeatingProfile, t_end: f64, step: f64) -> Result<Self> {
+        // At most 20,000 samples whatever the span (a lag needs no finer
+        // steps than span/20,000).
+        let step = step.max(t_end.max(0.0) / 20_000.0).max(1e-6);
+        let n = (t_end.max(0.0) / step).ceil() as usize + 1;
+        let mut times = Vec::with_capacity(n);
+        let mut temps = Vec::with_capacity(n);
+        for i in 0..n {
+            let t = (i as f64 * step).min(t_end.max(0.0));
+            times.push(t);
+            temps.push(profile.temps_at(t)?);
+        }
+        Ok(TempHistory { times, temps })
+    }
+
+    /// From measured (time, temperatures) pairs in any order: averaged per
+    /// time, sorted, and started from T_ref at t = 0 (the cold start) when
+    /// the first record is later.
+    pub fn from_records(records: &[(f64, MotorTemps)], t_ref: f64) -> Self {
+        let mut sorted: Vec<(f64, MotorTemps)> = records.to_vec();
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut times: Vec<f64> = Vec::new();
+        let mut temps: Vec<MotorTemps> = Vec::new();
+        let mut counts: Vec<f64> = Vec::new();
+        for (t, temp) in sorted {
+            match times.last() {
+                Some(&last) if (t - last).abs() < 1e-9 => {
+                    if let (Some(acc), Some(c)) = (temps.last_mut(), counts.last_mut()) {
+                        for i in 0..6 {
+                            acc[i] += temp[i];
+                        }
+                        *c += 1.0;
+                    }
+                }
+                _ => {
+                    times.push(t);
+                    temps.push(temp);
+                    counts.push(1.0);
+                }
+            }
+        }
+        for (acc, c) in temps.iter_mut().zip(&counts) {
+            for v in acc.iter_mut() {
+                *v /= c;
+            }
+        }
+        if times.first().is_none_or(|&t| t > 1e-9) {
+            times.insert(0, 0.0);
+            temps.insert(0, [t_ref; 6]);
+        }
+        TempHistory { times, temps }
+    }
+
+    /// The structure temperatures through a first-order lag of time
+    /// constant `tau` (minutes), starting at the first record's value.
+    /// Integrated exactly for the piecewise-linear input.
+    pub fn lagged(&self, tau: f64) -> Lagged<'_> {
+        let mut states = Vec::with_capacity(self.times.len());
+        if let Some(first) = self.temps.first() {
+            states.push(*first);
+        }
+        for k in 1..self.times.len() {
+            let prev = states[k - 1];
+            states.push(lag_step(
+                tau,
+                self.times[k] - self.times[k - 1],
+                &self.temps[k - 1],
+                &self.temps[k],
+                &prev,
+            ));
+        }
+        Lagged {
+            history: self,
+            tau,
+            states,
+        }
+    }
+}
+
+/// One exact step of y' = (u − y)/τ over `h` minutes with u linear from
+/// `u0` to `u1`, starting at `y0`.
+fn lag_step(tau: f64, h: f64, u0: &MotorTemps, u1: &MotorTemps, y0: &MotorTemps) -> MotorTemps {
+    if tau < 1e-9 || h <= 0.0 {
+        return if h <= 0.0 { *y0 } else { *u1 };
+    }
+    let decay = (-h / tau).exp();
+    std::array::from_fn(|i| {
+        let slope = (u1[i] - u0[i]) / h;
+        u1[i] - slope * tau + (y0[i] - u0[i] + slope * tau) * decay
+    })
+}
+
+/// A history passed through the lag, evaluated at any time.
+pub struct Lagged<'a> {
+    history: &'a TempHistory,
+    tau: f64,
+    states: Vec<MotorTemps>,
+}
+
+impl Lagged<'_> {
+    pub fn at(&self, t: f64) -> MotorTemps {
+        let times = &self.history.times;
+        let temps = &self.history.temps;
+        if times.is_empty() {
+            return [0.0; 6];
+        }
+        // Index of the last knot at or before t.
+        let k = times.partition_point(|&x| x <= t).saturating_sub(1);
+        let (Some(&t0), Some(u0), Some(y0)) = (times.get(k), temps.get(k), self.states.get(k))
+        else {
+            return [0.0; 6];
+        };
+        let (t1, u1) = match (times.get(k + 1), temps.get(k + 1)) {
+            (Some(&t1), Some(u1)) if t > t0 => (t1, *u1),
+            // Before the first knot or past the last: input held constant.
+            _ => (t0 + 1.0, *u0),
+        };
+        let h = t - t0;
+        let u_t: MotorTemps = if t1 > t0 && h > 0.0 {
+            std::array::from_fn(|i| u0[i] + (u1[i] - u0[i]) * (h / (t1 - t0)).min(1.0))
+        } else {
+            *u0
+        };
+        lag_step(self.tau, h.max(0.0), u0, &u_t, y0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn zero_parameters_are_the_base_model() {
+        let base = Base::default();
+        let row = RowState {
+            q: [0.3, 0.2, -0.4, 0.5, 0.6, 0.7],
+            temps: [15.0, 18.0, 16.0, 19.0, 22.0, 25.0],
+            lagged: Some([9.0; 6]),
+        };
+        let effects: Vec<Effect> = EffectKind::ALL
+            .into_iter()
+            .filter(|k| *k != EffectKind::ThermalLag)
+            .map(Effect::zero)
+            .collect();
+        let a = predict(&base, &effects, &row);
+        let b = base.thermal.expand(&base.nominal, &row.temps).fk(&row.q);
+        assert_relative_eq!(a.translation.vector, b.translation.vector, epsilon = 1e-9);
+    }
+
+    #[test]
+    fn lag_of_a_ramp_trails_by_tau() {
+        // u = t: the exact first-order response is t − τ(1 − e^(−t/τ)).
+        let recs: Vec<(f64, MotorTemps)> = (0..=10)
+            .map(|i| (i as f64 * 10.0, [i as f64 * 10.0; 6]))
+            .collect();
+        let h = TempHistory::from_records(&recs, 0.0);
+        let tau = 15.0;
+        let lag = h.lagged(tau);
+        for t in [0.0, 7.5, 33.0, 100.0] {
+            let expect = t - tau * (1.0 - (-t / tau).exp());
+            assert_relative_eq!(lag.at(t)[0], expect, epsilon = 1e-9);
+        }
+    }
+
+    #[test]
+    fn scale_of_one_link_changes_only_that_length() {
+        let base = Base::default();
+        let row = RowState {
+            q: [0.0; 6],
+            temps: [17.0; 6],
+            lagged: None,
+        };
+        let mut e = Effect::zero(EffectKind::ExpansionScale);
+        e.params[1] = -1.0; // lower arm does not expand at all
+        let (_, pert) = perturbation(&base, &[e], &row);
+        assert_relative_eq!(pert.dlen[2], -360.0 * 21.8e-6 * 10.0, epsilon = 1e-12);
+        assert_eq!(pert.dlen[0], 0.0);
+        assert_eq!(pert.dlen[3], 0.0);
+    }
+
+    #[test]
+    fn effect_specs_parse() {
+        let e = Effect::parse_spec("arm-bending:upper_urad_per_k=5").unwrap();
+        assert_eq!(e.params, vec![20.0, 5.0]);
+        assert!(Effect::parse_spec("warp-drive").is_err());
+        assert!(Effect::parse_spec("thermal-lag:tau_min=nan").is_err());
+    }
+}

@@ -1,0 +1,433 @@
+//! Fitting effects to the gap: Levenberg–Marquardt on the perturbed chain
+//! with a numeric Jacobian, parameters the data cannot identify found from
+//! the SVD of the (column-scaled) Jacobian and held at zero, standard errors
+//! from the covariance σ²(JᵀJ)⁻¹.
+
+use super::effects::{lag_tau, predict, Base, Effect, EffectKind, RowState, TempHistory};
+use crate::error::{Error, ErrorKind, Result};
+use crate::robot::{Joints, MotorTemps};
+use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
+
+/// One row ready for fitting: joints, resolved motor temperatures, measured
+/// pose (already in the robot base frame).
+#[derive(Debug, Clone)]
+pub struct Row {
+    pub time_min: f64,
+    pub q: Joints,
+    pub temps: MotorTemps,
+    pub position: Vector3<f64>,
+    pub orientation: Option<UnitQuaternion<f64>>,
+    /// Pose identity (label or identical joints), 0-based.
+    pub pose: usize,
+}
+
+/// Everything a fit needs: the data, the model's fixed part, and the
+/// temperature history for the thermal lag.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub base: Base,
+    /// Effects already in the user's model (held fixed).
+    pub fixed: Vec<Effect>,
+    pub rows: Vec<Row>,
+    pub history: TempHistory,
+    /// Weight of orientation residuals, mm per mrad (position noise over
+    /// orientation noise); 0 ignores orientation.
+    pub w_ori: f64,
+    /// Measurement noise per residual, mm: parameter directions that move
+    /// the data less than this are not identifiable.
+    pub noise_mm: f64,
+}
+
+impl Problem {
+    /// Whether orientation enters the residuals.
+    pub fn uses_orientation(&self) -> bool {
+        self.w_ori > 0.0 && self.rows.iter().all(|r| r.orientation.is_some())
+    }
+
+    /// Residual rows per data row.
+    pub fn width(&self) -> usize {
+        if self.uses_orientation() {
+            6
+        } else {
+            3
+        }
+    }
+
+    /// Predicted flange poses of `rows` with the fixed effects plus `extra`.
+    pub fn predict_rows(&self, extra: &[Effect], rows: &[usize]) -> Vec<nalgebra::Isometry3<f64>> {
+        let mut all = self.fixed.clone();
+        all.extend_from_slice(extra);
+        let lag = lag_tau(&all).map(|tau| self.history.lagged(tau));
+        rows.iter()
+            .filter_map(|&i| self.rows.get(i))
+            .map(|r| {
+                let state = RowState {
+                    q: r.q,
+                    temps: r.temps,
+                    lagged: lag.as_ref().map(|l| l.at(r.time_min)),
+                };
+                predict(&self.base, &all, &state)
+            })
+            .collect()
+    }
+
+    /// Position gaps (measured − predicted) of `rows`, mm.
+    pub fn position_gaps(&self, extra: &[Effect], rows: &[usize]) -> Vec<Vector3<f64>> {
+        self.predict_rows(extra, rows)
+            .iter()
+            .zip(rows)
+            .filter_map(|(p, &i)| self.rows.get(i).map(|r| r.position - p.translation.vector))
+            .collect()
+    }
+
+    /// The stacked residual vector (positions in mm, orientations in mrad
+    /// times `w_ori`).
+    pub fn residuals(&self, extra: &[Effect], rows: &[usize]) -> DVector<f64> {
+        let w = self.width();
+        let mut out = DVector::zeros(rows.len() * w);
+        for (k, (pose, &i)) in self.predict_rows(extra, rows).iter().zip(rows).enumerate() {
+            let Some(r) = self.rows.get(i) else { continue };
+            let d = r.position - pose.translation.vector;
+            out.fixed_rows_mut::<3>(k * w).copy_from(&d);
+            if w == 6 {
+                if let Some(m) = &r.orientation {
+                    let g = super::chain::rotation_gap(&pose.rotation, m) * (1e3 * self.w_ori);
+                    out.fixed_rows_mut::<3>(k * w + 3).copy_from(&g);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// A fitted parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Param {
+    pub value: f64,
+    /// Standard error; `None` when the data cannot identify the parameter
+    /// (held at zero).
+    pub stderr: Option<f64>,
+}
+
+/// The outcome of a fit.
+#[derive(Debug, Clone)]
+pub struct Fit {
+    pub effects: Vec<Effect>,
+    /// Per effect, per parameter.
+    pub params: Vec<Vec<Param>>,
+    pub rss: f64,
+    /// Number of residuals.
+    pub n_obs: usize,
+    /// Number of free (identifiable) parameters.
+    pub n_free: usize,
+    pub iterations: usize,
+}
+
+impl Fit {
+    /// Bayesian information criterion of the fit (Gaussian residuals).
+    pub fn bic(&self) -> f64 {
+        let n = self.n_obs.max(1) as f64;
+        n * (self.rss.max(1e-300) / n).ln() + self.n_free as f64 * n.ln()
+    }
+}
+
+/// Relative singular value under which a parameter direction counts as not
+/// identifiable on these data.
+const IDENTIFIABLE: f64 = 1e-5;
+const MAX_ITER: usize = 60;
+
+/// Fit the parameters of `kinds` (added to the problem's fixed effects) to
+/// the rows `rows`.
+pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fit> {
+    let layout: Vec<(EffectKind, usize)> = kinds
+        .iter()
+        .flat_map(|&k| (0..k.params().len()).map(move |i| (k, i)))
+        .collect();
+    let m = layout.len();
+    let n_obs = rows.len() * problem.width();
+    let effects_of = |theta: &[f64]| -> Vec<Effect> {
+        let mut it = theta.iter();
+        kinds
+            .iter()
+            .map(|&k| Effect {
+                kind: k,
+                params: (0..k.params().len())
+                    .map(|_| it.next().copied().unwrap_or(0.0))
+                    .collect(),
+            })
+            .collect()
+    };
+    let residual = |theta: &[f64]| problem.residuals(&effects_of(theta), rows);
+    let jacobian = |theta: &[f64], r0: &DVector<f64>, free: &[usize]| -> DMatrix<f64> {
+        let mut j = DMatrix::zeros(r0.len(), free.len());
+        for (c, &p) in free.iter().enumerate() {
+            let (kind, idx) = layout[p];
+            let h = kind.step(idx, theta[p]);
+            let mut t = theta.to_vec();
+            t[p] += h;
+            let r1 = residual(&t);
+            // Residual = measured − predicted: the model's derivative is −dr.
+            j.set_column(c, &((r0 - r1) / h));
+        }
+        j
+    };
+
+    let mut theta = vec![0.0; m];
+    let lag_index = layout
+        .iter()
+        .position(|&(k, _)| k == EffectKind::ThermalLag);
+    if n_obs <= m {
+        return Err(Error::input(format!(
+            "too few measurements for a fit: {} rows give {n_obs} values for {m} parameters",
+            rows.len()
+        )));
+    }
+    if let Some(li) = lag_index {
+        // τ is strongly nonlinear: start from the best of a coarse grid, with
+        // the other parameters solved linearly at each τ.
+        let mut best = (f64::INFINITY, theta.clone());
+        for tau in [2.0, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 320.0] {
+            let mut t = vec![0.0; m];
+            t[li] = tau;
+            let others: Vec<usize> = (0..m).filter(|&p| p != li).collect();
+            if !others.is_empty() {
+                let r0 = residual(&t);
+                let j = jacobian(&t, &r0, &others);
+                if let Some(step) = solve_scaled(&j, &r0, 0.0) {
+                    for (c, &p) in others.iter().enumerate() {
+                        t[p] += step[c];
+                    }
+                }
+            }
+            let rss = residual(&t).norm_squared();
+            if rss < best.0 {
+                best = (rss, t);
+            }
+        }
+        theta = best.1;
+    }
+
+    // Identifiability at the start point.
+    let r0 = residual(&theta);
+    let all: Vec<usize> = (0..m).collect();
+    let j0 = jacobian(&theta, &r0, &all);
+    let typical: Vec<f64> = layout
+        .iter()
+        .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
+        .collect();
+    let free = identifiable(&j0, &typical, problem.noise_mm);
+    for (p, value) in theta.iter_mut().enumerate() {
+        if !free.contains(&p) {
+            *value = 0.0;
+        }
+    }
+
+    // Levenberg–Marquardt with Marquardt's diagonal scaling. The Jacobian
+    // is reused while steps keep lowering the residual (the effects are
+    // nearly linear in their parameters) and recomputed when one fails.
+    let mut r = residual(&theta);
+    let mut rss = r.norm_squared();
+    let mut lambda = 1e-6;
+    let mut iterations = 0;
+    let mut converged = free.is_empty();
+    let mut j = DMatrix::zeros(r.len(), free.len());
+    for (c, &p) in free.iter().enumerate() {
+        j.set_column(c, &j0.column(p));
+    }
+    let mut fresh = true;
+    while !converged && iterations < MAX_ITER {
+        iterations += 1;
+        let g = j.transpose() * &r;
+        let a = j.transpose() * &j;
+        if at_minimum(&a, &g, rss, n_obs) {
+            if fresh {
+                converged = true;
+                break;
+            }
+            j = jacobian(&theta, &r, &free);
+            fresh = true;
+            continue;
+        }
+        let Some(step) = solve_damped(&a, &g, lambda) else {
+            lambda = (lambda * 10.0).max(1e-9);
+            if lambda > 1e12 {
+                break;
+            }
+            continue;
+        };
+        let mut t = theta.clone();
+        for (c, &p) in free.iter().enumerate() {
+            t[p] += step[c];
+        }
+        if let Some(li) = lag_index {
+            t[li] = t[li].max(0.0);
+        }
+        let r1 = residual(&t);
+        let rss1 = r1.norm_squared();
+        if rss1.is_finite() && rss1 <= rss {
+            let gain = (rss - rss1) / rss.max(1e-300);
+            theta = t;
+            r = r1;
+            rss = rss1;
+            lambda = (lambda / 5.0).max(1e-12);
+            if gain < 1e-12 {
+                if fresh {
+                    converged = true;
+                } else {
+                    j = jacobian(&theta, &r, &free);
+                    fresh = true;
+                }
+            } else {
+                fresh = false;
+            }
+        } else if !fresh {
+            j = jacobian(&theta, &r, &free);
+            fresh = true;
+        } else {
+            lambda = (lambda * 8.0).max(1e-9);
+            if lambda > 1e12 {
+                // No step lowers the residual: at a minimum if the gradient
+                // is negligible, otherwise the fit is stuck.
+                converged = gradient_small(&a, &g, rss * 1e4);
+                break;
+            }
+        }
+    }
+    if !converged {
+        return Err(Error::new(
+            ErrorKind::NoConvergence,
+            format!(
+                "the fit of {} did not converge in {iterations} iterations",
+                kinds
+                    .iter()
+                    .map(|k| k.name())
+                    .collect::<Vec<_>>()
+                    .join(" + ")
+            ),
+        ));
+    }
+    let dof = (n_obs - free.len()).max(1) as f64;
+    let sigma2 = rss / dof;
+    let cov = (j.transpose() * &j).try_inverse();
+    let mut params: Vec<Vec<Param>> = kinds
+        .iter()
+        .map(|k| Vec::with_capacity(k.params().len()))
+        .collect();
+    let mut effect_index = 0;
+    for (p, &(_, idx)) in layout.iter().enumerate() {
+        if idx == 0 && p > 0 {
+            effect_index += 1;
+        }
+        let stderr = free.iter().position(|&f| f == p).and_then(|c| {
+            cov.as_ref()
+                .map(|cov| (cov[(c, c)] * sigma2).max(0.0).sqrt())
+                .filter(|s| s.is_finite())
+        });
+        if let Some(list) = params.get_mut(effect_index) {
+            list.push(Param {
+                value: theta[p],
+                stderr,
+            });
+        }
+    }
+    Ok(Fit {
+        effects: effects_of(&theta),
+        params,
+        rss,
+        n_obs,
+        n_free: free.len(),
+        iterations,
+    })
+}
+
+/// Parameters the data identify. Columns are scaled by each parameter's
+/// typical size, so a singular value is how far (mm, over all residuals)
+/// the data move when the parameters move one typical size along that
+/// direction. A direction that moves them less than the noise `sigma` (or
+/// is numerically degenerate) cannot be told from noise: the parameter
+/// weighing most in it is held at zero, and the test repeats. This drops
+/// the axis-6 zero without orientation data, c1 against a tracker's z, or a
+/// base tilt seen from a single pose, instead of fitting them to huge
+/// values.
+fn identifiable(j: &DMatrix<f64>, typical: &[f64], sigma: f64) -> Vec<usize> {
+    let scale: Vec<f64> = (0..j.ncols())
+        .map(|c| typical.get(c).copied().unwrap_or(1.0))
+        .collect();
+    let norms: Vec<f64> = j
+        .column_iter()
+        .zip(&scale)
+        .map(|(c, t)| c.norm() * t)
+        .collect();
+    let mut free: Vec<usize> = (0..j.ncols()).filter(|&c| norms[c] > 1e-9).collect();
+    while !free.is_empty() {
+        let mut s = DMatrix::zeros(j.nrows(), free.len());
+        for (c, &p) in free.iter().enumerate() {
+            s.set_column(c, &(j.column(p) * scale[p]));
+        }
+        let svd = s.svd(false, true);
+        let Some(vt) = svd.v_t else { break };
+        let (imin, smin) = svd.singular_values.iter().copied().enumerate().fold(
+            (0, f64::INFINITY),
+            |a, (i, v)| if v < a.1 { (i, v) } else { a },
+        );
+        let smax = svd.singular_values.max();
+        if smin >= sigma.max(IDENTIFIABLE * smax) {
+            break;
+        }
+        let row = vt.row(imin);
+        let mut worst = 0;
+        for c in 0..free.len() {
+            if row[c].abs() >= row[worst].abs() * (1.0 - 1e-6) {
+                worst = c;
+            }
+        }
+        free.remove(worst);
+    }
+    free
+}
+
+/// Whether the fit is done: the gradient is negligible, or what a full
+/// Gauss–Newton step could still gain is a negligible fraction of one
+/// residual's variance (ill-conditioned fits otherwise crawl for ever).
+fn at_minimum(a: &DMatrix<f64>, g: &DVector<f64>, rss: f64, n_obs: usize) -> bool {
+    if gradient_small(a, g, rss) {
+        return true;
+    }
+    match solve_damped(a, g, 1e-12) {
+        Some(step) => g.dot(&step) <= 1e-4 * rss / n_obs.max(1) as f64,
+        None => false,
+    }
+}
+
+/// Whether the gradient is negligible: every parameter direction's cosine
+/// with the residual is tiny.
+fn gradient_small(a: &DMatrix<f64>, g: &DVector<f64>, rss: f64) -> bool {
+    (0..g.len()).all(|i| {
+        let d = a[(i, i)].max(1e-300);
+        g[i].abs() <= 1e-7 * (d * rss.max(1e-300)).sqrt()
+    })
+}
+
+fn solve_damped(a: &DMatrix<f64>, g: &DVector<f64>, lambda: f64) -> Option<DVector<f64>> {
+    let mut m = a.clone();
+    for i in 0..m.nrows() {
+        m[(i, i)] += lambda * a[(i, i)].max(1e-300);
+    }
+    m.cholesky().map(|c| c.solve(g))
+}
+
+/// Least-squares step J·x ≈ r with column scaling and SVD (rank-safe).
+fn solve_scaled(j: &DMatrix<f64>, r: &DVector<f64>, _lambda: f64) -> Option<DVector<f64>> {
+    let norms: Vec<f64> = j.column_iter().map(|c| c.norm().max(1e-300)).collect();
+    let mut s = j.clone();
+    for (c, n) in norms.iter().enumerate() {
+        s.column_mut(c).scale_mut(1.0 / n);
+    }
+    let svd = s.svd(true, true);
+    let smax = svd.singular_values.max();
+    let x = svd.solve(r, IDENTIFIABLE * smax).ok()?;
+    Some(DVector::from_iterator(
+        x.len(),
+        x.iter().zip(&norms).map(|(v, n)| v / n),
+    ))
+}

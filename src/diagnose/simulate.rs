@@ -1,0 +1,187 @@
+//! Simulated "real" data: the base model plus chosen effects at chosen
+//! magnitudes, tracker noise, deterministic for a seed (ChaCha8).
+
+use super::effects::{lag_tau, predict, Base, Effect, RowState, TempHistory};
+use super::measurements::{Measurement, Measurements};
+use crate::error::{Error, Result};
+use crate::robot::Joints;
+use crate::thermal::HeatingProfile;
+use nalgebra::{UnitQuaternion, Vector3};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+
+/// Orientation noise of a 6-DOF tracker probe, mrad per axis.
+pub const ORIENTATION_NOISE_MRAD: f64 = 0.02;
+
+/// What to simulate.
+#[derive(Debug, Clone)]
+pub struct SimSpec {
+    pub base: Base,
+    /// Labelled poses; each is measured at every time.
+    pub poses: Vec<(String, Joints)>,
+    /// Minutes since the cold start.
+    pub times: Vec<f64>,
+    pub effects: Vec<Effect>,
+    /// Tracker noise, mm per axis (Gaussian).
+    pub noise_mm: f64,
+    pub orientation: bool,
+    /// Write the motor temperatures as columns (else the reader uses the
+    /// heating profile, the same one used here).
+    pub measured_temps: bool,
+    pub seed: u64,
+}
+
+/// `N` random poses uniformly within joint limits (degrees), labelled
+/// `P1..PN`.
+pub fn random_poses(n: usize, limits_deg: &[(f64, f64); 6], seed: u64) -> Vec<(String, Joints)> {
+    // A stream separate from the noise's, so that changing the noise does
+    // not change the poses.
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x9E37_79B9_7F4A_7C15);
+    (0..n)
+        .map(|i| {
+            let q: Joints = std::array::from_fn(|k| {
+                let (lo, hi) = limits_deg[k];
+                rng.random_range(lo..hi).to_radians()
+            });
+            (format!("P{}", i + 1), q)
+        })
+        .collect()
+}
+
+/// Parse `START:END:STEP` (inclusive) or a comma list of minutes.
+pub fn parse_times(text: &str) -> Result<Vec<f64>> {
+    let bad = || {
+        Error::usage(format!(
+            "--times `{text}`: expected START:END:STEP or a comma list of minutes"
+        ))
+    };
+    let num = |s: &str| -> Result<f64> {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(bad)
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    let times: Vec<f64> = match parts.as_slice() {
+        [a, b, c] => {
+            let (start, end, step) = (num(a)?, num(b)?, num(c)?);
+            if step <= 0.0 || end < start {
+                return Err(bad());
+            }
+            let n = ((end - start) / step + 1e-9).floor() as usize;
+            if n > 1_000_000 {
+                return Err(Error::usage("--times: too many times"));
+            }
+            (0..=n).map(|i| start + i as f64 * step).collect()
+        }
+        [list] => list.split(',').map(num).collect::<Result<_>>()?,
+        _ => return Err(bad()),
+    };
+    if times.is_empty() || times.iter().any(|&t| t < 0.0) || times.windows(2).any(|w| w[1] < w[0]) {
+        return Err(Error::usage(format!(
+            "--times `{text}`: minutes must be >= 0 and increasing"
+        )));
+    }
+    Ok(times)
+}
+
+/// Make the measurements: rows ordered by time, then pose.
+pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurements> {
+    if !(spec.noise_mm.is_finite() && spec.noise_mm >= 0.0) {
+        return Err(Error::usage("--noise must be a finite number >= 0"));
+    }
+    if spec.times.len().saturating_mul(spec.poses.len()) > 5_000_000 {
+        return Err(Error::usage("simulate: more than 5,000,000 rows asked for"));
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
+    let pos_noise = Normal::new(0.0, spec.noise_mm).map_err(|e| Error::usage(e.to_string()))?;
+    let ori_noise = Normal::new(0.0, ORIENTATION_NOISE_MRAD * 1e-3 * (spec.noise_mm / 0.01))
+        .map_err(|e| Error::usage(e.to_string()))?;
+    let t_end = spec.times.iter().copied().fold(0.0, f64::max);
+    let history = TempHistory::from_profile(profile, t_end, 0.5)?;
+    let lag = lag_tau(&spec.effects).map(|tau| history.lagged(tau));
+    let mut rows = Vec::with_capacity(spec.times.len() * spec.poses.len());
+    for &t in &spec.times {
+        let temps = profile.temps_at(t)?;
+        let lagged = lag.as_ref().map(|l| l.at(t));
+        for (label, q) in &spec.poses {
+            let pose = predict(
+                &spec.base,
+                &spec.effects,
+                &RowState {
+                    q: *q,
+                    temps,
+                    lagged,
+                },
+            );
+            let noise = Vector3::new(
+                pos_noise.sample(&mut rng),
+                pos_noise.sample(&mut rng),
+                pos_noise.sample(&mut rng),
+            );
+            let orientation = if spec.orientation {
+                let w = Vector3::new(
+                    ori_noise.sample(&mut rng),
+                    ori_noise.sample(&mut rng),
+                    ori_noise.sample(&mut rng),
+                );
+                Some(pose.rotation * UnitQuaternion::from_scaled_axis(w))
+            } else {
+                None
+            };
+            rows.push(Measurement {
+                line: 0,
+                time_min: t,
+                joints: *q,
+                position: pose.translation.vector + noise,
+                orientation,
+                temps: spec.measured_temps.then_some(temps),
+                ambient: None,
+                pose: Some(label.clone()),
+            });
+        }
+    }
+    Ok(Measurements {
+        file: "<simulated>".to_string(),
+        rows,
+        warnings: Vec::new(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::measurements::IRB140_LIMITS_DEG;
+
+    #[test]
+    fn times_parse() {
+        assert_eq!(parse_times("0:12:6").unwrap(), vec![0.0, 6.0, 12.0]);
+        assert_eq!(parse_times("0,5,7.5").unwrap(), vec![0.0, 5.0, 7.5]);
+        assert!(parse_times("0:10:-1").is_err());
+        assert!(parse_times("5,1").is_err());
+    }
+
+    #[test]
+    fn same_seed_same_data() {
+        let spec = SimSpec {
+            base: Base::default(),
+            poses: random_poses(3, &IRB140_LIMITS_DEG, 7),
+            times: vec![0.0, 60.0],
+            effects: vec![Effect::with_defaults(
+                super::super::effects::EffectKind::ThermalLag,
+            )],
+            noise_mm: 0.01,
+            orientation: true,
+            measured_temps: true,
+            seed: 7,
+        };
+        let p = crate::thermal::default_profile();
+        let a = simulate(&spec, &p).unwrap().to_csv();
+        let b = simulate(&spec, &p).unwrap().to_csv();
+        assert_eq!(a, b);
+        let c = simulate(&SimSpec { seed: 8, ..spec }, &p).unwrap().to_csv();
+        assert_ne!(a, c);
+    }
+}

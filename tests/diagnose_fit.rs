@@ -1,0 +1,237 @@
+//! The fit itself: parameters recovered within their standard errors,
+//! unidentifiable parameters detected (never NaN or huge), registration of
+//! an instrument frame, and bad data refused with clear errors.
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use rapidtherm::diagnose::effects::{Base, Effect, EffectKind};
+use rapidtherm::diagnose::fit::fit;
+use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
+use rapidtherm::diagnose::{diagnose, gap, prepare, Options};
+use rapidtherm::error::ErrorKind;
+use rapidtherm::model::Model;
+use rapidtherm::thermal::default_profile;
+
+fn data(effects: Vec<Effect>, orientation: bool, seed: u64) -> Measurements {
+    let spec = SimSpec {
+        base: Base::default(),
+        poses: random_poses(15, &IRB140_LIMITS_DEG, seed),
+        times: (0..=20).map(|i| i as f64 * 9.0).collect(),
+        effects,
+        noise_mm: 0.01,
+        orientation,
+        measured_temps: false,
+        seed,
+    };
+    simulate(&spec, &default_profile()).unwrap()
+}
+
+#[test]
+fn parameters_are_recovered_within_their_standard_errors() {
+    let mut z2 = Vec::new();
+    for (kind, orientation, seed) in [
+        (EffectKind::GeometryOffset, true, 1u64),
+        (EffectKind::ArmBending, false, 2),
+        (EffectKind::GravitySag, false, 3),
+        (EffectKind::MountDrift, false, 4),
+        (EffectKind::ThermalLag, false, 5),
+    ] {
+        let truth = Effect::with_defaults(kind);
+        let meas = data(vec![truth.clone()], orientation, seed);
+        let p = prepare(&meas, &Model::default(), false).unwrap();
+        let all: Vec<usize> = (0..p.problem.rows.len()).collect();
+        let f = fit(&p.problem, &all, &[kind]).unwrap();
+        for ((info, est), true_value) in kind.params().iter().zip(&f.params[0]).zip(&truth.params) {
+            let se = est.stderr.expect("identifiable with these data");
+            assert!(se.is_finite() && se > 0.0);
+            let z = (est.value - true_value) / se;
+            assert!(
+                z.abs() < 4.5,
+                "{}.{}: {} vs {} ± {se}",
+                kind.name(),
+                info.name,
+                est.value,
+                true_value
+            );
+            z2.push(z * z);
+        }
+    }
+    // Standard errors neither far too small nor far too large.
+    let rms_z = (z2.iter().sum::<f64>() / z2.len() as f64).sqrt();
+    assert!((0.4..2.0).contains(&rms_z), "RMS z-score {rms_z}");
+}
+
+#[test]
+fn unidentifiable_parameters_are_detected_not_nan() {
+    // Axis-6 zero without orientation data, and geometry-offset together
+    // with tracker-frame (c1 and the frame's z, axis-1 zero and the
+    // frame's rotation about z are the same motion).
+    let meas = data(
+        vec![Effect::with_defaults(EffectKind::GeometryOffset)],
+        false,
+        9,
+    );
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let all: Vec<usize> = (0..p.problem.rows.len()).collect();
+    let f = fit(
+        &p.problem,
+        &all,
+        &[EffectKind::GeometryOffset, EffectKind::TrackerFrame],
+    )
+    .unwrap();
+    let geometry = &f.params[0];
+    assert!(
+        geometry[10].stderr.is_none(),
+        "dq6 without orientation: {:?}",
+        geometry[10]
+    );
+    let dropped = f
+        .params
+        .iter()
+        .flatten()
+        .filter(|p| p.stderr.is_none())
+        .count();
+    assert!(
+        dropped >= 3,
+        "dq6, one of dc1/z and one of dq1/rz: {dropped} dropped"
+    );
+    for p in f.params.iter().flatten() {
+        assert!(p.value.is_finite() && p.value.abs() < 10.0, "{p:?}");
+    }
+    // Still explains the data.
+    assert!((f.rss / f.n_obs as f64).sqrt() < 0.013);
+}
+
+#[test]
+fn register_recovers_a_tracker_frame() {
+    let mut meas = data(vec![], false, 11);
+    let frame = Isometry3::from_parts(
+        Translation3::new(1500.0, -300.0, 80.0),
+        UnitQuaternion::from_euler_angles(0.02, -0.01, 0.6),
+    );
+    for r in &mut meas.rows {
+        r.position = frame.transform_point(&r.position.into()).coords;
+    }
+    let plain = prepare(&meas, &Model::default(), false).unwrap();
+    assert!(gap(&plain).rms_mm > 100.0);
+    let reg = prepare(&meas, &Model::default(), true).unwrap();
+    let r = reg.registration.clone().unwrap();
+    let t = Vector3::from(r.translation_mm);
+    assert!((t - frame.translation.vector).norm() < 0.05, "{t}");
+    assert!(
+        (r.rotation_deg[2] - 0.6f64.to_degrees()).abs() < 0.2,
+        "{:?}",
+        r.rotation_deg
+    );
+    assert!(gap(&reg).rms_mm < 0.025, "{}", gap(&reg).rms_mm);
+}
+
+#[test]
+fn too_few_rows_is_a_clear_error() {
+    let mut meas = data(vec![], false, 12);
+    meas.rows.truncate(8);
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let e = diagnose(&p, &Options::default()).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Input);
+    assert!(e.message.contains("too few measurements"), "{}", e.message);
+    // A fit with more parameters than values refuses too.
+    let e = fit(&p.problem, &[0], &[EffectKind::GeometryOffset]).unwrap_err();
+    assert!(e.message.contains("too few"), "{}", e.message);
+}
+
+#[test]
+fn a_model_with_effects_simulates_base_plus_effects() {
+    // The diagnosed model reproduces the data it was diagnosed on, and
+    // diagnosing again with it finds nothing more.
+    let meas = data(
+        vec![Effect::with_defaults(EffectKind::JointOffsetDrift)],
+        false,
+        13,
+    );
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let d = diagnose(&p, &Options::default()).unwrap();
+    assert_eq!(d.verdict, vec!["joint-offset-drift"]);
+    let model = rapidtherm::diagnose::diagnosed_model(&Model::default(), &d);
+    let text = model.to_toml().unwrap();
+    let model = Model::parse("m.toml", &text).unwrap();
+    let p2 = prepare(&meas, &model, false).unwrap();
+    assert!(gap(&p2).rms_mm < 0.02);
+    let d2 = diagnose(&p2, &Options::default()).unwrap();
+    assert_eq!(d2.verdict, vec!["none"], "{:?}", d2.words);
+}
+
+#[test]
+fn folds_hold_out_whole_poses_and_whole_time_blocks() {
+    let meas = data(vec![], false, 14);
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let folds = rapidtherm::diagnose::select::make_folds(&p.problem, 4);
+    assert_eq!(folds.folds.len(), 4);
+    let rows = &p.problem.rows;
+    let mut tested = vec![false; rows.len()];
+    let all_times: std::collections::BTreeSet<u64> =
+        rows.iter().map(|r| r.time_min as u64).collect();
+    let all_poses: std::collections::BTreeSet<usize> = rows.iter().map(|r| r.pose).collect();
+    for (train, test) in &folds.folds {
+        let train_poses: std::collections::BTreeSet<usize> =
+            train.iter().map(|&i| rows[i].pose).collect();
+        let train_times: std::collections::BTreeSet<u64> =
+            train.iter().map(|&i| rows[i].time_min as u64).collect();
+        // Whole poses and a whole contiguous block of times are absent from
+        // training, and every row of theirs is scored.
+        let unseen_poses: Vec<usize> = all_poses.difference(&train_poses).copied().collect();
+        let unseen_times: Vec<u64> = all_times.difference(&train_times).copied().collect();
+        assert!(unseen_poses.len() >= 3, "{unseen_poses:?}");
+        assert!(unseen_times.len() >= 5, "{unseen_times:?}");
+        let block: Vec<u64> = all_times
+            .iter()
+            .copied()
+            .filter(|t| (unseen_times[0]..=*unseen_times.last().unwrap()).contains(t))
+            .collect();
+        assert_eq!(block, unseen_times, "the held-out times are contiguous");
+        for (i, r) in rows.iter().enumerate() {
+            let held =
+                unseen_poses.contains(&r.pose) || unseen_times.contains(&(r.time_min as u64));
+            assert_eq!(held, test.contains(&i));
+        }
+        for &i in test {
+            tested[i] = true;
+        }
+    }
+    assert!(
+        tested.iter().all(|&t| t),
+        "every row is scored once or more"
+    );
+}
+
+#[test]
+fn a_single_pose_cannot_tell_a_tilt_from_a_shift() {
+    // One pose over the warm-up: a base tilt moves it exactly like a base
+    // shift, up to the arm's tiny expansion. The tilts must be dropped, not
+    // fitted to huge compensating values.
+    let spec = SimSpec {
+        base: Base::default(),
+        poses: random_poses(1, &IRB140_LIMITS_DEG, 3),
+        times: (0..=30).map(|i| i as f64 * 6.0).collect(),
+        effects: vec![Effect::with_defaults(EffectKind::MountDrift)],
+        noise_mm: 0.01,
+        orientation: false,
+        measured_temps: false,
+        seed: 3,
+    };
+    let meas = simulate(&spec, &default_profile()).unwrap();
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let all: Vec<usize> = (0..p.problem.rows.len()).collect();
+    let f = fit(&p.problem, &all, &[EffectKind::MountDrift]).unwrap();
+    let params = &f.params[0];
+    assert!(
+        params[3].stderr.is_none() && params[4].stderr.is_none(),
+        "{params:?}"
+    );
+    for (info, p) in EffectKind::MountDrift.params().iter().zip(params) {
+        assert!(
+            p.value.abs() < 10.0 * info.default.abs().max(1.0),
+            "{}: {p:?}",
+            info.name
+        );
+    }
+}

@@ -1,0 +1,83 @@
+//! Nothing panics on any input: arbitrary measurement files are either
+//! refused with a located error or give finite numbers.
+
+use proptest::prelude::*;
+use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::{diagnose, gap, prepare, Options};
+use rapidtherm::model::Model;
+
+fn value() -> impl Strategy<Value = String> {
+    prop_oneof![
+        60 => (-90.0f64..50.0).prop_map(|v| format!("{v}")),
+        30 => (-2000.0f64..2000.0).prop_map(|v| format!("{v:.3}")),
+        1 => Just("NaN".to_string()),
+        1 => Just("inf".to_string()),
+        1 => Just("1e308".to_string()),
+        1 => Just("".to_string()),
+        1 => Just("x".to_string()),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn arbitrary_measurement_files_never_panic(
+        rows in prop::collection::vec(prop::collection::vec(value(), 10..12), 0..40),
+        with_temps in any::<bool>(),
+        sorted_time in any::<bool>(),
+        clean in prop::collection::vec((-90.0f64..50.0, -1500.0f64..1500.0), 0..40),
+    ) {
+        // Either arbitrary fields, or valid rows with arbitrary geometry.
+        let rows: Vec<Vec<String>> = if sorted_time && !clean.is_empty() {
+            clean
+                .iter()
+                .map(|(q, x)| {
+                    let mut r: Vec<String> = (0..7).map(|k| format!("{}", q * (k as f64 + 1.0) / 7.0)).collect();
+                    r.extend([format!("{x}"), format!("{}", x * 0.5), format!("{}", 700.0 - x * 0.1)]);
+                    r
+                })
+                .collect()
+        } else {
+            rows
+        };
+        let mut text = String::from("time_min,j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg,x_mm,y_mm,z_mm");
+        if with_temps {
+            text.push_str(",t1_c");
+        }
+        text.push('\n');
+        for (i, r) in rows.iter().enumerate() {
+            let mut r = r.clone();
+            if sorted_time {
+                r[0] = format!("{}", i * 5);
+            }
+            text.push_str(&r.join(","));
+            text.push('\n');
+        }
+        if let Ok(m) = Measurements::parse("fuzz.csv", text.as_bytes(), &IRB140_LIMITS_DEG) {
+            if let Ok(p) = prepare(&m, &Model::default(), false) {
+                let g = gap(&p);
+                prop_assert!(g.rms_mm.is_finite() && g.max_mm.is_finite());
+                if let Ok(d) = diagnose(&p, &Options::default()) {
+                    prop_assert!(d.gap_after_mm.is_finite());
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn repeated_identical_rows_do_not_break_the_fits() {
+    // Every row the same pose at the same time: nothing identifiable, no
+    // panic, no NaN.
+    let mut text =
+        String::from("time_min,j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg,x_mm,y_mm,z_mm\n");
+    for _ in 0..40 {
+        text.push_str("10,0,0,0,0,0,0,515.01,0,712\n");
+    }
+    let m = Measurements::parse("same.csv", text.as_bytes(), &IRB140_LIMITS_DEG).unwrap();
+    let p = prepare(&m, &Model::default(), false).unwrap();
+    match diagnose(&p, &Options::default()) {
+        Ok(d) => assert!(d.gap_after_mm.is_finite() && d.gap_before_mm.is_finite()),
+        Err(e) => assert!(!e.message.is_empty()),
+    }
+}

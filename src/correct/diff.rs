@@ -79,7 +79,11 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
         });
     }
     for ja in a.jointtargets() {
-        let Some(jb) = b.jointtargets().iter().find(|j| j.id.eq_ignore_ascii_case(&ja.id)) else {
+        let Some(jb) = b
+            .jointtargets()
+            .iter()
+            .find(|j| j.id.eq_ignore_ascii_case(&ja.id))
+        else {
             only_in_a.push(ja.id.clone());
             continue;
         };
@@ -107,7 +111,11 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
         .chain(
             b.jointtargets()
                 .iter()
-                .filter(|j| !a.jointtargets().iter().any(|x| x.id.eq_ignore_ascii_case(&j.id)))
+                .filter(|j| {
+                    !a.jointtargets()
+                        .iter()
+                        .any(|x| x.id.eq_ignore_ascii_case(&j.id))
+                })
                 .map(|j| j.id.clone()),
         )
         .collect();
@@ -127,9 +135,16 @@ fn summarise(targets: &[TargetDelta]) -> Summary {
     let sum_sq: f64 = robtargets.iter().map(|t| t.dist * t.dist).sum();
     Summary {
         compared: targets.len(),
-        changed: targets.iter().filter(|t| t.dist > 0.0 || t.dangle > 0.0).count(),
+        changed: targets
+            .iter()
+            .filter(|t| t.dist > 0.0 || t.dangle > 0.0)
+            .count(),
         max_mm: robtargets.iter().map(|t| t.dist).fold(0.0, f64::max),
-        rms_mm: if n > 0 { (sum_sq / n as f64).sqrt() } else { 0.0 },
+        rms_mm: if n > 0 {
+            (sum_sq / n as f64).sqrt()
+        } else {
+            0.0
+        },
         max_deg: targets.iter().map(|t| t.dangle).fold(0.0, f64::max),
     }
 }

@@ -28,13 +28,22 @@ impl Frames {
                 t.tframe_trans.each_ref().map(|n| n.value),
                 t.tframe_rot.each_ref().map(|n| n.value),
             )
-            .map_err(|e| located(program, &t.origin, format!("tooldata `{}`: {}", t.name, e.message)))?;
+            .map_err(|e| {
+                located(
+                    program,
+                    &t.origin,
+                    format!("tooldata `{}`: {}", t.name, e.message),
+                )
+            })?;
             tools.insert(t.name.to_ascii_lowercase(), tool);
         }
         let mut wobjs = HashMap::from([("wobj0".to_string(), WobjData::wobj0())]);
         for w in program.wobjs() {
             let frame = |trans: &[rapid::Number; 3], rot: &[rapid::Number; 4]| {
-                (trans.each_ref().map(|n| n.value), rot.each_ref().map(|n| n.value))
+                (
+                    trans.each_ref().map(|n| n.value),
+                    rot.each_ref().map(|n| n.value),
+                )
             };
             let wobj = WobjData::new(
                 w.robhold.value,
@@ -43,7 +52,13 @@ impl Frames {
                 frame(&w.uframe_trans, &w.uframe_rot),
                 frame(&w.oframe_trans, &w.oframe_rot),
             )
-            .map_err(|e| located(program, &w.origin, format!("wobjdata `{}`: {}", w.name, e.message)))?;
+            .map_err(|e| {
+                located(
+                    program,
+                    &w.origin,
+                    format!("wobjdata `{}`: {}", w.name, e.message),
+                )
+            })?;
             wobjs.insert(w.name.to_ascii_lowercase(), wobj);
         }
         Ok(Frames { tools, wobjs })
@@ -51,12 +66,14 @@ impl Frames {
 
     /// The tooldata of this name (`tool0` when `None`).
     pub fn tool(&self, name: Option<&str>) -> Option<&ToolData> {
-        self.tools.get(&name.unwrap_or("tool0").to_ascii_lowercase())
+        self.tools
+            .get(&name.unwrap_or("tool0").to_ascii_lowercase())
     }
 
     /// The wobjdata of this name (`wobj0` when `None`).
     pub fn wobj(&self, name: Option<&str>) -> Option<&WobjData> {
-        self.wobjs.get(&name.unwrap_or("wobj0").to_ascii_lowercase())
+        self.wobjs
+            .get(&name.unwrap_or("wobj0").to_ascii_lowercase())
     }
 }
 
@@ -66,21 +83,34 @@ fn located(program: &Program, origin: &rapid::Origin, message: String) -> Error 
 
 /// A robtarget's pose (TCP in its work object) and robconf, from its
 /// numbers.
-pub fn target_pose(program: &Program, target: &Target) -> Result<Option<(Isometry3<f64>, RobConf)>> {
+pub fn target_pose(
+    program: &Program,
+    target: &Target,
+) -> Result<Option<(Isometry3<f64>, RobConf)>> {
     let Some(v) = &target.value else {
         return Ok(None);
     };
-    let pose = pose_from_rapid(v.trans_values(), v.rot_values())
-        .map_err(|e| located(program, &target.origin, format!("target {}: {}", target.id, e.message)))?;
+    let pose = pose_from_rapid(v.trans_values(), v.rot_values()).map_err(|e| {
+        located(
+            program,
+            &target.origin,
+            format!("target {}: {}", target.id, e.message),
+        )
+    })?;
     let cf = v.robconf_values();
     let whole = |x: f64| {
-        (x.fract() == 0.0 && x.abs() < 1e6).then_some(x as i32).ok_or_else(|| {
-            located(
-                program,
-                &target.origin,
-                format!("target {}: robconf value {x} is not a whole number", target.id),
-            )
-        })
+        (x.fract() == 0.0 && x.abs() < 1e6)
+            .then_some(x as i32)
+            .ok_or_else(|| {
+                located(
+                    program,
+                    &target.origin,
+                    format!(
+                        "target {}: robconf value {x} is not a whole number",
+                        target.id
+                    ),
+                )
+            })
     };
     let conf = RobConf::new(whole(cf[0])?, whole(cf[1])?, whole(cf[2])?, whole(cf[3])?);
     Ok(Some((pose, conf)))
@@ -151,7 +181,10 @@ pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) 
     for s in statements {
         match &s.kind {
             StatementKind::Call(call) => visit(call, s.pos.line),
-            StatementKind::If { branches, otherwise } => {
+            StatementKind::If {
+                branches,
+                otherwise,
+            } => {
                 for (_, body) in branches {
                     walk_calls(body, visit);
                 }
@@ -207,17 +240,34 @@ fn referenced_targets(
         Expr::Name(n) => lookup(n).into_iter().collect(),
         Expr::Index(b) => {
             let (base, indices) = b.as_ref();
-            let (Some(name), Some(idx)) = (
-                base.as_name(),
-                indices
-                    .iter()
-                    .map(|e| e.as_num().filter(|v| v.fract() == 0.0).map(|v| v as i64))
-                    .collect::<Option<Vec<i64>>>(),
-            ) else {
+            let Some(name) = base.as_name() else {
                 return Vec::new();
             };
-            let idx: Vec<String> = idx.iter().map(i64::to_string).collect();
-            lookup(&format!("{name}{{{}}}", idx.join(","))).into_iter().collect()
+            let literal = indices
+                .iter()
+                .map(|e| e.as_num().filter(|v| v.fract() == 0.0).map(|v| v as i64))
+                .collect::<Option<Vec<i64>>>();
+            match literal {
+                Some(idx) => {
+                    let idx: Vec<String> = idx.iter().map(i64::to_string).collect();
+                    lookup(&format!("{name}{{{}}}", idx.join(",")))
+                        .into_iter()
+                        .collect()
+                }
+                // `path{i}` in a loop: the move may reach any element.
+                None => program
+                    .targets()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, t)| {
+                        t.kind == TargetKind::ArrayElement
+                            && t.name
+                                .as_deref()
+                                .is_some_and(|n| n.eq_ignore_ascii_case(name))
+                    })
+                    .map(|(i, _)| i)
+                    .collect(),
+            }
         }
         _ => Vec::new(),
     }
@@ -235,11 +285,9 @@ pub fn frames_of(
     let target = &program.targets()[index];
     let (tool_name, wobj_name) = match uses.and_then(|u| u.first()) {
         Some(first) => {
-            if let Some(other) = uses
-                .into_iter()
-                .flatten()
-                .find(|u| !same(&u.tool, &first.tool, "tool0") || !same(&u.wobj, &first.wobj, "wobj0"))
-            {
+            if let Some(other) = uses.into_iter().flatten().find(|u| {
+                !same(&u.tool, &first.tool, "tool0") || !same(&u.wobj, &first.wobj, "wobj0")
+            }) {
                 return Err(located(
                     program,
                     &target.origin,
@@ -292,11 +340,16 @@ pub fn frames_of(
 }
 
 fn same(a: &Option<String>, b: &Option<String>, default: &str) -> bool {
-    a.as_deref().unwrap_or(default).eq_ignore_ascii_case(b.as_deref().unwrap_or(default))
+    a.as_deref()
+        .unwrap_or(default)
+        .eq_ignore_ascii_case(b.as_deref().unwrap_or(default))
 }
 
 /// An error for a target whose frames cannot be modelled.
 pub fn unsupported(program: &Program, target: &Target, why: &str) -> Error {
-    Error::new(ErrorKind::Unsupported, format!("target {}: {why}", target.id))
-        .at(program.location(&target.origin))
+    Error::new(
+        ErrorKind::Unsupported,
+        format!("target {}: {why}", target.id),
+    )
+    .at(program.location(&target.origin))
 }

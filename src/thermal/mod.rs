@@ -30,6 +30,15 @@ use crate::robot::MotorTemps;
 /// (a polynomial outside its fitted window) instead of extrapolating.
 pub trait HeatingProfile: Send + Sync {
     fn temps_at(&self, t_min: f64) -> Result<MotorTemps>;
+
+    /// The thermally stable state after warm-up (`--at steady`). Only
+    /// saturating models have one; the others refuse.
+    fn steady(&self) -> Result<MotorTemps> {
+        Err(crate::error::Error::new(
+            crate::error::ErrorKind::Unsupported,
+            "this heating model has no steady state (a polynomial or a recording does not saturate): give a time with --at MIN",
+        ))
+    }
 }
 
 /// Table 1 of the FEA paper: maximum motor temperatures, °C.

@@ -42,6 +42,22 @@ impl HeatingProfile for FittedProfile {
         }
         Ok(out)
     }
+
+    fn steady(&self) -> Result<MotorTemps> {
+        let mut out = [0.0; 6];
+        for (o, c) in out.iter_mut().zip(&self.axes) {
+            *o = match c {
+                Curve::Saturating(s) => s.steady(),
+                Curve::Poly(_) => {
+                    return Err(Error::new(
+                        crate::error::ErrorKind::Unsupported,
+                        "a polynomial heating curve has no steady state: fit a saturating model (first-order, two-tau) or give a time with --at MIN",
+                    ))
+                }
+            };
+        }
+        Ok(out)
+    }
 }
 
 /// Saturating curves on all six axes: defined and bounded for every t ≥ 0.
@@ -58,6 +74,10 @@ impl HeatingProfile for SaturatingProfile {
             )));
         }
         Ok(std::array::from_fn(|i| self.axes[i].eval(t_min)))
+    }
+
+    fn steady(&self) -> Result<MotorTemps> {
+        Ok(std::array::from_fn(|i| self.axes[i].steady()))
     }
 }
 

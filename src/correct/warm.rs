@@ -1,0 +1,200 @@
+//! The warm robot: what the simulation says a robot does at a time of its
+//! warm-up. The controller moves with its nominal model; the warm arm is
+//! the model file's (base link expansion and any effects a diagnosis
+//! added), with motor temperatures from its heating profile.
+
+use crate::diagnose::effects::{lag_tau, predict, Base, Effect, RowState, TempHistory};
+use crate::error::{Error, ErrorKind, Result};
+use crate::model::Model;
+use crate::robot::conf::RobConf;
+use crate::robot::{Joints, MotorTemps, Robot};
+use crate::thermal::HeatingProfile;
+use nalgebra::{Isometry3, Matrix6, Vector6};
+
+/// When the robot is at a target: a minute of the warm-up, or the
+/// thermally stable state after it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Moment {
+    Minute(f64),
+    Steady,
+}
+
+impl std::fmt::Display for Moment {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Moment::Minute(t) => write!(f, "minute {t}"),
+            Moment::Steady => write!(f, "steady state"),
+        }
+    }
+}
+
+/// The thermal state of the arm at one moment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct State {
+    pub temps: MotorTemps,
+    /// Structure temperatures through a thermal lag, when the model has one.
+    pub lagged: Option<MotorTemps>,
+}
+
+/// The nominal (controller) robot and the warm model.
+pub struct WarmRobot {
+    /// The controller's model: computes joints from targets.
+    pub nominal: Robot,
+    /// The same arm with the model's thermal expansion (closed-form IK).
+    warm: Robot,
+    base: Base,
+    effects: Vec<Effect>,
+    profile: Box<dyn HeatingProfile>,
+    lag_tau: Option<f64>,
+    history: Option<TempHistory>,
+}
+
+/// Newton's tolerances for models whose warm arm changes shape: the
+/// correction is exact to far below what a `num` can hold.
+const NEWTON_POSITION_MM: f64 = 1e-8;
+const NEWTON_ROTATION_RAD: f64 = 1e-12;
+const NEWTON_MAX_STEPS: usize = 30;
+
+impl WarmRobot {
+    /// The warm robot of `model` on the arm `robot` (whose geometry the
+    /// controller uses). `horizon_min`: the latest minute that will be
+    /// asked for (the thermal lag integrates the history up to it).
+    pub fn new(robot: Robot, model: &Model, horizon_min: f64) -> Result<WarmRobot> {
+        let effects = model.effects()?;
+        let profile = model.profile()?;
+        let tau = lag_tau(&effects);
+        let history = match tau {
+            Some(_) => Some(TempHistory::from_profile(
+                profile.as_ref(),
+                horizon_min.max(0.0),
+                0.25,
+            )?),
+            None => None,
+        };
+        let mut warm = robot.clone();
+        warm.thermal = model.thermal.clone();
+        Ok(WarmRobot {
+            base: Base {
+                nominal: robot
+                    .opw
+                    .as_ref()
+                    .map(|a| a.geom)
+                    .unwrap_or(model.robot.opw),
+                thermal: model.thermal.clone(),
+            },
+            nominal: robot,
+            warm,
+            effects,
+            profile,
+            lag_tau: tau,
+            history,
+        })
+    }
+
+    /// True when the warm arm is the nominal arm with longer links only:
+    /// then the closed-form IK of the expanded arm is exact.
+    pub fn is_pure_expansion(&self) -> bool {
+        self.effects.is_empty()
+    }
+
+    /// The thermal state at a moment.
+    pub fn state(&self, at: Moment) -> Result<State> {
+        match at {
+            Moment::Steady => {
+                let temps = self.profile.steady()?;
+                Ok(State {
+                    temps,
+                    lagged: self.lag_tau.map(|_| temps),
+                })
+            }
+            Moment::Minute(t) => {
+                let temps = self.profile.temps_at(t)?;
+                let lagged = match (self.lag_tau, &self.history) {
+                    (Some(tau), Some(h)) => Some(h.lagged(tau).at(t)),
+                    _ => None,
+                };
+                Ok(State { temps, lagged })
+            }
+        }
+    }
+
+    /// Where the warm robot's flange is at joints `q`.
+    pub fn flange(&self, q: &Joints, state: &State) -> Isometry3<f64> {
+        if self.is_pure_expansion() {
+            return self.warm.fk(q, Some(&state.temps));
+        }
+        predict(
+            &self.base,
+            &self.effects,
+            &RowState {
+                q: *q,
+                temps: state.temps,
+                lagged: state.lagged,
+            },
+        )
+    }
+
+    /// Joints that put the warm robot's flange at `flange` with robconf
+    /// `conf`: closed form on the expanded arm, then Newton on the full
+    /// model when effects change the arm's shape.
+    pub fn joints_for(
+        &self,
+        flange: &Isometry3<f64>,
+        conf: &RobConf,
+        state: &State,
+    ) -> Result<Joints> {
+        let mut q = self.warm.ik_conf(flange, conf, Some(&state.temps))?;
+        if self.is_pure_expansion() {
+            return Ok(q);
+        }
+        for _ in 0..NEWTON_MAX_STEPS {
+            let r = pose_error(flange, &self.flange(&q, state));
+            if r.fixed_rows::<3>(0).norm() < NEWTON_POSITION_MM
+                && r.fixed_rows::<3>(3).norm() < NEWTON_ROTATION_RAD
+            {
+                return Ok(q);
+            }
+            let j = self.jacobian(&q, state);
+            let dq = j.lu().solve(&r).ok_or_else(|| {
+                Error::new(
+                    ErrorKind::NoConvergence,
+                    "the warm model's Jacobian is singular at this pose (a wrist or shoulder singularity)",
+                )
+            })?;
+            for (qi, d) in q.iter_mut().zip(dq.iter()) {
+                *qi += d;
+            }
+        }
+        Err(Error::new(
+            ErrorKind::NoConvergence,
+            format!(
+                "Newton did not reach the target within {NEWTON_MAX_STEPS} steps on the warm model"
+            ),
+        ))
+    }
+
+    /// d(pose)/dq by central differences (the effects' kinematics are not
+    /// differentiated by hand).
+    fn jacobian(&self, q: &Joints, state: &State) -> Matrix6<f64> {
+        const H: f64 = 1e-6;
+        let mut j = Matrix6::zeros();
+        for i in 0..6 {
+            let mut qp = *q;
+            let mut qm = *q;
+            qp[i] += H;
+            qm[i] -= H;
+            let fm = self.flange(&qm, state);
+            let d = pose_error(&self.flange(&qp, state), &fm) / (2.0 * H);
+            j.set_column(i, &d);
+        }
+        j
+    }
+}
+
+/// `goal ⊖ at`: position difference (mm) and rotation vector (rad) taking
+/// `at` to `goal`, in the base frame.
+pub fn pose_error(goal: &Isometry3<f64>, at: &Isometry3<f64>) -> Vector6<f64> {
+    let dp = goal.translation.vector - at.translation.vector;
+    let dr = (goal.rotation * at.rotation.inverse()).scaled_axis();
+    Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z)
+}

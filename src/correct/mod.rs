@@ -161,6 +161,17 @@ pub fn correct(
     options: &Options,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
+    correct_all(program, sources, warm, options, progress)
+        .map_err(|e| with_source(e, sources, program))
+}
+
+fn correct_all(
+    program: &Program,
+    sources: &[&[u8]],
+    warm: &WarmRobot,
+    options: &Options,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Outcome> {
     let frames = Frames::of_program(program)?;
     let uses = usages(program);
     if let When::Schedule { schedule, .. } = &options.when {
@@ -537,4 +548,29 @@ fn prefix(e: Error, context: &str) -> Error {
 fn at_target(program: &Program, target: &Target, e: Error) -> Error {
     let message = format!("target {}: {}", target.id, e.message);
     Error { message, ..e }.at(program.location(&target.origin))
+}
+
+/// Errors located in the program gain the source line and caret.
+fn with_source(e: Error, sources: &[&[u8]], program: &Program) -> Error {
+    let Some(loc) = &e.location else { return e };
+    if !loc.line_text.is_empty() {
+        return e;
+    }
+    let Some(file) = program.files.iter().position(|f| *f == loc.file) else {
+        return e;
+    };
+    let Some(src) = sources.get(file) else {
+        return e;
+    };
+    let line_start = src
+        .split_inclusive(|&b| b == b'\n')
+        .take(loc.line.saturating_sub(1))
+        .map(<[u8]>::len)
+        .sum::<usize>();
+    let line_text = crate::error::Location::from_offset(&loc.file, src, line_start).line_text;
+    let location = crate::error::Location {
+        line_text,
+        ..loc.clone()
+    };
+    e.at(location)
 }

@@ -1,0 +1,260 @@
+//! The correction checked independently on every sample program: the
+//! corrected target, turned into joints by the controller's nominal model
+//! and driven through the warm model, lands on the original target.
+
+use approx::assert_relative_eq;
+use nalgebra::{Isometry3, UnitQuaternion};
+use rapidtherm::correct::diff::diff;
+use rapidtherm::correct::frames::{frames_of, target_pose, usages, Frames};
+use rapidtherm::correct::warm::{Moment, WarmRobot};
+use rapidtherm::correct::{correct, Options, When};
+use rapidtherm::model::Model;
+use rapidtherm::rapid::{self, Program, TargetKind};
+use rapidtherm::robot::frames::{flange_of_target, target_of_flange};
+use rapidtherm::robot::Robot;
+use rapidtherm::schedule::Visit;
+use rapidtherm::thermal::{default_profile, HeatingProfile};
+use std::path::PathBuf;
+
+fn sample_programs() -> Vec<(String, Vec<u8>)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("samples");
+    let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("mod" | "modx" | "prg" | "sys")
+            )
+        })
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&p).unwrap(),
+            )
+        })
+        .collect();
+    out.sort();
+    assert!(out.len() >= 8, "the samples folder holds the RAPID samples");
+    out
+}
+
+fn at(minute: f64) -> Options {
+    Options {
+        when: When::At(Moment::Minute(minute)),
+        visit: Visit::Mean,
+    }
+}
+
+fn run(name: &str, bytes: &[u8], minute: f64) -> (Program, rapidtherm::correct::Outcome) {
+    let program = rapid::parse(name, bytes).unwrap();
+    let warm = WarmRobot::new(Robot::irb140(), &Model::default(), minute).unwrap();
+    let outcome = correct(&program, &[bytes], &warm, &at(minute), &mut |_, _| {}).unwrap();
+    (program, outcome)
+}
+
+/// Same rotation (q or −q) within `eps` per component.
+fn same_rotation(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>, eps: f64) -> bool {
+    let (a, b) = (a.quaternion(), b.quaternion());
+    let d1 = (a.coords - b.coords).amax();
+    let d2 = (a.coords + b.coords).amax();
+    d1.min(d2) < eps
+}
+
+#[test]
+fn corrected_targets_land_on_the_original_through_the_warm_model() {
+    let minute = 120.0;
+    let temps = default_profile().temps_at(minute).unwrap();
+    let robot = Robot::irb140();
+    let mut checked = 0;
+    for (name, bytes) in sample_programs() {
+        let (program, outcome) = run(&name, &bytes, minute);
+        let frames = Frames::of_program(&program).unwrap();
+        let uses = usages(&program);
+        for c in outcome
+            .corrections
+            .iter()
+            .filter(|c| c.kind != "jointtarget")
+        {
+            let (index, target) = program
+                .targets()
+                .iter()
+                .enumerate()
+                .find(|(_, t)| t.id == c.id)
+                .unwrap();
+            let (original, conf) = target_pose(&program, target).unwrap().unwrap();
+            let (tool, wobj, _, _) = frames_of(&program, &frames, index, uses.get(&index)).unwrap();
+            let corrected = c.exact.unwrap();
+            // The controller: nominal IK of the corrected target, same robconf.
+            let flange = flange_of_target(&corrected, &tool, &wobj).unwrap();
+            let q = robot.ik_conf(&flange, &conf, None).unwrap();
+            // The warm robot at those joints.
+            let reached: Isometry3<f64> =
+                target_of_flange(&robot.fk(&q, Some(&temps)), &tool, &wobj).unwrap();
+            let miss = (reached.translation.vector - original.translation.vector).norm();
+            assert!(miss < 1e-6, "{name} {}: lands {miss} mm off", c.id);
+            assert!(
+                same_rotation(&reached.rotation, &original.rotation, 1e-9),
+                "{name} {}: orientation differs",
+                c.id
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 5000, "every sample target is checked ({checked})");
+}
+
+#[test]
+fn written_numbers_are_within_half_a_micrometre_of_the_exact_correction() {
+    for (name, bytes) in sample_programs() {
+        let (program, outcome) = run(&name, &bytes, 90.0);
+        let corrected = rapid::parse(&name, &outcome.outputs[0]).unwrap();
+        for c in outcome
+            .corrections
+            .iter()
+            .filter(|c| c.kind != "jointtarget")
+        {
+            let exact = c.exact.unwrap().translation.vector;
+            let t = corrected.target(&c.id).unwrap();
+            let written = t.value.as_ref().unwrap().trans_values();
+            for k in 0..3 {
+                assert!(
+                    (written[k] - exact[k]).abs() <= 0.0005 + 1e-9,
+                    "{name} {}: written {} vs exact {}",
+                    c.id,
+                    written[k],
+                    exact[k]
+                );
+            }
+        }
+        assert_eq!(program.targets().len(), corrected.targets().len());
+    }
+}
+
+#[test]
+fn at_reference_temperature_nothing_is_rewritten() {
+    for (name, bytes) in sample_programs() {
+        let (_, outcome) = run(&name, &bytes, 0.0);
+        assert_eq!(
+            outcome.outputs[0], bytes,
+            "{name}: --at 0 must keep every byte"
+        );
+        assert_eq!(outcome.summary.rewritten, 0);
+    }
+}
+
+#[test]
+fn diff_of_corrected_program_agrees_with_the_reported_corrections_and_drift() {
+    for (name, bytes) in sample_programs() {
+        let (program, outcome) = run(&name, &bytes, 150.0);
+        let corrected = rapid::parse(&name, &outcome.outputs[0]).unwrap();
+        let d = diff(&program, &corrected).unwrap();
+        for c in outcome
+            .corrections
+            .iter()
+            .filter(|c| c.kind != "jointtarget")
+        {
+            let t = d.targets.iter().find(|t| t.id == c.id).unwrap();
+            // The text is rounded to 0.001 mm per coordinate.
+            assert!(
+                (t.dist - c.correction_norm_mm).abs() < 0.001,
+                "{name} {}: diff {} vs correction {}",
+                c.id,
+                t.dist,
+                c.correction_norm_mm
+            );
+            // The correction undoes the drift (to second order).
+            assert!(
+                (t.dist - c.drift_norm_mm).abs() < 0.002,
+                "{name} {}: diff {} vs drift {}",
+                c.id,
+                t.dist,
+                c.drift_norm_mm
+            );
+        }
+        assert!(d.only_in_a.is_empty() && d.only_in_b.is_empty());
+    }
+}
+
+#[test]
+fn untouched_bytes_stay_identical() {
+    for (name, bytes) in sample_programs() {
+        let (program, outcome) = run(&name, &bytes, 60.0);
+        let out = &outcome.outputs[0];
+        // Every byte outside a corrected target's numbers is kept: compare
+        // the files with each number span blanked out.
+        let spans: Vec<std::ops::Range<usize>> = program
+            .targets()
+            .iter()
+            .filter(|t| t.kind != TargetKind::Derived)
+            .filter_map(|t| t.value.as_ref())
+            .flat_map(|v| v.numbers().map(|n| n.span()).collect::<Vec<_>>())
+            .chain(
+                program
+                    .jointtargets()
+                    .iter()
+                    .flat_map(|j| j.robax.iter().map(|n| n.span())),
+            )
+            .collect();
+        let mut kept_in = Vec::new();
+        let mut at = 0;
+        for s in &spans {
+            kept_in.extend_from_slice(&bytes[at..s.start]);
+            at = s.end;
+        }
+        kept_in.extend_from_slice(&bytes[at..]);
+        let reparsed = rapid::parse(&name, out).unwrap();
+        let spans_out: Vec<std::ops::Range<usize>> = reparsed
+            .targets()
+            .iter()
+            .filter(|t| t.kind != TargetKind::Derived)
+            .filter_map(|t| t.value.as_ref())
+            .flat_map(|v| v.numbers().map(|n| n.span()).collect::<Vec<_>>())
+            .chain(
+                reparsed
+                    .jointtargets()
+                    .iter()
+                    .flat_map(|j| j.robax.iter().map(|n| n.span())),
+            )
+            .collect();
+        let mut kept_out = Vec::new();
+        let mut at = 0;
+        for s in &spans_out {
+            kept_out.extend_from_slice(&out[at..s.start]);
+            at = s.end;
+        }
+        kept_out.extend_from_slice(&out[at..]);
+        assert_eq!(
+            kept_in, kept_out,
+            "{name}: bytes outside target numbers changed"
+        );
+    }
+}
+
+#[test]
+fn steady_state_corrects_more_than_minute_30() {
+    let (name, bytes) = sample_programs()
+        .into_iter()
+        .find(|(n, _)| n.starts_with("two_modules"))
+        .unwrap();
+    let program = rapid::parse(&name, &bytes).unwrap();
+    let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 30.0).unwrap();
+    let steady = correct(
+        &program,
+        &[&bytes],
+        &warm,
+        &Options {
+            when: When::At(Moment::Steady),
+            visit: Visit::Mean,
+        },
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let early = correct(&program, &[&bytes], &warm, &at(30.0), &mut |_, _| {}).unwrap();
+    assert!(steady.summary.max_mm > early.summary.max_mm);
+    assert_relative_eq!(
+        steady.corrections[0].temps_c[5],
+        default_profile().axes[5].steady(),
+        epsilon = 1e-12
+    );
+}

@@ -289,3 +289,47 @@ fn other_parameterisations_are_still_recognised() {
             .any(|p| p.iter().any(|n| n == "arm-bending"));
     assert!(named, "{}", summary(&d));
 }
+
+/// A library effect plus a smaller one from outside the library: the
+/// library effect is named first and the rest is flagged as unexplained,
+/// located on its axis.
+#[test]
+fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
+    let profile = default_profile();
+    let seed = 61;
+    let bending = Effect::with_defaults(EffectKind::ArmBending);
+    let mut meas = simulate(&spec(vec![], 40, 11, seed), &profile).unwrap();
+    let base = Base::default();
+    remeasure(&mut meas, seed, |_, t, q| {
+        let temps = warm(t);
+        let (opw, mut p) = rapidtherm::diagnose::effects::perturbation(
+            &base,
+            std::slice::from_ref(&bending),
+            &RowState {
+                q: *q,
+                temps,
+                lagged: None,
+            },
+        );
+        p.dq[1] += 0.12e-3 * (2.0 * q[1] + 0.5).sin();
+        fk_chain(&opw, q, &p).translation.vector
+    });
+    let d = run(&meas);
+    assert_eq!(
+        d.verdict.first().map(String::as_str),
+        Some("arm-bending"),
+        "{}",
+        summary(&d)
+    );
+    assert!(
+        d.verdict.iter().any(|v| v == "unexplained"),
+        "{}",
+        summary(&d)
+    );
+    let joint = d
+        .where_after
+        .joint
+        .as_ref()
+        .expect("the joint the rest follows");
+    assert_eq!((joint.axis, joint.harmonic), (2, 2), "{}", summary(&d));
+}

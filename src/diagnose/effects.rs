@@ -164,8 +164,18 @@ const GEOMETRY: &[ParamInfo] = &[
     p("dq4_mrad", "mrad", "zero offset of axis 4", 0.2),
     p("dq5_mrad", "mrad", "zero offset of axis 5", -0.2),
     p("dq6_mrad", "mrad", "zero offset of axis 6", 0.3),
-    p("da2_mm", "mm", "offset of the wrist centre across the upper arm (a2)", 0.05),
-    p("db_mm", "mm", "lateral offset of the arm plane from axis 1 (b)", -0.05),
+    p(
+        "da2_mm",
+        "mm",
+        "offset of the wrist centre across the upper arm (a2)",
+        0.05,
+    ),
+    p(
+        "db_mm",
+        "mm",
+        "lateral offset of the arm plane from axis 1 (b)",
+        -0.05,
+    ),
 ];
 const TRACKER: &[ParamInfo] = &[
     p("x_mm", "mm", "tracker frame origin x", 0.2),

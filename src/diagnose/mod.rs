@@ -182,7 +182,6 @@ pub struct GapStats {
     pub max_mm: f64,
     pub n: usize,
     /// RMS per axis x, y, z.
-    #[serde(skip)]
     pub axis_rms_mm: [f64; 3],
 }
 
@@ -568,8 +567,15 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
 
     let mut words = Vec::new();
     words.push(format!(
-        "Gap of the current model: {:.3} mm RMS, {:.3} mm max over {} rows (noise {:.3} mm RMS, {}).",
-        gap.rms_mm, gap.max_mm, n, noise.rms_mm, noise.source
+        "Gap of the current model: {:.3} mm RMS (x {:.3}, y {:.3}, z {:.3}), {:.3} mm max over {} rows (noise {:.3} mm RMS, {}).",
+        gap.rms_mm,
+        gap.axis_rms_mm[0],
+        gap.axis_rms_mm[1],
+        gap.axis_rms_mm[2],
+        gap.max_mm,
+        n,
+        noise.rms_mm,
+        noise.source
     ));
     match verdict.first().map(String::as_str) {
         Some("none") => words

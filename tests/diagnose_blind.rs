@@ -250,7 +250,7 @@ fn other_parameterisations_are_still_recognised() {
         let row = RowState {
             q: *q,
             temps: warm(t),
-            lagged: Some(second.at(t)),
+            lagged: Some([second.at(t); 4]),
         };
         rapidtherm::diagnose::effects::predict(&base, &lag_marker, &row)
             .translation

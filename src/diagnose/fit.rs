@@ -3,7 +3,7 @@
 //! the SVD of the (column-scaled) Jacobian and held at zero, standard errors
 //! from the covariance σ²(JᵀJ)⁻¹.
 
-use super::effects::{lag_tau, predict, Base, Effect, EffectKind, RowState, TempHistory};
+use super::effects::{predict, Base, Effect, EffectKind, LinkLags, RowState, TempHistory};
 use crate::error::{Error, ErrorKind, Result};
 use crate::robot::{Joints, MotorTemps};
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
@@ -57,7 +57,7 @@ impl Problem {
     pub fn predict_rows(&self, extra: &[Effect], rows: &[usize]) -> Vec<nalgebra::Isometry3<f64>> {
         let mut all = self.fixed.clone();
         all.extend_from_slice(extra);
-        let lag = lag_tau(&all).map(|tau| self.history.lagged(tau));
+        let lag = LinkLags::new(&self.history, &all);
         rows.iter()
             .filter_map(|&i| self.rows.get(i))
             .map(|r| {
@@ -135,6 +135,10 @@ impl Fit {
 /// identifiable on these data.
 const IDENTIFIABLE: f64 = 1e-5;
 const MAX_ITER: usize = 60;
+/// Longest thermal-lag time constant fitted, minutes: a structure that
+/// lags by more than 10 h hardly warms during a test, which
+/// expansion-scale (k → 0) describes better than a lag.
+const MAX_TAU_MIN: f64 = 600.0;
 
 /// Fit the parameters of `kinds` (added to the problem's fixed effects) to
 /// the rows `rows`.
@@ -173,23 +177,27 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     };
 
     let mut theta = vec![0.0; m];
-    let lag_index = layout
-        .iter()
-        .position(|&(k, _)| k == EffectKind::ThermalLag);
+    // The thermal-lag time constants: nonlinear, and never negative.
+    let lag_params: Vec<usize> = (0..m)
+        .filter(|&p| layout[p].0 == EffectKind::ThermalLag)
+        .collect();
     if n_obs <= m {
         return Err(Error::input(format!(
             "too few measurements for a fit: {} rows give {n_obs} values for {m} parameters",
             rows.len()
         )));
     }
-    if let Some(li) = lag_index {
-        // τ is strongly nonlinear: start from the best of a coarse grid, with
-        // the other parameters solved linearly at each τ.
+    if !lag_params.is_empty() {
+        // τ is strongly nonlinear: start from the best of a coarse grid (one
+        // τ for all links), with the other parameters solved linearly at
+        // each τ.
         let mut best = (f64::INFINITY, theta.clone());
         for tau in [2.0, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 320.0] {
             let mut t = vec![0.0; m];
-            t[li] = tau;
-            let others: Vec<usize> = (0..m).filter(|&p| p != li).collect();
+            for &li in &lag_params {
+                t[li] = tau;
+            }
+            let others: Vec<usize> = (0..m).filter(|p| !lag_params.contains(p)).collect();
             if !others.is_empty() {
                 let r0 = residual(&t);
                 let j = jacobian(&t, &r0, &others);
@@ -217,7 +225,9 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         .collect();
     let free = identifiable(&j0, &typical, problem.noise_mm);
     for (p, value) in theta.iter_mut().enumerate() {
-        if !free.contains(&p) {
+        // A time constant the data cannot pin keeps its grid value (zero
+        // would mean "no lag", a claim the data do not support either).
+        if !free.contains(&p) && !lag_params.contains(&p) {
             *value = 0.0;
         }
     }
@@ -237,8 +247,23 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     let mut fresh = true;
     while !converged && iterations < MAX_ITER {
         iterations += 1;
-        let g = j.transpose() * &r;
-        let a = j.transpose() * &j;
+        let mut g = j.transpose() * &r;
+        let mut a = j.transpose() * &j;
+        // A time constant on a bound (0, or MAX_TAU_MIN) that the data push
+        // beyond it: hold it there this iteration (active set).
+        for (c, &p) in free.iter().enumerate() {
+            let at_bound =
+                (theta[p] <= 0.0 && g[c] < 0.0) || (theta[p] >= MAX_TAU_MIN && g[c] > 0.0);
+            if lag_params.contains(&p) && at_bound {
+                g[c] = 0.0;
+                for k in 0..free.len() {
+                    if k != c {
+                        a[(c, k)] = 0.0;
+                        a[(k, c)] = 0.0;
+                    }
+                }
+            }
+        }
         if at_minimum(&a, &g, rss, n_obs) {
             if fresh {
                 converged = true;
@@ -259,8 +284,8 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         for (c, &p) in free.iter().enumerate() {
             t[p] += step[c];
         }
-        if let Some(li) = lag_index {
-            t[li] = t[li].max(0.0);
+        for &li in &lag_params {
+            t[li] = t[li].clamp(0.0, MAX_TAU_MIN);
         }
         let r1 = residual(&t);
         let rss1 = r1.norm_squared();

@@ -2,11 +2,19 @@
 //! with a numeric Jacobian, parameters the data cannot identify found from
 //! the SVD of the (column-scaled) Jacobian and held at zero, standard errors
 //! from the covariance σ²(JᵀJ)⁻¹.
+//!
+//! Written here rather than with the `levenberg-marquardt` crate because the
+//! fit needs things that crate does not offer: parameters dropped mid-way
+//! when the data cannot identify them, bounds on time constants (active
+//! set), a Jacobian reused across steps (the effects are nearly linear), and
+//! a statistical stopping rule.
 
 use super::effects::{predict, Base, Effect, EffectKind, LinkLags, RowState, TempHistory};
 use crate::error::{Error, ErrorKind, Result};
 use crate::robot::{Joints, MotorTemps};
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// One row ready for fitting: joints, resolved motor temperatures, measured
 /// pose (already in the robot base frame).
@@ -36,6 +44,61 @@ pub struct Problem {
     /// Measurement noise per residual, mm: parameter directions that move
     /// the data less than this are not identifiable.
     pub noise_mm: f64,
+    /// Jacobian columns of each effect at zero parameters over all rows
+    /// (see [`Problem::with_zero_jacobians`]): reused by every fit that
+    /// starts there, instead of recomputed per fold and per step.
+    pub zero_jacobians: Option<Arc<BTreeMap<EffectKind, DMatrix<f64>>>>,
+}
+
+impl Problem {
+    /// Precompute, for every effect except the lag (whose fits start at a
+    /// nonzero τ), its Jacobian at zero parameters over all rows. At zero
+    /// an effect's columns do not depend on the other effects in the set.
+    pub fn with_zero_jacobians(mut self) -> Problem {
+        let all: Vec<usize> = (0..self.rows.len()).collect();
+        let r0 = self.residuals(&[], &all);
+        let mut cache = BTreeMap::new();
+        for kind in EffectKind::ALL {
+            if kind == EffectKind::ThermalLag {
+                continue;
+            }
+            let n = kind.params().len();
+            let mut j = DMatrix::zeros(r0.len(), n);
+            for p in 0..n {
+                let mut e = Effect::zero(kind);
+                let h = kind.step(p, 0.0);
+                e.params[p] = h;
+                let r1 = self.residuals(&[e], &all);
+                j.set_column(p, &((&r0 - r1) / h));
+            }
+            cache.insert(kind, j);
+        }
+        self.zero_jacobians = Some(Arc::new(cache));
+        self
+    }
+
+    /// The cached Jacobian at zero for `kinds` on `rows`, if every kind is
+    /// cached.
+    fn cached_jacobian(&self, kinds: &[EffectKind], rows: &[usize]) -> Option<DMatrix<f64>> {
+        let cache = self.zero_jacobians.as_ref()?;
+        let blocks: Vec<&DMatrix<f64>> =
+            kinds.iter().map(|k| cache.get(k)).collect::<Option<_>>()?;
+        let w = self.width();
+        let cols: usize = blocks.iter().map(|b| b.ncols()).sum();
+        let mut j = DMatrix::zeros(rows.len() * w, cols);
+        let mut c0 = 0;
+        for b in blocks {
+            for (k, &i) in rows.iter().enumerate() {
+                if (i + 1) * w > b.nrows() {
+                    return None;
+                }
+                j.view_mut((k * w, c0), (w, b.ncols()))
+                    .copy_from(&b.view((i * w, 0), (w, b.ncols())));
+            }
+            c0 += b.ncols();
+        }
+        Some(j)
+    }
 }
 
 impl Problem {
@@ -201,7 +264,7 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
             if !others.is_empty() {
                 let r0 = residual(&t);
                 let j = jacobian(&t, &r0, &others);
-                if let Some(step) = solve_scaled(&j, &r0, 0.0) {
+                if let Some(step) = solve_scaled(&j, &r0) {
                     for (c, &p) in others.iter().enumerate() {
                         t[p] += step[c];
                     }
@@ -218,7 +281,11 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     // Identifiability at the start point.
     let r0 = residual(&theta);
     let all: Vec<usize> = (0..m).collect();
-    let j0 = jacobian(&theta, &r0, &all);
+    let j0 = match lag_params.is_empty() {
+        true => problem.cached_jacobian(kinds, rows),
+        false => None,
+    }
+    .unwrap_or_else(|| jacobian(&theta, &r0, &all));
     let typical: Vec<f64> = layout
         .iter()
         .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
@@ -442,7 +509,7 @@ fn solve_damped(a: &DMatrix<f64>, g: &DVector<f64>, lambda: f64) -> Option<DVect
 }
 
 /// Least-squares step J·x ≈ r with column scaling and SVD (rank-safe).
-fn solve_scaled(j: &DMatrix<f64>, r: &DVector<f64>, _lambda: f64) -> Option<DVector<f64>> {
+fn solve_scaled(j: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
     let norms: Vec<f64> = j.column_iter().map(|c| c.norm().max(1e-300)).collect();
     let mut s = j.clone();
     for (c, n) in norms.iter().enumerate() {

@@ -106,6 +106,7 @@ pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Pre
         history,
         w_ori: DEFAULT_NOISE_MM / simulate::ORIENTATION_NOISE_MRAD,
         noise_mm: DEFAULT_NOISE_MM,
+        zero_jacobians: None,
     };
     let registration = if register {
         let reg = register_frame(&problem)?;
@@ -409,7 +410,8 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let tuned = Problem {
         noise_mm: noise.per_axis_mm,
         ..problem.clone()
-    };
+    }
+    .with_zero_jacobians();
     let problem = &tuned;
     let folds = select::make_folds(problem, opts.folds);
     if folds.folds.len() < 2 {

@@ -432,6 +432,8 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         .into_iter()
         .filter(|k| !(lag_fixed && *k == EffectKind::ThermalLag))
         .collect();
+    // The slowest fit first, so that the threads finish together.
+    pool.sort_by_key(|k| *k != EffectKind::ThermalLag);
     let mut selected: Vec<EffectKind> = Vec::new();
     let mut current_fit: Option<fit::Fit> = None;
     let mut cur_cv = cv0;

@@ -407,8 +407,30 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         },
     };
     // Fits judge identifiability against the noise of these data.
+    // Orientation residuals weigh as much as their own noise allows: the
+    // weight (mm per mrad) is position noise over orientation noise, both
+    // estimated the same way when the data repeat poses.
+    let w_ori = if problem.uses_orientation() {
+        let poses = problem.predict_rows(&[], &all);
+        let rot_gaps: Vec<Vector3<f64>> = poses
+            .iter()
+            .zip(&problem.rows)
+            .map(|(p, r)| {
+                r.orientation
+                    .map(|m| chain::rotation_gap(&p.rotation, &m) * 1e3)
+                    .unwrap_or_else(Vector3::zeros)
+            })
+            .collect();
+        match estimate_noise(problem, &rot_gaps) {
+            Some((s, _)) if s > 0.0 => (noise.per_axis_mm / s).clamp(0.01, 100.0),
+            _ => problem.w_ori,
+        }
+    } else {
+        problem.w_ori
+    };
     let tuned = Problem {
         noise_mm: noise.per_axis_mm,
+        w_ori,
         ..problem.clone()
     }
     .with_zero_jacobians();

@@ -265,3 +265,25 @@ fn noisy_orientations_do_not_spoil_the_positions() {
         d.gap_after_mm
     );
 }
+
+#[test]
+fn registration_does_not_swallow_thermal_drift() {
+    // Bending data recorded in a tracker's own frame: registered on the
+    // cold start, the diagnosis still finds the bending, and only it.
+    let mut meas = data(
+        vec![Effect::with_defaults(EffectKind::ArmBending)],
+        false,
+        16,
+    );
+    let frame = Isometry3::from_parts(
+        Translation3::new(1500.0, -300.0, 80.0),
+        UnitQuaternion::from_euler_angles(0.0, 0.0, 0.6),
+    );
+    for r in &mut meas.rows {
+        r.position = frame.transform_point(&r.position.into()).coords;
+    }
+    let p = prepare(&meas, &Model::default(), true).unwrap();
+    assert_eq!(p.registration.as_ref().unwrap().rows_used, 15);
+    let d = diagnose(&p, &Options::default()).unwrap();
+    assert_eq!(d.verdict, vec!["arm-bending"], "{:?}", d.words);
+}

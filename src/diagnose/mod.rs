@@ -49,6 +49,9 @@ pub struct Registration {
     pub rotation_deg: [f64; 3],
     /// RMS distance left after the rigid fit, mm.
     pub rms_mm: f64,
+    /// Rows the frame was fitted on (the cold start's when it has six or
+    /// more poses, else all).
+    pub rows_used: usize,
     #[serde(skip)]
     pub transform: Isometry3<f64>,
 }
@@ -128,13 +131,39 @@ pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Pre
 
 /// Rigid fit (Kabsch) of the model's positions onto the measured ones.
 fn register_frame(problem: &Problem) -> Result<Registration> {
+    // Register on the cold start when it has enough poses: thermal effects
+    // vanish there, so the frame does not absorb part of the drift the
+    // diagnosis is after.
+    let t0 = problem
+        .rows
+        .iter()
+        .map(|r| r.time_min)
+        .fold(f64::INFINITY, f64::min);
+    let cold: Vec<usize> = (0..problem.rows.len())
+        .filter(|&i| problem.rows[i].time_min <= t0 + 1e-9)
+        .collect();
+    let mut cold_poses: Vec<usize> = cold.iter().map(|&i| problem.rows[i].pose).collect();
+    cold_poses.sort_unstable();
+    cold_poses.dedup();
     let all: Vec<usize> = (0..problem.rows.len()).collect();
+    match rigid_fit(problem, &cold) {
+        Ok(reg) if cold_poses.len() >= 6 => Ok(reg),
+        _ => rigid_fit(problem, &all),
+    }
+}
+
+/// Kabsch fit of the model's positions of `rows` onto the measured ones.
+fn rigid_fit(problem: &Problem, rows: &[usize]) -> Result<Registration> {
+    if rows.len() < 3 {
+        return Err(Error::input("--register needs at least 3 measured poses"));
+    }
+    let all = rows;
     let sim: Vec<Vector3<f64>> = problem
-        .predict_rows(&[], &all)
+        .predict_rows(&[], all)
         .iter()
         .map(|p| p.translation.vector)
         .collect();
-    let meas: Vec<Vector3<f64>> = problem.rows.iter().map(|r| r.position).collect();
+    let meas: Vec<Vector3<f64>> = all.iter().map(|&i| problem.rows[i].position).collect();
     let n = sim.len() as f64;
     let cs = sim.iter().sum::<Vector3<f64>>() / n;
     let cm = meas.iter().sum::<Vector3<f64>>() / n;
@@ -172,6 +201,7 @@ fn register_frame(problem: &Problem) -> Result<Registration> {
         translation_mm: [t.x, t.y, t.z],
         rotation_deg: [rv.x.to_degrees(), rv.y.to_degrees(), rv.z.to_degrees()],
         rms_mm: rms,
+        rows_used: all.len(),
         transform,
     })
 }

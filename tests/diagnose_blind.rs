@@ -333,3 +333,44 @@ fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
         .expect("the joint the rest follows");
     assert_eq!((joint.axis, joint.harmonic), (2, 2), "{}", summary(&d));
 }
+
+/// Each pose measured once (no repeats, so no measured noise level) with
+/// an instrument noisier than the assumed 0.01 mm: structureless data give
+/// `none`; a gear error still gives `unexplained`, on its axis.
+#[test]
+fn without_repeated_poses_only_structure_is_unexplained() {
+    let profile = default_profile();
+    for gear in [false, true] {
+        let mut s = spec(vec![], 200, 2, 71);
+        s.times = vec![0.0];
+        s.measured_temps = true;
+        let mut meas = simulate(&s, &profile).unwrap();
+        for (i, r) in meas.rows.iter_mut().enumerate() {
+            r.time_min = i as f64 * 0.9;
+        }
+        let base = Base::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(71);
+        let n = Normal::new(0.0, 0.02).unwrap();
+        for r in &mut meas.rows {
+            let mut p = Perturbation::default();
+            if gear {
+                p.dq[2] = 0.4e-3 * (3.0 * r.joints[2]).sin();
+            }
+            let cold = base.thermal.expand(&base.nominal, &[7.0; 6]);
+            r.position = fk_chain(&cold, &r.joints, &p).translation.vector
+                + Vector3::new(n.sample(&mut rng), n.sample(&mut rng), n.sample(&mut rng));
+        }
+        let d = run(&meas);
+        if gear {
+            assert_eq!(d.verdict, vec!["unexplained"], "{}", summary(&d));
+            assert_eq!(
+                d.where_.joint.as_ref().map(|j| j.axis),
+                Some(3),
+                "{}",
+                summary(&d)
+            );
+        } else {
+            assert_eq!(d.verdict, vec!["none"], "{}", summary(&d));
+        }
+    }
+}

@@ -265,6 +265,30 @@ fn other_parameterisations_are_still_recognised() {
     );
     assert!(d.gap_after_mm <= 1.5 * noise_rms(), "{}", summary(&d));
 
+    // Mount drift driven by the room warming linearly (3 K in 3 h) rather
+    // than by the base motor: a shift up and a tilt about x.
+    let mut meas = simulate(&spec(vec![], 12, 31, 44), &profile).unwrap();
+    remeasure(&mut meas, 44, |_, t, q| {
+        let rise = 3.0 * t / 180.0;
+        let p = Perturbation {
+            base: nalgebra::Isometry3::from_parts(
+                nalgebra::Translation3::new(0.0, 0.0, 0.02 * rise),
+                nalgebra::UnitQuaternion::from_scaled_axis(Vector3::new(20e-6 * rise, 0.0, 0.0)),
+            ),
+            ..Perturbation::default()
+        };
+        fk_chain(&th.expand(&base.nominal, &warm(t)), q, &p)
+            .translation
+            .vector
+    });
+    let d = run(&meas);
+    assert_eq!(
+        d.verdict.first().map(String::as_str),
+        Some("mount-drift"),
+        "{}",
+        summary(&d)
+    );
+
     // Nonuniform bending: curvature growing linearly along the lower arm
     // (tip displacement θL/3 instead of θL/2 for a tip rotation θ), written
     // as uniform bending of 4θ/3 plus a turn of −θ/3 at the joint.

@@ -23,7 +23,9 @@
 //! upper_urad_per_k = 30.1
 //! ```
 
-use crate::diagnose::effects::{lag_tau, predict, Base, Effect, EffectKind, RowState, TempHistory};
+use crate::diagnose::effects::{
+    lag_taus, predict, Base, Effect, EffectKind, LinkLags, RowState, TempHistory,
+};
 use crate::error::{Error, ErrorKind, Location, Result};
 use crate::robot::{Joints, MotorTemps, Opw, ThermalExpansion, IRB140};
 use crate::thermal::{default_profile, HeatingProfile};
@@ -239,10 +241,10 @@ impl Model {
             None => profile.temps_at(time_min)?,
         };
         let effects = self.effects()?;
-        let lagged = match lag_tau(&effects) {
-            Some(tau) => {
+        let lagged = match lag_taus(&effects) {
+            Some(_) => {
                 let history = TempHistory::from_profile(profile.as_ref(), time_min, 1.0)?;
-                Some(history.lagged(tau).at(time_min))
+                LinkLags::new(&history, &effects).map(|l| l.at(time_min))
             }
             None => None,
         };

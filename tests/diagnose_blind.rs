@@ -250,7 +250,7 @@ fn other_parameterisations_are_still_recognised() {
         let row = RowState {
             q: *q,
             temps: warm(t),
-            lagged: Some(second.at(t)),
+            lagged: Some([second.at(t); 4]),
         };
         rapidtherm::diagnose::effects::predict(&base, &lag_marker, &row)
             .translation
@@ -264,6 +264,30 @@ fn other_parameterisations_are_still_recognised() {
         summary(&d)
     );
     assert!(d.gap_after_mm <= 1.5 * noise_rms(), "{}", summary(&d));
+
+    // Mount drift driven by the room warming linearly (3 K in 3 h) rather
+    // than by the base motor: a shift up and a tilt about x.
+    let mut meas = simulate(&spec(vec![], 12, 31, 44), &profile).unwrap();
+    remeasure(&mut meas, 44, |_, t, q| {
+        let rise = 3.0 * t / 180.0;
+        let p = Perturbation {
+            base: nalgebra::Isometry3::from_parts(
+                nalgebra::Translation3::new(0.0, 0.0, 0.02 * rise),
+                nalgebra::UnitQuaternion::from_scaled_axis(Vector3::new(20e-6 * rise, 0.0, 0.0)),
+            ),
+            ..Perturbation::default()
+        };
+        fk_chain(&th.expand(&base.nominal, &warm(t)), q, &p)
+            .translation
+            .vector
+    });
+    let d = run(&meas);
+    assert_eq!(
+        d.verdict.first().map(String::as_str),
+        Some("mount-drift"),
+        "{}",
+        summary(&d)
+    );
 
     // Nonuniform bending: curvature growing linearly along the lower arm
     // (tip displacement θL/3 instead of θL/2 for a tip rotation θ), written
@@ -288,4 +312,89 @@ fn other_parameterisations_are_still_recognised() {
             .iter()
             .any(|p| p.iter().any(|n| n == "arm-bending"));
     assert!(named, "{}", summary(&d));
+}
+
+/// A library effect plus a smaller one from outside the library: the
+/// library effect is named first and the rest is flagged as unexplained,
+/// located on its axis.
+#[test]
+fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
+    let profile = default_profile();
+    let seed = 61;
+    let bending = Effect::with_defaults(EffectKind::ArmBending);
+    let mut meas = simulate(&spec(vec![], 40, 11, seed), &profile).unwrap();
+    let base = Base::default();
+    remeasure(&mut meas, seed, |_, t, q| {
+        let temps = warm(t);
+        let (opw, mut p) = rapidtherm::diagnose::effects::perturbation(
+            &base,
+            std::slice::from_ref(&bending),
+            &RowState {
+                q: *q,
+                temps,
+                lagged: None,
+            },
+        );
+        p.dq[1] += 0.12e-3 * (2.0 * q[1] + 0.5).sin();
+        fk_chain(&opw, q, &p).translation.vector
+    });
+    let d = run(&meas);
+    assert_eq!(
+        d.verdict.first().map(String::as_str),
+        Some("arm-bending"),
+        "{}",
+        summary(&d)
+    );
+    assert!(
+        d.verdict.iter().any(|v| v == "unexplained"),
+        "{}",
+        summary(&d)
+    );
+    let joint = d
+        .where_after
+        .joint
+        .as_ref()
+        .expect("the joint the rest follows");
+    assert_eq!((joint.axis, joint.harmonic), (2, 2), "{}", summary(&d));
+}
+
+/// Each pose measured once (no repeats, so no measured noise level) with
+/// an instrument noisier than the assumed 0.01 mm: structureless data give
+/// `none`; a gear error still gives `unexplained`, on its axis.
+#[test]
+fn without_repeated_poses_only_structure_is_unexplained() {
+    let profile = default_profile();
+    for gear in [false, true] {
+        let mut s = spec(vec![], 200, 2, 71);
+        s.times = vec![0.0];
+        s.measured_temps = true;
+        let mut meas = simulate(&s, &profile).unwrap();
+        for (i, r) in meas.rows.iter_mut().enumerate() {
+            r.time_min = i as f64 * 0.9;
+        }
+        let base = Base::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(71);
+        let n = Normal::new(0.0, 0.02).unwrap();
+        for r in &mut meas.rows {
+            let mut p = Perturbation::default();
+            if gear {
+                p.dq[2] = 0.4e-3 * (3.0 * r.joints[2]).sin();
+            }
+            let cold = base.thermal.expand(&base.nominal, &[7.0; 6]);
+            r.position = fk_chain(&cold, &r.joints, &p).translation.vector
+                + Vector3::new(n.sample(&mut rng), n.sample(&mut rng), n.sample(&mut rng));
+        }
+        let d = run(&meas);
+        if gear {
+            assert_eq!(d.verdict, vec!["unexplained"], "{}", summary(&d));
+            assert_eq!(
+                d.where_.joint.as_ref().map(|j| j.axis),
+                Some(3),
+                "{}",
+                summary(&d)
+            );
+        } else {
+            assert_eq!(d.verdict, vec!["none"], "{}", summary(&d));
+        }
+    }
 }

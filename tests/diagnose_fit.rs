@@ -235,3 +235,55 @@ fn a_single_pose_cannot_tell_a_tilt_from_a_shift() {
         );
     }
 }
+
+#[test]
+fn noisy_orientations_do_not_spoil_the_positions() {
+    // A probe whose orientation noise is 150× the default: the weight of
+    // orientation residuals follows the estimated noise, so the position
+    // fit stays at the position noise.
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    let mut meas = data(
+        vec![Effect::with_defaults(EffectKind::JointOffsetDrift)],
+        true,
+        15,
+    );
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(15);
+    let n = Normal::new(0.0, 3e-3).unwrap();
+    for r in &mut meas.rows {
+        let w = Vector3::new(n.sample(&mut rng), n.sample(&mut rng), n.sample(&mut rng));
+        r.orientation = r
+            .orientation
+            .map(|o| o * UnitQuaternion::from_scaled_axis(w));
+    }
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let d = diagnose(&p, &Options::default()).unwrap();
+    assert_eq!(d.verdict, vec!["joint-offset-drift"], "{:?}", d.words);
+    assert!(
+        d.gap_after_mm < 1.5 * 0.01 * 3f64.sqrt(),
+        "{}",
+        d.gap_after_mm
+    );
+}
+
+#[test]
+fn registration_does_not_swallow_thermal_drift() {
+    // Bending data recorded in a tracker's own frame: registered on the
+    // cold start, the diagnosis still finds the bending, and only it.
+    let mut meas = data(
+        vec![Effect::with_defaults(EffectKind::ArmBending)],
+        false,
+        16,
+    );
+    let frame = Isometry3::from_parts(
+        Translation3::new(1500.0, -300.0, 80.0),
+        UnitQuaternion::from_euler_angles(0.0, 0.0, 0.6),
+    );
+    for r in &mut meas.rows {
+        r.position = frame.transform_point(&r.position.into()).coords;
+    }
+    let p = prepare(&meas, &Model::default(), true).unwrap();
+    assert_eq!(p.registration.as_ref().unwrap().rows_used, 15);
+    let d = diagnose(&p, &Options::default()).unwrap();
+    assert_eq!(d.verdict, vec!["arm-bending"], "{:?}", d.words);
+}

@@ -263,14 +263,15 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
 
 fn registration_words(r: &diagnose::Registration) -> String {
     format!(
-        "instrument frame: translation ({:.3}, {:.3}, {:.3}) mm, rotation vector ({:.4}, {:.4}, {:.4})°, rigid-fit RMS {:.4} mm\n",
+        "instrument frame: translation ({:.3}, {:.3}, {:.3}) mm, rotation vector ({:.4}, {:.4}, {:.4})°, rigid-fit RMS {:.4} mm over {} rows\n",
         r.translation_mm[0],
         r.translation_mm[1],
         r.translation_mm[2],
         r.rotation_deg[0],
         r.rotation_deg[1],
         r.rotation_deg[2],
-        r.rms_mm
+        r.rms_mm,
+        r.rows_used
     )
 }
 

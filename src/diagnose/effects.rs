@@ -52,12 +52,17 @@ const EXPANSION: &[ParamInfo] = &[
     p("dk_upper", "1", "k - 1 of the upper arm (c3)", -0.6),
     p("dk_wrist", "1", "k - 1 of the wrist (c4)", -0.5),
 ];
-const LAG: &[ParamInfo] = &[p(
-    "tau_min",
-    "min",
-    "time constant of the structure temperature behind the motors'",
-    30.0,
-)];
+const LAG: &[ParamInfo] = &[
+    p(
+        "tau_base_min",
+        "min",
+        "time constant of the base link's structure temperature behind its motors'",
+        30.0,
+    ),
+    p("tau_lower_min", "min", "same, lower arm", 30.0),
+    p("tau_upper_min", "min", "same, upper arm", 30.0),
+    p("tau_wrist_min", "min", "same, wrist", 30.0),
+];
 const BENDING: &[ParamInfo] = &[
     p(
         "lower_urad_per_k",
@@ -258,6 +263,9 @@ impl EffectKind {
     }
 }
 
+/// Index meaning "every thermal-lag time constant" (`tau_min`).
+const ALL_TAUS: usize = usize::MAX;
+
 /// An effect with its parameter values (in the units of [`ParamInfo`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Effect {
@@ -306,6 +314,10 @@ impl Effect {
         let index = infos
             .iter()
             .position(|p| p.name.eq_ignore_ascii_case(key))
+            .or_else(|| {
+                (self.kind == EffectKind::ThermalLag && key.eq_ignore_ascii_case("tau_min"))
+                    .then_some(ALL_TAUS)
+            })
             .ok_or_else(|| {
                 Error::usage(format!(
                     "effect `{}` has no parameter `{key}`; it has: {}",
@@ -319,9 +331,15 @@ impl Effect {
             .filter(|v: &f64| v.is_finite())
             .ok_or_else(|| Error::usage(format!("`{value}` is not a finite number ({key})")))?;
         if self.kind == EffectKind::ThermalLag && v < 0.0 {
-            return Err(Error::usage("tau_min must not be negative"));
+            return Err(Error::usage(
+                "thermal-lag time constants must not be negative",
+            ));
         }
-        self.params[index] = v;
+        match index {
+            // `tau_min`: one time constant for every link.
+            ALL_TAUS => self.params.iter_mut().for_each(|p| *p = v),
+            i => self.params[i] = v,
+        }
         Ok(())
     }
 
@@ -353,9 +371,10 @@ pub struct RowState {
     pub q: Joints,
     /// Motor temperatures at the row's time.
     pub temps: MotorTemps,
-    /// Structure temperatures (motor temperatures through the thermal lag),
-    /// present when a thermal-lag effect is in the set.
-    pub lagged: Option<MotorTemps>,
+    /// Motor temperatures through each link's thermal lag (base, lower
+    /// arm, upper arm, wrist): the structure's temperatures, present when a
+    /// thermal-lag effect is in the set.
+    pub lagged: Option<[MotorTemps; 4]>,
 }
 
 /// The expanded base geometry of a row and the perturbation of `effects`.
@@ -366,11 +385,15 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
     let motor_rise = th.link_temps(&row.temps).map(|t| t - th.t_ref);
     // The structure's temperature: the motors' unless a lag is modelled.
     let has_lag = effects.iter().any(|e| e.kind == EffectKind::ThermalLag);
-    let structure = match row.lagged {
-        Some(l) if has_lag => l,
-        _ => row.temps,
+    let struct_rise = match row.lagged {
+        Some(l) if has_lag => [
+            th.base.temperature(&l[0]) - th.t_ref,
+            th.lower_arm.temperature(&l[1]) - th.t_ref,
+            th.upper_arm.temperature(&l[2]) - th.t_ref,
+            th.wrist.temperature(&l[3]) - th.t_ref,
+        ],
+        _ => motor_rise,
     };
-    let struct_rise = th.link_temps(&structure).map(|t| t - th.t_ref);
     let mut scale = [1.0; 4];
     let mut thermal_lengths = false;
     for e in effects {
@@ -457,12 +480,32 @@ pub fn predict(base: &Base, effects: &[Effect], row: &RowState) -> Isometry3<f64
     super::chain::fk_chain(&opw, &row.q, &pert)
 }
 
-/// The thermal-lag time constant of a set of effects, if it has one.
-pub fn lag_tau(effects: &[Effect]) -> Option<f64> {
+/// The thermal-lag time constants (base, lower arm, upper arm, wrist) of a
+/// set of effects, if it has a lag.
+pub fn lag_taus(effects: &[Effect]) -> Option<[f64; 4]> {
     effects
         .iter()
         .find(|e| e.kind == EffectKind::ThermalLag)
-        .map(|e| e.get(0).max(0.0))
+        .map(|e| std::array::from_fn(|i| e.get(i).max(0.0)))
+}
+
+/// A temperature history through each link's lag, for the effects' time
+/// constants (`None` without a thermal-lag effect).
+pub struct LinkLags<'a> {
+    lags: [Lagged<'a>; 4],
+}
+
+impl<'a> LinkLags<'a> {
+    pub fn new(history: &'a TempHistory, effects: &[Effect]) -> Option<LinkLags<'a>> {
+        lag_taus(effects).map(|taus| LinkLags {
+            lags: taus.map(|tau| history.lagged(tau)),
+        })
+    }
+
+    /// Lagged motor temperatures per link at `t` minutes.
+    pub fn at(&self, t: f64) -> [MotorTemps; 4] {
+        std::array::from_fn(|i| self.lags[i].at(t))
+    }
 }
 
 /// Motor temperatures over time as a piecewise-linear history, the input of
@@ -613,7 +656,7 @@ mod tests {
         let row = RowState {
             q: [0.3, 0.2, -0.4, 0.5, 0.6, 0.7],
             temps: [15.0, 18.0, 16.0, 19.0, 22.0, 25.0],
-            lagged: Some([9.0; 6]),
+            lagged: Some([[9.0; 6]; 4]),
         };
         let effects: Vec<Effect> = EffectKind::ALL
             .into_iter()

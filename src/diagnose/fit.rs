@@ -2,11 +2,19 @@
 //! with a numeric Jacobian, parameters the data cannot identify found from
 //! the SVD of the (column-scaled) Jacobian and held at zero, standard errors
 //! from the covariance σ²(JᵀJ)⁻¹.
+//!
+//! Written here rather than with the `levenberg-marquardt` crate because the
+//! fit needs things that crate does not offer: parameters dropped mid-way
+//! when the data cannot identify them, bounds on time constants (active
+//! set), a Jacobian reused across steps (the effects are nearly linear), and
+//! a statistical stopping rule.
 
-use super::effects::{lag_tau, predict, Base, Effect, EffectKind, RowState, TempHistory};
+use super::effects::{predict, Base, Effect, EffectKind, LinkLags, RowState, TempHistory};
 use crate::error::{Error, ErrorKind, Result};
 use crate::robot::{Joints, MotorTemps};
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// One row ready for fitting: joints, resolved motor temperatures, measured
 /// pose (already in the robot base frame).
@@ -36,6 +44,61 @@ pub struct Problem {
     /// Measurement noise per residual, mm: parameter directions that move
     /// the data less than this are not identifiable.
     pub noise_mm: f64,
+    /// Jacobian columns of each effect at zero parameters over all rows
+    /// (see [`Problem::with_zero_jacobians`]): reused by every fit that
+    /// starts there, instead of recomputed per fold and per step.
+    pub zero_jacobians: Option<Arc<BTreeMap<EffectKind, DMatrix<f64>>>>,
+}
+
+impl Problem {
+    /// Precompute, for every effect except the lag (whose fits start at a
+    /// nonzero τ), its Jacobian at zero parameters over all rows. At zero
+    /// an effect's columns do not depend on the other effects in the set.
+    pub fn with_zero_jacobians(mut self) -> Problem {
+        let all: Vec<usize> = (0..self.rows.len()).collect();
+        let r0 = self.residuals(&[], &all);
+        let mut cache = BTreeMap::new();
+        for kind in EffectKind::ALL {
+            if kind == EffectKind::ThermalLag {
+                continue;
+            }
+            let n = kind.params().len();
+            let mut j = DMatrix::zeros(r0.len(), n);
+            for p in 0..n {
+                let mut e = Effect::zero(kind);
+                let h = kind.step(p, 0.0);
+                e.params[p] = h;
+                let r1 = self.residuals(&[e], &all);
+                j.set_column(p, &((&r0 - r1) / h));
+            }
+            cache.insert(kind, j);
+        }
+        self.zero_jacobians = Some(Arc::new(cache));
+        self
+    }
+
+    /// The cached Jacobian at zero for `kinds` on `rows`, if every kind is
+    /// cached.
+    fn cached_jacobian(&self, kinds: &[EffectKind], rows: &[usize]) -> Option<DMatrix<f64>> {
+        let cache = self.zero_jacobians.as_ref()?;
+        let blocks: Vec<&DMatrix<f64>> =
+            kinds.iter().map(|k| cache.get(k)).collect::<Option<_>>()?;
+        let w = self.width();
+        let cols: usize = blocks.iter().map(|b| b.ncols()).sum();
+        let mut j = DMatrix::zeros(rows.len() * w, cols);
+        let mut c0 = 0;
+        for b in blocks {
+            for (k, &i) in rows.iter().enumerate() {
+                if (i + 1) * w > b.nrows() {
+                    return None;
+                }
+                j.view_mut((k * w, c0), (w, b.ncols()))
+                    .copy_from(&b.view((i * w, 0), (w, b.ncols())));
+            }
+            c0 += b.ncols();
+        }
+        Some(j)
+    }
 }
 
 impl Problem {
@@ -57,7 +120,7 @@ impl Problem {
     pub fn predict_rows(&self, extra: &[Effect], rows: &[usize]) -> Vec<nalgebra::Isometry3<f64>> {
         let mut all = self.fixed.clone();
         all.extend_from_slice(extra);
-        let lag = lag_tau(&all).map(|tau| self.history.lagged(tau));
+        let lag = LinkLags::new(&self.history, &all);
         rows.iter()
             .filter_map(|&i| self.rows.get(i))
             .map(|r| {
@@ -135,6 +198,10 @@ impl Fit {
 /// identifiable on these data.
 const IDENTIFIABLE: f64 = 1e-5;
 const MAX_ITER: usize = 60;
+/// Longest thermal-lag time constant fitted, minutes: a structure that
+/// lags by more than 10 h hardly warms during a test, which
+/// expansion-scale (k → 0) describes better than a lag.
+const MAX_TAU_MIN: f64 = 600.0;
 
 /// Fit the parameters of `kinds` (added to the problem's fixed effects) to
 /// the rows `rows`.
@@ -173,27 +240,31 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     };
 
     let mut theta = vec![0.0; m];
-    let lag_index = layout
-        .iter()
-        .position(|&(k, _)| k == EffectKind::ThermalLag);
+    // The thermal-lag time constants: nonlinear, and never negative.
+    let lag_params: Vec<usize> = (0..m)
+        .filter(|&p| layout[p].0 == EffectKind::ThermalLag)
+        .collect();
     if n_obs <= m {
         return Err(Error::input(format!(
             "too few measurements for a fit: {} rows give {n_obs} values for {m} parameters",
             rows.len()
         )));
     }
-    if let Some(li) = lag_index {
-        // τ is strongly nonlinear: start from the best of a coarse grid, with
-        // the other parameters solved linearly at each τ.
+    if !lag_params.is_empty() {
+        // τ is strongly nonlinear: start from the best of a coarse grid (one
+        // τ for all links), with the other parameters solved linearly at
+        // each τ.
         let mut best = (f64::INFINITY, theta.clone());
         for tau in [2.0, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 320.0] {
             let mut t = vec![0.0; m];
-            t[li] = tau;
-            let others: Vec<usize> = (0..m).filter(|&p| p != li).collect();
+            for &li in &lag_params {
+                t[li] = tau;
+            }
+            let others: Vec<usize> = (0..m).filter(|p| !lag_params.contains(p)).collect();
             if !others.is_empty() {
                 let r0 = residual(&t);
                 let j = jacobian(&t, &r0, &others);
-                if let Some(step) = solve_scaled(&j, &r0, 0.0) {
+                if let Some(step) = solve_scaled(&j, &r0) {
                     for (c, &p) in others.iter().enumerate() {
                         t[p] += step[c];
                     }
@@ -210,14 +281,20 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     // Identifiability at the start point.
     let r0 = residual(&theta);
     let all: Vec<usize> = (0..m).collect();
-    let j0 = jacobian(&theta, &r0, &all);
+    let j0 = match lag_params.is_empty() {
+        true => problem.cached_jacobian(kinds, rows),
+        false => None,
+    }
+    .unwrap_or_else(|| jacobian(&theta, &r0, &all));
     let typical: Vec<f64> = layout
         .iter()
         .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
         .collect();
     let free = identifiable(&j0, &typical, problem.noise_mm);
     for (p, value) in theta.iter_mut().enumerate() {
-        if !free.contains(&p) {
+        // A time constant the data cannot pin keeps its grid value (zero
+        // would mean "no lag", a claim the data do not support either).
+        if !free.contains(&p) && !lag_params.contains(&p) {
             *value = 0.0;
         }
     }
@@ -237,8 +314,23 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     let mut fresh = true;
     while !converged && iterations < MAX_ITER {
         iterations += 1;
-        let g = j.transpose() * &r;
-        let a = j.transpose() * &j;
+        let mut g = j.transpose() * &r;
+        let mut a = j.transpose() * &j;
+        // A time constant on a bound (0, or MAX_TAU_MIN) that the data push
+        // beyond it: hold it there this iteration (active set).
+        for (c, &p) in free.iter().enumerate() {
+            let at_bound =
+                (theta[p] <= 0.0 && g[c] < 0.0) || (theta[p] >= MAX_TAU_MIN && g[c] > 0.0);
+            if lag_params.contains(&p) && at_bound {
+                g[c] = 0.0;
+                for k in 0..free.len() {
+                    if k != c {
+                        a[(c, k)] = 0.0;
+                        a[(k, c)] = 0.0;
+                    }
+                }
+            }
+        }
         if at_minimum(&a, &g, rss, n_obs) {
             if fresh {
                 converged = true;
@@ -259,8 +351,8 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         for (c, &p) in free.iter().enumerate() {
             t[p] += step[c];
         }
-        if let Some(li) = lag_index {
-            t[li] = t[li].max(0.0);
+        for &li in &lag_params {
+            t[li] = t[li].clamp(0.0, MAX_TAU_MIN);
         }
         let r1 = residual(&t);
         let rss1 = r1.norm_squared();
@@ -417,7 +509,7 @@ fn solve_damped(a: &DMatrix<f64>, g: &DVector<f64>, lambda: f64) -> Option<DVect
 }
 
 /// Least-squares step J·x ≈ r with column scaling and SVD (rank-safe).
-fn solve_scaled(j: &DMatrix<f64>, r: &DVector<f64>, _lambda: f64) -> Option<DVector<f64>> {
+fn solve_scaled(j: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
     let norms: Vec<f64> = j.column_iter().map(|c| c.norm().max(1e-300)).collect();
     let mut s = j.clone();
     for (c, n) in norms.iter().enumerate() {

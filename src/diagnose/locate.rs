@@ -77,6 +77,23 @@ pub struct Where {
     pub words: Vec<String>,
 }
 
+impl Where {
+    /// Whether the gap shows any structure a noise floor would not: a step
+    /// in time, growth over the warm-up, a joint it follows, a dominant
+    /// direction, or a size that follows the temperatures.
+    pub fn has_structure(&self) -> bool {
+        let grows = match (self.time_bins.first(), self.time_bins.last()) {
+            (Some(a), Some(b)) => b.rms_mm > 1.5 * a.rms_mm || a.rms_mm > 1.5 * b.rms_mm,
+            _ => false,
+        };
+        self.step.is_some()
+            || self.joint.is_some()
+            || grows
+            || self.direction.dominant_share > 0.6
+            || self.temperature_correlation.is_some_and(|c| c > 0.5)
+    }
+}
+
 fn rms(v: &[Vector3<f64>]) -> f64 {
     if v.is_empty() {
         return 0.0;

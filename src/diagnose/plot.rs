@@ -85,7 +85,7 @@ pub fn gap_over_time_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
     Ok(svg)
 }
 
-/// Top view (x, y) of the measured poses with their mean gap vector
+/// Top and side views of the measured poses with their mean gap vector
 /// (magnified), before and after.
 pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
     let rows = &prepared.problem.rows;
@@ -122,39 +122,87 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
         * 1.15;
     // Arrows a tenth of the plot wide at most.
     let scale = (0.1 * reach / biggest).max(1.0).round();
+    // Side view: reach from axis 1 against height, gaps projected on the
+    // radial direction and z (the top view hides vertical gaps).
+    let side = |p: &Vector3<f64>, g: &Vector3<f64>| -> ((f64, f64), (f64, f64)) {
+        let r = (p.x * p.x + p.y * p.y).sqrt();
+        let (ux, uy) = if r > 1e-9 {
+            (p.x / r, p.y / r)
+        } else {
+            (1.0, 0.0)
+        };
+        ((r, p.z), (g.x * ux + g.y * uy, g.z))
+    };
+    let rmax = poses
+        .iter()
+        .map(|p| (p.0.x * p.0.x + p.0.y * p.0.y).sqrt())
+        .fold(100.0, f64::max)
+        * 1.15;
+    let zmax = poses.iter().map(|p| p.0.z).fold(100.0, f64::max) * 1.15;
+    let zmin = poses.iter().map(|p| p.0.z).fold(0.0, f64::min) * 1.15;
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (640, 640)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (1200, 620)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
-                format!("Mean gap per pose, top view, ×{scale:.0} (red: before, blue: after)"),
-                ("sans-serif", 16),
+        let root = root
+            .titled(
+                &format!("Mean gap per pose, magnified ×{scale:.0} (red: before, blue: after)"),
+                ("sans-serif", 18),
             )
+            .map_err(plot_err)?;
+        let (left, right) = root.split_horizontally(600);
+        let mut top = ChartBuilder::on(&left)
+            .caption("top view", ("sans-serif", 14))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(-reach..reach, -reach..reach)
             .map_err(plot_err)?;
-        chart
-            .configure_mesh()
+        top.configure_mesh()
             .x_desc("x (mm)")
             .y_desc("y (mm)")
             .draw()
             .map_err(plot_err)?;
-        chart
-            .draw_series(
-                poses
-                    .iter()
-                    .map(|p| Circle::new((p.0.x, p.0.y), 3, BLACK.filled())),
-            )
+        top.draw_series(
+            poses
+                .iter()
+                .map(|p| Circle::new((p.0.x, p.0.y), 3, BLACK.filled())),
+        )
+        .map_err(plot_err)?;
+        let mut elevation = ChartBuilder::on(&right)
+            .caption("side view (reach from axis 1, height)", ("sans-serif", 14))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..rmax, zmin..zmax)
+            .map_err(plot_err)?;
+        elevation
+            .configure_mesh()
+            .x_desc("reach (mm)")
+            .y_desc("z (mm)")
+            .draw()
+            .map_err(plot_err)?;
+        elevation
+            .draw_series(poses.iter().map(|p| {
+                let (at, _) = side(&p.0, &p.1);
+                Circle::new(at, 3, BLACK.filled())
+            }))
             .map_err(plot_err)?;
         for (color, pick) in [(RED, 1usize), (BLUE, 2)] {
-            chart
+            top.draw_series(poses.iter().map(|p| {
+                let g = if pick == 1 { p.1 } else { p.2 };
+                PathElement::new(
+                    vec![(p.0.x, p.0.y), (p.0.x + scale * g.x, p.0.y + scale * g.y)],
+                    color.stroke_width(2),
+                )
+            }))
+            .map_err(plot_err)?;
+            elevation
                 .draw_series(poses.iter().map(|p| {
                     let g = if pick == 1 { p.1 } else { p.2 };
+                    let ((r, z), (dr, dz)) = side(&p.0, &g);
                     PathElement::new(
-                        vec![(p.0.x, p.0.y), (p.0.x + scale * g.x, p.0.y + scale * g.y)],
+                        vec![(r, z), (r + scale * dr, z + scale * dz)],
                         color.stroke_width(2),
                     )
                 }))

@@ -145,25 +145,27 @@ pub fn score_candidates(
     if threads <= 1 {
         return candidates.iter().map(|&k| score(k)).collect();
     }
-    let mut out: Vec<Option<Scored>> = vec![None; candidates.len()];
+    // A shared queue: fits differ tenfold in cost (the lag is the slowest),
+    // so each thread takes the next candidate when it is free.
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results = std::sync::Mutex::new(Vec::with_capacity(candidates.len()));
     std::thread::scope(|s| {
-        let chunks: Vec<&mut [Option<Scored>]> =
-            out.chunks_mut(candidates.len().div_ceil(threads)).collect();
-        let mut start = 0;
-        for chunk in chunks {
-            let begin = start;
-            start += chunk.len();
-            let score = &score;
-            s.spawn(move || {
-                for (j, slot) in chunk.iter_mut().enumerate() {
-                    if let Some(&k) = candidates.get(begin + j) {
-                        *slot = Some(score(k));
-                    }
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(&kind) = candidates.get(i) else {
+                    break;
+                };
+                let scored = score(kind);
+                if let Ok(mut r) = results.lock() {
+                    r.push((i, scored));
                 }
             });
         }
     });
-    out.into_iter().flatten().collect()
+    let mut out = results.into_inner().unwrap_or_default();
+    out.sort_by_key(|(i, _)| *i);
+    out.into_iter().map(|(_, s)| s).collect()
 }
 
 /// Cosine of two stacked contribution vectors.

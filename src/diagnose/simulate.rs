@@ -1,7 +1,7 @@
 //! Simulated "real" data: the base model plus chosen effects at chosen
 //! magnitudes, tracker noise, deterministic for a seed (ChaCha8).
 
-use super::effects::{lag_tau, predict, Base, Effect, RowState, TempHistory};
+use super::effects::{predict, Base, Effect, LinkLags, RowState, TempHistory};
 use super::measurements::{Measurement, Measurements};
 use crate::error::{Error, Result};
 use crate::robot::Joints;
@@ -101,7 +101,7 @@ pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurem
         .map_err(|e| Error::usage(e.to_string()))?;
     let t_end = spec.times.iter().copied().fold(0.0, f64::max);
     let history = TempHistory::from_profile(profile, t_end, 0.5)?;
-    let lag = lag_tau(&spec.effects).map(|tau| history.lagged(tau));
+    let lag = LinkLags::new(&history, &spec.effects);
     let mut rows = Vec::with_capacity(spec.times.len() * spec.poses.len());
     for &t in &spec.times {
         let temps = profile.temps_at(t)?;

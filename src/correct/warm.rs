@@ -3,7 +3,7 @@
 //! the model file's (base link expansion and any effects a diagnosis
 //! added), with motor temperatures from its heating profile.
 
-use crate::diagnose::effects::{lag_tau, predict, Base, Effect, RowState, TempHistory};
+use crate::diagnose::effects::{lag_taus, predict, Base, Effect, LinkLags, RowState, TempHistory};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::Model;
 use crate::robot::conf::RobConf;
@@ -32,8 +32,9 @@ impl std::fmt::Display for Moment {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct State {
     pub temps: MotorTemps,
-    /// Structure temperatures through a thermal lag, when the model has one.
-    pub lagged: Option<MotorTemps>,
+    /// Motor temperatures through each link's thermal lag (base, lower
+    /// arm, upper arm, wrist), when the model has one.
+    pub lagged: Option<[MotorTemps; 4]>,
 }
 
 /// The nominal (controller) robot and the warm model.
@@ -45,7 +46,6 @@ pub struct WarmRobot {
     base: Base,
     effects: Vec<Effect>,
     profile: Box<dyn HeatingProfile>,
-    lag_tau: Option<f64>,
     history: Option<TempHistory>,
 }
 
@@ -62,8 +62,7 @@ impl WarmRobot {
     pub fn new(robot: Robot, model: &Model, horizon_min: f64) -> Result<WarmRobot> {
         let effects = model.effects()?;
         let profile = model.profile()?;
-        let tau = lag_tau(&effects);
-        let history = match tau {
+        let history = match lag_taus(&effects) {
             Some(_) => Some(TempHistory::from_profile(
                 profile.as_ref(),
                 horizon_min.max(0.0),
@@ -86,7 +85,6 @@ impl WarmRobot {
             warm,
             effects,
             profile,
-            lag_tau: tau,
             history,
         })
     }
@@ -104,15 +102,16 @@ impl WarmRobot {
                 let temps = self.profile.steady()?;
                 Ok(State {
                     temps,
-                    lagged: self.lag_tau.map(|_| temps),
+                    lagged: self.history.as_ref().map(|_| [temps; 4]),
                 })
             }
             Moment::Minute(t) => {
                 let temps = self.profile.temps_at(t)?;
-                let lagged = match (self.lag_tau, &self.history) {
-                    (Some(tau), Some(h)) => Some(h.lagged(tau).at(t)),
-                    _ => None,
-                };
+                let lagged = self
+                    .history
+                    .as_ref()
+                    .and_then(|h| LinkLags::new(h, &self.effects))
+                    .map(|lags| lags.at(t));
                 Ok(State { temps, lagged })
             }
         }

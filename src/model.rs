@@ -28,11 +28,13 @@ use crate::diagnose::effects::{
 };
 use crate::error::{Error, ErrorKind, Location, Result};
 use crate::robot::{Joints, MotorTemps, Opw, ThermalExpansion, IRB140};
-use crate::thermal::{default_profile, HeatingProfile};
+use crate::thermal::{
+    default_profile, FittedProfile, HeatingProfile, HeatingRecord, ModelKind, RecordedProfile,
+};
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -43,6 +45,9 @@ pub struct Model {
     pub heating: HeatingSection,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub effects: Vec<EffectEntry>,
+    /// The folder of the model file (relative recording paths start there).
+    #[serde(skip)]
+    pub dir: Option<PathBuf>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -59,9 +64,14 @@ pub struct HeatingSection {
     /// `"default"`: the embedded IRB 140 warm-up profile.
     #[serde(default = "default_profile_name")]
     pub profile: String,
-    /// A heating record (CSV) to use instead of the embedded profile.
+    /// A heating record (CSV) to use instead of the embedded profile:
+    /// interpolated in time (refused outside its window), or, with `fit`,
+    /// a model fitted to it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub recording: Option<String>,
+    /// Model fitted to the recording: `two-tau`, `first-order`, `poly3`, ...
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<String>,
 }
 
 fn default_profile_name() -> String {
@@ -73,6 +83,7 @@ impl Default for HeatingSection {
         HeatingSection {
             profile: default_profile_name(),
             recording: None,
+            fit: None,
         }
     }
 }
@@ -101,6 +112,7 @@ impl Default for Model {
             thermal: ThermalExpansion::default(),
             heating: HeatingSection::default(),
             effects: Vec::new(),
+            dir: None,
         }
     }
 }
@@ -162,7 +174,10 @@ impl Model {
         let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
         let text = String::from_utf8(bytes)
             .map_err(|_| Error::input(format!("{}: model files must be UTF-8", path.display())))?;
-        Model::parse(&path.display().to_string(), &text)
+        let mut model = Model::parse(&path.display().to_string(), &text)?;
+        // A recording named by a relative path lies beside the model file.
+        model.dir = path.parent().map(Path::to_path_buf);
+        Ok(model)
     }
 
     pub fn to_toml(&self) -> Result<String> {
@@ -209,16 +224,25 @@ impl Model {
     /// The heating profile that supplies motor temperatures.
     pub fn profile(&self) -> Result<Box<dyn HeatingProfile>> {
         if let Some(rec) = &self.heating.recording {
-            // Loading recordings belongs to the heating module; wired up
-            // when it lands.
-            return Err(Error::new(
-                ErrorKind::Unsupported,
-                format!("model: heating recording `{rec}` cannot be loaded yet; use the default profile"),
-            ));
+            let path = match &self.dir {
+                Some(dir) if Path::new(rec).is_relative() => dir.join(rec),
+                _ => PathBuf::from(rec),
+            };
+            let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, &e))?;
+            let record = HeatingRecord::parse(&path.display().to_string(), &bytes)?;
+            return match &self.heating.fit {
+                // A recording of the actual run: interpolated, refused
+                // outside the recorded window.
+                None => Ok(Box::new(RecordedProfile::new(&record))),
+                Some(kind) => {
+                    let kind: ModelKind = kind.parse()?;
+                    Ok(Box::new(FittedProfile::fit(&record, kind, None)?))
+                }
+            };
         }
         if self.heating.profile != "default" {
             return Err(Error::input(format!(
-                "model: unknown heating profile `{}` (known: default)",
+                "model: unknown heating profile `{}` (known: default; or give `recording`)",
                 self.heating.profile
             )));
         }

@@ -19,10 +19,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
         name.push(suffix);
         std::fs::copy(path, &name).map_err(|e| Error::io(Path::new(&name), &e))?;
     }
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".rapidtherm-")
-        .tempfile_in(dir)
-        .map_err(|e| Error::io(dir, &e))?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".rapidtherm-");
+    // A new file gets the usual mode (0666 less the umask), not the
+    // temporary file's private 0600.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, &e))?;
     tmp.write_all(bytes)
         .and_then(|_| tmp.as_file().sync_all())
         .map_err(|e| Error::io(tmp.path(), &e))?;
@@ -61,6 +67,19 @@ mod tests {
         // No temporary files left behind.
         let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
         assert_eq!(names.len(), 2);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_new_file_is_readable_by_others_as_the_umask_allows() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("new.toml");
+        write_atomic(&p, b"x", None).unwrap();
+        let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
+        // Whatever the umask, more than the owner may read (the usual
+        // umasks 022 and 002 both leave 0o044).
+        assert_ne!(mode, 0o600, "mode {mode:o}");
     }
 
     #[test]

@@ -2,9 +2,6 @@ use super::Status;
 use rapidtherm::error::{Error, ErrorKind, Result};
 
 #[derive(clap::Args)]
-pub struct ScheduleArgs {}
-
-#[derive(clap::Args)]
 pub struct CorrectArgs {}
 
 #[derive(clap::Args)]
@@ -21,10 +18,6 @@ fn not_yet(what: &str) -> Result<Status> {
         ErrorKind::Unsupported,
         format!("`{what}` is not built yet"),
     ))
-}
-
-pub fn run_schedule(_args: ScheduleArgs) -> Result<Status> {
-    not_yet("schedule")
 }
 
 pub fn run_correct(_args: CorrectArgs) -> Result<Status> {

@@ -192,7 +192,8 @@ impl Schedule {
         rows.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut out = String::from("target,time_min\n");
         for (t, _, name) in rows {
-            out.push_str(&format!("{name},{t:.4}\n"));
+            out.push_str(&csv_field(name));
+            out.push_str(&format!(",{t:.4}\n"));
         }
         out
     }
@@ -1987,6 +1988,15 @@ fn arc_length(a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>) -> (f64, f64
     (radius * angle(c), radius * angle(b))
 }
 
+/// A CSV field, quoted where it holds a comma or a quote (`pGrid{2,1}`).
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -2055,6 +2065,11 @@ mod tests {
         );
         let back = Schedule::read("s.csv", csv.as_bytes()).unwrap();
         assert_eq!(back.times("p10").unwrap(), &[40.0, 70.0]);
+        let mut grid = Schedule::new();
+        grid.visit("pGrid{2,1}", 1.5);
+        assert_eq!(grid.to_csv(), "target,time_min\n\"pGrid{2,1}\",1.5000\n");
+        let back = Schedule::read("s.csv", grid.to_csv().as_bytes()).unwrap();
+        assert_eq!(back.times("pgrid{2,1}").unwrap(), &[1.5]);
         assert_eq!(back.targets(), &["p10".to_string(), "main#3".to_string()]);
     }
 

@@ -308,6 +308,11 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         }
     }
     let end_s = w.clock.max(w.robot_free);
+    if !end_s.is_finite() {
+        return Err(Error::input(
+            "the program's waits add up to more time than can be counted (a WaitTime of astronomic length?)",
+        ));
+    }
     w.finish();
     Ok(Estimate {
         schedule: w.schedule,
@@ -677,14 +682,7 @@ impl<'p> Walker<'p> {
     }
 
     fn exec(&mut self, s: &'p Statement, frame: &mut Frame<'p>) -> Result<Flow> {
-        self.steps += 1;
-        if self.steps > STEP_BUDGET {
-            return Err(Error::new(
-                ErrorKind::Unsupported,
-                format!("the walk of the program passed {STEP_BUDGET} statements (a loop with a very large count?): give the schedule with --schedule instead"),
-            )
-            .at(self.location(frame, s)));
-        }
+        self.count_step(frame, s)?;
         let line = s.pos.line;
         match &s.kind {
             StatementKind::Call(call) => self.exec_call(call, s, frame),
@@ -836,6 +834,20 @@ impl<'p> Walker<'p> {
         }
     }
 
+    /// One more statement (or loop turn) walked: refuse walks that would
+    /// run for hours.
+    fn count_step(&mut self, frame: &Frame, s: &Statement) -> Result<()> {
+        self.steps += 1;
+        if self.steps > STEP_BUDGET {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!("the walk of the program passed {STEP_BUDGET} statements (a loop with a very large count?): give the schedule with --schedule instead"),
+            )
+            .at(self.location(frame, s)));
+        }
+        Ok(())
+    }
+
     fn location(&self, frame: &Frame, s: &Statement) -> crate::error::Location {
         let file = self
             .program
@@ -878,6 +890,7 @@ impl<'p> Walker<'p> {
                 let mut v = a;
                 let mut flow = Flow::Normal;
                 while (st > 0.0 && v <= b) || (st < 0.0 && v >= b) {
+                    self.count_step(frame, s)?;
                     frame.vars.insert(key.clone(), Value::Num(v));
                     match self.exec_list(body, frame)? {
                         Flow::Normal => {}
@@ -891,10 +904,15 @@ impl<'p> Walker<'p> {
                 flow
             }
             _ => {
+                let why = if st == Some(0.0) {
+                    "STEP 0"
+                } else {
+                    "bounds known only at run time"
+                };
                 self.note(
                     frame,
                     s.pos.line,
-                    format!("FOR {var}: bounds known only at run time, body timed once"),
+                    format!("FOR {var}: {why}, body timed once"),
                 );
                 frame.vars.insert(key.clone(), Value::Unknown);
                 self.exec_list(body, frame)?
@@ -1415,7 +1433,9 @@ impl<'p> Walker<'p> {
     /// program has got there; with `\Conc` the program runs on at once.
     fn advance(&mut self, secs: f64, conc: bool) {
         let start = self.clock.max(self.robot_free);
-        self.robot_free = start + secs.max(0.0);
+        // Absurd speeds (0, negative, overflowing arithmetic) add no time.
+        let secs = if secs.is_finite() { secs.max(0.0) } else { 0.0 };
+        self.robot_free = start + secs;
         self.clock = if conc { start } else { self.robot_free };
     }
 

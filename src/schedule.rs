@@ -260,8 +260,11 @@ impl Estimate {
 /// Statements executed before the walk gives up (a FOR loop of a billion
 /// turns would otherwise run for hours).
 const STEP_BUDGET: u64 = 50_000_000;
-/// Nested routine calls followed (recursion is refused before that).
-const MAX_DEPTH: usize = 64;
+/// Nested routine calls followed (the controller's own limit is lower).
+const MAX_DEPTH: usize = 256;
+/// Stack left before the walk grows it, and by how much.
+const STACK_RED_ZONE: usize = 64 * 1024;
+const STACK_SEGMENT: usize = 1024 * 1024;
 /// The speed assumed where a move's speeddata cannot be resolved.
 const FALLBACK_SPEED: &str = "v1000";
 
@@ -314,6 +317,13 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         ));
     }
     w.finish();
+    for id in w.joint_schedule.targets() {
+        if w.schedule.times(id).is_some() {
+            w.notes.push(format!(
+                "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV lists the robtarget's visits only"
+            ));
+        }
+    }
     Ok(Estimate {
         schedule: w.schedule,
         joint_schedule: w.joint_schedule,
@@ -596,11 +606,18 @@ impl<'p> Walker<'p> {
             routine: Some(routine),
             vars: vars.into_iter().collect(),
         };
-        if self.stack.len() >= MAX_DEPTH || self.stack.contains(&std::ptr::from_ref(routine)) {
+        let why = if self.stack.contains(&std::ptr::from_ref(routine)) {
+            Some("recursive call")
+        } else if self.stack.len() >= MAX_DEPTH {
+            Some("calls nested too deep: call")
+        } else {
+            None
+        };
+        if let Some(why) = why {
             self.note(
                 &frame,
                 line,
-                format!("recursive call of {} not followed", routine.name),
+                format!("{why} of {} not followed", routine.name),
             );
             return Ok(Flow::Normal);
         }
@@ -681,7 +698,13 @@ impl<'p> Walker<'p> {
         Ok(Flow::Normal)
     }
 
+    /// One statement. Deeply nested programs (blocks in routines in
+    /// blocks...) grow the stack on the heap instead of overflowing it.
     fn exec(&mut self, s: &'p Statement, frame: &mut Frame<'p>) -> Result<Flow> {
+        stacker::maybe_grow(STACK_RED_ZONE, STACK_SEGMENT, || self.exec_inner(s, frame))
+    }
+
+    fn exec_inner(&mut self, s: &'p Statement, frame: &mut Frame<'p>) -> Result<Flow> {
         self.count_step(frame, s)?;
         let line = s.pos.line;
         match &s.kind {
@@ -1455,6 +1478,10 @@ impl<'p> Walker<'p> {
     // ------------------------------------------------------- expressions
 
     fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
+        stacker::maybe_grow(STACK_RED_ZONE, STACK_SEGMENT, || self.eval_inner(e, frame))
+    }
+
+    fn eval_inner(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
         Ok(match e {
             Expr::Num(n) => Value::Num(n.value),
             Expr::Bool(b) => Value::Bool(*b),
@@ -2088,8 +2115,8 @@ mod tests {
         let mut grid = Schedule::new();
         grid.visit("pGrid{2,1}", 1.5);
         assert_eq!(grid.to_csv(), "target,time_min\n\"pGrid{2,1}\",1.5000\n");
-        let back = Schedule::read("s.csv", grid.to_csv().as_bytes()).unwrap();
-        assert_eq!(back.times("pgrid{2,1}").unwrap(), &[1.5]);
+        let grid_back = Schedule::read("s.csv", grid.to_csv().as_bytes()).unwrap();
+        assert_eq!(grid_back.times("pgrid{2,1}").unwrap(), &[1.5]);
         assert_eq!(back.targets(), &["p10".to_string(), "main#3".to_string()]);
     }
 

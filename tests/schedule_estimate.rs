@@ -642,3 +642,32 @@ fn cam_duration_is_path_length_over_speed() {
     let rest = est.duration_min * 60.0 - path / 100.0;
     assert!(rest > 0.0 && rest < 20.0, "rest {rest} s");
 }
+
+/// 64 routines each calling the next from inside 60 nested IFs, the last
+/// one moving to an expression 45 brackets deep: the walk must not
+/// overflow a test thread's stack (2 MB).
+#[test]
+fn deep_nesting_does_not_overflow_the_stack() {
+    let mut src = String::from("MODULE Deep\n  CONST robtarget pA := ");
+    src.push_str(&down(500.0, 0.0, 400.0));
+    src.push_str(";\n  PROC main()\n    r0;\n  ENDPROC\n");
+    for r in 0..64 {
+        src.push_str(&format!("  PROC r{r}()\n"));
+        src.push_str(&"IF TRUE THEN\n".repeat(60));
+        if r < 63 {
+            src.push_str(&format!("r{};\n", r + 1));
+        } else {
+            src.push_str(&format!(
+                "MoveL Offs(pA,0,0,{}10{}), v100, fine, tool0;\n",
+                "(".repeat(45),
+                ")".repeat(45)
+            ));
+        }
+        src.push_str(&"ENDIF\n".repeat(60));
+        src.push_str("  ENDPROC\n");
+    }
+    src.push_str("ENDMODULE\n");
+    let est = run(&src, &main_opts());
+    assert_eq!(est.schedule.times("r63@1").unwrap().len(), 1);
+    assert_eq!(est.schedule.times("pA").unwrap().len(), 1);
+}

@@ -1444,10 +1444,20 @@ impl<'p> Walker<'p> {
     /// linear path (one IK per joint move at most).
     fn current_joints(&mut self) -> Option<Joints> {
         if self.arm.joints.is_none() {
+            // A robconf the pose does not have (ConfL \Off, loosely taught
+            // targets): a solution on the same side of axis 1, else any.
             self.arm.joints = self
                 .robot
                 .ik_conf(&self.arm.flange, &self.arm.conf, None)
-                .ok();
+                .ok()
+                .or_else(|| {
+                    let sols = self.robot.ik(&self.arm.flange, None).ok()?;
+                    let cf1 = self.arm.conf.cf1;
+                    sols.iter()
+                        .find(|s| s.conf.cf1 == cf1)
+                        .or_else(|| sols.iter().next())
+                        .map(|s| s.q)
+                });
         }
         self.arm.joints
     }

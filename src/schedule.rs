@@ -3,6 +3,14 @@
 //! the entry routine and timing each move). Times are minutes since the
 //! robot's cold start; target identifiers are those of
 //! `shared/spec/formats.md`.
+//!
+//! - [`SpeedData`], [`predefined_speed`], [`linear_move_seconds`],
+//!   [`joint_move_seconds`]: timing one move.
+//! - [`Schedule`]: every visit of every target; [`Schedule::read`] and
+//!   [`Schedule::to_csv`] are the `target,time_min` file.
+//! - [`Visit`]: which of a target's visits its correction is for.
+//! - [`estimate`] with [`EstimateOptions`] → [`Estimate`]: walk the program
+//!   (see its docs for every choice made where run-time values decide).
 
 use crate::correct::frames::{target_pose, Frames};
 use crate::csv_table::CsvTable;

@@ -1113,13 +1113,11 @@ impl<'p> Walker<'p> {
         match found {
             Some(s) => Ok(s),
             None => {
-                let what = expr.map(|e| format!("{e:?}")).unwrap_or_default();
-                let what: String = what.chars().take(60).collect();
-                self.note(
-                    frame,
-                    line,
-                    format!("speed {what} known only at run time, taken as {FALLBACK_SPEED}"),
-                );
+                let what = match &v {
+                    Value::Ref(name) => format!("speeddata `{name}` is not in the program"),
+                    _ => "speed known only at run time".to_string(),
+                };
+                self.note(frame, line, format!("{what}: taken as {FALLBACK_SPEED}"));
                 Ok(predefined_speed(FALLBACK_SPEED).unwrap_or(SpeedData {
                     v_tcp: 1000.0,
                     v_ori: 500.0,

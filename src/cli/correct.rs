@@ -12,16 +12,6 @@ use rapidtherm::schedule::{Schedule, Visit};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-#[derive(clap::Args)]
-pub struct ScheduleArgs {}
-
-pub fn run_schedule(_args: ScheduleArgs) -> Result<Status> {
-    Err(Error::new(
-        rapidtherm::ErrorKind::Unsupported,
-        "`schedule` is not built yet",
-    ))
-}
-
 /// When the targets are reached, as the command line says it.
 #[derive(clap::Args)]
 #[group(id = "when", required = true, multiple = false)]

@@ -8,6 +8,7 @@ mod correct;
 mod diagnose;
 mod heating;
 mod kinematics;
+mod schedule;
 mod targets;
 
 use clap::{Parser, Subcommand};
@@ -40,7 +41,7 @@ enum Command {
     #[command(subcommand)]
     Heating(heating::HeatingCommand),
     /// Estimate when each target of a program is reached (CSV schedule).
-    Schedule(correct::ScheduleArgs),
+    Schedule(schedule::ScheduleArgs),
     /// Rewrite a program's targets so that the warm robot reaches what the cold program meant.
     Correct(correct::CorrectArgs),
     /// Compare the targets of two programs.
@@ -71,7 +72,7 @@ pub fn main() -> ExitCode {
         Command::Fk(a) => kinematics::run_fk(a),
         Command::Ik(a) => kinematics::run_ik(a),
         Command::Heating(c) => heating::run(c),
-        Command::Schedule(a) => correct::run_schedule(a),
+        Command::Schedule(a) => schedule::run_schedule(a),
         Command::Correct(a) => correct::run_correct(a),
         Command::Diff(a) => correct::run_diff(a),
         Command::Model(c) => correct::run_model(c),

@@ -1,0 +1,69 @@
+//! Schedule estimation speed (the walk only: the program is parsed once,
+//! outside the timing): the committed CAM sample (5,251 inline MoveL) and a
+//! generated CAM program of 1,000,000 inline targets (`gen_cam`, 5 passes;
+//! set `SCHEDULE_BENCH_TARGETS` to change the count). Prints the parse
+//! time, walk time and peak resident memory once per case on stderr.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use rapidtherm::rapid;
+use rapidtherm::robot::Robot;
+use rapidtherm::schedule::{estimate, EstimateOptions};
+use std::hint::black_box;
+use std::time::Instant;
+
+#[path = "../examples/gen_cam.rs"]
+#[allow(dead_code)]
+mod gen_cam;
+
+fn peak_rss_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            let line = s.lines().find(|l| l.starts_with("VmHWM:"))?.to_string();
+            line.split_whitespace().nth(1)?.parse::<f64>().ok()
+        })
+        .unwrap_or(0.0)
+        / 1024.0
+}
+
+fn case(c: &mut Criterion, label: &str, bytes: &[u8], samples: usize) {
+    let t = Instant::now();
+    let program = rapid::parse(label, bytes).expect("parses");
+    let parse_s = t.elapsed().as_secs_f64();
+    let robot = Robot::irb140();
+    let opts = EstimateOptions::default();
+    let t = Instant::now();
+    let est = estimate(&program, &robot, &opts).expect("schedules");
+    let walk_s = t.elapsed().as_secs_f64();
+    eprintln!(
+        "{label}: {} targets, parse {parse_s:.2} s, schedule {walk_s:.3} s, program duration {:.1} min, peak RSS {:.0} MB",
+        program.targets().len(),
+        est.duration_min,
+        peak_rss_mb()
+    );
+    let mut g = c.benchmark_group("schedule");
+    g.sample_size(samples);
+    g.throughput(Throughput::Elements(program.targets().len() as u64));
+    g.bench_function(label, |b| {
+        b.iter(|| estimate(black_box(&program), &robot, &opts).expect("schedules"))
+    });
+    g.finish();
+}
+
+fn cam_sample(c: &mut Criterion) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+    let bytes = std::fs::read(path).expect("sample");
+    case(c, "cam_contour.mod", &bytes, 20);
+}
+
+fn generated(c: &mut Criterion) {
+    let n: usize = std::env::var("SCHEDULE_BENCH_TARGETS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1_000_000);
+    let text = gen_cam::cam_program(n / 5, 5);
+    case(c, "generated", text.as_bytes(), 10);
+}
+
+criterion_group!(benches, cam_sample, generated);
+criterion_main!(benches);

@@ -1,0 +1,64 @@
+//! `rapidtherm schedule FILE...`: when each target of a program is
+//! reached, estimated by walking its entry routine (CSV on stdout, the
+//! choices made on stderr).
+use super::{read_input, write_output, Status};
+use rapidtherm::error::{Error, Result};
+use rapidtherm::rapid;
+use rapidtherm::robot::Robot;
+use rapidtherm::schedule::{estimate, EstimateOptions};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct ScheduleArgs {
+    /// RAPID files (.mod, .modx, .prg, .sys) read as one run; `-` reads
+    /// standard input.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Minutes since the cold start at which the program starts.
+    #[arg(long, value_name = "MIN", default_value_t = 0.0)]
+    pub start: f64,
+    /// Entry routine (case-insensitive).
+    #[arg(long, value_name = "NAME", default_value = "main")]
+    pub entry: String,
+    /// How many times the entry routine runs back to back.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub cycles: u32,
+    /// Where to write the schedule (CSV); `-` is standard output.
+    #[arg(short = 'o', long = "output", value_name = "OUT", default_value = "-")]
+    pub output: PathBuf,
+}
+
+pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
+    if args.cycles == 0 {
+        return Err(Error::usage("--cycles must be at least 1"));
+    }
+    let mut inputs = Vec::new();
+    for f in &args.files {
+        inputs.push(read_input(f)?);
+    }
+    let refs: Vec<(&str, &[u8])> = inputs
+        .iter()
+        .map(|(n, b)| (n.as_str(), b.as_slice()))
+        .collect();
+    let program = rapid::parse_files(&refs)?;
+    let robot = Robot::irb140();
+    let opts = EstimateOptions {
+        entry: args.entry,
+        start_min: args.start,
+        cycles: args.cycles,
+    };
+    let est = estimate(&program, &robot, &opts)?;
+    write_output(&args.output, est.to_csv().as_bytes())?;
+    for n in &est.notes {
+        eprintln!("note: {n}");
+    }
+    eprintln!(
+        "{} target(s), {} visit(s), {:.2} min from minute {} to {:.2}",
+        est.schedule.targets().len() + est.joint_schedule.targets().len(),
+        est.schedule.visit_count() + est.joint_schedule.visit_count(),
+        est.duration_min,
+        opts.start_min,
+        opts.start_min + est.duration_min
+    );
+    Ok(Status::Success)
+}

@@ -8,7 +8,7 @@ use rapidtherm::model::Model;
 use rapidtherm::rapid;
 use rapidtherm::report::{mm, render_csv, render_table, Align, Format};
 use rapidtherm::robot::Robot;
-use rapidtherm::schedule::{Schedule, Visit};
+use rapidtherm::schedule::{self, EstimateOptions, Schedule, Visit};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
@@ -24,6 +24,10 @@ pub struct WhenArgs {
     /// writes one).
     #[arg(long, value_name = "FILE.csv", group = "when")]
     pub schedule: Option<PathBuf>,
+    /// Estimate the times from the program itself, starting at this minute
+    /// (walks --entry, follows calls and loops, times every move).
+    #[arg(long, value_name = "MIN", group = "when")]
+    pub start: Option<f64>,
 }
 
 #[derive(clap::Args)]
@@ -33,10 +37,16 @@ pub struct CorrectArgs {
     pub files: Vec<PathBuf>,
     #[command(flatten)]
     pub when: WhenArgs,
-    /// With --schedule: the minute for targets the schedule does not list
-    /// (without it, a missing target is an error).
-    #[arg(long, value_name = "MIN|steady", requires = "schedule")]
+    /// With --schedule or --start: the minute for targets the schedule
+    /// does not list (without it, a missing target is an error).
+    #[arg(long, value_name = "MIN|steady")]
     pub default_time: Option<String>,
+    /// With --start: the routine the program starts in.
+    #[arg(long, value_name = "NAME", default_value = "main", requires = "start")]
+    pub entry: String,
+    /// With --start: how many times the entry routine runs back to back.
+    #[arg(long, value_name = "N", default_value_t = 1, requires = "start")]
+    pub cycles: u32,
     /// A target reached several times is corrected for this visit.
     #[arg(long, value_enum, default_value_t = Visit::Mean)]
     pub visit: Visit,
@@ -132,45 +142,8 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     if args.tolerance.is_nan() || args.tolerance < 0.0 {
         return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
     }
-    let when = match (&args.when.at, &args.when.schedule) {
-        (Some(at), _) => When::At(moment(at, "--at")?),
-        (None, Some(path)) => {
-            let (name, bytes) = read_input(path)?;
-            When::Schedule {
-                schedule: Schedule::read(&name, &bytes)?,
-                default: args
-                    .default_time
-                    .as_deref()
-                    .map(|t| moment(t, "--default-time"))
-                    .transpose()?,
-            }
-        }
-        (None, None) => {
-            return Err(Error::usage(
-                "say when the targets are reached: --at MIN, --at steady or --schedule FILE",
-            ))
-        }
-    };
-    let horizon = match &when {
-        When::At(Moment::Minute(t)) => *t,
-        When::Schedule { schedule, default } => {
-            let latest = schedule
-                .targets()
-                .iter()
-                .filter_map(|id| schedule.times(id))
-                .flatten()
-                .copied()
-                .fold(0.0, f64::max);
-            match default {
-                Some(Moment::Minute(t)) => latest.max(*t),
-                _ => latest,
-            }
-        }
-        When::At(Moment::Steady) => 0.0,
-    };
     let model = load_model(args.model.as_deref())?;
     let robot = load_robot(args.robot.as_deref())?;
-    let warm = WarmRobot::new(robot, &model, horizon)?;
     let mut inputs = Vec::new();
     for f in &args.files {
         inputs.push(read_input(f)?);
@@ -181,6 +154,28 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         .collect();
     let program = rapid::parse_files(&refs)?;
     let sources: Vec<&[u8]> = inputs.iter().map(|(_, b)| b.as_slice()).collect();
+    let when = when_of(&args, &program, &robot)?;
+    let horizon = match &when {
+        When::At(Moment::Minute(t)) => *t,
+        When::At(Moment::Steady) => 0.0,
+        When::Schedule {
+            schedule,
+            joints,
+            default,
+        } => {
+            let latest = std::iter::once(schedule)
+                .chain(joints)
+                .flat_map(|s| s.targets().iter().filter_map(|id| s.times(id)))
+                .flatten()
+                .copied()
+                .fold(0.0, f64::max);
+            match default {
+                Some(Moment::Minute(t)) => latest.max(*t),
+                _ => latest,
+            }
+        }
+    };
+    let warm = WarmRobot::new(robot, &model, horizon)?;
     let options = Options {
         when,
         visit: args.visit,
@@ -249,6 +244,53 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         eprint!("{}", summary_text(&outcome));
     }
     Ok(Status::Success)
+}
+
+/// When the targets are reached, from --at, --schedule or --start.
+fn when_of(args: &CorrectArgs, program: &rapid::Program, robot: &Robot) -> Result<When> {
+    let default = args
+        .default_time
+        .as_deref()
+        .map(|t| moment(t, "--default-time"))
+        .transpose()?;
+    Ok(match (&args.when.at, &args.when.schedule, args.when.start) {
+        (Some(at), _, _) => When::At(moment(at, "--at")?),
+        (None, Some(path), _) => {
+            let (name, bytes) = read_input(path)?;
+            When::Schedule {
+                schedule: Schedule::read(&name, &bytes)?,
+                joints: None,
+                default,
+            }
+        }
+        (None, None, Some(start)) => {
+            if !(start.is_finite() && start >= 0.0) {
+                return Err(Error::usage("--start: a minute since the cold start (≥ 0)"));
+            }
+            let estimate = schedule::estimate(
+                program,
+                robot,
+                &EstimateOptions {
+                    entry: args.entry.clone(),
+                    start_min: start,
+                    cycles: args.cycles,
+                },
+            )?;
+            for note in &estimate.notes {
+                eprintln!("note: {note}");
+            }
+            When::Schedule {
+                schedule: estimate.schedule,
+                joints: Some(estimate.joint_schedule),
+                default,
+            }
+        }
+        (None, None, None) => {
+            return Err(Error::usage(
+                "say when the targets are reached: --at MIN, --at steady, --schedule FILE or --start MIN",
+            ))
+        }
+    })
 }
 
 fn progress_bar(total: usize) -> Option<indicatif::ProgressBar> {

@@ -52,6 +52,9 @@ pub enum When {
     /// targets the schedule does not list (absent: an error).
     Schedule {
         schedule: Schedule,
+        /// Times of jointtargets when kept apart (an estimate keeps them in
+        /// their own name space); `None`: looked up in `schedule`.
+        joints: Option<Schedule>,
         default: Option<Moment>,
     },
 }
@@ -174,8 +177,14 @@ fn correct_all(
 ) -> Result<Outcome> {
     let frames = Frames::of_program(program)?;
     let uses = usages(program);
-    if let When::Schedule { schedule, .. } = &options.when {
+    if let When::Schedule {
+        schedule, joints, ..
+    } = &options.when
+    {
         check_schedule_names(program, schedule)?;
+        if let Some(j) = joints {
+            check_schedule_names(program, j)?;
+        }
     }
     let total = program.targets().len() + program.jointtargets().len();
     let mut corrections = Vec::new();
@@ -343,7 +352,7 @@ fn correct_jointtarget(
     let q: [f64; 6] = degrees.map(f64::to_radians);
     let flange = warm.nominal.fk(&q, None);
     let conf = warm.nominal.conf_of(&q);
-    let moments = moments_of(&options.when, &jt.id).map_err(located)?;
+    let moments = joint_moments_of(&options.when, &jt.id).map_err(located)?;
     let moment = pick(&moments, options.visit);
     let state = warm.state(moment).map_err(located)?;
     let q_warm = warm.joints_for(&flange, &conf, &state).map_err(located)?;
@@ -476,9 +485,22 @@ fn derived_report(program: &Program, target: &Target, corrections: &[Correction]
 
 /// The moments a target is reached.
 fn moments_of(when: &When, id: &str) -> Result<Vec<Moment>> {
+    moments_in(when, id, false)
+}
+
+/// The moments a jointtarget is reached.
+fn joint_moments_of(when: &When, id: &str) -> Result<Vec<Moment>> {
+    moments_in(when, id, true)
+}
+
+fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Moment>> {
     match when {
         When::At(m) => Ok(vec![*m]),
-        When::Schedule { schedule, default } => match schedule.times(id) {
+        When::Schedule {
+            schedule,
+            joints,
+            default,
+        } => match joints.as_ref().filter(|_| joint).unwrap_or(schedule).times(id) {
             Some(times) => Ok(times.iter().map(|&t| Moment::Minute(t)).collect()),
             None => default.map(|m| vec![m]).ok_or_else(|| {
                 Error::input(format!(

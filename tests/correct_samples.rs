@@ -196,6 +196,8 @@ fn untouched_bytes_stay_identical() {
                     .flat_map(|j| j.robax.iter().map(|n| n.span())),
             )
             .collect();
+        let mut spans = spans;
+        spans.sort_by_key(|s| s.start);
         let mut kept_in = Vec::new();
         let mut at = 0;
         for s in &spans {
@@ -217,6 +219,8 @@ fn untouched_bytes_stay_identical() {
                     .flat_map(|j| j.robax.iter().map(|n| n.span())),
             )
             .collect();
+        let mut spans_out = spans_out;
+        spans_out.sort_by_key(|s| s.start);
         let mut kept_out = Vec::new();
         let mut at = 0;
         for s in &spans_out {

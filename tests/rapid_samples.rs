@@ -156,7 +156,7 @@ fn latin1_crlf_sample_keeps_its_bytes_and_names() {
     let t = prog.target("p\u{dc}ber").expect("Latin-1 identifier");
     assert_eq!(
         t.value.as_ref().unwrap().trans_values(),
-        [430.0, -60.0, 205.0]
+        [470.0, -60.0, 205.0]
     );
     // Line 10, after 4 spaces and `CONST robtarget pÜber := `.
     assert_eq!((t.origin.pos.line, t.origin.pos.col), (10, 30));

@@ -4,7 +4,16 @@ use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
 use rapidtherm::diagnose::effects::{Base, Effect};
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
-use rapidtherm::diagnose::simulate::{parse_times, random_poses, simulate, SimSpec};
+use rapidtherm::diagnose::simulate::{
+    iso_cube_poses, parse_times, program_poses, random_poses, simulate, SimSpec,
+};
+use rapidtherm::robot::Robot;
+
+/// The ISO 9283 cube in the IRB 140's workspace: 300 mm side, centred
+/// 480 mm in front of axis 1 and 450 mm up (inside the reach at every
+/// corner with the tool pointing down).
+const ISO_CUBE_CENTRE: [f64; 3] = [480.0, 0.0, 450.0];
+const ISO_CUBE_SIDE: f64 = 300.0;
 use rapidtherm::diagnose::{self, Diagnosis, Options};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::Model;
@@ -168,12 +177,13 @@ fn read_poses(spec: &str, seed: u64) -> Result<Vec<(String, [f64; 6])>> {
         }
         return Ok(out);
     }
-    if spec == "iso-cube" || spec.starts_with("program:") {
-        // Both need inverse kinematics (robot module), wired up on merge.
-        return Err(Error::new(
-            ErrorKind::Unsupported,
-            format!("--poses {spec}: needs inverse kinematics, not available yet; use random:N or joints:FILE.csv"),
-        ));
+    if spec == "iso-cube" {
+        return iso_cube_poses(&Robot::irb140(), ISO_CUBE_CENTRE, ISO_CUBE_SIDE);
+    }
+    if let Some(file) = spec.strip_prefix("program:") {
+        let (name, bytes) = read_input(Path::new(file))?;
+        let program = rapidtherm::rapid::parse(&name, &bytes)?;
+        return program_poses(&program, &Robot::irb140());
     }
     Err(Error::usage(format!(
         "--poses `{spec}`: expected random:N, joints:FILE.csv, iso-cube or program:FILE"

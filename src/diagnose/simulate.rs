@@ -3,10 +3,13 @@
 
 use super::effects::{predict, Base, Effect, LinkLags, RowState, TempHistory};
 use super::measurements::{Measurement, Measurements};
-use crate::error::{Error, Result};
-use crate::robot::Joints;
+use crate::correct::frames::{frames_of, target_pose, usages, Frames};
+use crate::error::{Error, ErrorKind, Result};
+use crate::rapid::{Program, TargetKind};
+use crate::robot::frames::flange_of_target;
+use crate::robot::{Joints, Robot};
 use crate::thermal::HeatingProfile;
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -47,6 +50,86 @@ pub fn random_poses(n: usize, limits_deg: &[(f64, f64); 6], seed: u64) -> Vec<(S
             (format!("P{}", i + 1), q)
         })
         .collect()
+}
+
+/// The five positions of the ISO 9283 test plane: the cube (side `side`
+/// mm, centred at `centre` in the base frame) cut by its diagonal plane
+/// through C1, C2, C7, C8; P1 at the centre, P2..P5 on the plane's
+/// diagonals at 10 % of their length from the corners. The tool (flange)
+/// points down, as in most test set-ups; each pose is solved with the
+/// natural configuration (arm in front, elbow up, wrist not flipped).
+pub fn iso_cube_poses(robot: &Robot, centre: [f64; 3], side: f64) -> Result<Vec<(String, Joints)>> {
+    let h = side / 2.0;
+    let c = Vector3::from(centre);
+    // Corners of the diagonal plane: bottom front-left to top back-right.
+    let corners = [
+        Vector3::new(-h, -h, -h),
+        Vector3::new(-h, h, -h),
+        Vector3::new(h, h, h),
+        Vector3::new(h, -h, h),
+    ];
+    let mut points = vec![("P1".to_string(), c)];
+    for (k, corner) in corners.iter().enumerate() {
+        points.push((format!("P{}", k + 2), c + corner * 0.8));
+    }
+    let down = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI);
+    points
+        .into_iter()
+        .map(|(name, p)| {
+            let pose = Isometry3::from_parts(Translation3::from(p), down);
+            let sols = robot.ik(&pose, None)?;
+            let best = sols
+                .iter()
+                .filter(|s| s.conf.cfx == 0)
+                .min_by(|a, b| {
+                    let cost = |q: &Joints| q[3].abs() + q[5].abs();
+                    cost(&a.q).total_cmp(&cost(&b.q))
+                })
+                .ok_or_else(|| {
+                    Error::new(
+                        ErrorKind::Unreachable,
+                        format!("ISO cube point {name} at {p:?} has no front, elbow-up solution"),
+                    )
+                })?;
+            Ok((name, best.q))
+        })
+        .collect()
+}
+
+/// The joints at which a RAPID program reaches each of its targets (with
+/// the tool, work object and robconf the program gives), labelled by the
+/// target identifiers. Derived targets and targets no move reaches are
+/// left out.
+pub fn program_poses(program: &Program, robot: &Robot) -> Result<Vec<(String, Joints)>> {
+    let frames = Frames::of_program(program)?;
+    let uses = usages(program);
+    let mut out = Vec::new();
+    for (index, target) in program.targets().iter().enumerate() {
+        if target.kind == TargetKind::Derived
+            || (target.kind != TargetKind::Inline && !uses.contains_key(&index))
+        {
+            continue;
+        }
+        let Some((pose, conf)) = target_pose(program, target)? else {
+            continue;
+        };
+        let (tool, wobj, _, _) = frames_of(program, &frames, index, uses.get(&index))?;
+        let flange = flange_of_target(&pose, &tool, &wobj)?;
+        let q = robot.ik_conf(&flange, &conf, None).map_err(|e| {
+            Error {
+                message: format!("target {}: {}", target.id, e.message),
+                ..e
+            }
+            .at(program.location(&target.origin))
+        })?;
+        out.push((target.id.clone(), q));
+    }
+    if out.is_empty() {
+        return Err(Error::input(
+            "the program has no target a move instruction reaches",
+        ));
+    }
+    Ok(out)
 }
 
 /// Parse `START:END:STEP` (inclusive) or a comma list of minutes.

@@ -238,38 +238,97 @@ fn referenced_targets(
             }
         }
         Expr::Name(n) => lookup(n).into_iter().collect(),
-        Expr::Index(b) => {
-            let (base, indices) = b.as_ref();
-            let Some(name) = base.as_name() else {
+        // `arr{2,1}`, `rec.pos`, `cell{i}.path.start`: the access path as
+        // a pattern over target identifiers, an index that is not a
+        // literal matching every element.
+        Expr::Index(_) | Expr::Component(_) => {
+            let Some(pattern) = access_pattern(expr) else {
                 return Vec::new();
             };
-            let literal = indices
-                .iter()
-                .map(|e| e.as_num().filter(|v| v.fract() == 0.0).map(|v| v as i64))
-                .collect::<Option<Vec<i64>>>();
-            match literal {
-                Some(idx) => {
-                    let idx: Vec<String> = idx.iter().map(i64::to_string).collect();
-                    lookup(&format!("{name}{{{}}}", idx.join(",")))
-                        .into_iter()
-                        .collect()
+            if !pattern.contains('*') {
+                if let Some(i) = lookup(&pattern) {
+                    return vec![i];
                 }
-                // `path{i}` in a loop: the move may reach any element.
-                None => program
-                    .targets()
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, t)| {
-                        t.kind == TargetKind::ArrayElement
-                            && t.name
-                                .as_deref()
-                                .is_some_and(|n| n.eq_ignore_ascii_case(name))
-                    })
-                    .map(|(i, _)| i)
-                    .collect(),
             }
+            program
+                .targets()
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| {
+                    matches!(t.kind, TargetKind::ArrayElement | TargetKind::RecordField)
+                        && glob_match(&pattern, &t.id)
+                })
+                .map(|(i, _)| i)
+                .collect()
         }
         _ => Vec::new(),
+    }
+}
+
+/// The identifier pattern of an access path: `a{2,1}` for literal
+/// indices, `a{*}` where an index is computed at run time.
+fn access_pattern(expr: &Expr) -> Option<String> {
+    match expr {
+        Expr::Name(n) => Some(n.to_string()),
+        Expr::Index(b) => {
+            let (base, indices) = b.as_ref();
+            let idx: Vec<String> = indices
+                .iter()
+                .map(|e| match e.as_num() {
+                    Some(v) if v.fract() == 0.0 => format!("{}", v as i64),
+                    _ => "*".to_string(),
+                })
+                .collect();
+            Some(format!("{}{{{}}}", access_pattern(base)?, idx.join(",")))
+        }
+        Expr::Component(b) => {
+            let (base, field) = b.as_ref();
+            Some(format!("{}.{}", access_pattern(base)?, field))
+        }
+        _ => None,
+    }
+}
+
+/// Case-insensitive match of an identifier against a pattern whose `*`
+/// stands for one index (an optionally signed whole number).
+fn glob_match(pattern: &str, id: &str) -> bool {
+    let (p, s) = (pattern.as_bytes(), id.as_bytes());
+    let (mut i, mut j) = (0, 0);
+    while i < p.len() {
+        if p[i] == b'*' {
+            let start = j;
+            if j < s.len() && s[j] == b'-' {
+                j += 1;
+            }
+            while j < s.len() && s[j].is_ascii_digit() {
+                j += 1;
+            }
+            if j == start || (j == start + 1 && s[start] == b'-') {
+                return false;
+            }
+            i += 1;
+        } else {
+            if j >= s.len() || !p[i].eq_ignore_ascii_case(&s[j]) {
+                return false;
+            }
+            i += 1;
+            j += 1;
+        }
+    }
+    j == s.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::glob_match;
+
+    #[test]
+    fn patterns_match_indices_only() {
+        assert!(glob_match("sCell{*}.path.start", "scell{12}.PATH.start"));
+        assert!(glob_match("p{*,1}", "p{3,1}"));
+        assert!(!glob_match("p{*,1}", "p{3,2}"));
+        assert!(!glob_match("p{*}", "p{}"));
+        assert!(!glob_match("a.b", "a.bc"));
     }
 }
 

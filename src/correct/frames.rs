@@ -318,20 +318,6 @@ fn glob_match(pattern: &str, id: &str) -> bool {
     j == s.len()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::glob_match;
-
-    #[test]
-    fn patterns_match_indices_only() {
-        assert!(glob_match("sCell{*}.path.start", "scell{12}.PATH.start"));
-        assert!(glob_match("p{*,1}", "p{3,1}"));
-        assert!(!glob_match("p{*,1}", "p{3,2}"));
-        assert!(!glob_match("p{*}", "p{}"));
-        assert!(!glob_match("a.b", "a.bc"));
-    }
-}
-
 /// The one tool/work-object pair a target is corrected for: the first
 /// usage's. A target moved to with several different pairs is an error
 /// (one robtarget cannot be right for two frames), as is an unknown name.
@@ -411,4 +397,18 @@ pub fn unsupported(program: &Program, target: &Target, why: &str) -> Error {
         format!("target {}: {why}", target.id),
     )
     .at(program.location(&target.origin))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::glob_match;
+
+    #[test]
+    fn patterns_match_indices_only() {
+        assert!(glob_match("sCell{*}.path.start", "scell{12}.PATH.start"));
+        assert!(glob_match("p{*,1}", "p{3,1}"));
+        assert!(!glob_match("p{*,1}", "p{3,2}"));
+        assert!(!glob_match("p{*}", "p{}"));
+        assert!(!glob_match("a.b", "a.bc"));
+    }
 }

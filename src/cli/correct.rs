@@ -395,6 +395,9 @@ fn summary_text(outcome: &Outcome) -> String {
             sk.id, sk.file, sk.line, sk.reason
         ));
     }
+    for note in &outcome.notes {
+        text.push_str(&format!("note: {note}\n"));
+    }
     text
 }
 

@@ -28,7 +28,9 @@ use crate::rapid::rewrite::{
     apply_edits, number_edit, Edit, POSITION_RESOLUTION, QUATERNION_RESOLUTION,
 };
 use crate::rapid::{JointTarget, Number, Program, Target, TargetKind};
+use crate::robot::conf::{quadrant_distance, RobConf};
 use crate::robot::frames::{flange_of_target, target_of_flange};
+use crate::robot::Joints;
 use crate::schedule::{Schedule, Visit};
 use frames::{frames_of, target_pose, usages, Frames};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
@@ -148,6 +150,8 @@ pub struct Outcome {
     pub corrections: Vec<Correction>,
     pub derived: Vec<Derived>,
     pub skipped: Vec<Skipped>,
+    /// Choices the correction made that the user should know about.
+    pub notes: Vec<String>,
     pub summary: Summary,
     /// New contents, one per input file (same order).
     #[serde(skip)]
@@ -177,6 +181,7 @@ fn correct_all(
 ) -> Result<Outcome> {
     let frames = Frames::of_program(program)?;
     let uses = usages(program);
+    let conf_off = configuration_monitoring_off(program);
     if let When::Schedule {
         schedule, joints, ..
     } = &options.when
@@ -190,6 +195,7 @@ fn correct_all(
     let mut corrections = Vec::new();
     let mut skipped = Vec::new();
     let mut derived_targets = Vec::new();
+    let mut notes = Vec::new();
     for (index, target) in program.targets().iter().enumerate() {
         if index % 4096 == 0 {
             progress(index, total);
@@ -218,10 +224,27 @@ fn correct_all(
         let moments = moments_of(&options.when, &target.id)
             .map_err(|e| e.at(program.location(&target.origin)))?;
         let moment = pick(&moments, options.visit);
-        let q_nominal = warm
-            .nominal
-            .ik_conf(&flange, &conf, None)
-            .map_err(|e| at_target(program, target, prefix(e, "as written")))?;
+        let (q_nominal, conf) = match warm.nominal.ik_conf(&flange, &conf, None) {
+            Ok(q) => (q, conf),
+            // With configuration monitoring off the controller takes the
+            // solution nearest the robot's current one and ignores the
+            // robconf; the nearest-quadrant solution stands for it, and a
+            // correction of tenths of a millimetre keeps that branch.
+            Err(e) if conf_off && e.kind == ErrorKind::Unreachable => {
+                match nearest_solution(warm, &flange, &conf) {
+                    Some(q) => {
+                        let nearest = warm.nominal.conf_of(&q);
+                        notes.push(format!(
+                            "target {} (line {}): robconf {conf} matches no solution; configuration monitoring is off (ConfL/ConfJ \\Off), so it is corrected on the nearest configuration {nearest}",
+                            target.id, target.origin.pos.line
+                        ));
+                        (q, nearest)
+                    }
+                    None => return Err(at_target(program, target, prefix(e, "as written"))),
+                }
+            }
+            Err(e) => return Err(at_target(program, target, prefix(e, "as written"))),
+        };
         let state = warm
             .state(moment)
             .map_err(|e| at_target(program, target, e))?;
@@ -331,9 +354,44 @@ fn correct_all(
         corrections,
         derived,
         skipped,
+        notes,
         summary,
         outputs,
     })
+}
+
+/// Whether the program switches configuration monitoring off
+/// (`ConfL \Off`, `ConfJ \Off`): then the controller does not hold targets
+/// to their robconf.
+fn configuration_monitoring_off(program: &Program) -> bool {
+    let mut off = false;
+    for module in &program.modules {
+        for routine in &module.routines {
+            frames::walk_calls(&routine.body, &mut |call, _| {
+                let name = call.name.as_ref();
+                if (name.eq_ignore_ascii_case("ConfL") || name.eq_ignore_ascii_case("ConfJ"))
+                    && call.optional("Off").is_some()
+                {
+                    off = true;
+                }
+            });
+        }
+    }
+    off
+}
+
+/// The solution of the nominal arm whose axes lie nearest the quadrants of
+/// `conf` (same cfx preferred).
+fn nearest_solution(warm: &WarmRobot, flange: &Isometry3<f64>, conf: &RobConf) -> Option<Joints> {
+    let sols = warm.nominal.ik(flange, None).ok()?;
+    let cost = |q: &Joints| {
+        let c = warm.nominal.conf_of(q);
+        let cfx = if c.cfx == conf.cfx { 0.0 } else { 10.0 };
+        cfx + quadrant_distance(q[0], conf.cf1)
+            + quadrant_distance(q[3], conf.cf4)
+            + quadrant_distance(q[5], conf.cf6)
+    };
+    sols.iter().map(|s| s.q).min_by(|a, b| cost(a).total_cmp(&cost(b)))
 }
 
 /// A MoveAbsJ jointtarget: the same flange pose, reached by the warm arm.

@@ -220,6 +220,20 @@ impl<'a, 'b> FileParser<'a, 'b> {
         let Some(pair) = pairs.next() else {
             return Err(self.err(piece.start, "internal: empty parse"));
         };
+        if let Some(id) = pair
+            .clone()
+            .into_inner()
+            .flatten()
+            .find(|p| p.as_rule() == Rule::identifier && is_reserved(p.as_str()))
+        {
+            return Err(self.err(
+                piece.start + id.as_span().start(),
+                format!(
+                    "expected a name, found `{}`, a reserved word of RAPID",
+                    id.as_str()
+                ),
+            ));
+        }
         f(self, pair)
     }
 
@@ -1351,8 +1365,12 @@ impl<'a, 'b> FileParser<'a, 'b> {
     /// A name as an interned string (the same few names recur millions of
     /// times in a CAM program).
     fn name(&mut self, pair: &Pair<'_, Rule>, base: usize) -> Arc<str> {
-        let t = self.text(pair, base);
-        self.b.intern(&t)
+        let s = pair.as_span();
+        let raw = &self.src[base + s.start()..base + s.end()];
+        match std::str::from_utf8(raw) {
+            Ok(t) => self.b.intern(t),
+            Err(_) => self.b.intern(&decode_lossless(raw)),
+        }
     }
 
     fn text(&self, pair: &Pair<'_, Rule>, base: usize) -> String {
@@ -1402,10 +1420,10 @@ impl<'a, 'b> FileParser<'a, 'b> {
         for c in pair.into_inner() {
             let r = c.as_rule();
             match r {
-                Rule::negation | Rule::unary_plus | Rule::not_operator => {
-                    let op = match r {
-                        Rule::negation => UnaryOp::Neg,
-                        Rule::unary_plus => UnaryOp::Plus,
+                Rule::prefix_operator => {
+                    let op = match c.as_str() {
+                        "-" => UnaryOp::Neg,
+                        "+" => UnaryOp::Plus,
                         _ => UnaryOp::Not,
                     };
                     prefixes.push((op, base + c.as_span().start()));
@@ -1420,7 +1438,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     };
                     current = Some(self.postfix(e, c, base)?);
                 }
-                _ if binary_op(r).is_some() => {
+                Rule::binary_operator => {
                     let Some(e) = current.take() else {
                         return Err(self.err(start, "expected an expression"));
                     };
@@ -1431,9 +1449,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                             format!("more than {MAX_OPERATORS} operators in one expression"),
                         ));
                     }
-                    if let Some(op) = binary_op(r) {
-                        ops.push(op);
-                    }
+                    ops.push(binary_op(c.as_str()));
                 }
                 _ => {
                     let mut e = self.primary(c, base)?;
@@ -1510,6 +1526,71 @@ impl<'a, 'b> FileParser<'a, 'b> {
     }
 }
 
+/// The reserved words of RAPID (the grammar's `reserved_word`).
+const RESERVED: [&str; 57] = [
+    "ALIAS",
+    "AND",
+    "BACKWARD",
+    "CASE",
+    "CONNECT",
+    "CONST",
+    "DEFAULT",
+    "DIV",
+    "DO",
+    "ELSE",
+    "ELSEIF",
+    "ENDFOR",
+    "ENDFUNC",
+    "ENDIF",
+    "ENDMODULE",
+    "ENDPROC",
+    "ENDRECORD",
+    "ENDTEST",
+    "ENDTRAP",
+    "ENDWHILE",
+    "ERROR",
+    "EXIT",
+    "FALSE",
+    "FOR",
+    "FROM",
+    "FUNC",
+    "GOTO",
+    "IF",
+    "INOUT",
+    "LOCAL",
+    "MOD",
+    "MODULE",
+    "NOSTEPIN",
+    "NOT",
+    "NOVIEW",
+    "OR",
+    "PERS",
+    "PROC",
+    "RAISE",
+    "READONLY",
+    "RECORD",
+    "RETRY",
+    "RETURN",
+    "STEP",
+    "SYSMODULE",
+    "TEST",
+    "THEN",
+    "TO",
+    "TRAP",
+    "TRUE",
+    "TRYNEXT",
+    "UNDO",
+    "VAR",
+    "VIEWONLY",
+    "WHILE",
+    "WITH",
+    "XOR",
+];
+
+fn is_reserved(word: &str) -> bool {
+    word.len() <= 9 && RESERVED.iter().any(|r| r.eq_ignore_ascii_case(word))
+}
+
 /// Why a block keyword may appear where it has no block to close.
 fn stray_note(word: &str) -> Option<&'static str> {
     Some(match word {
@@ -1550,26 +1631,25 @@ fn is_keyword(r: Rule) -> bool {
     )
 }
 
-fn binary_op(r: Rule) -> Option<BinaryOp> {
+fn binary_op(text: &str) -> BinaryOp {
     use BinaryOp as B;
-    Some(match r {
-        Rule::op_add => B::Add,
-        Rule::op_sub => B::Sub,
-        Rule::op_mul => B::Mul,
-        Rule::op_div => B::Div,
-        Rule::op_intdiv => B::IntDiv,
-        Rule::op_mod => B::Mod,
-        Rule::op_lt => B::Lt,
-        Rule::op_le => B::Le,
-        Rule::op_eq => B::Eq,
-        Rule::op_ne => B::Ne,
-        Rule::op_ge => B::Ge,
-        Rule::op_gt => B::Gt,
-        Rule::op_and => B::And,
-        Rule::op_or => B::Or,
-        Rule::op_xor => B::Xor,
-        _ => return None,
-    })
+    match text.to_ascii_uppercase().as_str() {
+        "+" => B::Add,
+        "-" => B::Sub,
+        "*" => B::Mul,
+        "/" => B::Div,
+        "DIV" => B::IntDiv,
+        "MOD" => B::Mod,
+        "<" => B::Lt,
+        "<=" => B::Le,
+        "=" => B::Eq,
+        "<>" => B::Ne,
+        ">=" => B::Ge,
+        ">" => B::Gt,
+        "AND" => B::And,
+        "OR" => B::Or,
+        _ => B::Xor,
+    }
 }
 
 /// RAPID precedence: `* / DIV MOD` over `+ -` over comparisons over `AND`
@@ -2453,25 +2533,8 @@ fn describe_rule(r: Rule) -> Option<&'static str> {
         | R::function_call
         | R::variable
         | R::initializer
-        | R::negation
-        | R::unary_plus
-        | R::not_operator
-        | R::kw_not => "an expression",
-        R::op_add
-        | R::op_sub
-        | R::op_mul
-        | R::op_div
-        | R::op_intdiv
-        | R::op_mod
-        | R::op_le
-        | R::op_ge
-        | R::op_ne
-        | R::op_lt
-        | R::op_gt
-        | R::op_eq
-        | R::op_and
-        | R::op_or
-        | R::op_xor => "an operator",
+        | R::prefix_operator => "an expression",
+        R::binary_operator => "an operator",
         R::storage | R::kw_const | R::kw_pers | R::kw_var => "CONST, PERS or VAR",
         R::scope | R::kw_local | R::kw_task => "LOCAL or TASK",
         R::optional_argument => "an optional argument",
@@ -2645,4 +2708,19 @@ fn found_at(src: &[u8], offset: usize) -> String {
         1
     };
     format!("`{}`", decode_lossless(&rest[..len.min(24)]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reserved_list_matches_the_grammar() {
+        for w in RESERVED {
+            assert!(
+                RapidParser::parse(Rule::reserved_word, w).is_ok(),
+                "{w} not in the grammar"
+            );
+        }
+    }
 }

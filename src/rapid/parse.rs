@@ -2018,10 +2018,29 @@ impl Builder {
             );
             for (d, routine) in decls {
                 let ty = d.type_name.to_lowercase();
+                let Some(init) = &d.init else { continue };
                 if !records.contains_key(&ty) {
+                    // A value of a type this run does not define, holding
+                    // what looks like robtargets: say so rather than
+                    // silently leave them out.
+                    if ty != "robtarget" && ty != "jointtarget" && holds_robtarget_shape(init, 0) {
+                        let at = decl_offset(init).unwrap_or(d.pos.offset);
+                        let loc = Location::from_offset(
+                            self.prog.files.get(m.file).map_or("", String::as_str),
+                            src,
+                            at,
+                        );
+                        self.prog.warnings.push(Warning {
+                            location: loc,
+                            message: format!(
+                                "{} holds robtarget values, but RECORD {} is not defined in the \
+                                 files read: they are not listed (read the module that defines it too)",
+                                d.name, d.type_name
+                            ),
+                        });
+                    }
                     continue;
                 }
-                let Some(init) = &d.init else { continue };
                 let mut w = RecordWalk {
                     b: self,
                     records: &records,
@@ -2137,6 +2156,24 @@ fn name_space(id: &str) -> String {
 
 /// Qualify with the module every identifier whose name space occurs in
 /// more than one module of the run.
+/// Whether an expression contains a robtarget-shaped literal.
+fn holds_robtarget_shape(e: &Expr, depth: usize) -> bool {
+    match e {
+        Expr::Aggregate(a) if depth < 32 => {
+            matches!(robtarget_shape(&a.items), Ok(Some(_)))
+                || a.items.iter().any(|x| holds_robtarget_shape(x, depth + 1))
+        }
+        _ => false,
+    }
+}
+
+fn decl_offset(e: &Expr) -> Option<usize> {
+    match e {
+        Expr::Aggregate(a) => Some(a.span.start),
+        _ => None,
+    }
+}
+
 fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
     let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
     for it in items.iter_mut() {

@@ -116,7 +116,12 @@ fn robtarget_and_jointtarget_edits_rewrite_only_what_changed() {
         src,
         v,
         [500.0, -0.5004, 301.23456],
-        [0.7071068, 0.0, 0.7071068, 0.0],
+        [
+            std::f64::consts::FRAC_1_SQRT_2,
+            0.0,
+            std::f64::consts::FRAC_1_SQRT_2,
+            0.0,
+        ],
         Some([-1, 0, 0, 0]),
     );
     assert_eq!(edits.len(), 4);

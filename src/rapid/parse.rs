@@ -41,6 +41,27 @@ pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
         FileParser::new(i, name, bytes, &line_starts, &mut b).run()?;
         lines.push(line_starts);
     }
+    // RAPID loads one module of a name per task; two would also make the
+    // identifiers of the run ambiguous.
+    let mut seen: HashMap<String, usize> = HashMap::new();
+    for (i, m) in b.prog.modules.iter().enumerate() {
+        if let Some(&first) = seen.get(&m.name.to_lowercase()) {
+            let f = &b.prog.modules[first];
+            let name = inputs.get(m.file).map_or("", |x| x.0);
+            let src = inputs.get(m.file).map_or(&[][..], |x| x.1);
+            return Err(Error::new(
+                ErrorKind::Syntax,
+                format!(
+                    "module {} is defined twice (also at {}:{})",
+                    m.name,
+                    inputs.get(f.file).map_or("", |x| x.0),
+                    f.pos.line
+                ),
+            )
+            .at(Location::from_offset(name, src, m.pos.offset)));
+        }
+        seen.insert(m.name.to_lowercase(), i);
+    }
     b.finish(inputs, &lines)?;
     Ok(b.prog)
 }

@@ -2580,7 +2580,7 @@ impl DerivedWalk<'_> {
 fn describe_rule(r: Rule) -> Option<&'static str> {
     use Rule as R;
     Some(match r {
-        R::identifier | R::type_name => "a name",
+        R::identifier | R::type_name | R::assignment_target => "a name",
         R::num_literal => "a number",
         R::expression
         | R::string_literal

@@ -105,3 +105,40 @@ fn stale_and_overlapping_edits_are_refused() {
     assert!(apply_edits("f", src, &[e(12, 12, b""), e(12, 12, b"")]).is_err());
     assert!(apply_edits("f", src, &[e(18, 30, b"")]).is_err());
 }
+
+#[test]
+fn robtarget_and_jointtarget_edits_rewrite_only_what_changed() {
+    use rapidtherm::rapid::{self, rewrite};
+    let src = b"MODULE m\r\n  CONST robtarget p := [[500,-0.5,3E2],[0.70711,0,.70711,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\r\n  CONST jointtarget j := [[0, 10.5, -20, 0, 90, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];\r\nENDMODULE\r\n";
+    let prog = rapid::parse("m.mod", src).unwrap();
+    let v = prog.targets()[0].value.as_ref().unwrap();
+    let edits = rewrite::robtarget_edits(
+        src,
+        v,
+        [500.0, -0.5004, 301.23456],
+        [
+            std::f64::consts::FRAC_1_SQRT_2,
+            0.0,
+            std::f64::consts::FRAC_1_SQRT_2,
+            0.0,
+        ],
+        Some([-1, 0, 0, 0]),
+    );
+    assert_eq!(edits.len(), 4);
+    let out = rewrite::apply_edits("m.mod", src, &edits).unwrap();
+    assert_eq!(out.iter().filter(|&&b| b == b'\r').count(), 4);
+    let line = String::from_utf8_lossy(&out)
+        .lines()
+        .nth(1)
+        .unwrap()
+        .to_string();
+    assert_eq!(
+        line,
+        // -0.5004 is -0.5 within 0.001 mm: that number is not rewritten.
+        "  CONST robtarget p := [[500,-0.5,3.01235E2],[0.707107,0,.707107,0],[-1,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];"
+    );
+    let j = &prog.jointtargets()[0];
+    let edits = rewrite::jointtarget_edits(src, j, [0.0, 10.51234, -20.0, 0.0, 90.0, 0.0]);
+    assert_eq!(edits.len(), 1);
+    assert_eq!(edits[0].new, b"10.5123".to_vec());
+}

@@ -472,3 +472,23 @@ fn deep_nesting_is_refused_not_overflowed() {
     );
     assert!(rapid::parse("deep.mod", long.as_bytes()).is_err());
 }
+
+#[test]
+fn nested_indexes_do_not_backtrack_exponentially() {
+    // Found by fuzzing: names with 40 nested, unclosed `{` indexes took
+    // seconds and a GB of memory when a name's index could be read two
+    // ways. Now one way: an error, at once.
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/malformed/fuzz_nested_index.mod"
+    ))
+    .unwrap();
+    let e = rapid::parse("fuzz.mod", &bytes).unwrap_err();
+    assert_eq!(e.location.as_ref().map(|l| l.line), Some(3));
+    let deep = format!(
+        "MODULE m\nPROC main()\nx := a{}1{};\nENDPROC\nENDMODULE\n",
+        "{b".repeat(40),
+        "}".repeat(39)
+    );
+    assert!(rapid::parse("deep.mod", deep.as_bytes()).is_err());
+}

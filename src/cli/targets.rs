@@ -52,6 +52,9 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
         .map(|(n, b)| (n.as_str(), b.as_slice()))
         .collect();
     let prog = rapid::parse_files(&refs)?;
+    for w in &prog.warnings {
+        eprintln!("{w}");
+    }
     if args.joints {
         write_stdout(joints(&prog, args.format).as_bytes())?;
         return Ok(Status::Success);

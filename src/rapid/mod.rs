@@ -297,6 +297,28 @@ pub struct Program {
     pub(crate) wobjs: Vec<WobjData>,
     pub(crate) speeds: Vec<SpeedData>,
     pub(crate) zones: Vec<ZoneData>,
+    /// What the reader could not fully account for (not errors): for
+    /// example robtargets inside a RECORD type no file of the run defines.
+    pub warnings: Vec<Warning>,
+}
+
+/// A located remark about the input that is not an error.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Warning {
+    pub location: Location,
+    pub message: String,
+}
+
+impl std::fmt::Display for Warning {
+    /// `file:line:col: warning: message`
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let l = &self.location;
+        write!(
+            f,
+            "{}:{}:{}: warning: {}",
+            l.file, l.line, l.col, self.message
+        )
+    }
 }
 
 impl Program {

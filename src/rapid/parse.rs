@@ -41,6 +41,27 @@ pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
         FileParser::new(i, name, bytes, &line_starts, &mut b).run()?;
         lines.push(line_starts);
     }
+    // RAPID loads one module of a name per task; two would also make the
+    // identifiers of the run ambiguous.
+    let mut seen: HashMap<String, usize> = HashMap::new();
+    for (i, m) in b.prog.modules.iter().enumerate() {
+        if let Some(&first) = seen.get(&m.name.to_lowercase()) {
+            let f = &b.prog.modules[first];
+            let name = inputs.get(m.file).map_or("", |x| x.0);
+            let src = inputs.get(m.file).map_or(&[][..], |x| x.1);
+            return Err(Error::new(
+                ErrorKind::Syntax,
+                format!(
+                    "module {} is defined twice (also at {}:{})",
+                    m.name,
+                    inputs.get(f.file).map_or("", |x| x.0),
+                    f.pos.line
+                ),
+            )
+            .at(Location::from_offset(name, src, m.pos.offset)));
+        }
+        seen.insert(m.name.to_lowercase(), i);
+    }
     b.finish(inputs, &lines)?;
     Ok(b.prog)
 }
@@ -220,6 +241,20 @@ impl<'a, 'b> FileParser<'a, 'b> {
         let Some(pair) = pairs.next() else {
             return Err(self.err(piece.start, "internal: empty parse"));
         };
+        if let Some(id) = pair
+            .clone()
+            .into_inner()
+            .flatten()
+            .find(|p| p.as_rule() == Rule::identifier && is_reserved(p.as_str()))
+        {
+            return Err(self.err(
+                piece.start + id.as_span().start(),
+                format!(
+                    "expected a name, found `{}`, a reserved word of RAPID",
+                    id.as_str()
+                ),
+            ));
+        }
         f(self, pair)
     }
 
@@ -1351,8 +1386,12 @@ impl<'a, 'b> FileParser<'a, 'b> {
     /// A name as an interned string (the same few names recur millions of
     /// times in a CAM program).
     fn name(&mut self, pair: &Pair<'_, Rule>, base: usize) -> Arc<str> {
-        let t = self.text(pair, base);
-        self.b.intern(&t)
+        let s = pair.as_span();
+        let raw = &self.src[base + s.start()..base + s.end()];
+        match std::str::from_utf8(raw) {
+            Ok(t) => self.b.intern(t),
+            Err(_) => self.b.intern(&decode_lossless(raw)),
+        }
     }
 
     fn text(&self, pair: &Pair<'_, Rule>, base: usize) -> String {
@@ -1402,10 +1441,10 @@ impl<'a, 'b> FileParser<'a, 'b> {
         for c in pair.into_inner() {
             let r = c.as_rule();
             match r {
-                Rule::negation | Rule::unary_plus | Rule::not_operator => {
-                    let op = match r {
-                        Rule::negation => UnaryOp::Neg,
-                        Rule::unary_plus => UnaryOp::Plus,
+                Rule::prefix_operator => {
+                    let op = match c.as_str() {
+                        "-" => UnaryOp::Neg,
+                        "+" => UnaryOp::Plus,
                         _ => UnaryOp::Not,
                     };
                     prefixes.push((op, base + c.as_span().start()));
@@ -1420,7 +1459,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                     };
                     current = Some(self.postfix(e, c, base)?);
                 }
-                _ if binary_op(r).is_some() => {
+                Rule::binary_operator => {
                     let Some(e) = current.take() else {
                         return Err(self.err(start, "expected an expression"));
                     };
@@ -1431,9 +1470,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
                             format!("more than {MAX_OPERATORS} operators in one expression"),
                         ));
                     }
-                    if let Some(op) = binary_op(r) {
-                        ops.push(op);
-                    }
+                    ops.push(binary_op(c.as_str()));
                 }
                 _ => {
                     let mut e = self.primary(c, base)?;
@@ -1510,6 +1547,71 @@ impl<'a, 'b> FileParser<'a, 'b> {
     }
 }
 
+/// The reserved words of RAPID (the grammar's `reserved_word`).
+const RESERVED: [&str; 57] = [
+    "ALIAS",
+    "AND",
+    "BACKWARD",
+    "CASE",
+    "CONNECT",
+    "CONST",
+    "DEFAULT",
+    "DIV",
+    "DO",
+    "ELSE",
+    "ELSEIF",
+    "ENDFOR",
+    "ENDFUNC",
+    "ENDIF",
+    "ENDMODULE",
+    "ENDPROC",
+    "ENDRECORD",
+    "ENDTEST",
+    "ENDTRAP",
+    "ENDWHILE",
+    "ERROR",
+    "EXIT",
+    "FALSE",
+    "FOR",
+    "FROM",
+    "FUNC",
+    "GOTO",
+    "IF",
+    "INOUT",
+    "LOCAL",
+    "MOD",
+    "MODULE",
+    "NOSTEPIN",
+    "NOT",
+    "NOVIEW",
+    "OR",
+    "PERS",
+    "PROC",
+    "RAISE",
+    "READONLY",
+    "RECORD",
+    "RETRY",
+    "RETURN",
+    "STEP",
+    "SYSMODULE",
+    "TEST",
+    "THEN",
+    "TO",
+    "TRAP",
+    "TRUE",
+    "TRYNEXT",
+    "UNDO",
+    "VAR",
+    "VIEWONLY",
+    "WHILE",
+    "WITH",
+    "XOR",
+];
+
+fn is_reserved(word: &str) -> bool {
+    word.len() <= 9 && RESERVED.iter().any(|r| r.eq_ignore_ascii_case(word))
+}
+
 /// Why a block keyword may appear where it has no block to close.
 fn stray_note(word: &str) -> Option<&'static str> {
     Some(match word {
@@ -1550,26 +1652,25 @@ fn is_keyword(r: Rule) -> bool {
     )
 }
 
-fn binary_op(r: Rule) -> Option<BinaryOp> {
+fn binary_op(text: &str) -> BinaryOp {
     use BinaryOp as B;
-    Some(match r {
-        Rule::op_add => B::Add,
-        Rule::op_sub => B::Sub,
-        Rule::op_mul => B::Mul,
-        Rule::op_div => B::Div,
-        Rule::op_intdiv => B::IntDiv,
-        Rule::op_mod => B::Mod,
-        Rule::op_lt => B::Lt,
-        Rule::op_le => B::Le,
-        Rule::op_eq => B::Eq,
-        Rule::op_ne => B::Ne,
-        Rule::op_ge => B::Ge,
-        Rule::op_gt => B::Gt,
-        Rule::op_and => B::And,
-        Rule::op_or => B::Or,
-        Rule::op_xor => B::Xor,
-        _ => return None,
-    })
+    match text.to_ascii_uppercase().as_str() {
+        "+" => B::Add,
+        "-" => B::Sub,
+        "*" => B::Mul,
+        "/" => B::Div,
+        "DIV" => B::IntDiv,
+        "MOD" => B::Mod,
+        "<" => B::Lt,
+        "<=" => B::Le,
+        "=" => B::Eq,
+        "<>" => B::Ne,
+        ">=" => B::Ge,
+        ">" => B::Gt,
+        "AND" => B::And,
+        "OR" => B::Or,
+        _ => B::Xor,
+    }
 }
 
 /// RAPID precedence: `* / DIV MOD` over `+ -` over comparisons over `AND`
@@ -1938,10 +2039,29 @@ impl Builder {
             );
             for (d, routine) in decls {
                 let ty = d.type_name.to_lowercase();
+                let Some(init) = &d.init else { continue };
                 if !records.contains_key(&ty) {
+                    // A value of a type this run does not define, holding
+                    // what looks like robtargets: say so rather than
+                    // silently leave them out.
+                    if ty != "robtarget" && ty != "jointtarget" && holds_robtarget_shape(init, 0) {
+                        let at = decl_offset(init).unwrap_or(d.pos.offset);
+                        let loc = Location::from_offset(
+                            self.prog.files.get(m.file).map_or("", String::as_str),
+                            src,
+                            at,
+                        );
+                        self.prog.warnings.push(Warning {
+                            location: loc,
+                            message: format!(
+                                "{} holds robtarget values, but RECORD {} is not defined in the \
+                                 files read: they are not listed (read the module that defines it too)",
+                                d.name, d.type_name
+                            ),
+                        });
+                    }
                     continue;
                 }
-                let Some(init) = &d.init else { continue };
                 let mut w = RecordWalk {
                     b: self,
                     records: &records,
@@ -2057,6 +2177,24 @@ fn name_space(id: &str) -> String {
 
 /// Qualify with the module every identifier whose name space occurs in
 /// more than one module of the run.
+/// Whether an expression contains a robtarget-shaped literal.
+fn holds_robtarget_shape(e: &Expr, depth: usize) -> bool {
+    match e {
+        Expr::Aggregate(a) if depth < 32 => {
+            matches!(robtarget_shape(&a.items), Ok(Some(_)))
+                || a.items.iter().any(|x| holds_robtarget_shape(x, depth + 1))
+        }
+        _ => false,
+    }
+}
+
+fn decl_offset(e: &Expr) -> Option<usize> {
+    match e {
+        Expr::Aggregate(a) => Some(a.span.start),
+        _ => None,
+    }
+}
+
 fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
     let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
     for it in items.iter_mut() {
@@ -2442,7 +2580,7 @@ impl DerivedWalk<'_> {
 fn describe_rule(r: Rule) -> Option<&'static str> {
     use Rule as R;
     Some(match r {
-        R::identifier | R::type_name => "a name",
+        R::identifier | R::type_name | R::assignment_target => "a name",
         R::num_literal => "a number",
         R::expression
         | R::string_literal
@@ -2453,25 +2591,8 @@ fn describe_rule(r: Rule) -> Option<&'static str> {
         | R::function_call
         | R::variable
         | R::initializer
-        | R::negation
-        | R::unary_plus
-        | R::not_operator
-        | R::kw_not => "an expression",
-        R::op_add
-        | R::op_sub
-        | R::op_mul
-        | R::op_div
-        | R::op_intdiv
-        | R::op_mod
-        | R::op_le
-        | R::op_ge
-        | R::op_ne
-        | R::op_lt
-        | R::op_gt
-        | R::op_eq
-        | R::op_and
-        | R::op_or
-        | R::op_xor => "an operator",
+        | R::prefix_operator => "an expression",
+        R::binary_operator => "an operator",
         R::storage | R::kw_const | R::kw_pers | R::kw_var => "CONST, PERS or VAR",
         R::scope | R::kw_local | R::kw_task => "LOCAL or TASK",
         R::optional_argument => "an optional argument",
@@ -2645,4 +2766,19 @@ fn found_at(src: &[u8], offset: usize) -> String {
         1
     };
     format!("`{}`", decode_lossless(&rest[..len.min(24)]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reserved_list_matches_the_grammar() {
+        for w in RESERVED {
+            assert!(
+                RapidParser::parse(Rule::reserved_word, w).is_ok(),
+                "{w} not in the grammar"
+            );
+        }
+    }
 }

@@ -1,7 +1,7 @@
 //! Splicing new text into the original bytes of a program: every byte not
 //! inside an edit stays as it was (line endings, Latin-1, comments).
 
-use super::Number;
+use super::{JointTarget, Number, RobTargetValue};
 use crate::error::{decode_lossless, Error, ErrorKind, Location, Result};
 use std::ops::Range;
 
@@ -90,6 +90,55 @@ pub fn number_edit(src: &[u8], num: &Number, value: f64, resolution: f64) -> Opt
         expected_old: old.to_vec(),
         new: new.into_bytes(),
     })
+}
+
+/// Joint angles in degrees: 1e-4 deg moves a point 800 mm from the axis
+/// by 1.4 µm, below the position resolution.
+pub const JOINT_RESOLUTION: f64 = 0.000_1;
+
+/// Edits writing new position, orientation and (optionally) robconf over a
+/// robtarget literal of `src`; numbers whose text would not change are
+/// left alone.
+pub fn robtarget_edits(
+    src: &[u8],
+    value: &RobTargetValue,
+    trans: [f64; 3],
+    rot: [f64; 4],
+    robconf: Option<[i32; 4]>,
+) -> Vec<Edit> {
+    let mut out: Vec<Edit> = value
+        .trans
+        .iter()
+        .zip(trans)
+        .filter_map(|(n, v)| number_edit(src, n, v, POSITION_RESOLUTION))
+        .chain(
+            value
+                .rot
+                .iter()
+                .zip(rot)
+                .filter_map(|(n, v)| number_edit(src, n, v, QUATERNION_RESOLUTION)),
+        )
+        .collect();
+    if let Some(cf) = robconf {
+        out.extend(
+            value
+                .robconf
+                .iter()
+                .zip(cf)
+                .filter_map(|(n, v)| number_edit(src, n, f64::from(v), 1.0)),
+        );
+    }
+    out
+}
+
+/// Edits writing new axis angles (degrees) over a jointtarget literal.
+pub fn jointtarget_edits(src: &[u8], target: &JointTarget, robax: [f64; 6]) -> Vec<Edit> {
+    target
+        .robax
+        .iter()
+        .zip(robax)
+        .filter_map(|(n, v)| number_edit(src, n, v, JOINT_RESOLUTION))
+        .collect()
 }
 
 /// How a number literal is written.

@@ -391,7 +391,9 @@ fn nearest_solution(warm: &WarmRobot, flange: &Isometry3<f64>, conf: &RobConf) -
             + quadrant_distance(q[3], conf.cf4)
             + quadrant_distance(q[5], conf.cf6)
     };
-    sols.iter().map(|s| s.q).min_by(|a, b| cost(a).total_cmp(&cost(b)))
+    sols.iter()
+        .map(|s| s.q)
+        .min_by(|a, b| cost(a).total_cmp(&cost(b)))
 }
 
 /// A MoveAbsJ jointtarget: the same flange pose, reached by the warm arm.

@@ -262,3 +262,51 @@ fn steady_state_corrects_more_than_minute_30() {
         epsilon = 1e-12
     );
 }
+
+#[test]
+fn derived_targets_report_their_residual_drift_after_the_base_is_corrected() {
+    let (name, bytes) = sample_programs()
+        .into_iter()
+        .find(|(n, _)| n.starts_with("weld_cell"))
+        .unwrap();
+    let (_, outcome) = run(&name, &bytes, 120.0);
+    let d = outcome
+        .derived
+        .iter()
+        .find(|d| d.expr.starts_with("Offs(pNahtEnde"))
+        .unwrap();
+    let residual = d
+        .residual_mm
+        .expect("Offs with literal offsets is evaluated");
+    // Moving the base undoes most of the drift 50 mm above it, not all:
+    // the arm's pose differs there.
+    assert!(
+        residual > 0.0 && residual < 0.25 * d.base_correction_mm,
+        "{residual} vs {}",
+        d.base_correction_mm
+    );
+}
+
+#[test]
+fn offs_and_reltool_displace_in_work_object_and_tool_frames() {
+    use rapidtherm::correct::derived::{apply, calls_by_offset};
+    let src = b"MODULE m\n  CONST robtarget p:=[[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n    MoveL Offs(p, 10, -5, 20), v100, fine, tool0;\n    MoveL RelTool(p, 0, 0, 30 \\Rz:=90), v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
+    let program = rapid::parse("m.mod", src).unwrap();
+    let calls = calls_by_offset(&program);
+    let base = target_pose(&program, program.target("p").unwrap())
+        .unwrap()
+        .unwrap()
+        .0;
+    let derived: Vec<_> = program
+        .targets()
+        .iter()
+        .filter(|t| t.kind == TargetKind::Derived)
+        .map(|t| apply(calls[&t.origin.pos.offset], &base).unwrap())
+        .collect();
+    let offs = derived[0].translation.vector;
+    assert!((offs - nalgebra::Vector3::new(510.0, -5.0, 420.0)).norm() < 1e-12);
+    // The tool points down: 30 mm along its z is 30 mm lower.
+    let rel = &derived[1];
+    assert!((rel.translation.vector - nalgebra::Vector3::new(500.0, 0.0, 370.0)).norm() < 1e-9);
+    assert!((rel.rotation.angle_to(&base.rotation).to_degrees() - 90.0).abs() < 1e-9);
+}

@@ -353,12 +353,17 @@ fn report(outcome: &Outcome, format: Format) -> Result<String> {
             align.push(Align::Left);
             let mut text = render_table(&header, &align, &rows);
             for d in &outcome.derived {
+                let residual = match d.residual_mm {
+                    Some(r) => format!("residual drift {} mm", mm(r, 4)),
+                    None => "its pose is known only at run time".to_string(),
+                };
                 text.push_str(&format!(
-                    "derived {} (line {}): {} left as written; its bases move by up to {} mm\n",
+                    "derived {} (line {}): {} left as written; its bases move by up to {} mm; {}\n",
                     d.id,
                     d.line,
                     d.expr,
-                    mm(d.base_correction_mm, 4)
+                    mm(d.base_correction_mm, 4),
+                    residual
                 ));
             }
             for s in &outcome.skipped {

@@ -19,6 +19,7 @@
 //! change the shape (bending, joint offsets, ...) are solved by Newton from
 //! that start. The robconf is never changed.
 
+pub mod derived;
 pub mod diff;
 pub mod frames;
 pub mod warm;
@@ -129,6 +130,10 @@ pub struct Derived {
     /// Largest correction among its bases (mm): the derived point moves
     /// with them.
     pub base_correction_mm: f64,
+    /// Where the warm robot puts it after its base's correction, against
+    /// where the cold program meant it (mm); `None` where only the run
+    /// time knows the pose (CRobT, a FUNC, computed offsets).
+    pub residual_mm: Option<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -344,9 +349,15 @@ fn correct_all(
         corrections.push(correct_jointtarget(program, sources, warm, options, jt)?);
     }
     progress(total, total);
+    let calls = derived::calls_by_offset(program);
     let derived: Vec<Derived> = derived_targets
         .into_iter()
-        .map(|i| derived_report(program, &program.targets()[i], &corrections))
+        .map(|i| {
+            let target = &program.targets()[i];
+            let mut report = derived_report(program, target, &corrections);
+            report.residual_mm = derived::residual(program, target, &calls, &corrections, warm);
+            report
+        })
         .collect();
     let outputs = write_files(program, sources, &corrections)?;
     let summary = summarise(&corrections, &derived, &skipped);
@@ -540,6 +551,7 @@ fn derived_report(program: &Program, target: &Target, corrections: &[Correction]
         expr: d.map(|d| d.expr.clone()).unwrap_or_default(),
         bases,
         base_correction_mm,
+        residual_mm: None,
     }
 }
 

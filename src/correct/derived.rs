@@ -1,0 +1,160 @@
+//! Derived targets (`Offs(p10, 0, 0, 50)`, `RelTool(p10, 0, 0, -20 \Rz:=45)`)
+//! are left as written: they move with their corrected base. What remains
+//! is their residual drift: where the warm robot puts the derived pose of
+//! the corrected base, against the derived pose the cold program meant.
+
+use super::frames::{frames_of, target_pose, usages, Frames};
+use super::warm::{Moment, WarmRobot};
+use super::Correction;
+use crate::rapid::{Expr, FunctionCall, Program, Statement, StatementKind, Target, UnaryOp};
+use crate::robot::frames::{flange_of_target, target_of_flange};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use std::collections::HashMap;
+
+/// Every function call of the program (data initialisers and statement
+/// arguments), by the byte offset where it starts.
+pub fn calls_by_offset(program: &Program) -> HashMap<usize, &FunctionCall> {
+    let mut out = HashMap::new();
+    for module in &program.modules {
+        for d in &module.data {
+            add(&mut out, d.init.as_ref());
+        }
+        for routine in &module.routines {
+            for d in &routine.data {
+                add(&mut out, d.init.as_ref());
+            }
+            visit(&routine.body, &mut out);
+        }
+    }
+    out
+}
+
+fn add<'a>(out: &mut HashMap<usize, &'a FunctionCall>, e: Option<&'a Expr>) {
+    if let Some(Expr::Call(c)) = e {
+        out.insert(c.span.start, c.as_ref());
+    }
+}
+
+/// Call arguments, assigned values and RETURNs, nested ones included.
+fn visit<'a>(statements: &'a [Statement], out: &mut HashMap<usize, &'a FunctionCall>) {
+    for s in statements {
+        match &s.kind {
+            StatementKind::Call(call) => {
+                for a in &call.args {
+                    add(out, a.value.as_ref());
+                }
+            }
+            StatementKind::Assign { value, .. } => add(out, Some(value)),
+            StatementKind::Return(e) => add(out, e.as_ref()),
+            StatementKind::CompactIf { then, .. } => visit(std::slice::from_ref(then), out),
+            StatementKind::If {
+                branches,
+                otherwise,
+            } => {
+                for (_, body) in branches {
+                    visit(body, out);
+                }
+                if let Some(body) = otherwise {
+                    visit(body, out);
+                }
+            }
+            StatementKind::For { body, .. } | StatementKind::While { body, .. } => visit(body, out),
+            StatementKind::Test { cases, default, .. } => {
+                for (_, body) in cases {
+                    visit(body, out);
+                }
+                if let Some(body) = default {
+                    visit(body, out);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+fn literal(e: &Expr) -> Option<f64> {
+    match e {
+        Expr::Num(n) => Some(n.value),
+        Expr::Unary(UnaryOp::Neg, inner) => literal(inner).map(|v| -v),
+        Expr::Unary(UnaryOp::Plus, inner) => literal(inner),
+        _ => None,
+    }
+}
+
+/// The pose `call` computes from `base`, when its arguments are literals:
+/// Offs adds a displacement in the work object, RelTool displaces and turns
+/// in the tool frame (\Rx, \Ry, \Rz in degrees, applied in that order).
+pub fn apply(call: &FunctionCall, base: &Isometry3<f64>) -> Option<Isometry3<f64>> {
+    let positional: Vec<&Expr> = call
+        .args
+        .iter()
+        .filter(|a| !a.optional)
+        .filter_map(|a| a.value.as_ref())
+        .collect();
+    if positional.len() != 4 {
+        return None;
+    }
+    let d = Vector3::new(
+        literal(positional[1])?,
+        literal(positional[2])?,
+        literal(positional[3])?,
+    );
+    let name = call.name.to_ascii_lowercase();
+    match name.as_str() {
+        "offs" => Some(Isometry3::from_parts(
+            Translation3::from(base.translation.vector + d),
+            base.rotation,
+        )),
+        "reltool" => {
+            let angle = |n: &str| -> Option<f64> {
+                match call.args.iter().find(|a| {
+                    a.optional && a.name.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(n))
+                }) {
+                    Some(a) => a.value.as_ref().and_then(literal).map(f64::to_radians),
+                    None => Some(0.0),
+                }
+            };
+            let turn = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle("Rx")?)
+                * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), angle("Ry")?)
+                * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), angle("Rz")?);
+            Some(base * Isometry3::from_parts(Translation3::from(d), turn))
+        }
+        _ => None,
+    }
+}
+
+/// Residual drift (mm) of a derived target after its base's correction,
+/// or `None` where it cannot be evaluated statically (CRobT, a FUNC, a
+/// computed offset, a base that was not corrected).
+pub fn residual(
+    program: &Program,
+    target: &Target,
+    calls: &HashMap<usize, &FunctionCall>,
+    corrections: &[Correction],
+    warm: &WarmRobot,
+) -> Option<f64> {
+    let call = calls.get(&target.origin.pos.offset)?;
+    let base_id = target.derived.as_ref()?.bases.first()?;
+    let correction = corrections
+        .iter()
+        .find(|c| c.id.eq_ignore_ascii_case(base_id))?;
+    let (index, base) = program
+        .targets()
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.id.eq_ignore_ascii_case(base_id))?;
+    let (original, conf) = target_pose(program, base).ok()??;
+    let frames = Frames::of_program(program).ok()?;
+    let uses = usages(program);
+    let (tool, wobj, _, _) = frames_of(program, &frames, index, uses.get(&index)).ok()?;
+    let meant = apply(call, &original)?;
+    let sent = apply(call, &correction.exact?)?;
+    let q = warm
+        .nominal
+        .ik_conf(&flange_of_target(&sent, &tool, &wobj).ok()?, &conf, None)
+        .ok()?;
+    let moment = correction.time_min.map_or(Moment::Steady, Moment::Minute);
+    let state = warm.state(moment).ok()?;
+    let landed = target_of_flange(&warm.flange(&q, &state), &tool, &wobj).ok()?;
+    Some((landed.translation.vector - meant.translation.vector).norm())
+}

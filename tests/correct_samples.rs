@@ -176,60 +176,41 @@ fn diff_of_corrected_program_agrees_with_the_reported_corrections_and_drift() {
     }
 }
 
+/// The file with the bytes of every robtarget and jointtarget number cut
+/// out: what must not change when targets are corrected.
+fn outside_numbers(name: &str, bytes: &[u8]) -> Vec<u8> {
+    let program = rapid::parse(name, bytes).unwrap();
+    let mut spans: Vec<std::ops::Range<usize>> = program
+        .targets()
+        .iter()
+        .filter(|t| t.kind != TargetKind::Derived)
+        .filter_map(|t| t.value.as_ref())
+        .flat_map(|v| v.numbers().map(|n| n.span()).collect::<Vec<_>>())
+        .chain(
+            program
+                .jointtargets()
+                .iter()
+                .flat_map(|j| j.robax.iter().map(|n| n.span())),
+        )
+        .collect();
+    spans.sort_by_key(|s| s.start);
+    let mut kept = Vec::new();
+    let mut at = 0;
+    for s in &spans {
+        kept.extend_from_slice(&bytes[at..s.start]);
+        at = s.end;
+    }
+    kept.extend_from_slice(&bytes[at..]);
+    kept
+}
+
 #[test]
 fn untouched_bytes_stay_identical() {
     for (name, bytes) in sample_programs() {
-        let (program, outcome) = run(&name, &bytes, 60.0);
-        let out = &outcome.outputs[0];
-        // Every byte outside a corrected target's numbers is kept: compare
-        // the files with each number span blanked out.
-        let spans: Vec<std::ops::Range<usize>> = program
-            .targets()
-            .iter()
-            .filter(|t| t.kind != TargetKind::Derived)
-            .filter_map(|t| t.value.as_ref())
-            .flat_map(|v| v.numbers().map(|n| n.span()).collect::<Vec<_>>())
-            .chain(
-                program
-                    .jointtargets()
-                    .iter()
-                    .flat_map(|j| j.robax.iter().map(|n| n.span())),
-            )
-            .collect();
-        let mut spans = spans;
-        spans.sort_by_key(|s| s.start);
-        let mut kept_in = Vec::new();
-        let mut at = 0;
-        for s in &spans {
-            kept_in.extend_from_slice(&bytes[at..s.start]);
-            at = s.end;
-        }
-        kept_in.extend_from_slice(&bytes[at..]);
-        let reparsed = rapid::parse(&name, out).unwrap();
-        let spans_out: Vec<std::ops::Range<usize>> = reparsed
-            .targets()
-            .iter()
-            .filter(|t| t.kind != TargetKind::Derived)
-            .filter_map(|t| t.value.as_ref())
-            .flat_map(|v| v.numbers().map(|n| n.span()).collect::<Vec<_>>())
-            .chain(
-                reparsed
-                    .jointtargets()
-                    .iter()
-                    .flat_map(|j| j.robax.iter().map(|n| n.span())),
-            )
-            .collect();
-        let mut spans_out = spans_out;
-        spans_out.sort_by_key(|s| s.start);
-        let mut kept_out = Vec::new();
-        let mut at = 0;
-        for s in &spans_out {
-            kept_out.extend_from_slice(&out[at..s.start]);
-            at = s.end;
-        }
-        kept_out.extend_from_slice(&out[at..]);
+        let (_, outcome) = run(&name, &bytes, 60.0);
         assert_eq!(
-            kept_in, kept_out,
+            outside_numbers(&name, &bytes),
+            outside_numbers(&name, &outcome.outputs[0]),
             "{name}: bytes outside target numbers changed"
         );
     }

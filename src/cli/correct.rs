@@ -1,5 +1,5 @@
 //! `rapidtherm correct`, `diff` and `model show`: the main job.
-use super::{read_input, write_output, write_stdout, Status};
+use super::{read_input, read_program, write_output, write_stdout, Status};
 use rapidtherm::correct::diff::{diff, Diff};
 use rapidtherm::correct::warm::{Moment, WarmRobot};
 use rapidtherm::correct::{correct, Options, Outcome, When};
@@ -144,15 +144,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     }
     let model = load_model(args.model.as_deref())?;
     let robot = load_robot(args.robot.as_deref())?;
-    let mut inputs = Vec::new();
-    for f in &args.files {
-        inputs.push(read_input(f)?);
-    }
-    let refs: Vec<(&str, &[u8])> = inputs
-        .iter()
-        .map(|(n, b)| (n.as_str(), b.as_slice()))
-        .collect();
-    let program = rapid::parse_files(&refs)?;
+    let (inputs, program) = read_program(&args.files)?;
     let sources: Vec<&[u8]> = inputs.iter().map(|(_, b)| b.as_slice()).collect();
     let when = when_of(&args, &program, &robot)?;
     let horizon = match &when {

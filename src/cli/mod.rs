@@ -105,6 +105,26 @@ pub fn read_input(path: &Path) -> Result<(String, Vec<u8>)> {
     }
 }
 
+/// Read RAPID files (`-`: standard input) and parse them as one run; the
+/// reader's warnings go to stderr.
+pub fn read_program(
+    files: &[std::path::PathBuf],
+) -> Result<(Vec<(String, Vec<u8>)>, rapidtherm::rapid::Program)> {
+    let mut inputs = Vec::new();
+    for f in files {
+        inputs.push(read_input(f)?);
+    }
+    let refs: Vec<(&str, &[u8])> = inputs
+        .iter()
+        .map(|(n, b)| (n.as_str(), b.as_slice()))
+        .collect();
+    let program = rapidtherm::rapid::parse_files(&refs)?;
+    for w in &program.warnings {
+        eprintln!("{w}");
+    }
+    Ok((inputs, program))
+}
+
 /// Write data to standard output (a closed pipe is not an error worth a
 /// panic: the reader has what it wanted).
 pub fn write_stdout(bytes: &[u8]) -> Result<()> {

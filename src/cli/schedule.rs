@@ -1,9 +1,8 @@
 //! `rapidtherm schedule FILE...`: when each target of a program is
 //! reached, estimated by walking its entry routine (CSV on stdout, the
 //! choices made on stderr).
-use super::{read_input, write_output, Status};
+use super::{read_program, write_output, Status};
 use rapidtherm::error::{Error, Result};
-use rapidtherm::rapid;
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, EstimateOptions};
 use std::path::PathBuf;
@@ -32,15 +31,7 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     if args.cycles == 0 {
         return Err(Error::usage("--cycles must be at least 1"));
     }
-    let mut inputs = Vec::new();
-    for f in &args.files {
-        inputs.push(read_input(f)?);
-    }
-    let refs: Vec<(&str, &[u8])> = inputs
-        .iter()
-        .map(|(n, b)| (n.as_str(), b.as_slice()))
-        .collect();
-    let program = rapid::parse_files(&refs)?;
+    let (_, program) = read_program(&args.files)?;
     let robot = Robot::irb140();
     let opts = EstimateOptions {
         entry: args.entry,

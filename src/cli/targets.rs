@@ -1,5 +1,5 @@
 //! `rapidtherm targets FILE...`: every robtarget of RAPID programs.
-use super::{read_input, write_stdout, Status};
+use super::{read_program, write_stdout, Status};
 use rapidtherm::error::Result;
 use rapidtherm::rapid::{self, Target};
 use rapidtherm::report::{render_csv, render_table, Align, Format};
@@ -43,18 +43,7 @@ fn values(t: &Target) -> Vec<String> {
 }
 
 pub fn run(args: TargetsArgs) -> Result<Status> {
-    let mut inputs = Vec::new();
-    for f in &args.files {
-        inputs.push(read_input(f)?);
-    }
-    let refs: Vec<(&str, &[u8])> = inputs
-        .iter()
-        .map(|(n, b)| (n.as_str(), b.as_slice()))
-        .collect();
-    let prog = rapid::parse_files(&refs)?;
-    for w in &prog.warnings {
-        eprintln!("{w}");
-    }
+    let (inputs, prog) = read_program(&args.files)?;
     if args.joints {
         write_stdout(joints(&prog, args.format).as_bytes())?;
         return Ok(Status::Success);

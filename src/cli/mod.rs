@@ -105,11 +105,12 @@ pub fn read_input(path: &Path) -> Result<(String, Vec<u8>)> {
     }
 }
 
+/// Input files as read: the name used in messages and the bytes.
+pub type Inputs = Vec<(String, Vec<u8>)>;
+
 /// Read RAPID files (`-`: standard input) and parse them as one run; the
 /// reader's warnings go to stderr.
-pub fn read_program(
-    files: &[std::path::PathBuf],
-) -> Result<(Vec<(String, Vec<u8>)>, rapidtherm::rapid::Program)> {
+pub fn read_program(files: &[std::path::PathBuf]) -> Result<(Inputs, rapidtherm::rapid::Program)> {
     let mut inputs = Vec::new();
     for f in files {
         inputs.push(read_input(f)?);

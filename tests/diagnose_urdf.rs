@@ -196,3 +196,40 @@ fn effects_simulated_on_an_irb120_are_diagnosed_with_its_urdf() {
         40.0,
     );
 }
+
+#[test]
+fn simulated_irb120_rows_are_its_urdf_poses_and_read_back_without_gap() {
+    for robot in [irb120(), irb120_reversed()] {
+        let arm = Arm::of_robot(&robot, "test").unwrap();
+        let model = Model::default();
+        let spec = SimSpec {
+            base: arm.base(&model),
+            poses: random_poses(6, &arm.limits_deg, 9),
+            times: parse_times("0,60,180").unwrap(),
+            effects: vec![],
+            noise_mm: 0.0,
+            orientation: true,
+            measured_temps: true,
+            seed: 9,
+        };
+        let profile = model.profile().unwrap();
+        let meas = simulate_arm(&spec, &arm.map, profile.as_ref()).unwrap();
+        for m in &meas.rows {
+            let want = robot.fk(&m.joints, m.temps.as_ref());
+            let got = Isometry3::from_parts(m.position.into(), m.orientation.unwrap());
+            assert_same_pose(&got, &want, &robot.name);
+        }
+        let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
+        assert!(diagnose::gap(&prepared).max_mm < 1e-9);
+        assert!(diagnose::orientation_gap(&prepared).unwrap().1 < 1e-9);
+        // Read as an IRB 140 (no --robot), the same rows do not fit.
+        let csv = meas.to_csv();
+        let as_140 = rapidtherm::diagnose::measurements::Measurements::parse(
+            "m.csv",
+            csv.as_bytes(),
+            &arm.limits_deg,
+        )
+        .unwrap();
+        assert!(diagnose::gap(&prepare(&as_140, &model, false).unwrap()).rms_mm > 10.0);
+    }
+}

@@ -126,7 +126,7 @@ struct Setup {
     from_urdf: bool,
 }
 
-fn load_setup(path: &Option<PathBuf>, model: &Model) -> Result<Setup> {
+fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result<Setup> {
     match path {
         Some(p) => {
             let robot = Robot::from_urdf_file(p)?;
@@ -134,6 +134,13 @@ fn load_setup(path: &Option<PathBuf>, model: &Model) -> Result<Setup> {
                 message: format!("--robot {}: {}", p.display(), e.message),
                 ..e
             })?;
+            if model_file && model.robot.opw != arm.nominal {
+                eprintln!(
+                    "note: the lengths of {} replace the model's [robot] geometry ({})",
+                    p.display(),
+                    model.robot.name
+                );
+            }
             Ok(Setup {
                 robot,
                 arm,
@@ -224,7 +231,7 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
     for spec in &args.effects {
         effects.push(Effect::parse_spec(spec)?);
     }
-    let setup = load_setup(&args.robot, &model)?;
+    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let spec = SimSpec {
         base: setup.arm.base(&model),
         poses: read_poses(&args.poses, args.seed, &setup)?,
@@ -243,7 +250,7 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
 
 pub fn run_gap(args: GapArgs) -> Result<Status> {
     let model = load_model(&args.model)?;
-    let setup = load_setup(&args.robot, &model)?;
+    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = read_measurements(&args.data, &setup.arm)?;
     let prepared = diagnose::prepare_arm(&meas, &model, &setup.arm, args.register)?;
     let g = diagnose::gap(&prepared);
@@ -332,7 +339,7 @@ fn registration_words(r: &diagnose::Registration) -> String {
 
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     let model = load_model(&args.model)?;
-    let setup = load_setup(&args.robot, &model)?;
+    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = read_measurements(&args.data, &setup.arm)?;
     let prepared = diagnose::prepare_arm(&meas, &model, &setup.arm, args.register)?;
     let opts = Options {

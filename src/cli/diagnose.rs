@@ -2,23 +2,24 @@
 
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
-use rapidtherm::diagnose::effects::{Base, Effect};
-use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::arm::Arm;
+use rapidtherm::diagnose::effects::Effect;
+use rapidtherm::diagnose::measurements::Measurements;
 use rapidtherm::diagnose::simulate::{
-    iso_cube_poses, parse_times, program_poses, random_poses, simulate, SimSpec,
+    iso_cube_poses, parse_times, program_poses, random_poses, simulate_arm, SimSpec,
 };
-use rapidtherm::robot::Robot;
-
-/// The ISO 9283 cube in the IRB 140's workspace: 300 mm side, centred
-/// 480 mm in front of axis 1 and 450 mm up (inside the reach at every
-/// corner with the tool pointing down).
-const ISO_CUBE_CENTRE: [f64; 3] = [480.0, 0.0, 450.0];
-const ISO_CUBE_SIDE: f64 = 300.0;
 use rapidtherm::diagnose::{self, Diagnosis, Options};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::Model;
 use rapidtherm::report::{render_csv, render_table, Align, Format};
+use rapidtherm::robot::Robot;
 use std::path::{Path, PathBuf};
+
+/// The ISO 9283 cube in the IRB 140's workspace: 300 mm side, centred
+/// 480 mm in front of axis 1 and 450 mm up (inside the reach at every
+/// corner with the tool pointing down). Other arms: [`Arm::iso_cube`].
+const ISO_CUBE_CENTRE: [f64; 3] = [480.0, 0.0, 450.0];
+const ISO_CUBE_SIDE: f64 = 300.0;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum TempsSource {
@@ -55,6 +56,10 @@ pub struct SimulateArgs {
     /// The model the "real" robot departs from (default: nominal IRB 140).
     #[arg(long)]
     model: Option<PathBuf>,
+    /// Robot description (URDF) of an arm with an offset shoulder and a
+    /// spherical wrist; its lengths replace the model's geometry.
+    #[arg(long, value_name = "FILE.urdf")]
+    robot: Option<PathBuf>,
     /// Output CSV (`-`: standard output).
     #[arg(short = 'o', long = "output", default_value = "-")]
     output: PathBuf,
@@ -112,37 +117,62 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model> {
     }
 }
 
-fn no_urdf(robot: &Option<PathBuf>) -> Result<()> {
-    match robot {
-        // The URDF loader belongs to the robot module; wired up on merge.
-        Some(p) => Err(Error::new(
-            ErrorKind::Unsupported,
-            format!(
-                "--robot {}: URDF robots are not supported yet (IRB 140 only)",
-                p.display()
-            ),
-        )),
-        None => Ok(()),
+/// The robot the command works on: the URDF's (its OPW lengths as the
+/// nominal geometry, its limits) or the embedded IRB 140 with the model's
+/// geometry.
+struct Setup {
+    robot: Robot,
+    arm: Arm,
+    from_urdf: bool,
+}
+
+fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result<Setup> {
+    match path {
+        Some(p) => {
+            let robot = Robot::from_urdf_file(p)?;
+            let arm = Arm::of_robot(&robot, &p.display().to_string()).map_err(|e| Error {
+                message: format!("--robot {}: {}", p.display(), e.message),
+                ..e
+            })?;
+            if model_file && model.robot.opw != arm.nominal {
+                eprintln!(
+                    "note: the lengths of {} replace the model's [robot] geometry ({})",
+                    p.display(),
+                    model.robot.name
+                );
+            }
+            Ok(Setup {
+                robot,
+                arm,
+                from_urdf: true,
+            })
+        }
+        None => Ok(Setup {
+            robot: Robot::irb140(),
+            arm: Arm::of_model(model),
+            from_urdf: false,
+        }),
     }
 }
 
-fn read_measurements(path: &Path) -> Result<Measurements> {
+fn read_measurements(path: &Path, arm: &Arm) -> Result<Measurements> {
     let (name, bytes) = read_input(path)?;
-    let meas = Measurements::parse(&name, &bytes, &IRB140_LIMITS_DEG)?;
+    let meas = Measurements::parse(&name, &bytes, &arm.limits_deg)?;
     for w in &meas.warnings {
         eprintln!("warning: {w}");
     }
     Ok(meas)
 }
 
-fn read_poses(spec: &str, seed: u64) -> Result<Vec<(String, [f64; 6])>> {
+fn read_poses(spec: &str, seed: u64, setup: &Setup) -> Result<Vec<(String, [f64; 6])>> {
+    let limits = &setup.arm.limits_deg;
     if let Some(n) = spec.strip_prefix("random:") {
         let n: usize = n
             .parse()
             .ok()
             .filter(|&n| n > 0 && n <= 100_000)
             .ok_or_else(|| Error::usage(format!("--poses {spec}: N must be 1..100000")))?;
-        return Ok(random_poses(n, &IRB140_LIMITS_DEG, seed));
+        return Ok(random_poses(n, limits, seed));
     }
     if let Some(file) = spec.strip_prefix("joints:") {
         let (name, bytes) = read_input(Path::new(file))?;
@@ -156,7 +186,7 @@ fn read_poses(spec: &str, seed: u64) -> Result<Vec<(String, [f64; 6])>> {
             let mut q = [0.0; 6];
             for i in 0..6 {
                 let v = table.number(row, cols[i])?;
-                let (lo, hi) = IRB140_LIMITS_DEG[i];
+                let (lo, hi) = limits[i];
                 if v < lo || v > hi {
                     return Err(Error::input(format!(
                         "axis {} at {v}° is outside {lo}..{hi}°",
@@ -178,12 +208,17 @@ fn read_poses(spec: &str, seed: u64) -> Result<Vec<(String, [f64; 6])>> {
         return Ok(out);
     }
     if spec == "iso-cube" {
-        return iso_cube_poses(&Robot::irb140(), ISO_CUBE_CENTRE, ISO_CUBE_SIDE);
+        let (centre, side) = if setup.from_urdf {
+            setup.arm.iso_cube()
+        } else {
+            (ISO_CUBE_CENTRE, ISO_CUBE_SIDE)
+        };
+        return iso_cube_poses(&setup.robot, centre, side);
     }
     if let Some(file) = spec.strip_prefix("program:") {
         let (name, bytes) = read_input(Path::new(file))?;
         let program = rapidtherm::rapid::parse(&name, &bytes)?;
-        return program_poses(&program, &Robot::irb140());
+        return program_poses(&program, &setup.robot);
     }
     Err(Error::usage(format!(
         "--poses `{spec}`: expected random:N, joints:FILE.csv, iso-cube or program:FILE"
@@ -196,12 +231,10 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
     for spec in &args.effects {
         effects.push(Effect::parse_spec(spec)?);
     }
+    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let spec = SimSpec {
-        base: Base {
-            nominal: model.robot.opw,
-            thermal: model.thermal.clone(),
-        },
-        poses: read_poses(&args.poses, args.seed)?,
+        base: setup.arm.base(&model),
+        poses: read_poses(&args.poses, args.seed, &setup)?,
         times: parse_times(&args.times)?,
         effects,
         noise_mm: args.noise,
@@ -210,16 +243,16 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
         seed: args.seed,
     };
     let profile = model.profile()?;
-    let meas = simulate(&spec, profile.as_ref())?;
+    let meas = simulate_arm(&spec, &setup.arm.map, profile.as_ref())?;
     write_output(&args.output, meas.to_csv().as_bytes())?;
     Ok(Status::Success)
 }
 
 pub fn run_gap(args: GapArgs) -> Result<Status> {
-    no_urdf(&args.robot)?;
     let model = load_model(&args.model)?;
-    let meas = read_measurements(&args.data)?;
-    let prepared = diagnose::prepare(&meas, &model, args.register)?;
+    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
+    let meas = read_measurements(&args.data, &setup.arm)?;
+    let prepared = diagnose::prepare_arm(&meas, &model, &setup.arm, args.register)?;
     let g = diagnose::gap(&prepared);
     let text = match args.format {
         Format::Json => {
@@ -271,6 +304,25 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     }
 }
 
+/// The URDF robot's nominal geometry, which replaces the model's.
+fn robot_words(arm: &Arm) -> String {
+    let o = &arm.nominal;
+    format!(
+        "robot: {} ({}); nominal geometry from the URDF, not the model: a1 {:.3}, a2 {:.3}, b {:.3}, c1 {:.3}, c2 {:.3}, c3 {:.3}, c4 {:.3} mm\n",
+        arm.name, arm.source, o.a1, o.a2, o.b, o.c1, o.c2, o.c3, o.c4
+    )
+}
+
+fn robot_json(arm: &Arm) -> serde_json::Value {
+    let o = &arm.nominal;
+    serde_json::json!({
+        "name": arm.name,
+        "source": arm.source,
+        "nominal_geometry": "urdf",
+        "opw_mm": {"a1": o.a1, "a2": o.a2, "b": o.b, "c1": o.c1, "c2": o.c2, "c3": o.c3, "c4": o.c4},
+    })
+}
+
 fn registration_words(r: &diagnose::Registration) -> String {
     format!(
         "instrument frame: translation ({:.3}, {:.3}, {:.3}) mm, rotation vector ({:.4}, {:.4}, {:.4})°, rigid-fit RMS {:.4} mm over {} rows\n",
@@ -286,10 +338,10 @@ fn registration_words(r: &diagnose::Registration) -> String {
 }
 
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
-    no_urdf(&args.robot)?;
     let model = load_model(&args.model)?;
-    let meas = read_measurements(&args.data)?;
-    let prepared = diagnose::prepare(&meas, &model, args.register)?;
+    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
+    let meas = read_measurements(&args.data, &setup.arm)?;
+    let prepared = diagnose::prepare_arm(&meas, &model, &setup.arm, args.register)?;
     let opts = Options {
         noise_mm: args.noise,
         ..Options::default()
@@ -302,18 +354,47 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
         }
     }
     if let Some(path) = &args.save_model {
-        let m = diagnose::diagnosed_model(&model, &d);
+        let mut m = diagnose::diagnosed_model(&model, &d);
+        if setup.from_urdf {
+            // The effects were fitted on the URDF's geometry.
+            m.robot.name = setup.arm.name.clone();
+            m.robot.opw = setup.arm.nominal;
+        }
         rapidtherm::output::write_atomic(path, m.to_toml()?.as_bytes(), None)?;
         eprintln!("wrote {}", path.display());
     }
     let text = match args.format {
         Format::Json => {
-            let v = serde_json::to_string_pretty(&d)
-                .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write JSON: {e}")))?;
+            let json_err = |e: serde_json::Error| {
+                Error::new(ErrorKind::Input, format!("cannot write JSON: {e}"))
+            };
+            let v = if setup.from_urdf {
+                // Flattened so the diagnosis keeps its field order.
+                #[derive(serde::Serialize)]
+                struct WithRobot<'a> {
+                    robot: serde_json::Value,
+                    #[serde(flatten)]
+                    diagnosis: &'a Diagnosis,
+                }
+                serde_json::to_string_pretty(&WithRobot {
+                    robot: robot_json(&setup.arm),
+                    diagnosis: &d,
+                })
+                .map_err(json_err)?
+            } else {
+                serde_json::to_string_pretty(&d).map_err(json_err)?
+            };
             format!("{v}\n")
         }
         Format::Csv => candidate_csv(&d),
-        Format::Table => diagnosis_table(&d),
+        Format::Table => {
+            let mut s = String::new();
+            if setup.from_urdf {
+                s.push_str(&robot_words(&setup.arm));
+            }
+            s.push_str(&diagnosis_table(&d));
+            s
+        }
     };
     write_stdout(text.as_bytes())?;
     Ok(Status::Success)

@@ -7,6 +7,7 @@
 //! or [`diagnose`] (noise level, localisation, candidate fits with held-out
 //! scores, forward selection, verdict).
 
+pub mod arm;
 pub mod chain;
 pub mod effects;
 pub mod fit;
@@ -61,6 +62,18 @@ pub struct Registration {
 /// `register`, bring measured points from the instrument's frame into the
 /// robot base frame.
 pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Prepared> {
+    prepare_arm(meas, model, &arm::Arm::of_model(model), register)
+}
+
+/// [`prepare`] for any OPW-shaped arm: its nominal geometry replaces the
+/// model's, and the rows' joints and orientations are mapped to the
+/// diagnosis chain's convention ([`arm::ArmMap`]).
+pub fn prepare_arm(
+    meas: &Measurements,
+    model: &Model,
+    arm: &arm::Arm,
+    register: bool,
+) -> Result<Prepared> {
     if meas.rows.is_empty() {
         return Err(Error::input(format!("{}: no measurements", meas.file)));
     }
@@ -87,10 +100,10 @@ pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Pre
         };
         rows.push(Row {
             time_min: m.time_min,
-            q: m.joints,
+            q: arm.map.to_chain(&m.joints),
             temps,
             position: m.position,
-            orientation: m.orientation,
+            orientation: m.orientation.map(|o| arm.map.flange_rotation(&o)),
             pose: id,
         });
     }
@@ -103,7 +116,7 @@ pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Pre
         TempHistory::from_profile(profile.as_ref(), t_end, 0.5)?
     };
     let mut problem = Problem {
-        base: model.base(),
+        base: arm.base(model),
         fixed: model.effects()?,
         rows,
         history,

@@ -1,6 +1,7 @@
 //! Simulated "real" data: the base model plus chosen effects at chosen
 //! magnitudes, tracker noise, deterministic for a seed (ChaCha8).
 
+use super::arm::ArmMap;
 use super::effects::{predict, Base, Effect, LinkLags, RowState, TempHistory};
 use super::measurements::{Measurement, Measurements};
 use crate::correct::frames::{frames_of, target_pose, usages, Frames};
@@ -172,6 +173,17 @@ pub fn parse_times(text: &str) -> Result<Vec<f64>> {
 
 /// Make the measurements: rows ordered by time, then pose.
 pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurements> {
+    simulate_arm(spec, &ArmMap::default(), profile)
+}
+
+/// [`simulate`] for any OPW-shaped arm: `spec.poses` are the robot's
+/// joints, mapped by `map` to the chain's; orientations are the robot's
+/// tool0.
+pub fn simulate_arm(
+    spec: &SimSpec,
+    map: &ArmMap,
+    profile: &dyn HeatingProfile,
+) -> Result<Measurements> {
     if !(spec.noise_mm.is_finite() && spec.noise_mm >= 0.0) {
         return Err(Error::usage("--noise must be a finite number >= 0"));
     }
@@ -190,15 +202,15 @@ pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurem
         let temps = profile.temps_at(t)?;
         let lagged = lag.as_ref().map(|l| l.at(t));
         for (label, q) in &spec.poses {
-            let pose = predict(
+            let pose = map.tool0(&predict(
                 &spec.base,
                 &spec.effects,
                 &RowState {
-                    q: *q,
+                    q: map.to_chain(q),
                     temps,
                     lagged,
                 },
-            );
+            ));
             let noise = Vector3::new(
                 pos_noise.sample(&mut rng),
                 pos_noise.sample(&mut rng),

@@ -1,0 +1,179 @@
+//! Any OPW-shaped arm (from a URDF) in the diagnosis: its joints are mapped
+//! to the angles of the perturbed chain ([`super::chain::fk_chain`], written
+//! in ABB's convention), so that the base model and every effect apply.
+//!
+//! The robot's joint `q` and the chain's `qc` relate through the arm's OPW
+//! signs and offsets: θ = s·q + o (robot → OPW angle) and qc = θ − θ_abb
+//! offset (θ3 = qc3 + 90°), so `qc = s·q + (o − o_abb)`. The robot's tool0
+//! is the chain's flange turned by the constant rotation `tip`. On the IRB
+//! 140 the map is exactly the identity.
+//!
+//! Joint-angle parameters of effects (joint offsets, their drift, gravity
+//! sag) are in the chain's convention: on an axis whose sign is −1 the
+//! robot's own joint value moves the opposite way.
+
+use super::effects::Base;
+use crate::error::{Error, ErrorKind, Result};
+use crate::model::Model;
+use crate::robot::{Joints, Opw, Robot, OPW_OFFSET_Q3};
+use nalgebra::{Isometry3, UnitQuaternion};
+
+/// Joint and flange-frame map from a robot to the diagnosis chain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArmMap {
+    /// +1 or −1 per axis.
+    pub signs: [f64; 6],
+    /// rad, added after the sign: `qc = sign·q + offset`.
+    pub offsets: Joints,
+    /// Robot tool0 = chain flange · tip.
+    pub tip: UnitQuaternion<f64>,
+}
+
+impl Default for ArmMap {
+    fn default() -> Self {
+        ArmMap {
+            signs: [1.0; 6],
+            offsets: [0.0; 6],
+            tip: UnitQuaternion::identity(),
+        }
+    }
+}
+
+impl ArmMap {
+    /// The map of `robot` and its nominal OPW geometry, or why the
+    /// diagnosis cannot model it.
+    pub fn of_robot(robot: &Robot) -> Result<(Opw, ArmMap)> {
+        let arm = robot.opw.as_ref().map_err(|why| {
+            Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "{}: the diagnosis models arms with an offset shoulder and a spherical wrist (OPW form); this one has none: {why}",
+                    robot.name
+                ),
+            )
+        })?;
+        let abb = [0.0, 0.0, OPW_OFFSET_Q3, 0.0, 0.0, 0.0];
+        Ok((
+            arm.geom,
+            ArmMap {
+                signs: arm.signs,
+                offsets: std::array::from_fn(|i| arm.offsets[i] - abb[i]),
+                tip: arm.tip,
+            },
+        ))
+    }
+
+    /// Chain angles of robot joints.
+    pub fn to_chain(&self, q: &Joints) -> Joints {
+        std::array::from_fn(|i| self.signs[i] * q[i] + self.offsets[i])
+    }
+
+    /// Robot joints of chain angles (signs are ±1: their own inverse).
+    pub fn from_chain(&self, qc: &Joints) -> Joints {
+        std::array::from_fn(|i| (qc[i] - self.offsets[i]) * self.signs[i])
+    }
+
+    /// The robot's tool0 pose of a chain flange pose.
+    pub fn tool0(&self, flange: &Isometry3<f64>) -> Isometry3<f64> {
+        let mut p = *flange;
+        p.rotation *= self.tip;
+        p
+    }
+
+    /// The chain flange orientation of a measured tool0 orientation.
+    pub fn flange_rotation(&self, tool0: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
+        tool0 * self.tip.inverse()
+    }
+}
+
+/// The robot the diagnosis works on: nominal geometry, joint map, limits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Arm {
+    pub name: String,
+    pub nominal: Opw,
+    pub map: ArmMap,
+    /// Degrees, inclusive.
+    pub limits_deg: [(f64, f64); 6],
+    /// Where the nominal geometry comes from (for the report).
+    pub source: String,
+}
+
+impl Arm {
+    /// The arm of a robot (from a URDF): its OPW lengths are the nominal
+    /// geometry.
+    pub fn of_robot(robot: &Robot, source: &str) -> Result<Arm> {
+        let (nominal, map) = ArmMap::of_robot(robot)?;
+        Ok(Arm {
+            name: robot.name.clone(),
+            nominal,
+            map,
+            limits_deg: robot
+                .limits
+                .map(|(lo, hi)| (lo.to_degrees(), hi.to_degrees())),
+            source: source.to_string(),
+        })
+    }
+
+    /// The IRB 140 of a model file (its `[robot]` geometry), in ABB's
+    /// convention.
+    pub fn of_model(model: &Model) -> Arm {
+        Arm {
+            name: model.robot.name.clone(),
+            nominal: model.robot.opw,
+            map: ArmMap::default(),
+            limits_deg: super::measurements::IRB140_LIMITS_DEG,
+            source: "model".into(),
+        }
+    }
+
+    /// The base model: this arm's nominal geometry with the model's
+    /// thermal expansion.
+    pub fn base(&self, model: &Model) -> Base {
+        Base {
+            nominal: self.nominal,
+            thermal: model.thermal.clone(),
+        }
+    }
+
+    /// Wrist-centre reach from axis 1, mm (a1 + c2 + the forearm).
+    pub fn reach(&self) -> f64 {
+        let o = &self.nominal;
+        o.a1 + o.c2 + o.a2.hypot(o.c3)
+    }
+
+    /// The ISO 9283 cube for this arm: centre 0.6·reach in front of axis 1
+    /// and 0.12·reach above the shoulder (c1), side 0.35·reach. On the IRB
+    /// 140 (reach 810 mm) that is (486, 0, 449) mm and 283.5 mm.
+    pub fn iso_cube(&self) -> ([f64; 3], f64) {
+        let r = self.reach();
+        ([0.6 * r, 0.0, self.nominal.c1 + 0.12 * r], 0.35 * r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::chain::{fk_chain, Perturbation};
+
+    #[test]
+    fn irb140_map_is_exactly_the_identity() {
+        let (geom, map) = ArmMap::of_robot(&Robot::irb140()).unwrap();
+        assert_eq!(map, ArmMap::default());
+        let q = [0.3, -0.2, 0.5, 1.0, -0.7, 2.0];
+        assert_eq!(map.to_chain(&q), q);
+        let r = Robot::irb140();
+        let a = fk_chain(&geom, &q, &Perturbation::default());
+        let b = r.fk(&q, None);
+        assert!((a.translation.vector - b.translation.vector).norm() < 1e-9);
+        assert!(a.rotation.angle_to(&b.rotation) < 1e-12);
+    }
+
+    #[test]
+    fn non_opw_robot_is_refused_with_the_reason() {
+        let mut r = Robot::irb140();
+        r.opw = Err("axes 4, 5 and 6 do not meet".into());
+        let e = ArmMap::of_robot(&r).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Unsupported);
+        assert!(e.message.contains("do not meet"), "{}", e.message);
+    }
+}

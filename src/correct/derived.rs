@@ -3,7 +3,7 @@
 //! is their residual drift: where the warm robot puts the derived pose of
 //! the corrected base, against the derived pose the cold program meant.
 
-use super::frames::{frames_of, target_pose, usages, Frames};
+use super::frames::{frames_of, target_pose, usages, walk_statements, Frames};
 use super::warm::{Moment, WarmRobot};
 use super::Correction;
 use crate::rapid::{Expr, FunctionCall, Program, Statement, StatementKind, Target, UnaryOp};
@@ -37,39 +37,16 @@ fn add<'a>(out: &mut HashMap<usize, &'a FunctionCall>, e: Option<&'a Expr>) {
 
 /// Call arguments, assigned values and RETURNs, nested ones included.
 fn visit<'a>(statements: &'a [Statement], out: &mut HashMap<usize, &'a FunctionCall>) {
-    for s in statements {
-        match &s.kind {
-            StatementKind::Call(call) => {
-                for a in &call.args {
-                    add(out, a.value.as_ref());
-                }
+    walk_statements(statements, &mut |s| match &s.kind {
+        StatementKind::Call(call) => {
+            for a in &call.args {
+                add(out, a.value.as_ref());
             }
-            StatementKind::Assign { value, .. } => add(out, Some(value)),
-            StatementKind::Return(e) => add(out, e.as_ref()),
-            StatementKind::CompactIf { then, .. } => visit(std::slice::from_ref(then), out),
-            StatementKind::If {
-                branches,
-                otherwise,
-            } => {
-                for (_, body) in branches {
-                    visit(body, out);
-                }
-                if let Some(body) = otherwise {
-                    visit(body, out);
-                }
-            }
-            StatementKind::For { body, .. } | StatementKind::While { body, .. } => visit(body, out),
-            StatementKind::Test { cases, default, .. } => {
-                for (_, body) in cases {
-                    visit(body, out);
-                }
-                if let Some(body) = default {
-                    visit(body, out);
-                }
-            }
-            _ => {}
         }
-    }
+        StatementKind::Assign { value, .. } => add(out, Some(value)),
+        StatementKind::Return(e) => add(out, e.as_ref()),
+        _ => {}
+    });
 }
 
 fn literal(e: &Expr) -> Option<f64> {

@@ -176,37 +176,49 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
     out
 }
 
-/// Every procedure call in a statement list, nested ones included.
-pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) {
+/// Every statement of a list, nested ones included, in source order.
+pub fn walk_statements<'a>(statements: &'a [Statement], visit: &mut impl FnMut(&'a Statement)) {
     for s in statements {
+        visit(s);
         match &s.kind {
-            StatementKind::Call(call) => visit(call, s.pos.line),
             StatementKind::If {
                 branches,
                 otherwise,
             } => {
                 for (_, body) in branches {
-                    walk_calls(body, visit);
+                    walk_statements(body, visit);
                 }
                 if let Some(body) = otherwise {
-                    walk_calls(body, visit);
+                    walk_statements(body, visit);
                 }
             }
-            StatementKind::CompactIf { then, .. } => walk_calls(std::slice::from_ref(then), visit),
+            StatementKind::CompactIf { then, .. } => {
+                walk_statements(std::slice::from_ref(then.as_ref()), visit)
+            }
             StatementKind::For { body, .. } | StatementKind::While { body, .. } => {
-                walk_calls(body, visit)
+                walk_statements(body, visit)
             }
             StatementKind::Test { cases, default, .. } => {
                 for (_, body) in cases {
-                    walk_calls(body, visit);
+                    walk_statements(body, visit);
                 }
                 if let Some(body) = default {
-                    walk_calls(body, visit);
+                    walk_statements(body, visit);
                 }
             }
             _ => {}
         }
     }
+}
+
+/// Every procedure call in a statement list, nested ones included, with
+/// its line.
+pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) {
+    walk_statements(statements, &mut |s| {
+        if let StatementKind::Call(call) = &s.kind {
+            visit(call, s.pos.line);
+        }
+    });
 }
 
 /// The name of a plain variable argument (`tool1`), or `None` for anything

@@ -9,6 +9,32 @@ use std::path::Path;
 /// Write `bytes` to `path` atomically. With `backup`, the existing file is
 /// first copied to `path` + suffix.
 pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<()> {
+    // A device or pipe (`-o /dev/null`, a FIFO) is written as it is:
+    // renaming a file over it would replace the device itself.
+    if let Ok(meta) = std::fs::metadata(path) {
+        if !meta.is_file() {
+            if meta.is_dir() {
+                return Err(Error::new(
+                    ErrorKind::Io,
+                    format!("{}: is a folder, not a file", path.display()),
+                ));
+            }
+            return std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .and_then(|mut f| f.write_all(bytes))
+                .map_err(|e| Error::io(path, &e));
+        }
+    }
+    // Through a symbolic link, the file it points to is replaced, and the
+    // link stays.
+    let resolved;
+    let path = if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        resolved = std::fs::canonicalize(path).map_err(|e| Error::io(path, &e))?;
+        resolved.as_path()
+    } else {
+        path
+    };
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -80,6 +106,34 @@ mod tests {
         // Whatever the umask, more than the owner may read (the usual
         // umasks 022 and 002 both leave 0o044).
         assert_ne!(mode, 0o600, "mode {mode:o}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_device_is_written_not_replaced_and_a_link_is_kept() {
+        use std::os::unix::fs::FileTypeExt;
+        write_atomic(Path::new("/dev/null"), b"nothing", None).unwrap();
+        let meta = std::fs::metadata("/dev/null").unwrap();
+        assert!(
+            meta.file_type().is_char_device(),
+            "/dev/null is still the device"
+        );
+
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.mod");
+        let link = dir.path().join("link.mod");
+        std::fs::write(&real, b"old").unwrap();
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_atomic(&link, b"new", None).unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+        assert!(
+            write_atomic(dir.path(), b"x", None).is_err(),
+            "a folder is refused"
+        );
     }
 
     #[test]

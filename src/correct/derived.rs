@@ -3,8 +3,8 @@
 //! is their residual drift: where the warm robot puts the derived pose of
 //! the corrected base, against the derived pose the cold program meant.
 
-use super::frames::{frames_of, target_pose, usages, walk_statements, Frames};
-use super::warm::{Moment, WarmRobot};
+use super::frames::{frames_of, target_pose, walk_statements, Frames, Usage};
+use super::warm::{Moment, States, WarmRobot};
 use super::Correction;
 use crate::rapid::{Expr, FunctionCall, Program, Statement, StatementKind, Target, UnaryOp};
 use crate::robot::frames::{flange_of_target, target_of_flange};
@@ -107,8 +107,10 @@ pub fn residual(
     program: &Program,
     target: &Target,
     calls: &HashMap<usize, &FunctionCall>,
+    (frames, uses): &(&Frames, &HashMap<usize, Vec<Usage>>),
     corrections: &[Correction],
     warm: &WarmRobot,
+    states: &States,
 ) -> Option<f64> {
     let call = calls.get(&target.origin.pos.offset)?;
     let base_id = target.derived.as_ref()?.bases.first()?;
@@ -121,9 +123,7 @@ pub fn residual(
         .enumerate()
         .find(|(_, t)| t.id.eq_ignore_ascii_case(base_id))?;
     let (original, conf) = target_pose(program, base).ok()??;
-    let frames = Frames::of_program(program).ok()?;
-    let uses = usages(program);
-    let (tool, wobj, _, _) = frames_of(program, &frames, index, uses.get(&index)).ok()?;
+    let (tool, wobj, _, _) = frames_of(program, frames, index, uses.get(&index)).ok()?;
     let meant = apply(call, &original)?;
     let sent = apply(call, &correction.exact?)?;
     let q = warm
@@ -131,7 +131,7 @@ pub fn residual(
         .ik_conf(&flange_of_target(&sent, &tool, &wobj).ok()?, &conf, None)
         .ok()?;
     let moment = correction.time_min.map_or(Moment::Steady, Moment::Minute);
-    let state = warm.state(moment).ok()?;
+    let state = states.at(moment).ok()?;
     let landed = target_of_flange(&warm.flange(&q, &state), &tool, &wobj).ok()?;
     Some((landed.translation.vector - meant.translation.vector).norm())
 }

@@ -187,6 +187,7 @@ fn correct_all(
     let frames = Frames::of_program(program)?;
     let uses = usages(program);
     let conf_off = configuration_monitoring_off(program);
+    let states = warm.states();
     if let When::Schedule {
         schedule, joints, ..
     } = &options.when
@@ -250,8 +251,8 @@ fn correct_all(
             }
             Err(e) => return Err(at_target(program, target, prefix(e, "as written"))),
         };
-        let state = warm
-            .state(moment)
+        let state = states
+            .at(moment)
             .map_err(|e| at_target(program, target, e))?;
         let q_warm = warm.joints_for(&flange, &conf, &state).map_err(|e| {
             at_target(
@@ -291,7 +292,7 @@ fn correct_all(
         if moments.len() > 1 {
             for m in &moments {
                 let d =
-                    drift_at(&warm.state(*m).map_err(|e| at_target(program, target, e))?)?.norm();
+                    drift_at(&states.at(*m).map_err(|e| at_target(program, target, e))?)?.norm();
                 range = (range.0.min(d), range.1.max(d));
             }
         }
@@ -346,16 +347,27 @@ fn correct_all(
         if jt.kind == TargetKind::Derived {
             continue;
         }
-        corrections.push(correct_jointtarget(program, sources, warm, options, jt)?);
+        corrections.push(correct_jointtarget(
+            program, sources, warm, &states, options, jt,
+        )?);
     }
     progress(total, total);
     let calls = derived::calls_by_offset(program);
+    let lookup = (&frames, &uses);
     let derived: Vec<Derived> = derived_targets
         .into_iter()
         .map(|i| {
             let target = &program.targets()[i];
             let mut report = derived_report(program, target, &corrections);
-            report.residual_mm = derived::residual(program, target, &calls, &corrections, warm);
+            report.residual_mm = derived::residual(
+                program,
+                target,
+                &calls,
+                &lookup,
+                &corrections,
+                warm,
+                &states,
+            );
             report
         })
         .collect();
@@ -412,6 +424,7 @@ fn correct_jointtarget(
     program: &Program,
     sources: &[&[u8]],
     warm: &WarmRobot,
+    states: &warm::States,
     options: &Options,
     jt: &JointTarget,
 ) -> Result<Correction> {
@@ -425,7 +438,7 @@ fn correct_jointtarget(
     let conf = warm.nominal.conf_of(&q);
     let moments = joint_moments_of(&options.when, &jt.id).map_err(located)?;
     let moment = pick(&moments, options.visit);
-    let state = warm.state(moment).map_err(located)?;
+    let state = states.at(moment).map_err(located)?;
     let q_warm = warm.joints_for(&flange, &conf, &state).map_err(located)?;
     let new_deg = q_warm.map(f64::to_degrees);
     let drift = warm.flange(&q, &state).translation.vector - flange.translation.vector;

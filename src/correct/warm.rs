@@ -95,25 +95,21 @@ impl WarmRobot {
         self.effects.is_empty()
     }
 
-    /// The thermal state at a moment.
+    /// The thermal state at a moment. For many moments, build
+    /// [`WarmRobot::states`] once: it integrates the thermal lag once.
     pub fn state(&self, at: Moment) -> Result<State> {
-        match at {
-            Moment::Steady => {
-                let temps = self.profile.steady()?;
-                Ok(State {
-                    temps,
-                    lagged: self.history.as_ref().map(|_| [temps; 4]),
-                })
-            }
-            Moment::Minute(t) => {
-                let temps = self.profile.temps_at(t)?;
-                let lagged = self
-                    .history
-                    .as_ref()
-                    .and_then(|h| LinkLags::new(h, &self.effects))
-                    .map(|lags| lags.at(t));
-                Ok(State { temps, lagged })
-            }
+        self.states().at(at)
+    }
+
+    /// The thermal states of this robot, with the thermal lag (if any)
+    /// integrated over the whole history once.
+    pub fn states(&self) -> States<'_> {
+        States {
+            warm: self,
+            lags: self
+                .history
+                .as_ref()
+                .and_then(|h| LinkLags::new(h, &self.effects)),
         }
     }
 
@@ -187,6 +183,31 @@ impl WarmRobot {
             j.set_column(i, &d);
         }
         j
+    }
+}
+
+/// Thermal states at any moment, the lag integrated once.
+pub struct States<'a> {
+    warm: &'a WarmRobot,
+    lags: Option<LinkLags<'a>>,
+}
+
+impl States<'_> {
+    /// The thermal state at a moment.
+    pub fn at(&self, at: Moment) -> Result<State> {
+        match at {
+            Moment::Steady => {
+                let temps = self.warm.profile.steady()?;
+                Ok(State {
+                    temps,
+                    lagged: self.lags.as_ref().map(|_| [temps; 4]),
+                })
+            }
+            Moment::Minute(t) => Ok(State {
+                temps: self.warm.profile.temps_at(t)?,
+                lagged: self.lags.as_ref().map(|lags| lags.at(t)),
+            }),
+        }
     }
 }
 

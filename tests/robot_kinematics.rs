@@ -76,6 +76,8 @@ fn check_poses_through_every_model() {
     for (q, p, quat) in CHECK_POSES {
         let q = deg(q);
         assert_check_pose(&robot.fk(&q, None), p, quat);
+        // The OPW geometry alone, as the diagnosis's base model uses it.
+        assert_check_pose(&rapidtherm::robot::IRB140.fk(&q), p, quat);
         // The URDF chain itself (general serial FK), not the OPW shortcut.
         assert_check_pose(&robot.chain.fk(&q), p, quat);
         // At the reference temperature the warm model is the nominal one.

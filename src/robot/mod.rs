@@ -229,52 +229,6 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    fn deg(q: [f64; 6]) -> Joints {
-        q.map(f64::to_radians)
-    }
-
-    /// The check poses of `shared/spec/irb140.md`, as printed there.
-    #[allow(clippy::approx_constant)]
-    #[test]
-    fn check_poses() {
-        let cases = [
-            (
-                [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-                [515.0, 0.0, 712.0],
-                [0.70711, 0.0, 0.70711, 0.0],
-            ),
-            (
-                [0.0, 0.0, 0.0, 0.0, 90.0, 0.0],
-                [450.0, 0.0, 647.0],
-                [0.0, 0.0, 1.0, 0.0],
-            ),
-            (
-                [90.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-                [0.0, 515.0, 712.0],
-                [0.5, -0.5, 0.5, 0.5],
-            ),
-            (
-                [30.0, 20.0, -40.0, 50.0, 60.0, 70.0],
-                [492.1012, 333.9077, 797.3712],
-                [0.07631, -0.31555, -0.75926, -0.56403],
-            ),
-        ];
-        for (q, p, quat) in cases {
-            let pose = IRB140.fk(&deg(q));
-            let t = pose.translation.vector;
-            assert_relative_eq!(t.x, p[0], epsilon = 1e-4);
-            assert_relative_eq!(t.y, p[1], epsilon = 1e-4);
-            assert_relative_eq!(t.z, p[2], epsilon = 1e-4);
-            let r = pose.rotation.quaternion();
-            // q and -q are one rotation; the spec prints w >= 0.
-            let sign = if r.w < -1e-12 { -1.0 } else { 1.0 };
-            assert_relative_eq!(sign * r.w, quat[0], epsilon = 1e-5);
-            assert_relative_eq!(sign * r.i, quat[1], epsilon = 1e-5);
-            assert_relative_eq!(sign * r.j, quat[2], epsilon = 1e-5);
-            assert_relative_eq!(sign * r.k, quat[3], epsilon = 1e-5);
-        }
-    }
-
     #[test]
     fn expansion_at_reference_temperature_is_nominal() {
         let th = ThermalExpansion::default();

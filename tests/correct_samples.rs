@@ -2,10 +2,12 @@
 //! corrected target, turned into joints by the controller's nominal model
 //! and driven through the warm model, lands on the original target.
 
+mod common;
+
 use approx::assert_relative_eq;
 use nalgebra::{Isometry3, UnitQuaternion};
 use rapidtherm::correct::diff::diff;
-use rapidtherm::correct::frames::{frames_of, target_pose, usages, Frames};
+use rapidtherm::correct::frames::target_pose;
 use rapidtherm::correct::warm::{Moment, WarmRobot};
 use rapidtherm::correct::{correct, Options, When};
 use rapidtherm::model::Model;
@@ -69,21 +71,18 @@ fn corrected_targets_land_on_the_original_through_the_warm_model() {
     let mut checked = 0;
     for (name, bytes) in sample_programs() {
         let (program, outcome) = run(&name, &bytes, minute);
-        let frames = Frames::of_program(&program).unwrap();
-        let uses = usages(&program);
+        let meanings = common::Meanings::new(&program);
         for c in outcome
             .corrections
             .iter()
             .filter(|c| c.kind != "jointtarget")
         {
-            let (index, target) = program
-                .targets()
-                .iter()
-                .enumerate()
-                .find(|(_, t)| t.id == c.id)
-                .unwrap();
-            let (original, conf) = target_pose(&program, target).unwrap().unwrap();
-            let (tool, wobj, _, _) = frames_of(&program, &frames, index, uses.get(&index)).unwrap();
+            let common::Meant {
+                pose: original,
+                conf,
+                tool,
+                wobj,
+            } = meanings.of(&c.id);
             let corrected = c.exact.unwrap();
             // The controller: nominal IK of the corrected target, same robconf.
             let flange = flange_of_target(&corrected, &tool, &wobj).unwrap();

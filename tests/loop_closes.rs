@@ -3,8 +3,9 @@
 //! meant, on the simulated real robot, than one corrected with the base
 //! model.
 
+mod common;
+
 use nalgebra::Isometry3;
-use rapidtherm::correct::frames::{frames_of, target_pose, usages, Frames};
 use rapidtherm::correct::warm::{Moment, WarmRobot};
 use rapidtherm::correct::{correct, Options, When};
 use rapidtherm::diagnose::effects::{predict, Base, Effect, EffectKind, RowState};
@@ -31,24 +32,21 @@ fn landing_rms(program_name: &str, bytes: &[u8], model: &Model, truth: &[Effect]
     };
     let outcome = correct(&program, &[bytes], &warm, &options, &mut |_, _| {}).unwrap();
     let robot = Robot::irb140();
-    let frames = Frames::of_program(&program).unwrap();
-    let uses = usages(&program);
     let temps = default_profile().temps_at(MINUTE).unwrap();
     let mut sum = 0.0;
     let mut n = 0.0;
+    let meanings = common::Meanings::new(&program);
     for c in outcome
         .corrections
         .iter()
         .filter(|c| c.kind != "jointtarget")
     {
-        let (index, target) = program
-            .targets()
-            .iter()
-            .enumerate()
-            .find(|(_, t)| t.id == c.id)
-            .unwrap();
-        let (goal, conf) = target_pose(&program, target).unwrap().unwrap();
-        let (tool, wobj, _, _) = frames_of(&program, &frames, index, uses.get(&index)).unwrap();
+        let common::Meant {
+            pose: goal,
+            conf,
+            tool,
+            wobj,
+        } = meanings.of(&c.id);
         let corrected: Isometry3<f64> = c.exact.unwrap();
         let q = robot
             .ik_conf(

@@ -1,0 +1,55 @@
+//! Helpers shared by the integration tests of the correction.
+
+use nalgebra::Isometry3;
+use rapidtherm::correct::frames::{frames_of, target_pose, usages, Frames, Usage};
+use rapidtherm::rapid::Program;
+use rapidtherm::robot::frames::{ToolData, WobjData};
+use rapidtherm::robot::RobConf;
+use std::collections::HashMap;
+
+/// A robtarget as the program means it: pose in its work object, robconf,
+/// and the tool and work object the program moves to it with.
+pub struct Meant {
+    pub pose: Isometry3<f64>,
+    pub conf: RobConf,
+    pub tool: ToolData,
+    pub wobj: WobjData,
+}
+
+/// What a program means by its targets, looked up independently of the
+/// correction's own bookkeeping.
+pub struct Meanings<'a> {
+    program: &'a Program,
+    frames: Frames,
+    uses: HashMap<usize, Vec<Usage>>,
+}
+
+impl<'a> Meanings<'a> {
+    pub fn new(program: &'a Program) -> Meanings<'a> {
+        Meanings {
+            program,
+            frames: Frames::of_program(program).unwrap(),
+            uses: usages(program),
+        }
+    }
+
+    /// What the program means by target `id`.
+    pub fn of(&self, id: &str) -> Meant {
+        let (index, target) = self
+            .program
+            .targets()
+            .iter()
+            .enumerate()
+            .find(|(_, t)| t.id == id)
+            .unwrap();
+        let (pose, conf) = target_pose(self.program, target).unwrap().unwrap();
+        let (tool, wobj, _, _) =
+            frames_of(self.program, &self.frames, index, self.uses.get(&index)).unwrap();
+        Meant {
+            pose,
+            conf,
+            tool,
+            wobj,
+        }
+    }
+}

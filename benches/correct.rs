@@ -9,8 +9,8 @@
 //!   Set `RAPIDTHERM_BENCH_TARGETS` to change the count.
 
 use criterion::{Criterion, Throughput};
-use rapidtherm::correct::warm::{Moment, WarmRobot};
 use rapidtherm::correct::{correct, Options, When};
+use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
 use rapidtherm::robot::Robot;

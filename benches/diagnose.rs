@@ -2,11 +2,11 @@
 //! all candidates scored with cross-validation and forward selection.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rapidtherm::diagnose::effects::{Base, Effect, EffectKind};
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::{diagnose, prepare, Options};
 use rapidtherm::model::Model;
+use rapidtherm::model::{Base, Effect, EffectKind};
 use rapidtherm::thermal::default_profile;
 use std::hint::black_box;
 

@@ -31,7 +31,7 @@ fn bench(c: &mut Criterion) {
     let reference = reference();
     let q: Joints = [30.0f64, 20.0, -40.0, 50.0, 60.0, 70.0].map(f64::to_radians);
     let temps = rapidtherm::thermal::TABLE1_TMAX;
-    let pose = robot.fk(&q, None);
+    let pose = robot.fk(&q);
     let t = pose.translation.vector;
     let r = pose.rotation.quaternion();
     let ref_pose = Pose::from_parts(
@@ -41,9 +41,12 @@ fn bench(c: &mut Criterion) {
     let conf = robot.conf_of(&q);
 
     let mut g = c.benchmark_group("fk");
-    g.bench_function("rapidtherm", |b| b.iter(|| robot.fk(black_box(&q), None)));
+    g.bench_function("rapidtherm", |b| b.iter(|| robot.fk(black_box(&q))));
     g.bench_function("rapidtherm_warm", |b| {
-        b.iter(|| robot.fk(black_box(&q), Some(black_box(&temps))))
+        // The warm arm as the correction asks for it: the link scales of
+        // the motor temperatures, then the scaled arm's FK.
+        let thermal = rapidtherm::model::ThermalExpansion::default();
+        b.iter(|| robot.fk_scaled(black_box(&q), &thermal.scales(black_box(&temps))))
     });
     g.bench_function("rapidtherm_urdf_chain", |b| {
         b.iter(|| robot.chain.fk(black_box(&q)))
@@ -58,10 +61,10 @@ fn bench(c: &mut Criterion) {
         b.iter(|| arm.solve(black_box(&pose), &wide, None))
     });
     g.bench_function("rapidtherm_all_turns_in_limits", |b| {
-        b.iter(|| robot.ik(black_box(&pose), None))
+        b.iter(|| robot.ik(black_box(&pose)))
     });
     g.bench_function("rapidtherm_with_robconf", |b| {
-        b.iter(|| robot.ik_conf(black_box(&pose), &conf, None))
+        b.iter(|| robot.ik_conf(black_box(&pose), &conf))
     });
     g.bench_function("rs_opw_kinematics", |b| {
         b.iter(|| reference.inverse(black_box(&ref_pose)))

@@ -13,7 +13,7 @@
 //! The main job in a few lines:
 //!
 //! ```
-//! use rapidtherm::correct::warm::{Moment, WarmRobot};
+//! use rapidtherm::model::warm::{Moment, WarmRobot};
 //! use rapidtherm::correct::{correct, Options, When};
 //! use rapidtherm::{model::Model, rapid, robot::Robot, schedule::Visit};
 //!
@@ -29,14 +29,15 @@
 //! # Ok::<(), rapidtherm::Error>(())
 //! ```
 
+pub mod compare;
 pub mod correct;
 pub mod csv_table;
 pub mod diagnose;
 pub mod error;
 pub mod model;
-pub mod output;
 pub mod rapid;
 pub mod report;
+pub mod resolve;
 pub mod robot;
 pub mod schedule;
 pub mod thermal;

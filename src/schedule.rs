@@ -12,13 +12,13 @@
 //! - [`estimate`] with [`EstimateOptions`] → [`Estimate`]: walk the program
 //!   (see its docs for every choice made where run-time values decide).
 
-use crate::correct::frames::{target_pose, Frames};
 use crate::csv_table::CsvTable;
 use crate::error::{Error, ErrorKind, Result};
 use crate::rapid::{
     self, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Motion, MotionKind, Program, Routine,
     RoutineKind, Statement, StatementKind, TargetKind, UnaryOp,
 };
+use crate::resolve::{target_pose, Frames};
 use crate::robot::frames::{flange_of_target, target_of_flange};
 use crate::robot::{Joints, RobConf, Robot, ToolData, WobjData};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -518,7 +518,7 @@ impl<'p> Walker<'p> {
             clock: 0.0,
             robot_free: 0.0,
             arm: Arm {
-                flange: robot.fk(&zero, None),
+                flange: robot.fk(&zero),
                 joints: Some(zero),
                 conf: robot.conf_of(&zero),
             },
@@ -1249,7 +1249,7 @@ impl<'p> Walker<'p> {
             (MotionKind::AbsJoint, Value::Joint(j)) => {
                 let (q, id) = *j;
                 let q_from = self.current_joints();
-                let flange = self.robot.fk(&q, None);
+                let flange = self.robot.fk(&q);
                 let tcp = match (&from, target_of_flange(&flange, &tool, &wobj)) {
                     (Ok(a), Ok(b)) => (b.translation.vector - a.translation.vector).norm(),
                     _ => 0.0,
@@ -1380,11 +1380,11 @@ impl<'p> Walker<'p> {
         frame: &Frame,
         s: &Statement,
     ) -> Result<Joints> {
-        let err = match self.robot.ik_conf(flange, &rob.conf, None) {
+        let err = match self.robot.ik_conf(flange, &rob.conf) {
             Ok(q) => return Ok(q),
             Err(e) => e,
         };
-        let sols = match self.robot.ik(flange, None) {
+        let sols = match self.robot.ik(flange) {
             Ok(sols) if !sols.is_empty() => sols,
             Ok(_) => return Err(self.unreachable(rob, call, frame, s, err)),
             Err(e) => return Err(self.unreachable(rob, call, frame, s, e)),
@@ -1454,10 +1454,10 @@ impl<'p> Walker<'p> {
             // targets): a solution on the same side of axis 1, else any.
             self.arm.joints = self
                 .robot
-                .ik_conf(&self.arm.flange, &self.arm.conf, None)
+                .ik_conf(&self.arm.flange, &self.arm.conf)
                 .ok()
                 .or_else(|| {
-                    let sols = self.robot.ik(&self.arm.flange, None).ok()?;
+                    let sols = self.robot.ik(&self.arm.flange).ok()?;
                     let cf1 = self.arm.conf.cf1;
                     sols.iter()
                         .find(|s| s.conf.cf1 == cf1)

@@ -6,12 +6,12 @@ mod common;
 
 use approx::assert_relative_eq;
 use nalgebra::{Isometry3, UnitQuaternion};
-use rapidtherm::correct::diff::diff;
-use rapidtherm::correct::frames::target_pose;
-use rapidtherm::correct::warm::{Moment, WarmRobot};
+use rapidtherm::compare::diff;
 use rapidtherm::correct::{correct, Options, When};
+use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid::{self, Program, TargetKind};
+use rapidtherm::resolve::target_pose;
 use rapidtherm::robot::frames::{flange_of_target, target_of_flange};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::Visit;
@@ -67,6 +67,7 @@ fn same_rotation(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>, eps: f64) -> 
 fn corrected_targets_land_on_the_original_through_the_warm_model() {
     let minute = 120.0;
     let temps = default_profile().temps_at(minute).unwrap();
+    let scales = Model::default().thermal.scales(&temps);
     let robot = Robot::irb140();
     let mut checked = 0;
     for (name, bytes) in sample_programs() {
@@ -86,10 +87,10 @@ fn corrected_targets_land_on_the_original_through_the_warm_model() {
             let corrected = c.exact.unwrap();
             // The controller: nominal IK of the corrected target, same robconf.
             let flange = flange_of_target(&corrected, &tool, &wobj).unwrap();
-            let q = robot.ik_conf(&flange, &conf, None).unwrap();
+            let q = robot.ik_conf(&flange, &conf).unwrap();
             // The warm robot at those joints.
             let reached: Isometry3<f64> =
-                target_of_flange(&robot.fk(&q, Some(&temps)), &tool, &wobj).unwrap();
+                target_of_flange(&robot.fk_scaled(&q, &scales), &tool, &wobj).unwrap();
             let miss = (reached.translation.vector - original.translation.vector).norm();
             assert!(miss < 1e-6, "{name} {}: lands {miss} mm off", c.id);
             assert!(

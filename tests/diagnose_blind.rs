@@ -7,13 +7,14 @@ use nalgebra::Vector3;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use rapidtherm::diagnose::chain::{fk_chain, Perturbation};
-use rapidtherm::diagnose::effects::{Base, Effect, EffectKind, RowState, TempHistory};
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::{diagnose, prepare, Diagnosis, Options};
+use rapidtherm::model::chain::{fk_chain, Perturbation};
 use rapidtherm::model::Model;
-use rapidtherm::robot::MotorTemps;
+use rapidtherm::model::{Base, Effect, EffectKind, RowState};
+use rapidtherm::thermal::MotorTemps;
+use rapidtherm::thermal::TempHistory;
 use rapidtherm::thermal::{default_profile, HeatingProfile};
 
 const NOISE: f64 = 0.01;
@@ -237,7 +238,7 @@ fn other_parameterisations_are_still_recognised() {
 
     // Second-order lag: the structure follows the motors through two
     // cascaded first-order lags (20 and 15 min).
-    let hist = TempHistory::from_profile(&profile, 180.0, 0.5).unwrap();
+    let hist = TempHistory::from_profile(&profile, 180.0).unwrap();
     let first = hist.lagged(20.0);
     let recs: Vec<(f64, MotorTemps)> = (0..=360)
         .map(|i| (i as f64 * 0.5, first.at(i as f64 * 0.5)))
@@ -252,7 +253,7 @@ fn other_parameterisations_are_still_recognised() {
             temps: warm(t),
             lagged: Some([second.at(t); 4]),
         };
-        rapidtherm::diagnose::effects::predict(&base, &lag_marker, &row)
+        rapidtherm::model::predict(&base, &lag_marker, &row)
             .translation
             .vector
     });
@@ -326,7 +327,7 @@ fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
     let base = Base::default();
     remeasure(&mut meas, seed, |_, t, q| {
         let temps = warm(t);
-        let (opw, mut p) = rapidtherm::diagnose::effects::perturbation(
+        let (opw, mut p) = rapidtherm::model::perturbation(
             &base,
             std::slice::from_ref(&bending),
             &RowState {

@@ -3,13 +3,13 @@
 //! an instrument frame, and bad data refused with clear errors.
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-use rapidtherm::diagnose::effects::{Base, Effect, EffectKind};
 use rapidtherm::diagnose::fit::fit;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::{diagnose, gap, prepare, Options};
 use rapidtherm::error::ErrorKind;
 use rapidtherm::model::Model;
+use rapidtherm::model::{Base, Effect, EffectKind};
 use rapidtherm::thermal::default_profile;
 
 fn data(effects: Vec<Effect>, orientation: bool, seed: u64) -> Measurements {

@@ -3,11 +3,11 @@
 //! the base model.
 
 use nalgebra::{DMatrix, DVector, Isometry3};
-use rapidtherm::diagnose::effects::{predict, Base, Effect, EffectKind, RowState};
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare, Options};
 use rapidtherm::model::Model;
+use rapidtherm::model::{predict, Base, Effect, EffectKind, RowState};
 use rapidtherm::robot::Joints;
 use rapidtherm::thermal::{default_profile, HeatingProfile};
 

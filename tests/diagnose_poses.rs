@@ -20,7 +20,7 @@ fn iso_cube_points_lie_on_the_diagonal_plane_at_ten_percent_from_the_corners() {
         [600.0, -120.0, 570.0],
     ];
     for ((name, q), e) in poses.iter().zip(expected) {
-        let f = robot.fk(q, None);
+        let f = robot.fk(q);
         let miss = (f.translation.vector - Vector3::from(e)).norm();
         assert!(miss < 1e-9, "{name}: {miss} mm off");
         // Tool pointing down.
@@ -43,10 +43,10 @@ fn program_poses_reach_the_program_targets() {
     let names: Vec<&str> = poses.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["p10", "p20", "main#1"]);
     // main#1 is [450,100,500] with tool0 in wobj0: the flange itself.
-    let f = robot.fk(&poses[2].1, None);
+    let f = robot.fk(&poses[2].1);
     assert!((f.translation.vector - Vector3::new(450.0, 100.0, 500.0)).norm() < 1e-9);
     // p10 is [100,150,380] in wTable (origin 400,-200,100) with a 120 mm
     // tool pointing down: flange 120 mm above the TCP.
-    let f = robot.fk(&poses[0].1, None);
+    let f = robot.fk(&poses[0].1);
     assert!((f.translation.vector - Vector3::new(500.0, -50.0, 600.0)).norm() < 1e-9);
 }

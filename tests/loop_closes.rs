@@ -6,13 +6,13 @@
 mod common;
 
 use nalgebra::Isometry3;
-use rapidtherm::correct::warm::{Moment, WarmRobot};
 use rapidtherm::correct::{correct, Options, When};
-use rapidtherm::diagnose::effects::{predict, Base, Effect, EffectKind, RowState};
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare, Options as DiagnoseOptions};
+use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
+use rapidtherm::model::{predict, Base, Effect, EffectKind, RowState};
 use rapidtherm::rapid;
 use rapidtherm::robot::frames::{flange_of_target, target_of_flange};
 use rapidtherm::robot::Robot;
@@ -49,11 +49,7 @@ fn landing_rms(program_name: &str, bytes: &[u8], model: &Model, truth: &[Effect]
         } = meanings.of(&c.id);
         let corrected: Isometry3<f64> = c.exact.unwrap();
         let q = robot
-            .ik_conf(
-                &flange_of_target(&corrected, &tool, &wobj).unwrap(),
-                &conf,
-                None,
-            )
+            .ik_conf(&flange_of_target(&corrected, &tool, &wobj).unwrap(), &conf)
             .unwrap();
         let real = predict(
             &Base::default(),

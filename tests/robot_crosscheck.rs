@@ -62,7 +62,7 @@ fn forward_kinematics_agrees_with_rs_opw_kinematics() {
     for _ in 0..10_000 {
         let q: Joints =
             std::array::from_fn(|_| (rng.next() * 2.0 - 1.0) * 2.0 * std::f64::consts::PI);
-        let ours = robot.fk(&q, None);
+        let ours = robot.fk(&q);
         let theirs = from_ref(&reference.forward(&q));
         let dp = (ours.translation.vector - theirs.translation.vector).norm();
         let dr = ours.rotation.angle_to(&theirs.rotation);
@@ -89,7 +89,7 @@ fn ik_solution_sets_agree_with_rs_opw_kinematics() {
         if q[4].abs() < 1e-3 || (q[4].abs() - std::f64::consts::PI).abs() < 1e-3 {
             continue;
         }
-        let pose = robot.fk(&q, None);
+        let pose = robot.fk(&q);
         let ours = arm.solve(&pose, &robot.limits, None).unwrap();
         let theirs = reference.inverse(&to_ref(&pose));
         let same = |a: &Joints, b: &Joints| (0..6).all(|i| wrap(a[i] - b[i]).abs() < 1e-7);
@@ -128,11 +128,11 @@ proptest! {
         let near = |a: f64| { let r = a / 90.0; (r - r.round()).abs() < 1e-6 };
         prop_assume!(q5.abs() > 0.1 && !near(q1) && !near(q4) && !near(q6));
         let robot = Robot::irb140();
-        let pose = robot.fk(&q, None);
+        let pose = robot.fk(&q);
         let w = pose * nalgebra::Point3::new(0.0, 0.0, -65.0);
         prop_assume!(w.x.hypot(w.y) > 1.0);
         let conf = robot.conf_of(&q);
-        let back = robot.ik_conf(&pose, &conf, None).unwrap();
+        let back = robot.ik_conf(&pose, &conf).unwrap();
         for i in 0..6 {
             prop_assert!((back[i] - q[i]).abs() < 1e-8, "{:?} -> {:?}", q, back);
         }

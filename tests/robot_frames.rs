@@ -7,6 +7,7 @@
 
 use nalgebra::{Isometry3, Point3};
 use rapidtherm::error::ErrorKind;
+use rapidtherm::model::ThermalExpansion;
 use rapidtherm::robot::frames::{
     flange_of_target, pose_from_rapid, pose_to_rapid, target_of_flange, ToolData, WobjData,
 };
@@ -52,8 +53,8 @@ fn grinder() -> (ToolData, WobjData) {
 fn round_trip(target: &Isometry3<f64>, conf: RobConf, tool: &ToolData, wobj: &WobjData) -> f64 {
     let robot = Robot::irb140();
     let flange = flange_of_target(target, tool, wobj).unwrap();
-    let q = robot.ik_conf(&flange, &conf, None).unwrap();
-    let reached = robot.fk(&q, None);
+    let q = robot.ik_conf(&flange, &conf).unwrap();
+    let reached = robot.fk(&q);
     let back = target_of_flange(&reached, tool, wobj).unwrap();
     assert!(back.rotation.angle_to(&target.rotation) < 1e-12);
     (back.translation.vector - target.translation.vector).norm()
@@ -71,7 +72,7 @@ fn robot_held_tool_in_a_work_object_round_trips() {
         [60.0, -10.0, 20.0, 5.0, -60.0, -30.0],
     ] {
         let q = q.map(f64::to_radians);
-        let target = target_of_flange(&robot.fk(&q, None), &tool, &wobj).unwrap();
+        let target = target_of_flange(&robot.fk(&q), &tool, &wobj).unwrap();
         let err = round_trip(&target, robot.conf_of(&q), &tool, &wobj);
         assert!(err < 1e-9, "{err} mm");
     }
@@ -86,7 +87,7 @@ fn stationary_tool_round_trips() {
         [-20.0, 5.0, 30.0, 100.0, -50.0, -100.0],
     ] {
         let q = q.map(f64::to_radians);
-        let target = target_of_flange(&robot.fk(&q, None), &tool, &wobj).unwrap();
+        let target = target_of_flange(&robot.fk(&q), &tool, &wobj).unwrap();
         let err = round_trip(&target, robot.conf_of(&q), &tool, &wobj);
         assert!(err < 1e-9, "{err} mm");
     }
@@ -163,22 +164,16 @@ fn warm_correction_through_the_programs_frames() {
     let temps = rapidtherm::thermal::TABLE1_TMAX;
     let q = [15.0, 25.0, 5.0, 20.0, 50.0, 30.0].map(f64::to_radians);
     let conf = robot.conf_of(&q);
-    let target = robot.target_of_joints(&q, &tool, &wobj, None).unwrap();
-    let q_cold = robot
-        .target_joints(&target, &conf, &tool, &wobj, None)
-        .unwrap();
-    let warm = robot
-        .target_of_joints(&q_cold, &tool, &wobj, Some(&temps))
-        .unwrap();
+    let target = robot.target_of_joints(&q, &tool, &wobj).unwrap();
+    let q_cold = robot.target_joints(&target, &conf, &tool, &wobj).unwrap();
+    let scales = ThermalExpansion::default().scales(&temps);
+    let warm = target_of_flange(&robot.fk_scaled(&q_cold, &scales), &tool, &wobj).unwrap();
     let drift = (warm.translation.vector - target.translation.vector).norm();
     assert!(drift > 0.1 && drift < 1.0, "{drift} mm");
     // Joints for the target on the warm arm reach the cold position warm.
-    let q_warm = robot
-        .target_joints(&target, &conf, &tool, &wobj, Some(&temps))
-        .unwrap();
-    let reached = robot
-        .target_of_joints(&q_warm, &tool, &wobj, Some(&temps))
-        .unwrap();
+    let flange = flange_of_target(&target, &tool, &wobj).unwrap();
+    let q_warm = robot.ik_conf_scaled(&flange, &conf, &scales).unwrap();
+    let reached = target_of_flange(&robot.fk_scaled(&q_warm, &scales), &tool, &wobj).unwrap();
     assert!((reached.translation.vector - target.translation.vector).norm() < 1e-9);
     assert!(reached.rotation.angle_to(&target.rotation) < 1e-12);
 }

@@ -5,8 +5,9 @@
 use approx::assert_relative_eq;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rapidtherm::error::ErrorKind;
+use rapidtherm::model::ThermalExpansion;
 use rapidtherm::robot::ik::{wrap, CONF_TOLERANCE};
-use rapidtherm::robot::{Joints, RobConf, Robot, ThermalExpansion, IRB140};
+use rapidtherm::robot::{Joints, RobConf, Robot, IRB140};
 use rapidtherm::thermal::TABLE1_TMAX;
 
 fn deg(q: [f64; 6]) -> Joints {
@@ -75,13 +76,14 @@ fn check_poses_through_every_model() {
     let robot = Robot::irb140();
     for (q, p, quat) in CHECK_POSES {
         let q = deg(q);
-        assert_check_pose(&robot.fk(&q, None), p, quat);
+        assert_check_pose(&robot.fk(&q), p, quat);
         // The OPW geometry alone, as the diagnosis's base model uses it.
         assert_check_pose(&rapidtherm::robot::IRB140.fk(&q), p, quat);
         // The URDF chain itself (general serial FK), not the OPW shortcut.
         assert_check_pose(&robot.chain.fk(&q), p, quat);
         // At the reference temperature the warm model is the nominal one.
-        assert_check_pose(&robot.fk(&q, Some(&[7.0; 6])), p, quat);
+        let at_ref = ThermalExpansion::default().scales(&[7.0; 6]);
+        assert_check_pose(&robot.fk_scaled(&q, &at_ref), p, quat);
     }
 }
 
@@ -115,12 +117,12 @@ fn embedded_urdf_is_the_spec_arm() {
     let warm = [20.0, 25.0, 30.0, 35.0, 40.0, 45.0];
     for _ in 0..500 {
         let q = rng.joints_within(&built);
-        let (dp, dr) = pose_dist(&urdf.chain.fk(&q), &built.fk(&q, None));
+        let (dp, dr) = pose_dist(&urdf.chain.fk(&q), &built.fk(&q));
         assert!(dp < 1e-9 && dr < 1e-12, "{dp} {dr}");
-        let scales = urdf.thermal.scales(&warm);
+        let scales = ThermalExpansion::default().scales(&warm);
         let (dp, dr) = pose_dist(
             &urdf.chain.fk_scaled(&q, &scales),
-            &built.fk(&q, Some(&warm)),
+            &built.fk_scaled(&q, &scales),
         );
         assert!(dp < 1e-9 && dr < 1e-12, "warm {dp} {dr}");
     }
@@ -132,12 +134,12 @@ fn every_ik_solution_reaches_the_pose_and_the_source_is_among_them() {
     let mut rng = Rng(42);
     for _ in 0..2000 {
         let q = rng.joints_within(&robot);
-        let pose = robot.fk(&q, None);
-        let sols = robot.ik(&pose, None).unwrap();
+        let pose = robot.fk(&q);
+        let sols = robot.ik(&pose).unwrap();
         assert!(!sols.is_empty());
         let mut found = false;
         for s in &sols {
-            let (dp, dr) = pose_dist(&robot.fk(&s.q, None), &pose);
+            let (dp, dr) = pose_dist(&robot.fk(&s.q), &pose);
             assert!(dp < 1e-9 && dr < 1e-9, "{dp} {dr} {:?}", s.q);
             assert_eq!(s.conf, robot.conf_of(&s.q));
             for i in 0..6 {
@@ -159,7 +161,7 @@ fn axis_4_and_6_turns_are_enumerated() {
     let robot = Robot::irb140();
     // q4 = 170° also exists as −190°; q6 = 10° as −350° and 370°.
     let q = deg([10.0, 10.0, 10.0, 170.0, 30.0, 10.0]);
-    let sols = robot.ik(&robot.fk(&q, None), None).unwrap();
+    let sols = robot.ik(&robot.fk(&q)).unwrap();
     let has = |target: [f64; 6]| {
         let t = deg(target);
         sols.iter()
@@ -200,7 +202,7 @@ fn robconf_of_the_check_poses() {
     // Lower arm far back, forearm up and back: wrist centre behind axis 1
     // (x = 70 − 360·sin 80° + ... < 0).
     let q = deg([0.0, -80.0, -10.0, 0.0, 20.0, 0.0]);
-    let w = robot.fk(&q, None) * nalgebra::Point3::new(0.0, 0.0, -65.0);
+    let w = robot.fk(&q) * nalgebra::Point3::new(0.0, 0.0, -65.0);
     assert!(w.x < 0.0);
     assert_eq!(robot.conf_of(&q).cfx, 4);
 }
@@ -219,8 +221,8 @@ fn conf_picks_back_the_taught_joints() {
         if near_boundary || q[4].abs() < 1e-3 {
             continue;
         }
-        let pose = robot.fk(&q, None);
-        let back = robot.ik_conf(&pose, &robot.conf_of(&q), None).unwrap();
+        let pose = robot.fk(&q);
+        let back = robot.ik_conf(&pose, &robot.conf_of(&q)).unwrap();
         for i in 0..6 {
             assert!((back[i] - q[i]).abs() < 1e-8, "{q:?} -> {back:?}");
         }
@@ -233,10 +235,10 @@ fn wrist_singularity_keeps_the_requested_quadrants() {
     let robot = Robot::irb140();
     // q5 = 0: only q4 + q6 matters.
     let q = deg([20.0, 10.0, -20.0, 30.0, 0.0, 40.0]);
-    let pose = robot.fk(&q, None);
+    let pose = robot.fk(&q);
     let conf = robot.conf_of(&q);
-    let back = robot.ik_conf(&pose, &conf, None).unwrap();
-    let (dp, dr) = pose_dist(&robot.fk(&back, None), &pose);
+    let back = robot.ik_conf(&pose, &conf).unwrap();
+    let (dp, dr) = pose_dist(&robot.fk(&back), &pose);
     assert!(dp < 1e-9 && dr < 1e-9);
     assert_eq!(robot.conf_of(&back), conf);
     // The defined choice: q4 as close to 0 as the quadrants allow.
@@ -245,11 +247,11 @@ fn wrist_singularity_keeps_the_requested_quadrants() {
     // Ask for cf4 = 1 (q4 in 90..180°) and cf6 = -1: q4 + q6 = 70° is
     // still reachable, q4 = 90° (closest to 0 in its quadrant).
     let want = RobConf::new(conf.cf1, 1, -1, conf.cfx);
-    let back = robot.ik_conf(&pose, &want, None).unwrap();
+    let back = robot.ik_conf(&pose, &want).unwrap();
     assert_eq!(robot.conf_of(&back), want);
     assert_relative_eq!(back[3], 90f64.to_radians(), epsilon = 1e-9);
     assert_relative_eq!(back[3] + back[5], 70f64.to_radians(), epsilon = 1e-9);
-    let (dp, dr) = pose_dist(&robot.fk(&back, None), &pose);
+    let (dp, dr) = pose_dist(&robot.fk(&back), &pose);
     assert!(dp < 1e-9 && dr < 1e-9);
 }
 
@@ -262,7 +264,7 @@ fn shoulder_singularity_takes_axis_1_from_cf1() {
     let q2 = (-70.0f64 / 360.0).asin();
     // Forearm vertical up: θ2+θ3 = 0 → q3 = −q2 − 90°.
     let q = [0.3, q2, -q2 - std::f64::consts::FRAC_PI_2, 0.2, 0.5, 0.1];
-    let pose = robot.fk(&q, None);
+    let pose = robot.fk(&q);
     let w = pose * nalgebra::Point3::new(0.0, 0.0, -65.0);
     assert!(w.x.hypot(w.y) < 1e-9);
     let arm = robot.opw.clone().unwrap();
@@ -271,7 +273,7 @@ fn shoulder_singularity_takes_axis_1_from_cf1() {
         let sols = arm.solve(&pose, &robot.limits, Some(&want)).unwrap();
         let mut seen = false;
         for s in &sols {
-            let (dp, dr) = pose_dist(&robot.fk(&s.q, None), &pose);
+            let (dp, dr) = pose_dist(&robot.fk(&s.q), &pose);
             assert!(dp < 1e-6 && dr < 1e-9, "{dp} {dr}");
             seen |= s.conf.cf1 == cf1;
         }
@@ -281,9 +283,9 @@ fn shoulder_singularity_takes_axis_1_from_cf1() {
         assert!(sols.iter().any(|s| (s.q[0] - mid).abs() < 1e-12));
     }
     // The taught joints' robconf gives a solution in their cf1 quadrant.
-    let back = robot.ik_conf(&pose, &robot.conf_of(&q), None).unwrap();
+    let back = robot.ik_conf(&pose, &robot.conf_of(&q)).unwrap();
     assert_eq!(robot.conf_of(&back).cf1, 0);
-    let (dp, dr) = pose_dist(&robot.fk(&back, None), &pose);
+    let (dp, dr) = pose_dist(&robot.fk(&back), &pose);
     assert!(dp < 1e-6 && dr < 1e-9);
 }
 
@@ -294,7 +296,7 @@ fn unreachable_targets_say_why() {
         Translation3::new(2000.0, 0.0, 500.0),
         UnitQuaternion::identity(),
     );
-    let e = robot.ik(&far, None).unwrap_err();
+    let e = robot.ik(&far).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unreachable);
     assert!(e.message.contains("out of reach"), "{}", e.message);
     // Reachable geometrically, but only with the elbow folded beyond axis
@@ -303,7 +305,7 @@ fn unreachable_targets_say_why() {
         Translation3::new(20.0, 0.0, 185.0),
         UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI),
     );
-    let e = robot.ik(&folded, None).unwrap_err();
+    let e = robot.ik(&folded).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unreachable);
     assert!(e.message.contains("joint limit"), "{}", e.message);
     assert!(
@@ -311,23 +313,19 @@ fn unreachable_targets_say_why() {
         "{:?}",
         e.notes
     );
-    let pose = robot.fk(&[0.0; 6], None);
+    let pose = robot.fk(&[0.0; 6]);
     // A configuration the pose does not have.
-    let e = robot
-        .ik_conf(&pose, &RobConf::new(0, 0, 0, 6), None)
-        .unwrap_err();
+    let e = robot.ik_conf(&pose, &RobConf::new(0, 0, 0, 6)).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unreachable);
     assert!(
         e.notes.iter().any(|n| n.contains("[0,0,0,0]")),
         "{:?}",
         e.notes
     );
-    let e = robot
-        .ik_conf(&pose, &RobConf::new(0, 0, 0, 9), None)
-        .unwrap_err();
+    let e = robot.ik_conf(&pose, &RobConf::new(0, 0, 0, 9)).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Input);
     let nan = Isometry3::translation(f64::NAN, 0.0, 0.0);
-    assert_eq!(robot.ik(&nan, None).unwrap_err().kind, ErrorKind::Input);
+    assert_eq!(robot.ik(&nan).unwrap_err().kind, ErrorKind::Input);
 }
 
 #[test]
@@ -335,9 +333,9 @@ fn conf_tolerance_accepts_a_joint_just_over_a_quadrant_boundary() {
     let robot = Robot::irb140();
     // Taught at q6 = 90.0° (cf6 = 1); a warm correction lands at 89.99°.
     let q = deg([10.0, 10.0, 10.0, 10.0, 30.0, 89.99]);
-    let pose = robot.fk(&q, None);
+    let pose = robot.fk(&q);
     let want = RobConf::new(0, 0, 1, 0);
-    let back = robot.ik_conf(&pose, &want, None).unwrap();
+    let back = robot.ik_conf(&pose, &want).unwrap();
     assert_relative_eq!(back[5], q[5], epsilon = 1e-9);
     // Too far outside the quadrant: refused.
     let q = deg([
@@ -348,27 +346,27 @@ fn conf_tolerance_accepts_a_joint_just_over_a_quadrant_boundary() {
         30.0,
         89.0 - CONF_TOLERANCE.to_degrees(),
     ]);
-    assert!(robot.ik_conf(&robot.fk(&q, None), &want, None).is_err());
+    assert!(robot.ik_conf(&robot.fk(&q), &want).is_err());
 }
 
 #[test]
 fn warm_ik_inverts_warm_fk() {
     let robot = Robot::irb140();
-    let temps = TABLE1_TMAX;
+    let scales = ThermalExpansion::default().scales(&TABLE1_TMAX);
     let mut rng = Rng(5);
     for _ in 0..500 {
         let q = rng.joints_within(&robot);
         if q[4].abs() < 1e-3 {
             continue;
         }
-        let pose = robot.fk(&q, Some(&temps));
-        let back = robot.ik_conf(&pose, &robot.conf_of(&q), Some(&temps));
+        let pose = robot.fk_scaled(&q, &scales);
+        let back = robot.ik_conf_scaled(&pose, &robot.conf_of(&q), &scales);
         let back = match back {
             Ok(b) => b,
             // Near a quadrant boundary the nominal robconf may differ.
             Err(_) => continue,
         };
-        let (dp, dr) = pose_dist(&robot.fk(&back, Some(&temps)), &pose);
+        let (dp, dr) = pose_dist(&robot.fk_scaled(&back, &scales), &pose);
         assert!(dp < 1e-9 && dr < 1e-9);
         for i in 0..6 {
             assert!(wrap(back[i] - q[i]).abs() < 1e-8);
@@ -389,8 +387,8 @@ fn warm_ik_inverts_warm_fk() {
 #[test]
 fn calibration_pose_drift_with_table1_temperatures() {
     let robot = Robot::irb140();
-    let cold = robot.fk(&[0.0; 6], None);
-    let warm = robot.fk(&[0.0; 6], Some(&TABLE1_TMAX));
+    let cold = robot.fk(&[0.0; 6]);
+    let warm = robot.fk_scaled(&[0.0; 6], &ThermalExpansion::default().scales(&TABLE1_TMAX));
     let d = warm.translation.vector - cold.translation.vector;
     assert_relative_eq!(d.x, 0.2120706, epsilon = 1e-6);
     assert_relative_eq!(d.y, 0.0, epsilon = 1e-12);
@@ -413,11 +411,13 @@ fn thermal_model_is_data() {
     assert_relative_eq!(warm.c1, 352.0 * (1.0 + 11.5e-6 * 10.0), epsilon = 1e-12);
     assert_relative_eq!(warm.c3, 380.0 * (1.0 + 21.8e-6 * 20.0), epsilon = 1e-12);
     assert_eq!(warm.c4, 65.0);
-    let mut robot = Robot::irb140();
-    robot.thermal = th;
+    let robot = Robot::irb140();
     let t = [30.0, 20.0, 20.0, 20.0, 20.0, 20.0];
-    let d = robot.fk(&[0.0; 6], Some(&t)).translation.vector
-        - robot.fk(&[0.0; 6], None).translation.vector;
+    let d = robot
+        .fk_scaled(&[0.0; 6], &th.scales(&t))
+        .translation
+        .vector
+        - robot.fk(&[0.0; 6]).translation.vector;
     assert_relative_eq!(d.z, 352.0 * 11.5e-6 * 10.0, epsilon = 1e-12);
     assert_relative_eq!(d.x, 70.0 * 11.5e-6 * 10.0, epsilon = 1e-12);
 
@@ -438,14 +438,14 @@ fn near_the_wrist_singularity_every_solution_still_reaches_the_pose() {
         0.0, 1e-14, 1e-12, 1e-11, 1e-9, 1e-7, 1e-5, -1e-12, -1e-9, -1e-5,
     ] {
         let q = [0.4, 0.3, -0.2, 1.0, q5, -0.5];
-        let pose = robot.fk(&q, None);
-        let sols = robot.ik(&pose, None).unwrap();
+        let pose = robot.fk(&q);
+        let sols = robot.ik(&pose).unwrap();
         for s in &sols {
-            let (dp, dr) = pose_dist(&robot.fk(&s.q, None), &pose);
+            let (dp, dr) = pose_dist(&robot.fk(&s.q), &pose);
             assert!(dp < 1e-9 && dr < 1e-9, "q5 {q5}: {dp} mm {dr} rad");
         }
-        let back = robot.ik_conf(&pose, &robot.conf_of(&q), None).unwrap();
-        let (dp, dr) = pose_dist(&robot.fk(&back, None), &pose);
+        let back = robot.ik_conf(&pose, &robot.conf_of(&q)).unwrap();
+        let (dp, dr) = pose_dist(&robot.fk(&back), &pose);
         assert!(dp < 1e-9 && dr < 1e-9, "q5 {q5}: {dp} mm {dr} rad");
     }
 }
@@ -456,7 +456,7 @@ fn the_most_solutions_the_irb140_can_have_fit_the_buffer() {
     // 170° (also −190°), axis 6 at 10° (also ±350°/370°).
     let robot = Robot::irb140();
     let q = deg([180.0, 10.0, 10.0, 170.0, 30.0, 10.0]);
-    let sols = robot.ik(&robot.fk(&q, None), None).unwrap();
+    let sols = robot.ik(&robot.fk(&q)).unwrap();
     assert!(sols.len() < rapidtherm::robot::ik::MAX_SOLUTIONS);
     assert!(sols.len() >= 12, "{}", sols.len());
     let has = |t: [f64; 6]| {

@@ -4,6 +4,7 @@
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use proptest::prelude::*;
+use rapidtherm::model::ThermalExpansion;
 use rapidtherm::robot::frames::pose_from_rapid;
 use rapidtherm::robot::urdf::IRB140_URDF;
 use rapidtherm::robot::{RobConf, Robot};
@@ -37,14 +38,17 @@ proptest! {
             Translation3::new(x, y, z),
             UnitQuaternion::from_quaternion(q),
         );
-        if let Ok(sols) = robot.ik(&pose, temps.as_ref()) {
+        // Cold (unit scales) or warm: the arm's segments scaled by the
+        // default thermal model at any temperatures.
+        let scales = temps.map_or([1.0; 4], |t| ThermalExpansion::default().scales(&t));
+        if let Ok(sols) = robot.ik_scaled(&pose, &scales) {
             for s in &sols {
-                let back = robot.fk(&s.q, temps.as_ref());
+                let back = robot.fk_scaled(&s.q, &scales);
                 let d = (back.translation.vector - pose.translation.vector).norm();
                 prop_assert!(d < 1e-6, "{d}");
             }
         }
-        let _ = robot.ik_conf(&pose, &RobConf::new(conf[0], conf[1], conf[2], conf[3]), temps.as_ref());
+        let _ = robot.ik_conf_scaled(&pose, &RobConf::new(conf[0], conf[1], conf[2], conf[3]), &scales);
         let _ = pose_from_rapid([x, y, z], [w, i, j, k]);
     }
 

@@ -4,6 +4,7 @@
 
 use nalgebra::{Isometry3, Quaternion, UnitQuaternion};
 use rapidtherm::error::ErrorKind;
+use rapidtherm::model::ThermalExpansion;
 use rapidtherm::robot::{Joints, Robot};
 use rs_opw_kinematics::kinematic_traits::Kinematics;
 use rs_opw_kinematics::kinematics_impl::OPWKinematics;
@@ -112,15 +113,15 @@ fn assert_ik_round_trips(robot: &Robot, seed: u64) {
     let mut rng = Rng(seed);
     for _ in 0..300 {
         let q = rng.joints(robot);
-        let pose = robot.fk(&q, None);
+        let pose = robot.fk(&q);
         let (dp, dr) = dist(&pose, &robot.chain.fk(&q));
         assert!(dp < 1e-9 && dr < 1e-12, "OPW vs chain {dp} {dr}");
-        let sols = robot.ik(&pose, None).unwrap();
+        let sols = robot.ik(&pose).unwrap();
         assert!(sols
             .iter()
             .any(|s| (0..6).all(|i| (s.q[i] - q[i]).abs() < 1e-7)));
         for s in &sols {
-            let (dp, dr) = dist(&robot.fk(&s.q, None), &pose);
+            let (dp, dr) = dist(&robot.fk(&s.q), &pose);
             assert!(dp < 1e-8 && dr < 1e-9, "{dp} {dr}");
         }
     }
@@ -145,7 +146,7 @@ fn irb120_matches_the_rs_opw_kinematics_preset() {
             nalgebra::Translation3::new(t.x, t.y, t.z),
             UnitQuaternion::from_quaternion(Quaternion::new(r.w, r.x, r.y, r.z)),
         );
-        let (dp, dr) = dist(&robot.fk(&q, None), &theirs);
+        let (dp, dr) = dist(&robot.fk(&q), &theirs);
         assert!(dp < 1e-9 && dr < 1e-12, "{dp} {dr}");
     }
     assert_ik_round_trips(&robot, 4);
@@ -225,10 +226,13 @@ fn reversed_axes_split_lengths_and_extra_fixed_frames_are_understood() {
     // Thermal scaling of a general chain follows its segments: at the
     // calibration pose c1 and a1 grow with T1 only.
     let d = robot
-        .fk(&[0.0; 6], Some(&[17.0, 7.0, 7.0, 7.0, 7.0, 7.0]))
+        .fk_scaled(
+            &[0.0; 6],
+            &ThermalExpansion::default().scales(&[17.0, 7.0, 7.0, 7.0, 7.0, 7.0]),
+        )
         .translation
         .vector
-        - robot.fk(&[0.0; 6], None).translation.vector;
+        - robot.fk(&[0.0; 6]).translation.vector;
     assert!((d.z - 352.0 * 21.8e-6 * 10.0).abs() < 1e-12, "{d}");
     assert!((d.x - 70.0 * 21.8e-6 * 10.0).abs() < 1e-12, "{d}");
 }
@@ -290,9 +294,9 @@ fn an_arm_without_a_spherical_wrist_has_fk_but_no_closed_form_ik() {
     assert!(why.contains("spherical wrist"), "{why}");
     // FK through the chain: at zero the flange (link_6) is at
     // (70 + 380 + 65, 30, 712) mm.
-    let p = robot.fk(&[0.0; 6], None).translation.vector;
+    let p = robot.fk(&[0.0; 6]).translation.vector;
     assert!((p - nalgebra::Vector3::new(515.0, 30.0, 712.0)).norm() < 1e-9);
-    let e = robot.ik(&robot.fk(&[0.0; 6], None), None).unwrap_err();
+    let e = robot.ik(&robot.fk(&[0.0; 6])).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unsupported);
     assert!(e.message.contains("spherical wrist"), "{}", e.message);
 }
@@ -357,16 +361,16 @@ fn robconf_finds_turns_beyond_the_all_solutions_buffer() {
     );
     let robot = Robot::from_urdf_str("wide.urdf", &text).unwrap();
     let q = [0.5, 0.3, 0.2, 11.0, 0.7, -10.0];
-    let pose = robot.fk(&q, None);
-    let all = robot.ik(&pose, None).unwrap();
+    let pose = robot.fk(&q);
+    let all = robot.ik(&pose).unwrap();
     assert_eq!(all.len(), rapidtherm::robot::ik::MAX_SOLUTIONS);
-    let back = robot.ik_conf(&pose, &robot.conf_of(&q), None).unwrap();
+    let back = robot.ik_conf(&pose, &robot.conf_of(&q)).unwrap();
     // robconf fixes the turns of axes 1, 4 and 6 (axes 2, 3, 5 of an ABB
     // arm cannot turn a full circle, this test arm can).
     for i in [0, 3, 5] {
         assert!((back[i] - q[i]).abs() < 1e-9, "{back:?}");
     }
-    let (dp, dr) = dist(&robot.fk(&back, None), &pose);
+    let (dp, dr) = dist(&robot.fk(&back), &pose);
     assert!(dp < 1e-9 && dr < 1e-9);
 }
 

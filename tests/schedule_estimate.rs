@@ -199,7 +199,7 @@ fn joint_moves_from_joint_distance_and_max_speeds() {
     // Axis 1 by 60° (200°/s: 0.3 s), axis 6 by 90° (450°/s: 0.2 s).
     let q2 = [60.0, 10.0, 10.0, 0.0, 40.0, 90.0];
     let rad: Joints = q2.map(f64::to_radians);
-    let flange = robot.fk(&rad, None);
+    let flange = robot.fk(&rad);
     let conf = robot.conf_of(&rad);
     let (t, r) = rapidtherm::robot::frames::pose_to_rapid(&flange);
     let p2 = format!(
@@ -232,9 +232,8 @@ ENDMODULE",
     // At v5 the TCP (moving about 1 m on the chord... here the straight
     // line between the flange poses) limits the move.
     let last = est.joint_schedule.times("main#3").unwrap()[0];
-    let chord = (robot.fk(&q1.map(f64::to_radians), None).translation.vector
-        - flange.translation.vector)
-        .norm();
+    let chord =
+        (robot.fk(&q1.map(f64::to_radians)).translation.vector - flange.translation.vector).norm();
     assert_abs_diff_eq!(secs(back, last), chord / 5.0, epsilon = 1e-6);
 }
 
@@ -585,8 +584,7 @@ fn service_positions_loop_over_dim() {
     let robot = Robot::irb140();
     let q1 = [30.0, 20.0, -40.0, 50.0, 60.0, 70.0].map(f64::to_radians);
     let q2 = [-45.0, 10.0, -10.0, -60.0, 45.0, -90.0].map(f64::to_radians);
-    let chord =
-        (robot.fk(&q1, None).translation.vector - robot.fk(&q2, None).translation.vector).norm();
+    let chord = (robot.fk(&q1).translation.vector - robot.fk(&q2).translation.vector).norm();
     assert!(chord / 200.0 > 0.375);
     let t1 = j.times("jCalib{1}").unwrap()[0];
     let t2 = j.times("jCalib{2}").unwrap()[0];

@@ -1,9 +1,9 @@
 //! `rapidtherm correct`, `diff` and `model show`: the main job.
 use super::{read_input, read_program, write_output, write_stdout, Status};
-use rapidtherm::correct::diff::{diff, Diff};
-use rapidtherm::correct::warm::{Moment, WarmRobot};
+use rapidtherm::compare::{diff, Diff};
 use rapidtherm::correct::{correct, Options, Outcome, When};
 use rapidtherm::error::{decode_lossless, Error, Result};
+use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
 use rapidtherm::report::{mm, render_csv, render_table, Align, Format};
@@ -225,7 +225,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     if args.in_place {
         for ((name, before), after) in inputs.iter().zip(&outcome.outputs) {
             if after != before {
-                rapidtherm::output::write_atomic(Path::new(name), after, args.backup.as_deref())?;
+                crate::cli::output::write_atomic(Path::new(name), after, args.backup.as_deref())?;
             }
         }
         eprint!("{}", summary_text(&outcome));

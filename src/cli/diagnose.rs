@@ -3,13 +3,13 @@
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
 use rapidtherm::diagnose::arm::Arm;
-use rapidtherm::diagnose::effects::Effect;
 use rapidtherm::diagnose::measurements::Measurements;
 use rapidtherm::diagnose::simulate::{
     iso_cube_poses, parse_times, program_poses, random_poses, simulate_arm, SimSpec,
 };
 use rapidtherm::diagnose::{self, Diagnosis, Options};
 use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
 use rapidtherm::report::{render_csv, render_table, Align, Format};
 use rapidtherm::robot::Robot;
@@ -348,9 +348,11 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     };
     let d = diagnose::diagnose(&prepared, &opts)?;
     if let Some(dir) = &args.plot {
-        let files = diagnose::plot::write_plots(dir, &prepared, &d)?;
-        for f in files {
-            eprintln!("wrote {}", f.display());
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
+        for (name, svg) in diagnose::plot::plots(&prepared, &d)? {
+            let path = dir.join(name);
+            super::output::write_atomic(&path, svg.as_bytes(), None)?;
+            eprintln!("wrote {}", path.display());
         }
     }
     if let Some(path) = &args.save_model {
@@ -360,7 +362,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
             m.robot.name = setup.arm.name.clone();
             m.robot.opw = setup.arm.nominal;
         }
-        rapidtherm::output::write_atomic(path, m.to_toml()?.as_bytes(), None)?;
+        crate::cli::output::write_atomic(path, m.to_toml()?.as_bytes(), None)?;
         eprintln!("wrote {}", path.display());
     }
     let text = match args.format {

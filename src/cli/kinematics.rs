@@ -2,9 +2,11 @@
 
 use super::{write_stdout, Status};
 use rapidtherm::error::{Error, Result};
+use rapidtherm::model::ThermalExpansion;
 use rapidtherm::report::{mm, render_csv, render_table, Align, Format};
 use rapidtherm::robot::frames::{pose_from_rapid, pose_to_rapid};
-use rapidtherm::robot::{MotorTemps, RobConf, Robot, ThermalExpansion};
+use rapidtherm::robot::{LinkScales, RobConf, Robot};
+use rapidtherm::thermal::MotorTemps;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -71,19 +73,28 @@ fn six(values: &[f64], what: &str) -> Result<[f64; 6]> {
 
 impl ModelArgs {
     fn robot(&self) -> Result<Robot> {
-        let mut robot = match &self.robot {
-            Some(path) => Robot::from_urdf_file(path)?,
-            None => Robot::irb140(),
-        };
-        if let Some(path) = &self.thermal {
-            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
-            robot.thermal = ThermalExpansion::from_toml(&path.display().to_string(), &text)?;
+        match &self.robot {
+            Some(path) => Robot::from_urdf_file(path),
+            None => Ok(Robot::irb140()),
         }
-        Ok(robot)
     }
 
     fn temps(&self) -> Result<Option<MotorTemps>> {
         self.temps.as_deref().map(|t| six(t, "--temps")).transpose()
+    }
+
+    /// The warm arm's segment scales at `--temps`, by the `--thermal`
+    /// model (the default one without).
+    fn scales(&self, temps: Option<&MotorTemps>) -> Result<Option<LinkScales>> {
+        let Some(t) = temps else { return Ok(None) };
+        let thermal = match &self.thermal {
+            Some(path) => {
+                let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+                ThermalExpansion::from_toml(&path.display().to_string(), &text)?
+            }
+            None => ThermalExpansion::default(),
+        };
+        Ok(Some(thermal.scales(t)))
     }
 }
 
@@ -109,9 +120,9 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
     let robot = args.model.robot()?;
     let temps = args.model.temps()?;
     let conf = robot.conf_of(&q);
-    let mut rows = vec![("nominal", robot.fk(&q, None))];
-    if let Some(t) = &temps {
-        rows.push(("warm", robot.fk(&q, Some(t))));
+    let mut rows = vec![("nominal", robot.fk(&q))];
+    if let Some(s) = args.model.scales(temps.as_ref())? {
+        rows.push(("warm", robot.fk_scaled(&q, &s)));
     }
     let out = match args.model.format {
         Format::Json => {
@@ -170,20 +181,25 @@ pub fn run_ik(args: IkArgs) -> Result<Status> {
         .map_err(|_| Error::usage("pose: x y z q1 q2 q3 q4 needed"))?;
     let pose = pose_from_rapid([x, y, z], [q1, q2, q3, q4])?;
     let robot = args.model.robot()?;
-    let temps = args.model.temps()?;
+    let scales = args.model.scales(args.model.temps()?.as_ref())?;
     let solutions: Vec<([f64; 6], RobConf)> = match &args.conf {
         Some(c) => {
             let [cf1, cf4, cf6, cfx] = <[i32; 4]>::try_from(c.as_slice())
                 .map_err(|_| Error::usage("--conf: four integers cf1,cf4,cf6,cfx needed"))?;
             let conf = RobConf::new(cf1, cf4, cf6, cfx);
-            let q = robot.ik_conf(&pose, &conf, temps.as_ref())?;
+            let q = match &scales {
+                Some(s) => robot.ik_conf_scaled(&pose, &conf, s)?,
+                None => robot.ik_conf(&pose, &conf)?,
+            };
             vec![(q, robot.conf_of(&q))]
         }
-        None => robot
-            .ik(&pose, temps.as_ref())?
-            .iter()
-            .map(|s| (s.q, s.conf))
-            .collect(),
+        None => match &scales {
+            Some(s) => robot.ik_scaled(&pose, s)?,
+            None => robot.ik(&pose)?,
+        }
+        .iter()
+        .map(|s| (s.q, s.conf))
+        .collect(),
     };
     let out = match args.model.format {
         Format::Json => {

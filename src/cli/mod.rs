@@ -8,6 +8,7 @@ mod correct;
 mod diagnose;
 mod heating;
 mod kinematics;
+mod output;
 mod schedule;
 mod targets;
 
@@ -142,6 +143,6 @@ pub fn write_output(path: &Path, bytes: &[u8]) -> Result<()> {
     if path == Path::new("-") {
         write_stdout(bytes)
     } else {
-        rapidtherm::output::write_atomic(path, bytes, None)
+        crate::cli::output::write_atomic(path, bytes, None)
     }
 }

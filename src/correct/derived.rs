@@ -3,10 +3,10 @@
 //! is their residual drift: where the warm robot puts the derived pose of
 //! the corrected base, against the derived pose the cold program meant.
 
-use super::frames::{frames_of, target_pose, walk_statements, Frames, Usage};
-use super::warm::{Moment, States, WarmRobot};
 use super::Correction;
+use crate::model::{Moment, States, WarmRobot};
 use crate::rapid::{Expr, FunctionCall, Program, Statement, StatementKind, Target, UnaryOp};
+use crate::resolve::{frames_of, target_pose, walk_statements, Frames, Usage};
 use crate::robot::frames::{flange_of_target, target_of_flange};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
@@ -128,7 +128,7 @@ pub fn residual(
     let sent = apply(call, &correction.exact?)?;
     let q = warm
         .nominal
-        .ik_conf(&flange_of_target(&sent, &tool, &wobj).ok()?, &conf, None)
+        .ik_conf(&flange_of_target(&sent, &tool, &wobj).ok()?, &conf)
         .ok()?;
     let moment = correction.time_min.map_or(Moment::Steady, Moment::Minute);
     let state = states.at(moment).ok()?;

@@ -20,23 +20,20 @@
 //! that start. The robconf is never changed.
 
 pub mod derived;
-pub mod diff;
-pub mod frames;
-pub mod warm;
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::model::warm::{self, Moment, WarmRobot};
 use crate::rapid::rewrite::{
     apply_edits, number_edit, Edit, POSITION_RESOLUTION, QUATERNION_RESOLUTION,
 };
 use crate::rapid::{JointTarget, Number, Program, Target, TargetKind};
+use crate::resolve::{frames_of, target_pose, usages, Frames};
 use crate::robot::conf::{quadrant_distance, RobConf};
 use crate::robot::frames::{flange_of_target, target_of_flange};
 use crate::robot::Joints;
 use crate::schedule::{Schedule, Visit};
-use frames::{frames_of, target_pose, usages, Frames};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use serde::Serialize;
-use warm::{Moment, WarmRobot};
 
 /// Joint angles of jointtargets are written to 1e-5°: at the IRB 140's
 /// reach that is under 0.0002 mm at the flange.
@@ -230,7 +227,7 @@ fn correct_all(
         let moments = moments_of(&options.when, &target.id)
             .map_err(|e| e.at(program.location(&target.origin)))?;
         let moment = pick(&moments, options.visit);
-        let (q_nominal, conf) = match warm.nominal.ik_conf(&flange, &conf, None) {
+        let (q_nominal, conf) = match warm.nominal.ik_conf(&flange, &conf) {
             Ok(q) => (q, conf),
             // With configuration monitoring off the controller takes the
             // solution nearest the robot's current one and ignores the
@@ -261,13 +258,13 @@ fn correct_all(
                 prefix(e, &format!("on the warm robot at {moment}")),
             )
         })?;
-        let corrected_flange = warm.nominal.fk(&q_warm, None);
+        let corrected_flange = warm.nominal.fk(&q_warm);
         let exact = target_of_flange(&corrected_flange, &tool, &wobj)?;
         // The controller must pick back the warm joints from the corrected
         // target and the unchanged robconf.
         let picked = warm
             .nominal
-            .ik_conf(&corrected_flange, &conf, None)
+            .ik_conf(&corrected_flange, &conf)
             .map_err(|e| at_target(program, target, prefix(e, "corrected")))?;
         if picked
             .iter()
@@ -390,7 +387,7 @@ fn configuration_monitoring_off(program: &Program) -> bool {
     let mut off = false;
     for module in &program.modules {
         for routine in &module.routines {
-            frames::walk_calls(&routine.body, &mut |call, _| {
+            crate::resolve::walk_calls(&routine.body, &mut |call, _| {
                 let name = call.name.as_ref();
                 if (name.eq_ignore_ascii_case("ConfL") || name.eq_ignore_ascii_case("ConfJ"))
                     && call.optional("Off").is_some()
@@ -406,7 +403,7 @@ fn configuration_monitoring_off(program: &Program) -> bool {
 /// The solution of the nominal arm whose axes lie nearest the quadrants of
 /// `conf` (same cfx preferred).
 fn nearest_solution(warm: &WarmRobot, flange: &Isometry3<f64>, conf: &RobConf) -> Option<Joints> {
-    let sols = warm.nominal.ik(flange, None).ok()?;
+    let sols = warm.nominal.ik(flange).ok()?;
     let cost = |q: &Joints| {
         let c = warm.nominal.conf_of(q);
         let cfx = if c.cfx == conf.cfx { 0.0 } else { 10.0 };
@@ -434,7 +431,7 @@ fn correct_jointtarget(
     };
     let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
     let q: [f64; 6] = degrees.map(f64::to_radians);
-    let flange = warm.nominal.fk(&q, None);
+    let flange = warm.nominal.fk(&q);
     let conf = warm.nominal.conf_of(&q);
     let moments = joint_moments_of(&options.when, &jt.id).map_err(located)?;
     let moment = pick(&moments, options.visit);
@@ -453,7 +450,7 @@ fn correct_jointtarget(
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
     let location = program.location(&jt.origin);
-    let corrected_flange = warm.nominal.fk(&q_warm, None);
+    let corrected_flange = warm.nominal.fk(&q_warm);
     let correction = corrected_flange.translation.vector - flange.translation.vector;
     Ok(Correction {
         id: jt.id.clone(),

@@ -12,8 +12,8 @@
 //! sag) are in the chain's convention: on an axis whose sign is −1 the
 //! robot's own joint value moves the opposite way.
 
-use super::effects::Base;
 use crate::error::{Error, ErrorKind, Result};
+use crate::model::Base;
 use crate::model::Model;
 use crate::robot::{Joints, Opw, Robot, OPW_OFFSET_Q3};
 use nalgebra::{Isometry3, UnitQuaternion};
@@ -153,7 +153,7 @@ impl Arm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diagnose::chain::{fk_chain, Perturbation};
+    use crate::model::chain::{fk_chain, Perturbation};
 
     #[test]
     fn irb140_map_is_exactly_the_identity() {
@@ -163,7 +163,7 @@ mod tests {
         assert_eq!(map.to_chain(&q), q);
         let r = Robot::irb140();
         let a = fk_chain(&geom, &q, &Perturbation::default());
-        let b = r.fk(&q, None);
+        let b = r.fk(&q);
         assert!((a.translation.vector - b.translation.vector).norm() < 1e-9);
         assert!(a.rotation.angle_to(&b.rotation) < 1e-12);
     }

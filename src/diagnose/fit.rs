@@ -9,9 +9,11 @@
 //! set), a Jacobian reused across steps (the effects are nearly linear), and
 //! a statistical stopping rule.
 
-use super::effects::{predict, Base, Effect, EffectKind, LinkLags, RowState, TempHistory};
 use crate::error::{Error, ErrorKind, Result};
-use crate::robot::{Joints, MotorTemps};
+use crate::model::{predict, Base, Effect, EffectKind, LinkLags, RowState};
+use crate::robot::Joints;
+use crate::thermal::MotorTemps;
+use crate::thermal::TempHistory;
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -154,7 +156,8 @@ impl Problem {
             out.fixed_rows_mut::<3>(k * w).copy_from(&d);
             if w == 6 {
                 if let Some(m) = &r.orientation {
-                    let g = super::chain::rotation_gap(&pose.rotation, m) * (1e3 * self.w_ori);
+                    let g =
+                        crate::model::chain::rotation_gap(&pose.rotation, m) * (1e3 * self.w_ori);
                     out.fixed_rows_mut::<3>(k * w + 3).copy_from(&g);
                 }
             }

@@ -2,8 +2,8 @@
 //! directions, at which poses and workspace regions, and whether it follows
 //! one joint's angle (a harmonic of that angle: gear or encoder errors).
 
-use super::chain::{fk_chain, Perturbation};
 use super::fit::Problem;
+use crate::model::chain::{fk_chain, Perturbation};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
 use std::collections::BTreeMap;

@@ -4,7 +4,8 @@
 
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Result};
-use crate::robot::{Joints, MotorTemps};
+use crate::robot::Joints;
+use crate::thermal::MotorTemps;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use std::fmt::Write as _;
 

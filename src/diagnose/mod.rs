@@ -8,8 +8,6 @@
 //! scores, forward selection, verdict).
 
 pub mod arm;
-pub mod chain;
-pub mod effects;
 pub mod fit;
 pub mod locate;
 pub mod measurements;
@@ -18,8 +16,9 @@ pub mod select;
 pub mod simulate;
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::model::EffectKind;
 use crate::model::{EffectEntry, Model};
-use effects::{EffectKind, TempHistory};
+use crate::thermal::TempHistory;
 use fit::{Problem, Row};
 use locate::Where;
 use measurements::Measurements;
@@ -113,7 +112,7 @@ pub fn prepare_arm(
         TempHistory::from_records(&recs, t_ref)
     } else {
         let t_end = rows.iter().map(|r| r.time_min).fold(0.0, f64::max);
-        TempHistory::from_profile(profile.as_ref(), t_end, 0.5)?
+        TempHistory::from_profile(profile.as_ref(), t_end)?
     };
     let mut problem = Problem {
         base: arm.base(model),
@@ -266,7 +265,7 @@ pub fn orientation_gap(prepared: &Prepared) -> Option<(f64, f64)> {
         .zip(&problem.rows)
         .filter_map(|(p, r)| {
             r.orientation
-                .map(|m| chain::rotation_gap(&p.rotation, &m).norm() * 1e3)
+                .map(|m| crate::model::chain::rotation_gap(&p.rotation, &m).norm() * 1e3)
         })
         .collect();
     let rms = (angles.iter().map(|a| a * a).sum::<f64>() / angles.len() as f64).sqrt();
@@ -460,7 +459,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             .zip(&problem.rows)
             .map(|(p, r)| {
                 r.orientation
-                    .map(|m| chain::rotation_gap(&p.rotation, &m) * 1e3)
+                    .map(|m| crate::model::chain::rotation_gap(&p.rotation, &m) * 1e3)
                     .unwrap_or_else(Vector3::zeros)
             })
             .collect();

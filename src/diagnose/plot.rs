@@ -6,7 +6,6 @@ use crate::error::{Error, ErrorKind, Result};
 use nalgebra::Vector3;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
 
 fn plot_err<E: std::fmt::Display>(e: E) -> Error {
     Error::new(ErrorKind::Io, format!("cannot draw the plot: {e}"))
@@ -213,17 +212,10 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
     Ok(svg)
 }
 
-/// Write the plots into `dir` (created if missing); returns the files.
-pub fn write_plots(dir: &Path, prepared: &Prepared, d: &Diagnosis) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
-    let mut out = Vec::new();
-    for (name, svg) in [
+/// The diagnosis's plots as (file name, SVG text); the caller writes them.
+pub fn plots(prepared: &Prepared, d: &Diagnosis) -> Result<Vec<(&'static str, String)>> {
+    Ok(vec![
         ("gap_over_time.svg", gap_over_time_svg(prepared, d)?),
         ("gap_vectors.svg", gap_vectors_svg(prepared, d)?),
-    ] {
-        let path = dir.join(name);
-        crate::output::write_atomic(&path, svg.as_bytes(), None)?;
-        out.push(path);
-    }
-    Ok(out)
+    ])
 }

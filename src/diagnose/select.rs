@@ -3,9 +3,9 @@
 //! BIC, forward selection while the held-out gap still drops clearly, and
 //! honest verdicts (`none`, `unexplained`, ambiguities).
 
-use super::effects::{Effect, EffectKind};
 use super::fit::{fit, Fit, Problem};
 use crate::error::{ErrorKind, Result};
+use crate::model::{Effect, EffectKind};
 use nalgebra::Vector3;
 
 /// Held-out folds: row indices to fit on and to score on.

@@ -2,14 +2,15 @@
 //! magnitudes, tracker noise, deterministic for a seed (ChaCha8).
 
 use super::arm::ArmMap;
-use super::effects::{predict, Base, Effect, LinkLags, RowState, TempHistory};
 use super::measurements::{Measurement, Measurements};
-use crate::correct::frames::{frames_of, target_pose, usages, Frames};
 use crate::error::{Error, ErrorKind, Result};
+use crate::model::{predict, Base, Effect, LinkLags, RowState};
 use crate::rapid::{Program, TargetKind};
+use crate::resolve::{frames_of, target_pose, usages, Frames};
 use crate::robot::frames::flange_of_target;
 use crate::robot::{Joints, Robot};
 use crate::thermal::HeatingProfile;
+use crate::thermal::TempHistory;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -78,7 +79,7 @@ pub fn iso_cube_poses(robot: &Robot, centre: [f64; 3], side: f64) -> Result<Vec<
         .into_iter()
         .map(|(name, p)| {
             let pose = Isometry3::from_parts(Translation3::from(p), down);
-            let sols = robot.ik(&pose, None)?;
+            let sols = robot.ik(&pose)?;
             let best = sols
                 .iter()
                 .filter(|s| s.conf.cfx == 0)
@@ -116,7 +117,7 @@ pub fn program_poses(program: &Program, robot: &Robot) -> Result<Vec<(String, Jo
         };
         let (tool, wobj, _, _) = frames_of(program, &frames, index, uses.get(&index))?;
         let flange = flange_of_target(&pose, &tool, &wobj)?;
-        let q = robot.ik_conf(&flange, &conf, None).map_err(|e| {
+        let q = robot.ik_conf(&flange, &conf).map_err(|e| {
             Error {
                 message: format!("target {}: {}", target.id, e.message),
                 ..e
@@ -195,7 +196,7 @@ pub fn simulate_arm(
     let ori_noise = Normal::new(0.0, ORIENTATION_NOISE_MRAD * 1e-3 * (spec.noise_mm / 0.01))
         .map_err(|e| Error::usage(e.to_string()))?;
     let t_end = spec.times.iter().copied().fold(0.0, f64::max);
-    let history = TempHistory::from_profile(profile, t_end, 0.5)?;
+    let history = TempHistory::from_profile(profile, t_end)?;
     let lag = LinkLags::new(&history, &spec.effects);
     let mut rows = Vec::with_capacity(spec.times.len() * spec.poses.len());
     for &t in &spec.times {
@@ -264,9 +265,7 @@ mod tests {
             base: Base::default(),
             poses: random_poses(3, &IRB140_LIMITS_DEG, 7),
             times: vec![0.0, 60.0],
-            effects: vec![Effect::with_defaults(
-                super::super::effects::EffectKind::ThermalLag,
-            )],
+            effects: vec![Effect::with_defaults(crate::model::EffectKind::ThermalLag)],
             noise_mm: 0.01,
             orientation: true,
             measured_temps: true,

@@ -1,13 +1,14 @@
 //! The robot with its model: a serial chain (forward kinematics for any
 //! arm), the OPW form where the arm has that shape (closed-form IK), joint
-//! limits, speeds and the thermal-expansion model.
+//! limits and speeds. A warm arm is the same arm with its segments scaled
+//! ([`LinkScales`]); what scales them (temperatures) is the model's business.
 
 use super::chain::{Chain, ChainJoint};
 use super::conf::{CfxBits, RobConf};
 use super::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions};
 use super::urdf::{self, IRB140_URDF};
-use super::{Joints, MotorTemps, ThermalExpansion, IRB140};
+use super::{Joints, LinkScales, IRB140};
 use crate::error::{Error, ErrorKind, Result};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::f64::consts::FRAC_PI_2;
@@ -23,7 +24,6 @@ pub struct Robot {
     /// rad, inclusive.
     pub limits: Limits,
     pub max_speed_deg_s: [f64; 6],
-    pub thermal: ThermalExpansion,
 }
 
 impl Robot {
@@ -77,12 +77,10 @@ impl Robot {
                 (d(-400.0), d(400.0)),
             ],
             max_speed_deg_s: [200.0, 200.0, 260.0, 360.0, 360.0, 450.0],
-            thermal: ThermalExpansion::default(),
         }
     }
 
-    /// Any serial six-axis arm from URDF text; the thermal model is the
-    /// default one (replace `thermal` to change it).
+    /// Any serial six-axis arm from URDF text.
     pub fn from_urdf_str(file: &str, text: &str) -> Result<Robot> {
         let arm = urdf::parse(file, text)?;
         let opw = arm.chain.extract_opw();
@@ -92,7 +90,6 @@ impl Robot {
             opw,
             limits: arm.limits,
             max_speed_deg_s: arm.max_speed_deg_s,
-            thermal: ThermalExpansion::default(),
         })
     }
 
@@ -101,8 +98,8 @@ impl Robot {
         Robot::from_urdf_str(&path.display().to_string(), &text)
     }
 
-    /// The OPW arm, warm when motor temperatures are given.
-    pub fn opw_at(&self, temps: Option<&MotorTemps>) -> Result<OpwArm> {
+    /// The OPW arm, with its segments scaled when `scales` are given.
+    pub fn opw_arm(&self, scales: Option<&LinkScales>) -> Result<OpwArm> {
         let arm = self.opw.as_ref().map_err(|why| {
             Error::new(
                 ErrorKind::Unsupported,
@@ -112,43 +109,74 @@ impl Robot {
                 ),
             )
         })?;
-        Ok(match temps {
-            Some(t) => OpwArm {
-                geom: self.thermal.expand(&arm.geom, t),
+        Ok(match scales {
+            Some(s) => OpwArm {
+                geom: arm.geom.scaled(s),
                 ..*arm
             },
             None => *arm,
         })
     }
 
-    /// Flange (tool0) pose in the base frame; with motor temperatures, on
-    /// the warm (expanded) arm.
-    pub fn fk(&self, q: &Joints, temps: Option<&MotorTemps>) -> Isometry3<f64> {
-        match (&self.opw, temps) {
-            (Ok(arm), None) => arm.fk(q),
-            (Ok(arm), Some(t)) => OpwArm {
-                geom: self.thermal.expand(&arm.geom, t),
+    /// Flange (tool0) pose in the base frame.
+    pub fn fk(&self, q: &Joints) -> Isometry3<f64> {
+        match &self.opw {
+            Ok(arm) => arm.fk(q),
+            Err(_) => self.chain.fk(q),
+        }
+    }
+
+    /// Flange pose of the arm with its segments scaled (base, lower arm,
+    /// upper arm, wrist): a warm arm's.
+    pub fn fk_scaled(&self, q: &Joints, scales: &LinkScales) -> Isometry3<f64> {
+        match &self.opw {
+            Ok(arm) => OpwArm {
+                geom: arm.geom.scaled(scales),
                 ..*arm
             }
             .fk(q),
-            (Err(_), None) => self.chain.fk(q),
-            (Err(_), Some(t)) => self.chain.fk_scaled(q, &self.thermal.scales(t)),
+            Err(_) => self.chain.fk_scaled(q, scales),
         }
     }
 
     /// All joint solutions (within limits, with every allowed turn of the
     /// axes) for a flange pose, each with its robconf.
-    pub fn ik(&self, pose: &Isometry3<f64>, temps: Option<&MotorTemps>) -> Result<Solutions> {
-        self.solve(pose, temps, None)
+    pub fn ik(&self, pose: &Isometry3<f64>) -> Result<Solutions> {
+        self.solve(pose, None)
+    }
+
+    /// [`Robot::ik`] on the arm with its segments scaled.
+    pub fn ik_scaled(&self, pose: &Isometry3<f64>, scales: &LinkScales) -> Result<Solutions> {
+        self.solve(pose, Some(scales))
+    }
+
+    fn solve(&self, pose: &Isometry3<f64>, scales: Option<&LinkScales>) -> Result<Solutions> {
+        self.checked_arm(pose, scales)?
+            .solve(pose, &self.limits, None)
+            .map_err(|f| self.failure(f))
     }
 
     /// The solution with robconf `conf` (exactly, or within
     /// [`super::ik::CONF_TOLERANCE`] of its quadrants).
-    pub fn ik_conf(
+    pub fn ik_conf(&self, pose: &Isometry3<f64>, conf: &RobConf) -> Result<Joints> {
+        self.solve_conf(pose, conf, None)
+    }
+
+    /// [`Robot::ik_conf`] on the arm with its segments scaled.
+    pub fn ik_conf_scaled(
         &self,
         pose: &Isometry3<f64>,
         conf: &RobConf,
-        temps: Option<&MotorTemps>,
+        scales: &LinkScales,
+    ) -> Result<Joints> {
+        self.solve_conf(pose, conf, Some(scales))
+    }
+
+    fn solve_conf(
+        &self,
+        pose: &Isometry3<f64>,
+        conf: &RobConf,
+        scales: Option<&LinkScales>,
     ) -> Result<Joints> {
         if CfxBits::from_cfx(conf.cfx).is_none() {
             return Err(Error::input(format!(
@@ -156,7 +184,7 @@ impl Robot {
             )));
         }
         let (found, sols) = self
-            .checked_arm(pose, temps)?
+            .checked_arm(pose, scales)?
             .solve_conf(pose, &self.limits, conf)
             .map_err(|f| self.failure(f))?;
         match found {
@@ -173,30 +201,19 @@ impl Robot {
         }
     }
 
-    fn solve(
-        &self,
-        pose: &Isometry3<f64>,
-        temps: Option<&MotorTemps>,
-        want: Option<&RobConf>,
-    ) -> Result<Solutions> {
-        self.checked_arm(pose, temps)?
-            .solve(pose, &self.limits, want)
-            .map_err(|f| self.failure(f))
-    }
-
-    /// The (warm) OPW arm, after refusing non-finite input.
-    fn checked_arm(&self, pose: &Isometry3<f64>, temps: Option<&MotorTemps>) -> Result<OpwArm> {
+    /// The (scaled) OPW arm, after refusing non-finite input.
+    fn checked_arm(&self, pose: &Isometry3<f64>, scales: Option<&LinkScales>) -> Result<OpwArm> {
         let finite = pose.translation.vector.iter().all(|v| v.is_finite())
             && pose.rotation.coords.iter().all(|v| v.is_finite());
         if !finite {
             return Err(Error::input("pose is not finite"));
         }
-        if let Some(t) = temps {
-            if !t.iter().all(|v| v.is_finite()) {
+        if let Some(s) = scales {
+            if !s.iter().all(|v| v.is_finite()) {
                 return Err(Error::input("motor temperatures are not finite"));
             }
         }
-        self.opw_at(temps)
+        self.opw_arm(scales)
     }
 
     fn failure(&self, f: IkFailure) -> Error {
@@ -232,18 +249,16 @@ impl Robot {
     }
 
     /// Joint angles that put `tool` at the robtarget pose `target` in
-    /// `wobj`, with robconf `conf` (on the warm arm when temperatures are
-    /// given).
+    /// `wobj`, with robconf `conf`.
     pub fn target_joints(
         &self,
         target: &Isometry3<f64>,
         conf: &RobConf,
         tool: &ToolData,
         wobj: &WobjData,
-        temps: Option<&MotorTemps>,
     ) -> Result<Joints> {
         let flange = flange_of_target(target, tool, wobj)?;
-        self.ik_conf(&flange, conf, temps)
+        self.ik_conf(&flange, conf)
     }
 
     /// The robtarget pose (in `wobj`, for `tool`) that joint angles reach.
@@ -252,9 +267,8 @@ impl Robot {
         q: &Joints,
         tool: &ToolData,
         wobj: &WobjData,
-        temps: Option<&MotorTemps>,
     ) -> Result<Isometry3<f64>> {
-        target_of_flange(&self.fk(q, temps), tool, wobj)
+        target_of_flange(&self.fk(q), tool, wobj)
     }
 
     /// robconf of joint angles (on the nominal arm).

@@ -11,6 +11,7 @@
 //! - [`table`]: fit results as the paper-like table, CSV and JSON.
 
 pub mod fit;
+pub mod lag;
 pub mod plot;
 pub mod poly;
 pub mod profile;
@@ -19,11 +20,14 @@ pub mod saturating;
 pub mod table;
 
 pub use fit::{fit_axis, AxisFit, Curve, Metrics, ModelKind};
+pub use lag::{Lagged, TempHistory, LAG_STEP_MIN};
 pub use profile::{default_profile, FittedProfile, SaturatingProfile, COLD_START_C};
 pub use record::{HeatingRecord, RecordedProfile};
 
 use crate::error::Result;
-use crate::robot::MotorTemps;
+
+/// Motor temperatures of axes 1..6 in °C.
+pub type MotorTemps = [f64; 6];
 
 /// Anything that gives the six motor temperatures at a time (minutes since
 /// the cold start). Implementations refuse times they cannot vouch for

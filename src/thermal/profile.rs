@@ -6,7 +6,7 @@ use super::record::HeatingRecord;
 use super::saturating::{SatCurve, SatTerm};
 use super::HeatingProfile;
 use crate::error::{Error, Result};
-use crate::robot::MotorTemps;
+use crate::thermal::MotorTemps;
 
 /// One fitted curve per axis. A polynomial axis refuses times outside its
 /// window (never a silent extrapolation).

@@ -5,7 +5,7 @@
 use super::HeatingProfile;
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Location, Result};
-use crate::robot::MotorTemps;
+use crate::thermal::MotorTemps;
 
 /// Column names of a heating record, axis by axis.
 pub const AXIS_COLUMNS: [&str; 6] = ["t1_c", "t2_c", "t3_c", "t4_c", "t5_c", "t6_c"];

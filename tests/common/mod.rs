@@ -1,8 +1,8 @@
 //! Helpers shared by the integration tests of the correction.
 
 use nalgebra::Isometry3;
-use rapidtherm::correct::frames::{frames_of, target_pose, usages, Frames, Usage};
 use rapidtherm::rapid::Program;
+use rapidtherm::resolve::{frames_of, target_pose, usages, Frames, Usage};
 use rapidtherm::robot::frames::{ToolData, WobjData};
 use rapidtherm::robot::RobConf;
 use std::collections::HashMap;

@@ -3,12 +3,13 @@
 //! the model file's (base link expansion and any effects a diagnosis
 //! added), with motor temperatures from its heating profile.
 
-use crate::diagnose::effects::{lag_taus, predict, Base, Effect, LinkLags, RowState, TempHistory};
+use super::effects::Effect;
+use super::file::Model;
+use super::perturb::{lag_taus, predict, Base, LinkLags, RowState};
 use crate::error::{Error, ErrorKind, Result};
-use crate::model::Model;
 use crate::robot::conf::RobConf;
-use crate::robot::{Joints, MotorTemps, Robot};
-use crate::thermal::HeatingProfile;
+use crate::robot::{Joints, Robot};
+use crate::thermal::{HeatingProfile, MotorTemps, TempHistory};
 use nalgebra::{Isometry3, Matrix6, Vector6};
 
 /// When the robot is at a target: a minute of the warm-up, or the
@@ -41,8 +42,6 @@ pub struct State {
 pub struct WarmRobot {
     /// The controller's model: computes joints from targets.
     pub nominal: Robot,
-    /// The same arm with the model's thermal expansion (closed-form IK).
-    warm: Robot,
     base: Base,
     effects: Vec<Effect>,
     profile: Box<dyn HeatingProfile>,
@@ -66,12 +65,9 @@ impl WarmRobot {
             Some(_) => Some(TempHistory::from_profile(
                 profile.as_ref(),
                 horizon_min.max(0.0),
-                0.25,
             )?),
             None => None,
         };
-        let mut warm = robot.clone();
-        warm.thermal = model.thermal.clone();
         Ok(WarmRobot {
             base: Base {
                 nominal: robot
@@ -82,7 +78,6 @@ impl WarmRobot {
                 thermal: model.thermal.clone(),
             },
             nominal: robot,
-            warm,
             effects,
             profile,
             history,
@@ -116,7 +111,9 @@ impl WarmRobot {
     /// Where the warm robot's flange is at joints `q`.
     pub fn flange(&self, q: &Joints, state: &State) -> Isometry3<f64> {
         if self.is_pure_expansion() {
-            return self.warm.fk(q, Some(&state.temps));
+            return self
+                .nominal
+                .fk_scaled(q, &self.base.thermal.scales(&state.temps));
         }
         predict(
             &self.base,
@@ -138,7 +135,9 @@ impl WarmRobot {
         conf: &RobConf,
         state: &State,
     ) -> Result<Joints> {
-        let mut q = self.warm.ik_conf(flange, conf, Some(&state.temps))?;
+        let mut q =
+            self.nominal
+                .ik_conf_scaled(flange, conf, &self.base.thermal.scales(&state.temps))?;
         if self.is_pure_expansion() {
             return Ok(q);
         }

@@ -2,7 +2,7 @@
 //! output goes to a temporary file in the destination folder and is renamed
 //! into place only once fully written, keeping the old file's permissions.
 
-use crate::error::{Error, ErrorKind, Result};
+use rapidtherm::error::{Error, ErrorKind, Result};
 use std::io::Write;
 use std::path::Path;
 

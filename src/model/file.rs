@@ -23,13 +23,14 @@
 //! upper_urad_per_k = 30.1
 //! ```
 
-use crate::diagnose::effects::{
-    lag_taus, predict, Base, Effect, EffectKind, LinkLags, RowState, TempHistory,
-};
+use super::effects::{Effect, EffectKind};
+use super::expansion::ThermalExpansion;
+use super::perturb::{lag_taus, predict, Base, LinkLags, RowState};
 use crate::error::{Error, ErrorKind, Location, Result};
-use crate::robot::{Joints, MotorTemps, Opw, ThermalExpansion, IRB140};
+use crate::robot::{Joints, Opw, IRB140};
 use crate::thermal::{
-    default_profile, FittedProfile, HeatingProfile, HeatingRecord, ModelKind, RecordedProfile,
+    default_profile, FittedProfile, HeatingProfile, HeatingRecord, ModelKind, MotorTemps,
+    RecordedProfile, TempHistory,
 };
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
@@ -267,7 +268,7 @@ impl Model {
         let effects = self.effects()?;
         let lagged = match lag_taus(&effects) {
             Some(_) => {
-                let history = TempHistory::from_profile(profile.as_ref(), time_min, 1.0)?;
+                let history = TempHistory::from_profile(profile.as_ref(), time_min)?;
                 LinkLags::new(&history, &effects).map(|l| l.at(time_min))
             }
             None => None,

@@ -1,0 +1,25 @@
+//! The warm robot both jobs share: what the simulation says a robot does at
+//! a moment of its warm-up. `correct` asks it where targets go; `diagnose`
+//! fits its effects to measurements and writes it back as a model file.
+//!
+//! Owns: the model file ([`file`], its embedded default), the base
+//! thermal expansion ([`expansion`]), the effect library of
+//! `shared/spec/effects.md` ([`effects`]), the perturbed kinematic chain
+//! ([`chain`], [`perturb`]) and [`warm::WarmRobot`].
+//!
+//! May import: `robot` (geometry), `thermal` (temperatures over time) and
+//! the shared `error`. Never `resolve`, `schedule`, `correct` or
+//! `diagnose`.
+
+pub mod chain;
+pub mod effects;
+pub mod expansion;
+pub mod file;
+pub mod perturb;
+pub mod warm;
+
+pub use effects::{Effect, EffectKind};
+pub use expansion::{LinkThermal, ThermalExpansion};
+pub use file::{EffectEntry, HeatingSection, Model, RobotSection};
+pub use perturb::{lag_taus, perturbation, predict, Base, LinkLags, RowState};
+pub use warm::{Moment, State, States, WarmRobot};

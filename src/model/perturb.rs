@@ -1,0 +1,169 @@
+//! The perturbed chain of one row: the base model's expanded geometry and
+//! what each effect adds to it, and the flange pose that results.
+
+use super::chain::Perturbation;
+use super::effects::{Effect, EffectKind};
+use super::expansion::ThermalExpansion;
+use crate::robot::{Joints, Opw};
+use crate::thermal::{Lagged, MotorTemps, TempHistory};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+/// The simulation the diagnosis starts from: nominal geometry and the base
+/// thermal-expansion model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Base {
+    pub nominal: Opw,
+    pub thermal: ThermalExpansion,
+}
+
+impl Default for Base {
+    fn default() -> Self {
+        Base {
+            nominal: crate::robot::IRB140,
+            thermal: ThermalExpansion::default(),
+        }
+    }
+}
+
+/// What the effects of one row depend on.
+#[derive(Debug, Clone, Copy)]
+pub struct RowState {
+    pub q: Joints,
+    /// Motor temperatures at the row's time.
+    pub temps: MotorTemps,
+    /// Motor temperatures through each link's thermal lag (base, lower
+    /// arm, upper arm, wrist): the structure's temperatures, present when a
+    /// thermal-lag effect is in the set.
+    pub lagged: Option<[MotorTemps; 4]>,
+}
+
+/// The expanded base geometry of a row and the perturbation of `effects`.
+pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Perturbation) {
+    let th = &base.thermal;
+    let opw = th.expand(&base.nominal, &row.temps);
+    let mut pert = Perturbation::default();
+    let motor_rise = th.link_temps(&row.temps).map(|t| t - th.t_ref);
+    // The structure's temperature: the motors' unless a lag is modelled.
+    let has_lag = effects.iter().any(|e| e.kind == EffectKind::ThermalLag);
+    let struct_rise = match row.lagged {
+        Some(l) if has_lag => [
+            th.base.temperature(&l[0]) - th.t_ref,
+            th.lower_arm.temperature(&l[1]) - th.t_ref,
+            th.upper_arm.temperature(&l[2]) - th.t_ref,
+            th.wrist.temperature(&l[3]) - th.t_ref,
+        ],
+        _ => motor_rise,
+    };
+    let mut scale = [1.0; 4];
+    let mut thermal_lengths = false;
+    for e in effects {
+        match e.kind {
+            EffectKind::ExpansionScale => {
+                thermal_lengths = true;
+                for (i, s) in scale.iter_mut().enumerate() {
+                    *s += e.get(i);
+                }
+            }
+            EffectKind::ThermalLag => thermal_lengths = true,
+            EffectKind::ArmBending => {
+                // κ = (tip rotation per K)·ΔT / L.
+                pert.kappa_lower += e.get(0) * 1e-6 * struct_rise[1] / base.nominal.c2.max(1e-9);
+                pert.kappa_upper += e.get(1) * 1e-6 * struct_rise[2] / base.nominal.c3.max(1e-9);
+            }
+            EffectKind::JointOffsetDrift => {
+                for i in 0..6 {
+                    pert.dq[i] += e.get(i) * 1e-6 * (row.temps[i] - th.t_ref);
+                }
+            }
+            EffectKind::MountDrift => {
+                let rise = row.temps[0] - th.t_ref;
+                let t = Vector3::new(e.get(0), e.get(1), e.get(2)) * (1e-3 * rise);
+                let r = UnitQuaternion::from_scaled_axis(Vector3::new(
+                    e.get(3) * 1e-6 * rise,
+                    e.get(4) * 1e-6 * rise,
+                    0.0,
+                ));
+                pert.base = Isometry3::from_parts(Translation3::from(t), r) * pert.base;
+            }
+            EffectKind::GravitySag => {
+                // Gravity torques of a two-link arm in its vertical plane are
+                // combinations of the two lever arms, whatever the masses.
+                let lower_lever = row.q[1].sin();
+                let upper_lever = (row.q[1] + row.q[2]).cos();
+                pert.dq[1] += 1e-6 * (e.get(0) * lower_lever + e.get(1) * upper_lever);
+                pert.dq[2] += 1e-6 * e.get(2) * upper_lever;
+            }
+            EffectKind::GeometryOffset => {
+                for i in 0..5 {
+                    pert.dlen[i] += e.get(i);
+                }
+                for i in 0..6 {
+                    pert.dq[i] += 1e-3 * e.get(5 + i);
+                }
+                pert.dlen[5] += e.get(11);
+                pert.dlen[6] += e.get(12);
+            }
+            EffectKind::TrackerFrame => {
+                let t = Translation3::new(e.get(0), e.get(1), e.get(2));
+                let r = UnitQuaternion::from_scaled_axis(Vector3::new(
+                    e.get(3) * 1e-3,
+                    e.get(4) * 1e-3,
+                    e.get(5) * 1e-3,
+                ));
+                pert.frame = Isometry3::from_parts(t, r) * pert.frame;
+            }
+        }
+    }
+    if thermal_lengths {
+        // Structure expansion replaces the base model's motor-driven one.
+        let nominal = &base.nominal;
+        let alpha = [
+            th.base.alpha,
+            th.lower_arm.alpha,
+            th.upper_arm.alpha,
+            th.wrist.alpha,
+        ];
+        let extra =
+            |link: usize| alpha[link] * (scale[link] * struct_rise[link] - motor_rise[link]);
+        pert.dlen[0] += nominal.c1 * extra(0);
+        pert.dlen[1] += nominal.a1 * extra(0);
+        pert.dlen[2] += nominal.c2 * extra(1);
+        pert.dlen[3] += nominal.c3 * extra(2);
+        pert.dlen[4] += nominal.c4 * extra(3);
+    }
+    (opw, pert)
+}
+
+/// Flange pose of a row with `effects` added to the base model.
+pub fn predict(base: &Base, effects: &[Effect], row: &RowState) -> Isometry3<f64> {
+    let (opw, pert) = perturbation(base, effects, row);
+    super::chain::fk_chain(&opw, &row.q, &pert)
+}
+
+/// The thermal-lag time constants (base, lower arm, upper arm, wrist) of a
+/// set of effects, if it has a lag.
+pub fn lag_taus(effects: &[Effect]) -> Option<[f64; 4]> {
+    effects
+        .iter()
+        .find(|e| e.kind == EffectKind::ThermalLag)
+        .map(|e| std::array::from_fn(|i| e.get(i).max(0.0)))
+}
+
+/// A temperature history through each link's lag, for the effects' time
+/// constants (`None` without a thermal-lag effect).
+pub struct LinkLags<'a> {
+    lags: [Lagged<'a>; 4],
+}
+
+impl<'a> LinkLags<'a> {
+    pub fn new(history: &'a TempHistory, effects: &[Effect]) -> Option<LinkLags<'a>> {
+        lag_taus(effects).map(|taus| LinkLags {
+            lags: taus.map(|tau| history.lagged(tau)),
+        })
+    }
+
+    /// Lagged motor temperatures per link at `t` minutes.
+    pub fn at(&self, t: f64) -> [MotorTemps; 4] {
+        std::array::from_fn(|i| self.lags[i].at(t))
+    }
+}

@@ -1,21 +1,34 @@
 //! rapidtherm: thermal drift correction of ABB RAPID programs and diagnosis
 //! of the gap between a robot model and a real robot.
 //!
-//! The library never prints or exits: every function returns values or an
-//! [`error::Error`]; the `rapidtherm` binary is a thin layer over it.
+//! The library never prints, exits, writes files or names a command-line
+//! flag: every function returns values or an [`error::Error`]; the
+//! `rapidtherm` binary is a thin layer over it.
 //!
-//! Modules, one idea each: [`rapid`] (reading and rewriting RAPID),
-//! [`robot`] (the IRB 140: URDF, kinematics, thermal expansion, frames),
-//! [`thermal`] (heating curves), [`schedule`] (when targets are reached),
-//! [`correct`] (the corrected program, and diffs), [`diagnose`] (the
-//! sim-to-real gap), [`model`] (the model file), [`report`] (tables).
+//! # Layers
+//!
+//! Each module imports only the modules below it (checked by
+//! `tests/layers.rs`):
+//!
+//! | layer | modules | owns |
+//! |---|---|---|
+//! | 5 | [`correct`], [`compare`], [`diagnose`] | the two jobs: corrected programs, program diffs, the sim-to-real gap |
+//! | 4 | [`resolve`], [`schedule`] | what a program means by its targets (tools, work objects, poses); when each target is reached |
+//! | 3 | [`model`] | the warm robot both jobs share: model file, expansion, effects, perturbed chain, `WarmRobot` |
+//! | 2 | [`rapid`], [`robot`], [`thermal`] | the language; geometry (URDF, chain, OPW FK/IK, robconf, frames); temperatures over time and the thermal lag |
+//! | 1 | [`error`], [`csv_table`], [`report`] | shared foundations: errors with locations, CSV tables, number and table formatting |
+//!
+//! The main job's data flow: `rapid::parse` → `resolve` (the flange pose
+//! each target means) → `schedule` (when) → `model::WarmRobot` (where the
+//! warm arm goes) → `correct` (the nominal pose that lands warm where the
+//! cold program meant) → `rapid::rewrite` (new bytes).
 //!
 //! The main job in a few lines:
 //!
 //! ```
-//! use rapidtherm::model::warm::{Moment, WarmRobot};
 //! use rapidtherm::correct::{correct, Options, When};
-//! use rapidtherm::{model::Model, rapid, robot::Robot, schedule::Visit};
+//! use rapidtherm::model::{Model, Moment, WarmRobot};
+//! use rapidtherm::{rapid, robot::Robot, schedule::Visit};
 //!
 //! let src = b"MODULE m\n  PROC main()\n    MoveL [[450,100,500],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
 //! let program = rapid::parse("m.mod", src)?;
@@ -28,6 +41,8 @@
 //! assert_eq!(cold_run.outputs[0], src); // at the reference temperature: every byte kept
 //! # Ok::<(), rapidtherm::Error>(())
 //! ```
+
+#![deny(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod compare;
 pub mod correct;

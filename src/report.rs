@@ -1,15 +1,6 @@
 //! Rendering of tabular results for people (aligned table) and scripts
 //! (CSV, JSON). Commands build rows of strings; this module lays them out.
 
-/// Output format chosen with `--format`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
-pub enum Format {
-    #[default]
-    Table,
-    Csv,
-    Json,
-}
-
 /// Column alignment in the table format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Align {

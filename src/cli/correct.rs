@@ -1,4 +1,5 @@
 //! `rapidtherm correct`, `diff` and `model show`: the main job.
+use super::Format;
 use super::{read_input, read_program, write_output, write_stdout, Status};
 use rapidtherm::compare::{diff, Diff};
 use rapidtherm::correct::{correct, Options, Outcome, When};
@@ -6,7 +7,7 @@ use rapidtherm::error::{decode_lossless, Error, Result};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
-use rapidtherm::report::{mm, render_csv, render_table, Align, Format};
+use rapidtherm::report::{mm, render_csv, render_table, Align};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{self, EstimateOptions, Schedule, Visit};
 use std::io::IsTerminal;

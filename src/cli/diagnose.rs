@@ -1,5 +1,6 @@
 //! `simulate`, `diagnose` and `gap`: argument parsing and printing only.
 
+use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
 use rapidtherm::diagnose::arm::Arm;
@@ -11,7 +12,7 @@ use rapidtherm::diagnose::{self, Diagnosis, Options};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
-use rapidtherm::report::{render_csv, render_table, Align, Format};
+use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::robot::Robot;
 use std::path::{Path, PathBuf};
 

@@ -1,6 +1,7 @@
+use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::error::{Error, Result};
-use rapidtherm::report::{render_csv, render_table, Align, Format};
+use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::thermal::fit::{fit_axis, AxisFit, ModelKind};
 use rapidtherm::thermal::plot::plot_fits;
 use rapidtherm::thermal::table::{render_fits_csv, render_fits_json, render_fits_table};

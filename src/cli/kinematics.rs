@@ -1,9 +1,10 @@
 //! `fk` and `ik`: the robot model by hand.
 
+use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::model::ThermalExpansion;
-use rapidtherm::report::{mm, render_csv, render_table, Align, Format};
+use rapidtherm::report::{mm, render_csv, render_table, Align};
 use rapidtherm::robot::frames::{pose_from_rapid, pose_to_rapid};
 use rapidtherm::robot::{LinkScales, RobConf, Robot};
 use rapidtherm::thermal::MotorTemps;

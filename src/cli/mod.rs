@@ -58,6 +58,16 @@ enum Command {
     Gap(diagnose::GapArgs),
 }
 
+/// Output format chosen with `--format`: the library renders tables, CSV
+/// and JSON; which one a run prints is the command line's choice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Format {
+    #[default]
+    Table,
+    Csv,
+    Json,
+}
+
 /// How a command that ran without error ended.
 pub enum Status {
     /// Exit 0.

@@ -1,8 +1,9 @@
 //! `rapidtherm targets FILE...`: every robtarget of RAPID programs.
+use super::Format;
 use super::{read_program, write_stdout, Status};
 use rapidtherm::error::Result;
 use rapidtherm::rapid::{self, Target};
-use rapidtherm::report::{render_csv, render_table, Align, Format};
+use rapidtherm::report::{render_csv, render_table, Align};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

@@ -1,0 +1,75 @@
+//! When each target is corrected for: the moments a target is reached
+//! (one fixed moment, or its times in a schedule) and which visit counts.
+
+use super::When;
+use crate::error::{Error, Result};
+use crate::model::Moment;
+use crate::rapid::Program;
+use crate::schedule::{Schedule, Visit};
+
+/// The moments a target is reached.
+pub(super) fn moments_of(when: &When, id: &str) -> Result<Vec<Moment>> {
+    moments_in(when, id, false)
+}
+
+/// The moments a jointtarget is reached.
+pub(super) fn joint_moments_of(when: &When, id: &str) -> Result<Vec<Moment>> {
+    moments_in(when, id, true)
+}
+
+pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Moment>> {
+    match when {
+        When::At(m) => Ok(vec![*m]),
+        When::Schedule {
+            schedule,
+            joints,
+            default,
+        } => match joints.as_ref().filter(|_| joint).unwrap_or(schedule).times(id) {
+            Some(times) => Ok(times.iter().map(|&t| Moment::Minute(t)).collect()),
+            None => default.map(|m| vec![m]).ok_or_else(|| {
+                Error::input(format!(
+                    "the schedule has no time for target {id} (add it, or give a default time with --default-time)"
+                ))
+            }),
+        },
+    }
+}
+
+pub(super) fn pick(moments: &[Moment], visit: Visit) -> Moment {
+    let minutes: Vec<f64> = moments
+        .iter()
+        .filter_map(|m| match m {
+            Moment::Minute(t) => Some(*t),
+            Moment::Steady => None,
+        })
+        .collect();
+    if minutes.len() < moments.len() || minutes.is_empty() {
+        Moment::Steady
+    } else {
+        Moment::Minute(visit.pick(&minutes))
+    }
+}
+
+pub(super) fn minute_of(m: Moment) -> Option<f64> {
+    match m {
+        Moment::Minute(t) => Some(t),
+        Moment::Steady => None,
+    }
+}
+
+/// Every identifier of the schedule must name a target of the program.
+pub(super) fn check_schedule_names(program: &Program, schedule: &Schedule) -> Result<()> {
+    for id in schedule.targets() {
+        let known = program.target(id).is_some()
+            || program
+                .jointtargets()
+                .iter()
+                .any(|j| j.id.eq_ignore_ascii_case(id));
+        if !known {
+            return Err(Error::input(format!(
+                "the schedule names target `{id}`, which the program does not have"
+            )));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,169 @@
+//! What a correction run reports: each corrected target, each target left
+//! as written and why, derived targets, and the summary.
+
+use crate::rapid::rewrite::Edit;
+use crate::rapid::{Program, Target};
+use nalgebra::Isometry3;
+use serde::Serialize;
+
+/// One corrected robtarget or jointtarget.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Correction {
+    pub id: String,
+    /// `robtarget` kinds (`declared`, `inline`, ...) or `jointtarget`.
+    pub kind: String,
+    pub file: String,
+    pub line: u32,
+    pub col: u32,
+    /// Minute the correction is for (`None`: steady state).
+    pub time_min: Option<f64>,
+    pub temps_c: [f64; 6],
+    /// Where the uncorrected program puts the TCP, minus where it should
+    /// be, in the target's work object (mm); for jointtargets, at the
+    /// flange in the base frame.
+    pub drift_mm: [f64; 3],
+    pub drift_norm_mm: f64,
+    /// Spread of |drift| over the target's visits (min, max), mm.
+    pub drift_range_mm: (f64, f64),
+    /// Corrected minus original coordinates (mm; for jointtargets the
+    /// largest joint change in degrees is in `dangle_deg`).
+    pub correction_mm: [f64; 3],
+    pub correction_norm_mm: f64,
+    pub dangle_deg: f64,
+    /// Original and corrected values as written to the program: x, y, z,
+    /// q1..q4 (robtargets) or the six axes in degrees (jointtargets).
+    pub original: Vec<f64>,
+    pub corrected: Vec<f64>,
+    /// Whether the written text changed.
+    pub rewritten: bool,
+    /// The exact corrected pose (before rounding to the written digits).
+    #[serde(skip)]
+    pub exact: Option<Isometry3<f64>>,
+    #[serde(skip)]
+    pub(super) edits: Vec<Edit>,
+    #[serde(skip)]
+    pub(super) file_index: usize,
+}
+
+/// A target the run could not or would not correct.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Skipped {
+    pub id: String,
+    pub file: String,
+    pub line: u32,
+    pub reason: String,
+}
+
+/// A derived target (`Offs(p10, ...)`): left as written; its base's
+/// correction carries it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Derived {
+    pub id: String,
+    pub file: String,
+    pub line: u32,
+    pub expr: String,
+    pub bases: Vec<String>,
+    /// Largest correction among its bases (mm): the derived point moves
+    /// with them.
+    pub base_correction_mm: f64,
+    /// Where the warm robot puts it after its base's correction, against
+    /// where the cold program meant it (mm); `None` where only the run
+    /// time knows the pose (CRobT, a FUNC, computed offsets).
+    pub residual_mm: Option<f64>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    pub corrected: usize,
+    /// Corrections whose written text changed.
+    pub rewritten: usize,
+    pub max_mm: f64,
+    pub rms_mm: f64,
+    pub max_drift_mm: f64,
+    pub derived: usize,
+    pub skipped: usize,
+}
+
+/// The outcome of correcting a program: the per-target report and the new
+/// bytes of each file.
+#[derive(Debug, Clone, Serialize)]
+pub struct Outcome {
+    pub corrections: Vec<Correction>,
+    pub derived: Vec<Derived>,
+    pub skipped: Vec<Skipped>,
+    /// Choices the correction made that the user should know about.
+    pub notes: Vec<String>,
+    pub summary: Summary,
+    /// New contents, one per input file (same order).
+    #[serde(skip)]
+    pub outputs: Vec<Vec<u8>>,
+}
+
+pub(super) fn summarise(
+    corrections: &[Correction],
+    derived: &[Derived],
+    skipped: &[Skipped],
+) -> Summary {
+    let robtargets: Vec<&Correction> = corrections
+        .iter()
+        .filter(|c| c.kind != "jointtarget")
+        .collect();
+    let n = robtargets.len();
+    let sum_sq: f64 = robtargets
+        .iter()
+        .map(|c| c.correction_norm_mm.powi(2))
+        .sum();
+    Summary {
+        corrected: corrections.len(),
+        rewritten: corrections.iter().filter(|c| c.rewritten).count(),
+        max_mm: robtargets
+            .iter()
+            .map(|c| c.correction_norm_mm)
+            .fold(0.0, f64::max),
+        rms_mm: if n > 0 {
+            (sum_sq / n as f64).sqrt()
+        } else {
+            0.0
+        },
+        max_drift_mm: corrections
+            .iter()
+            .map(|c| c.drift_norm_mm)
+            .fold(0.0, f64::max),
+        derived: derived.len(),
+        skipped: skipped.len(),
+    }
+}
+
+pub(super) fn derived_report(
+    program: &Program,
+    target: &Target,
+    corrections: &[Correction],
+) -> Derived {
+    let d = target.derived.as_deref();
+    let bases: Vec<String> = d.map(|d| d.bases.clone()).unwrap_or_default();
+    let base_correction_mm = bases
+        .iter()
+        .filter_map(|b| corrections.iter().find(|c| c.id.eq_ignore_ascii_case(b)))
+        .map(|c| c.correction_norm_mm)
+        .fold(0.0, f64::max);
+    let location = program.location(&target.origin);
+    Derived {
+        id: target.id.clone(),
+        file: location.file,
+        line: target.origin.pos.line,
+        expr: d.map(|d| d.expr.clone()).unwrap_or_default(),
+        bases,
+        base_correction_mm,
+        residual_mm: None,
+    }
+}
+
+pub(super) fn skip(program: &Program, target: &Target, reason: &str) -> Skipped {
+    let location = program.location(&target.origin);
+    Skipped {
+        id: target.id.clone(),
+        file: location.file,
+        line: target.origin.pos.line,
+        reason: reason.to_string(),
+    }
+}

@@ -1,0 +1,213 @@
+//! The library's layers, checked on its source: each top-level module
+//! imports only the modules below it, no library file names clap, and no
+//! source file grows past 1,000 lines. The compiler allows any import
+//! inside one crate; this test is what keeps the direction.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// What each top-level module of the library may import (besides external
+/// crates). Bottom to top: foundations; the language, geometry and
+/// temperatures; the warm robot; what programs mean and when targets are
+/// reached; the jobs. `src/lib.rs` and the README's code map say the same.
+const ALLOWED: &[(&str, &[&str])] = &[
+    ("error", &[]),
+    ("csv_table", &["error"]),
+    ("report", &["error"]),
+    ("rapid", &["error"]),
+    ("robot", &["error", "csv_table"]),
+    ("thermal", &["error", "csv_table", "report"]),
+    ("model", &["error", "csv_table", "robot", "thermal"]),
+    ("resolve", &["error", "rapid", "robot"]),
+    (
+        "schedule",
+        &["error", "csv_table", "rapid", "robot", "resolve"],
+    ),
+    (
+        "correct",
+        &[
+            "error", "rapid", "robot", "thermal", "model", "resolve", "schedule",
+        ],
+    ),
+    ("compare", &["error", "rapid", "robot", "resolve"]),
+    (
+        "diagnose",
+        &[
+            "error",
+            "csv_table",
+            "report",
+            "rapid",
+            "robot",
+            "thermal",
+            "model",
+            "resolve",
+        ],
+    ),
+];
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The code of a file without its comments (doc links may name any
+/// module; only code imports).
+fn code_of(text: &str) -> String {
+    text.lines()
+        .map(|l| match l.find("//") {
+            Some(i) => &l[..i],
+            None => l,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The top-level module a library file belongs to (`src/model/warm.rs` →
+/// `model`, `src/compare.rs` → `compare`); `None` for the crate root and
+/// the binary.
+fn module_of(src: &Path, file: &Path) -> Option<String> {
+    let rel = file.strip_prefix(src).ok()?;
+    let first = rel.components().next()?.as_os_str().to_str()?.to_string();
+    let name = first.trim_end_matches(".rs").to_string();
+    match name.as_str() {
+        "lib" | "main" | "cli" => None,
+        _ => Some(name),
+    }
+}
+
+/// Top-level modules a file refers to through `crate::NAME` (also inside
+/// `use crate::{a, b}` groups).
+fn imports(code: &str, known: &BTreeSet<&str>) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let mut rest = code;
+    while let Some(i) = rest.find("crate::") {
+        rest = &rest[i + "crate::".len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            let end = group.find('}').unwrap_or(group.len());
+            for part in group[..end].split(',') {
+                let name: String = part
+                    .trim()
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                if known.contains(name.as_str()) {
+                    out.insert(name);
+                }
+            }
+        } else {
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if known.contains(name.as_str()) {
+                out.insert(name);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn every_module_imports_only_the_layers_below_it() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let src = root.join("src");
+    let allowed: BTreeMap<&str, &[&str]> = ALLOWED.iter().copied().collect();
+    let known: BTreeSet<&str> = allowed.keys().copied().collect();
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    files.sort();
+    let mut wrong = Vec::new();
+    let mut seen_modules = BTreeSet::new();
+    for file in &files {
+        let Some(module) = module_of(&src, file) else {
+            continue;
+        };
+        seen_modules.insert(module.clone());
+        let Some(may) = allowed.get(module.as_str()) else {
+            wrong.push(format!(
+                "{}: module `{module}` has no place in the layers (add it to ALLOWED, the README map and src/lib.rs)",
+                file.display()
+            ));
+            continue;
+        };
+        let text = std::fs::read_to_string(file).unwrap();
+        for used in imports(&code_of(&text), &known) {
+            if used != module && !may.contains(&used.as_str()) {
+                wrong.push(format!(
+                    "{}: `{module}` imports `{used}`",
+                    file.strip_prefix(root).unwrap().display()
+                ));
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "imports against the layers:\n{}",
+        wrong.join("\n")
+    );
+    // Every listed module exists (a renamed module must not leave a stale
+    // rule that checks nothing).
+    for m in known {
+        assert!(
+            seen_modules.contains(m),
+            "ALLOWED lists `{m}`, which src/ does not have"
+        );
+    }
+}
+
+#[test]
+fn the_allowed_imports_form_no_cycle() {
+    // A module may only import modules listed before it: the table is in
+    // layer order, so the graph it allows is acyclic by construction.
+    let order: Vec<&str> = ALLOWED.iter().map(|(m, _)| *m).collect();
+    for (i, (m, may)) in ALLOWED.iter().enumerate() {
+        for dep in *may {
+            let j = order.iter().position(|o| o == dep).unwrap();
+            assert!(j < i, "`{m}` may import `{dep}`, which is not below it");
+        }
+    }
+}
+
+#[test]
+fn no_library_file_names_clap() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut wrong = Vec::new();
+    for file in &files {
+        if module_of(&src, file).is_none() {
+            continue;
+        }
+        let code = code_of(&std::fs::read_to_string(file).unwrap());
+        if code.contains("clap") {
+            wrong.push(file.display().to_string());
+        }
+    }
+    assert!(wrong.is_empty(), "library files naming clap: {wrong:?}");
+}
+
+#[test]
+fn no_source_file_is_over_1000_lines() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in ["src", "tests", "benches", "examples", "fuzz"] {
+        rust_files(&root.join(dir), &mut files);
+    }
+    let long: Vec<String> = files
+        .iter()
+        .filter_map(|f| {
+            let n = std::fs::read_to_string(f).ok()?.lines().count();
+            (n > 1000).then(|| format!("{} ({n} lines)", f.display()))
+        })
+        .collect();
+    assert!(long.is_empty(), "files over 1,000 lines: {long:?}");
+}

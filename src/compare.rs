@@ -1,6 +1,9 @@
 //! Target-by-target comparison of two programs (typically an original and
 //! its corrected version): matched by identifier, with the position change
 //! in the target's own frame and the change of orientation.
+//!
+//! A job of its own beside `correct`: may import `rapid`, `robot`,
+//! `resolve` and the shared `error`; never `correct` or `diagnose`.
 
 use crate::error::Result;
 use crate::rapid::{Program, TargetKind};

@@ -2,6 +2,8 @@
 //! tool reads (heating records, schedules, measurements): one header row,
 //! columns matched by name in any order, `#` comment lines, blank lines
 //! ignored, every bad value reported with file, line and column.
+//!
+//! A foundation: imports only `error`.
 
 use crate::error::{Error, Location, Result};
 

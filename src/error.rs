@@ -1,6 +1,9 @@
 //! One error type for the whole library: every failure is a value with a
 //! kind (which decides the exit code in the CLI), a message, and, for bad
 //! input, the file, line and column it concerns.
+//!
+//! The bottom of the library: imports nothing of it. Messages say what is
+//! wrong in the terms of the data; the CLI alone names its flags.
 
 use std::fmt;
 use std::path::Path;

@@ -1,5 +1,8 @@
 //! Rendering of tabular results for people (aligned table) and scripts
 //! (CSV, JSON). Commands build rows of strings; this module lays them out.
+//!
+//! A foundation: imports nothing of the library. Which format a run prints
+//! is the CLI's choice.
 
 /// Column alignment in the table format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,10 +4,12 @@
 //! Exit codes: 0 success; 1 when `--check`/`--diff` finds changes or a gate
 //! (`--fail-above`) fails; 2 for usage and input errors.
 
+mod compare;
 mod correct;
 mod diagnose;
 mod heating;
 mod kinematics;
+mod model;
 mod output;
 mod schedule;
 mod targets;
@@ -46,10 +48,10 @@ enum Command {
     /// Rewrite a program's targets so that the warm robot reaches what the cold program meant.
     Correct(correct::CorrectArgs),
     /// Compare the targets of two programs.
-    Diff(correct::DiffArgs),
+    Diff(compare::DiffArgs),
     /// Show the model the simulation uses.
     #[command(subcommand)]
-    Model(correct::ModelCommand),
+    Model(model::ModelCommand),
     /// Make simulated measurements ("real" data) with chosen effects and noise.
     Simulate(diagnose::SimulateArgs),
     /// Diagnose the sim-to-real gap of measured positions.
@@ -85,8 +87,8 @@ pub fn main() -> ExitCode {
         Command::Heating(c) => heating::run(c),
         Command::Schedule(a) => schedule::run_schedule(a),
         Command::Correct(a) => correct::run_correct(a),
-        Command::Diff(a) => correct::run_diff(a),
-        Command::Model(c) => correct::run_model(c),
+        Command::Diff(a) => compare::run_diff(a),
+        Command::Model(c) => model::run_model(c),
         Command::Simulate(a) => diagnose::run_simulate(a),
         Command::Diagnose(a) => diagnose::run_diagnose(a),
         Command::Gap(a) => diagnose::run_gap(a),

@@ -2,6 +2,10 @@
 //! wobjdata as [`ToolData`]/[`WobjData`], each robtarget as a pose with its
 //! robconf, and for each target the tool and work object the program moves
 //! to it with.
+//!
+//! Owns what a program means by its targets, shared by `schedule`,
+//! `correct` and `diagnose` (programs as pose sets). May import `rapid`,
+//! `robot` and the shared `error`; never `model`, `schedule` or the jobs.
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::rapid::{self, Call, Expr, Program, Statement, StatementKind, Target, TargetKind};

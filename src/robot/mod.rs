@@ -1,7 +1,11 @@
-//! The robot model: nominal geometry of a six-axis arm with an offset
-//! shoulder and a spherical wrist (OPW parameters), forward kinematics with
-//! typed frames, and the base thermal-expansion model of
-//! `shared/spec/irb140.md` (link lengths scaled by link temperature).
+//! The robot's geometry: a six-axis serial arm (any URDF chain; closed-form
+//! IK where it has an offset shoulder and a spherical wrist, the OPW form),
+//! robconf, and the tool and work-object frames RAPID targets are written
+//! in. A warm arm is the same arm with its segments scaled
+//! ([`LinkScales`]); what scales them is the `model`'s business.
+//!
+//! Owns geometry only. May import the shared `error` and `csv_table`;
+//! never `thermal`, `model` or anything above.
 //!
 //! Joint angles are radians inside the library, degrees in files and on the
 //! command line; lengths are millimetres.

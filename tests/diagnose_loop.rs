@@ -6,9 +6,10 @@ use nalgebra::{DMatrix, DVector, Isometry3};
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare, Options};
-use rapidtherm::model::Model;
 use rapidtherm::model::{predict, Base, Effect, EffectKind, RowState};
+use rapidtherm::model::{Model, Moment, WarmRobot};
 use rapidtherm::robot::Joints;
+use rapidtherm::robot::Robot;
 use rapidtherm::thermal::{default_profile, HeatingProfile};
 
 /// 6-D pose error (mm; rotation vector scaled by 500 mm so both count).
@@ -21,9 +22,11 @@ fn pose_error(a: &Isometry3<f64>, b: &Isometry3<f64>) -> DVector<f64> {
 /// Joints at which `model` puts the flange at `goal` (damped Newton from
 /// `q0`): what a correction with that model would write.
 fn correct(model: &Model, goal: &Isometry3<f64>, q0: &Joints, t: f64) -> Joints {
+    let warm = WarmRobot::new(Robot::irb140(), model, t).unwrap();
+    let state = warm.state(Moment::Minute(t)).unwrap();
     let mut q = *q0;
     for _ in 0..20 {
-        let pose = model.flange_pose(&q, t, None).unwrap();
+        let pose = warm.flange(&q, &state);
         let e = pose_error(&pose, goal);
         if e.norm() < 1e-9 {
             break;
@@ -32,7 +35,7 @@ fn correct(model: &Model, goal: &Isometry3<f64>, q0: &Joints, t: f64) -> Joints 
         for k in 0..6 {
             let mut qk = q;
             qk[k] += 1e-7;
-            let pk = model.flange_pose(&qk, t, None).unwrap();
+            let pk = warm.flange(&qk, &state);
             j.set_column(k, &(-pose_error(&pk, &pose) / 1e-7));
         }
         let a = j.transpose() * &j + DMatrix::identity(6, 6) * 1e-9;

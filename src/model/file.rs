@@ -25,14 +25,12 @@
 
 use super::effects::{Effect, EffectKind};
 use super::expansion::ThermalExpansion;
-use super::perturb::{lag_taus, predict, Base, LinkLags, RowState};
+use super::perturb::Base;
 use crate::error::{Error, ErrorKind, Location, Result};
-use crate::robot::{Joints, Opw, IRB140};
+use crate::robot::{Opw, IRB140};
 use crate::thermal::{
-    default_profile, FittedProfile, HeatingProfile, HeatingRecord, ModelKind, MotorTemps,
-    RecordedProfile, TempHistory,
+    default_profile, FittedProfile, HeatingProfile, HeatingRecord, ModelKind, RecordedProfile,
 };
-use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -249,45 +247,12 @@ impl Model {
         }
         Ok(Box::new(default_profile()))
     }
-
-    /// The flange pose this model predicts for joints `q` at `time_min`
-    /// minutes since the cold start, with the motor temperatures given or,
-    /// if `None`, from the heating profile. A thermal lag integrates the
-    /// heating profile's history.
-    pub fn flange_pose(
-        &self,
-        q: &Joints,
-        time_min: f64,
-        temps: Option<&MotorTemps>,
-    ) -> Result<Isometry3<f64>> {
-        let profile = self.profile()?;
-        let temps = match temps {
-            Some(t) => *t,
-            None => profile.temps_at(time_min)?,
-        };
-        let effects = self.effects()?;
-        let lagged = match lag_taus(&effects) {
-            Some(_) => {
-                let history = TempHistory::from_profile(profile.as_ref(), time_min)?;
-                LinkLags::new(&history, &effects).map(|l| l.at(time_min))
-            }
-            None => None,
-        };
-        Ok(predict(
-            &self.base(),
-            &effects,
-            &RowState {
-                q: *q,
-                temps,
-                lagged,
-            },
-        ))
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::perturb::{predict, RowState};
 
     #[test]
     fn default_model_round_trips_and_is_the_base_model() {
@@ -300,7 +265,16 @@ mod tests {
         let back = Model::parse("m.toml", &text).unwrap();
         assert_eq!(back, m);
         let q = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6];
-        let base = Model::default().flange_pose(&q, 0.0, None).unwrap();
+        let m = Model::default();
+        let base = predict(
+            &m.base(),
+            &m.effects().unwrap(),
+            &RowState {
+                q,
+                temps: [m.thermal.t_ref; 6],
+                lagged: None,
+            },
+        );
         assert!((base.translation.vector - IRB140.fk(&q).translation.vector).norm() < 1e-9);
     }
 

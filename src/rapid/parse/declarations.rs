@@ -1,0 +1,387 @@
+//! Data declarations: robtargets, jointtargets, tooldata, wobjdata and the
+//! other typed values a declaration or an assignment writes, with their
+//! identifiers and spans.
+
+use super::*;
+
+impl<'a, 'b> FileParser<'a, 'b> {
+    pub(super) fn data_decl(&mut self, p: &Piece) -> Result<DataDecl> {
+        let mut d = self.with_pair(Rule::data_declaration, p, |s, pair| {
+            let Some(decl) = pair.into_inner().next() else {
+                return Err(s.err(p.start, "expected a data declaration"));
+            };
+            let mut d = DataDecl {
+                scope: None,
+                storage: Storage::Var,
+                type_name: String::new(),
+                name: String::new(),
+                dims: Vec::new(),
+                init: None,
+                pos: Pos::default(),
+            };
+            for c in decl.into_inner() {
+                match c.as_rule() {
+                    Rule::scope => {
+                        d.scope = Some(if c.as_str().eq_ignore_ascii_case("LOCAL") {
+                            Scope::Local
+                        } else {
+                            Scope::Task
+                        })
+                    }
+                    Rule::storage => {
+                        let t = c.as_str().to_ascii_uppercase();
+                        d.storage = match t.as_str() {
+                            "CONST" => Storage::Const,
+                            "PERS" => Storage::Pers,
+                            _ => Storage::Var,
+                        }
+                    }
+                    Rule::type_name => d.type_name = s.text(&c, p.start),
+                    Rule::identifier => d.name = s.text(&c, p.start),
+                    Rule::dim => {
+                        for e in c.into_inner() {
+                            d.dims.push(s.expr(e, p.start)?);
+                        }
+                    }
+                    Rule::initializer => {
+                        if let Some(e) = c.into_inner().next() {
+                            d.init = Some(s.expr(e, p.start)?);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            Ok(d)
+        })?;
+        d.pos = self.pos(p.start);
+        let ty = d.type_name.to_ascii_lowercase();
+        if let Some(init) = d.init.take() {
+            let origin_pos = d.pos;
+            let init = match ty.as_str() {
+                "robtarget" => self.declared_robtargets(&d, init, d.dims.len(), &mut Vec::new())?,
+                "jointtarget" => self.declared_joints(&d, init, d.dims.len(), &mut Vec::new())?,
+                _ => {
+                    if d.dims.is_empty() {
+                        self.typed_data(&ty, &d, &init, origin_pos);
+                    }
+                    init
+                }
+            };
+            d.init = Some(init);
+        }
+        Ok(d)
+    }
+
+    pub(super) fn origin(&self, offset: usize) -> Origin {
+        Origin {
+            file: self.file,
+            module: self.module.clone(),
+            routine: self.routine.clone(),
+            pos: self.pos(offset),
+        }
+    }
+
+    pub(super) fn decl_id(name: &str, index: &[usize]) -> String {
+        if index.is_empty() {
+            name.to_string()
+        } else {
+            let ix: Vec<String> = index.iter().map(|i| i.to_string()).collect();
+            format!("{name}{{{}}}", ix.join(","))
+        }
+    }
+
+    pub(super) fn declared_robtargets(
+        &mut self,
+        d: &DataDecl,
+        e: Expr,
+        dims: usize,
+        index: &mut Vec<usize>,
+    ) -> Result<Expr> {
+        if dims > 0 {
+            if let Expr::Aggregate(mut a) = e {
+                let items = std::mem::take(&mut a.items);
+                let mut out = Vec::with_capacity(items.len());
+                for (i, it) in items.into_iter().enumerate() {
+                    index.push(i + 1);
+                    out.push(self.declared_robtargets(d, it, dims - 1, index)?);
+                    index.pop();
+                }
+                a.items = out;
+                return Ok(Expr::Aggregate(a));
+            }
+            return Ok(e);
+        }
+        let id = Self::decl_id(&d.name, index);
+        let kind = if index.is_empty() {
+            TargetKind::Declared
+        } else {
+            TargetKind::ArrayElement
+        };
+        match &e {
+            Expr::Aggregate(a) => match robtarget_shape(&a.items) {
+                Err(why) => Err(self
+                    .err(a.span.start, format!("robtarget {id} is malformed: {why}"))
+                    .with_note(ROBTARGET_FORM)),
+                Ok(Some(value)) => {
+                    let t = self.new_target(id, kind, a.span.start, Some(value));
+                    let t = Target {
+                        name: Some(d.name.clone()),
+                        storage: Some(d.storage),
+                        ..t
+                    };
+                    Ok(Expr::Target(self.push_target(t)))
+                }
+                Ok(None) => {
+                    let span = a.span.clone();
+                    self.declared_derived(d, id, &e, span);
+                    Ok(e)
+                }
+            },
+            Expr::Call(c) => {
+                let span = c.span.clone();
+                self.declared_derived(d, id, &e, span);
+                Ok(e)
+            }
+            _ => Ok(e),
+        }
+    }
+
+    pub(super) fn declared_derived(
+        &mut self,
+        d: &DataDecl,
+        id: String,
+        e: &Expr,
+        span: Range<usize>,
+    ) {
+        let t = self.new_target(id, TargetKind::Derived, span.start, None);
+        let t = Target {
+            name: Some(d.name.clone()),
+            storage: Some(d.storage),
+            derived: Some(Box::new(derivation(self.src, e, span))),
+            ..t
+        };
+        self.push_target(t);
+    }
+
+    pub(super) fn new_target(
+        &mut self,
+        id: String,
+        kind: TargetKind,
+        offset: usize,
+        value: Option<RobTargetValue>,
+    ) -> Target {
+        Target {
+            id,
+            kind,
+            origin: self.origin(offset),
+            name: None,
+            storage: None,
+            value,
+            instruction: None,
+            tool: None,
+            wobj: None,
+            derived: None,
+        }
+    }
+
+    pub(super) fn push_target(&mut self, t: Target) -> usize {
+        self.b.prog.targets.push(t);
+        self.b.prog.targets.len() - 1
+    }
+
+    pub(super) fn declared_joints(
+        &mut self,
+        d: &DataDecl,
+        e: Expr,
+        dims: usize,
+        index: &mut Vec<usize>,
+    ) -> Result<Expr> {
+        let Expr::Aggregate(mut a) = e else {
+            return Ok(e);
+        };
+        if dims > 0 {
+            let items = std::mem::take(&mut a.items);
+            let mut out = Vec::with_capacity(items.len());
+            for (i, it) in items.into_iter().enumerate() {
+                index.push(i + 1);
+                out.push(self.declared_joints(d, it, dims - 1, index)?);
+                index.pop();
+            }
+            a.items = out;
+            return Ok(Expr::Aggregate(a));
+        }
+        let id = Self::decl_id(&d.name, index);
+        match jointtarget_shape(&a.items) {
+            Err(why) => Err(self
+                .err(
+                    a.span.start,
+                    format!("jointtarget {id} is malformed: {why}"),
+                )
+                .with_note(JOINTTARGET_FORM)),
+            Ok(Some((robax, extax))) => {
+                let kind = if index.is_empty() {
+                    TargetKind::Declared
+                } else {
+                    TargetKind::ArrayElement
+                };
+                let j = JointTarget {
+                    id,
+                    kind,
+                    origin: self.origin(a.span.start),
+                    name: Some(d.name.clone()),
+                    storage: Some(d.storage),
+                    robax,
+                    extax,
+                    instruction: None,
+                    tool: None,
+                    wobj: None,
+                };
+                self.b.prog.jointtargets.push(j);
+                Ok(Expr::JointTarget(self.b.prog.jointtargets.len() - 1))
+            }
+            Ok(None) => Ok(Expr::Aggregate(a)),
+        }
+    }
+
+    /// tooldata, wobjdata, speeddata, zonedata of the expected shape (other
+    /// shapes are left alone: harmless to this tool).
+    pub(super) fn typed_data(&mut self, ty: &str, d: &DataDecl, e: &Expr, pos: Pos) {
+        let origin = Origin {
+            file: self.file,
+            module: self.module.clone(),
+            routine: self.routine.clone(),
+            pos,
+        };
+        let name = d.name.clone();
+        let storage = d.storage;
+        match ty {
+            "tooldata" => {
+                if let Some(t) = tooldata(e, name, origin, storage) {
+                    self.b.prog.tools.push(t);
+                }
+            }
+            "wobjdata" => {
+                if let Some(w) = wobjdata(e, name, origin, storage) {
+                    self.b.prog.wobjs.push(w);
+                }
+            }
+            "speeddata" => {
+                if let Some([a, b, c, d]) = nums::<4>(e) {
+                    self.b.prog.speeds.push(SpeedData {
+                        name,
+                        origin,
+                        storage,
+                        v_tcp: a,
+                        v_ori: b,
+                        v_leax: c,
+                        v_reax: d,
+                    });
+                }
+            }
+            "zonedata" => {
+                if let Some(items) = aggregate(e, 7) {
+                    if let (Some(finep), Some(values)) = (
+                        flag(&items[0]),
+                        items[1..]
+                            .iter()
+                            .map(num)
+                            .collect::<Option<Vec<_>>>()
+                            .and_then(|v| <[Number; 6]>::try_from(v).ok()),
+                    ) {
+                        self.b.prog.zones.push(ZoneData {
+                            name,
+                            origin,
+                            storage,
+                            finep,
+                            values,
+                        });
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Replace robtarget- and jointtarget-shaped literals in a routine
+    /// expression by references to new inline targets.
+    pub(super) fn take_literals(&mut self, e: Expr, ctx: &InlineCtx) -> Expr {
+        match e {
+            Expr::Aggregate(mut a) => {
+                if let Ok(Some(value)) = robtarget_shape(&a.items) {
+                    self.inline_k += 1;
+                    let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
+                    let id = format!("{}#{}", routine, self.inline_k);
+                    let kind = if ctx.assigned_to.is_some() {
+                        TargetKind::Assigned
+                    } else {
+                        TargetKind::Inline
+                    };
+                    let t = self.new_target(id, kind, a.span.start, Some(value));
+                    let t = Target {
+                        name: ctx.assigned_to.clone(),
+                        instruction: ctx.instruction.clone(),
+                        tool: ctx.tool.clone(),
+                        wobj: ctx.wobj.clone(),
+                        ..t
+                    };
+                    let i = self.push_target(t);
+                    self.call_targets.push(i);
+                    return Expr::Target(i);
+                }
+                if let Ok(Some((robax, extax))) = jointtarget_shape(&a.items) {
+                    self.joint_k += 1;
+                    let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
+                    let j = JointTarget {
+                        id: format!("{}#{}", routine, self.joint_k),
+                        kind: if ctx.assigned_to.is_some() {
+                            TargetKind::Assigned
+                        } else {
+                            TargetKind::Inline
+                        },
+                        origin: self.origin(a.span.start),
+                        name: ctx.assigned_to.clone(),
+                        storage: None,
+                        robax,
+                        extax,
+                        instruction: ctx.instruction.clone(),
+                        tool: ctx.tool.clone(),
+                        wobj: ctx.wobj.clone(),
+                    };
+                    self.b.prog.jointtargets.push(j);
+                    let i = self.b.prog.jointtargets.len() - 1;
+                    self.call_joints.push(i);
+                    return Expr::JointTarget(i);
+                }
+                let items = std::mem::take(&mut a.items);
+                a.items = items
+                    .into_iter()
+                    .map(|x| self.take_literals(x, ctx))
+                    .collect();
+                Expr::Aggregate(a)
+            }
+            Expr::Call(mut c) => {
+                let args = std::mem::take(&mut c.args);
+                c.args = args
+                    .into_iter()
+                    .map(|a| Arg {
+                        value: a.value.map(|v| self.take_literals(v, ctx)),
+                        ..a
+                    })
+                    .collect();
+                Expr::Call(c)
+            }
+            Expr::Unary(op, x) => Expr::Unary(op, Box::new(self.take_literals(*x, ctx))),
+            Expr::Binary(b) => {
+                let (op, x, y) = *b;
+                let x = self.take_literals(x, ctx);
+                let y = self.take_literals(y, ctx);
+                Expr::Binary(Box::new((op, x, y)))
+            }
+            Expr::Component(b) => {
+                let (x, f) = *b;
+                Expr::Component(Box::new((self.take_literals(x, ctx), f)))
+            }
+            other => other,
+        }
+    }
+}

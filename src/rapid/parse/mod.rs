@@ -1,0 +1,368 @@
+//! From bytes to [`Program`]: pieces from the scanner, each parsed by pest
+//! with the rule its context calls for, assembled into blocks here; then a
+//! pass over the whole run for what needs every file (record types, FUNCs
+//! returning robtarget, identifiers unique across modules).
+
+use super::motion::{motion_signature, ArgAt};
+use super::scan::{Piece, PieceKind, Scanner};
+use super::*;
+use crate::error::{decode_lossless, Error, ErrorKind, Location};
+use pest::iterators::Pair;
+use pest::Parser as _;
+use std::collections::{HashMap, HashSet};
+
+mod calls;
+mod declarations;
+mod expressions;
+mod messages;
+mod run;
+mod shapes;
+mod structure;
+mod words;
+
+use calls::*;
+use expressions::*;
+use messages::*;
+use shapes::*;
+use words::*;
+
+#[derive(pest_derive::Parser)]
+#[grammar = "../grammar/rapid.pest"]
+struct RapidParser;
+
+/// Blocks (IF, FOR, ...) nested deeper than this are refused: the
+/// assembler recurses on them.
+const MAX_BLOCK_DEPTH: usize = 64;
+/// Binary operators in one expression beyond this are refused (the tree
+/// is as deep as the chain is long).
+const MAX_OPERATORS: usize = 1000;
+
+/// Parse one file (one or several modules).
+pub fn parse(file_name: &str, bytes: &[u8]) -> Result<Program> {
+    parse_files(&[(file_name, bytes)])
+}
+
+/// Parse a run of files together: identifiers are made unique across all
+/// their modules, and RECORD types and FUNCs of one file apply to all.
+pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
+    let mut b = Builder::default();
+    let mut lines = Vec::new();
+    for (i, (name, bytes)) in inputs.iter().enumerate() {
+        b.prog.files.push(name.to_string());
+        let line_starts = line_starts(bytes);
+        FileParser::new(i, name, bytes, &line_starts, &mut b).run()?;
+        lines.push(line_starts);
+    }
+    // RAPID loads one module of a name per task; two would also make the
+    // identifiers of the run ambiguous.
+    let mut seen: HashMap<String, usize> = HashMap::new();
+    for (i, m) in b.prog.modules.iter().enumerate() {
+        if let Some(&first) = seen.get(&m.name.to_lowercase()) {
+            let f = &b.prog.modules[first];
+            let name = inputs.get(m.file).map_or("", |x| x.0);
+            let src = inputs.get(m.file).map_or(&[][..], |x| x.1);
+            return Err(Error::new(
+                ErrorKind::Syntax,
+                format!(
+                    "module {} is defined twice (also at {}:{})",
+                    m.name,
+                    inputs.get(f.file).map_or("", |x| x.0),
+                    f.pos.line
+                ),
+            )
+            .at(Location::from_offset(name, src, m.pos.offset)));
+        }
+        seen.insert(m.name.to_lowercase(), i);
+    }
+    b.finish(inputs, &lines)?;
+    Ok(b.prog)
+}
+
+/// The same failing parse again with pest's record of expected tokens,
+/// for the message. That record doubles the cost of every parse, so it is
+/// on only here, on the error path, never for a parse that succeeds. The
+/// switch is pest's and process-wide: one lock keeps two threads' error
+/// re-parses from switching it off under each other.
+fn detailed_error(rule: Rule, text: &str) -> Option<pest::error::Error<Rule>> {
+    static DETAIL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _held = DETAIL
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    pest::set_error_detail(true);
+    let detailed = RapidParser::parse(rule, text).err();
+    pest::set_error_detail(false);
+    detailed
+}
+
+fn line_starts(src: &[u8]) -> Vec<usize> {
+    let mut v = vec![0];
+    v.extend(
+        src.iter()
+            .enumerate()
+            .filter(|(_, &b)| b == b'\n')
+            .map(|(i, _)| i + 1),
+    );
+    v
+}
+
+fn pos_of(src: &[u8], lines: &[usize], offset: usize) -> Pos {
+    let offset = offset.min(src.len());
+    let line = lines.partition_point(|&s| s <= offset).max(1);
+    let start = lines.get(line - 1).copied().unwrap_or(0);
+    let prefix = &src[start..offset];
+    let col = 1 + match std::str::from_utf8(prefix) {
+        Ok(s) => s.chars().count(),
+        Err(_) => prefix.len(),
+    };
+    Pos {
+        offset,
+        line: line as u32,
+        col: col as u32,
+    }
+}
+
+// ------------------------------------------------------------- builder
+
+#[derive(Default)]
+struct Builder {
+    prog: Program,
+    names: HashMap<String, Arc<str>>,
+    /// Per routine (lower-case "module\0routine"): literals counted so far.
+    inline_counts: HashMap<String, usize>,
+}
+
+impl Builder {
+    fn intern(&mut self, s: &str) -> Arc<str> {
+        if let Some(a) = self.names.get(s) {
+            return a.clone();
+        }
+        let a: Arc<str> = Arc::from(s);
+        self.names.insert(s.to_string(), a.clone());
+        a
+    }
+}
+
+/// Instruction context of inline literals.
+#[derive(Clone, Default)]
+struct InlineCtx {
+    instruction: Option<Arc<str>>,
+    tool: Option<Arc<str>>,
+    wobj: Option<Arc<str>>,
+    assigned_to: Option<String>,
+}
+
+struct FileParser<'a, 'b> {
+    file: usize,
+    name: &'a str,
+    src: &'a [u8],
+    lines: &'a [usize],
+    scanner: Scanner<'a>,
+    peeked: Option<Piece>,
+    b: &'b mut Builder,
+    module: Arc<str>,
+    routine: Option<Arc<str>>,
+    /// Robtarget and jointtarget literals of the current routine so far.
+    inline_k: usize,
+    joint_k: usize,
+    call_targets: Vec<usize>,
+    call_joints: Vec<usize>,
+}
+
+/// Pest's view of a piece: ASCII as is, every other byte as U+007F, so
+/// that offsets are unchanged.
+fn piece_text(raw: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(raw) {
+        Ok(s) if raw.is_ascii() => std::borrow::Cow::Borrowed(s),
+        _ => std::borrow::Cow::Owned(
+            raw.iter()
+                .map(|&b| if b >= 0x80 { '\u{7F}' } else { b as char })
+                .collect(),
+        ),
+    }
+}
+
+fn upper_word(src: &[u8], p: &Piece) -> String {
+    String::from_utf8_lossy(&src[p.first.0..p.first.1]).to_ascii_uppercase()
+}
+
+impl<'a, 'b> FileParser<'a, 'b> {
+    fn new(
+        file: usize,
+        name: &'a str,
+        src: &'a [u8],
+        lines: &'a [usize],
+        b: &'b mut Builder,
+    ) -> Self {
+        let mut scanner = Scanner::new(src);
+        if src.starts_with(&[0xEF, 0xBB, 0xBF]) {
+            scanner.skip_to(3);
+        }
+        FileParser {
+            file,
+            name,
+            src,
+            lines,
+            scanner,
+            peeked: None,
+            b,
+            module: Arc::from(""),
+            routine: None,
+            inline_k: 0,
+            joint_k: 0,
+            call_targets: Vec::new(),
+            call_joints: Vec::new(),
+        }
+    }
+
+    fn err(&self, offset: usize, msg: impl Into<String>) -> Error {
+        Error::new(ErrorKind::Syntax, msg).at(Location::from_offset(self.name, self.src, offset))
+    }
+
+    fn peek(&mut self) -> Result<Option<Piece>> {
+        if self.peeked.is_none() {
+            self.peeked = self
+                .scanner
+                .next_piece()
+                .map_err(|e| self.err(e.offset, e.message))?;
+        }
+        Ok(self.peeked)
+    }
+
+    fn next(&mut self) -> Result<Option<Piece>> {
+        self.peek()?;
+        Ok(self.peeked.take())
+    }
+
+    fn pos(&self, offset: usize) -> Pos {
+        pos_of(self.src, self.lines, offset)
+    }
+
+    fn found(&self, p: &Piece) -> String {
+        if p.first.1 > p.first.0 {
+            format!("`{}`", decode_lossless(&self.src[p.first.0..p.first.1]))
+        } else {
+            let end = (p.start + 12).min(p.end);
+            format!("`{}`", decode_lossless(&self.src[p.start..end]).trim())
+        }
+    }
+
+    /// Parse a piece with `rule`; `f` builds from the rule's pair.
+    fn with_pair<T>(
+        &mut self,
+        rule: Rule,
+        piece: &Piece,
+        f: impl FnOnce(&mut Self, Pair<'_, Rule>) -> Result<T>,
+    ) -> Result<T> {
+        let raw = &self.src[piece.start..piece.end];
+        let text = piece_text(raw);
+        let mut pairs = match RapidParser::parse(rule, &text) {
+            Ok(p) => p,
+            Err(e) => {
+                let detailed = detailed_error(rule, &text);
+                return Err(self.pest_error(detailed.as_ref().unwrap_or(&e), piece.start, rule));
+            }
+        };
+        let Some(pair) = pairs.next() else {
+            return Err(self.err(piece.start, "internal: empty parse"));
+        };
+        if let Some(id) = pair
+            .clone()
+            .into_inner()
+            .flatten()
+            .find(|p| p.as_rule() == Rule::identifier && is_reserved(p.as_str()))
+        {
+            return Err(self.err(
+                piece.start + id.as_span().start(),
+                format!(
+                    "expected a name, found `{}`, a reserved word of RAPID",
+                    id.as_str()
+                ),
+            ));
+        }
+        f(self, pair)
+    }
+
+    fn pest_error(&self, e: &pest::error::Error<Rule>, base: usize, rule: Rule) -> Error {
+        let at = match e.location {
+            pest::error::InputLocation::Pos(p) => p,
+            pest::error::InputLocation::Span((s, _)) => s,
+        };
+        let mut expected: Vec<String> = Vec::new();
+        let mut push = |s: String| {
+            if !expected.contains(&s) {
+                expected.push(s);
+            }
+        };
+        if let Some(att) = e.parse_attempts() {
+            for t in att.expected_tokens() {
+                if let Some(s) = describe_token(&t.to_string()) {
+                    push(s);
+                }
+            }
+        }
+        if let pest::error::ErrorVariant::ParsingError { positives, .. } = &e.variant {
+            for r in positives {
+                if *r == Rule::EOI && rule == Rule::test_head {
+                    for w in ["CASE", "DEFAULT", "ENDTEST"] {
+                        push(w.to_string());
+                    }
+                }
+                if let Some(s) = describe_rule(*r) {
+                    push(s.to_string());
+                }
+            }
+        }
+        if let pest::error::ErrorVariant::CustomError { message } = &e.variant {
+            return self.err(base + at, format!("cannot parse: {message}"));
+        }
+        order_expected(&mut expected);
+        let abs = base + at;
+        if self.src.get(abs) == Some(&b'"') {
+            return self.err(abs, "string not closed on this line");
+        }
+        let found = found_at(self.src, abs);
+        // A missing `;` (or `,`) is noticed on the next line: point at the
+        // end of the line where it belongs, as compilers do.
+        let abs = if expected.iter().any(|s| s == "`;`" || s == "`,`") {
+            end_of_previous_code(self.src, abs, base)
+        } else {
+            abs
+        };
+        let msg = if expected.is_empty() {
+            format!("unexpected {found}")
+        } else {
+            format!("expected {}, found {found}", join_or(&expected))
+        };
+        self.err(abs, msg)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_big_array_literal_parses() {
+        // Sets no call limit of pest's: an array of 20,000 robtargets (a
+        // CAM program's path as data) is one piece, and must parse whole.
+        let n = 20_000;
+        let item = "[[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]";
+        let src = format!(
+            "MODULE m\n  CONST robtarget path{{{n}}} := [{}];\nENDMODULE\n",
+            vec![item; n].join(",")
+        );
+        let program = parse("m.mod", src.as_bytes()).unwrap();
+        assert_eq!(program.targets().len(), n);
+        assert_eq!(program.targets()[n - 1].id, format!("path{{{n}}}"));
+    }
+
+    #[test]
+    fn reserved_list_matches_the_grammar() {
+        for w in RESERVED {
+            assert!(
+                RapidParser::parse(Rule::reserved_word, w).is_ok(),
+                "{w} not in the grammar"
+            );
+        }
+    }
+}

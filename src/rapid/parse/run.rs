@@ -1,0 +1,584 @@
+//! The whole-run pass: what needs every file of the run (RECORD types,
+//! FUNCs returning robtarget, identifiers unique across modules,
+//! robtargets inside record values, derived targets).
+
+use super::*;
+
+impl Builder {
+    pub(super) fn finish(&mut self, inputs: &[(&str, &[u8])], lines: &[Vec<usize>]) -> Result<()> {
+        let records: HashMap<String, Vec<(String, String)>> = self
+            .prog
+            .modules
+            .iter()
+            .flat_map(|m| &m.records)
+            .map(|r| (r.name.to_lowercase(), r.components.clone()))
+            .collect();
+        let tools: HashSet<String> = self
+            .prog
+            .modules
+            .iter()
+            .flat_map(|m| m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data)))
+            .filter(|d| d.type_name.eq_ignore_ascii_case("tooldata"))
+            .map(|d| d.name.to_lowercase())
+            .collect();
+        let mut rt_funcs: HashSet<String> =
+            ROBTARGET_FUNCTIONS.iter().map(|s| s.to_string()).collect();
+        for m in &self.prog.modules {
+            for r in &m.routines {
+                if r.kind == RoutineKind::Func
+                    && r.return_type
+                        .as_deref()
+                        .is_some_and(|t| t.eq_ignore_ascii_case("robtarget"))
+                {
+                    rt_funcs.insert(r.name.to_lowercase());
+                }
+            }
+        }
+
+        // Robtargets (and jointtargets) inside declared RECORD values.
+        let mut modules = std::mem::take(&mut self.prog.modules);
+        for m in &modules {
+            let src = inputs.get(m.file).map(|x| x.1).unwrap_or(&[]);
+            let ls = lines.get(m.file).map(Vec::as_slice).unwrap_or(&[]);
+            let decls = m.data.iter().map(|d| (d, None)).chain(
+                m.routines
+                    .iter()
+                    .flat_map(|r| r.data.iter().map(|d| (d, Some(r.name.clone())))),
+            );
+            for (d, routine) in decls {
+                let ty = d.type_name.to_lowercase();
+                let Some(init) = &d.init else { continue };
+                if !records.contains_key(&ty) {
+                    // A value of a type this run does not define, holding
+                    // what looks like robtargets: say so rather than
+                    // silently leave them out.
+                    if ty != "robtarget" && ty != "jointtarget" && holds_robtarget_shape(init, 0) {
+                        let at = decl_offset(init).unwrap_or(d.pos.offset);
+                        let loc = Location::from_offset(
+                            self.prog.files.get(m.file).map_or("", String::as_str),
+                            src,
+                            at,
+                        );
+                        self.prog.warnings.push(Warning {
+                            location: loc,
+                            message: format!(
+                                "{} holds robtarget values, but RECORD {} is not defined in the \
+                                 files read: they are not listed (read the module that defines it too)",
+                                d.name, d.type_name
+                            ),
+                        });
+                    }
+                    continue;
+                }
+                let mut w = RecordWalk {
+                    b: self,
+                    records: &records,
+                    src,
+                    lines: ls,
+                    file: m.file,
+                    module: m.name.clone(),
+                    routine,
+                    decl: d,
+                };
+                w.walk(init, &ty, d.dims.len(), d.name.clone(), 0);
+            }
+        }
+
+        // Derived targets written in routines, in source order.
+        for m in &mut modules {
+            let src = inputs.get(m.file).map(|x| x.1).unwrap_or(&[]);
+            let ls = lines.get(m.file).map(Vec::as_slice).unwrap_or(&[]);
+            for r in &mut m.routines {
+                let mut d = DerivedWalk {
+                    b: self,
+                    rt_funcs: &rt_funcs,
+                    tools: &tools,
+                    src,
+                    lines: ls,
+                    file: m.file,
+                    module: m.name.clone(),
+                    routine: r.name.clone(),
+                    k: 0,
+                };
+                d.stmts(&mut r.body);
+                if let Some(b) = &mut r.backward {
+                    d.stmts(b);
+                }
+                if let Some((_, b)) = &mut r.error {
+                    d.stmts(b);
+                }
+                if let Some(b) = &mut r.undo {
+                    d.stmts(b);
+                }
+            }
+        }
+
+        // Bases of derived targets: only what names a robtarget of the run.
+        let declared: HashSet<String> = self
+            .prog
+            .targets
+            .iter()
+            .filter(|t| t.kind != TargetKind::Inline && t.kind != TargetKind::Assigned)
+            .filter_map(|t| t.name.as_ref().map(|n| n.to_lowercase()))
+            .chain(
+                modules
+                    .iter()
+                    .flat_map(|m| m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data)))
+                    .filter(|d| d.type_name.eq_ignore_ascii_case("robtarget"))
+                    .map(|d| d.name.to_lowercase()),
+            )
+            .collect();
+        for t in &mut self.prog.targets {
+            if let Some(d) = &mut t.derived {
+                d.bases.retain(|b| {
+                    let base = b.split('{').next().unwrap_or("").to_lowercase();
+                    declared.contains(&base)
+                });
+                d.bases.dedup();
+            }
+        }
+
+        // Identifiers unique across modules.
+        qualify(&mut self.prog.targets, |t| (&t.origin.module, &mut t.id));
+        qualify(&mut self.prog.jointtargets, |t| {
+            (&t.origin.module, &mut t.id)
+        });
+
+        // Source order, and the AST's indices follow.
+        let tmap = sort_by_origin(&mut self.prog.targets, |t| &t.origin);
+        let jmap = sort_by_origin(&mut self.prog.jointtargets, |t| &t.origin);
+        for m in &mut modules {
+            for d in &mut m.data {
+                if let Some(e) = &mut d.init {
+                    remap_expr(e, &tmap, &jmap);
+                }
+            }
+            for r in &mut m.routines {
+                for d in &mut r.data {
+                    if let Some(e) = &mut d.init {
+                        remap_expr(e, &tmap, &jmap);
+                    }
+                }
+                remap_stmts(&mut r.body, &tmap, &jmap);
+                for b in [&mut r.backward, &mut r.undo].into_iter().flatten() {
+                    remap_stmts(b, &tmap, &jmap);
+                }
+                if let Some((_, b)) = &mut r.error {
+                    remap_stmts(b, &tmap, &jmap);
+                }
+            }
+        }
+        self.prog.modules = modules;
+        Ok(())
+    }
+}
+
+/// The name space an identifier is unique in (lower case): the routine
+/// for `main#3` / `main@2`, else the declared name (`arr` for `arr{2}`,
+/// `w` for `w{3}.pos`).
+pub(super) fn name_space(id: &str) -> String {
+    id.split(['#', '@', '{', '.'])
+        .next()
+        .unwrap_or("")
+        .to_lowercase()
+}
+
+/// Qualify with the module every identifier whose name space occurs in
+/// more than one module of the run.
+/// Whether an expression contains a robtarget-shaped literal.
+pub(super) fn holds_robtarget_shape(e: &Expr, depth: usize) -> bool {
+    match e {
+        Expr::Aggregate(a) if depth < 32 => {
+            matches!(robtarget_shape(&a.items), Ok(Some(_)))
+                || a.items.iter().any(|x| holds_robtarget_shape(x, depth + 1))
+        }
+        _ => false,
+    }
+}
+
+pub(super) fn decl_offset(e: &Expr) -> Option<usize> {
+    match e {
+        Expr::Aggregate(a) => Some(a.span.start),
+        _ => None,
+    }
+}
+
+pub(super) fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
+    let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
+    for it in items.iter_mut() {
+        let (m, id) = f(it);
+        modules_of
+            .entry(name_space(id))
+            .or_default()
+            .insert(m.to_lowercase());
+    }
+    for it in items.iter_mut() {
+        let (m, id) = f(it);
+        if modules_of.get(&name_space(id)).is_some_and(|s| s.len() > 1) {
+            *id = format!("{m}:{id}");
+        }
+    }
+}
+
+/// Sort by (file, offset) in place; returns old index -> new index. Most
+/// targets are already in order (only record fields and derived targets
+/// are appended later), and the permutation is applied by swaps, so that
+/// a list of millions of targets is never copied.
+pub(super) fn sort_by_origin<T>(items: &mut [T], key: impl Fn(&T) -> &Origin) -> Vec<usize> {
+    let k = |t: &T| {
+        let o = key(t);
+        (o.file, o.pos.offset)
+    };
+    if items.windows(2).all(|w| k(&w[0]) <= k(&w[1])) {
+        return (0..items.len()).collect();
+    }
+    // order[new] = old
+    let mut order: Vec<usize> = (0..items.len()).collect();
+    order.sort_by_key(|&i| k(&items[i]));
+    let mut map = vec![0; items.len()];
+    for (new, &old) in order.iter().enumerate() {
+        map[old] = new;
+    }
+    // Move each item to its place: follow the cycles of `map`.
+    let mut place = map.clone();
+    for i in 0..items.len() {
+        while place[i] != i {
+            let j = place[i];
+            items.swap(i, j);
+            place.swap(i, j);
+        }
+    }
+    map
+}
+
+pub(super) fn remap_expr(e: &mut Expr, t: &[usize], j: &[usize]) {
+    match e {
+        Expr::Target(i) => *i = t.get(*i).copied().unwrap_or(*i),
+        Expr::JointTarget(i) => *i = j.get(*i).copied().unwrap_or(*i),
+        Expr::Aggregate(a) => a.items.iter_mut().for_each(|x| remap_expr(x, t, j)),
+        Expr::Call(c) => c
+            .args
+            .iter_mut()
+            .filter_map(|a| a.value.as_mut())
+            .for_each(|x| remap_expr(x, t, j)),
+        Expr::Unary(_, x) => remap_expr(x, t, j),
+        Expr::Component(b) => remap_expr(&mut b.0, t, j),
+        Expr::Binary(b) => {
+            remap_expr(&mut b.1, t, j);
+            remap_expr(&mut b.2, t, j);
+        }
+        Expr::Index(b) => {
+            remap_expr(&mut b.0, t, j);
+            b.1.iter_mut().for_each(|x| remap_expr(x, t, j));
+        }
+        _ => {}
+    }
+}
+
+pub(super) fn remap_stmts(stmts: &mut [Statement], t: &[usize], j: &[usize]) {
+    for s in stmts {
+        for_each_expr_and_block(s, &mut |e| remap_expr(e, t, j), &mut |b| {
+            remap_stmts(b, t, j)
+        });
+        if let StatementKind::Call(c) = &mut s.kind {
+            c.targets
+                .iter_mut()
+                .for_each(|i| *i = t.get(*i).copied().unwrap_or(*i));
+            c.jointtargets
+                .iter_mut()
+                .for_each(|i| *i = j.get(*i).copied().unwrap_or(*i));
+        }
+    }
+}
+
+/// Visit the expressions of a statement and its nested blocks.
+pub(super) fn for_each_expr_and_block(
+    s: &mut Statement,
+    fe: &mut dyn FnMut(&mut Expr),
+    fb: &mut dyn FnMut(&mut Vec<Statement>),
+) {
+    match &mut s.kind {
+        StatementKind::Call(c) => c
+            .args
+            .iter_mut()
+            .filter_map(|a| a.value.as_mut())
+            .for_each(fe),
+        StatementKind::Assign { target, value } => {
+            fe(target);
+            fe(value);
+        }
+        StatementKind::If {
+            branches,
+            otherwise,
+        } => {
+            for (c, b) in branches {
+                fe(c);
+                fb(b);
+            }
+            if let Some(b) = otherwise {
+                fb(b);
+            }
+        }
+        StatementKind::CompactIf { cond, then } => {
+            fe(cond);
+            for_each_expr_and_block(then, fe, fb);
+        }
+        StatementKind::For {
+            from,
+            to,
+            step,
+            body,
+            ..
+        } => {
+            fe(from);
+            fe(to);
+            if let Some(s) = step {
+                fe(s);
+            }
+            fb(body);
+        }
+        StatementKind::While { cond, body } => {
+            fe(cond);
+            fb(body);
+        }
+        StatementKind::Test {
+            value,
+            cases,
+            default,
+        } => {
+            fe(value);
+            for (vs, b) in cases {
+                vs.iter_mut().for_each(&mut *fe);
+                fb(b);
+            }
+            if let Some(b) = default {
+                fb(b);
+            }
+        }
+        StatementKind::Return(Some(e)) | StatementKind::Raise(Some(e)) => fe(e),
+        StatementKind::Connect { interrupt, .. } => fe(interrupt),
+        _ => {}
+    }
+}
+
+pub(super) struct RecordWalk<'a> {
+    b: &'a mut Builder,
+    records: &'a HashMap<String, Vec<(String, String)>>,
+    src: &'a [u8],
+    lines: &'a [usize],
+    file: usize,
+    module: Arc<str>,
+    routine: Option<Arc<str>>,
+    decl: &'a DataDecl,
+}
+
+impl RecordWalk<'_> {
+    fn origin(&self, offset: usize) -> Origin {
+        Origin {
+            file: self.file,
+            module: self.module.clone(),
+            routine: self.routine.clone(),
+            pos: pos_of(self.src, self.lines, offset),
+        }
+    }
+
+    fn walk(&mut self, e: &Expr, ty: &str, dims: usize, path: String, depth: usize) {
+        if depth > 32 {
+            return;
+        }
+        let Expr::Aggregate(a) = e else {
+            return;
+        };
+        let (items, span) = (&a.items, &a.span);
+        if dims > 0 {
+            // Arrays of records: `w{3}`; 2-D `w{2,4}`.
+            let (base, prefix) = match path.strip_suffix('}') {
+                Some(p) if path.contains('{') && dims > 0 && self.decl.dims.len() > dims => {
+                    (p.to_string(), ",")
+                }
+                _ => (path.clone(), "{"),
+            };
+            for (i, it) in items.iter().enumerate() {
+                let p = format!("{base}{prefix}{}}}", i + 1);
+                self.walk(it, ty, dims - 1, p, depth + 1);
+            }
+            return;
+        }
+        match ty {
+            "robtarget" => {
+                let (value, derived) = match robtarget_shape(items) {
+                    Ok(Some(v)) => (Some(v), None),
+                    Ok(None) => (None, Some(Box::new(derivation(self.src, e, span.clone())))),
+                    Err(_) => return,
+                };
+                self.b.prog.targets.push(Target {
+                    id: path,
+                    kind: TargetKind::RecordField,
+                    origin: self.origin(span.start),
+                    name: Some(self.decl.name.clone()),
+                    storage: Some(self.decl.storage),
+                    value,
+                    instruction: None,
+                    tool: None,
+                    wobj: None,
+                    derived,
+                });
+            }
+            "jointtarget" => {
+                if let Ok(Some((robax, extax))) = jointtarget_shape(items) {
+                    self.b.prog.jointtargets.push(JointTarget {
+                        id: path,
+                        kind: TargetKind::RecordField,
+                        origin: self.origin(span.start),
+                        name: Some(self.decl.name.clone()),
+                        storage: Some(self.decl.storage),
+                        robax,
+                        extax,
+                        instruction: None,
+                        tool: None,
+                        wobj: None,
+                    });
+                }
+            }
+            _ => {
+                let Some(comps) = self.records.get(ty) else {
+                    return;
+                };
+                if comps.len() != items.len() {
+                    return;
+                }
+                for ((cty, cname), it) in comps.iter().zip(items) {
+                    let cty = cty.to_lowercase();
+                    if cty == "robtarget" || cty == "jointtarget" || self.records.contains_key(&cty)
+                    {
+                        self.walk(it, &cty, 0, format!("{path}.{cname}"), depth + 1);
+                    }
+                }
+            }
+        }
+    }
+}
+
+pub(super) struct DerivedWalk<'a> {
+    b: &'a mut Builder,
+    rt_funcs: &'a HashSet<String>,
+    tools: &'a HashSet<String>,
+    src: &'a [u8],
+    lines: &'a [usize],
+    file: usize,
+    module: Arc<str>,
+    routine: Arc<str>,
+    k: usize,
+}
+
+impl DerivedWalk<'_> {
+    fn is_rt_call(&self, e: &Expr) -> bool {
+        matches!(e, Expr::Call(c) if self.rt_funcs.contains(&c.name.to_lowercase()))
+    }
+
+    fn derived(&mut self, e: &Expr, name: Option<String>, call: Option<(&str, &[Arg])>) -> usize {
+        let Expr::Call(c) = e else {
+            return usize::MAX;
+        };
+        let span = &c.span;
+        self.k += 1;
+        let (instruction, tool, wobj) = match call {
+            Some((n, args)) => {
+                let (t, w) = call_tool_wobj(n, args, self.tools);
+                (
+                    Some(self.b.intern(n)),
+                    t.map(|t| self.b.intern(&t)),
+                    w.map(|w| self.b.intern(&w)),
+                )
+            }
+            None => (None, None, None),
+        };
+        self.b.prog.targets.push(Target {
+            id: format!("{}@{}", self.routine, self.k),
+            kind: TargetKind::Derived,
+            origin: Origin {
+                file: self.file,
+                module: self.module.clone(),
+                routine: Some(self.routine.clone()),
+                pos: pos_of(self.src, self.lines, span.start),
+            },
+            name,
+            storage: None,
+            value: None,
+            instruction,
+            tool,
+            wobj,
+            derived: Some(Box::new(derivation(self.src, e, span.clone()))),
+        });
+        self.b.prog.targets.len() - 1
+    }
+
+    fn stmts(&mut self, stmts: &mut [Statement]) {
+        for s in stmts {
+            self.stmt(s);
+        }
+    }
+
+    fn stmt(&mut self, s: &mut Statement) {
+        match &mut s.kind {
+            StatementKind::Call(c) => {
+                let (t, _) = call_tool_wobj(&c.name, &c.args, self.tools);
+                // Literals whose instruction's tool is only known now.
+                if let Some(t) = t {
+                    let t = self.b.intern(&t);
+                    for &i in &c.targets {
+                        if let Some(x) = self.b.prog.targets.get_mut(i) {
+                            if x.tool.is_none() {
+                                x.tool = Some(t.clone());
+                            }
+                        }
+                    }
+                }
+                let mut found = Vec::new();
+                for a in &c.args {
+                    if let Some(v) = &a.value {
+                        if self.is_rt_call(v) {
+                            found.push(self.derived(v, None, Some((&c.name, &c.args))));
+                        }
+                    }
+                }
+                c.targets.extend(found);
+                c.targets.sort_by_key(|&i| {
+                    self.b
+                        .prog
+                        .targets
+                        .get(i)
+                        .map_or(0, |t| t.origin.pos.offset)
+                });
+            }
+            StatementKind::Assign { target, value } if self.is_rt_call(value) => {
+                self.derived(value, Some(expr_text(target)), None);
+            }
+            StatementKind::Return(Some(e)) if self.is_rt_call(e) => {
+                self.derived(e, None, None);
+            }
+            StatementKind::CompactIf { then, .. } => self.stmt(then),
+            StatementKind::If {
+                branches,
+                otherwise,
+            } => {
+                for (_, b) in branches {
+                    self.stmts(b);
+                }
+                if let Some(b) = otherwise {
+                    self.stmts(b);
+                }
+            }
+            StatementKind::For { body, .. } | StatementKind::While { body, .. } => self.stmts(body),
+            StatementKind::Test { cases, default, .. } => {
+                for (_, b) in cases {
+                    self.stmts(b);
+                }
+                if let Some(b) = default {
+                    self.stmts(b);
+                }
+            }
+            _ => {}
+        }
+    }
+}

@@ -1,0 +1,108 @@
+//! RAPID's reserved words and what a stray keyword most likely means.
+
+use super::*;
+
+/// The reserved words of RAPID (the grammar's `reserved_word`).
+pub(super) const RESERVED: [&str; 57] = [
+    "ALIAS",
+    "AND",
+    "BACKWARD",
+    "CASE",
+    "CONNECT",
+    "CONST",
+    "DEFAULT",
+    "DIV",
+    "DO",
+    "ELSE",
+    "ELSEIF",
+    "ENDFOR",
+    "ENDFUNC",
+    "ENDIF",
+    "ENDMODULE",
+    "ENDPROC",
+    "ENDRECORD",
+    "ENDTEST",
+    "ENDTRAP",
+    "ENDWHILE",
+    "ERROR",
+    "EXIT",
+    "FALSE",
+    "FOR",
+    "FROM",
+    "FUNC",
+    "GOTO",
+    "IF",
+    "INOUT",
+    "LOCAL",
+    "MOD",
+    "MODULE",
+    "NOSTEPIN",
+    "NOT",
+    "NOVIEW",
+    "OR",
+    "PERS",
+    "PROC",
+    "RAISE",
+    "READONLY",
+    "RECORD",
+    "RETRY",
+    "RETURN",
+    "STEP",
+    "SYSMODULE",
+    "TEST",
+    "THEN",
+    "TO",
+    "TRAP",
+    "TRUE",
+    "TRYNEXT",
+    "UNDO",
+    "VAR",
+    "VIEWONLY",
+    "WHILE",
+    "WITH",
+    "XOR",
+];
+
+pub(super) fn is_reserved(word: &str) -> bool {
+    word.len() <= 9 && RESERVED.iter().any(|r| r.eq_ignore_ascii_case(word))
+}
+
+/// Why a block keyword may appear where it has no block to close.
+pub(super) fn stray_note(word: &str) -> Option<&'static str> {
+    Some(match word {
+        "ENDIF" | "ELSE" | "ELSEIF" => {
+            "no IF ... THEN is open here (is THEN missing? a one-line IF has no ENDIF)"
+        }
+        "ENDFOR" => "no FOR ... DO is open here (is DO missing?)",
+        "ENDWHILE" => "no WHILE ... DO is open here (is DO missing?)",
+        "ENDTEST" | "CASE" | "DEFAULT" => "no TEST is open here",
+        _ => return None,
+    })
+}
+
+pub(super) fn end_word(k: RoutineKind) -> &'static str {
+    match k {
+        RoutineKind::Proc => "ENDPROC",
+        RoutineKind::Func => "ENDFUNC",
+        RoutineKind::Trap => "ENDTRAP",
+    }
+}
+
+pub(super) fn is_decl_word(w: &str) -> bool {
+    matches!(w, "CONST" | "PERS" | "VAR" | "LOCAL" | "TASK")
+}
+
+pub(super) fn is_keyword(r: Rule) -> bool {
+    use Rule as R;
+    matches!(
+        r,
+        R::kw_goto
+            | R::kw_return
+            | R::kw_raise
+            | R::kw_exit
+            | R::kw_retry
+            | R::kw_trynext
+            | R::kw_connect
+            | R::kw_with
+    )
+}

@@ -1,4 +1,5 @@
-//! `rapidtherm correct`, `diff` and `model show`: the main job.
+//! `rapidtherm correct`: the main job.
+
 use super::Format;
 use super::{read_input, read_program, write_output, write_stdout, Status};
 use rapidtherm::correct::{correct, Options, Outcome, When};
@@ -11,6 +12,24 @@ use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{self, EstimateOptions, Schedule, Visit};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+
+/// `--visit`: the command line's names for [`Visit`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum VisitArg {
+    First,
+    Mean,
+    Last,
+}
+
+impl From<VisitArg> for Visit {
+    fn from(v: VisitArg) -> Visit {
+        match v {
+            VisitArg::First => Visit::First,
+            VisitArg::Mean => Visit::Mean,
+            VisitArg::Last => Visit::Last,
+        }
+    }
+}
 
 /// When the targets are reached, as the command line says it.
 #[derive(clap::Args)]
@@ -48,8 +67,8 @@ pub struct CorrectArgs {
     #[arg(long, value_name = "N", default_value_t = 1, requires = "start")]
     pub cycles: u32,
     /// A target reached several times is corrected for this visit.
-    #[arg(long, value_enum, default_value_t = Visit::Mean)]
-    pub visit: Visit,
+    #[arg(long, value_enum, default_value_t = VisitArg::Mean)]
+    pub visit: VisitArg,
     /// Model file (robot, thermal expansion, heating, effects); default:
     /// the embedded IRB 140 and heating profile.
     #[arg(long, value_name = "FILE.toml")]
@@ -147,7 +166,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let warm = WarmRobot::new(robot, &model, horizon)?;
     let options = Options {
         when,
-        visit: args.visit,
+        visit: args.visit.into(),
     };
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
     let outcome = correct(&program, &sources, &warm, &options, &mut |done, total| {

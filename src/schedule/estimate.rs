@@ -1,0 +1,170 @@
+//! The estimate: walk the program's entry routine from a start time and
+//! time each move, for when the user has no schedule of the real run.
+
+use super::walk::{Flow, Walker};
+use super::Schedule;
+use crate::error::{Error, Result};
+use crate::rapid::{Program, Routine, RoutineKind};
+use crate::robot::Robot;
+
+// ------------------------------------------------------------ estimation
+
+/// What [`estimate`] walks: the entry routine, the start time, how many
+/// times the entry routine runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EstimateOptions {
+    /// Entry routine (case-insensitive), `main` by default.
+    pub entry: String,
+    /// Minutes since the cold start at which the program starts.
+    pub start_min: f64,
+    /// How many times the entry routine runs back to back.
+    pub cycles: u32,
+}
+
+impl Default for EstimateOptions {
+    fn default() -> Self {
+        EstimateOptions {
+            entry: "main".to_string(),
+            start_min: 0.0,
+            cycles: 1,
+        }
+    }
+}
+
+/// The estimated schedule of a program.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Estimate {
+    /// Every visit of every robtarget (identifiers of [`Program::targets`]).
+    pub schedule: Schedule,
+    /// Every visit of every jointtarget (MoveAbsJ), identifiers of
+    /// [`Program::jointtargets`] (their own name space).
+    pub joint_schedule: Schedule,
+    /// From the start to the end of the last motion, minutes.
+    pub duration_min: f64,
+    /// The choices made where the program's run-time values decide (branch
+    /// taken, loop counts, unknown procedures, ...), each with its place.
+    pub notes: Vec<String>,
+}
+
+impl Estimate {
+    /// The schedule as CSV (the format [`Schedule::read`] takes back):
+    /// robtargets and jointtargets together, in time order. A jointtarget
+    /// whose identifier is also a robtarget's (inline `main#1` of both
+    /// kinds) is left out: one file has one name space.
+    pub fn to_csv(&self) -> String {
+        let mut all = self.schedule.clone();
+        for id in self.joint_schedule.targets() {
+            if self.schedule.times(id).is_some() {
+                continue;
+            }
+            for &t in self.joint_schedule.times(id).unwrap_or(&[]) {
+                all.visit(id, t);
+            }
+        }
+        all.to_csv()
+    }
+}
+
+/// Statements executed before the walk gives up (a FOR loop of a billion
+/// turns would otherwise run for hours).
+pub(super) const STEP_BUDGET: u64 = 50_000_000;
+/// Nested routine calls followed (the controller's own limit is lower).
+pub(super) const MAX_DEPTH: usize = 256;
+/// Stack left before the walk grows it, and by how much.
+pub(super) const STACK_RED_ZONE: usize = 64 * 1024;
+pub(super) const STACK_SEGMENT: usize = 1024 * 1024;
+/// The speed assumed where a move's speeddata cannot be resolved.
+pub(super) const FALLBACK_SPEED: &str = "v1000";
+
+/// Estimate when each target of `program` is reached by walking the entry
+/// routine from `opts.start_min`, timing each move from its distance and
+/// speed on the nominal (cold) `robot`.
+///
+/// Documented choices (each one made is listed in [`Estimate::notes`]):
+/// - the robot starts at the calibration pose (all joints 0);
+/// - IF/ELSEIF/TEST: conditions the program fixes (constants, FOR
+///   variables, arguments, `Present`) are evaluated; otherwise the first
+///   branch whose condition may be true is taken;
+/// - WHILE runs its body once unless its condition is known FALSE; a
+///   backward GOTO is not taken (its loop is timed once); forward GOTOs are;
+/// - FOR loops with bounds the program fixes run in full, others once;
+/// - VAR and PERS numbers are run-time values (unknown); robtarget
+///   variables assigned in the walk (`p := Offs(...)`) are followed;
+/// - WaitTime counts; WaitUntil, WaitDI and other waits on signals take 0 s;
+/// - a move with `\Conc` lets the program run on while the robot moves;
+/// - acceleration and zones are ignored (each move at its programmed speed,
+///   `VelSet` applied);
+/// - a move to a derived target (`Offs(p10,...)`, `main@2`) is a visit of
+///   that derived target; a base (`p10`) never reached itself gets the
+///   visits of the targets derived from it.
+///
+/// Errors: no entry routine, a MoveJ target out of reach, a program whose
+/// walk exceeds 50 million statements.
+pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Result<Estimate> {
+    if !opts.start_min.is_finite() || opts.start_min < 0.0 {
+        return Err(Error::usage(format!(
+            "start time {} min: must be a finite number of minutes since the cold start, not negative",
+            opts.start_min
+        )));
+    }
+    let (module, routine) = find_entry(program, &opts.entry)?;
+    let mut w = Walker::new(program, robot)?;
+    let start_s = opts.start_min * 60.0;
+    w.clock = start_s;
+    w.robot_free = start_s;
+    for _ in 0..opts.cycles {
+        let flow = w.call_routine(module, routine, Vec::new(), 0)?;
+        if matches!(flow, Flow::Exit) {
+            break;
+        }
+    }
+    let end_s = w.clock.max(w.robot_free);
+    if !end_s.is_finite() {
+        return Err(Error::input(
+            "the program's waits add up to more time than can be counted (a WaitTime of astronomic length?)",
+        ));
+    }
+    w.finish();
+    for id in w.joint_schedule.targets() {
+        if w.schedule.times(id).is_some() {
+            w.notes.push(format!(
+                "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV lists the robtarget's visits only"
+            ));
+        }
+    }
+    Ok(Estimate {
+        schedule: w.schedule,
+        joint_schedule: w.joint_schedule,
+        duration_min: (end_s - start_s) / 60.0,
+        notes: w.notes,
+    })
+}
+
+pub(super) fn find_entry<'p>(program: &'p Program, entry: &str) -> Result<(usize, &'p Routine)> {
+    for (mi, m) in program.modules.iter().enumerate() {
+        if let Some(r) = m
+            .routines
+            .iter()
+            .find(|r| r.kind == RoutineKind::Proc && r.name.eq_ignore_ascii_case(entry))
+        {
+            return Ok((mi, r));
+        }
+    }
+    let procs: Vec<&str> = program
+        .modules
+        .iter()
+        .flat_map(|m| &m.routines)
+        .filter(|r| r.kind == RoutineKind::Proc && r.params.is_empty())
+        .map(|r| r.name.as_ref())
+        .collect();
+    let mut e = Error::input(format!(
+        "no procedure `{entry}` in the program: nothing to walk"
+    ));
+    if !procs.is_empty() {
+        e = e.with_note(format!(
+            "procedures without parameters: {} (choose one with --entry)",
+            procs.join(", ")
+        ));
+    }
+    Err(e)
+}

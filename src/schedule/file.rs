@@ -1,0 +1,127 @@
+//! The schedule: every visit of every target, read from and written to
+//! the `target,time_min` CSV file of `shared/spec/formats.md`, and which
+//! visit a correction is for.
+
+use crate::csv_table::CsvTable;
+use crate::error::{Error, Result};
+use std::collections::BTreeMap;
+
+/// Which of a target's several visits its correction is computed for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Visit {
+    First,
+    #[default]
+    Mean,
+    Last,
+}
+
+impl Visit {
+    /// The time chosen among `times` (which must not be empty).
+    pub fn pick(self, times: &[f64]) -> f64 {
+        match self {
+            Visit::First => times.iter().copied().fold(f64::INFINITY, f64::min),
+            Visit::Last => times.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            Visit::Mean => times.iter().sum::<f64>() / times.len() as f64,
+        }
+    }
+}
+
+/// When each target is reached: every visit of every target, in minutes.
+/// Keys are target identifiers as written (lookups ignore case, as RAPID
+/// does).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Schedule {
+    visits: BTreeMap<String, Vec<f64>>,
+    /// Identifiers in first-visit order, for stable output.
+    order: Vec<String>,
+}
+
+impl Schedule {
+    pub fn new() -> Schedule {
+        Schedule::default()
+    }
+
+    /// Record one visit of `target` at `time_min`.
+    pub fn visit(&mut self, target: &str, time_min: f64) {
+        let key = target.to_ascii_lowercase();
+        let entry = self.visits.entry(key).or_default();
+        if entry.is_empty() {
+            self.order.push(target.to_string());
+        }
+        entry.push(time_min);
+    }
+
+    /// All visit times of a target, in the order recorded.
+    pub fn times(&self, target: &str) -> Option<&[f64]> {
+        self.visits
+            .get(&target.to_ascii_lowercase())
+            .map(Vec::as_slice)
+    }
+
+    /// Target identifiers in the order they were first visited.
+    pub fn targets(&self) -> &[String] {
+        &self.order
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
+    /// Number of visits of all targets.
+    pub fn visit_count(&self) -> usize {
+        self.visits.values().map(Vec::len).sum()
+    }
+
+    /// Read a schedule file (`target,time_min`). Several rows may name one
+    /// target: each is a visit.
+    pub fn read(file: &str, bytes: &[u8]) -> Result<Schedule> {
+        let table = CsvTable::parse(file, bytes)?;
+        let target = table.require("target")?;
+        let time = table.require("time_min")?;
+        let mut schedule = Schedule::new();
+        for row in &table.rows {
+            let name = table.text(row, target)?;
+            if name.is_empty() {
+                return Err(
+                    Error::input("empty target identifier").at(table.field_location(row, target))
+                );
+            }
+            let t = table.number(row, time)?;
+            if t < 0.0 {
+                return Err(Error::input(format!(
+                    "time {t} min is before the cold start (times are minutes since it)"
+                ))
+                .at(table.field_location(row, time)));
+            }
+            schedule.visit(name, t);
+        }
+        Ok(schedule)
+    }
+
+    /// The schedule as CSV, one row per visit in time order: the format
+    /// [`Schedule::read`] takes back.
+    pub fn to_csv(&self) -> String {
+        let mut rows: Vec<(f64, usize, &str)> = Vec::new();
+        for (i, name) in self.order.iter().enumerate() {
+            if let Some(times) = self.times(name) {
+                rows.extend(times.iter().map(|&t| (t, i, name.as_str())));
+            }
+        }
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut out = String::from("target,time_min\n");
+        for (t, _, name) in rows {
+            out.push_str(&csv_field(name));
+            out.push_str(&format!(",{t:.4}\n"));
+        }
+        out
+    }
+}
+
+/// A CSV field, quoted where it holds a comma or a quote (`pGrid{2,1}`).
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}

@@ -1,0 +1,111 @@
+//! When each target is reached: a fixed time (`--at`), the user's schedule
+//! file (`--schedule`), or an estimate from the program itself (walking
+//! the entry routine and timing each move). Times are minutes since the
+//! robot's cold start; target identifiers are those of
+//! `shared/spec/formats.md`.
+//!
+//! - [`SpeedData`], [`predefined_speed`], [`linear_move_seconds`],
+//!   [`joint_move_seconds`]: timing one move.
+//! - [`Schedule`]: every visit of every target; [`Schedule::read`] and
+//!   [`Schedule::to_csv`] are the `target,time_min` file.
+//! - [`Visit`]: which of a target's visits its correction is for.
+//! - [`estimate`] with [`EstimateOptions`] → [`Estimate`]: walk the program
+//!   (see its docs for every choice made where run-time values decide).
+
+//!
+//! Owns timing. May import `rapid`, `robot`, `resolve` and the shared
+//! `error` and `csv_table`; never `model`, `correct` or `diagnose`.
+
+mod estimate;
+mod file;
+mod timing;
+mod walk;
+
+pub use estimate::{estimate, Estimate, EstimateOptions};
+pub use file::{Schedule, Visit};
+pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, SpeedData};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+    #[test]
+    fn predefined_speeds() {
+        assert_eq!(predefined_speed("v100").unwrap().v_tcp, 100.0);
+        assert_eq!(predefined_speed("V1000").unwrap().v_ori, 500.0);
+        assert_eq!(predefined_speed("vmax").unwrap().v_tcp, 5000.0);
+        assert!(predefined_speed("v123").is_none());
+        assert!(predefined_speed("fine").is_none());
+    }
+
+    #[test]
+    fn linear_move_takes_the_slower_of_path_and_reorientation() {
+        let a = Isometry3::identity();
+        let b = Isometry3::from_parts(
+            Translation3::new(300.0, 400.0, 0.0),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 90f64.to_radians()),
+        );
+        let v100 = predefined_speed("v100").unwrap();
+        assert_relative_eq!(linear_move_seconds(&a, &b, &v100), 5.0, epsilon = 1e-12);
+        let slow_ori = SpeedData { v_ori: 9.0, ..v100 };
+        assert_relative_eq!(linear_move_seconds(&a, &b, &slow_ori), 10.0, epsilon = 1e-9);
+    }
+
+    #[test]
+    fn joint_move_is_limited_by_the_slowest_axis() {
+        let from = [0.0; 6];
+        let to = [90f64.to_radians(), 0.0, 0.0, 0.0, 0.0, 0.0];
+        let max = [200.0, 200.0, 260.0, 360.0, 360.0, 450.0];
+        let v = predefined_speed("v5000").unwrap();
+        assert_relative_eq!(
+            joint_move_seconds(&from, &to, &max, 0.0, &v),
+            0.45,
+            epsilon = 1e-12
+        );
+        let v5 = predefined_speed("v5").unwrap();
+        assert_relative_eq!(
+            joint_move_seconds(&from, &to, &max, 100.0, &v5),
+            20.0,
+            epsilon = 1e-12
+        );
+    }
+
+    #[test]
+    fn visits_pick_first_mean_last() {
+        let t = [40.0, 70.0, 55.0];
+        assert_eq!(Visit::First.pick(&t), 40.0);
+        assert_eq!(Visit::Last.pick(&t), 70.0);
+        assert_relative_eq!(Visit::Mean.pick(&t), 55.0);
+    }
+
+    #[test]
+    fn schedule_round_trips_through_csv() {
+        let mut s = Schedule::new();
+        s.visit("p10", 40.0);
+        s.visit("main#3", 41.5);
+        s.visit("P10", 70.0);
+        let csv = s.to_csv();
+        assert_eq!(
+            csv,
+            "target,time_min\np10,40.0000\nmain#3,41.5000\np10,70.0000\n"
+        );
+        let back = Schedule::read("s.csv", csv.as_bytes()).unwrap();
+        assert_eq!(back.times("p10").unwrap(), &[40.0, 70.0]);
+        let mut grid = Schedule::new();
+        grid.visit("pGrid{2,1}", 1.5);
+        assert_eq!(grid.to_csv(), "target,time_min\n\"pGrid{2,1}\",1.5000\n");
+        let grid_back = Schedule::read("s.csv", grid.to_csv().as_bytes()).unwrap();
+        assert_eq!(grid_back.times("pgrid{2,1}").unwrap(), &[1.5]);
+        assert_eq!(back.targets(), &["p10".to_string(), "main#3".to_string()]);
+    }
+
+    #[test]
+    fn schedule_errors_are_located() {
+        let e = Schedule::read("s.csv", b"target,time_min\np10,-1\n").unwrap_err();
+        assert_eq!(e.location.unwrap().line, 2);
+        let e = Schedule::read("s.csv", b"target\np10\n").unwrap_err();
+        assert!(e.message.contains("time_min"));
+    }
+}

@@ -1,0 +1,439 @@
+//! Expressions and values in the walk: names, data, record paths,
+//! functions (Offs, RelTool, CRobT, user FUNCs) as far as timing needs.
+
+use super::*;
+
+impl<'p> Walker<'p> {
+    pub(super) fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
+        stacker::maybe_grow(STACK_RED_ZONE, STACK_SEGMENT, || self.eval_inner(e, frame))
+    }
+
+    pub(super) fn eval_inner(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
+        Ok(match e {
+            Expr::Num(n) => Value::Num(n.value),
+            Expr::Bool(b) => Value::Bool(*b),
+            Expr::Str(s) => Value::Str(s.to_string()),
+            Expr::Placeholder(_) => Value::Unknown,
+            Expr::Target(i) => self.target_value(*i)?,
+            Expr::JointTarget(i) => self.joint_value(*i),
+            Expr::Name(n) => self.name_value(n, frame)?,
+            Expr::Index(_) | Expr::Component(_) => match self.path_of(e, frame)? {
+                Some(path) => self.path_value(&path, frame.module)?,
+                None => Value::Unknown,
+            },
+            Expr::Aggregate(a) => {
+                let mut items = Vec::with_capacity(a.items.len());
+                for it in &a.items {
+                    items.push(self.eval(it, frame)?);
+                }
+                Value::Agg(items)
+            }
+            Expr::Unary(op, x) => {
+                let v = self.eval(x, frame)?;
+                match (op, v) {
+                    (UnaryOp::Neg, Value::Num(v)) => Value::Num(-v),
+                    (UnaryOp::Plus, Value::Num(v)) => Value::Num(v),
+                    (UnaryOp::Not, Value::Bool(b)) => Value::Bool(!b),
+                    _ => Value::Unknown,
+                }
+            }
+            Expr::Binary(b) => {
+                let (op, l, r) = b.as_ref();
+                let l = self.eval(l, frame)?;
+                let r = self.eval(r, frame)?;
+                binary(*op, &l, &r)
+            }
+            Expr::Call(c) => self.call_value(c, frame)?,
+        })
+    }
+
+    pub(super) fn target_value(&self, i: usize) -> Result<Value> {
+        let Some(t) = self.program.targets().get(i) else {
+            return Ok(Value::Unknown);
+        };
+        Ok(match target_pose(self.program, t)? {
+            Some((pose, conf)) => Value::Rob(Box::new(Rob {
+                pose,
+                conf,
+                id: Some(i),
+                derived: None,
+                bases: Vec::new(),
+            })),
+            None => Value::Unknown,
+        })
+    }
+
+    pub(super) fn joint_value(&self, i: usize) -> Value {
+        match self.program.jointtargets().get(i) {
+            Some(j) => Value::Joint(Box::new((
+                j.robax.each_ref().map(|n| n.value.to_radians()),
+                Some(i),
+            ))),
+            None => Value::Unknown,
+        }
+    }
+
+    /// `arr{2}.pos` with its indices evaluated, or `None` where an index is
+    /// not known or the root is a routine's own variable.
+    pub(super) fn path_of(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Option<String>> {
+        Ok(match e {
+            Expr::Name(n) => {
+                if frame.vars.contains_key(&n.to_ascii_lowercase()) {
+                    None
+                } else {
+                    Some(n.to_string())
+                }
+            }
+            Expr::Index(b) => {
+                let (base, idx) = b.as_ref();
+                let Some(base) = self.path_of(base, frame)? else {
+                    return Ok(None);
+                };
+                let mut parts = Vec::new();
+                for i in idx {
+                    match self.eval(i, frame)?.num() {
+                        Some(v) if v.fract() == 0.0 && v.abs() < 1e12 => {
+                            parts.push((v as i64).to_string())
+                        }
+                        _ => return Ok(None),
+                    }
+                }
+                Some(format!("{base}{{{}}}", parts.join(",")))
+            }
+            Expr::Component(b) => {
+                let (base, field) = b.as_ref();
+                self.path_of(base, frame)?.map(|p| format!("{p}.{field}"))
+            }
+            _ => None,
+        })
+    }
+
+    /// The target or jointtarget with this path, seen from `module`.
+    pub(super) fn path_value(&mut self, path: &str, module: usize) -> Result<Value> {
+        let lower = path.to_ascii_lowercase();
+        let module_name = self
+            .program
+            .modules
+            .get(module)
+            .map(|m| m.name.to_ascii_lowercase())
+            .unwrap_or_default();
+        let qualified = format!("{module_name}:{lower}");
+        let hit = self
+            .target_ids
+            .get(&qualified)
+            .or_else(|| self.target_ids.get(&lower))
+            .copied();
+        if let Some(i) = hit {
+            if let Some(t) = self.program.targets().get(i) {
+                if t.value.is_some() {
+                    return self.target_value(i);
+                }
+            }
+        }
+        let jhit = self
+            .joint_ids
+            .get(&qualified)
+            .or_else(|| self.joint_ids.get(&lower))
+            .copied();
+        if let Some(i) = jhit {
+            return Ok(self.joint_value(i));
+        }
+        Ok(Value::Unknown)
+    }
+
+    pub(super) fn name_value(&mut self, name: &str, frame: &mut Frame<'p>) -> Result<Value> {
+        let key = name.to_ascii_lowercase();
+        if let Some(v) = frame.vars.get(&key) {
+            return Ok(v.clone());
+        }
+        if let Some(r) = frame.routine {
+            if let Some(d) = r.data.iter().find(|d| d.name.eq_ignore_ascii_case(name)) {
+                return self.decl_value(frame.module, Some(r), d);
+            }
+        }
+        if let Some(v) = self.globals.get(&key) {
+            return Ok(v.clone());
+        }
+        match key.as_str() {
+            "true" => return Ok(Value::Bool(true)),
+            "false" => return Ok(Value::Bool(false)),
+            _ => {}
+        }
+        let decl = self.decls.get(&key).and_then(|list| {
+            list.iter()
+                .find(|(m, _)| *m == frame.module)
+                .or_else(|| {
+                    list.iter()
+                        .find(|(_, d)| d.scope != Some(rapid::Scope::Local))
+                })
+                .copied()
+        });
+        match decl {
+            Some((m, d)) => self.decl_value(m, None, d),
+            None => Ok(Value::Ref(name.to_string())),
+        }
+    }
+
+    pub(super) fn decl_value(
+        &mut self,
+        module: usize,
+        routine: Option<&'p Routine>,
+        d: &'p DataDecl,
+    ) -> Result<Value> {
+        let ty = d.type_name.to_ascii_lowercase();
+        match ty.as_str() {
+            "robtarget" | "jointtarget" if d.dims.is_empty() => {
+                let v = self.path_value(&d.name, module)?;
+                if !matches!(v, Value::Unknown) {
+                    return Ok(v);
+                }
+                // A declared derived target: evaluate its expression.
+                if d.storage == rapid::Storage::Const {
+                    if let Some(init) = &d.init {
+                        return self.eval_decl(module, routine, d, init);
+                    }
+                }
+                Ok(Value::Unknown)
+            }
+            "num" | "dnum" | "bool" | "string" if d.storage == rapid::Storage::Const => {
+                match &d.init {
+                    Some(init) if d.dims.is_empty() => self.eval_decl(module, routine, d, init),
+                    _ => Ok(Value::Unknown),
+                }
+            }
+            "num" | "dnum" | "bool" | "string" | "robtarget" | "jointtarget" => Ok(Value::Unknown),
+            _ => Ok(Value::Ref(d.name.clone())),
+        }
+    }
+
+    pub(super) fn eval_decl(
+        &mut self,
+        module: usize,
+        routine: Option<&'p Routine>,
+        d: &DataDecl,
+        init: &Expr,
+    ) -> Result<Value> {
+        let key = format!("{module}:{}", d.name.to_ascii_lowercase());
+        if !self.evaluating.insert(key.clone()) {
+            return Ok(Value::Unknown);
+        }
+        let mut f = Frame {
+            module,
+            routine,
+            vars: HashMap::new(),
+        };
+        let v = self.eval(init, &mut f);
+        self.evaluating.remove(&key);
+        v
+    }
+
+    pub(super) fn call_value(&mut self, c: &FunctionCall, frame: &mut Frame<'p>) -> Result<Value> {
+        let name = c.name.to_ascii_lowercase();
+        let positional: Vec<&Expr> = c
+            .args
+            .iter()
+            .filter(|a| !a.optional)
+            .filter_map(|a| a.value.as_ref())
+            .collect();
+        let optional = |n: &str| {
+            c.args.iter().find(|a| {
+                a.optional && a.name.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(n))
+            })
+        };
+        let file = self.program.modules.get(frame.module).map_or(0, |m| m.file);
+        let derived = self.derived_at.get(&(file, c.span.start)).copied();
+        match name.as_str() {
+            "offs" | "reltool" => {
+                let mut vals = Vec::new();
+                for e in &positional {
+                    vals.push(self.eval(e, frame)?);
+                }
+                let (Some(Value::Rob(p)), Some(dx), Some(dy), Some(dz)) = (
+                    vals.first(),
+                    vals.get(1).and_then(Value::num),
+                    vals.get(2).and_then(Value::num),
+                    vals.get(3).and_then(Value::num),
+                ) else {
+                    return Ok(Value::Unknown);
+                };
+                let pose = if name == "offs" {
+                    Translation3::new(dx, dy, dz) * p.pose
+                } else {
+                    let mut rot = [0.0; 3];
+                    for (k, axis) in ["Rx", "Ry", "Rz"].iter().enumerate() {
+                        if let Some(a) = optional(axis).and_then(|a| a.value.as_ref()) {
+                            match self.eval(a, frame)?.num() {
+                                Some(v) => rot[k] = v.to_radians(),
+                                None => return Ok(Value::Unknown),
+                            }
+                        }
+                    }
+                    let r = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), rot[0])
+                        * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), rot[1])
+                        * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), rot[2]);
+                    p.pose * Isometry3::from_parts(Translation3::new(dx, dy, dz), r)
+                };
+                let bases = match p.id {
+                    Some(i) => vec![i],
+                    None => p.bases.clone(),
+                };
+                Ok(Value::Rob(Box::new(Rob {
+                    pose,
+                    conf: p.conf,
+                    id: None,
+                    derived,
+                    bases,
+                })))
+            }
+            "crobt" => {
+                let tool = optional("Tool").and_then(|a| a.value.as_ref());
+                let wobj = optional("WObj").and_then(|a| a.value.as_ref());
+                let (tool, wobj) = self.frame_names(tool, wobj, frame, 0)?;
+                Ok(match target_of_flange(&self.arm.flange, &tool, &wobj) {
+                    Ok(pose) => Value::Rob(Box::new(Rob {
+                        pose,
+                        conf: self.arm.conf,
+                        id: None,
+                        derived,
+                        bases: Vec::new(),
+                    })),
+                    Err(_) => Value::Unknown,
+                })
+            }
+            "cjointt" => Ok(match self.current_joints() {
+                Some(q) => Value::Joint(Box::new((q, None))),
+                None => Value::Unknown,
+            }),
+            "present" => Ok(match positional.first().and_then(|e| e.as_name()) {
+                Some(n) => {
+                    if frame.vars.contains_key(&n.to_ascii_lowercase()) {
+                        Value::Bool(true)
+                    } else if frame.routine.is_some_and(|r| {
+                        r.params
+                            .iter()
+                            .any(|p| p.optional && p.name.eq_ignore_ascii_case(n))
+                    }) {
+                        Value::Bool(false)
+                    } else {
+                        Value::Unknown
+                    }
+                }
+                None => Value::Unknown,
+            }),
+            "dim" => {
+                let which = match positional.get(1) {
+                    Some(e) => self.eval(e, frame)?.num(),
+                    None => None,
+                };
+                let Some(n) = positional.first().and_then(|e| e.as_name()) else {
+                    return Ok(Value::Unknown);
+                };
+                let decl = frame
+                    .routine
+                    .and_then(|r| {
+                        r.data
+                            .iter()
+                            .find(|d| d.name.eq_ignore_ascii_case(n))
+                            .map(|d| (frame.module, d))
+                    })
+                    .or_else(|| {
+                        self.decls.get(&n.to_ascii_lowercase()).and_then(|l| {
+                            l.iter()
+                                .find(|(m, _)| *m == frame.module)
+                                .or_else(|| l.first())
+                                .copied()
+                        })
+                    });
+                let (Some((m, d)), Some(k)) = (decl, which) else {
+                    return Ok(Value::Unknown);
+                };
+                let Some(dim) = (k >= 1.0).then(|| d.dims.get(k as usize - 1)).flatten() else {
+                    return Ok(Value::Unknown);
+                };
+                let mut f = Frame {
+                    module: m,
+                    routine: None,
+                    vars: HashMap::new(),
+                };
+                self.eval(dim, &mut f)
+            }
+            "abs" | "sqrt" | "round" | "trunc" | "sin" | "cos" | "tan" => {
+                let x = match positional.first() {
+                    Some(e) => self.eval(e, frame)?.num(),
+                    None => None,
+                };
+                Ok(match x {
+                    Some(x) => Value::Num(match name.as_str() {
+                        "abs" => x.abs(),
+                        "sqrt" => x.sqrt(),
+                        "round" => x.round(),
+                        "trunc" => x.trunc(),
+                        "sin" => x.to_radians().sin(),
+                        "cos" => x.to_radians().cos(),
+                        _ => x.to_radians().tan(),
+                    }),
+                    None => Value::Unknown,
+                })
+            }
+            _ => match self.find_routine(frame.module, &c.name) {
+                Some((mi, r)) if r.kind == RoutineKind::Func => {
+                    let vars = self.bind(r, &c.args, frame)?;
+                    let v = match self.call_routine(mi, r, vars, r.pos.line)? {
+                        Flow::Return(v) => v,
+                        _ => Value::Unknown,
+                    };
+                    Ok(match v {
+                        Value::Rob(mut rob) if rob.id.is_none() => {
+                            rob.derived = derived.or(rob.derived);
+                            Value::Rob(rob)
+                        }
+                        v => v,
+                    })
+                }
+                _ => Ok(Value::Unknown),
+            },
+        }
+    }
+}
+
+fn binary(op: BinaryOp, l: &Value, r: &Value) -> Value {
+    use BinaryOp::*;
+    match (l, r) {
+        (Value::Num(a), Value::Num(b)) => {
+            let (a, b) = (*a, *b);
+            match op {
+                Add => Value::Num(a + b),
+                Sub => Value::Num(a - b),
+                Mul => Value::Num(a * b),
+                Div if b != 0.0 => Value::Num(a / b),
+                IntDiv if b != 0.0 => Value::Num((a / b).trunc()),
+                Mod if b != 0.0 => Value::Num(a % b),
+                Lt => Value::Bool(a < b),
+                Le => Value::Bool(a <= b),
+                Eq => Value::Bool(a == b),
+                Ne => Value::Bool(a != b),
+                Ge => Value::Bool(a >= b),
+                Gt => Value::Bool(a > b),
+                _ => Value::Unknown,
+            }
+        }
+        (Value::Bool(a), Value::Bool(b)) => match op {
+            And => Value::Bool(*a && *b),
+            Or => Value::Bool(*a || *b),
+            Xor => Value::Bool(a != b),
+            Eq => Value::Bool(a == b),
+            Ne => Value::Bool(a != b),
+            _ => Value::Unknown,
+        },
+        // FALSE AND anything, TRUE OR anything.
+        (Value::Bool(false), _) | (_, Value::Bool(false)) if op == And => Value::Bool(false),
+        (Value::Bool(true), _) | (_, Value::Bool(true)) if op == Or => Value::Bool(true),
+        (Value::Str(a), Value::Str(b)) => match op {
+            Add => Value::Str(format!("{a}{b}")),
+            Eq => Value::Bool(a == b),
+            Ne => Value::Bool(a != b),
+            _ => Value::Unknown,
+        },
+        _ => Value::Unknown,
+    }
+}

@@ -1,0 +1,748 @@
+//! The program walker: RAPID executed as far as timing needs it (routine
+//! calls, control flow, data), each move timed on the nominal robot. Split
+//! by concern: the walker and its statements (here), expressions and
+//! values ([`eval`]), motion instructions ([`moves`]), instructions that
+//! take no time ([`instant`]).
+
+mod eval;
+mod instant;
+mod moves;
+
+use instant::is_instant_builtin;
+
+use super::estimate::{FALLBACK_SPEED, MAX_DEPTH, STACK_RED_ZONE, STACK_SEGMENT, STEP_BUDGET};
+use super::timing::*;
+use super::Schedule;
+use crate::error::{Error, ErrorKind, Result};
+use crate::rapid::{
+    self, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Motion, MotionKind, Program, Routine,
+    RoutineKind, Statement, StatementKind, TargetKind, UnaryOp,
+};
+use crate::resolve::{target_pose, Frames};
+use crate::robot::frames::{flange_of_target, target_of_flange};
+use crate::robot::{Joints, RobConf, Robot, ToolData, WobjData};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use std::collections::{HashMap, HashSet};
+
+/// A robtarget value met in the walk.
+#[derive(Debug, Clone)]
+pub(super) struct Rob {
+    /// TCP in the work object (the robtarget's own frame).
+    pub(super) pose: Isometry3<f64>,
+    pub(super) conf: RobConf,
+    /// The literal target this value is (index into `Program::targets`).
+    pub(super) id: Option<usize>,
+    /// The derived target that computed it (`Offs(...)`).
+    pub(super) derived: Option<usize>,
+    /// Literal targets it was derived from.
+    pub(super) bases: Vec<usize>,
+}
+
+#[derive(Debug, Clone)]
+pub(super) enum Value {
+    Num(f64),
+    Bool(bool),
+    Str(String),
+    Rob(Box<Rob>),
+    /// Joint angles (rad) and the jointtarget literal they are.
+    Joint(Box<(Joints, Option<usize>)>),
+    Agg(Vec<Value>),
+    /// A name the walk does not evaluate (tooldata, wobjdata, speeddata,
+    /// signals): resolved by the instruction that uses it.
+    Ref(String),
+    Unknown,
+}
+
+impl Value {
+    fn num(&self) -> Option<f64> {
+        match self {
+            Value::Num(v) => Some(*v),
+            _ => None,
+        }
+    }
+    fn boolean(&self) -> Option<bool> {
+        match self {
+            Value::Bool(b) => Some(*b),
+            _ => None,
+        }
+    }
+}
+
+pub(super) enum Flow {
+    Normal,
+    Return(Value),
+    Exit,
+    Goto(String),
+}
+
+pub(super) struct Frame<'p> {
+    module: usize,
+    routine: Option<&'p Routine>,
+    vars: HashMap<String, Value>,
+}
+
+/// Where the robot is.
+pub(super) struct Arm {
+    flange: Isometry3<f64>,
+    joints: Option<Joints>,
+    conf: RobConf,
+}
+
+pub(super) struct Walker<'p> {
+    pub(super) program: &'p Program,
+    pub(super) robot: &'p Robot,
+    pub(super) frames: Frames,
+    /// Non-inline robtarget ids (lower case) → index.
+    pub(super) target_ids: HashMap<String, usize>,
+    pub(super) joint_ids: HashMap<String, usize>,
+    /// (file, byte offset) of a derived expression → its target.
+    pub(super) derived_at: HashMap<(usize, usize), usize>,
+    /// Module data by lower-case name: (module, declaration).
+    pub(super) decls: HashMap<String, Vec<(usize, &'p DataDecl)>>,
+    /// Procedures and functions by lower-case name: (module, routine).
+    pub(super) routines: HashMap<String, Vec<(usize, &'p Routine)>>,
+    /// Robtarget variables assigned during the walk (module data).
+    pub(super) globals: HashMap<String, Value>,
+    /// Routines being walked (by identity: two modules may each have a
+    /// LOCAL routine of one name).
+    pub(super) stack: Vec<*const Routine>,
+    pub(super) steps: u64,
+    pub(super) clock: f64,
+    pub(super) robot_free: f64,
+    pub(super) arm: Arm,
+    /// VelSet: override (fraction) and max TCP speed (mm/s).
+    pub(super) velset: (f64, f64),
+    pub(super) schedule: Schedule,
+    pub(super) joint_schedule: Schedule,
+    /// Visits of bases through derived targets: (base, minutes).
+    pub(super) base_visits: Vec<(usize, f64)>,
+    pub(super) notes: Vec<String>,
+    pub(super) noted: HashSet<String>,
+    pub(super) evaluating: HashSet<String>,
+}
+
+impl<'p> Walker<'p> {
+    pub(super) fn new(program: &'p Program, robot: &'p Robot) -> Result<Walker<'p>> {
+        let mut target_ids = HashMap::new();
+        let mut derived_at = HashMap::new();
+        for (i, t) in program.targets().iter().enumerate() {
+            if t.kind == TargetKind::Derived {
+                derived_at.insert((t.origin.file, t.origin.pos.offset), i);
+            }
+            if t.kind != TargetKind::Inline && !(t.kind == TargetKind::Derived && t.name.is_none())
+            {
+                target_ids.entry(t.id.to_ascii_lowercase()).or_insert(i);
+            }
+        }
+        let joint_ids = program
+            .jointtargets()
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| j.kind != TargetKind::Inline)
+            .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
+            .collect();
+        let mut decls: HashMap<String, Vec<(usize, &DataDecl)>> = HashMap::new();
+        let mut routines: HashMap<String, Vec<(usize, &Routine)>> = HashMap::new();
+        for (mi, m) in program.modules.iter().enumerate() {
+            for d in &m.data {
+                decls
+                    .entry(d.name.to_ascii_lowercase())
+                    .or_default()
+                    .push((mi, d));
+            }
+            for r in &m.routines {
+                routines
+                    .entry(r.name.to_ascii_lowercase())
+                    .or_default()
+                    .push((mi, r));
+            }
+        }
+        let zero = [0.0; 6];
+        Ok(Walker {
+            program,
+            robot,
+            frames: Frames::of_program(program)?,
+            target_ids,
+            joint_ids,
+            derived_at,
+            decls,
+            routines,
+            globals: HashMap::new(),
+            stack: Vec::new(),
+            steps: 0,
+            clock: 0.0,
+            robot_free: 0.0,
+            arm: Arm {
+                flange: robot.fk(&zero),
+                joints: Some(zero),
+                conf: robot.conf_of(&zero),
+            },
+            velset: (1.0, f64::INFINITY),
+            schedule: Schedule::new(),
+            joint_schedule: Schedule::new(),
+            base_visits: Vec::new(),
+            notes: Vec::new(),
+            noted: HashSet::new(),
+            evaluating: HashSet::new(),
+        })
+    }
+
+    pub(super) fn note(&mut self, frame: &Frame, line: u32, msg: impl Into<String>) {
+        let msg = msg.into();
+        let file = self
+            .program
+            .modules
+            .get(frame.module)
+            .and_then(|m| self.program.files.get(m.file))
+            .map(String::as_str)
+            .unwrap_or("");
+        let routine = frame.routine.map(|r| r.name.as_ref()).unwrap_or("");
+        let text = format!("{file}:{line} ({routine}): {msg}");
+        if self.noted.insert(text.clone()) {
+            self.notes.push(text);
+        }
+    }
+
+    /// Bases reached only through derived targets get those visits;
+    /// a summary of targets never reached.
+    pub(super) fn finish(&mut self) {
+        let visits = std::mem::take(&mut self.base_visits);
+        let direct: HashSet<usize> = visits
+            .iter()
+            .map(|&(b, _)| b)
+            .filter(|&b| {
+                self.program
+                    .targets()
+                    .get(b)
+                    .is_some_and(|t| self.schedule.times(&t.id).is_some())
+            })
+            .collect();
+        for (b, t) in visits {
+            if direct.contains(&b) {
+                continue;
+            }
+            if let Some(target) = self.program.targets().get(b) {
+                self.schedule.visit(&target.id, t);
+            }
+        }
+        let missed: Vec<&str> = self
+            .program
+            .targets()
+            .iter()
+            .filter(|t| t.value.is_some() && self.schedule.times(&t.id).is_none())
+            .map(|t| t.id.as_str())
+            .collect();
+        if !missed.is_empty() {
+            let shown: Vec<&str> = missed.iter().take(8).copied().collect();
+            let more = if missed.len() > shown.len() {
+                format!(", ... ({} in all)", missed.len())
+            } else {
+                String::new()
+            };
+            self.notes.push(format!(
+                "{} robtarget(s) never reached from the entry routine: {}{more}",
+                missed.len(),
+                shown.join(", ")
+            ));
+        }
+    }
+
+    // ---------------------------------------------------------- routines
+
+    pub(super) fn find_routine(&self, module: usize, name: &str) -> Option<(usize, &'p Routine)> {
+        let list = self.routines.get(&name.to_ascii_lowercase())?;
+        list.iter()
+            .find(|(m, _)| *m == module)
+            .or_else(|| list.iter().find(|(_, r)| !r.local))
+            .copied()
+    }
+
+    pub(super) fn call_routine(
+        &mut self,
+        module: usize,
+        routine: &'p Routine,
+        vars: Vec<(String, Value)>,
+        line: u32,
+    ) -> Result<Flow> {
+        let mut frame = Frame {
+            module,
+            routine: Some(routine),
+            vars: vars.into_iter().collect(),
+        };
+        let why = if self.stack.contains(&std::ptr::from_ref(routine)) {
+            Some("recursive call")
+        } else if self.stack.len() >= MAX_DEPTH {
+            Some("calls nested too deep: call")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            self.note(
+                &frame,
+                line,
+                format!("{why} of {} not followed", routine.name),
+            );
+            return Ok(Flow::Normal);
+        }
+        self.stack.push(std::ptr::from_ref(routine));
+        let flow = self.exec_list(&routine.body, &mut frame);
+        self.stack.pop();
+        Ok(match flow? {
+            Flow::Goto(label) => {
+                self.note(
+                    &frame,
+                    routine.pos.line,
+                    format!("GOTO {label}: no such label, ignored"),
+                );
+                Flow::Normal
+            }
+            other => other,
+        })
+    }
+
+    /// Bind a call's arguments (evaluated in the caller's frame) to the
+    /// routine's parameters.
+    pub(super) fn bind(
+        &mut self,
+        routine: &Routine,
+        args: &[Arg],
+        caller: &mut Frame<'p>,
+    ) -> Result<Vec<(String, Value)>> {
+        let mut out = Vec::new();
+        let mut required = routine.params.iter().filter(|p| !p.optional);
+        for a in args {
+            let param = if a.optional {
+                a.name.as_deref().and_then(|n| {
+                    routine
+                        .params
+                        .iter()
+                        .find(|p| p.optional && p.name.eq_ignore_ascii_case(n))
+                })
+            } else {
+                required.next()
+            };
+            let Some(param) = param else { continue };
+            let value = match &a.value {
+                Some(e) => self.eval(e, caller)?,
+                None => Value::Bool(true),
+            };
+            out.push((param.name.to_ascii_lowercase(), value));
+        }
+        Ok(out)
+    }
+
+    // -------------------------------------------------------- statements
+
+    pub(super) fn exec_list(
+        &mut self,
+        stmts: &'p [Statement],
+        frame: &mut Frame<'p>,
+    ) -> Result<Flow> {
+        let mut pc = 0;
+        while let Some(s) = stmts.get(pc) {
+            match self.exec(s, frame)? {
+                Flow::Normal => pc += 1,
+                Flow::Goto(label) => {
+                    let at = stmts.iter().position(|s| {
+                        matches!(&s.kind, StatementKind::Label(l) if l.eq_ignore_ascii_case(&label))
+                    });
+                    match at {
+                        Some(j) if j > pc => pc = j,
+                        Some(_) => {
+                            self.note(
+                                frame,
+                                s.pos.line,
+                                format!("GOTO {label} jumps back: not taken (the loop it makes is timed once)"),
+                            );
+                            pc += 1;
+                        }
+                        None => return Ok(Flow::Goto(label)),
+                    }
+                }
+                other => return Ok(other),
+            }
+        }
+        Ok(Flow::Normal)
+    }
+
+    /// One statement. Deeply nested programs (blocks in routines in
+    /// blocks...) grow the stack on the heap instead of overflowing it.
+    pub(super) fn exec(&mut self, s: &'p Statement, frame: &mut Frame<'p>) -> Result<Flow> {
+        stacker::maybe_grow(STACK_RED_ZONE, STACK_SEGMENT, || self.exec_inner(s, frame))
+    }
+
+    pub(super) fn exec_inner(&mut self, s: &'p Statement, frame: &mut Frame<'p>) -> Result<Flow> {
+        self.count_step(frame, s)?;
+        let line = s.pos.line;
+        match &s.kind {
+            StatementKind::Call(call) => self.exec_call(call, s, frame),
+            StatementKind::Assign { target, value } => {
+                let v = self.eval(value, frame)?;
+                if let Some(name) = target.as_name() {
+                    let key = name.to_ascii_lowercase();
+                    let local = frame.vars.contains_key(&key)
+                        || frame.routine.is_some_and(|r| {
+                            r.data.iter().any(|d| d.name.eq_ignore_ascii_case(name))
+                        });
+                    // Numbers are run-time values; robtargets are followed.
+                    let v = match v {
+                        Value::Rob(_) | Value::Joint(_) => v,
+                        _ => Value::Unknown,
+                    };
+                    if local {
+                        frame.vars.insert(key, v);
+                    } else {
+                        self.globals.insert(key, v);
+                    }
+                }
+                Ok(Flow::Normal)
+            }
+            StatementKind::If {
+                branches,
+                otherwise,
+            } => {
+                for (i, (cond, body)) in branches.iter().enumerate() {
+                    match self.eval(cond, frame)?.boolean() {
+                        Some(false) => continue,
+                        Some(true) => return self.exec_list(body, frame),
+                        None => {
+                            let which = if i == 0 {
+                                "IF".to_string()
+                            } else {
+                                format!("ELSEIF #{i}")
+                            };
+                            self.note(
+                                frame,
+                                line,
+                                format!(
+                                    "IF: condition known only at run time, took the {which} branch"
+                                ),
+                            );
+                            return self.exec_list(body, frame);
+                        }
+                    }
+                }
+                match otherwise {
+                    Some(body) => self.exec_list(body, frame),
+                    None => Ok(Flow::Normal),
+                }
+            }
+            StatementKind::CompactIf { cond, then } => match self.eval(cond, frame)?.boolean() {
+                Some(false) => Ok(Flow::Normal),
+                Some(true) => self.exec(then, frame),
+                None => {
+                    self.note(
+                        frame,
+                        line,
+                        "IF: condition known only at run time, statement taken",
+                    );
+                    self.exec(then, frame)
+                }
+            },
+            StatementKind::For {
+                var,
+                from,
+                to,
+                step,
+                body,
+            } => self.exec_for(var, from, to, step.as_deref(), body, s, frame),
+            StatementKind::While { cond, body } => match self.eval(cond, frame)?.boolean() {
+                Some(false) => Ok(Flow::Normal),
+                _ => {
+                    self.note(frame, line, "WHILE: body timed once");
+                    self.exec_list(body, frame)
+                }
+            },
+            StatementKind::Test {
+                value,
+                cases,
+                default,
+            } => {
+                let v = self.eval(value, frame)?;
+                let mut unknown = v.num().is_none() && v.boolean().is_none();
+                if !unknown {
+                    for (values, body) in cases {
+                        for e in values {
+                            let c = self.eval(e, frame)?;
+                            match (&v, &c) {
+                                (Value::Num(a), Value::Num(b)) if a == b => {
+                                    return self.exec_list(body, frame)
+                                }
+                                (Value::Bool(a), Value::Bool(b)) if a == b => {
+                                    return self.exec_list(body, frame)
+                                }
+                                (_, Value::Num(_) | Value::Bool(_)) => {}
+                                _ => unknown = true,
+                            }
+                        }
+                        if unknown {
+                            break;
+                        }
+                    }
+                }
+                if unknown {
+                    self.note(
+                        frame,
+                        line,
+                        "TEST: value known only at run time, took the first CASE",
+                    );
+                    return match cases.first() {
+                        Some((_, body)) => self.exec_list(body, frame),
+                        None => match default {
+                            Some(body) => self.exec_list(body, frame),
+                            None => Ok(Flow::Normal),
+                        },
+                    };
+                }
+                match default {
+                    Some(body) => self.exec_list(body, frame),
+                    None => Ok(Flow::Normal),
+                }
+            }
+            StatementKind::Goto(label) => Ok(Flow::Goto(label.clone())),
+            StatementKind::Return(value) => Ok(Flow::Return(match value {
+                Some(e) => self.eval(e, frame)?,
+                None => Value::Unknown,
+            })),
+            StatementKind::Exit => {
+                self.note(frame, line, "EXIT: the program ends here");
+                Ok(Flow::Exit)
+            }
+            StatementKind::Raise(_) => {
+                self.note(
+                    frame,
+                    line,
+                    "RAISE: error handlers are not walked, carried on",
+                );
+                Ok(Flow::Normal)
+            }
+            StatementKind::Label(_)
+            | StatementKind::Retry
+            | StatementKind::TryNext
+            | StatementKind::Connect { .. }
+            | StatementKind::Placeholder(_) => Ok(Flow::Normal),
+        }
+    }
+
+    /// One more statement (or loop turn) walked: refuse walks that would
+    /// run for hours.
+    pub(super) fn count_step(&mut self, frame: &Frame, s: &Statement) -> Result<()> {
+        self.steps += 1;
+        if self.steps > STEP_BUDGET {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!("the walk of the program passed {STEP_BUDGET} statements (a loop with a very large count?): give the schedule with --schedule instead"),
+            )
+            .at(self.location(frame, s)));
+        }
+        Ok(())
+    }
+
+    pub(super) fn location(&self, frame: &Frame, s: &Statement) -> crate::error::Location {
+        let file = self
+            .program
+            .modules
+            .get(frame.module)
+            .map(|m| m.file)
+            .unwrap_or(0);
+        crate::error::Location {
+            file: self.program.files.get(file).cloned().unwrap_or_default(),
+            line: s.pos.line as usize,
+            col: s.pos.col as usize,
+            line_text: String::new(),
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn exec_for(
+        &mut self,
+        var: &str,
+        from: &Expr,
+        to: &Expr,
+        step: Option<&Expr>,
+        body: &'p [Statement],
+        s: &Statement,
+        frame: &mut Frame<'p>,
+    ) -> Result<Flow> {
+        let key = var.to_ascii_lowercase();
+        let a = self.eval(from, frame)?.num();
+        let b = self.eval(to, frame)?.num();
+        let st = match step {
+            Some(e) => self.eval(e, frame)?.num(),
+            None => match (a, b) {
+                (Some(a), Some(b)) => Some(if b < a { -1.0 } else { 1.0 }),
+                _ => None,
+            },
+        };
+        let saved = frame.vars.remove(&key);
+        let flow = match (a, b, st) {
+            (Some(a), Some(b), Some(st)) if st != 0.0 => {
+                let mut v = a;
+                let mut flow = Flow::Normal;
+                while (st > 0.0 && v <= b) || (st < 0.0 && v >= b) {
+                    self.count_step(frame, s)?;
+                    frame.vars.insert(key.clone(), Value::Num(v));
+                    match self.exec_list(body, frame)? {
+                        Flow::Normal => {}
+                        other => {
+                            flow = other;
+                            break;
+                        }
+                    }
+                    v += st;
+                }
+                flow
+            }
+            _ => {
+                let why = if st == Some(0.0) {
+                    "STEP 0"
+                } else {
+                    "bounds known only at run time"
+                };
+                self.note(
+                    frame,
+                    s.pos.line,
+                    format!("FOR {var}: {why}, body timed once"),
+                );
+                frame.vars.insert(key.clone(), Value::Unknown);
+                self.exec_list(body, frame)?
+            }
+        };
+        frame.vars.remove(&key);
+        if let Some(v) = saved {
+            frame.vars.insert(key, v);
+        }
+        Ok(flow)
+    }
+
+    pub(super) fn exec_call(
+        &mut self,
+        call: &'p Call,
+        s: &Statement,
+        frame: &mut Frame<'p>,
+    ) -> Result<Flow> {
+        let line = s.pos.line;
+        if let Some(m) = call.motion() {
+            self.exec_move(call, &m, s, frame)?;
+            return Ok(Flow::Normal);
+        }
+        let name = call.name.to_ascii_lowercase();
+        if call.late_bound {
+            let target = call
+                .name
+                .trim()
+                .trim_start_matches('%')
+                .trim_end_matches('%');
+            let target = target.trim();
+            let resolved = target
+                .strip_prefix('"')
+                .and_then(|t| t.strip_suffix('"'))
+                .and_then(|n| self.find_routine(frame.module, n));
+            return match resolved {
+                Some((mi, r)) => {
+                    let vars = self.bind(r, &call.args, frame)?;
+                    self.call_routine(mi, r, vars, line).map(|f| match f {
+                        Flow::Exit => Flow::Exit,
+                        _ => Flow::Normal,
+                    })
+                }
+                None => {
+                    self.note(
+                        frame,
+                        line,
+                        format!("late-bound call %{target}%: procedure known only at run time, taken as instantaneous"),
+                    );
+                    Ok(Flow::Normal)
+                }
+            };
+        }
+        match name.as_str() {
+            "waittime" => {
+                let secs = call
+                    .positional()
+                    .next()
+                    .map(|e| self.eval(e, frame))
+                    .transpose()?
+                    .and_then(|v| v.num());
+                match secs {
+                    Some(t) if t.is_finite() && t >= 0.0 => {
+                        if call.optional("InPos").is_some() {
+                            self.clock = self.clock.max(self.robot_free);
+                        }
+                        self.clock += t;
+                    }
+                    _ => self.note(
+                        frame,
+                        line,
+                        "WaitTime: time known only at run time, taken as 0 s",
+                    ),
+                }
+                return Ok(Flow::Normal);
+            }
+            "waituntil" | "waitdi" | "waitdo" | "waitai" | "waitao" | "waitgi" | "waitgo"
+            | "waitsynctask" | "waittestandset" | "waitload" | "waitsensor" | "waitwobj" => {
+                if call.optional("InPos").is_some() {
+                    self.clock = self.clock.max(self.robot_free);
+                }
+                self.note(
+                    frame,
+                    line,
+                    format!("{}: waits on a run-time condition, taken as 0 s", call.name),
+                );
+                return Ok(Flow::Normal);
+            }
+            "waitrob" => {
+                self.clock = self.clock.max(self.robot_free);
+                return Ok(Flow::Normal);
+            }
+            "velset" => {
+                let mut pos = call.positional();
+                let ov = pos.next().map(|e| self.eval(e, frame)).transpose()?;
+                let max = pos.next().map(|e| self.eval(e, frame)).transpose()?;
+                match (ov.and_then(|v| v.num()), max.and_then(|v| v.num())) {
+                    (Some(o), Some(m)) if o > 0.0 && m > 0.0 => self.velset = (o / 100.0, m),
+                    _ => self.note(
+                        frame,
+                        line,
+                        "VelSet: values known only at run time, ignored",
+                    ),
+                }
+                return Ok(Flow::Normal);
+            }
+            "stop" | "break" => {
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "{}: the time until the operator restarts is not counted",
+                        call.name
+                    ),
+                );
+                return Ok(Flow::Normal);
+            }
+            _ => {}
+        }
+        match self.find_routine(frame.module, &call.name) {
+            Some((mi, r)) if r.kind == RoutineKind::Proc => {
+                let vars = self.bind(r, &call.args, frame)?;
+                Ok(match self.call_routine(mi, r, vars, line)? {
+                    Flow::Exit => Flow::Exit,
+                    _ => Flow::Normal,
+                })
+            }
+            _ => {
+                if !is_instant_builtin(&name) {
+                    self.note(
+                        frame,
+                        line,
+                        format!(
+                            "{}: not a procedure of the program, taken as instantaneous",
+                            call.name
+                        ),
+                    );
+                }
+                Ok(Flow::Normal)
+            }
+        }
+    }
+}

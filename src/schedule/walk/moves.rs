@@ -1,0 +1,449 @@
+//! Motion instructions in the walk: speeds, tools and work objects of a
+//! move, its goal on the nominal robot, and the time it takes.
+
+use super::*;
+
+impl<'p> Walker<'p> {
+    pub(super) fn speed_of(
+        &mut self,
+        expr: Option<&Expr>,
+        frame: &mut Frame<'p>,
+        line: u32,
+    ) -> Result<SpeedData> {
+        let v = match expr {
+            Some(e) => self.eval(e, frame)?,
+            None => Value::Unknown,
+        };
+        let found = match &v {
+            Value::Ref(name) => self.named_speed(frame.module, name),
+            Value::Agg(items) => {
+                let n: Option<Vec<f64>> = items.iter().map(Value::num).collect();
+                match n.as_deref() {
+                    Some(&[v_tcp, v_ori, v_leax, v_reax]) => Some(SpeedData {
+                        v_tcp,
+                        v_ori,
+                        v_leax,
+                        v_reax,
+                    }),
+                    _ => None,
+                }
+            }
+            _ => None,
+        };
+        match found {
+            Some(s) => Ok(s),
+            None => {
+                let what = match &v {
+                    Value::Ref(name) => format!("speeddata `{name}` is not in the program"),
+                    _ => "speed known only at run time".to_string(),
+                };
+                self.note(frame, line, format!("{what}: taken as {FALLBACK_SPEED}"));
+                Ok(predefined_speed(FALLBACK_SPEED).unwrap_or(SpeedData {
+                    v_tcp: 1000.0,
+                    v_ori: 500.0,
+                    v_leax: 5000.0,
+                    v_reax: 1000.0,
+                }))
+            }
+        }
+    }
+
+    pub(super) fn named_speed(&self, module: usize, name: &str) -> Option<SpeedData> {
+        let module_name = self.program.modules.get(module).map(|m| m.name.clone());
+        let mut matching = self
+            .program
+            .speeds()
+            .iter()
+            .filter(|s| s.name.eq_ignore_ascii_case(name));
+        let own = matching
+            .clone()
+            .find(|s| Some(&s.origin.module) == module_name.as_ref());
+        own.or_else(|| matching.next())
+            .map(|s| SpeedData {
+                v_tcp: s.v_tcp.value,
+                v_ori: s.v_ori.value,
+                v_leax: s.v_leax.value,
+                v_reax: s.v_reax.value,
+            })
+            .or_else(|| predefined_speed(name))
+    }
+
+    pub(super) fn frame_names(
+        &mut self,
+        tool: Option<&Expr>,
+        wobj: Option<&Expr>,
+        frame: &mut Frame<'p>,
+        line: u32,
+    ) -> Result<(ToolData, WobjData)> {
+        let name_of =
+            |w: &mut Self, e: Option<&Expr>, frame: &mut Frame<'p>| -> Result<Option<String>> {
+                Ok(match e {
+                    None => None,
+                    Some(e) => match w.eval(e, frame)? {
+                        Value::Ref(n) => Some(n),
+                        _ => Some(String::from("?")),
+                    },
+                })
+            };
+        let t = name_of(self, tool, frame)?;
+        let o = name_of(self, wobj, frame)?;
+        let tool = match self.frames.tool(t.as_deref()) {
+            Some(t) => t.clone(),
+            None => {
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "tool {} unknown here, timed with tool0",
+                        t.as_deref().unwrap_or("?")
+                    ),
+                );
+                ToolData::tool0()
+            }
+        };
+        let wobj = match self.frames.wobj(o.as_deref()) {
+            Some(w) => w.clone(),
+            None => {
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "work object {} unknown here, timed with wobj0",
+                        o.as_deref().unwrap_or("?")
+                    ),
+                );
+                WobjData::wobj0()
+            }
+        };
+        Ok((tool, wobj))
+    }
+
+    pub(super) fn exec_move(
+        &mut self,
+        call: &'p Call,
+        m: &Motion<'p>,
+        s: &Statement,
+        frame: &mut Frame<'p>,
+    ) -> Result<()> {
+        let line = s.pos.line;
+        let kind = m.signature.kind;
+        if kind == MotionKind::ExtJoint {
+            self.note(
+                frame,
+                line,
+                format!(
+                    "{}: external axes are not modelled, taken as 0 s",
+                    call.name
+                ),
+            );
+            return Ok(());
+        }
+        let mut speed = self.speed_of(m.speed, frame, line)?;
+        if let Some(v) = m.v {
+            match self.eval(v, frame)?.num() {
+                Some(v) => speed.v_tcp = v,
+                None => self.note(frame, line, "\\V: value known only at run time, ignored"),
+            }
+        }
+        let (ov, vmax) = self.velset;
+        speed.v_tcp = (speed.v_tcp * ov).min(vmax);
+        speed.v_ori *= ov;
+        let t_override = match m.t {
+            Some(t) => match self.eval(t, frame)?.num() {
+                Some(t) => Some(t / ov),
+                None => {
+                    self.note(frame, line, "\\T: value known only at run time, ignored");
+                    None
+                }
+            },
+            None => None,
+        };
+        let (tool, wobj) = self.frame_names(m.tool, m.wobj, frame, line)?;
+        let to = match m.to {
+            Some(e) => self.eval(e, frame)?,
+            None => Value::Unknown,
+        };
+        let from = target_of_flange(&self.arm.flange, &tool, &wobj);
+        let max_speed = self.robot.max_speed_deg_s.map(|v| v * ov);
+        match (kind, to) {
+            (MotionKind::AbsJoint, Value::Joint(j)) => {
+                let (q, id) = *j;
+                let q_from = self.current_joints();
+                let flange = self.robot.fk(&q);
+                let tcp = match (&from, target_of_flange(&flange, &tool, &wobj)) {
+                    (Ok(a), Ok(b)) => (b.translation.vector - a.translation.vector).norm(),
+                    _ => 0.0,
+                };
+                let secs = match q_from {
+                    Some(qf) => joint_move_seconds(&qf, &q, &max_speed, tcp, &speed),
+                    None => seconds_for(tcp, speed.v_tcp),
+                };
+                let secs = t_override.unwrap_or(secs);
+                self.advance(secs, m.conc);
+                self.arm = Arm {
+                    flange,
+                    joints: Some(q),
+                    conf: self.robot.conf_of(&q),
+                };
+                if let Some(i) = id {
+                    if let Some(jt) = self.program.jointtargets().get(i) {
+                        self.joint_schedule.visit(&jt.id, self.robot_free / 60.0);
+                    }
+                }
+                return Ok(());
+            }
+            (MotionKind::AbsJoint, _) => {
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "{}: jointtarget known only at run time, taken as 0 s",
+                        call.name
+                    ),
+                );
+                return Ok(());
+            }
+            (_, Value::Rob(rob)) => {
+                let flange = match flange_of_target(&rob.pose, &tool, &wobj) {
+                    Ok(f) => f,
+                    Err(e) => {
+                        self.note(
+                            frame,
+                            line,
+                            format!("{}: {}; taken as 0 s", call.name, e.message),
+                        );
+                        self.visit(&rob, self.robot_free);
+                        return Ok(());
+                    }
+                };
+                let from = from.unwrap_or(rob.pose);
+                let mut via_info = None;
+                let secs = match kind {
+                    MotionKind::Joint => {
+                        let q = self.joint_goal(&flange, &rob, &max_speed, call, frame, s)?;
+                        let tcp = (rob.pose.translation.vector - from.translation.vector).norm();
+                        let secs = match self.current_joints() {
+                            Some(qf) => joint_move_seconds(&qf, &q, &max_speed, tcp, &speed),
+                            None => seconds_for(tcp, speed.v_tcp),
+                        };
+                        self.arm.joints = Some(q);
+                        secs
+                    }
+                    MotionKind::Circular => {
+                        let cir = match m.via {
+                            Some(e) => self.eval(e, frame)?,
+                            None => Value::Unknown,
+                        };
+                        let angle = from.rotation.angle_to(&rob.pose.rotation).to_degrees();
+                        let (len, frac, cir) = match cir {
+                            Value::Rob(c) => {
+                                let (len, to_via) = arc_length(
+                                    &from.translation.vector,
+                                    &c.pose.translation.vector,
+                                    &rob.pose.translation.vector,
+                                );
+                                (len, if len > 0.0 { to_via / len } else { 0.5 }, Some(c))
+                            }
+                            _ => {
+                                self.note(frame, line, format!("{}: CirPoint known only at run time, timed along the chord", call.name));
+                                (
+                                    (rob.pose.translation.vector - from.translation.vector).norm(),
+                                    0.5,
+                                    None,
+                                )
+                            }
+                        };
+                        via_info = cir.map(|c| (frac, c));
+                        self.arm.joints = None;
+                        seconds_for(len, speed.v_tcp).max(seconds_for(angle, speed.v_ori))
+                    }
+                    _ => {
+                        self.arm.joints = None;
+                        linear_move_seconds(&from, &rob.pose, &speed)
+                    }
+                };
+                self.arm.flange = flange;
+                self.arm.conf = rob.conf;
+                let secs = t_override.unwrap_or(secs);
+                let start = self.clock.max(self.robot_free);
+                self.advance(secs, m.conc);
+                if let Some((frac, c)) = via_info {
+                    self.visit(&c, start + secs * frac);
+                }
+                self.visit(&rob, self.robot_free);
+                return Ok(());
+            }
+            _ => {}
+        }
+        self.note(
+            frame,
+            line,
+            format!(
+                "{}: target known only at run time, not scheduled, taken as 0 s",
+                call.name
+            ),
+        );
+        self.arm.joints = None;
+        Ok(())
+    }
+
+    /// Joints for a MoveJ target: the solution with its robconf, else (a
+    /// robconf the pose does not have: taught loosely) the quickest
+    /// solution from where the robot is, noted. No solution at all is an
+    /// error naming the target.
+    pub(super) fn joint_goal(
+        &mut self,
+        flange: &Isometry3<f64>,
+        rob: &Rob,
+        max_speed: &[f64; 6],
+        call: &Call,
+        frame: &Frame,
+        s: &Statement,
+    ) -> Result<Joints> {
+        let err = match self.robot.ik_conf(flange, &rob.conf) {
+            Ok(q) => return Ok(q),
+            Err(e) => e,
+        };
+        let sols = match self.robot.ik(flange) {
+            Ok(sols) if !sols.is_empty() => sols,
+            Ok(_) => return Err(self.unreachable(rob, call, frame, s, err)),
+            Err(e) => return Err(self.unreachable(rob, call, frame, s, e)),
+        };
+        let from = self.current_joints().unwrap_or([0.0; 6]);
+        let v = SpeedData {
+            v_tcp: f64::INFINITY,
+            v_ori: f64::INFINITY,
+            v_leax: 0.0,
+            v_reax: 0.0,
+        };
+        let best = sols
+            .iter()
+            .map(|sol| (joint_move_seconds(&from, &sol.q, max_speed, 0.0, &v), sol))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, sol)| *sol);
+        let Some(best) = best else {
+            return Err(self.unreachable(rob, call, frame, s, err));
+        };
+        let name = self.rob_name(rob);
+        self.note(
+            frame,
+            s.pos.line,
+            format!(
+                "{} {name}: no solution with robconf {}; timed with the quickest reachable configuration {}",
+                call.name, rob.conf, best.conf
+            ),
+        );
+        Ok(best.q)
+    }
+
+    pub(super) fn rob_name(&self, rob: &Rob) -> String {
+        rob.id
+            .or(rob.derived)
+            .and_then(|i| self.program.targets().get(i))
+            .map_or_else(|| "(computed target)".to_string(), |t| t.id.clone())
+    }
+
+    pub(super) fn unreachable(
+        &self,
+        rob: &Rob,
+        call: &Call,
+        frame: &Frame,
+        s: &Statement,
+        e: Error,
+    ) -> Error {
+        let id = rob
+            .id
+            .or(rob.derived)
+            .and_then(|i| self.program.targets().get(i));
+        let name = id.map(|t| t.id.as_str()).unwrap_or("(computed)");
+        let mut err = Error::new(
+            ErrorKind::Unreachable,
+            format!(
+                "target {name} ({} at line {}): {}",
+                call.name, s.pos.line, e.message
+            ),
+        );
+        err = match id {
+            Some(t) => err.at(self.program.location(&t.origin)),
+            None => err.at(self.location(frame, s)),
+        };
+        for n in e.notes {
+            err = err.with_note(n);
+        }
+        err
+    }
+
+    /// The robot's joints now, by IK of where it is if it came there on a
+    /// linear path (one IK per joint move at most).
+    pub(super) fn current_joints(&mut self) -> Option<Joints> {
+        if self.arm.joints.is_none() {
+            // A robconf the pose does not have (ConfL \Off, loosely taught
+            // targets): a solution on the same side of axis 1, else any.
+            self.arm.joints = self
+                .robot
+                .ik_conf(&self.arm.flange, &self.arm.conf)
+                .ok()
+                .or_else(|| {
+                    let sols = self.robot.ik(&self.arm.flange).ok()?;
+                    let cf1 = self.arm.conf.cf1;
+                    sols.iter()
+                        .find(|s| s.conf.cf1 == cf1)
+                        .or_else(|| sols.iter().next())
+                        .map(|s| s.q)
+                });
+        }
+        self.arm.joints
+    }
+
+    /// A motion of `secs` seconds: it starts when the robot is free and the
+    /// program has got there; with `\Conc` the program runs on at once.
+    pub(super) fn advance(&mut self, secs: f64, conc: bool) {
+        let start = self.clock.max(self.robot_free);
+        // Absurd speeds (0, negative, overflowing arithmetic) add no time.
+        let secs = if secs.is_finite() { secs.max(0.0) } else { 0.0 };
+        self.robot_free = start + secs;
+        self.clock = if conc { start } else { self.robot_free };
+    }
+
+    pub(super) fn visit(&mut self, rob: &Rob, at_s: f64) {
+        let t = at_s / 60.0;
+        let targets = self.program.targets();
+        if let Some(target) = rob.id.and_then(|i| targets.get(i)) {
+            self.schedule.visit(&target.id, t);
+        } else if let Some(target) = rob.derived.and_then(|i| targets.get(i)) {
+            self.schedule.visit(&target.id, t);
+            for &b in &rob.bases {
+                self.base_visits.push((b, t));
+            }
+        }
+    }
+}
+
+/// Length of the circular arc from `a` through `b` to `c`, and of its part
+/// from `a` to `b` (mm). Collinear points: the two straight segments.
+fn arc_length(a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>) -> (f64, f64) {
+    let u = b - a;
+    let v = c - a;
+    let w = u.cross(&v);
+    let w2 = w.norm_squared();
+    if w2 <= 1e-12 * u.norm_squared().max(1.0) * v.norm_squared().max(1.0) {
+        let ab = u.norm();
+        return (ab + (c - b).norm(), ab);
+    }
+    let centre = a + (v.cross(&w) * u.norm_squared() + w.cross(&u) * v.norm_squared()) / (2.0 * w2);
+    let n = w / w2.sqrt();
+    let ra = a - centre;
+    let radius = ra.norm();
+    // Angle from `a` to `x` counter-clockwise about the normal (a→b→c runs
+    // counter-clockwise about u×v).
+    let angle = |x: &Vector3<f64>| {
+        let rx = x - centre;
+        let t = n.dot(&ra.cross(&rx)).atan2(ra.dot(&rx));
+        if t < 0.0 {
+            t + std::f64::consts::TAU
+        } else {
+            t
+        }
+    };
+    (radius * angle(c), radius * angle(b))
+}

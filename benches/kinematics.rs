@@ -2,7 +2,7 @@
 //! poses, same run). `cargo bench --bench kinematics`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rapidtherm::robot::{Joints, Robot, IRB140};
+use rapidtherm::robot::{irb140_opw, Joints, Robot};
 use rs_opw_kinematics::glam::{DQuat, DVec3};
 use rs_opw_kinematics::kinematic_traits::{Kinematics, Pose};
 use rs_opw_kinematics::kinematics_impl::OPWKinematics;
@@ -10,14 +10,15 @@ use rs_opw_kinematics::parameters::opw_kinematics::Parameters;
 use std::hint::black_box;
 
 fn reference() -> OPWKinematics {
+    let irb140 = irb140_opw();
     OPWKinematics::new(Parameters {
-        a1: IRB140.a1,
-        a2: IRB140.a2,
-        b: IRB140.b,
-        c1: IRB140.c1,
-        c2: IRB140.c2,
-        c3: IRB140.c3,
-        c4: IRB140.c4,
+        a1: irb140.a1,
+        a2: irb140.a2,
+        b: irb140.b,
+        c1: irb140.c1,
+        c2: irb140.c2,
+        c3: irb140.c3,
+        c4: irb140.c4,
         offsets: [0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0],
         sign_corrections: [1; 6],
         dof: 6,

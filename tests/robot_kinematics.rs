@@ -6,8 +6,8 @@ use approx::assert_relative_eq;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rapidtherm::error::ErrorKind;
 use rapidtherm::model::ThermalExpansion;
-use rapidtherm::robot::ik::{wrap, CONF_TOLERANCE};
-use rapidtherm::robot::{Joints, RobConf, Robot, IRB140};
+use rapidtherm::robot::ik::{wrap, OpwArm, CONF_TOLERANCE};
+use rapidtherm::robot::{irb140_opw, Joints, Opw, RobConf, Robot};
 use rapidtherm::thermal::TABLE1_TMAX;
 
 fn deg(q: [f64; 6]) -> Joints {
@@ -78,7 +78,7 @@ fn check_poses_through_every_model() {
         let q = deg(q);
         assert_check_pose(&robot.fk(&q), p, quat);
         // The OPW geometry alone, as the diagnosis's base model uses it.
-        assert_check_pose(&rapidtherm::robot::IRB140.fk(&q), p, quat);
+        assert_check_pose(&irb140_opw().fk(&q), p, quat);
         // The URDF chain itself (general serial FK), not the OPW shortcut.
         assert_check_pose(&robot.chain.fk(&q), p, quat);
         // At the reference temperature the warm model is the nominal one.
@@ -87,43 +87,70 @@ fn check_poses_through_every_model() {
     }
 }
 
+/// The IRB 140 of `shared/spec/irb140.md` ("Geometry"), mm: the reference
+/// the embedded URDF is checked against (the model itself is data).
+const SPEC_OPW: Opw = Opw {
+    c1: 352.0,
+    a1: 70.0,
+    c2: 360.0,
+    c3: 380.0,
+    c4: 65.0,
+    a2: 0.0,
+    b: 0.0,
+};
+
 #[test]
 fn embedded_urdf_is_the_spec_arm() {
     let urdf = Robot::from_urdf_str("irb140.urdf", rapidtherm::robot::urdf::IRB140_URDF).unwrap();
-    let built = Robot::irb140_builtin();
+    assert_eq!(urdf, Robot::irb140());
     assert_eq!(urdf.name, "abb_irb140");
+    // Joint limits of the spec, degrees.
+    let limits = [
+        (-180.0, 180.0),
+        (-90.0, 110.0),
+        (-230.0, 50.0),
+        (-200.0, 200.0),
+        (-115.0, 115.0),
+        (-400.0, 400.0),
+    ];
+    // Maximum axis speeds of the ABB product specification, deg/s.
+    let speeds = [200.0, 200.0, 260.0, 360.0, 360.0, 450.0];
     for i in 0..6 {
-        assert_relative_eq!(urdf.limits[i].0, built.limits[i].0, epsilon = 1e-15);
-        assert_relative_eq!(urdf.limits[i].1, built.limits[i].1, epsilon = 1e-15);
         assert_relative_eq!(
-            urdf.max_speed_deg_s[i],
-            built.max_speed_deg_s[i],
-            epsilon = 1e-9
+            urdf.limits[i].0,
+            f64::to_radians(limits[i].0),
+            epsilon = 1e-15
         );
+        assert_relative_eq!(
+            urdf.limits[i].1,
+            f64::to_radians(limits[i].1),
+            epsilon = 1e-15
+        );
+        assert_relative_eq!(urdf.max_speed_deg_s[i], speeds[i], epsilon = 1e-9);
     }
-    let (a, b) = (urdf.opw.clone().unwrap(), built.opw.clone().unwrap());
-    assert_relative_eq!(a.geom.c1, IRB140.c1, epsilon = 1e-9);
-    assert_relative_eq!(a.geom.a1, IRB140.a1, epsilon = 1e-9);
-    assert_relative_eq!(a.geom.c2, IRB140.c2, epsilon = 1e-9);
-    assert_relative_eq!(a.geom.c3, IRB140.c3, epsilon = 1e-9);
-    assert_relative_eq!(a.geom.c4, IRB140.c4, epsilon = 1e-9);
-    assert_relative_eq!(a.geom.a2, 0.0, epsilon = 1e-9);
-    assert_relative_eq!(a.geom.b, 0.0, epsilon = 1e-9);
+    // The OPW form: the spec's lengths, bit for bit (the diagnosis's base
+    // model and the default model file use them), ABB's joint conventions.
+    let a = urdf.opw.clone().unwrap();
+    assert_eq!(a.geom, SPEC_OPW);
+    assert_eq!(irb140_opw(), SPEC_OPW);
+    let b = OpwArm::abb(SPEC_OPW);
+    assert_eq!(a.signs, [1.0; 6]);
     assert_eq!(a.signs, b.signs);
     assert_eq!(a.offsets, b.offsets);
     assert!(a.tip.angle_to(&b.tip) < 1e-12);
-    // Chain FK and OPW FK agree everywhere, cold and warm.
+    // The URDF chain and the spec's OPW arm agree everywhere, cold and warm.
     let mut rng = Rng(7);
     let warm = [20.0, 25.0, 30.0, 35.0, 40.0, 45.0];
     for _ in 0..500 {
-        let q = rng.joints_within(&built);
-        let (dp, dr) = pose_dist(&urdf.chain.fk(&q), &built.fk(&q));
+        let q = rng.joints_within(&urdf);
+        let (dp, dr) = pose_dist(&urdf.chain.fk(&q), &b.fk(&q));
         assert!(dp < 1e-9 && dr < 1e-12, "{dp} {dr}");
         let scales = ThermalExpansion::default().scales(&warm);
-        let (dp, dr) = pose_dist(
-            &urdf.chain.fk_scaled(&q, &scales),
-            &built.fk_scaled(&q, &scales),
-        );
+        let warm_spec = OpwArm {
+            geom: SPEC_OPW.scaled(&scales),
+            ..b
+        };
+        let (dp, dr) = pose_dist(&urdf.chain.fk_scaled(&q, &scales), &warm_spec.fk(&q));
         assert!(dp < 1e-9 && dr < 1e-12, "warm {dp} {dr}");
     }
 }
@@ -407,7 +434,7 @@ fn thermal_model_is_data() {
         [wrist]\nalpha = 0.0\nmotors = [6]\n";
     let th = ThermalExpansion::from_toml("m.toml", text).unwrap();
     assert_eq!(th.t_ref, 20.0);
-    let warm = th.expand(&IRB140, &[30.0, 20.0, 20.0, 40.0, 0.0, 99.0]);
+    let warm = th.expand(&irb140_opw(), &[30.0, 20.0, 20.0, 40.0, 0.0, 99.0]);
     assert_relative_eq!(warm.c1, 352.0 * (1.0 + 11.5e-6 * 10.0), epsilon = 1e-12);
     assert_relative_eq!(warm.c3, 380.0 * (1.0 + 21.8e-6 * 20.0), epsilon = 1e-12);
     assert_eq!(warm.c4, 65.0);

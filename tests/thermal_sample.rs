@@ -4,9 +4,8 @@
 
 use rapidtherm::thermal::fit::{fit_axis, fit_points, AxisFit, Curve, ModelKind};
 use rapidtherm::thermal::poly::PolyCurve;
-use rapidtherm::thermal::profile::{DEFAULT_KIND, DEFAULT_PARAMS};
 use rapidtherm::thermal::{
-    default_profile, FittedProfile, HeatingProfile, HeatingRecord, COLD_START_C, TABLE1_TMAX,
+    default_heating, default_profile, FittedProfile, HeatingProfile, HeatingRecord, TABLE1_TMAX,
 };
 use rapidtherm::ErrorKind;
 use std::sync::OnceLock;
@@ -151,44 +150,45 @@ fn papers_cubic_is_refused_at_300_and_400_min() {
 #[test]
 fn default_kind_predicts_best_out_of_window() {
     // With T(0) pinned at 7.0 °C as the default profile must be.
+    let h = default_heating();
+    assert_eq!(h.t0_c, 7.0);
     for axis in 1..=6 {
         let held = |kind| {
-            fit_axis(sample(), axis, kind, Some(COLD_START_C))
+            fit_axis(sample(), axis, kind, Some(h.t0_c))
                 .unwrap()
                 .holdout
                 .unwrap()
                 .rmse
         };
-        let best = held(DEFAULT_KIND);
+        let best = held(h.kind);
         for other in [
             ModelKind::Poly(2),
             ModelKind::Poly(3),
             ModelKind::FirstOrder,
         ] {
-            assert!(
-                best < held(other),
-                "axis {axis}: {other} beats {DEFAULT_KIND}"
-            );
+            assert!(best < held(other), "axis {axis}: {other} beats {}", h.kind);
         }
     }
 }
 
 #[test]
 fn embedded_default_parameters_are_the_fit_to_the_sample() {
-    let refit = FittedProfile::fit(sample(), DEFAULT_KIND, Some(COLD_START_C)).unwrap();
+    // data/irb140/heating.toml against the command its header names.
+    let h = default_heating();
+    let refit = FittedProfile::fit(sample(), h.kind, Some(h.t0_c)).unwrap();
     let embedded = default_profile();
     for (axis, curve) in refit.axes.iter().enumerate() {
         let Curve::Saturating(c) = curve else {
             panic!("saturating")
         };
-        assert_eq!(c.t0, COLD_START_C);
+        assert_eq!(c.t0, h.t0_c);
         let got = [
             c.terms[0].delta,
             c.terms[0].tau,
             c.terms[1].delta,
             c.terms[1].tau,
         ];
-        for (g, e) in got.iter().zip(DEFAULT_PARAMS[axis]) {
+        for (g, e) in got.iter().zip(h.params[axis]) {
             assert!(
                 (g - e).abs() <= 1e-6 * e.abs(),
                 "axis {}: {got:?}",
@@ -205,7 +205,8 @@ fn embedded_default_parameters_are_the_fit_to_the_sample() {
 #[test]
 fn default_profile_is_sane_for_any_time() {
     let p = default_profile();
-    assert_eq!(p.temps_at(0.0).unwrap(), [COLD_START_C; 6]);
+    let cold = default_heating().t0_c;
+    assert_eq!(p.temps_at(0.0).unwrap(), [cold; 6]);
     // At the end of the warm-up it is at the table-1 maxima (the FEA
     // paper's independent figures) within 0.2 °C.
     let end = p.temps_at(168.0).unwrap();
@@ -216,7 +217,7 @@ fn default_profile_is_sane_for_any_time() {
             axis + 1
         );
     }
-    let mut last = [COLD_START_C; 6];
+    let mut last = [cold; 6];
     for k in 1..=2000 {
         let t = k as f64 * 0.5;
         let now = p.temps_at(t).unwrap();

@@ -86,7 +86,7 @@ pub fn rotation_gap(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> Vector3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::robot::IRB140;
+    use crate::robot::irb140_opw;
     use approx::assert_relative_eq;
 
     #[test]
@@ -100,9 +100,9 @@ mod tests {
         let opw = Opw {
             a2: 12.0,
             b: 5.0,
-            ..IRB140
+            ..irb140_opw()
         };
-        for robot in [IRB140, opw] {
+        for robot in [irb140_opw(), opw] {
             for q in &qs {
                 let a = robot.fk(q);
                 let b = fk_chain(&robot, q, &Perturbation::default());
@@ -122,8 +122,8 @@ mod tests {
             ..Default::default()
         };
         let q = [0.0; 6];
-        let bent = fk_chain(&IRB140, &q, &p);
-        let nominal = IRB140.fk(&q);
+        let bent = fk_chain(&irb140_opw(), &q, &p);
+        let nominal = irb140_opw().fk(&q);
         let turn = kappa * 360.0;
         // Everything beyond the elbow (380 + 65 along x) rotates by κL.
         let expect_x = kappa * 360.0 * 360.0 / 2.0;

@@ -5,8 +5,10 @@
 //! Every parameter vector of zeros is the base model exactly, so a fit
 //! starts from the simulation the user already has.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Location, Result};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::sync::OnceLock;
 
 /// The effects the diagnosis knows, by their names in `effects.md`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -22,169 +24,160 @@ pub enum EffectKind {
     TrackerFrame,
 }
 
-/// One parameter of an effect.
+/// One parameter of an effect: its name, unit and meaning (here, in code)
+/// and its default value (from `data/effects.toml`).
 #[derive(Debug, Clone, Copy)]
 pub struct ParamInfo {
     pub name: &'static str,
     pub unit: &'static str,
     pub what: &'static str,
     /// Value used by `simulate` when the user gives none: a magnitude that
-    /// moves the IRB 140's flange by a few hundredths to tenths of a mm.
+    /// moves the IRB 140's flange by a few hundredths to tenths of a mm
+    /// (`data/effects.toml`).
     pub default: f64,
 }
 
-const fn p(name: &'static str, unit: &'static str, what: &'static str, default: f64) -> ParamInfo {
-    ParamInfo {
-        name,
-        unit,
-        what,
-        default,
-    }
+/// What the code says about a parameter: everything but its default.
+#[derive(Debug, Clone, Copy)]
+struct ParamText {
+    name: &'static str,
+    unit: &'static str,
+    what: &'static str,
 }
 
-const EXPANSION: &[ParamInfo] = &[
-    p("dk_base", "1", "k - 1 of the base link (c1, a1)", -0.5),
-    p("dk_lower", "1", "k - 1 of the lower arm (c2)", -0.6),
-    p("dk_upper", "1", "k - 1 of the upper arm (c3)", -0.6),
-    p("dk_wrist", "1", "k - 1 of the wrist (c4)", -0.5),
+const fn p(name: &'static str, unit: &'static str, what: &'static str) -> ParamText {
+    ParamText { name, unit, what }
+}
+
+/// The default magnitude of every effect parameter, by effect and name.
+pub const EFFECT_DEFAULTS_TOML: &str = include_str!("../../data/effects.toml");
+
+const EXPANSION: &[ParamText] = &[
+    p("dk_base", "1", "k - 1 of the base link (c1, a1)"),
+    p("dk_lower", "1", "k - 1 of the lower arm (c2)"),
+    p("dk_upper", "1", "k - 1 of the upper arm (c3)"),
+    p("dk_wrist", "1", "k - 1 of the wrist (c4)"),
 ];
-const LAG: &[ParamInfo] = &[
+const LAG: &[ParamText] = &[
     p(
         "tau_base_min",
         "min",
         "time constant of the base link's structure temperature behind its motors'",
-        30.0,
     ),
-    p("tau_lower_min", "min", "same, lower arm", 30.0),
-    p("tau_upper_min", "min", "same, upper arm", 30.0),
-    p("tau_wrist_min", "min", "same, wrist", 30.0),
+    p("tau_lower_min", "min", "same, lower arm"),
+    p("tau_upper_min", "min", "same, upper arm"),
+    p("tau_wrist_min", "min", "same, wrist"),
 ];
-const BENDING: &[ParamInfo] = &[
+const BENDING: &[ParamText] = &[
     p(
         "lower_urad_per_k",
         "urad/K",
         "tip rotation kL of the lower arm per K of its temperature rise",
-        20.0,
     ),
     p(
         "upper_urad_per_k",
         "urad/K",
         "tip rotation kL of the upper arm per K of its temperature rise",
-        30.0,
     ),
 ];
-const JOINT_DRIFT: &[ParamInfo] = &[
+const JOINT_DRIFT: &[ParamText] = &[
     p(
         "c1_urad_per_k",
         "urad/K",
         "axis-1 zero drift per K of motor 1",
-        20.0,
     ),
     p(
         "c2_urad_per_k",
         "urad/K",
         "axis-2 zero drift per K of motor 2",
-        30.0,
     ),
     p(
         "c3_urad_per_k",
         "urad/K",
         "axis-3 zero drift per K of motor 3",
-        -30.0,
     ),
     p(
         "c4_urad_per_k",
         "urad/K",
         "axis-4 zero drift per K of motor 4",
-        20.0,
     ),
     p(
         "c5_urad_per_k",
         "urad/K",
         "axis-5 zero drift per K of motor 5",
-        20.0,
     ),
     p(
         "c6_urad_per_k",
         "urad/K",
         "axis-6 zero drift per K of motor 6",
-        20.0,
     ),
 ];
-const MOUNT: &[ParamInfo] = &[
+const MOUNT: &[ParamText] = &[
     p(
         "x_um_per_k",
         "um/K",
         "base shift along x per K of motor-1 rise",
-        1.0,
     ),
     p(
         "y_um_per_k",
         "um/K",
         "base shift along y per K of motor-1 rise",
-        1.0,
     ),
     p(
         "z_um_per_k",
         "um/K",
         "base shift along z per K of motor-1 rise",
-        5.0,
     ),
-    p("rx_urad_per_k", "urad/K", "base tilt about x per K", 2.0),
-    p("ry_urad_per_k", "urad/K", "base tilt about y per K", 2.0),
+    p("rx_urad_per_k", "urad/K", "base tilt about x per K"),
+    p("ry_urad_per_k", "urad/K", "base tilt about y per K"),
 ];
-const SAG: &[ParamInfo] = &[
+const SAG: &[ParamText] = &[
     p(
         "axis2_lower_urad",
         "urad",
         "axis-2 twist at the lower arm horizontal (lever c2*sin q2)",
-        100.0,
     ),
     p(
         "axis2_upper_urad",
         "urad",
         "axis-2 twist from the upper arm's weight at it horizontal (lever cos(q2+q3))",
-        150.0,
     ),
     p(
         "axis3_urad",
         "urad",
         "axis-3 twist with the upper arm horizontal (lever cos(q2+q3))",
-        120.0,
     ),
 ];
-const GEOMETRY: &[ParamInfo] = &[
-    p("dc1_mm", "mm", "error of c1", 0.1),
-    p("da1_mm", "mm", "error of a1", -0.05),
-    p("dc2_mm", "mm", "error of c2", 0.08),
-    p("dc3_mm", "mm", "error of c3", -0.1),
-    p("dc4_mm", "mm", "error of c4", 0.05),
-    p("dq1_mrad", "mrad", "zero offset of axis 1", 0.1),
-    p("dq2_mrad", "mrad", "zero offset of axis 2", -0.15),
-    p("dq3_mrad", "mrad", "zero offset of axis 3", 0.1),
-    p("dq4_mrad", "mrad", "zero offset of axis 4", 0.2),
-    p("dq5_mrad", "mrad", "zero offset of axis 5", -0.2),
-    p("dq6_mrad", "mrad", "zero offset of axis 6", 0.3),
+const GEOMETRY: &[ParamText] = &[
+    p("dc1_mm", "mm", "error of c1"),
+    p("da1_mm", "mm", "error of a1"),
+    p("dc2_mm", "mm", "error of c2"),
+    p("dc3_mm", "mm", "error of c3"),
+    p("dc4_mm", "mm", "error of c4"),
+    p("dq1_mrad", "mrad", "zero offset of axis 1"),
+    p("dq2_mrad", "mrad", "zero offset of axis 2"),
+    p("dq3_mrad", "mrad", "zero offset of axis 3"),
+    p("dq4_mrad", "mrad", "zero offset of axis 4"),
+    p("dq5_mrad", "mrad", "zero offset of axis 5"),
+    p("dq6_mrad", "mrad", "zero offset of axis 6"),
     p(
         "da2_mm",
         "mm",
         "offset of the wrist centre across the upper arm (a2)",
-        0.05,
     ),
     p(
         "db_mm",
         "mm",
         "lateral offset of the arm plane from axis 1 (b)",
-        -0.05,
     ),
 ];
-const TRACKER: &[ParamInfo] = &[
-    p("x_mm", "mm", "tracker frame origin x", 0.2),
-    p("y_mm", "mm", "tracker frame origin y", -0.1),
-    p("z_mm", "mm", "tracker frame origin z", 0.15),
-    p("rx_mrad", "mrad", "tracker frame rotation about x", 0.1),
-    p("ry_mrad", "mrad", "tracker frame rotation about y", -0.1),
-    p("rz_mrad", "mrad", "tracker frame rotation about z", 0.2),
+const TRACKER: &[ParamText] = &[
+    p("x_mm", "mm", "tracker frame origin x"),
+    p("y_mm", "mm", "tracker frame origin y"),
+    p("z_mm", "mm", "tracker frame origin z"),
+    p("rx_mrad", "mrad", "tracker frame rotation about x"),
+    p("ry_mrad", "mrad", "tracker frame rotation about y"),
+    p("rz_mrad", "mrad", "tracker frame rotation about z"),
 ];
 
 impl EffectKind {
@@ -218,7 +211,13 @@ impl EffectKind {
             .find(|k| k.name().eq_ignore_ascii_case(name.trim()))
     }
 
+    /// The parameters of this effect, with their defaults.
     pub fn params(self) -> &'static [ParamInfo] {
+        &effect_params()[self as usize]
+    }
+
+    /// Names, units and meanings of this effect's parameters.
+    fn texts(self) -> &'static [ParamText] {
         match self {
             EffectKind::ExpansionScale => EXPANSION,
             EffectKind::ThermalLag => LAG,
@@ -257,6 +256,71 @@ impl EffectKind {
             }
         }
     }
+}
+
+/// Every effect's parameters with their defaults (indexed by
+/// `EffectKind as usize`, the order of [`EffectKind::ALL`]), built once per
+/// process from the embedded `data/effects.toml`. A unit test parses the
+/// embedded file, so the `expect` cannot fire on a tested build.
+fn effect_params() -> &'static [Vec<ParamInfo>] {
+    static PARAMS: OnceLock<Vec<Vec<ParamInfo>>> = OnceLock::new();
+    PARAMS.get_or_init(|| {
+        parse_defaults("data/effects.toml", EFFECT_DEFAULTS_TOML)
+            .expect("the embedded data/effects.toml gives every effect parameter a default")
+    })
+}
+
+/// The parameter tables of every effect (in the order of
+/// [`EffectKind::ALL`]) with the defaults of `text`, an `effects.toml`
+/// (`file` names it in messages): a table per effect name, a value per
+/// parameter name. Every parameter needs exactly one finite default;
+/// unknown effects and parameters are refused.
+fn parse_defaults(file: &str, text: &str) -> Result<Vec<Vec<ParamInfo>>> {
+    let mut given: BTreeMap<String, BTreeMap<String, f64>> = toml::from_str(text).map_err(|e| {
+        let err = Error::input(format!("effect defaults: {}", e.message()));
+        match e.span() {
+            Some(span) => err.at(Location::from_offset(file, text.as_bytes(), span.start)),
+            None => err.with_note(format!("in {file}")),
+        }
+    })?;
+    let bad = |msg: String| Error::input(format!("{file}: effect defaults: {msg}"));
+    let mut all = Vec::with_capacity(EffectKind::ALL.len());
+    for (i, kind) in EffectKind::ALL.into_iter().enumerate() {
+        debug_assert_eq!(kind as usize, i);
+        let mut values = given
+            .remove(kind.name())
+            .ok_or_else(|| bad(format!("no table [{}]", kind.name())))?;
+        let mut params = Vec::with_capacity(kind.texts().len());
+        for t in kind.texts() {
+            let default = values
+                .remove(t.name)
+                .ok_or_else(|| bad(format!("[{}] has no default for `{}`", kind.name(), t.name)))?;
+            if !default.is_finite() {
+                return Err(bad(format!(
+                    "[{}] {} must be a finite number",
+                    kind.name(),
+                    t.name
+                )));
+            }
+            params.push(ParamInfo {
+                name: t.name,
+                unit: t.unit,
+                what: t.what,
+                default,
+            });
+        }
+        if let Some(extra) = values.keys().next() {
+            return Err(bad(format!(
+                "effect `{}` has no parameter `{extra}`",
+                kind.name()
+            )));
+        }
+        all.push(params);
+    }
+    if let Some(extra) = given.keys().next() {
+        return Err(bad(format!("unknown effect `{extra}`")));
+    }
+    Ok(all)
 }
 
 /// Index meaning "every thermal-lag time constant" (`tau_min`).
@@ -398,6 +462,50 @@ mod tests {
         assert_relative_eq!(pert.dlen[2], -360.0 * 21.8e-6 * 10.0, epsilon = 1e-12);
         assert_eq!(pert.dlen[0], 0.0);
         assert_eq!(pert.dlen[3], 0.0);
+    }
+
+    #[test]
+    fn embedded_defaults_cover_every_parameter_exactly_once() {
+        let all = parse_defaults("data/effects.toml", EFFECT_DEFAULTS_TOML).unwrap();
+        assert_eq!(all.len(), EffectKind::ALL.len());
+        for kind in EffectKind::ALL {
+            let params = kind.params();
+            let names: Vec<&str> = params.iter().map(|p| p.name).collect();
+            let texts: Vec<&str> = kind.texts().iter().map(|t| t.name).collect();
+            assert_eq!(names, texts, "{}", kind.name());
+            assert_eq!(all[kind as usize].len(), params.len());
+            for (a, b) in all[kind as usize].iter().zip(params) {
+                assert_eq!(a.default.to_bits(), b.default.to_bits(), "{}", a.name);
+                assert!(a.default.is_finite() && a.default != 0.0, "{}", a.name);
+            }
+        }
+        // The defaults the tests and transcripts were written with.
+        assert_eq!(
+            Effect::with_defaults(EffectKind::ArmBending).params,
+            vec![20.0, 30.0]
+        );
+        assert_eq!(
+            Effect::with_defaults(EffectKind::ThermalLag).params,
+            vec![30.0; 4]
+        );
+    }
+
+    #[test]
+    fn effect_defaults_refuse_missing_duplicate_and_unknown_names() {
+        let text = EFFECT_DEFAULTS_TOML;
+        let missing = text.replace("dk_wrist = -0.5\n", "");
+        let e = parse_defaults("e.toml", &missing).unwrap_err();
+        assert!(e.message.contains("dk_wrist"), "{}", e.message);
+        let duplicate = text.replace("dk_wrist = -0.5\n", "dk_wrist = -0.5\ndk_wrist = 1.0\n");
+        assert!(parse_defaults("e.toml", &duplicate).is_err());
+        let unknown = text.replace("dk_wrist = -0.5\n", "dk_wrist = -0.5\ndk_elbow = 1.0\n");
+        let e = parse_defaults("e.toml", &unknown).unwrap_err();
+        assert!(e.message.contains("dk_elbow"), "{}", e.message);
+        let effect = format!("{text}\n[warp-drive]\nfactor = 9.0\n");
+        let e = parse_defaults("e.toml", &effect).unwrap_err();
+        assert!(e.message.contains("warp-drive"), "{}", e.message);
+        let e = parse_defaults("e.toml", "[arm-bending\n").unwrap_err();
+        assert!(e.message.contains("effect defaults"), "{}", e.message);
     }
 
     #[test]

@@ -35,23 +35,12 @@ pub struct ThermalExpansion {
     pub wrist: LinkThermal,
 }
 
-/// Aluminium alloy A380 (NADCA typical value), 1/K.
-pub const ALPHA_A380: f64 = 21.8e-6;
-
 impl Default for ThermalExpansion {
-    /// The table of `irb140.md`: T_ref 7 °C, A380 everywhere.
+    /// The thermal section of the embedded default model
+    /// (`data/irb140/model.toml`): the table of `irb140.md`, T_ref 7 °C,
+    /// A380 everywhere.
     fn default() -> Self {
-        let link = |motors: &[usize]| LinkThermal {
-            alpha: ALPHA_A380,
-            motors: motors.to_vec(),
-        };
-        ThermalExpansion {
-            t_ref: 7.0,
-            base: link(&[1]),
-            lower_arm: link(&[2, 3]),
-            upper_arm: link(&[4, 5, 6]),
-            wrist: link(&[5, 6]),
-        }
+        super::file::default_model().thermal.clone()
     }
 }
 
@@ -153,14 +142,15 @@ impl ThermalExpansion {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::robot::IRB140;
+    use crate::robot::irb140_opw;
     use approx::assert_relative_eq;
 
     #[test]
     fn expansion_at_reference_temperature_is_nominal() {
         let th = ThermalExpansion::default();
-        assert_eq!(th.expand(&IRB140, &[7.0; 6]), IRB140);
-        let warm = th.expand(&IRB140, &[17.0; 6]);
+        let nominal = irb140_opw();
+        assert_eq!(th.expand(&nominal, &[7.0; 6]), nominal);
+        let warm = th.expand(&nominal, &[17.0; 6]);
         assert_relative_eq!(warm.c2, 360.0 * (1.0 + 21.8e-6 * 10.0), epsilon = 1e-12);
     }
 }

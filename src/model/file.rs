@@ -27,13 +27,14 @@ use super::effects::{Effect, EffectKind};
 use super::expansion::ThermalExpansion;
 use super::perturb::Base;
 use crate::error::{Error, ErrorKind, Location, Result};
-use crate::robot::{Opw, IRB140};
+use crate::robot::Opw;
 use crate::thermal::{
     default_profile, FittedProfile, HeatingProfile, HeatingRecord, ModelKind, RecordedProfile,
 };
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -100,19 +101,25 @@ pub struct EffectEntry {
     pub stderr: BTreeMap<String, f64>,
 }
 
+/// The embedded default model: the nominal IRB 140 with the base thermal
+/// model of `irb140.md`, in the model-file format (`data/irb140/model.toml`).
+pub const DEFAULT_MODEL_TOML: &str = include_str!("../../data/irb140/model.toml");
+
+/// The embedded default model, parsed once per process. A unit test parses
+/// the embedded file, so the `expect` cannot fire on a tested build.
+pub(crate) fn default_model() -> &'static Model {
+    static MODEL: OnceLock<Model> = OnceLock::new();
+    MODEL.get_or_init(|| {
+        Model::parse("data/irb140/model.toml", DEFAULT_MODEL_TOML)
+            .expect("the embedded data/irb140/model.toml is a valid model file")
+    })
+}
+
 impl Default for Model {
-    /// The nominal IRB 140 with the base thermal model of `irb140.md`.
+    /// The nominal IRB 140 with the base thermal model of `irb140.md`
+    /// (`data/irb140/model.toml`).
     fn default() -> Self {
-        Model {
-            robot: RobotSection {
-                name: "IRB 140".to_string(),
-                opw: IRB140,
-            },
-            thermal: ThermalExpansion::default(),
-            heating: HeatingSection::default(),
-            effects: Vec::new(),
-            dir: None,
-        }
+        default_model().clone()
     }
 }
 
@@ -275,7 +282,49 @@ mod tests {
                 lagged: None,
             },
         );
-        assert!((base.translation.vector - IRB140.fk(&q).translation.vector).norm() < 1e-9);
+        assert!(
+            (base.translation.vector - crate::robot::irb140_opw().fk(&q).translation.vector).norm()
+                < 1e-9
+        );
+    }
+
+    #[test]
+    fn embedded_default_model_is_the_spec() {
+        let m = Model::parse("model.toml", DEFAULT_MODEL_TOML).unwrap();
+        assert_eq!(&m, default_model());
+        assert_eq!(m, Model::default());
+        assert_eq!(m.robot.name, "IRB 140");
+        // irb140.md, "Geometry" (mm).
+        let spec = Opw {
+            c1: 352.0,
+            a1: 70.0,
+            c2: 360.0,
+            c3: 380.0,
+            c4: 65.0,
+            a2: 0.0,
+            b: 0.0,
+        };
+        assert_eq!(m.robot.opw, spec);
+        // The same numbers as the embedded URDF's chain, bit for bit.
+        assert_eq!(m.robot.opw, crate::robot::irb140_opw());
+        // irb140.md, "Materials" and "Base thermal-expansion model".
+        let th = &m.thermal;
+        assert_eq!(th.t_ref, 7.0);
+        for (link, motors) in [
+            (&th.base, vec![1]),
+            (&th.lower_arm, vec![2, 3]),
+            (&th.upper_arm, vec![4, 5, 6]),
+            (&th.wrist, vec![5, 6]),
+        ] {
+            assert_eq!(link.alpha, 21.8e-6);
+            assert_eq!(link.motors, motors);
+        }
+        assert_eq!(ThermalExpansion::default(), m.thermal);
+        assert_eq!(m.heating, HeatingSection::default());
+        assert!(m.effects.is_empty());
+        assert_eq!(m.dir, None);
+        // The default heating profile starts at T_ref exactly.
+        assert_eq!(crate::thermal::default_heating().t0_c, th.t_ref);
     }
 
     #[test]

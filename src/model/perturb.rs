@@ -19,7 +19,7 @@ pub struct Base {
 impl Default for Base {
     fn default() -> Self {
         Base {
-            nominal: crate::robot::IRB140,
+            nominal: crate::robot::irb140_opw(),
             thermal: ThermalExpansion::default(),
         }
     }

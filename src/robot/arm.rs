@@ -3,15 +3,14 @@
 //! limits and speeds. A warm arm is the same arm with its segments scaled
 //! ([`LinkScales`]); what scales them (temperatures) is the model's business.
 
-use super::chain::{Chain, ChainJoint};
+use super::chain::Chain;
 use super::conf::{CfxBits, RobConf};
 use super::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions};
 use super::urdf::{self, IRB140_URDF};
-use super::{Joints, LinkScales, IRB140};
+use super::{Joints, LinkScales, Opw};
 use crate::error::{Error, ErrorKind, Result};
-use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
-use std::f64::consts::FRAC_PI_2;
+use nalgebra::Isometry3;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -26,58 +25,31 @@ pub struct Robot {
     pub max_speed_deg_s: [f64; 6],
 }
 
-impl Robot {
-    /// The ABB IRB 140 from the embedded URDF (parsed once per process).
-    pub fn irb140() -> Robot {
-        static IRB140_ROBOT: OnceLock<Robot> = OnceLock::new();
-        IRB140_ROBOT
-            .get_or_init(|| {
-                // The embedded file is tested to parse to exactly the
-                // built-in model; the fallback only keeps this infallible.
-                Robot::from_urdf_str("irb140.urdf", IRB140_URDF)
-                    .unwrap_or_else(|_| Robot::irb140_builtin())
-            })
-            .clone()
-    }
+/// The embedded IRB 140, parsed once per process. Tests parse the embedded
+/// file and check it against the spec (`tests/robot_kinematics.rs`), so the
+/// `expect` cannot fire on a tested build.
+fn irb140_ref() -> &'static Robot {
+    static IRB140_ROBOT: OnceLock<Robot> = OnceLock::new();
+    IRB140_ROBOT.get_or_init(|| {
+        Robot::from_urdf_str("irb140.urdf", IRB140_URDF)
+            .expect("the embedded data/irb140/irb140.urdf is a readable six-axis arm")
+    })
+}
 
-    /// The IRB 140 built from the spec's numbers in code (the reference the
-    /// embedded URDF is tested against).
-    pub fn irb140_builtin() -> Robot {
-        let d = f64::to_radians;
-        let joint = |name: &str, xyz: [f64; 3], axis: Vector3<f64>| ChainJoint {
-            name: name.to_string(),
-            origin: Isometry3::translation(xyz[0], xyz[1], xyz[2]),
-            axis: Unit::new_normalize(axis),
-        };
-        let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
-        let o = IRB140;
-        Robot {
-            name: "abb_irb140".into(),
-            chain: Chain {
-                joints: [
-                    joint("joint_1", [0.0, 0.0, 0.0], z),
-                    joint("joint_2", [o.a1, 0.0, o.c1], y),
-                    joint("joint_3", [0.0, 0.0, o.c2], y),
-                    joint("joint_4", [0.0, 0.0, 0.0], x),
-                    joint("joint_5", [o.c3, 0.0, 0.0], y),
-                    joint("joint_6", [o.c4, 0.0, 0.0], x),
-                ],
-                tip: Isometry3::from_parts(
-                    Translation3::identity(),
-                    UnitQuaternion::from_axis_angle(&Vector3::y_axis(), FRAC_PI_2),
-                ),
-            },
-            opw: Ok(OpwArm::abb(IRB140)),
-            limits: [
-                (d(-180.0), d(180.0)),
-                (d(-90.0), d(110.0)),
-                (d(-230.0), d(50.0)),
-                (d(-200.0), d(200.0)),
-                (d(-115.0), d(115.0)),
-                (d(-400.0), d(400.0)),
-            ],
-            max_speed_deg_s: [200.0, 200.0, 260.0, 360.0, 360.0, 450.0],
-        }
+/// The nominal OPW lengths of the IRB 140, mm: those of the embedded URDF
+/// (`data/irb140/irb140.urdf`), extracted from its chain when it is parsed.
+pub fn irb140_opw() -> Opw {
+    match &irb140_ref().opw {
+        Ok(arm) => arm.geom,
+        Err(why) => panic!("the embedded data/irb140/irb140.urdf has no OPW form: {why}"),
+    }
+}
+
+impl Robot {
+    /// The ABB IRB 140 from the embedded URDF (`data/irb140/irb140.urdf`,
+    /// parsed once per process).
+    pub fn irb140() -> Robot {
+        irb140_ref().clone()
     }
 
     /// Any serial six-axis arm from URDF text.

@@ -12,7 +12,8 @@
 //!
 //! - [`Robot`] (`arm`): the robot with its model; `Robot::irb140()`, `fk`,
 //!   `ik`, `ik_conf`, `conf_of`. What later code calls.
-//! - `urdf`: the embedded IRB 140 URDF and the reader for other arms.
+//! - `urdf`: the embedded IRB 140 URDF (`data/irb140/irb140.urdf`) and the
+//!   reader for other arms; [`irb140_opw`] is its nominal OPW geometry.
 //! - `chain`: forward kinematics of any serial chain, OPW extraction.
 //! - `ik`: the closed-form OPW solution, turns, limits, singularities.
 //! - `conf`: robconf (confdata) and the cfx table.
@@ -25,7 +26,7 @@ pub mod frames;
 pub mod ik;
 pub mod urdf;
 
-pub use arm::Robot;
+pub use arm::{irb140_opw, Robot};
 pub use conf::RobConf;
 pub use frames::{ToolData, WobjData};
 pub use ik::{Solution, Solutions};
@@ -52,17 +53,6 @@ pub struct Opw {
     pub a2: f64,
     pub b: f64,
 }
-
-/// Nominal ABB IRB 140 (`shared/spec/irb140.md`).
-pub const IRB140: Opw = Opw {
-    c1: 352.0,
-    a1: 70.0,
-    c2: 360.0,
-    c3: 380.0,
-    c4: 65.0,
-    a2: 0.0,
-    b: 0.0,
-};
 
 /// ABB's axis 3 is zero with the upper arm horizontal; OPW's with it in line
 /// with the lower arm: θ3 = q3 + 90°.

@@ -26,7 +26,9 @@ pub mod table;
 
 pub use fit::{fit_axis, AxisFit, Curve, Metrics, ModelKind};
 pub use lag::{Lagged, TempHistory, LAG_STEP_MIN};
-pub use profile::{default_profile, FittedProfile, SaturatingProfile, COLD_START_C};
+pub use profile::{
+    default_heating, default_profile, DefaultHeating, FittedProfile, SaturatingProfile,
+};
 pub use record::{HeatingRecord, RecordedProfile};
 
 use crate::error::Result;

@@ -1,12 +1,14 @@
 //! Heating profiles built from fitted curves, and the embedded default
-//! profile of the IRB 140 at 60 % speed.
+//! profile of the IRB 140 at 60 % speed (`data/irb140/heating.toml`).
 
 use super::fit::{fit_axis, AxisFit, Curve, ModelKind};
 use super::record::HeatingRecord;
 use super::saturating::{SatCurve, SatTerm};
 use super::HeatingProfile;
-use crate::error::{Error, Result};
+use crate::error::{Error, Location, Result};
 use crate::thermal::MotorTemps;
+use serde::Deserialize;
+use std::sync::OnceLock;
 
 /// One fitted curve per axis. A polynomial axis refuses times outside its
 /// window (never a silent extrapolation).
@@ -81,71 +83,142 @@ impl HeatingProfile for SaturatingProfile {
     }
 }
 
-/// Temperature of every motor at the cold start of the reference recording
-/// (a cold laboratory), and the T_ref of the base thermal model: the default
-/// profile starts here exactly.
-pub const COLD_START_C: f64 = 7.0;
+/// The embedded default heating profile (`data/irb140/heating.toml`): the
+/// IRB 140 at 60 % of maximum speed from a cold start.
+pub const DEFAULT_HEATING_TOML: &str = include_str!("../../data/irb140/heating.toml");
 
-/// The model kind of the embedded default profile (chosen by held-out error
-/// on the reference sample; see the README and `tests/thermal_default.rs`).
-pub const DEFAULT_KIND: ModelKind = ModelKind::TwoTau;
+/// The default heating profile's numbers, as `data/irb140/heating.toml`
+/// gives them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DefaultHeating {
+    /// The model kind (two-tau: chosen by held-out error on the reference
+    /// sample; see `tests/thermal_sample.rs`).
+    pub kind: ModelKind,
+    /// Temperature of every motor at the cold start of the reference
+    /// recording (a cold laboratory), °C: the T_ref of the default model,
+    /// where the profile starts exactly.
+    pub t0_c: f64,
+    /// (ΔT1 °C, τ1 min, ΔT2 °C, τ2 min) per axis: the two-time-constant
+    /// model fitted to `samples/heating_irb140_60pct.csv` with T(0) pinned
+    /// (the command is in the data file's header).
+    pub params: [[f64; 4]; 6],
+}
 
-/// (ΔT1, τ1, ΔT2, τ2) per axis, °C and minutes: the two-time-constant model
-/// fitted to `samples/heating_irb140_60pct.csv` with T(0) pinned at 7.0 °C
-/// (`rapidtherm heating fit samples/heating_irb140_60pct.csv --model two-tau
-/// --pin-t0 7 --format json`), full precision as printed there.
-pub const DEFAULT_PARAMS: [[f64; 4]; 6] = [
-    [
-        0.6268076010648681,
-        7.5437646729631815,
-        11.256018695448029,
-        37.78926238979746,
-    ],
-    [
-        4.05576694492353,
-        14.079930902697969,
-        12.03462788326077,
-        80.4829413085255,
-    ],
-    [
-        2.885975598991207,
-        14.049158982161172,
-        10.204132850347094,
-        79.85977583594334,
-    ],
-    [
-        4.794876349606954,
-        14.08587280584746,
-        11.068642940897131,
-        75.54269119115092,
-    ],
-    [
-        6.551277808856958,
-        12.938995947687841,
-        15.371125106994937,
-        69.82350195437833,
-    ],
-    [
-        7.968574470189919,
-        11.978324555714916,
-        17.00811052474162,
-        64.82131192750644,
-    ],
-];
+/// `data/irb140/heating.toml` as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct HeatingFile {
+    kind: String,
+    t0_c: f64,
+    axes: Vec<TwoTauAxis>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TwoTauAxis {
+    dt1_c: f64,
+    tau1_min: f64,
+    dt2_c: f64,
+    tau2_min: f64,
+}
+
+/// Parse a default-heating file (`file` names it in messages).
+fn parse_default_heating(file: &str, text: &str) -> Result<DefaultHeating> {
+    let f: HeatingFile = toml::from_str(text).map_err(|e| {
+        let err = Error::input(format!("heating profile: {}", e.message()));
+        match e.span() {
+            Some(span) => err.at(Location::from_offset(file, text.as_bytes(), span.start)),
+            None => err.with_note(format!("in {file}")),
+        }
+    })?;
+    let bad = |msg: String| Error::input(format!("{file}: heating profile: {msg}"));
+    let kind: ModelKind = f.kind.parse()?;
+    if kind != ModelKind::TwoTau {
+        return Err(bad(format!("kind must be two-tau (got {kind})")));
+    }
+    if !f.t0_c.is_finite() {
+        return Err(bad("t0_c must be a finite temperature".into()));
+    }
+    let n = f.axes.len();
+    let axes: [TwoTauAxis; 6] = f
+        .axes
+        .try_into()
+        .map_err(|_| bad(format!("six [[axes]] are needed (got {n})")))?;
+    let mut params = [[0.0; 4]; 6];
+    for (i, (a, out)) in axes.iter().zip(&mut params).enumerate() {
+        *out = [a.dt1_c, a.tau1_min, a.dt2_c, a.tau2_min];
+        if !out.iter().all(|v| v.is_finite()) || a.tau1_min <= 0.0 || a.tau2_min <= 0.0 {
+            return Err(bad(format!(
+                "axis {}: finite values and positive time constants are needed",
+                i + 1
+            )));
+        }
+    }
+    Ok(DefaultHeating {
+        kind,
+        t0_c: f.t0_c,
+        params,
+    })
+}
+
+/// The embedded default heating profile's numbers, parsed once per process.
+/// A unit test parses the embedded file, so the `expect` cannot fire on a
+/// tested build.
+pub fn default_heating() -> &'static DefaultHeating {
+    static HEATING: OnceLock<DefaultHeating> = OnceLock::new();
+    HEATING.get_or_init(|| {
+        parse_default_heating("data/irb140/heating.toml", DEFAULT_HEATING_TOML)
+            .expect("the embedded data/irb140/heating.toml is a valid two-tau profile")
+    })
+}
 
 /// The profile used when the user gives no recording: IRB 140 at 60 % of
-/// maximum speed, from a cold start at 7.0 °C.
+/// maximum speed, from a cold start at T_ref (`data/irb140/heating.toml`).
 pub fn default_profile() -> SaturatingProfile {
+    let h = default_heating();
     SaturatingProfile {
         axes: std::array::from_fn(|i| {
-            let [d1, t1, d2, t2] = DEFAULT_PARAMS[i];
+            let [d1, t1, d2, t2] = h.params[i];
             SatCurve {
-                t0: COLD_START_C,
+                t0: h.t0_c,
                 terms: vec![
                     SatTerm { delta: d1, tau: t1 },
                     SatTerm { delta: d2, tau: t2 },
                 ],
             }
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn embedded_heating_parses() {
+        let h = parse_default_heating("heating.toml", DEFAULT_HEATING_TOML).unwrap();
+        assert_eq!(&h, default_heating());
+        assert_eq!(h.kind, ModelKind::TwoTau);
+        // The cold start of the reference recording (reference.md), the
+        // default model's T_ref.
+        assert_eq!(h.t0_c, 7.0);
+        assert_eq!(h.params[0][0], 0.6268076010648681);
+        assert_eq!(h.params[5][3], 64.82131192750644);
+    }
+
+    #[test]
+    fn bad_heating_files_are_errors() {
+        let text = DEFAULT_HEATING_TOML;
+        for bad in [
+            text.replace("kind = \"two-tau\"", "kind = \"poly3\""),
+            text.replace("t0_c = 7.0", "t0_c = nan"),
+            text.replace("tau2_min = 64.82131192750644", "tau2_min = -1.0"),
+            text.replace("tau2_min = 64.82131192750644", "tau3_min = 1.0"),
+            text.replace("[[axes]]  # axis 6", "[extra]"),
+            "kind = \"two-tau\"\nt0_c = 7.0\naxes = []\n".to_string(),
+        ] {
+            assert_ne!(bad, text);
+            assert!(parse_default_heating("h.toml", &bad).is_err(), "{bad}");
+        }
     }
 }

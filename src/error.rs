@@ -28,6 +28,47 @@ pub enum ErrorKind {
     Usage,
 }
 
+/// What the user can do about an error. The library names the remedy; the
+/// CLI words it with its own flags (the library never names a flag), and
+/// [`Error`]'s `Display` words it without them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Remedy {
+    /// Several procedures could be the entry of the program's walk: name
+    /// one.
+    ChooseEntry,
+    /// The program cannot be walked to a schedule: give the schedule of the
+    /// real run.
+    GiveSchedule,
+    /// A schedule lacks a target: give a time for the targets it does not
+    /// list.
+    GiveDefaultTime,
+    /// A model without a steady state: give a minute of the warm-up.
+    GiveMinute,
+    /// A polynomial heating curve has no steady state: fit a saturating one,
+    /// or give a minute.
+    FitSaturatingOrGiveMinute,
+    /// A minute outside a heating recording: fit a saturating model to it.
+    FitBeyondRecording,
+}
+
+impl Remedy {
+    /// The remedy in the library's own words (no flags), for `Display`.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Remedy::ChooseEntry => " (choose the entry routine)",
+            Remedy::GiveSchedule => ": give the schedule of the run instead",
+            Remedy::GiveDefaultTime => " (add it, or give a default time)",
+            Remedy::GiveMinute => ": give a minute of the warm-up",
+            Remedy::FitSaturatingOrGiveMinute => {
+                ": fit a saturating model (first-order, two-tau) or give a minute of the warm-up"
+            }
+            Remedy::FitBeyondRecording => {
+                "; fit a saturating model to predict beyond it, or hold the end values explicitly"
+            }
+        }
+    }
+}
+
 /// A place in a source file. `line` and `col` are 1-based; `col` counts
 /// characters (Latin-1 bytes count as one character each).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -80,6 +121,10 @@ pub struct Error {
     pub location: Option<Location>,
     /// Extra lines shown after the caret (for example what was expected).
     pub notes: Vec<String>,
+    /// What the user can do, and the line it completes: the message
+    /// (`None`) or the note of that index. (Small on purpose: every
+    /// `Result` of the library carries an `Error`'s size.)
+    pub remedy: Option<(Remedy, Option<u16>)>,
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
@@ -91,7 +136,52 @@ impl Error {
             message: message.into(),
             location: None,
             notes: Vec::new(),
+            remedy: None,
         }
+    }
+
+    /// The remedy completes the line written last (the message, or the
+    /// latest note).
+    pub fn with_remedy(mut self, remedy: Remedy) -> Error {
+        let last_note = self.notes.len().checked_sub(1);
+        self.remedy = Some((remedy, last_note.and_then(|i| u16::try_from(i).ok())));
+        self
+    }
+
+    /// The error as `Display` shows it, with each remedy in `word`'s
+    /// words: the CLI passes its own, which name its flags.
+    pub fn render(&self, word: &dyn Fn(Remedy) -> &'static str) -> String {
+        let suffix = |line: Option<usize>| match self.remedy {
+            Some((r, at)) if at.map(usize::from) == line => word(r),
+            _ => "",
+        };
+        let mut out = String::new();
+        let message = format!("{}{}", self.message, suffix(None));
+        match &self.location {
+            Some(loc) => {
+                out.push_str(&format!(
+                    "{}:{}:{}: error: {message}",
+                    loc.file, loc.line, loc.col
+                ));
+                if !loc.line_text.is_empty() {
+                    let gutter = loc.line.to_string().len();
+                    out.push_str(&format!("\n{:gutter$} |", ""));
+                    out.push_str(&format!("\n{} | {}", loc.line, loc.line_text));
+                    let pad: String = loc
+                        .line_text
+                        .chars()
+                        .take(loc.col.saturating_sub(1))
+                        .map(|c| if c == '\t' { '\t' } else { ' ' })
+                        .collect();
+                    out.push_str(&format!("\n{:gutter$} | {}^", "", pad));
+                }
+            }
+            None => out.push_str(&format!("error: {message}")),
+        }
+        for (i, note) in self.notes.iter().enumerate() {
+            out.push_str(&format!("\n  = {note}{}", suffix(Some(i))));
+        }
+        out
     }
 
     pub fn at(mut self, location: Location) -> Error {
@@ -132,32 +222,7 @@ impl fmt::Display for Error {
     /// column, then notes: the layout of rustc and most compilers, which
     /// editors turn into clickable locations.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.location {
-            Some(loc) => {
-                write!(
-                    f,
-                    "{}:{}:{}: error: {}",
-                    loc.file, loc.line, loc.col, self.message
-                )?;
-                if !loc.line_text.is_empty() {
-                    let gutter = loc.line.to_string().len();
-                    write!(f, "\n{:gutter$} |", "")?;
-                    write!(f, "\n{} | {}", loc.line, loc.line_text)?;
-                    let pad: String = loc
-                        .line_text
-                        .chars()
-                        .take(loc.col.saturating_sub(1))
-                        .map(|c| if c == '\t' { '\t' } else { ' ' })
-                        .collect();
-                    write!(f, "\n{:gutter$} | {}^", "", pad)?;
-                }
-            }
-            None => write!(f, "error: {}", self.message)?,
-        }
-        for note in &self.notes {
-            write!(f, "\n  = {note}")?;
-        }
-        Ok(())
+        f.write_str(&self.render(&Remedy::describe))
     }
 }
 
@@ -177,6 +242,27 @@ mod tests {
         let loc = Location::from_offset("a.mod", src, off);
         assert_eq!((loc.line, loc.col), (2, 6));
         assert_eq!(loc.line_text, "  ! été");
+    }
+
+    #[test]
+    fn a_remedy_completes_the_line_it_was_given_for() {
+        let words = |r: Remedy| match r {
+            Remedy::ChooseEntry => " (pick one with --entry)",
+            _ => " (something else)",
+        };
+        let on_note = Error::input("no procedure `main`")
+            .with_note("procedures: a, b")
+            .with_remedy(Remedy::ChooseEntry)
+            .with_note("a later note");
+        assert_eq!(
+            on_note.render(&words),
+            "error: no procedure `main`\n  = procedures: a, b (pick one with --entry)\n  = a later note"
+        );
+        let on_message = Error::input("no time").with_remedy(Remedy::ChooseEntry);
+        assert_eq!(on_message.render(&words), "error: no time (pick one with --entry)");
+        // The library's own words name no flag.
+        assert_eq!(on_message.to_string(), "error: no time (choose the entry routine)");
+        assert!(!on_note.to_string().contains("--"));
     }
 
     #[test]

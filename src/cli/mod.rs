@@ -9,6 +9,7 @@ mod correct;
 mod diagnose;
 mod heating;
 mod kinematics;
+mod messages;
 mod model;
 mod output;
 mod schedule;
@@ -97,7 +98,7 @@ pub fn main() -> ExitCode {
         Ok(Status::Success) => ExitCode::SUCCESS,
         Ok(Status::Changes) => ExitCode::from(1),
         Err(e) => {
-            eprintln!("{e}");
+            eprintln!("{}", messages::error(&e));
             ExitCode::from(2)
         }
     }

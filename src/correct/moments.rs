@@ -2,7 +2,7 @@
 //! (one fixed moment, or its times in a schedule) and which visit counts.
 
 use super::When;
-use crate::error::{Error, Result};
+use crate::error::{Error, Remedy, Result};
 use crate::model::Moment;
 use crate::rapid::Program;
 use crate::schedule::{Schedule, Visit};
@@ -24,12 +24,16 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
             schedule,
             joints,
             default,
-        } => match joints.as_ref().filter(|_| joint).unwrap_or(schedule).times(id) {
+        } => match joints
+            .as_ref()
+            .filter(|_| joint)
+            .unwrap_or(schedule)
+            .times(id)
+        {
             Some(times) => Ok(times.iter().map(|&t| Moment::Minute(t)).collect()),
             None => default.map(|m| vec![m]).ok_or_else(|| {
-                Error::input(format!(
-                    "the schedule has no time for target {id} (add it, or give a default time with --default-time)"
-                ))
+                Error::input(format!("the schedule has no time for target {id}"))
+                    .with_remedy(Remedy::GiveDefaultTime)
             }),
         },
     }

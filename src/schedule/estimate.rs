@@ -3,7 +3,7 @@
 
 use super::walk::{Flow, Walker};
 use super::Schedule;
-use crate::error::{Error, Result};
+use crate::error::{Error, Remedy, Result};
 use crate::rapid::{Program, Routine, RoutineKind};
 use crate::robot::Robot;
 
@@ -162,9 +162,10 @@ pub(super) fn find_entry<'p>(program: &'p Program, entry: &str) -> Result<(usize
     ));
     if !procs.is_empty() {
         e = e.with_note(format!(
-            "procedures without parameters: {} (choose one with --entry)",
+            "procedures without parameters: {}",
             procs.join(", ")
         ));
+        e = e.with_remedy(Remedy::ChooseEntry);
     }
     Err(e)
 }

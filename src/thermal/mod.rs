@@ -47,8 +47,9 @@ pub trait HeatingProfile: Send + Sync {
     fn steady(&self) -> Result<MotorTemps> {
         Err(crate::error::Error::new(
             crate::error::ErrorKind::Unsupported,
-            "this heating model has no steady state (a polynomial or a recording does not saturate): give a time with --at MIN",
-        ))
+            "this heating model has no steady state (a polynomial or a recording does not saturate)",
+        )
+        .with_remedy(crate::error::Remedy::GiveMinute))
     }
 }
 

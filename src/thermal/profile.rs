@@ -53,8 +53,9 @@ impl HeatingProfile for FittedProfile {
                 Curve::Poly(_) => {
                     return Err(Error::new(
                         crate::error::ErrorKind::Unsupported,
-                        "a polynomial heating curve has no steady state: fit a saturating model (first-order, two-tau) or give a time with --at MIN",
-                    ))
+                        "a polynomial heating curve has no steady state",
+                    )
+                    .with_remedy(crate::error::Remedy::FitSaturatingOrGiveMinute))
                 }
             };
         }

@@ -173,7 +173,8 @@ impl HeatingProfile for RecordedProfile {
                     self.file
                 ),
             )
-            .with_note("measured temperatures are only known inside the recorded window; fit a saturating model (`heating fit --model first-order`) to predict beyond it, or hold the end values explicitly"));
+            .with_note("measured temperatures are only known inside the recorded window")
+            .with_remedy(crate::error::Remedy::FitBeyondRecording));
         }
         // First row strictly after t; the segment is [k-1, k].
         let k = self.times.partition_point(|&x| x <= t_min);

@@ -13,7 +13,7 @@ use instant::is_instant_builtin;
 use super::estimate::{FALLBACK_SPEED, MAX_DEPTH, STACK_RED_ZONE, STACK_SEGMENT, STEP_BUDGET};
 use super::timing::*;
 use super::Schedule;
-use crate::error::{Error, ErrorKind, Result};
+use crate::error::{Error, ErrorKind, Remedy, Result};
 use crate::rapid::{
     self, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Motion, MotionKind, Program, Routine,
     RoutineKind, Statement, StatementKind, TargetKind, UnaryOp,
@@ -531,8 +531,9 @@ impl<'p> Walker<'p> {
         if self.steps > STEP_BUDGET {
             return Err(Error::new(
                 ErrorKind::Unsupported,
-                format!("the walk of the program passed {STEP_BUDGET} statements (a loop with a very large count?): give the schedule with --schedule instead"),
+                format!("the walk of the program passed {STEP_BUDGET} statements (a loop with a very large count?)"),
             )
+            .with_remedy(Remedy::GiveSchedule)
             .at(self.location(frame, s)));
         }
         Ok(())

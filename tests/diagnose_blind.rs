@@ -57,7 +57,12 @@ fn scaled(kind: EffectKind, factor: f64) -> Effect {
 fn summary(d: &Diagnosis) -> String {
     format!(
         "verdict {:?}, held-out {:.4} -> {:.4} mm, ambiguous {:?}, partial {:?}, where {:?}",
-        d.verdict, d.gap_before_mm, d.gap_after_mm, d.ambiguous, d.partial, d.where_after.words
+        d.verdict.labels(),
+        d.gap_before_mm,
+        d.gap_after_mm,
+        d.ambiguous,
+        d.partial,
+        d.where_after.words
     )
 }
 
@@ -98,7 +103,7 @@ fn each_library_effect_is_named_first() {
             let meas = simulate(&s, &profile).unwrap();
             let d = run(&meas);
             total += 1;
-            let named = d.verdict.first().map(String::as_str) == Some(kind.name());
+            let named = d.verdict.labels().first().map(String::as_str) == Some(kind.name());
             let small = d.gap_after_mm <= 1.5 * noise_rms();
             if named && small {
                 right += 1;
@@ -120,7 +125,7 @@ fn noise_only_gives_none() {
     for seed in [1, 2, 3] {
         let meas = simulate(&spec(vec![], 12, 31, seed), &profile).unwrap();
         let d = run(&meas);
-        assert_eq!(d.verdict, vec!["none"], "{}", summary(&d));
+        assert_eq!(d.verdict.labels(), vec!["none"], "{}", summary(&d));
         // The noise estimate from repeated poses is close to the truth.
         assert!(
             (d.noise.per_axis_mm - NOISE).abs() < 0.2 * NOISE,
@@ -145,7 +150,7 @@ fn cyclic_gear_error_is_unexplained_and_located_on_its_axis() {
             fk_chain(&opw, q, &p).translation.vector
         });
         let d = run(&meas);
-        assert_eq!(d.verdict, vec!["unexplained"], "{}", summary(&d));
+        assert_eq!(d.verdict.labels(), vec!["unexplained"], "{}", summary(&d));
         let located = if d.partial.is_empty() {
             &d.where_
         } else {
@@ -179,7 +184,7 @@ fn sudden_base_jump_is_unexplained_and_located_in_time() {
         }
     });
     let d = run(&meas);
-    assert_eq!(d.verdict, vec!["unexplained"], "{}", summary(&d));
+    assert_eq!(d.verdict.labels(), vec!["unexplained"], "{}", summary(&d));
     let located = if d.partial.is_empty() {
         &d.where_
     } else {
@@ -209,7 +214,8 @@ fn mixture_of_two_effects_finds_both() {
         .unwrap();
         let d = run(&meas);
         assert!(
-            d.verdict.iter().any(|v| v == a.name()) && d.verdict.iter().any(|v| v == b.name()),
+            d.verdict.labels().iter().any(|v| v == a.name())
+                && d.verdict.labels().iter().any(|v| v == b.name()),
             "{}",
             summary(&d)
         );
@@ -230,7 +236,7 @@ fn other_parameterisations_are_still_recognised() {
     let meas = simulate(&spec(vec![one_link], 12, 31, 41), &profile).unwrap();
     let d = run(&meas);
     assert_eq!(
-        d.verdict.first().map(String::as_str),
+        d.verdict.labels().first().map(String::as_str),
         Some("expansion-scale"),
         "{}",
         summary(&d)
@@ -259,7 +265,7 @@ fn other_parameterisations_are_still_recognised() {
     });
     let d = run(&meas);
     assert_eq!(
-        d.verdict.first().map(String::as_str),
+        d.verdict.labels().first().map(String::as_str),
         Some("thermal-lag"),
         "{}",
         summary(&d)
@@ -284,7 +290,7 @@ fn other_parameterisations_are_still_recognised() {
     });
     let d = run(&meas);
     assert_eq!(
-        d.verdict.first().map(String::as_str),
+        d.verdict.labels().first().map(String::as_str),
         Some("mount-drift"),
         "{}",
         summary(&d)
@@ -307,8 +313,8 @@ fn other_parameterisations_are_still_recognised() {
         fk_chain(&opw, q, &p).translation.vector
     });
     let d = run(&meas);
-    let first = d.verdict.first().map(String::as_str);
-    let named = first == Some("arm-bending")
+    let labels = d.verdict.labels();
+    let named = labels.first().map(String::as_str) == Some("arm-bending")
         || d.ambiguous
             .iter()
             .any(|p| p.iter().any(|n| n == "arm-bending"));
@@ -341,13 +347,13 @@ fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
     });
     let d = run(&meas);
     assert_eq!(
-        d.verdict.first().map(String::as_str),
+        d.verdict.labels().first().map(String::as_str),
         Some("arm-bending"),
         "{}",
         summary(&d)
     );
     assert!(
-        d.verdict.iter().any(|v| v == "unexplained"),
+        d.verdict.labels().iter().any(|v| v == "unexplained"),
         "{}",
         summary(&d)
     );
@@ -387,7 +393,7 @@ fn without_repeated_poses_only_structure_is_unexplained() {
         }
         let d = run(&meas);
         if gear {
-            assert_eq!(d.verdict, vec!["unexplained"], "{}", summary(&d));
+            assert_eq!(d.verdict.labels(), vec!["unexplained"], "{}", summary(&d));
             assert_eq!(
                 d.where_.joint.as_ref().map(|j| j.axis),
                 Some(3),
@@ -395,7 +401,7 @@ fn without_repeated_poses_only_structure_is_unexplained() {
                 summary(&d)
             );
         } else {
-            assert_eq!(d.verdict, vec!["none"], "{}", summary(&d));
+            assert_eq!(d.verdict.labels(), vec!["none"], "{}", summary(&d));
         }
     }
 }

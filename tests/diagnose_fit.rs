@@ -150,14 +150,14 @@ fn a_model_with_effects_simulates_base_plus_effects() {
     );
     let p = prepare(&meas, &Model::default(), false).unwrap();
     let d = diagnose(&p, &Options::default()).unwrap();
-    assert_eq!(d.verdict, vec!["joint-offset-drift"]);
+    assert_eq!(d.verdict.labels(), vec!["joint-offset-drift"]);
     let model = rapidtherm::diagnose::diagnosed_model(&Model::default(), &d);
     let text = model.to_toml().unwrap();
     let model = Model::parse("m.toml", &text).unwrap();
     let p2 = prepare(&meas, &model, false).unwrap();
     assert!(gap(&p2).rms_mm < 0.02);
     let d2 = diagnose(&p2, &Options::default()).unwrap();
-    assert_eq!(d2.verdict, vec!["none"], "{:?}", d2.words);
+    assert_eq!(d2.verdict.labels(), vec!["none"], "{:?}", d2.words());
 }
 
 #[test]
@@ -258,7 +258,12 @@ fn noisy_orientations_do_not_spoil_the_positions() {
     }
     let p = prepare(&meas, &Model::default(), false).unwrap();
     let d = diagnose(&p, &Options::default()).unwrap();
-    assert_eq!(d.verdict, vec!["joint-offset-drift"], "{:?}", d.words);
+    assert_eq!(
+        d.verdict.labels(),
+        vec!["joint-offset-drift"],
+        "{:?}",
+        d.words()
+    );
     assert!(
         d.gap_after_mm < 1.5 * 0.01 * 3f64.sqrt(),
         "{}",
@@ -285,5 +290,5 @@ fn registration_does_not_swallow_thermal_drift() {
     let p = prepare(&meas, &Model::default(), true).unwrap();
     assert_eq!(p.registration.as_ref().unwrap().rows_used, 15);
     let d = diagnose(&p, &Options::default()).unwrap();
-    assert_eq!(d.verdict, vec!["arm-bending"], "{:?}", d.words);
+    assert_eq!(d.verdict.labels(), vec!["arm-bending"], "{:?}", d.words());
 }

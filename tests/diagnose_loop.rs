@@ -112,7 +112,7 @@ fn corrections_with_the_diagnosed_model_land_closer() {
         eprintln!(
             "{}: uncorrected {none:.4} mm, corrected with base model {base:.4} mm, with diagnosed model {diag:.4} mm (verdict {:?})",
             kind.name(),
-            d.verdict
+            d.verdict.labels()
         );
         assert!(diag < 0.5 * base, "{}: {diag} vs {base}", kind.name());
         assert!(diag < 0.02, "{}: {diag}", kind.name());

@@ -2,14 +2,20 @@
 //! targets, solved by inverse kinematics and checked by forward kinematics.
 
 use nalgebra::Vector3;
+use rapidtherm::diagnose::arm::{Arm, IsoCube};
 use rapidtherm::diagnose::simulate::{iso_cube_poses, program_poses};
+use rapidtherm::model::Model;
 use rapidtherm::rapid;
 use rapidtherm::robot::Robot;
 
 #[test]
 fn iso_cube_points_lie_on_the_diagonal_plane_at_ten_percent_from_the_corners() {
     let robot = Robot::irb140();
-    let poses = iso_cube_poses(&robot, [480.0, 0.0, 450.0], 300.0).unwrap();
+    let cube = IsoCube {
+        centre: [480.0, 0.0, 450.0],
+        side: 300.0,
+    };
+    let poses = iso_cube_poses(&robot, &cube).unwrap();
     let names: Vec<&str> = poses.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["P1", "P2", "P3", "P4", "P5"]);
     let expected = [
@@ -28,6 +34,18 @@ fn iso_cube_points_lie_on_the_diagonal_plane_at_ten_percent_from_the_corners() {
         assert!((z + Vector3::z()).norm() < 1e-9, "{name}: tool axis {z:?}");
         assert_eq!(robot.conf_of(q).cfx, 0, "{name}: natural configuration");
     }
+}
+
+/// The IRB 140's own cube (scaled to its reach like every arm's) is
+/// reachable with the tool down in the natural configuration.
+#[test]
+fn irb140_iso_cube_is_reachable() {
+    let robot = Robot::irb140();
+    let cube = Arm::of_model(&Model::default()).iso_cube().unwrap();
+    let poses = iso_cube_poses(&robot, &cube).unwrap();
+    assert_eq!(poses.len(), 5);
+    let f = robot.fk(&poses[0].1);
+    assert!((f.translation.vector - Vector3::from(cube.centre)).norm() < 1e-9);
 }
 
 #[test]

@@ -6,7 +6,7 @@ use nalgebra::Isometry3;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rapidtherm::diagnose::arm::Arm;
-use rapidtherm::diagnose::simulate::{parse_times, random_poses, simulate_arm, SimSpec};
+use rapidtherm::diagnose::simulate::{random_poses, simulate_arm, SimSpec};
 use rapidtherm::diagnose::{self, diagnose as run_diagnosis, prepare, prepare_arm, Options};
 use rapidtherm::model::Model;
 use rapidtherm::model::{predict, Effect, EffectKind, RowState, ThermalExpansion};
@@ -124,7 +124,7 @@ fn embedded_irb140_urdf_gives_the_same_gap_as_the_default() {
     let spec = SimSpec {
         base: Default::default(),
         poses: random_poses(8, &rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG, 4),
-        times: parse_times("0:120:20").unwrap(),
+        times: (0..=6).map(|i| f64::from(i) * 20.0).collect(),
         effects: vec![Effect::with_defaults(EffectKind::ArmBending)],
         noise_mm: 0.01,
         orientation: true,
@@ -155,7 +155,7 @@ fn finds_effect_on(robot: &Robot, effect: &str, param: &str, truth: f64) {
     let spec = SimSpec {
         base: arm.base(&model),
         poses: random_poses(10, &arm.limits_deg, 5),
-        times: parse_times("0:180:15").unwrap(),
+        times: (0..=12).map(|i| f64::from(i) * 15.0).collect(),
         effects: vec![Effect::parse_spec(effect).unwrap()],
         noise_mm: 0.01,
         orientation: false,
@@ -169,10 +169,10 @@ fn finds_effect_on(robot: &Robot, effect: &str, param: &str, truth: f64) {
     let d = run_diagnosis(&prepared, &Options::default()).unwrap();
     let name = effect.split(':').next().unwrap();
     assert!(
-        d.verdict.iter().any(|v| v == name),
+        d.verdict.labels().iter().any(|v| v == name),
         "{}: verdict {:?} for {effect}",
         robot.name,
-        d.verdict
+        d.verdict.labels()
     );
     let fitted = d
         .candidates
@@ -214,7 +214,7 @@ fn simulated_irb120_rows_are_its_urdf_poses_and_read_back_without_gap() {
         let spec = SimSpec {
             base: arm.base(&model),
             poses: random_poses(6, &arm.limits_deg, 9),
-            times: parse_times("0,60,180").unwrap(),
+            times: vec![0.0, 60.0, 180.0],
             effects: vec![],
             noise_mm: 0.0,
             orientation: true,

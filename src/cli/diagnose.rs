@@ -5,22 +5,17 @@ use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
 use rapidtherm::diagnose::arm::Arm;
 use rapidtherm::diagnose::measurements::Measurements;
+use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::simulate::{
-    iso_cube_poses, parse_times, program_poses, random_poses, simulate_arm, SimSpec,
+    iso_cube_poses, program_poses, random_poses, simulate_arm, SimSpec,
 };
-use rapidtherm::diagnose::{self, Diagnosis, Options};
+use rapidtherm::diagnose::{self, Diagnosis, Options, Prepared, RegisterFailure};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
 use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::robot::Robot;
 use std::path::{Path, PathBuf};
-
-/// The ISO 9283 cube in the IRB 140's workspace: 300 mm side, centred
-/// 480 mm in front of axis 1 and 450 mm up (inside the reach at every
-/// corner with the tool pointing down). Other arms: [`Arm::iso_cube`].
-const ISO_CUBE_CENTRE: [f64; 3] = [480.0, 0.0, 450.0];
-const ISO_CUBE_SIDE: f64 = 300.0;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum TempsSource {
@@ -209,12 +204,7 @@ fn read_poses(spec: &str, seed: u64, setup: &Setup) -> Result<Vec<(String, [f64;
         return Ok(out);
     }
     if spec == "iso-cube" {
-        let (centre, side) = if setup.from_urdf {
-            setup.arm.iso_cube()
-        } else {
-            (ISO_CUBE_CENTRE, ISO_CUBE_SIDE)
-        };
-        return iso_cube_poses(&setup.robot, centre, side);
+        return iso_cube_poses(&setup.robot, &setup.arm.iso_cube()?);
     }
     if let Some(file) = spec.strip_prefix("program:") {
         let (name, bytes) = read_input(Path::new(file))?;
@@ -224,6 +214,84 @@ fn read_poses(spec: &str, seed: u64, setup: &Setup) -> Result<Vec<(String, [f64;
     Err(Error::usage(format!(
         "--poses `{spec}`: expected random:N, joints:FILE.csv, iso-cube or program:FILE"
     )))
+}
+
+/// Parse `--times`: `START:END:STEP` (inclusive) or a comma list of
+/// minutes.
+fn parse_times(text: &str) -> Result<Vec<f64>> {
+    let bad = || {
+        Error::usage(format!(
+            "--times `{text}`: expected START:END:STEP or a comma list of minutes"
+        ))
+    };
+    let num = |s: &str| -> Result<f64> {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(bad)
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    let times: Vec<f64> = match parts.as_slice() {
+        [a, b, c] => {
+            let (start, end, step) = (num(a)?, num(b)?, num(c)?);
+            if step <= 0.0 || end < start {
+                return Err(bad());
+            }
+            let n = ((end - start) / step + 1e-9).floor() as usize;
+            if n > 1_000_000 {
+                return Err(Error::usage("--times: too many times"));
+            }
+            (0..=n).map(|i| start + i as f64 * step).collect()
+        }
+        [list] => list.split(',').map(num).collect::<Result<_>>()?,
+        _ => return Err(bad()),
+    };
+    if times.is_empty() || times.iter().any(|&t| t < 0.0) || times.windows(2).any(|w| w[1] < w[0]) {
+        return Err(Error::usage(format!(
+            "--times `{text}`: minutes must be >= 0 and increasing"
+        )));
+    }
+    Ok(times)
+}
+
+/// The diagnosis's remedies, named by this command line's flags.
+fn remedies() -> Remedies {
+    Remedies {
+        give_noise: "give --noise".into(),
+        save_model: "Save the model with --save-model FILE.toml".into(),
+    }
+}
+
+/// Prepare the measurements; with `--register`, fit the instrument frame
+/// (its failures named by the flag).
+fn prepare(meas: &Measurements, model: &Model, arm: &Arm, register: bool) -> Result<Prepared> {
+    let mut prepared = diagnose::problem_of(meas, model, arm)?;
+    if register {
+        diagnose::register_instrument(&mut prepared).map_err(register_error)?;
+    }
+    Ok(prepared)
+}
+
+fn register_error(f: RegisterFailure) -> Error {
+    Error::input(format!("--register{}", f.reason()))
+}
+
+/// The diagnosis as JSON: its data, then its sentences (`words`).
+#[derive(serde::Serialize)]
+struct WithWords<'a> {
+    #[serde(flatten)]
+    diagnosis: &'a Diagnosis,
+    words: Vec<String>,
+}
+
+impl<'a> WithWords<'a> {
+    fn of(d: &'a Diagnosis) -> WithWords<'a> {
+        WithWords {
+            diagnosis: d,
+            words: prose::words(d, &remedies()),
+        }
+    }
 }
 
 pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
@@ -243,6 +311,9 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
         measured_temps: args.temps == TempsSource::Measured,
         seed: args.seed,
     };
+    if !(args.noise.is_finite() && args.noise >= 0.0) {
+        return Err(Error::usage("--noise must be a finite number >= 0"));
+    }
     let profile = model.profile()?;
     let meas = simulate_arm(&spec, &setup.arm.map, profile.as_ref())?;
     write_output(&args.output, meas.to_csv().as_bytes())?;
@@ -253,7 +324,7 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     let model = load_model(&args.model)?;
     let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = read_measurements(&args.data, &setup.arm)?;
-    let prepared = diagnose::prepare_arm(&meas, &model, &setup.arm, args.register)?;
+    let prepared = prepare(&meas, &model, &setup.arm, args.register)?;
     let g = diagnose::gap(&prepared);
     let text = match args.format {
         Format::Json => {
@@ -342,7 +413,12 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     let model = load_model(&args.model)?;
     let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = read_measurements(&args.data, &setup.arm)?;
-    let prepared = diagnose::prepare_arm(&meas, &model, &setup.arm, args.register)?;
+    let prepared = prepare(&meas, &model, &setup.arm, args.register)?;
+    if let Some(v) = args.noise {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::usage("--noise must be a positive number of mm"));
+        }
+    }
     let opts = Options {
         noise_mm: args.noise,
         ..Options::default()
@@ -377,15 +453,15 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
                 struct WithRobot<'a> {
                     robot: serde_json::Value,
                     #[serde(flatten)]
-                    diagnosis: &'a Diagnosis,
+                    diagnosis: WithWords<'a>,
                 }
                 serde_json::to_string_pretty(&WithRobot {
                     robot: robot_json(&setup.arm),
-                    diagnosis: &d,
+                    diagnosis: WithWords::of(&d),
                 })
                 .map_err(json_err)?
             } else {
-                serde_json::to_string_pretty(&d).map_err(json_err)?
+                serde_json::to_string_pretty(&WithWords::of(&d)).map_err(json_err)?
             };
             format!("{v}\n")
         }
@@ -449,8 +525,8 @@ fn diagnosis_table(d: &Diagnosis) -> String {
     if let Some(r) = &d.registration {
         s.push_str(&registration_words(r));
     }
-    for w in &d.words {
-        s.push_str(w);
+    for w in prose::words(d, &remedies()) {
+        s.push_str(&w);
         s.push('\n');
     }
     s.push('\n');
@@ -502,4 +578,33 @@ fn diagnosis_table(d: &Diagnosis) -> String {
         100.0 * (1.0 - d.gap_after_mm / d.gap_before_mm.max(1e-300))
     ));
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_parse() {
+        assert_eq!(parse_times("0:12:6").unwrap(), vec![0.0, 6.0, 12.0]);
+        assert_eq!(parse_times("0,5,7.5").unwrap(), vec![0.0, 5.0, 7.5]);
+        assert!(parse_times("0:10:-1").is_err());
+        assert!(parse_times("5,1").is_err());
+    }
+
+    #[test]
+    fn register_failures_name_the_flag() {
+        assert_eq!(
+            register_error(RegisterFailure::TooFewPoses).message,
+            "--register needs at least 3 measured poses"
+        );
+        assert_eq!(
+            register_error(RegisterFailure::NoFrame).message,
+            "--register: the measured points do not fix a frame"
+        );
+        assert_eq!(
+            register_error(RegisterFailure::NotSpread).message,
+            "--register needs poses spread in 3-D (these lie on a line or a plane)"
+        );
+    }
 }

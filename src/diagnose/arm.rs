@@ -12,6 +12,7 @@
 //! sag) are in the chain's convention: on an axis whose sign is −1 the
 //! robot's own joint value moves the opposite way.
 
+use super::instrument::instrument;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::Base;
 use crate::model::Model;
@@ -141,13 +142,29 @@ impl Arm {
         o.a1 + o.c2 + o.a2.hypot(o.c3)
     }
 
-    /// The ISO 9283 cube for this arm: centre 0.6·reach in front of axis 1
-    /// and 0.12·reach above the shoulder (c1), side 0.35·reach. On the IRB
-    /// 140 (reach 810 mm) that is (486, 0, 449) mm and 283.5 mm.
-    pub fn iso_cube(&self) -> ([f64; 3], f64) {
+    /// The ISO 9283 cube for this arm, scaled to its reach R by the
+    /// fractions of `data/instrument.toml`: centre 0.6·R in front of axis 1
+    /// and 0.12·R above the shoulder (c1), side 0.35·R. On the IRB 140
+    /// (R = 810 mm) that is (486, 0, 449.2) mm and 283.5 mm.
+    pub fn iso_cube(&self) -> Result<IsoCube> {
+        let shape = &instrument()?.iso_cube;
         let r = self.reach();
-        ([0.6 * r, 0.0, self.nominal.c1 + 0.12 * r], 0.35 * r)
+        Ok(IsoCube {
+            centre: [
+                shape.forward * r,
+                0.0,
+                self.nominal.c1 + shape.above_shoulder * r,
+            ],
+            side: shape.side * r,
+        })
     }
+}
+
+/// A cube in the robot base frame, mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IsoCube {
+    pub centre: [f64; 3],
+    pub side: f64,
 }
 
 #[cfg(test)]
@@ -175,5 +192,15 @@ mod tests {
         let e = ArmMap::of_robot(&r).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Unsupported);
         assert!(e.message.contains("do not meet"), "{}", e.message);
+    }
+
+    #[test]
+    fn irb140_iso_cube_is_the_scaled_one() {
+        let cube = Arm::of_model(&Model::default()).iso_cube().unwrap();
+        let expect = [486.0, 0.0, 449.2];
+        for (a, b) in cube.centre.iter().zip(expect) {
+            assert!((a - b).abs() < 1e-9, "{:?}", cube.centre);
+        }
+        assert!((cube.side - 283.5).abs() < 1e-9, "{}", cube.side);
     }
 }

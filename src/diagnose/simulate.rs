@@ -1,7 +1,8 @@
 //! Simulated "real" data: the base model plus chosen effects at chosen
 //! magnitudes, tracker noise, deterministic for a seed (ChaCha8).
 
-use super::arm::ArmMap;
+use super::arm::{ArmMap, IsoCube};
+use super::instrument::instrument;
 use super::measurements::{Measurement, Measurements};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{predict, Base, Effect, LinkLags, RowState};
@@ -15,9 +16,6 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-
-/// Orientation noise of a 6-DOF tracker probe, mrad per axis.
-pub const ORIENTATION_NOISE_MRAD: f64 = 0.02;
 
 /// What to simulate.
 #[derive(Debug, Clone)]
@@ -54,15 +52,15 @@ pub fn random_poses(n: usize, limits_deg: &[(f64, f64); 6], seed: u64) -> Vec<(S
         .collect()
 }
 
-/// The five positions of the ISO 9283 test plane: the cube (side `side`
-/// mm, centred at `centre` in the base frame) cut by its diagonal plane
+/// The five positions of the ISO 9283 test plane of `cube` (an arm's:
+/// [`super::arm::Arm::iso_cube`]): the cube cut by its diagonal plane
 /// through C1, C2, C7, C8; P1 at the centre, P2..P5 on the plane's
 /// diagonals at 10 % of their length from the corners. The tool (flange)
 /// points down, as in most test set-ups; each pose is solved with the
 /// natural configuration (arm in front, elbow up, wrist not flipped).
-pub fn iso_cube_poses(robot: &Robot, centre: [f64; 3], side: f64) -> Result<Vec<(String, Joints)>> {
-    let h = side / 2.0;
-    let c = Vector3::from(centre);
+pub fn iso_cube_poses(robot: &Robot, cube: &IsoCube) -> Result<Vec<(String, Joints)>> {
+    let h = cube.side / 2.0;
+    let c = Vector3::from(cube.centre);
     // Corners of the diagonal plane: bottom front-left to top back-right.
     let corners = [
         Vector3::new(-h, -h, -h),
@@ -70,9 +68,12 @@ pub fn iso_cube_poses(robot: &Robot, centre: [f64; 3], side: f64) -> Result<Vec<
         Vector3::new(h, h, h),
         Vector3::new(h, -h, h),
     ];
+    // A point at `inset` of the diagonal from a corner is at 1 − 2·inset of
+    // the half-diagonal from the centre.
+    let scale = 1.0 - 2.0 * instrument()?.iso_cube.corner_inset;
     let mut points = vec![("P1".to_string(), c)];
     for (k, corner) in corners.iter().enumerate() {
-        points.push((format!("P{}", k + 2), c + corner * 0.8));
+        points.push((format!("P{}", k + 2), c + corner * scale));
     }
     let down = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI);
     points
@@ -134,44 +135,6 @@ pub fn program_poses(program: &Program, robot: &Robot) -> Result<Vec<(String, Jo
     Ok(out)
 }
 
-/// Parse `START:END:STEP` (inclusive) or a comma list of minutes.
-pub fn parse_times(text: &str) -> Result<Vec<f64>> {
-    let bad = || {
-        Error::usage(format!(
-            "--times `{text}`: expected START:END:STEP or a comma list of minutes"
-        ))
-    };
-    let num = |s: &str| -> Result<f64> {
-        s.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(bad)
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    let times: Vec<f64> = match parts.as_slice() {
-        [a, b, c] => {
-            let (start, end, step) = (num(a)?, num(b)?, num(c)?);
-            if step <= 0.0 || end < start {
-                return Err(bad());
-            }
-            let n = ((end - start) / step + 1e-9).floor() as usize;
-            if n > 1_000_000 {
-                return Err(Error::usage("--times: too many times"));
-            }
-            (0..=n).map(|i| start + i as f64 * step).collect()
-        }
-        [list] => list.split(',').map(num).collect::<Result<_>>()?,
-        _ => return Err(bad()),
-    };
-    if times.is_empty() || times.iter().any(|&t| t < 0.0) || times.windows(2).any(|w| w[1] < w[0]) {
-        return Err(Error::usage(format!(
-            "--times `{text}`: minutes must be >= 0 and increasing"
-        )));
-    }
-    Ok(times)
-}
-
 /// Make the measurements: rows ordered by time, then pose.
 pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurements> {
     simulate_arm(spec, &ArmMap::default(), profile)
@@ -186,15 +149,22 @@ pub fn simulate_arm(
     profile: &dyn HeatingProfile,
 ) -> Result<Measurements> {
     if !(spec.noise_mm.is_finite() && spec.noise_mm >= 0.0) {
-        return Err(Error::usage("--noise must be a finite number >= 0"));
+        return Err(Error::usage(
+            "the simulated tracker noise must be a finite number of mm >= 0",
+        ));
     }
     if spec.times.len().saturating_mul(spec.poses.len()) > 5_000_000 {
         return Err(Error::usage("simulate: more than 5,000,000 rows asked for"));
     }
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
     let pos_noise = Normal::new(0.0, spec.noise_mm).map_err(|e| Error::usage(e.to_string()))?;
-    let ori_noise = Normal::new(0.0, ORIENTATION_NOISE_MRAD * 1e-3 * (spec.noise_mm / 0.01))
-        .map_err(|e| Error::usage(e.to_string()))?;
+    // Probe orientation noise scales with the position noise asked for.
+    let noise = instrument()?;
+    let ori_noise = Normal::new(
+        0.0,
+        noise.orientation.noise_mrad * 1e-3 * (spec.noise_mm / noise.position.noise_mm),
+    )
+    .map_err(|e| Error::usage(e.to_string()))?;
     let t_end = spec.times.iter().copied().fold(0.0, f64::max);
     let history = TempHistory::from_profile(profile, t_end)?;
     let lag = LinkLags::new(&history, &spec.effects);
@@ -250,14 +220,6 @@ pub fn simulate_arm(
 mod tests {
     use super::*;
     use crate::diagnose::measurements::IRB140_LIMITS_DEG;
-
-    #[test]
-    fn times_parse() {
-        assert_eq!(parse_times("0:12:6").unwrap(), vec![0.0, 6.0, 12.0]);
-        assert_eq!(parse_times("0,5,7.5").unwrap(), vec![0.0, 5.0, 7.5]);
-        assert!(parse_times("0:10:-1").is_err());
-        assert!(parse_times("5,1").is_err());
-    }
 
     #[test]
     fn same_seed_same_data() {

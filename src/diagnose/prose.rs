@@ -1,0 +1,153 @@
+//! A diagnosis in sentences: the gap, the verdict, where the gap lies, what
+//! each selected effect did, and what to do. The caller names its own ways
+//! of acting on the advice ([`Remedies`]): a command line names its flags,
+//! the library's default names none.
+
+use super::gap::NoiseSource;
+use super::verdict::{Advice, Diagnosis, Verdict};
+use serde::Serializer;
+
+/// How the caller lets a user act on the advice, as phrases that fit in
+/// the sentences below.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Remedies {
+    /// Completes "…; <give_noise> if the instrument is better".
+    pub give_noise: String,
+    /// Starts "<save_model> and correct programs with it: …".
+    pub save_model: String,
+}
+
+impl Default for Remedies {
+    fn default() -> Self {
+        Remedies {
+            give_noise: "give the instrument's noise level".into(),
+            save_model: "Save the model with the diagnosed effects".into(),
+        }
+    }
+}
+
+/// Where the noise level comes from, in words.
+pub fn noise_source(source: &NoiseSource) -> String {
+    match source {
+        NoiseSource::Given => "given".into(),
+        NoiseSource::Estimated { differences } => {
+            format!("estimated from {differences} repeated-pose second differences")
+        }
+        NoiseSource::Default => "default (no repeated poses to estimate it from)".into(),
+    }
+}
+
+/// Serialise a noise source as its words (the JSON field `source`).
+pub fn serialize_noise_source<S: Serializer>(
+    source: &NoiseSource,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&noise_source(source))
+}
+
+/// The diagnosis as lines of text.
+pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
+    let gap = &d.gap;
+    let noise = &d.noise;
+    let (cv0, cv) = (d.gap_before_mm, d.gap_after_mm);
+    let mut words = Vec::new();
+    words.push(format!(
+        "Gap of the current model: {:.3} mm RMS (x {:.3}, y {:.3}, z {:.3}), {:.3} mm max over {} rows (noise {:.3} mm RMS, {}).",
+        gap.rms_mm,
+        gap.axis_rms_mm[0],
+        gap.axis_rms_mm[1],
+        gap.axis_rms_mm[2],
+        gap.max_mm,
+        gap.n,
+        noise.rms_mm,
+        noise_source(&noise.source)
+    ));
+    match &d.verdict {
+        Verdict::None => match d.advice {
+            Advice::CheckNoise { assumed_mm } => words.push(format!(
+                "Verdict: none. The gap ({cv0:.3} mm held-out) shows no structure in time, direction, poses or joints: it looks like measurement noise larger than the assumed {assumed_mm:.3} mm per axis (no repeated poses to measure it; {} if the instrument is better).",
+                remedies.give_noise
+            )),
+            _ => words.push(
+                "Verdict: none. The gap is at the measurement noise; nothing to explain.".into(),
+            ),
+        },
+        Verdict::Unexplained { partial } => {
+            let partial: Vec<&str> = partial.iter().map(|k| k.name()).collect();
+            words.push(format!(
+                "Verdict: unexplained. No effect of the library explains the gap (held-out {:.3} mm, {:.3} mm after the best candidates{}).",
+                cv0,
+                cv,
+                if partial.is_empty() {
+                    String::new()
+                } else {
+                    format!(", which explain only part of it: {}", partial.join(", "))
+                }
+            ));
+            words.extend(d.where_.words.iter().cloned());
+            if !partial.is_empty() && !d.where_after.words.is_empty() {
+                words.push(format!("What {} leaves:", partial.join(" + ")));
+                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+            }
+        }
+        Verdict::ExplainedBy { remainder, .. } | Verdict::Ambiguous { remainder, .. } => {
+            words.push(format!("Verdict: {}.", d.verdict.labels().join(" + ")));
+            words.extend(d.where_.words.iter().cloned());
+            for s in &d.steps {
+                words.push(format!(
+                    "Adding {}: held-out gap {:.3} → {:.3} mm (−{:.0} %).",
+                    s.added, s.gap_before_mm, s.gap_after_mm, s.drop_pct
+                ));
+            }
+            if *remainder {
+                words.push(format!(
+                    "What they leave ({:.3} mm held-out, noise {:.3} mm) is not explained by the library:",
+                    cv, noise.rms_mm
+                ));
+                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+            }
+        }
+    }
+    words.push(advice(&d.advice, remedies));
+    for a in &d.ambiguities {
+        words.push(format!(
+            "{} and {} are nearly indistinguishable on these poses (correlation {:.2}): {}.",
+            a.pair[0], a.pair[1], a.correlation, a.separate_by
+        ));
+    }
+    words
+}
+
+/// What to do, in one sentence.
+fn advice(advice: &Advice, remedies: &Remedies) -> String {
+    match advice {
+        Advice::Nothing | Advice::CheckNoise { .. } => {
+            "Nothing to do: the model is as good as the measurement.".into()
+        }
+        Advice::LookThere { axis, step_min } => {
+            let mut hint = String::from("Look where it points");
+            if let Some(axis) = axis {
+                hint.push_str(&format!(" (axis {axis}: its gearbox or encoder)"));
+            }
+            if let Some((before, after)) = step_min {
+                hint.push_str(&format!(
+                    " (what happened between minute {before:.0} and {after:.0}: a knock, a slipping fixture or tracker)"
+                ));
+            }
+            hint.push_str(", and measure more poses and times there before trusting a correction.");
+            hint
+        }
+        Advice::SaveModel { from_mm, to_mm } => format!(
+            "{} and correct programs with it: the held-out gap goes from {:.3} to {:.3} mm.",
+            remedies.save_model, from_mm, to_mm
+        ),
+    }
+}
+
+impl Diagnosis {
+    /// The diagnosis in sentences, with the library's own remedies
+    /// ([`Remedies::default`]).
+    pub fn words(&self) -> Vec<String> {
+        words(self, &Remedies::default())
+    }
+}

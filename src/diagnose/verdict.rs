@@ -1,0 +1,162 @@
+//! The result of a diagnosis as data: the verdict, the scores behind it and
+//! what to do about it. No sentences here: [`super::prose`] words them,
+//! and a caller may word them its own way.
+
+use super::gap::{GapStats, Noise};
+use super::locate::Where;
+use super::prepare::Registration;
+use crate::model::{EffectEntry, EffectKind};
+use nalgebra::Vector3;
+use serde::{Serialize, Serializer};
+
+/// What the diagnosis concludes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verdict {
+    /// Nothing to explain: the gap is at the measurement noise, or shows no
+    /// structure above an assumed (not measured) noise level.
+    None,
+    /// The effects (in the order selected) explain the gap; with
+    /// `remainder`, clear structure is left that they do not explain.
+    ExplainedBy {
+        effects: Vec<EffectKind>,
+        remainder: bool,
+    },
+    /// As [`Verdict::ExplainedBy`], but the data hardly tell a selected
+    /// effect from another one ([`Diagnosis::ambiguities`] says which and
+    /// how to separate them).
+    Ambiguous {
+        effects: Vec<EffectKind>,
+        remainder: bool,
+    },
+    /// No effect of the library explains the gap; `partial` explain only
+    /// part of it.
+    Unexplained { partial: Vec<EffectKind> },
+}
+
+impl Verdict {
+    /// The verdict as labels: the effects' names, `unexplained` when
+    /// something is left unexplained, or `none`.
+    pub fn labels(&self) -> Vec<String> {
+        match self {
+            Verdict::None => vec!["none".into()],
+            Verdict::ExplainedBy { effects, remainder }
+            | Verdict::Ambiguous { effects, remainder } => {
+                let mut v: Vec<String> = effects.iter().map(|k| k.name().to_string()).collect();
+                if *remainder {
+                    v.push("unexplained".into());
+                }
+                v
+            }
+            Verdict::Unexplained { .. } => vec!["unexplained".into()],
+        }
+    }
+
+    /// The effects the verdict names (none for `none` and `unexplained`).
+    pub fn effects(&self) -> &[EffectKind] {
+        match self {
+            Verdict::ExplainedBy { effects, .. } | Verdict::Ambiguous { effects, .. } => effects,
+            Verdict::None | Verdict::Unexplained { .. } => &[],
+        }
+    }
+}
+
+impl Serialize for Verdict {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.labels().serialize(s)
+    }
+}
+
+/// What to do about the gap.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Advice {
+    /// The model is as good as the measurement.
+    Nothing,
+    /// The gap looks like noise above the assumed noise level
+    /// (`assumed_mm` per axis): give the instrument's real noise level if
+    /// it is better. Nothing else to do.
+    CheckNoise { assumed_mm: f64 },
+    /// Save the model with the diagnosed effects and correct programs with
+    /// it: the held-out gap goes from `from_mm` to `to_mm`.
+    SaveModel { from_mm: f64, to_mm: f64 },
+    /// Look where the gap points (an axis, a step between two minutes) and
+    /// measure more poses and times there before trusting a correction.
+    LookThere {
+        axis: Option<usize>,
+        step_min: Option<(f64, f64)>,
+    },
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ParamOut {
+    pub name: String,
+    pub unit: String,
+    pub value: f64,
+    /// `null` when the data cannot identify it (held at zero).
+    pub stderr: Option<f64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateOut {
+    pub name: String,
+    /// Fraction of the base model's held-out mean-square gap this effect
+    /// alone removes.
+    pub explained: f64,
+    pub cv_rms_mm: f64,
+    pub bic: Option<f64>,
+    pub params: Vec<ParamOut>,
+    pub selected: bool,
+    pub error: Option<String>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct StepOut {
+    pub added: String,
+    pub gap_before_mm: f64,
+    pub gap_after_mm: f64,
+    pub drop_pct: f64,
+    pub runner_up: Option<String>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Ambiguity {
+    pub pair: [String; 2],
+    pub correlation: f64,
+    pub separate_by: String,
+}
+
+/// The whole diagnosis.
+#[derive(Debug, Clone, Serialize)]
+pub struct Diagnosis {
+    /// Serialised as its labels ([`Verdict::labels`]).
+    pub verdict: Verdict,
+    /// Held-out RMS gap of the current model, mm.
+    pub gap_before_mm: f64,
+    /// Held-out RMS gap with the selected effects, mm.
+    pub gap_after_mm: f64,
+    pub gap: GapStats,
+    pub gap_after: GapStats,
+    pub noise: Noise,
+    pub candidates: Vec<CandidateOut>,
+    pub steps: Vec<StepOut>,
+    /// Pairs of effects the data cannot tell apart.
+    pub ambiguous: Vec<[String; 2]>,
+    pub ambiguities: Vec<Ambiguity>,
+    /// Effects that explain part of a gap that stays unexplained.
+    pub partial: Vec<String>,
+    /// Where the gap of the current model lies.
+    #[serde(rename = "where")]
+    pub where_: Where,
+    /// Where what is left after the selected effects lies.
+    pub where_after: Where,
+    pub registration: Option<Registration>,
+    /// What to do about it.
+    #[serde(skip)]
+    pub advice: Advice,
+    /// The selected effects with their fitted parameters.
+    #[serde(skip)]
+    pub fitted: Vec<EffectEntry>,
+    #[serde(skip)]
+    pub gaps_before: Vec<Vector3<f64>>,
+    #[serde(skip)]
+    pub gaps_after: Vec<Vector3<f64>>,
+}

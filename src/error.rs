@@ -259,9 +259,15 @@ mod tests {
             "error: no procedure `main`\n  = procedures: a, b (pick one with --entry)\n  = a later note"
         );
         let on_message = Error::input("no time").with_remedy(Remedy::ChooseEntry);
-        assert_eq!(on_message.render(&words), "error: no time (pick one with --entry)");
+        assert_eq!(
+            on_message.render(&words),
+            "error: no time (pick one with --entry)"
+        );
         // The library's own words name no flag.
-        assert_eq!(on_message.to_string(), "error: no time (choose the entry routine)");
+        assert_eq!(
+            on_message.to_string(),
+            "error: no time (choose the entry routine)"
+        );
         assert!(!on_note.to_string().contains("--"));
     }
 

@@ -116,12 +116,12 @@ fn robtarget_and_jointtarget_edits_rewrite_only_what_changed() {
         src,
         v,
         [500.0, -0.5004, 301.23456],
-        [
+        Some([
             std::f64::consts::FRAC_1_SQRT_2,
             0.0,
             std::f64::consts::FRAC_1_SQRT_2,
             0.0,
-        ],
+        ]),
         Some([-1, 0, 0, 0]),
     );
     assert_eq!(edits.len(), 4);
@@ -140,5 +140,9 @@ fn robtarget_and_jointtarget_edits_rewrite_only_what_changed() {
     let j = &prog.jointtargets()[0];
     let edits = rewrite::jointtarget_edits(src, j, [0.0, 10.51234, -20.0, 0.0, 90.0, 0.0]);
     assert_eq!(edits.len(), 1);
-    assert_eq!(edits[0].new, b"10.5123".to_vec());
+    // Joint angles are written to 1e-5° (the resolution the correction
+    // uses; a second, coarser one is gone).
+    assert_eq!(edits[0].new, b"10.51234".to_vec());
+    // A change below half the resolution keeps the old text.
+    assert!(rewrite::jointtarget_edits(src, j, [0.0, 10.500004, -20.0, 0.0, 90.0, 0.0]).is_empty());
 }

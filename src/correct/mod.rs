@@ -35,7 +35,6 @@ mod solve;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{Correction, Derived, Outcome, Skipped, Summary};
-pub use solve::JOINT_RESOLUTION_DEG;
 
 use crate::error::{Error, Result};
 use crate::model::{Moment, WarmRobot};

@@ -8,8 +8,8 @@ use super::outcome::{skip, Correction, Skipped};
 use super::Options;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{State, States, WarmRobot};
-use crate::rapid::rewrite::{number_edit, Edit, POSITION_RESOLUTION, QUATERNION_RESOLUTION};
-use crate::rapid::{JointTarget, Number, Program, Target, TargetKind};
+use crate::rapid::rewrite::{jointtarget_edits, robtarget_edits};
+use crate::rapid::{JointTarget, Program, Target, TargetKind};
 use crate::resolve::{frames_of, target_pose, usages, Frames, Usage};
 use crate::robot::conf::{quadrant_distance, RobConf};
 use crate::robot::frames::{flange_of_target, target_of_flange};
@@ -17,10 +17,6 @@ use crate::robot::Joints;
 use nalgebra::{Isometry3, Vector3};
 use std::cell::RefCell;
 use std::collections::HashMap;
-
-/// Joint angles of jointtargets are written to 1e-5°: at the IRB 140's
-/// reach that is under 0.0002 mm at the flange.
-pub const JOINT_RESOLUTION_DEG: f64 = 0.000_01;
 
 /// What became of one robtarget.
 pub(super) enum Solved {
@@ -168,19 +164,14 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         return Ok(Solved::Nothing);
     };
     let src = sources.get(target.origin.file).copied().unwrap_or_default();
-    let mut edits = Vec::new();
     let new_trans = exact.translation.vector;
-    for (num, new) in value.trans.iter().zip(new_trans.iter()) {
-        push_edit(&mut edits, src, num, *new, POSITION_RESOLUTION);
-    }
     let turn = pose.rotation.angle_to(&exact.rotation);
-    let mut new_rot = value.rot_values();
-    if turn > ORIENTATION_CHANGE_RAD {
-        new_rot = quaternion_like(&exact.rotation, &value.rot_values());
-        for (num, new) in value.rot.iter().zip(new_rot.iter()) {
-            push_edit(&mut edits, src, num, *new, QUATERNION_RESOLUTION);
-        }
-    }
+    // Orientation is rewritten only when it turns: a quaternion rewritten
+    // for nothing would change bytes the correction does not mean.
+    let turned = (turn > ORIENTATION_CHANGE_RAD)
+        .then(|| quaternion_like(&exact.rotation, &value.rot_values()));
+    let new_rot = turned.unwrap_or(value.rot_values());
+    let edits = robtarget_edits(src, value, new_trans.into(), turned, None);
     let correction = new_trans - pose.translation.vector;
     let location = program.location(&target.origin);
     Ok(Solved::Corrected(Box::new(Correction {
@@ -272,10 +263,7 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<Correct
     let new_deg = q_warm.map(f64::to_degrees);
     let drift = warm.flange(&q, &state).translation.vector - flange.translation.vector;
     let src = sources.get(jt.origin.file).copied().unwrap_or_default();
-    let mut edits = Vec::new();
-    for (num, new) in jt.robax.iter().zip(new_deg.iter()) {
-        push_edit(&mut edits, src, num, *new, JOINT_RESOLUTION_DEG);
-    }
+    let edits = jointtarget_edits(src, jt, new_deg);
     let dangle = degrees
         .iter()
         .zip(&new_deg)
@@ -305,18 +293,6 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<Correct
         edits,
         file_index: jt.origin.file,
     })
-}
-
-/// An edit for a number whose value changes by more than half its
-/// resolution (smaller changes are below what the controller can hold, and
-/// keeping the old text keeps unchanged targets byte-identical).
-fn push_edit(edits: &mut Vec<Edit>, src: &[u8], num: &Number, new: f64, resolution: f64) {
-    if (new - num.value).abs() <= resolution / 2.0 {
-        return;
-    }
-    if let Some(edit) = number_edit(src, num, new, resolution) {
-        edits.push(edit);
-    }
 }
 
 fn prefix(e: Error, context: &str) -> Error {

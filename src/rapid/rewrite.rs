@@ -92,40 +92,53 @@ pub fn number_edit(src: &[u8], num: &Number, value: f64, resolution: f64) -> Opt
     })
 }
 
-/// Joint angles in degrees: 1e-4 deg moves a point 800 mm from the axis
-/// by 1.4 µm, below the position resolution.
-pub const JOINT_RESOLUTION: f64 = 0.000_1;
+/// Joint angles in degrees: 1e-5° moves a point 1 m from the axis by
+/// 0.2 µm, below the position resolution, and keeps a corrected jointtarget
+/// as exact as the controller's single-precision `num` holds near 100°.
+pub const JOINT_RESOLUTION: f64 = 0.000_01;
 
-/// Edits writing new position, orientation and (optionally) robconf over a
-/// robtarget literal of `src`; numbers whose text would not change are
-/// left alone.
+/// The edit for `num` when `value` differs from it by more than half of
+/// `resolution`: a smaller change is below what the written digits mean,
+/// and keeping the old text keeps an unchanged number byte-identical.
+fn changed_edit(src: &[u8], num: &Number, value: f64, resolution: f64) -> Option<Edit> {
+    if (value - num.value).abs() <= resolution / 2.0 {
+        return None;
+    }
+    number_edit(src, num, value, resolution)
+}
+
+/// Edits writing a new position, and (optionally) orientation and robconf,
+/// over a robtarget literal of `src`; numbers that do not change beyond
+/// their resolution are left alone.
 pub fn robtarget_edits(
     src: &[u8],
     value: &RobTargetValue,
     trans: [f64; 3],
-    rot: [f64; 4],
+    rot: Option<[f64; 4]>,
     robconf: Option<[i32; 4]>,
 ) -> Vec<Edit> {
     let mut out: Vec<Edit> = value
         .trans
         .iter()
         .zip(trans)
-        .filter_map(|(n, v)| number_edit(src, n, v, POSITION_RESOLUTION))
-        .chain(
+        .filter_map(|(n, v)| changed_edit(src, n, v, POSITION_RESOLUTION))
+        .collect();
+    if let Some(rot) = rot {
+        out.extend(
             value
                 .rot
                 .iter()
                 .zip(rot)
-                .filter_map(|(n, v)| number_edit(src, n, v, QUATERNION_RESOLUTION)),
-        )
-        .collect();
+                .filter_map(|(n, v)| changed_edit(src, n, v, QUATERNION_RESOLUTION)),
+        );
+    }
     if let Some(cf) = robconf {
         out.extend(
             value
                 .robconf
                 .iter()
                 .zip(cf)
-                .filter_map(|(n, v)| number_edit(src, n, f64::from(v), 1.0)),
+                .filter_map(|(n, v)| changed_edit(src, n, f64::from(v), 1.0)),
         );
     }
     out
@@ -137,7 +150,7 @@ pub fn jointtarget_edits(src: &[u8], target: &JointTarget, robax: [f64; 6]) -> V
         .robax
         .iter()
         .zip(robax)
-        .filter_map(|(n, v)| number_edit(src, n, v, JOINT_RESOLUTION))
+        .filter_map(|(n, v)| changed_edit(src, n, v, JOINT_RESOLUTION))
         .collect()
 }
 

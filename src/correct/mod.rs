@@ -21,9 +21,9 @@
 
 //!
 //! Owns the orchestration of a run (this file), the per-target solve
-//! ([`solve`]), the moments targets are corrected for ([`moments`]), the
-//! written text ([`edits`]), derived targets ([`derived`]) and the report
-//! ([`outcome`]). May import `model`, `resolve`, `schedule`, `robot`,
+//! (`solve`), the moments targets are corrected for (`moments`), the
+//! written text (`edits`), derived targets ([`derived`]) and the report
+//! (`outcome`). May import `model`, `resolve`, `schedule`, `robot`,
 //! `rapid`, `thermal` and the shared `error`; never `diagnose`, `compare`
 //! or the CLI.
 

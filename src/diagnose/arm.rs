@@ -1,5 +1,5 @@
 //! Any OPW-shaped arm (from a URDF) in the diagnosis: its joints are mapped
-//! to the angles of the perturbed chain ([`super::chain::fk_chain`], written
+//! to the angles of the perturbed chain ([`crate::model::chain::fk_chain`], written
 //! in ABB's convention), so that the base model and every effect apply.
 //!
 //! The robot's joint `q` and the chain's `qc` relate through the arm's OPW
@@ -122,7 +122,7 @@ impl Arm {
             name: model.robot.name.clone(),
             nominal: model.robot.opw,
             map: ArmMap::default(),
-            limits_deg: super::measurements::IRB140_LIMITS_DEG,
+            limits_deg: *super::measurements::IRB140_LIMITS_DEG,
             source: "model".into(),
         }
     }

@@ -9,17 +9,16 @@ use crate::thermal::MotorTemps;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use std::fmt::Write as _;
 
-/// IRB 140 joint limits in degrees (`irb140.md`).
-// The robot module will carry per-robot limits (URDF); until then the
-// IRB 140's are the default here.
-pub const IRB140_LIMITS_DEG: [(f64, f64); 6] = [
-    (-180.0, 180.0),
-    (-90.0, 110.0),
-    (-230.0, 50.0),
-    (-200.0, 200.0),
-    (-115.0, 115.0),
-    (-400.0, 400.0),
-];
+/// IRB 140 joint limits in degrees: the embedded URDF's (one source for
+/// the numbers, `data/irb140/irb140.urdf`), rounded to 1e-9° so that the
+/// degrees written there come back exactly through radians.
+pub static IRB140_LIMITS_DEG: std::sync::LazyLock<[(f64, f64); 6]> =
+    std::sync::LazyLock::new(|| {
+        let deg = |r: f64| (r.to_degrees() * 1e9).round() / 1e9;
+        crate::robot::Robot::irb140()
+            .limits
+            .map(|(lo, hi)| (deg(lo), deg(hi)))
+    });
 
 /// Largest plausible measured coordinate, mm.
 pub const MAX_POSITION_MM: f64 = 100_000.0;
@@ -259,6 +258,23 @@ fn optional_group<const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn irb140_limits_are_the_urdfs_in_whole_degrees() {
+        // irb140.md's limits, exactly: the URDF's radians come back as the
+        // degrees the spec writes.
+        assert_eq!(
+            *IRB140_LIMITS_DEG,
+            [
+                (-180.0, 180.0),
+                (-90.0, 110.0),
+                (-230.0, 50.0),
+                (-200.0, 200.0),
+                (-115.0, 115.0),
+                (-400.0, 400.0),
+            ]
+        );
+    }
 
     const GOOD: &str = "pose,time_min,j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg,x_mm,y_mm,z_mm\n\
                         p1,0,0,0,0,0,0,0,515,0,712\np1,6,0,0,0,0,0,0,515.01,0,712\n";

@@ -18,8 +18,8 @@
 //! model) or [`diagnose()`] (noise level, localisation, candidate fits with
 //! held-out scores, forward selection, [`Verdict`]) → [`prose::words`].
 //!
-//! Files: [`prepare`] (measurements + model → fit problem, instrument
-//! frame), [`gap`] (gap statistics, noise level), [`fit`] (the fit of
+//! Files: [`mod@prepare`] (measurements + model → fit problem, instrument
+//! frame), [`mod@gap`] (gap statistics, noise level), [`fit`] (the fit of
 //! effects), [`select`] (folds, candidate scores), [`locate`] (where a gap
 //! lies), [`pipeline`] (the diagnosis and its verdict), [`verdict`] (the
 //! result as data), [`prose`] (the result in sentences), [`instrument`]

@@ -2,7 +2,7 @@
 //! a moment of its warm-up. `correct` asks it where targets go; `diagnose`
 //! fits its effects to measurements and writes it back as a model file.
 //!
-//! Owns: the model file ([`file`], its embedded default), the base
+//! Owns: the model file ([`mod@file`], its embedded default), the base
 //! thermal expansion ([`expansion`]), the effect library of
 //! `shared/spec/effects.md` ([`effects`]), the perturbed kinematic chain
 //! ([`chain`], [`perturb`]) and [`warm::WarmRobot`].

@@ -5,10 +5,12 @@
 
 use super::Correction;
 use crate::model::{Moment, States, WarmRobot};
-use crate::rapid::{Expr, FunctionCall, Program, Statement, StatementKind, Target, UnaryOp};
+use crate::rapid::{
+    builtins, Expr, FunctionCall, Program, Statement, StatementKind, Target, UnaryOp,
+};
 use crate::resolve::{frames_of, target_pose, walk_statements, Frames, Usage};
 use crate::robot::frames::{flange_of_target, target_of_flange};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::Isometry3;
 use std::collections::HashMap;
 
 /// Every function call of the program (data initialisers and statement
@@ -71,30 +73,28 @@ pub fn apply(call: &FunctionCall, base: &Isometry3<f64>) -> Option<Isometry3<f64
     if positional.len() != 4 {
         return None;
     }
-    let d = Vector3::new(
+    let d = [
         literal(positional[1])?,
         literal(positional[2])?,
         literal(positional[3])?,
-    );
+    ];
     let name = call.name.to_ascii_lowercase();
     match name.as_str() {
-        "offs" => Some(Isometry3::from_parts(
-            Translation3::from(base.translation.vector + d),
-            base.rotation,
-        )),
+        "offs" => Some(builtins::offs(base, d)),
         "reltool" => {
             let angle = |n: &str| -> Option<f64> {
                 match call.args.iter().find(|a| {
                     a.optional && a.name.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(n))
                 }) {
-                    Some(a) => a.value.as_ref().and_then(literal).map(f64::to_radians),
+                    Some(a) => a.value.as_ref().and_then(literal),
                     None => Some(0.0),
                 }
             };
-            let turn = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle("Rx")?)
-                * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), angle("Ry")?)
-                * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), angle("Rz")?);
-            Some(base * Isometry3::from_parts(Translation3::from(d), turn))
+            Some(builtins::reltool(
+                base,
+                d,
+                [angle("Rx")?, angle("Ry")?, angle("Rz")?],
+            ))
         }
         _ => None,
     }

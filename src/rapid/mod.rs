@@ -33,10 +33,12 @@
 //! spans are those of the original bytes; names and strings are decoded
 //! from the original bytes (UTF-8 where valid, Latin-1 otherwise).
 
+pub mod builtins;
 mod motion;
 mod parse;
 pub mod rewrite;
 mod scan;
+pub mod visit;
 
 use crate::error::{Location, Result};
 use std::ops::Range;
@@ -290,6 +292,9 @@ pub struct ZoneData {
 pub struct Program {
     /// File names as given to the parser.
     pub files: Vec<String>,
+    /// Each file's bytes as read (see [`Program::source`]): every span of
+    /// the program points into these.
+    pub(crate) sources: Vec<Arc<[u8]>>,
     pub modules: Vec<Module>,
     pub(crate) targets: Vec<Target>,
     pub(crate) jointtargets: Vec<JointTarget>,
@@ -322,6 +327,20 @@ impl std::fmt::Display for Warning {
 }
 
 impl Program {
+    /// The bytes file `file` (an index into [`Program::files`], as in
+    /// [`Origin::file`]) was parsed from, kept so that spans can be read
+    /// and rewritten without the caller holding them; empty for an index
+    /// out of range.
+    pub fn source(&self, file: usize) -> &[u8] {
+        self.sources.get(file).map_or(&[], |s| s)
+    }
+
+    /// The name file `file` was given to the parser with; empty for an
+    /// index out of range.
+    pub fn file_name(&self, file: usize) -> &str {
+        self.files.get(file).map_or("", String::as_str)
+    }
+
     /// Every robtarget, in file and source order.
     pub fn targets(&self) -> &[Target] {
         &self.targets

@@ -1,7 +1,7 @@
 //! Splicing new text into the original bytes of a program: every byte not
 //! inside an edit stays as it was (line endings, Latin-1, comments).
 
-use super::{JointTarget, Number, RobTargetValue};
+use super::{JointTarget, Number, Program, RobTargetValue, Target};
 use crate::error::{decode_lossless, Error, ErrorKind, Location, Result};
 use std::ops::Range;
 
@@ -293,9 +293,77 @@ fn render_exp(
     format!("{mant}{letter}{sign}{:0width$}", e.abs())
 }
 
+/// The same edits with the bytes taken from the program, which keeps each
+/// file's source.
+impl Program {
+    /// [`apply_edits`] to file `file` of the program.
+    pub fn apply_edits(&self, file: usize, edits: &[Edit]) -> Result<Vec<u8>> {
+        apply_edits(self.file_name(file), self.source(file), edits)
+    }
+
+    /// [`robtarget_edits`] for a target of the program (none for a target
+    /// without numbers: a derived one).
+    pub fn robtarget_edits(
+        &self,
+        target: &Target,
+        trans: [f64; 3],
+        rot: Option<[f64; 4]>,
+        robconf: Option<[i32; 4]>,
+    ) -> Vec<Edit> {
+        match &target.value {
+            Some(v) => robtarget_edits(self.source(target.origin.file), v, trans, rot, robconf),
+            None => Vec::new(),
+        }
+    }
+
+    /// [`jointtarget_edits`] for a jointtarget of the program.
+    pub fn jointtarget_edits(&self, target: &JointTarget, robax: [f64; 6]) -> Vec<Edit> {
+        jointtarget_edits(self.source(target.origin.file), target, robax)
+    }
+
+    /// The text of a number literal of file `file`, as written.
+    pub fn number_text(&self, file: usize, num: &Number) -> &str {
+        num.text(self.source(file))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn program_keeps_its_sources_for_edits() {
+        let a = b"MODULE a\nCONST robtarget p := [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\nENDMODULE\n";
+        let b = b"MODULE b\r\nENDMODULE\r\n";
+        let prog = crate::rapid::parse_files(&[("a.mod", a), ("b.mod", b)]).unwrap();
+        assert_eq!(prog.source(0), a);
+        assert_eq!(prog.source(1), b);
+        assert_eq!(prog.source(2), b"");
+        assert_eq!((prog.file_name(1), prog.file_name(2)), ("b.mod", ""));
+        let t = prog.target("p").unwrap();
+        assert_eq!(
+            prog.number_text(0, &t.value.as_ref().unwrap().trans[2]),
+            "3"
+        );
+        let edits = prog.robtarget_edits(t, [1.0, 2.0, 4.5], Some([1.0, 0.0, 0.0, 0.0]), None);
+        let out = prog.apply_edits(0, &edits).unwrap();
+        assert_eq!(
+            out,
+            apply_edits(
+                "a.mod",
+                a,
+                &robtarget_edits(
+                    a,
+                    t.value.as_ref().unwrap(),
+                    [1.0, 2.0, 4.5],
+                    Some([1.0, 0.0, 0.0, 0.0]),
+                    None
+                )
+            )
+            .unwrap()
+        );
+        assert!(String::from_utf8(out).unwrap().contains("[[1,2,4.5]"));
+    }
 
     #[test]
     fn keeps_style_and_precision() {

@@ -18,25 +18,11 @@ pub struct SpeedData {
 /// are `[n, 500, 5000, 1000]`; `vmax` is the robot's maximum TCP speed,
 /// taken as 5000 mm/s for this family.
 pub fn predefined_speed(name: &str) -> Option<SpeedData> {
-    const NAMED: [u32; 25] = [
-        5, 10, 20, 30, 40, 50, 60, 80, 100, 150, 200, 300, 400, 500, 600, 800, 1000, 1500, 2000,
-        2500, 3000, 4000, 5000, 6000, 7000,
-    ];
-    let lower = name.to_ascii_lowercase();
-    let v_tcp = if lower == "vmax" {
-        5000.0
-    } else {
-        let n: u32 = lower.strip_prefix('v')?.parse().ok()?;
-        if !NAMED.contains(&n) {
-            return None;
-        }
-        f64::from(n)
-    };
-    Some(SpeedData {
-        v_tcp,
-        v_ori: 500.0,
-        v_leax: 5000.0,
-        v_reax: 1000.0,
+    crate::rapid::builtins::predefined_speed(name).map(|s| SpeedData {
+        v_tcp: s.v_tcp,
+        v_ori: s.v_ori,
+        v_leax: s.v_leax,
+        v_reax: s.v_reax,
     })
 }
 

@@ -1,5 +1,5 @@
-//! The instruction table: which argument of a call is the tool, the work
-//! object or a target, and which functions derive robtargets.
+//! The instruction table: tool and work object of a call, and what a
+//! derived target is computed from.
 
 use super::*;
 
@@ -45,10 +45,6 @@ pub(super) fn call_tool_wobj(
     (tool, opt("WObj"))
 }
 
-/// Functions of RAPID that return a robtarget.
-pub(super) const ROBTARGET_FUNCTIONS: [&str; 6] =
-    ["offs", "reltool", "crobt", "calcrobt", "mirpos", "orobt"];
-
 pub(super) fn derivation(src: &[u8], e: &Expr, span: Range<usize>) -> Derivation {
     let mut bases = Vec::new();
     collect_names(e, &mut bases);
@@ -65,35 +61,22 @@ pub(super) fn derivation(src: &[u8], e: &Expr, span: Range<usize>) -> Derivation
 
 /// Candidate base targets: every variable an expression reads (filtered
 /// to robtargets once the whole run is known).
-pub(super) fn collect_names(e: &Expr, out: &mut Vec<String>) {
-    match e {
-        Expr::Name(n) => out.push(n.to_string()),
-        Expr::Index(b) => {
-            let (x, ix) = &**b;
-            if let (Expr::Name(n), true) = (x, ix.iter().all(|i| i.as_num().is_some())) {
-                let ix: Vec<String> = ix.iter().map(expr_text).collect();
-                out.push(format!("{n}{{{}}}", ix.join(",")));
-            } else {
-                collect_names(x, out);
-            }
-            for i in ix {
-                collect_names(i, out);
-            }
-        }
-        Expr::Component(b) => collect_names(&b.0, out),
-        Expr::Call(c) => {
-            for a in &c.args {
-                if let Some(v) = &a.value {
-                    collect_names(v, out);
+fn collect_names(e: &Expr, out: &mut Vec<String>) {
+    struct Names<'o>(&'o mut Vec<String>);
+    impl<'a> Visit<'a> for Names<'_> {
+        fn visit_expr(&mut self, e: &'a Expr) {
+            match e {
+                Expr::Name(n) => self.0.push(n.to_string()),
+                Expr::Index(b)
+                    if matches!(b.0, Expr::Name(_)) && b.1.iter().all(|i| i.as_num().is_some()) =>
+                {
+                    let ix: Vec<String> = b.1.iter().map(expr_text).collect();
+                    self.0
+                        .push(format!("{}{{{}}}", expr_text(&b.0), ix.join(",")));
                 }
+                _ => walk_expr(self, e),
             }
         }
-        Expr::Aggregate(a) => a.items.iter().for_each(|x| collect_names(x, out)),
-        Expr::Unary(_, x) => collect_names(x, out),
-        Expr::Binary(b) => {
-            collect_names(&b.1, out);
-            collect_names(&b.2, out);
-        }
-        _ => {}
     }
+    Names(out).visit_expr(e);
 }

@@ -1,10 +1,10 @@
-//! Data declarations: robtargets, jointtargets, tooldata, wobjdata and the
-//! other typed values a declaration or an assignment writes, with their
-//! identifiers and spans.
+//! Data declarations: their targets and typed values (tooldata, wobjdata,
+//! speeddata, zonedata), and robtarget/jointtarget literals taken out of
+//! expressions into the program's lists.
 
 use super::*;
 
-impl<'a, 'b> FileParser<'a, 'b> {
+impl FileParser<'_, '_> {
     pub(super) fn data_decl(&mut self, p: &Piece) -> Result<DataDecl> {
         let mut d = self.with_pair(Rule::data_declaration, p, |s, pair| {
             let Some(decl) = pair.into_inner().next() else {

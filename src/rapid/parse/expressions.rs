@@ -1,9 +1,9 @@
-//! Expressions: names, postfix indexes and components, operators by
-//! precedence climbing, literals.
+//! Expressions: primaries, postfix (index, component), operator
+//! precedence climbing, numbers and their text.
 
 use super::*;
 
-impl<'a, 'b> FileParser<'a, 'b> {
+impl FileParser<'_, '_> {
     /// A name as an interned string (the same few names recur millions of
     /// times in a CAM program).
     pub(super) fn name(&mut self, pair: &Pair<'_, Rule>, base: usize) -> Arc<str> {

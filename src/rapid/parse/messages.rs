@@ -1,9 +1,99 @@
-//! Syntax errors in words: pest's expectations as RAPID tokens, the place
-//! a missing `;` belongs, what was found instead.
+//! Syntax errors: pest's error turned into a message in the words of
+//! RAPID, pointing where a compiler would.
 
 use super::*;
 
-pub(super) fn describe_rule(r: Rule) -> Option<&'static str> {
+impl FileParser<'_, '_> {
+    pub(super) fn pest_error(
+        &self,
+        e: &pest::error::Error<Rule>,
+        text: &str,
+        base: usize,
+        rule: Rule,
+    ) -> Error {
+        let at = error_offset(e);
+        let mut expected: Vec<String> = Vec::new();
+        let mut push = |s: String| {
+            if !expected.contains(&s) {
+                expected.push(s);
+            }
+        };
+        for t in expected_punctuation(rule, text, at) {
+            if let Some(s) = describe_token(t) {
+                push(s);
+            }
+        }
+        if let pest::error::ErrorVariant::ParsingError { positives, .. } = &e.variant {
+            for r in positives {
+                if *r == Rule::EOI && rule == Rule::test_head {
+                    for w in ["CASE", "DEFAULT", "ENDTEST"] {
+                        push(w.to_string());
+                    }
+                }
+                if let Some(s) = describe_rule(*r) {
+                    push(s.to_string());
+                }
+            }
+        }
+        if let pest::error::ErrorVariant::CustomError { message } = &e.variant {
+            return self.err(base + at, format!("cannot parse: {message}"));
+        }
+        order_expected(&mut expected);
+        let abs = base + at;
+        if self.src.get(abs) == Some(&b'"') {
+            return self.err(abs, "string not closed on this line");
+        }
+        let found = found_at(self.src, abs);
+        // A missing `;` (or `,`) is noticed on the next line: point at the
+        // end of the line where it belongs, as compilers do.
+        let abs = if expected.iter().any(|s| s == "`;`" || s == "`,`") {
+            end_of_previous_code(self.src, abs, base)
+        } else {
+            abs
+        };
+        let msg = if expected.is_empty() {
+            format!("unexpected {found}")
+        } else {
+            format!("expected {}, found {found}", join_or(&expected))
+        };
+        self.err(abs, msg)
+    }
+}
+
+fn error_offset(e: &pest::error::Error<Rule>) -> usize {
+    match e.location {
+        pest::error::InputLocation::Pos(p) => p,
+        pest::error::InputLocation::Span((s, _)) => s,
+    }
+}
+
+/// Separators and closing marks the grammar writes as literal strings, in
+/// the order a message lists them.
+const PUNCTUATION: [&str; 8] = [",", ";", "]", ")", "}", ":=", "|", "%"];
+
+/// Which of [`PUNCTUATION`] would let the parse of `text` go on at `at`.
+/// Pest's error names only rules; the literal strings it tried are
+/// recorded only under its process-wide `set_error_detail`, which a
+/// library should not switch. So each mark is tried in place instead
+/// (on the error path only): it was expected if the parse then gets past
+/// it.
+fn expected_punctuation(rule: Rule, text: &str, at: usize) -> Vec<&'static str> {
+    let Some((before, after)) = text.split_at_checked(at) else {
+        return Vec::new();
+    };
+    PUNCTUATION
+        .into_iter()
+        .filter(|t| {
+            let probe = format!("{before}{t} {after}");
+            match RapidParser::parse(rule, &probe) {
+                Ok(_) => true,
+                Err(e) => error_offset(&e) >= at + t.len(),
+            }
+        })
+        .collect()
+}
+
+fn describe_rule(r: Rule) -> Option<&'static str> {
     use Rule as R;
     Some(match r {
         R::identifier | R::type_name | R::assignment_target => "a name",
@@ -62,7 +152,7 @@ pub(super) fn describe_rule(r: Rule) -> Option<&'static str> {
     })
 }
 
-pub(super) fn describe_token(token: &str) -> Option<String> {
+fn describe_token(token: &str) -> Option<String> {
     if token == "BUILTIN_RULE"
         || (token.len() > 3 && token.contains(".."))
         || token.is_empty()
@@ -93,7 +183,7 @@ pub(super) fn describe_token(token: &str) -> Option<String> {
 /// Most useful words first: closing punctuation, keywords, then the
 /// general ones; what is possible after almost any name (`(`, `{`, `.`,
 /// `:=`) only when little else fits.
-pub(super) fn order_expected(v: &mut Vec<String>) {
+fn order_expected(v: &mut Vec<String>) {
     let minor = |s: &str| matches!(s, "`(`" | "`{`" | "`.`" | "`:=`");
     let rank = |s: &str| -> u8 {
         if minor(s) {
@@ -126,7 +216,7 @@ pub(super) fn order_expected(v: &mut Vec<String>) {
     v.truncate(5);
 }
 
-pub(super) fn join_or(v: &[String]) -> String {
+fn join_or(v: &[String]) -> String {
     match v {
         [] => String::new(),
         [a] => a.clone(),
@@ -136,7 +226,7 @@ pub(super) fn join_or(v: &[String]) -> String {
 
 /// If only blanks and line breaks separate `offset` from the code before
 /// it (not before `floor`), the end of that code (before any comment).
-pub(super) fn end_of_previous_code(src: &[u8], offset: usize, floor: usize) -> usize {
+fn end_of_previous_code(src: &[u8], offset: usize, floor: usize) -> usize {
     let mut p = offset.min(src.len());
     let mut crossed = false;
     while p > floor && src[p - 1].is_ascii_whitespace() {
@@ -174,7 +264,7 @@ pub(super) fn end_of_previous_code(src: &[u8], offset: usize, floor: usize) -> u
 }
 
 /// What is at `offset`, for "found ...".
-pub(super) fn found_at(src: &[u8], offset: usize) -> String {
+fn found_at(src: &[u8], offset: usize) -> String {
     let rest = &src[offset.min(src.len())..];
     let Some(&b) = rest.first() else {
         return "end of file".into();

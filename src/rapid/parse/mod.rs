@@ -5,6 +5,7 @@
 
 use super::motion::{motion_signature, ArgAt};
 use super::scan::{Piece, PieceKind, Scanner};
+use super::visit::*;
 use super::*;
 use crate::error::{decode_lossless, Error, ErrorKind, Location};
 use pest::iterators::Pair;
@@ -17,12 +18,12 @@ mod expressions;
 mod messages;
 mod run;
 mod shapes;
+mod statements;
 mod structure;
 mod words;
 
 use calls::*;
 use expressions::*;
-use messages::*;
 use shapes::*;
 use words::*;
 
@@ -49,6 +50,7 @@ pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
     let mut lines = Vec::new();
     for (i, (name, bytes)) in inputs.iter().enumerate() {
         b.prog.files.push(name.to_string());
+        b.prog.sources.push(Arc::from(*bytes));
         let line_starts = line_starts(bytes);
         FileParser::new(i, name, bytes, &line_starts, &mut b).run()?;
         lines.push(line_starts);
@@ -76,22 +78,6 @@ pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
     }
     b.finish(inputs, &lines)?;
     Ok(b.prog)
-}
-
-/// The same failing parse again with pest's record of expected tokens,
-/// for the message. That record doubles the cost of every parse, so it is
-/// on only here, on the error path, never for a parse that succeeds. The
-/// switch is pest's and process-wide: one lock keeps two threads' error
-/// re-parses from switching it off under each other.
-fn detailed_error(rule: Rule, text: &str) -> Option<pest::error::Error<Rule>> {
-    static DETAIL: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _held = DETAIL
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    pest::set_error_detail(true);
-    let detailed = RapidParser::parse(rule, text).err();
-    pest::set_error_detail(false);
-    detailed
 }
 
 fn line_starts(src: &[u8]) -> Vec<usize> {
@@ -257,10 +243,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
         let text = piece_text(raw);
         let mut pairs = match RapidParser::parse(rule, &text) {
             Ok(p) => p,
-            Err(e) => {
-                let detailed = detailed_error(rule, &text);
-                return Err(self.pest_error(detailed.as_ref().unwrap_or(&e), piece.start, rule));
-            }
+            Err(e) => return Err(self.pest_error(&e, &text, piece.start, rule)),
         };
         let Some(pair) = pairs.next() else {
             return Err(self.err(piece.start, "internal: empty parse"));
@@ -281,60 +264,6 @@ impl<'a, 'b> FileParser<'a, 'b> {
         }
         f(self, pair)
     }
-
-    fn pest_error(&self, e: &pest::error::Error<Rule>, base: usize, rule: Rule) -> Error {
-        let at = match e.location {
-            pest::error::InputLocation::Pos(p) => p,
-            pest::error::InputLocation::Span((s, _)) => s,
-        };
-        let mut expected: Vec<String> = Vec::new();
-        let mut push = |s: String| {
-            if !expected.contains(&s) {
-                expected.push(s);
-            }
-        };
-        if let Some(att) = e.parse_attempts() {
-            for t in att.expected_tokens() {
-                if let Some(s) = describe_token(&t.to_string()) {
-                    push(s);
-                }
-            }
-        }
-        if let pest::error::ErrorVariant::ParsingError { positives, .. } = &e.variant {
-            for r in positives {
-                if *r == Rule::EOI && rule == Rule::test_head {
-                    for w in ["CASE", "DEFAULT", "ENDTEST"] {
-                        push(w.to_string());
-                    }
-                }
-                if let Some(s) = describe_rule(*r) {
-                    push(s.to_string());
-                }
-            }
-        }
-        if let pest::error::ErrorVariant::CustomError { message } = &e.variant {
-            return self.err(base + at, format!("cannot parse: {message}"));
-        }
-        order_expected(&mut expected);
-        let abs = base + at;
-        if self.src.get(abs) == Some(&b'"') {
-            return self.err(abs, "string not closed on this line");
-        }
-        let found = found_at(self.src, abs);
-        // A missing `;` (or `,`) is noticed on the next line: point at the
-        // end of the line where it belongs, as compilers do.
-        let abs = if expected.iter().any(|s| s == "`;`" || s == "`,`") {
-            end_of_previous_code(self.src, abs, base)
-        } else {
-            abs
-        };
-        let msg = if expected.is_empty() {
-            format!("unexpected {found}")
-        } else {
-            format!("expected {}, found {found}", join_or(&expected))
-        };
-        self.err(abs, msg)
-    }
 }
 
 #[cfg(test)]
@@ -343,8 +272,8 @@ mod tests {
 
     #[test]
     fn a_big_array_literal_parses() {
-        // Sets no call limit of pest's: an array of 20,000 robtargets (a
-        // CAM program's path as data) is one piece, and must parse whole.
+        // No call limit of pest's: an array of 20,000 robtargets (a CAM
+        // program's path as data) is one piece, and must parse whole.
         let n = 20_000;
         let item = "[[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]";
         let src = format!(

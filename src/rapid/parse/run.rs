@@ -1,6 +1,6 @@
-//! The whole-run pass: what needs every file of the run (RECORD types,
-//! FUNCs returning robtarget, identifiers unique across modules,
-//! robtargets inside record values, derived targets).
+//! The pass over the whole run, once every file is read: targets inside
+//! RECORD values, derived targets, identifiers made unique across
+//! modules, source order.
 
 use super::*;
 
@@ -21,8 +21,10 @@ impl Builder {
             .filter(|d| d.type_name.eq_ignore_ascii_case("tooldata"))
             .map(|d| d.name.to_lowercase())
             .collect();
-        let mut rt_funcs: HashSet<String> =
-            ROBTARGET_FUNCTIONS.iter().map(|s| s.to_string()).collect();
+        let mut rt_funcs: HashSet<String> = super::builtins::ROBTARGET_FUNCTIONS
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
         for m in &self.prog.modules {
             for r in &m.routines {
                 if r.kind == RoutineKind::Func
@@ -88,29 +90,18 @@ impl Builder {
         for m in &mut modules {
             let src = inputs.get(m.file).map(|x| x.1).unwrap_or(&[]);
             let ls = lines.get(m.file).map(Vec::as_slice).unwrap_or(&[]);
-            for r in &mut m.routines {
-                let mut d = DerivedWalk {
-                    b: self,
-                    rt_funcs: &rt_funcs,
-                    tools: &tools,
-                    src,
-                    lines: ls,
-                    file: m.file,
-                    module: m.name.clone(),
-                    routine: r.name.clone(),
-                    k: 0,
-                };
-                d.stmts(&mut r.body);
-                if let Some(b) = &mut r.backward {
-                    d.stmts(b);
-                }
-                if let Some((_, b)) = &mut r.error {
-                    d.stmts(b);
-                }
-                if let Some(b) = &mut r.undo {
-                    d.stmts(b);
-                }
-            }
+            let mut d = DerivedWalk {
+                b: self,
+                rt_funcs: &rt_funcs,
+                tools: &tools,
+                src,
+                lines: ls,
+                file: m.file,
+                module: m.name.clone(),
+                routine: Arc::from(""),
+                k: 0,
+            };
+            d.visit_module_mut(m);
         }
 
         // Bases of derived targets: only what names a robtarget of the run.
@@ -147,26 +138,9 @@ impl Builder {
         // Source order, and the AST's indices follow.
         let tmap = sort_by_origin(&mut self.prog.targets, |t| &t.origin);
         let jmap = sort_by_origin(&mut self.prog.jointtargets, |t| &t.origin);
+        let mut remap = Remap { t: &tmap, j: &jmap };
         for m in &mut modules {
-            for d in &mut m.data {
-                if let Some(e) = &mut d.init {
-                    remap_expr(e, &tmap, &jmap);
-                }
-            }
-            for r in &mut m.routines {
-                for d in &mut r.data {
-                    if let Some(e) = &mut d.init {
-                        remap_expr(e, &tmap, &jmap);
-                    }
-                }
-                remap_stmts(&mut r.body, &tmap, &jmap);
-                for b in [&mut r.backward, &mut r.undo].into_iter().flatten() {
-                    remap_stmts(b, &tmap, &jmap);
-                }
-                if let Some((_, b)) = &mut r.error {
-                    remap_stmts(b, &tmap, &jmap);
-                }
-            }
+            remap.visit_module_mut(m);
         }
         self.prog.modules = modules;
         Ok(())
@@ -176,7 +150,7 @@ impl Builder {
 /// The name space an identifier is unique in (lower case): the routine
 /// for `main#3` / `main@2`, else the declared name (`arr` for `arr{2}`,
 /// `w` for `w{3}.pos`).
-pub(super) fn name_space(id: &str) -> String {
+fn name_space(id: &str) -> String {
     id.split(['#', '@', '{', '.'])
         .next()
         .unwrap_or("")
@@ -186,7 +160,7 @@ pub(super) fn name_space(id: &str) -> String {
 /// Qualify with the module every identifier whose name space occurs in
 /// more than one module of the run.
 /// Whether an expression contains a robtarget-shaped literal.
-pub(super) fn holds_robtarget_shape(e: &Expr, depth: usize) -> bool {
+fn holds_robtarget_shape(e: &Expr, depth: usize) -> bool {
     match e {
         Expr::Aggregate(a) if depth < 32 => {
             matches!(robtarget_shape(&a.items), Ok(Some(_)))
@@ -196,14 +170,14 @@ pub(super) fn holds_robtarget_shape(e: &Expr, depth: usize) -> bool {
     }
 }
 
-pub(super) fn decl_offset(e: &Expr) -> Option<usize> {
+fn decl_offset(e: &Expr) -> Option<usize> {
     match e {
         Expr::Aggregate(a) => Some(a.span.start),
         _ => None,
     }
 }
 
-pub(super) fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
+fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
     let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
     for it in items.iter_mut() {
         let (m, id) = f(it);
@@ -224,7 +198,7 @@ pub(super) fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut
 /// targets are already in order (only record fields and derived targets
 /// are appended later), and the permutation is applied by swaps, so that
 /// a list of millions of targets is never copied.
-pub(super) fn sort_by_origin<T>(items: &mut [T], key: impl Fn(&T) -> &Origin) -> Vec<usize> {
+fn sort_by_origin<T>(items: &mut [T], key: impl Fn(&T) -> &Origin) -> Vec<usize> {
     let k = |t: &T| {
         let o = key(t);
         (o.file, o.pos.offset)
@@ -251,117 +225,34 @@ pub(super) fn sort_by_origin<T>(items: &mut [T], key: impl Fn(&T) -> &Origin) ->
     map
 }
 
-pub(super) fn remap_expr(e: &mut Expr, t: &[usize], j: &[usize]) {
-    match e {
-        Expr::Target(i) => *i = t.get(*i).copied().unwrap_or(*i),
-        Expr::JointTarget(i) => *i = j.get(*i).copied().unwrap_or(*i),
-        Expr::Aggregate(a) => a.items.iter_mut().for_each(|x| remap_expr(x, t, j)),
-        Expr::Call(c) => c
-            .args
+/// Old target indices to new ones, in the tree and in each call's lists.
+struct Remap<'a> {
+    t: &'a [usize],
+    j: &'a [usize],
+}
+
+impl VisitMut for Remap<'_> {
+    fn visit_call_mut(&mut self, c: &mut Call) {
+        walk_call_mut(self, c);
+        let (t, j) = (self.t, self.j);
+        c.targets
             .iter_mut()
-            .filter_map(|a| a.value.as_mut())
-            .for_each(|x| remap_expr(x, t, j)),
-        Expr::Unary(_, x) => remap_expr(x, t, j),
-        Expr::Component(b) => remap_expr(&mut b.0, t, j),
-        Expr::Binary(b) => {
-            remap_expr(&mut b.1, t, j);
-            remap_expr(&mut b.2, t, j);
-        }
-        Expr::Index(b) => {
-            remap_expr(&mut b.0, t, j);
-            b.1.iter_mut().for_each(|x| remap_expr(x, t, j));
-        }
-        _ => {}
-    }
-}
-
-pub(super) fn remap_stmts(stmts: &mut [Statement], t: &[usize], j: &[usize]) {
-    for s in stmts {
-        for_each_expr_and_block(s, &mut |e| remap_expr(e, t, j), &mut |b| {
-            remap_stmts(b, t, j)
-        });
-        if let StatementKind::Call(c) = &mut s.kind {
-            c.targets
-                .iter_mut()
-                .for_each(|i| *i = t.get(*i).copied().unwrap_or(*i));
-            c.jointtargets
-                .iter_mut()
-                .for_each(|i| *i = j.get(*i).copied().unwrap_or(*i));
-        }
-    }
-}
-
-/// Visit the expressions of a statement and its nested blocks.
-pub(super) fn for_each_expr_and_block(
-    s: &mut Statement,
-    fe: &mut dyn FnMut(&mut Expr),
-    fb: &mut dyn FnMut(&mut Vec<Statement>),
-) {
-    match &mut s.kind {
-        StatementKind::Call(c) => c
-            .args
+            .for_each(|i| *i = t.get(*i).copied().unwrap_or(*i));
+        c.jointtargets
             .iter_mut()
-            .filter_map(|a| a.value.as_mut())
-            .for_each(fe),
-        StatementKind::Assign { target, value } => {
-            fe(target);
-            fe(value);
+            .for_each(|i| *i = j.get(*i).copied().unwrap_or(*i));
+    }
+
+    fn visit_expr_mut(&mut self, e: &mut Expr) {
+        match e {
+            Expr::Target(i) => *i = self.t.get(*i).copied().unwrap_or(*i),
+            Expr::JointTarget(i) => *i = self.j.get(*i).copied().unwrap_or(*i),
+            _ => walk_expr_mut(self, e),
         }
-        StatementKind::If {
-            branches,
-            otherwise,
-        } => {
-            for (c, b) in branches {
-                fe(c);
-                fb(b);
-            }
-            if let Some(b) = otherwise {
-                fb(b);
-            }
-        }
-        StatementKind::CompactIf { cond, then } => {
-            fe(cond);
-            for_each_expr_and_block(then, fe, fb);
-        }
-        StatementKind::For {
-            from,
-            to,
-            step,
-            body,
-            ..
-        } => {
-            fe(from);
-            fe(to);
-            if let Some(s) = step {
-                fe(s);
-            }
-            fb(body);
-        }
-        StatementKind::While { cond, body } => {
-            fe(cond);
-            fb(body);
-        }
-        StatementKind::Test {
-            value,
-            cases,
-            default,
-        } => {
-            fe(value);
-            for (vs, b) in cases {
-                vs.iter_mut().for_each(&mut *fe);
-                fb(b);
-            }
-            if let Some(b) = default {
-                fb(b);
-            }
-        }
-        StatementKind::Return(Some(e)) | StatementKind::Raise(Some(e)) => fe(e),
-        StatementKind::Connect { interrupt, .. } => fe(interrupt),
-        _ => {}
     }
 }
 
-pub(super) struct RecordWalk<'a> {
+struct RecordWalk<'a> {
     b: &'a mut Builder,
     records: &'a HashMap<String, Vec<(String, String)>>,
     src: &'a [u8],
@@ -459,7 +350,7 @@ impl RecordWalk<'_> {
     }
 }
 
-pub(super) struct DerivedWalk<'a> {
+struct DerivedWalk<'a> {
     b: &'a mut Builder,
     rt_funcs: &'a HashSet<String>,
     tools: &'a HashSet<String>,
@@ -512,73 +403,59 @@ impl DerivedWalk<'_> {
         });
         self.b.prog.targets.len() - 1
     }
+}
 
-    fn stmts(&mut self, stmts: &mut [Statement]) {
-        for s in stmts {
-            self.stmt(s);
-        }
+/// Statements only: derived targets are the robtarget calls a statement
+/// passes, assigns or returns, not those nested in other expressions.
+impl VisitMut for DerivedWalk<'_> {
+    fn visit_routine_mut(&mut self, r: &mut Routine) {
+        self.routine = r.name.clone();
+        self.k = 0;
+        walk_routine_mut(self, r);
     }
 
-    fn stmt(&mut self, s: &mut Statement) {
+    fn visit_statement_mut(&mut self, s: &mut Statement) {
         match &mut s.kind {
-            StatementKind::Call(c) => {
-                let (t, _) = call_tool_wobj(&c.name, &c.args, self.tools);
-                // Literals whose instruction's tool is only known now.
-                if let Some(t) = t {
-                    let t = self.b.intern(&t);
-                    for &i in &c.targets {
-                        if let Some(x) = self.b.prog.targets.get_mut(i) {
-                            if x.tool.is_none() {
-                                x.tool = Some(t.clone());
-                            }
-                        }
-                    }
-                }
-                let mut found = Vec::new();
-                for a in &c.args {
-                    if let Some(v) = &a.value {
-                        if self.is_rt_call(v) {
-                            found.push(self.derived(v, None, Some((&c.name, &c.args))));
-                        }
-                    }
-                }
-                c.targets.extend(found);
-                c.targets.sort_by_key(|&i| {
-                    self.b
-                        .prog
-                        .targets
-                        .get(i)
-                        .map_or(0, |t| t.origin.pos.offset)
-                });
-            }
             StatementKind::Assign { target, value } if self.is_rt_call(value) => {
                 self.derived(value, Some(expr_text(target)), None);
             }
             StatementKind::Return(Some(e)) if self.is_rt_call(e) => {
                 self.derived(e, None, None);
             }
-            StatementKind::CompactIf { then, .. } => self.stmt(then),
-            StatementKind::If {
-                branches,
-                otherwise,
-            } => {
-                for (_, b) in branches {
-                    self.stmts(b);
-                }
-                if let Some(b) = otherwise {
-                    self.stmts(b);
-                }
-            }
-            StatementKind::For { body, .. } | StatementKind::While { body, .. } => self.stmts(body),
-            StatementKind::Test { cases, default, .. } => {
-                for (_, b) in cases {
-                    self.stmts(b);
-                }
-                if let Some(b) = default {
-                    self.stmts(b);
-                }
-            }
-            _ => {}
+            _ => walk_statement_mut(self, s),
         }
     }
+
+    fn visit_call_mut(&mut self, c: &mut Call) {
+        let (t, _) = call_tool_wobj(&c.name, &c.args, self.tools);
+        // Literals whose instruction's tool is only known now.
+        if let Some(t) = t {
+            let t = self.b.intern(&t);
+            for &i in &c.targets {
+                if let Some(x) = self.b.prog.targets.get_mut(i) {
+                    if x.tool.is_none() {
+                        x.tool = Some(t.clone());
+                    }
+                }
+            }
+        }
+        let mut found = Vec::new();
+        for a in &c.args {
+            if let Some(v) = &a.value {
+                if self.is_rt_call(v) {
+                    found.push(self.derived(v, None, Some((&c.name, &c.args))));
+                }
+            }
+        }
+        c.targets.extend(found);
+        c.targets.sort_by_key(|&i| {
+            self.b
+                .prog
+                .targets
+                .get(i)
+                .map_or(0, |t| t.origin.pos.offset)
+        });
+    }
+
+    fn visit_expr_mut(&mut self, _: &mut Expr) {}
 }

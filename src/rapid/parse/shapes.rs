@@ -1,5 +1,5 @@
-//! The shapes of RAPID's record values: which aggregates are robtargets,
-//! jointtargets, tooldata and wobjdata, and their numbers with spans.
+//! Value shapes: which aggregates are robtargets, jointtargets, tooldata
+//! or wobjdata, and their numbers.
 
 use super::*;
 

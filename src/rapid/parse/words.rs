@@ -1,4 +1,4 @@
-//! RAPID's reserved words and what a stray keyword most likely means.
+//! RAPID's reserved words and the keyword facts the assembler needs.
 
 use super::*;
 

@@ -257,21 +257,18 @@ impl<'p> Walker<'p> {
                     return Ok(Value::Unknown);
                 };
                 let pose = if name == "offs" {
-                    Translation3::new(dx, dy, dz) * p.pose
+                    rapid::builtins::offs(&p.pose, [dx, dy, dz])
                 } else {
                     let mut rot = [0.0; 3];
                     for (k, axis) in ["Rx", "Ry", "Rz"].iter().enumerate() {
                         if let Some(a) = optional(axis).and_then(|a| a.value.as_ref()) {
                             match self.eval(a, frame)?.num() {
-                                Some(v) => rot[k] = v.to_radians(),
+                                Some(v) => rot[k] = v,
                                 None => return Ok(Value::Unknown),
                             }
                         }
                     }
-                    let r = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), rot[0])
-                        * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), rot[1])
-                        * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), rot[2]);
-                    p.pose * Isometry3::from_parts(Translation3::new(dx, dy, dz), r)
+                    rapid::builtins::reltool(&p.pose, [dx, dy, dz], rot)
                 };
                 let bases = match p.id {
                     Some(i) => vec![i],

@@ -21,7 +21,7 @@ use crate::rapid::{
 use crate::resolve::{target_pose, Frames};
 use crate::robot::frames::{flange_of_target, target_of_flange};
 use crate::robot::{Joints, RobConf, Robot, ToolData, WobjData};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Vector3};
 use std::collections::{HashMap, HashSet};
 
 /// A robtarget value met in the walk.

@@ -36,9 +36,7 @@ fn bench_sample(c: &mut Criterion) {
     let mut group = c.benchmark_group("correct");
     group.throughput(Throughput::Elements(program.targets().len() as u64));
     group.bench_function("cam_sample_5252_targets", |b| {
-        b.iter(|| {
-            correct(&program, &[&bytes], &warm, &options(), &mut |_, _| {}).expect("corrects")
-        })
+        b.iter(|| correct(&program, &warm, &options(), &mut |_, _| {}).expect("corrects"))
     });
     group.finish();
 }

@@ -34,10 +34,10 @@
 //! let program = rapid::parse("m.mod", src)?;
 //! let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 60.0)?;
 //! let at = |m| Options { when: When::At(Moment::Minute(m)), visit: Visit::Mean };
-//! let warm_run = correct(&program, &[src], &warm, &at(60.0), &mut |_, _| {})?;
+//! let warm_run = correct(&program, &warm, &at(60.0), &mut |_, _| {})?;
 //! assert!(warm_run.summary.max_mm > 0.1); // the flange drifts by tenths of a mm
 //! assert_ne!(warm_run.outputs[0], src);
-//! let cold_run = correct(&program, &[src], &warm, &at(0.0), &mut |_, _| {})?;
+//! let cold_run = correct(&program, &warm, &at(0.0), &mut |_, _| {})?;
 //! assert_eq!(cold_run.outputs[0], src); // at the reference temperature: every byte kept
 //! # Ok::<(), rapidtherm::Error>(())
 //! ```

@@ -51,7 +51,7 @@ fn at(minute: f64) -> Options {
 fn run(name: &str, bytes: &[u8], minute: f64) -> (Program, rapidtherm::correct::Outcome) {
     let program = rapid::parse(name, bytes).unwrap();
     let warm = WarmRobot::new(Robot::irb140(), &Model::default(), minute).unwrap();
-    let outcome = correct(&program, &[bytes], &warm, &at(minute), &mut |_, _| {}).unwrap();
+    let outcome = correct(&program, &warm, &at(minute), &mut |_, _| {}).unwrap();
     (program, outcome)
 }
 
@@ -226,7 +226,6 @@ fn steady_state_corrects_more_than_minute_30() {
     let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 30.0).unwrap();
     let steady = correct(
         &program,
-        &[&bytes],
         &warm,
         &Options {
             when: When::At(Moment::Steady),
@@ -235,7 +234,7 @@ fn steady_state_corrects_more_than_minute_30() {
         &mut |_, _| {},
     )
     .unwrap();
-    let early = correct(&program, &[&bytes], &warm, &at(30.0), &mut |_, _| {}).unwrap();
+    let early = correct(&program, &warm, &at(30.0), &mut |_, _| {}).unwrap();
     assert!(steady.summary.max_mm > early.summary.max_mm);
     assert_relative_eq!(
         steady.corrections[0].temps_c[5],

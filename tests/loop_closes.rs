@@ -30,7 +30,7 @@ fn landing_rms(program_name: &str, bytes: &[u8], model: &Model, truth: &[Effect]
         when: When::At(Moment::Minute(MINUTE)),
         visit: Visit::Mean,
     };
-    let outcome = correct(&program, &[bytes], &warm, &options, &mut |_, _| {}).unwrap();
+    let outcome = correct(&program, &warm, &options, &mut |_, _| {}).unwrap();
     let robot = Robot::irb140();
     let temps = default_profile().temps_at(MINUTE).unwrap();
     let mut sum = 0.0;

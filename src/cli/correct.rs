@@ -141,7 +141,6 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let model = load_model(args.model.as_deref())?;
     let robot = load_robot(args.robot.as_deref())?;
     let (inputs, program) = read_program(&args.files)?;
-    let sources: Vec<&[u8]> = inputs.iter().map(|(_, b)| b.as_slice()).collect();
     let when = when_of(&args, &program, &robot)?;
     let horizon = match &when {
         When::At(Moment::Minute(t)) => *t,
@@ -169,7 +168,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         visit: args.visit.into(),
     };
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
-    let outcome = correct(&program, &sources, &warm, &options, &mut |done, total| {
+    let outcome = correct(&program, &warm, &options, &mut |done, total| {
         if let Some(b) = &bar {
             b.set_length(total as u64);
             b.set_position(done as u64);
@@ -181,8 +180,8 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let changed = outcome
         .outputs
         .iter()
-        .zip(&sources)
-        .any(|(o, s)| o.as_slice() != *s);
+        .enumerate()
+        .any(|(f, o)| o.as_slice() != program.source(f));
     if args.check {
         eprint!("{}", summary_text(&outcome));
         let over = outcome

@@ -3,7 +3,7 @@
 
 use super::Correction;
 use crate::error::Result;
-use crate::rapid::rewrite::{apply_edits, Edit};
+use crate::rapid::rewrite::Edit;
 use crate::rapid::Program;
 use nalgebra::UnitQuaternion;
 
@@ -20,20 +20,16 @@ pub(super) fn quaternion_like(rot: &UnitQuaternion<f64>, written: &[f64; 4]) -> 
     [s * q.w, s * q.i, s * q.j, s * q.k]
 }
 
-pub(super) fn write_files(
-    program: &Program,
-    sources: &[&[u8]],
-    corrections: &[Correction],
-) -> Result<Vec<Vec<u8>>> {
-    (0..sources.len())
+/// The new bytes of every file of the program, in its file order.
+pub(super) fn write_files(program: &Program, corrections: &[Correction]) -> Result<Vec<Vec<u8>>> {
+    (0..program.files.len())
         .map(|f| {
             let edits: Vec<Edit> = corrections
                 .iter()
                 .filter(|c| c.file_index == f)
                 .flat_map(|c| c.edits.iter().cloned())
                 .collect();
-            let name = program.files.get(f).map(String::as_str).unwrap_or("");
-            apply_edits(name, sources[f], &edits)
+            program.apply_edits(f, &edits)
         })
         .collect()
 }

@@ -69,28 +69,25 @@ pub struct Options {
     pub visit: Visit,
 }
 
-/// Correct every target of `program` (parsed from `sources`, one byte
-/// buffer per file in the program's file order). `progress` is called with
+/// Correct every target of `program` (which keeps the bytes it was parsed
+/// from: the corrected files are those bytes with new numbers). `progress` is called with
 /// (done, total) now and then.
 pub fn correct(
     program: &Program,
-    sources: &[&[u8]],
     warm: &WarmRobot,
     options: &Options,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
-    correct_all(program, sources, warm, options, progress)
-        .map_err(|e| with_source(e, sources, program))
+    correct_all(program, warm, options, progress).map_err(|e| with_source(e, program))
 }
 
 fn correct_all(
     program: &Program,
-    sources: &[&[u8]],
     warm: &WarmRobot,
     options: &Options,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
-    let run = Run::new(program, sources, warm, options)?;
+    let run = Run::new(program, warm, options)?;
     if let When::Schedule {
         schedule, joints, ..
     } = &options.when
@@ -147,7 +144,7 @@ fn correct_all(
             report
         })
         .collect();
-    let outputs = write_files(program, sources, &corrections)?;
+    let outputs = write_files(program, &corrections)?;
     let summary = summarise(&corrections, &derived, &skipped);
     Ok(Outcome {
         corrections,
@@ -160,7 +157,7 @@ fn correct_all(
 }
 
 /// Errors located in the program gain the source line and caret.
-fn with_source(e: Error, sources: &[&[u8]], program: &Program) -> Error {
+fn with_source(e: Error, program: &Program) -> Error {
     let Some(loc) = &e.location else { return e };
     if !loc.line_text.is_empty() {
         return e;
@@ -168,9 +165,7 @@ fn with_source(e: Error, sources: &[&[u8]], program: &Program) -> Error {
     let Some(file) = program.files.iter().position(|f| *f == loc.file) else {
         return e;
     };
-    let Some(src) = sources.get(file) else {
-        return e;
-    };
+    let src = program.source(file);
     let line_start = src
         .split_inclusive(|&b| b == b'\n')
         .take(loc.line.saturating_sub(1))

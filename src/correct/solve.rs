@@ -30,7 +30,6 @@ pub(super) enum Solved {
 /// warm robot's states, the options.
 pub(super) struct Run<'a> {
     pub program: &'a Program,
-    pub sources: &'a [&'a [u8]],
     pub warm: &'a WarmRobot,
     pub states: States<'a>,
     pub options: &'a Options,
@@ -42,15 +41,9 @@ pub(super) struct Run<'a> {
 }
 
 impl<'a> Run<'a> {
-    pub fn new(
-        program: &'a Program,
-        sources: &'a [&'a [u8]],
-        warm: &'a WarmRobot,
-        options: &'a Options,
-    ) -> Result<Run<'a>> {
+    pub fn new(program: &'a Program, warm: &'a WarmRobot, options: &'a Options) -> Result<Run<'a>> {
         Ok(Run {
             program,
-            sources,
             warm,
             states: warm.states(),
             options,
@@ -68,7 +61,6 @@ impl<'a> Run<'a> {
 pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Result<Solved> {
     let Run {
         program,
-        sources,
         warm,
         states,
         options,
@@ -163,7 +155,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
     let Some(value) = &target.value else {
         return Ok(Solved::Nothing);
     };
-    let src = sources.get(target.origin.file).copied().unwrap_or_default();
+    let src = program.source(target.origin.file);
     let new_trans = exact.translation.vector;
     let turn = pose.rotation.angle_to(&exact.rotation);
     // Orientation is rewritten only when it turns: a quaternion rewritten
@@ -242,7 +234,6 @@ fn nearest_solution(warm: &WarmRobot, flange: &Isometry3<f64>, conf: &RobConf) -
 pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<Correction> {
     let Run {
         program,
-        sources,
         warm,
         states,
         options,
@@ -262,7 +253,7 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<Correct
     let q_warm = warm.joints_for(&flange, &conf, &state).map_err(located)?;
     let new_deg = q_warm.map(f64::to_degrees);
     let drift = warm.flange(&q, &state).translation.vector - flange.translation.vector;
-    let src = sources.get(jt.origin.file).copied().unwrap_or_default();
+    let src = program.source(jt.origin.file);
     let edits = jointtarget_edits(src, jt, new_deg);
     let dangle = degrees
         .iter()

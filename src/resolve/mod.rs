@@ -8,6 +8,7 @@
 //! `robot` and the shared `error`; never `model`, `schedule` or the jobs.
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::rapid::visit::{walk_statement, Visit};
 use crate::rapid::{self, Call, Expr, Program, Statement, StatementKind, Target, TargetKind};
 use crate::robot::conf::RobConf;
 use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
@@ -180,39 +181,21 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
     out
 }
 
-/// Every statement of a list, nested ones included, in source order.
+/// Every statement of a list, nested ones included, in source order: the
+/// statement part of [`rapid::visit`], for passes that look at statements
+/// one at a time.
 pub fn walk_statements<'a>(statements: &'a [Statement], visit: &mut impl FnMut(&'a Statement)) {
-    for s in statements {
-        visit(s);
-        match &s.kind {
-            StatementKind::If {
-                branches,
-                otherwise,
-            } => {
-                for (_, body) in branches {
-                    walk_statements(body, visit);
-                }
-                if let Some(body) = otherwise {
-                    walk_statements(body, visit);
-                }
-            }
-            StatementKind::CompactIf { then, .. } => {
-                walk_statements(std::slice::from_ref(then.as_ref()), visit)
-            }
-            StatementKind::For { body, .. } | StatementKind::While { body, .. } => {
-                walk_statements(body, visit)
-            }
-            StatementKind::Test { cases, default, .. } => {
-                for (_, body) in cases {
-                    walk_statements(body, visit);
-                }
-                if let Some(body) = default {
-                    walk_statements(body, visit);
-                }
-            }
-            _ => {}
+    struct Each<'f, F>(&'f mut F);
+    impl<'a, F: FnMut(&'a Statement)> Visit<'a> for Each<'_, F> {
+        fn visit_statement(&mut self, s: &'a Statement) {
+            (self.0)(s);
+            walk_statement(self, s);
         }
+        // Statements only: no statement is nested in an expression.
+        fn visit_expr(&mut self, _: &'a Expr) {}
+        fn visit_call(&mut self, _: &'a Call) {}
     }
+    Each(visit).visit_block(statements);
 }
 
 /// Every procedure call in a statement list, nested ones included, with

@@ -7,7 +7,15 @@
 //! jointtarget, tooldata, wobjdata, speeddata and zonedata value with the
 //! byte span of each of its numbers in the original file. The
 //! [`rewrite`] module splices new numbers into the original bytes, leaving
-//! every other byte (line endings, Latin-1 text) as it was.
+//! every other byte (line endings, Latin-1 text) as it was. The `Program`
+//! keeps the bytes it was parsed from ([`Program::source`]).
+//!
+//! Owns the language: the scanner (`scan`), the grammar glue and the
+//! parser split by concept (`parse`), the syntax tree and targets with
+//! spans (here), one traversal ([`visit`]), RAPID's own built-in knowledge
+//! ([`builtins`]: Offs, RelTool, predefined speeddata, instant
+//! instructions) and the edits ([`rewrite`]). Knows no robot: it may import
+//! only the shared `error` (and nalgebra for RAPID's pose arithmetic).
 //!
 //! # Target identifiers
 //!

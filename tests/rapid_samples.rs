@@ -492,3 +492,27 @@ fn nested_indexes_do_not_backtrack_exponentially() {
     );
     assert!(rapid::parse("deep.mod", deep.as_bytes()).is_err());
 }
+
+#[test]
+fn a_robtarget_array_of_20000_elements_parses() {
+    // A CAM path as one array literal: nothing in the parser may bound a
+    // piece's size (pest's cumulative call limit once did).
+    let n = 20_000;
+    let items: Vec<String> = (0..n)
+        .map(|i| format!("[[{i},0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]"))
+        .collect();
+    let src = format!(
+        "MODULE m\nCONST robtarget path{{{n}}} := [{}];\nENDMODULE\n",
+        items.join(",\n")
+    );
+    let program = rapid::parse("path.mod", src.as_bytes()).unwrap();
+    let targets = program.targets();
+    assert_eq!(targets.len(), n);
+    assert_eq!(targets[0].id, "path{1}");
+    assert_eq!(targets[n - 1].id, format!("path{{{n}}}"));
+    assert_eq!(
+        targets[n - 1].value.as_ref().unwrap().trans_values(),
+        [(n - 1) as f64, 0.0, 400.0]
+    );
+    assert_eq!(program.source(0), src.as_bytes());
+}

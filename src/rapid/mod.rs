@@ -1,6 +1,6 @@
 //! Reading RAPID programs losslessly and rewriting their targets in place.
 //!
-//! [`parse`] (one file) and [`parse_files`] (a run of several files) give a
+//! [`parse()`] (one file) and [`parse_files`] (a run of several files) give a
 //! [`Program`]: the modules with their RECORD types, data declarations and
 //! routines down to statements and expressions, and, collected from
 //! wherever they are written, every robtarget ([`Program::targets`]),

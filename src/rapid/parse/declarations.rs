@@ -304,84 +304,75 @@ impl FileParser<'_, '_> {
 
     /// Replace robtarget- and jointtarget-shaped literals in a routine
     /// expression by references to new inline targets.
-    pub(super) fn take_literals(&mut self, e: Expr, ctx: &InlineCtx) -> Expr {
+    pub(super) fn take_literals(&mut self, mut e: Expr, ctx: &InlineCtx) -> Expr {
+        Literals { p: self, ctx }.visit_expr_mut(&mut e);
+        e
+    }
+}
+
+/// Robtarget and jointtarget literals of an expression moved into the
+/// program's lists, each replaced by its index.
+struct Literals<'p, 'a, 'b> {
+    p: &'p mut FileParser<'a, 'b>,
+    ctx: &'p InlineCtx,
+}
+
+impl VisitMut for Literals<'_, '_, '_> {
+    fn visit_expr_mut(&mut self, e: &mut Expr) {
         match e {
-            Expr::Aggregate(mut a) => {
+            Expr::Aggregate(a) => {
                 if let Ok(Some(value)) = robtarget_shape(&a.items) {
-                    self.inline_k += 1;
-                    let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
-                    let id = format!("{}#{}", routine, self.inline_k);
-                    let kind = if ctx.assigned_to.is_some() {
+                    self.p.inline_k += 1;
+                    let routine = self.p.routine.clone().unwrap_or_else(|| Arc::from(""));
+                    let id = format!("{}#{}", routine, self.p.inline_k);
+                    let kind = if self.ctx.assigned_to.is_some() {
                         TargetKind::Assigned
                     } else {
                         TargetKind::Inline
                     };
-                    let t = self.new_target(id, kind, a.span.start, Some(value));
+                    let t = self.p.new_target(id, kind, a.span.start, Some(value));
                     let t = Target {
-                        name: ctx.assigned_to.clone(),
-                        instruction: ctx.instruction.clone(),
-                        tool: ctx.tool.clone(),
-                        wobj: ctx.wobj.clone(),
+                        name: self.ctx.assigned_to.clone(),
+                        instruction: self.ctx.instruction.clone(),
+                        tool: self.ctx.tool.clone(),
+                        wobj: self.ctx.wobj.clone(),
                         ..t
                     };
-                    let i = self.push_target(t);
-                    self.call_targets.push(i);
-                    return Expr::Target(i);
+                    let i = self.p.push_target(t);
+                    self.p.call_targets.push(i);
+                    *e = Expr::Target(i);
+                    return;
                 }
                 if let Ok(Some((robax, extax))) = jointtarget_shape(&a.items) {
-                    self.joint_k += 1;
-                    let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
+                    self.p.joint_k += 1;
+                    let routine = self.p.routine.clone().unwrap_or_else(|| Arc::from(""));
                     let j = JointTarget {
-                        id: format!("{}#{}", routine, self.joint_k),
-                        kind: if ctx.assigned_to.is_some() {
+                        id: format!("{}#{}", routine, self.p.joint_k),
+                        kind: if self.ctx.assigned_to.is_some() {
                             TargetKind::Assigned
                         } else {
                             TargetKind::Inline
                         },
-                        origin: self.origin(a.span.start),
-                        name: ctx.assigned_to.clone(),
+                        origin: self.p.origin(a.span.start),
+                        name: self.ctx.assigned_to.clone(),
                         storage: None,
                         robax,
                         extax,
-                        instruction: ctx.instruction.clone(),
-                        tool: ctx.tool.clone(),
-                        wobj: ctx.wobj.clone(),
+                        instruction: self.ctx.instruction.clone(),
+                        tool: self.ctx.tool.clone(),
+                        wobj: self.ctx.wobj.clone(),
                     };
-                    self.b.prog.jointtargets.push(j);
-                    let i = self.b.prog.jointtargets.len() - 1;
-                    self.call_joints.push(i);
-                    return Expr::JointTarget(i);
+                    self.p.b.prog.jointtargets.push(j);
+                    let i = self.p.b.prog.jointtargets.len() - 1;
+                    self.p.call_joints.push(i);
+                    *e = Expr::JointTarget(i);
+                    return;
                 }
-                let items = std::mem::take(&mut a.items);
-                a.items = items
-                    .into_iter()
-                    .map(|x| self.take_literals(x, ctx))
-                    .collect();
-                Expr::Aggregate(a)
+                walk_expr_mut(self, e);
             }
-            Expr::Call(mut c) => {
-                let args = std::mem::take(&mut c.args);
-                c.args = args
-                    .into_iter()
-                    .map(|a| Arg {
-                        value: a.value.map(|v| self.take_literals(v, ctx)),
-                        ..a
-                    })
-                    .collect();
-                Expr::Call(c)
-            }
-            Expr::Unary(op, x) => Expr::Unary(op, Box::new(self.take_literals(*x, ctx))),
-            Expr::Binary(b) => {
-                let (op, x, y) = *b;
-                let x = self.take_literals(x, ctx);
-                let y = self.take_literals(y, ctx);
-                Expr::Binary(Box::new((op, x, y)))
-            }
-            Expr::Component(b) => {
-                let (x, f) = *b;
-                Expr::Component(Box::new((self.take_literals(x, ctx), f)))
-            }
-            other => other,
+            // An index selects an element: a literal there is no target.
+            Expr::Index(_) => {}
+            _ => walk_expr_mut(self, e),
         }
     }
 }

@@ -2,6 +2,13 @@
 //! with the rule its context calls for, assembled into blocks here; then a
 //! pass over the whole run for what needs every file (record types, FUNCs
 //! returning robtarget, identifiers unique across modules).
+//!
+//! This file holds the entry points, the state of one file's parse and
+//! the glue to pest ([`FileParser::with_pair`]); the assembly is in
+//! `structure` (modules, routines), `statements`, `declarations`,
+//! `expressions`, with `words` (reserved words), `shapes` (what a value
+//! of each type looks like), `calls` (the instruction table), `run` (the
+//! whole-run pass) and `messages` (syntax errors).
 
 use super::motion::{motion_signature, ArgAt};
 use super::scan::{Piece, PieceKind, Scanner};
@@ -271,18 +278,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_big_array_literal_parses() {
-        // No call limit of pest's: an array of 20,000 robtargets (a CAM
-        // program's path as data) is one piece, and must parse whole.
-        let n = 20_000;
-        let item = "[[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]";
-        let src = format!(
-            "MODULE m\n  CONST robtarget path{{{n}}} := [{}];\nENDMODULE\n",
-            vec![item; n].join(",")
-        );
-        let program = parse("m.mod", src.as_bytes()).unwrap();
-        assert_eq!(program.targets().len(), n);
-        assert_eq!(program.targets()[n - 1].id, format!("path{{{n}}}"));
+    fn a_compact_if_call_keeps_its_targets_after_sorting() {
+        // The derived target is found after the literal below it, so the
+        // sort moves both; the call inside the one-line IF must follow.
+        let src = b"MODULE m\nPROC main()\nIF TRUE MoveL Offs(p10,0,0,10), v100, fine, tool0;\nMoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\nENDPROC\nENDMODULE\n";
+        let prog = parse("m.mod", src).unwrap();
+        let body = &prog.modules[0].routines[0].body;
+        let StatementKind::CompactIf { then, .. } = &body[0].kind else {
+            panic!("{:?}", body[0].kind)
+        };
+        let StatementKind::Call(c) = &then.kind else {
+            panic!("{:?}", then.kind)
+        };
+        assert_eq!(prog.targets()[c.targets[0]].id, "main@1");
+        let StatementKind::Call(c) = &body[1].kind else {
+            panic!("{:?}", body[1].kind)
+        };
+        assert_eq!(prog.targets()[c.targets[0]].id, "main#1");
     }
 
     #[test]

@@ -157,8 +157,6 @@ fn name_space(id: &str) -> String {
         .to_lowercase()
 }
 
-/// Qualify with the module every identifier whose name space occurs in
-/// more than one module of the run.
 /// Whether an expression contains a robtarget-shaped literal.
 fn holds_robtarget_shape(e: &Expr, depth: usize) -> bool {
     match e {
@@ -177,6 +175,8 @@ fn decl_offset(e: &Expr) -> Option<usize> {
     }
 }
 
+/// Qualify with the module every identifier whose name space occurs in
+/// more than one module of the run.
 fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
     let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
     for it in items.iter_mut() {

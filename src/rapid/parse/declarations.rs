@@ -90,6 +90,35 @@ impl FileParser<'_, '_> {
         }
     }
 
+    /// The elements of a declared array value of `dims` dimensions, each
+    /// handed to `element` with its 1-based index path (`arr{2,1}`); a
+    /// value that is not an aggregate where one is expected stays as
+    /// written.
+    fn declared_elements(
+        &mut self,
+        d: &DataDecl,
+        e: Expr,
+        dims: usize,
+        index: &mut Vec<usize>,
+        element: fn(&mut Self, &DataDecl, Expr, &[usize]) -> Result<Expr>,
+    ) -> Result<Expr> {
+        if dims == 0 {
+            return element(self, d, e, index);
+        }
+        let Expr::Aggregate(mut a) = e else {
+            return Ok(e);
+        };
+        let items = std::mem::take(&mut a.items);
+        let mut out = Vec::with_capacity(items.len());
+        for (i, it) in items.into_iter().enumerate() {
+            index.push(i + 1);
+            out.push(self.declared_elements(d, it, dims - 1, index, element)?);
+            index.pop();
+        }
+        a.items = out;
+        Ok(Expr::Aggregate(a))
+    }
+
     pub(super) fn declared_robtargets(
         &mut self,
         d: &DataDecl,
@@ -97,20 +126,11 @@ impl FileParser<'_, '_> {
         dims: usize,
         index: &mut Vec<usize>,
     ) -> Result<Expr> {
-        if dims > 0 {
-            if let Expr::Aggregate(mut a) = e {
-                let items = std::mem::take(&mut a.items);
-                let mut out = Vec::with_capacity(items.len());
-                for (i, it) in items.into_iter().enumerate() {
-                    index.push(i + 1);
-                    out.push(self.declared_robtargets(d, it, dims - 1, index)?);
-                    index.pop();
-                }
-                a.items = out;
-                return Ok(Expr::Aggregate(a));
-            }
-            return Ok(e);
-        }
+        self.declared_elements(d, e, dims, index, Self::declared_robtarget)
+    }
+
+    /// One robtarget of a declaration (the whole value, or an element).
+    fn declared_robtarget(&mut self, d: &DataDecl, e: Expr, index: &[usize]) -> Result<Expr> {
         let id = Self::decl_id(&d.name, index);
         let kind = if index.is_empty() {
             TargetKind::Declared
@@ -196,20 +216,14 @@ impl FileParser<'_, '_> {
         dims: usize,
         index: &mut Vec<usize>,
     ) -> Result<Expr> {
-        let Expr::Aggregate(mut a) = e else {
+        self.declared_elements(d, e, dims, index, Self::declared_joint)
+    }
+
+    /// One jointtarget of a declaration (the whole value, or an element).
+    fn declared_joint(&mut self, d: &DataDecl, e: Expr, index: &[usize]) -> Result<Expr> {
+        let Expr::Aggregate(a) = e else {
             return Ok(e);
         };
-        if dims > 0 {
-            let items = std::mem::take(&mut a.items);
-            let mut out = Vec::with_capacity(items.len());
-            for (i, it) in items.into_iter().enumerate() {
-                index.push(i + 1);
-                out.push(self.declared_joints(d, it, dims - 1, index)?);
-                index.pop();
-            }
-            a.items = out;
-            return Ok(Expr::Aggregate(a));
-        }
         let id = Self::decl_id(&d.name, index);
         match jointtarget_shape(&a.items) {
             Err(why) => Err(self

@@ -14,7 +14,6 @@ use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
 use rapidtherm::robot::Robot;
-use rapidtherm::schedule::Visit;
 use std::hint::black_box;
 use std::io::Write;
 use std::path::Path;
@@ -22,10 +21,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 fn options() -> Options {
-    Options {
-        when: When::At(Moment::Minute(120.0)),
-        visit: Visit::Mean,
-    }
+    Options::new(When::At(Moment::Minute(120.0)))
 }
 
 fn bench_sample(c: &mut Criterion) {

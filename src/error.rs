@@ -118,14 +118,21 @@ pub fn decode_lossless(bytes: &[u8]) -> String {
 pub struct Error {
     pub kind: ErrorKind,
     pub message: String,
-    pub location: Option<Location>,
+    pub location: Option<Box<Location>>,
     /// Extra lines shown after the caret (for example what was expected).
     pub notes: Vec<String>,
     /// What the user can do, and the line it completes: the message
     /// (`None`) or the note of that index. (Small on purpose: every
     /// `Result` of the library carries an `Error`'s size.)
     pub remedy: Option<(Remedy, Option<u16>)>,
+    /// The next error of the same run, shown after this one (a chain: a
+    /// run reports every error it can find, not only the first; one
+    /// pointer keeps every `Result` small).
+    pub also: Option<Box<Error>>,
 }
+
+/// How many errors of one run are shown; the rest are counted.
+pub const MAX_REPORTED: usize = 20;
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -137,7 +144,30 @@ impl Error {
             location: None,
             notes: Vec::new(),
             remedy: None,
+            also: None,
         }
+    }
+
+    /// All errors of a run as one: the first, with the others (up to
+    /// [`MAX_REPORTED`], then a count of the rest) after it. `None` when
+    /// there are none.
+    pub fn many(mut errors: Vec<Error>) -> Option<Error> {
+        if errors.is_empty() {
+            return None;
+        }
+        let total = errors.len();
+        errors.truncate(MAX_REPORTED);
+        let mut next: Option<Box<Error>> = (total > MAX_REPORTED).then(|| {
+            Box::new(Error::new(
+                errors[0].kind,
+                format!("{} more error(s) not shown", total - MAX_REPORTED),
+            ))
+        });
+        while let Some(mut e) = errors.pop() {
+            e.also = next;
+            next = Some(Box::new(e));
+        }
+        next.map(|e| *e)
     }
 
     /// The remedy completes the line written last (the message, or the
@@ -181,11 +211,15 @@ impl Error {
         for (i, note) in self.notes.iter().enumerate() {
             out.push_str(&format!("\n  = {note}{}", suffix(Some(i))));
         }
+        if let Some(next) = &self.also {
+            out.push('\n');
+            out.push_str(&next.render(word));
+        }
         out
     }
 
     pub fn at(mut self, location: Location) -> Error {
-        self.location = Some(location);
+        self.location = Some(Box::new(location));
         self
     }
 

@@ -28,12 +28,12 @@
 //! ```
 //! use rapidtherm::correct::{correct, Options, When};
 //! use rapidtherm::model::{Model, Moment, WarmRobot};
-//! use rapidtherm::{rapid, robot::Robot, schedule::Visit};
+//! use rapidtherm::{rapid, robot::Robot};
 //!
 //! let src = b"MODULE m\n  PROC main()\n    MoveL [[450,100,500],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
 //! let program = rapid::parse("m.mod", src)?;
 //! let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 60.0)?;
-//! let at = |m| Options { when: When::At(Moment::Minute(m)), visit: Visit::Mean };
+//! let at = |m| Options::new(When::At(Moment::Minute(m)));
 //! let warm_run = correct(&program, &warm, &at(60.0), &mut |_, _| {})?;
 //! assert!(warm_run.summary.max_mm > 0.1); // the flange drifts by tenths of a mm
 //! assert_ne!(warm_run.outputs[0], src);

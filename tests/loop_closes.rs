@@ -16,7 +16,6 @@ use rapidtherm::model::{predict, Base, Effect, EffectKind, RowState};
 use rapidtherm::rapid;
 use rapidtherm::robot::frames::{flange_of_target, target_of_flange};
 use rapidtherm::robot::Robot;
-use rapidtherm::schedule::Visit;
 use rapidtherm::thermal::{default_profile, HeatingProfile};
 
 const MINUTE: f64 = 90.0;
@@ -26,10 +25,7 @@ const MINUTE: f64 = 90.0;
 fn landing_rms(program_name: &str, bytes: &[u8], model: &Model, truth: &[Effect]) -> f64 {
     let program = rapid::parse(program_name, bytes).unwrap();
     let warm = WarmRobot::new(Robot::irb140(), model, MINUTE).unwrap();
-    let options = Options {
-        when: When::At(Moment::Minute(MINUTE)),
-        visit: Visit::Mean,
-    };
+    let options = Options::new(When::At(Moment::Minute(MINUTE)));
     let outcome = correct(&program, &warm, &options, &mut |_, _| {}).unwrap();
     let robot = Robot::irb140();
     let temps = default_profile().temps_at(MINUTE).unwrap();

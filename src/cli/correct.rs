@@ -1,9 +1,9 @@
 //! `rapidtherm correct`: the main job.
 
 use super::Format;
-use super::{read_input, read_program, write_output, write_stdout, Status};
-use rapidtherm::correct::{correct, Options, Outcome, When};
-use rapidtherm::error::{decode_lossless, Error, Result};
+use super::{output, read_input, read_program, write_output, write_stdout, Status};
+use rapidtherm::correct::{correct, marker, Options, Outcome, Reason, When};
+use rapidtherm::error::{Error, Result};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
@@ -27,6 +27,29 @@ impl From<VisitArg> for Visit {
             VisitArg::First => Visit::First,
             VisitArg::Mean => Visit::Mean,
             VisitArg::Last => Visit::Last,
+        }
+    }
+}
+
+/// `--accept`: the command line's names for the [`Reason`]s a target may
+/// be left alone for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum AcceptArg {
+    /// Targets whose value the run decides (assigned, searched,
+    /// placeholders).
+    Runtime,
+    /// Literals written with named constants or expressions.
+    Expression,
+    /// Declared targets no move reaches.
+    Unused,
+}
+
+impl From<AcceptArg> for Reason {
+    fn from(a: AcceptArg) -> Reason {
+        match a {
+            AcceptArg::Runtime => Reason::Runtime,
+            AcceptArg::Expression => Reason::Expression,
+            AcceptArg::Unused => Reason::Unused,
         }
     }
 }
@@ -85,13 +108,25 @@ pub struct CorrectArgs {
     /// With --in-place: keep each original as FILE + SUFFIX.
     #[arg(long, value_name = "SUFFIX", requires = "in_place")]
     pub backup: Option<String>,
-    /// Write nothing; exit 1 if any target would move more than --tolerance.
+    /// Write nothing; list (on standard output, in --format) every target
+    /// that would move more than --tolerance or is left cold, and exit 1 if
+    /// there is any.
     #[arg(long)]
     pub check: bool,
-    /// Print a unified diff of the change; write nothing; exit 1 if the
-    /// program would change.
+    /// Print a unified diff of the change (in the file's own bytes, so it
+    /// applies with `patch`); write nothing; exit 1 if the program would
+    /// change. With --check, the check's list goes to standard error.
     #[arg(long)]
     pub diff: bool,
+    /// With --check: targets left alone for these reasons do not fail the
+    /// check (comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "REASON")]
+    pub accept: Vec<AcceptArg>,
+    /// Write numbers in place of robtarget literals written with named
+    /// constants or expressions (`[[nX,0,300],...]`) and correct them;
+    /// without it they are left alone and reported.
+    #[arg(long)]
+    pub expand_expressions: bool,
     /// With --check: largest correction (mm) that counts as no change.
     #[arg(long, value_name = "MM", default_value_t = 0.001)]
     pub tolerance: f64,
@@ -166,6 +201,8 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let options = Options {
         when,
         visit: args.visit.into(),
+        expand_expressions: args.expand_expressions,
+        model_label: model_label(args.model.as_deref(), args.robot.as_deref())?,
     };
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
     let outcome = correct(&program, &warm, &options, &mut |done, total| {
@@ -182,34 +219,36 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         .iter()
         .enumerate()
         .any(|(f, o)| o.as_slice() != program.source(f));
-    if args.check {
-        eprint!("{}", summary_text(&outcome));
-        let over = outcome
-            .corrections
-            .iter()
-            .filter(|c| c.correction_norm_mm > args.tolerance)
-            .count();
-        if over > 0 {
-            eprintln!(
-                "check: {over} target(s) would move more than {} mm",
-                args.tolerance
-            );
-            return Ok(Status::Changes);
-        }
-        eprintln!("check: no target moves more than {} mm", args.tolerance);
-        return Ok(Status::Success);
+    if let Some(how) = &outcome.already_corrected {
+        eprintln!("note: already corrected: {how}; nothing to do");
     }
+    let accepted: Vec<Reason> = args.accept.iter().map(|&a| a.into()).collect();
+    let findings = check_findings(&outcome, args.tolerance, &accepted);
     if args.diff {
-        let mut text = String::new();
+        let mut text = Vec::new();
         for ((name, before), after) in inputs.iter().zip(&outcome.outputs) {
-            text.push_str(&unified_diff(name, before, after));
+            text.extend(unified_diff(name, before, after));
         }
-        write_stdout(text.as_bytes())?;
+        write_stdout(&text)?;
         eprint!("{}", summary_text(&outcome));
-        return Ok(if changed {
+        if args.check {
+            eprint!("{}", check_list(&findings, Format::Table)?);
+            eprint!("{}", check_verdict(&findings, args.tolerance));
+        }
+        return Ok(if changed || (args.check && !findings.is_empty()) {
             Status::Changes
         } else {
             Status::Success
+        });
+    }
+    if args.check {
+        eprint!("{}", summary_text(&outcome));
+        write_stdout(check_list(&findings, args.format)?.as_bytes())?;
+        eprint!("{}", check_verdict(&findings, args.tolerance));
+        return Ok(if findings.is_empty() {
+            Status::Success
+        } else {
+            Status::Changes
         });
     }
     if let Some(out) = &args.output {
@@ -218,10 +257,21 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         return Ok(Status::Success);
     }
     if args.in_place {
-        for ((name, before), after) in inputs.iter().zip(&outcome.outputs) {
-            if after != before {
-                crate::cli::output::write_atomic(Path::new(name), after, args.backup.as_deref())?;
+        let writes: Vec<(&String, &Vec<u8>)> = inputs
+            .iter()
+            .zip(&outcome.outputs)
+            .filter(|((_, before), after)| *after != before)
+            .map(|((name, _), after)| (name, after))
+            .collect();
+        // Every backup is checked before any file is written: a refused
+        // backup leaves the whole program as it was.
+        if let Some(suffix) = args.backup.as_deref() {
+            for (name, _) in &writes {
+                output::check_backup_free(&output::backup_path(Path::new(name), suffix))?;
             }
+        }
+        for (name, after) in writes {
+            output::write_atomic(Path::new(name), after, args.backup.as_deref())?;
         }
         eprint!("{}", summary_text(&outcome));
         return Ok(Status::Success);
@@ -231,6 +281,135 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         eprint!("{}", summary_text(&outcome));
     }
     Ok(Status::Success)
+}
+
+/// The model and arm a run uses, as the marker of a corrected file names
+/// them: the embedded ones by name, files by their fingerprint.
+fn model_label(model: Option<&Path>, robot: Option<&Path>) -> Result<String> {
+    let of = |path: Option<&Path>, embedded: &str| -> Result<String> {
+        Ok(match path {
+            Some(p) => {
+                let (_, bytes) = read_input(p)?;
+                marker::fingerprint(&bytes)
+            }
+            None => embedded.to_string(),
+        })
+    };
+    Ok(format!(
+        "{} model, {} arm",
+        of(model, "embedded default")?,
+        of(robot, "embedded IRB 140")?
+    ))
+}
+
+/// One line of `--check`'s list: a target that would move more than the
+/// tolerance, or one left cold for a reason not accepted.
+#[derive(serde::Serialize)]
+struct Finding {
+    id: String,
+    kind: String,
+    file: String,
+    line: u32,
+    col: u32,
+    /// `moves` or `left-alone`.
+    status: &'static str,
+    correction_mm: Option<f64>,
+    reason: Option<Reason>,
+    detail: String,
+}
+
+fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec<Finding> {
+    let moves = outcome
+        .corrections
+        .iter()
+        .filter(|c| c.correction_norm_mm > tolerance)
+        .map(|c| Finding {
+            id: c.id.clone(),
+            kind: c.kind.clone(),
+            file: c.file.clone(),
+            line: c.line,
+            col: c.col,
+            status: "moves",
+            correction_mm: Some(c.correction_norm_mm),
+            reason: None,
+            detail: String::new(),
+        });
+    let cold = outcome
+        .left_alone
+        .iter()
+        .filter(|l| l.reason.leaves_target_cold() && !accepted.contains(&l.reason))
+        .map(|l| Finding {
+            id: l.id.clone(),
+            kind: l.kind.clone(),
+            file: l.file.clone(),
+            line: l.line,
+            col: l.col,
+            status: "left-alone",
+            correction_mm: None,
+            reason: Some(l.reason),
+            detail: reason_words(l.reason, &l.detail),
+        });
+    moves.chain(cold).collect()
+}
+
+fn check_list(findings: &[Finding], format: Format) -> Result<String> {
+    let header = ["target", "kind", "at", "status", "corr_mm", "reason"];
+    let rows: Vec<Vec<String>> = findings
+        .iter()
+        .map(|f| {
+            vec![
+                f.id.clone(),
+                f.kind.clone(),
+                format!("{}:{}:{}", f.file, f.line, f.col),
+                f.status.to_string(),
+                f.correction_mm.map_or(String::new(), |c| mm(c, 4)),
+                f.reason
+                    .map_or(String::new(), |r| format!("{}: {}", r.code(), f.detail)),
+            ]
+        })
+        .collect();
+    Ok(match format {
+        Format::Json => {
+            serde_json::to_string_pretty(findings).map_err(|e| Error::input(e.to_string()))? + "\n"
+        }
+        Format::Csv => render_csv(&header, &rows),
+        Format::Table if rows.is_empty() => String::new(),
+        Format::Table => {
+            let mut align = vec![Align::Left; 4];
+            align.push(Align::Right);
+            align.push(Align::Left);
+            render_table(&header, &align, &rows)
+        }
+    })
+}
+
+fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
+    let moves = findings.iter().filter(|f| f.status == "moves").count();
+    let cold = findings.len() - moves;
+    if findings.is_empty() {
+        return format!("check: no target moves more than {tolerance} mm and none is left cold\n");
+    }
+    let mut text = String::new();
+    if moves > 0 {
+        text.push_str(&format!(
+            "check: {moves} target(s) would move more than {tolerance} mm\n"
+        ));
+    }
+    if cold > 0 {
+        text.push_str(&format!(
+            "check: {cold} target(s) left cold (accept a reason with --accept REASON)\n"
+        ));
+    }
+    text
+}
+
+/// A reason's words, with what the user can do where the CLI has a flag
+/// for it.
+fn reason_words(reason: Reason, detail: &str) -> String {
+    match reason {
+        Reason::Expression => format!("{detail} (--expand-expressions)"),
+        _ => detail.to_string(),
+    }
 }
 
 /// When the targets are reached, from --at, --schedule or --start.
@@ -353,10 +532,24 @@ fn report(outcome: &Outcome, format: Format) -> Result<String> {
                     residual
                 ));
             }
-            for s in &outcome.skipped {
+            for l in &outcome.left_alone {
                 text.push_str(&format!(
-                    "skipped {} (line {}): {}\n",
-                    s.id, s.line, s.reason
+                    "left alone {} {} (line {}): {}: {}\n",
+                    l.kind,
+                    l.id,
+                    l.line,
+                    l.reason.code(),
+                    reason_words(l.reason, &l.detail)
+                ));
+            }
+            for r in &outcome.residuals {
+                text.push_str(&format!(
+                    "residual {} (line {}): {} mm, {}° at the flange ({})\n",
+                    r.id,
+                    r.line,
+                    mm(r.position_mm, 4),
+                    mm(r.angle_deg, 4),
+                    r.rule
                 ));
             }
             text
@@ -377,14 +570,24 @@ fn summary_text(outcome: &Outcome) -> String {
     if s.derived > 0 {
         text.push_str(&format!("; {} derived left as written", s.derived));
     }
-    if s.skipped > 0 {
-        text.push_str(&format!("; {} skipped", s.skipped));
+    if s.left_alone > 0 {
+        text.push_str(&format!("; {} left alone", s.left_alone));
     }
     text.push('\n');
-    for sk in &outcome.skipped {
+    for l in &outcome.left_alone {
+        let level = if l.reason.leaves_target_cold() {
+            "warning"
+        } else {
+            "note"
+        };
         text.push_str(&format!(
-            "warning: skipped {} ({}:{}): {}\n",
-            sk.id, sk.file, sk.line, sk.reason
+            "{level}: left alone {} ({}:{}:{}) [{}]: {}\n",
+            l.id,
+            l.file,
+            l.line,
+            l.col,
+            l.reason.code(),
+            reason_words(l.reason, &l.detail)
         ));
     }
     for note in &outcome.notes {
@@ -393,17 +596,35 @@ fn summary_text(outcome: &Outcome) -> String {
     text
 }
 
-/// A unified diff of two versions of a file (bytes shown as text: UTF-8
-/// where valid, else Latin-1).
-fn unified_diff(name: &str, before: &[u8], after: &[u8]) -> String {
+/// A unified diff of two versions of a file, in the file's own bytes: a
+/// Latin-1 file's diff is Latin-1, so that `patch` applies it to the
+/// original.
+fn unified_diff(name: &str, before: &[u8], after: &[u8]) -> Vec<u8> {
     if before == after {
-        return String::new();
+        return Vec::new();
     }
-    let a = decode_lossless(before);
-    let b = decode_lossless(after);
-    similar::TextDiff::from_lines(&a, &b)
+    let utf8 = std::str::from_utf8(before).is_ok() && std::str::from_utf8(after).is_ok();
+    // Latin-1: each byte one char, and back.
+    let text = |b: &[u8]| -> String {
+        if utf8 {
+            String::from_utf8_lossy(b).into_owned()
+        } else {
+            b.iter().map(|&c| char::from(c)).collect()
+        }
+    };
+    let (a, b) = (text(before), text(after));
+    let body = similar::TextDiff::from_lines(&a, &b)
         .unified_diff()
         .context_radius(1)
-        .header(&format!("a/{name}"), &format!("b/{name}"))
-        .to_string()
+        .to_string();
+    let mut out = format!("--- a/{name}\n+++ b/{name}\n").into_bytes();
+    if utf8 {
+        out.extend(body.into_bytes());
+    } else {
+        out.extend(
+            body.chars()
+                .map(|c| u8::try_from(u32::from(c)).unwrap_or(b'?')),
+        );
+    }
+    out
 }

@@ -41,8 +41,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
     };
     let existing = std::fs::metadata(path).ok();
     if let (Some(suffix), Some(_)) = (backup, &existing) {
-        let mut name = path.as_os_str().to_owned();
-        name.push(suffix);
+        let name = backup_path(path, suffix);
+        check_backup_free(&name)?;
         std::fs::copy(path, &name).map_err(|e| Error::io(Path::new(&name), &e))?;
     }
     let mut builder = tempfile::Builder::new();
@@ -64,6 +64,28 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
     }
     tmp.persist(path)
         .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {}", path.display(), e.error)))?;
+    Ok(())
+}
+
+/// `path` + `suffix`.
+pub fn backup_path(path: &Path, suffix: &str) -> std::path::PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(suffix);
+    name.into()
+}
+
+/// A backup never replaces an earlier one: that may be the only cold
+/// original left.
+pub fn check_backup_free(backup: &Path) -> Result<()> {
+    if std::fs::symlink_metadata(backup).is_ok() {
+        return Err(Error::new(
+            ErrorKind::Io,
+            format!(
+                "{}: a backup of this name exists already (it may be the only cold original); move it away or choose another suffix with --backup",
+                backup.display()
+            ),
+        ));
+    }
     Ok(())
 }
 

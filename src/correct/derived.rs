@@ -64,6 +64,48 @@ fn literal(e: &Expr) -> Option<f64> {
 /// Offs adds a displacement in the work object, RelTool displaces and turns
 /// in the tool frame (\Rx, \Ry, \Rz in degrees, applied in that order).
 pub fn apply(call: &FunctionCall, base: &Isometry3<f64>) -> Option<Isometry3<f64>> {
+    apply_with(call, base, &literal)
+}
+
+/// [`apply`] with arguments valued by `eval` (literals and the program's
+/// constants: `Offs(p, 0, 0, nLift)`).
+pub fn apply_with(
+    call: &FunctionCall,
+    base: &Isometry3<f64>,
+    eval: &dyn Fn(&Expr) -> Option<f64>,
+) -> Option<Isometry3<f64>> {
+    let (name, d, turn) = offsets(call, eval)?;
+    Some(match name {
+        Function::Offs => builtins::offs(base, d),
+        Function::RelTool => builtins::reltool(base, d, turn),
+    })
+}
+
+/// The base whose [`apply_with`] is `pose`: the inverse of the offset.
+pub fn unapply_with(
+    call: &FunctionCall,
+    pose: &Isometry3<f64>,
+    eval: &dyn Fn(&Expr) -> Option<f64>,
+) -> Option<Isometry3<f64>> {
+    let (name, d, turn) = offsets(call, eval)?;
+    Some(match name {
+        Function::Offs => builtins::offs(pose, d.map(|x| -x)),
+        Function::RelTool => pose * builtins::reltool(&Isometry3::identity(), d, turn).inverse(),
+    })
+}
+
+enum Function {
+    Offs,
+    RelTool,
+}
+
+/// The function, displacement and (RelTool) turn of a call whose
+/// arguments `eval` values.
+fn offsets(
+    call: &FunctionCall,
+    eval: &dyn Fn(&Expr) -> Option<f64>,
+) -> Option<(Function, [f64; 3], [f64; 3])> {
+    let literal = eval;
     let positional: Vec<&Expr> = call
         .args
         .iter()
@@ -80,7 +122,7 @@ pub fn apply(call: &FunctionCall, base: &Isometry3<f64>) -> Option<Isometry3<f64
     ];
     let name = call.name.to_ascii_lowercase();
     match name.as_str() {
-        "offs" => Some(builtins::offs(base, d)),
+        "offs" => Some((Function::Offs, d, [0.0; 3])),
         "reltool" => {
             let angle = |n: &str| -> Option<f64> {
                 match call.args.iter().find(|a| {
@@ -90,8 +132,8 @@ pub fn apply(call: &FunctionCall, base: &Isometry3<f64>) -> Option<Isometry3<f64
                     None => Some(0.0),
                 }
             };
-            Some(builtins::reltool(
-                base,
+            Some((
+                Function::RelTool,
                 d,
                 [angle("Rx")?, angle("Ry")?, angle("Rz")?],
             ))
@@ -100,6 +142,7 @@ pub fn apply(call: &FunctionCall, base: &Isometry3<f64>) -> Option<Isometry3<f64
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 /// Residual drift (mm) of a derived target after its base's correction,
 /// or `None` where it cannot be evaluated statically (CRobT, a FUNC, a
 /// computed offset, a base that was not corrected).
@@ -111,6 +154,7 @@ pub fn residual(
     corrections: &[Correction],
     warm: &WarmRobot,
     states: &States,
+    eval: &dyn Fn(&Expr) -> Option<f64>,
 ) -> Option<f64> {
     let call = calls.get(&target.origin.pos.offset)?;
     let base_id = target.derived.as_ref()?.bases.first()?;
@@ -124,8 +168,8 @@ pub fn residual(
         .find(|(_, t)| t.id.eq_ignore_ascii_case(base_id))?;
     let (original, conf) = target_pose(program, base).ok()??;
     let (tool, wobj, _, _) = frames_of(program, frames, index, uses.get(&index)).ok()?;
-    let meant = apply(call, &original)?;
-    let sent = apply(call, &correction.exact?)?;
+    let meant = apply_with(call, &original, eval)?;
+    let sent = apply_with(call, &correction.exact?, eval)?;
     let q = warm
         .nominal
         .ik_conf(&flange_of_target(&sent, &tool, &wobj).ok()?, &conf)

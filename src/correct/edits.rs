@@ -1,7 +1,7 @@
 //! The text a correction writes: new numbers spliced into the program's
 //! original bytes, each formatted like the literal it replaces.
 
-use super::Correction;
+use super::{marker, Correction};
 use crate::error::Result;
 use crate::rapid::rewrite::Edit;
 use crate::rapid::Program;
@@ -20,15 +20,25 @@ pub(super) fn quaternion_like(rot: &UnitQuaternion<f64>, written: &[f64; 4]) -> 
     [s * q.w, s * q.i, s * q.j, s * q.k]
 }
 
-/// The new bytes of every file of the program, in its file order.
-pub(super) fn write_files(program: &Program, corrections: &[Correction]) -> Result<Vec<Vec<u8>>> {
+/// The new bytes of every file of the program, in its file order; a file
+/// that changes gets the marker of the run under its module header.
+pub(super) fn write_files(
+    program: &Program,
+    corrections: &[Correction],
+    basis: &str,
+    model: &str,
+) -> Result<Vec<Vec<u8>>> {
     (0..program.files.len())
         .map(|f| {
-            let edits: Vec<Edit> = corrections
+            let mut edits: Vec<Edit> = corrections
                 .iter()
                 .filter(|c| c.file_index == f)
                 .flat_map(|c| c.edits.iter().cloned())
                 .collect();
+            if !edits.is_empty() {
+                let m = marker::for_run(basis, model, program.source(f));
+                edits.extend(marker::insert(program, f, &m));
+            }
             program.apply_edits(f, &edits)
         })
         .collect()

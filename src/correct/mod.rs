@@ -29,21 +29,25 @@
 
 pub mod derived;
 mod edits;
+mod expressions;
+mod joints;
+pub mod marker;
 mod moments;
 mod outcome;
 mod solve;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
-pub use outcome::{Correction, Derived, Outcome, Skipped, Summary};
+pub use outcome::{Correction, Derived, LeftAlone, Outcome, Reason, Residual, Summary};
 
 use crate::error::{Error, Result};
 use crate::model::{Moment, WarmRobot};
 use crate::rapid::{Program, TargetKind};
 use crate::schedule::{Schedule, Visit};
 use edits::write_files;
+use joints::{correct_jointtarget, JointSolved};
 use moments::check_schedule_names;
 use outcome::{derived_report, summarise};
-use solve::{correct_jointtarget, correct_robtarget, Run, Solved};
+use solve::{correct_robtarget, Run, Solved};
 
 /// When the targets are reached.
 #[derive(Debug, Clone, PartialEq)]
@@ -67,6 +71,44 @@ pub struct Options {
     pub when: When,
     /// Which visit a target reached several times is corrected for.
     pub visit: Visit,
+    /// Write numbers in place of a robtarget literal written with named
+    /// constants or expressions (otherwise it is left alone and reported).
+    pub expand_expressions: bool,
+    /// The model and arm, as the marker of a corrected file names them.
+    pub model_label: String,
+}
+
+impl Options {
+    /// Every target for `when`, a target reached several times for the
+    /// mean of its visits, literals with expressions left alone, the
+    /// embedded model and arm.
+    pub fn new(when: When) -> Options {
+        Options {
+            when,
+            visit: Visit::Mean,
+            expand_expressions: false,
+            model_label: "embedded default model, embedded IRB 140 arm".to_string(),
+        }
+    }
+}
+
+impl When {
+    /// The time basis in words, as the marker of a corrected file records
+    /// it: a schedule by the fingerprint of its times.
+    pub fn basis(&self) -> String {
+        match self {
+            When::At(Moment::Minute(t)) => format!("minute {t}"),
+            When::At(Moment::Steady) => "steady state".to_string(),
+            When::Schedule {
+                schedule,
+                joints,
+                default,
+            } => {
+                let text = format!("{schedule:?}{joints:?}{default:?}");
+                format!("schedule {}", marker::fingerprint(text.as_bytes()))
+            }
+        }
+    }
 }
 
 /// Correct every target of `program` (which keeps the bytes it was parsed
@@ -87,6 +129,14 @@ fn correct_all(
     options: &Options,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
+    let basis = options.when.basis();
+    if let Some(found) = marker::find(program) {
+        let wanted = marker::for_run(&basis, &options.model_label, b"");
+        if !found.marker.same_correction(&wanted) {
+            return Err(marker::refuse(program, &found, &wanted));
+        }
+        return Ok(already_corrected(program, &found));
+    }
     let run = Run::new(program, warm, options)?;
     if let When::Schedule {
         schedule, joints, ..
@@ -99,20 +149,24 @@ fn correct_all(
     }
     let total = program.targets().len() + program.jointtargets().len();
     let mut corrections = Vec::new();
-    let mut skipped = Vec::new();
+    let mut left_alone = Vec::new();
+    let mut residuals = Vec::new();
     let mut derived_targets = Vec::new();
+    // Every target is tried: a run reports all the targets it refuses, not
+    // only the first.
+    let mut errors = Vec::new();
     for (index, target) in program.targets().iter().enumerate() {
         if index % 4096 == 0 {
             progress(index, total);
         }
-        if target.kind == TargetKind::Derived {
+        if target.kind == TargetKind::Derived && !target.written_with_expressions() {
             derived_targets.push(index);
             continue;
         }
-        match correct_robtarget(&run, index, target)? {
-            Solved::Corrected(c) => corrections.push(*c),
-            Solved::Skipped(s) => skipped.push(s),
-            Solved::Nothing => {}
+        match correct_robtarget(&run, index, target) {
+            Ok(Solved::Corrected(c)) => corrections.push(*c),
+            Ok(Solved::LeftAlone(s)) => left_alone.push(s),
+            Err(e) => errors.push(e),
         }
     }
     for (k, jt) in program.jointtargets().iter().enumerate() {
@@ -122,10 +176,24 @@ fn correct_all(
         if jt.kind == TargetKind::Derived {
             continue;
         }
-        corrections.push(correct_jointtarget(&run, jt)?);
+        match correct_jointtarget(&run, jt) {
+            Ok(JointSolved::Corrected(c, r)) => {
+                corrections.push(*c);
+                residuals.extend(r);
+            }
+            Ok(JointSolved::LeftAlone(s)) => left_alone.push(s),
+            Err(e) => errors.push(e),
+        }
+    }
+    if let Some(e) = Error::many(
+        same_cause(errors)
+            .into_iter()
+            .map(|e| with_source(e, program))
+            .collect(),
+    ) {
+        return Err(e);
     }
     progress(total, total);
-    let calls = derived::calls_by_offset(program);
     let lookup = (&run.frames, &run.uses);
     let derived: Vec<Derived> = derived_targets
         .into_iter()
@@ -135,25 +203,85 @@ fn correct_all(
             report.residual_mm = derived::residual(
                 program,
                 target,
-                &calls,
+                &run.calls,
                 &lookup,
                 &corrections,
                 warm,
                 &run.states,
+                &|e| run.eval(target, e),
             );
             report
         })
         .collect();
-    let outputs = write_files(program, &corrections)?;
-    let summary = summarise(&corrections, &derived, &skipped);
+    let outputs = write_files(program, &corrections, &basis, &options.model_label)?;
+    let summary = summarise(&corrections, &derived, &left_alone);
     Ok(Outcome {
         corrections,
         derived,
-        skipped,
+        left_alone,
+        residuals,
+        already_corrected: None,
         notes: run.notes.into_inner(),
         summary,
         outputs,
     })
+}
+
+/// The outcome of a run on a program its marker says is corrected on the
+/// run's basis: nothing to do, every file as it is.
+fn already_corrected(program: &Program, found: &marker::Found) -> Outcome {
+    let m = &found.marker;
+    let how = format!(
+        "{} line {} says it was corrected by rapidtherm {} for {} with {} (cold original {})",
+        program.files[found.file], found.line, m.version, m.basis, m.model, m.cold
+    );
+    Outcome {
+        corrections: Vec::new(),
+        derived: Vec::new(),
+        left_alone: Vec::new(),
+        residuals: Vec::new(),
+        already_corrected: Some(how),
+        notes: Vec::new(),
+        summary: summarise(&[], &[], &[]),
+        outputs: (0..program.files.len())
+            .map(|f| program.source(f).to_vec())
+            .collect(),
+    }
+}
+
+/// Errors with one cause shown once: the targets refused for the same
+/// reason (`minute 200 is outside the recording`) are named in a note of
+/// the first, not repeated with their own carets.
+fn same_cause(errors: Vec<Error>) -> Vec<Error> {
+    // "target p20: why" and "jointtarget j1: why" share "why".
+    fn cause(e: &Error) -> (&str, &str) {
+        match e.message.split_once(": ") {
+            Some((who, why)) if who.starts_with("target ") || who.starts_with("jointtarget ") => {
+                (who, why)
+            }
+            _ => ("", e.message.as_str()),
+        }
+    }
+    let mut out: Vec<(Error, Vec<String>)> = Vec::new();
+    for e in errors {
+        let (who, why) = cause(&e);
+        if !who.is_empty() {
+            if let Some((_, others)) = out
+                .iter_mut()
+                .find(|(first, _)| first.kind == e.kind && cause(first).1 == why)
+            {
+                others.push(who.to_string());
+                continue;
+            }
+        }
+        out.push((e, Vec::new()));
+    }
+    out.into_iter()
+        .map(|(e, others)| match others.len() {
+            0 => e,
+            n => e.with_note(format!("the same for {n} more: {}", others.join(", "))),
+        })
+        .collect()
 }
 
 /// Errors located in the program gain the source line and caret.
@@ -174,7 +302,7 @@ fn with_source(e: Error, program: &Program) -> Error {
     let line_text = crate::error::Location::from_offset(&loc.file, src, line_start).line_text;
     let location = crate::error::Location {
         line_text,
-        ..loc.clone()
+        ..(**loc).clone()
     };
     e.at(location)
 }

@@ -45,13 +45,68 @@ pub struct Correction {
     pub(super) file_index: usize,
 }
 
-/// A target the run could not or would not correct.
+/// Why a target was left as written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Reason {
+    /// Its value is decided at run time: assigned in a routine, written by
+    /// a search, or a placeholder (`[[0,0,0],[0,0,0,0],...]`).
+    Runtime,
+    /// Written with named constants or expressions (`[[nX,0,300],...]`).
+    Expression,
+    /// No move of the program reaches it, so its tool and work object are
+    /// unknown.
+    Unused,
+    /// A jointtarget without robot axes (all `9E+09`): a positioner's or
+    /// an external axis's, nothing of the arm to correct.
+    NoRobotAxes,
+}
+
+impl Reason {
+    pub const ALL: [Reason; 4] = [
+        Reason::Runtime,
+        Reason::Expression,
+        Reason::Unused,
+        Reason::NoRobotAxes,
+    ];
+
+    /// The reason's name in reports and where a user accepts it.
+    pub fn code(self) -> &'static str {
+        match self {
+            Reason::Runtime => "runtime",
+            Reason::Expression => "expression",
+            Reason::Unused => "unused",
+            Reason::NoRobotAxes => "no-robot-axes",
+        }
+    }
+
+    pub fn from_code(code: &str) -> Option<Reason> {
+        Reason::ALL
+            .into_iter()
+            .find(|r| r.code().eq_ignore_ascii_case(code))
+    }
+
+    /// Whether a target left alone for this reason may still be wrong on
+    /// the warm robot. A jointtarget without robot axes moves no joint of
+    /// the arm, so nothing of it drifts; every other reason leaves a
+    /// target of the arm cold.
+    pub fn leaves_target_cold(self) -> bool {
+        self != Reason::NoRobotAxes
+    }
+}
+
+/// A target the run left as written, and why.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Skipped {
+pub struct LeftAlone {
     pub id: String,
+    /// `robtarget` kinds (`declared`, `inline`, ...) or `jointtarget`.
+    pub kind: String,
     pub file: String,
     pub line: u32,
-    pub reason: String,
+    pub col: u32,
+    pub reason: Reason,
+    /// The reason in words, with what the program does that causes it.
+    pub detail: String,
 }
 
 /// A derived target (`Offs(p10, ...)`): left as written; its base's
@@ -72,6 +127,19 @@ pub struct Derived {
     pub residual_mm: Option<f64>,
 }
 
+/// A jointtarget corrected with a rule that leaves a residual (axis 4
+/// kept at a wrist singularity).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Residual {
+    pub id: String,
+    pub file: String,
+    pub line: u32,
+    /// Flange position and orientation left uncorrected (mm, degrees).
+    pub position_mm: f64,
+    pub angle_deg: f64,
+    pub rule: String,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
     pub corrected: usize,
@@ -81,7 +149,8 @@ pub struct Summary {
     pub rms_mm: f64,
     pub max_drift_mm: f64,
     pub derived: usize,
-    pub skipped: usize,
+    /// Targets left as written (each with its reason).
+    pub left_alone: usize,
 }
 
 /// The outcome of correcting a program: the per-target report and the new
@@ -90,7 +159,12 @@ pub struct Summary {
 pub struct Outcome {
     pub corrections: Vec<Correction>,
     pub derived: Vec<Derived>,
-    pub skipped: Vec<Skipped>,
+    pub left_alone: Vec<LeftAlone>,
+    /// Corrections made by a rule that leaves a residual.
+    pub residuals: Vec<Residual>,
+    /// The program was already corrected on this basis by an earlier run
+    /// (its marker says so): nothing was done.
+    pub already_corrected: Option<String>,
     /// Choices the correction made that the user should know about.
     pub notes: Vec<String>,
     pub summary: Summary,
@@ -102,7 +176,7 @@ pub struct Outcome {
 pub(super) fn summarise(
     corrections: &[Correction],
     derived: &[Derived],
-    skipped: &[Skipped],
+    left_alone: &[LeftAlone],
 ) -> Summary {
     let robtargets: Vec<&Correction> = corrections
         .iter()
@@ -130,7 +204,7 @@ pub(super) fn summarise(
             .map(|c| c.drift_norm_mm)
             .fold(0.0, f64::max),
         derived: derived.len(),
-        skipped: skipped.len(),
+        left_alone: left_alone.len(),
     }
 }
 
@@ -158,12 +232,20 @@ pub(super) fn derived_report(
     }
 }
 
-pub(super) fn skip(program: &Program, target: &Target, reason: &str) -> Skipped {
+pub(super) fn leave(
+    program: &Program,
+    target: &Target,
+    reason: Reason,
+    detail: impl Into<String>,
+) -> LeftAlone {
     let location = program.location(&target.origin);
-    Skipped {
+    LeftAlone {
         id: target.id.clone(),
+        kind: target.kind.as_str().to_string(),
         file: location.file,
         line: target.origin.pos.line,
-        reason: reason.to_string(),
+        col: target.origin.pos.col,
+        reason,
+        detail: detail.into(),
     }
 }

@@ -2,28 +2,30 @@
 //! that reach it, the nominal pose those joints are for the controller, and
 //! the check that the controller picks the same joints back.
 
+use super::derived::{calls_by_offset, unapply_with};
 use super::edits::{quaternion_like, ORIENTATION_CHANGE_RAD};
-use super::moments::{joint_moments_of, minute_of, moments_of, pick};
-use super::outcome::{skip, Correction, Skipped};
+use super::expressions::{Evaluated, Expressions};
+use super::moments::{minute_of, moments_of, pick};
+use super::outcome::{leave, Correction, LeftAlone, Reason};
 use super::Options;
 use crate::error::{Error, ErrorKind, Result};
-use crate::model::{State, States, WarmRobot};
-use crate::rapid::rewrite::{jointtarget_edits, robtarget_edits};
-use crate::rapid::{JointTarget, Program, Target, TargetKind};
-use crate::resolve::{frames_of, target_pose, usages, Frames, Usage};
+use crate::model::{Moment, State, States, WarmRobot};
+use crate::rapid::constants::{Constants, Site};
+use crate::rapid::rewrite::{robtarget_edits, Edit};
+use crate::rapid::{Expr, FunctionCall, Program, Storage, Target, TargetKind};
+use crate::resolve::dataflow::{runtime_writes, Write};
+use crate::resolve::{frames_of, target_pose, usages, Frames, Through, Usage};
 use crate::robot::conf::{quadrant_distance, RobConf};
-use crate::robot::frames::{flange_of_target, target_of_flange};
+use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use crate::robot::Joints;
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// What became of one robtarget.
 pub(super) enum Solved {
     Corrected(Box<Correction>),
-    Skipped(Skipped),
-    /// Nothing to write: the value is known only at run time.
-    Nothing,
+    LeftAlone(LeftAlone),
 }
 
 /// What every target of a run shares: the program's frames and usages, the
@@ -36,6 +38,13 @@ pub(super) struct Run<'a> {
     pub frames: Frames,
     pub uses: HashMap<usize, Vec<Usage>>,
     pub conf_off: bool,
+    /// Robtarget and jointtarget variables the run writes, by lower-case
+    /// name.
+    pub writes: HashMap<String, Write>,
+    pub constants: Constants<'a>,
+    /// Every function call of the program by where it starts.
+    pub calls: HashMap<usize, &'a FunctionCall>,
+    pub expressions: Expressions<'a>,
     /// Choices made on the way that the user should know about.
     pub notes: RefCell<Vec<String>>,
 }
@@ -50,9 +59,73 @@ impl<'a> Run<'a> {
             frames: Frames::of_program(program)?,
             uses: usages(program),
             conf_off: configuration_monitoring_off(program),
+            writes: runtime_writes(program),
+            constants: Constants::of(program),
+            calls: calls_by_offset(program),
+            expressions: Expressions::of(program),
             notes: RefCell::new(Vec::new()),
         })
     }
+
+    /// The value of a number in the program as written at `target`
+    /// (literals and constants).
+    pub fn eval(&self, target: &Target, e: &Expr) -> Option<f64> {
+        let site = Site {
+            module: &target.origin.module,
+            routine: target.origin.routine.as_deref(),
+        };
+        self.constants.num(e, site)
+    }
+}
+
+/// Why a robtarget is not corrected, when it is not: its value is decided
+/// at run time, it is written with expressions (and the run was not asked
+/// to write numbers in their place), or no move reaches it.
+fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
+    let program = run.program;
+    let variable = matches!(target.storage, Some(Storage::Var | Storage::Pers));
+    if variable && target.kind != TargetKind::Assigned {
+        let name = target.name.as_deref().unwrap_or_default().to_lowercase();
+        if let Some(w) = run.writes.get(&name) {
+            return Some(leave(
+                program,
+                target,
+                Reason::Runtime,
+                format!(
+                    "{} is {} at run time ({} line {}): its declared value is not what the robot moves to",
+                    w.variable, w.how, w.routine, w.line
+                ),
+            ));
+        }
+        if let Some(v) = &target.value {
+            if v.rot_values().iter().all(|&x| x == 0.0) {
+                return Some(leave(
+                    program,
+                    target,
+                    Reason::Runtime,
+                    "a placeholder (zero quaternion) that the run fills in",
+                ));
+            }
+        }
+    }
+    if target.kind != TargetKind::Inline && !run.uses.contains_key(&index) {
+        return Some(leave(
+            program,
+            target,
+            Reason::Unused,
+            "no move instruction of the program reaches it, so its tool and work object are unknown",
+        ));
+    }
+    None
+}
+
+/// The corrected pose of one meant TCP pose, and the joints involved.
+struct Solution {
+    /// The corrected target: its nominal pose is where the warm robot
+    /// must be sent.
+    exact: Isometry3<f64>,
+    /// The nominal joints of the pose as written (for the drift).
+    q_nominal: Joints,
 }
 
 /// Correct the robtarget `index` of the program: the warm joints that
@@ -66,41 +139,154 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         options,
         frames,
         uses,
-        conf_off,
         ..
     } = run;
-    let target_uses = uses.get(&index);
-    if target.kind != TargetKind::Inline && target_uses.is_none() {
-        return Ok(Solved::Skipped(skip(program, target, "no move instruction of the program reaches it, so its tool and work object are unknown")));
+    if let Some(left) = left_alone(run, index, target) {
+        return Ok(Solved::LeftAlone(left));
     }
-    let (tool, wobj, _, _) = frames_of(program, frames, index, target_uses)?;
-    let Some((pose, conf)) = target_pose(program, target)? else {
-        return Ok(Solved::Nothing);
-    };
-    let flange = match flange_of_target(&pose, &tool, &wobj) {
-        Ok(f) => f,
-        Err(e) if e.kind == ErrorKind::Unsupported => {
-            return Ok(Solved::Skipped(skip(program, target, &e.message)));
+    let target_uses = uses.get(&index);
+    let mut evaluated: Option<Evaluated> = None;
+    let (pose, conf) = match &target.value {
+        Some(_) => target_pose(program, target)?.ok_or_else(|| {
+            at_target(program, target, Error::input("a robtarget without numbers"))
+        })?,
+        None => {
+            let value = run.expressions.evaluate(run, target);
+            let Some(v) = value.filter(|_| options.expand_expressions) else {
+                return Ok(Solved::LeftAlone(run.expressions.left_alone(run, target)));
+            };
+            let pc = v.pose_conf().map_err(|e| at_target(program, target, e))?;
+            evaluated = Some(v);
+            pc
         }
-        Err(e) => return Err(at_target(program, target, e)),
     };
+    let (tool, wobj, _, _) = frames_of(program, frames, index, target_uses)?;
     let moments = moments_of(&options.when, &target.id)
         .map_err(|e| e.at(program.location(&target.origin)))?;
     let moment = pick(&moments, options.visit);
-    let (q_nominal, conf) = match warm.nominal.ik_conf(&flange, &conf) {
-        Ok(q) => (q, conf),
+    let state = states
+        .at(moment)
+        .map_err(|e| at_target(program, target, e))?;
+    let solution = solve(run, target, &pose, &conf, (&tool, &wobj), &state, moment)?;
+    let exact = match by_derived_uses(
+        run,
+        target,
+        target_uses,
+        &pose,
+        &conf,
+        (&tool, &wobj),
+        &state,
+        moment,
+    )? {
+        Some(mean) => mean,
+        None => solution.exact,
+    };
+    let q_nominal = solution.q_nominal;
+    let drift_at = |state: &State| -> Result<Vector3<f64>> {
+        let reached = target_of_flange(&warm.flange(&q_nominal, state), &tool, &wobj)?;
+        Ok(reached.translation.vector - pose.translation.vector)
+    };
+    let drift = drift_at(&state)?;
+    let mut range = (drift.norm(), drift.norm());
+    if moments.len() > 1 {
+        for m in &moments {
+            let d = drift_at(&states.at(*m).map_err(|e| at_target(program, target, e))?)?.norm();
+            range = (range.0.min(d), range.1.max(d));
+        }
+    }
+    let src = program.source(target.origin.file);
+    let new_trans = exact.translation.vector;
+    let turn = pose.rotation.angle_to(&exact.rotation);
+    let written_rot = match (&target.value, &evaluated) {
+        (Some(v), _) => v.rot_values(),
+        (None, Some(e)) => e.rot,
+        (None, None) => [1.0, 0.0, 0.0, 0.0],
+    };
+    // Orientation is rewritten only when it turns: a quaternion rewritten
+    // for nothing would change bytes the correction does not mean.
+    let turned =
+        (turn > ORIENTATION_CHANGE_RAD).then(|| quaternion_like(&exact.rotation, &written_rot));
+    let new_rot = turned.unwrap_or(written_rot);
+    let (edits, original): (Vec<Edit>, Vec<f64>) = match (&target.value, &evaluated) {
+        (Some(value), _) => (
+            robtarget_edits(src, value, new_trans.into(), turned, None),
+            value
+                .trans_values()
+                .iter()
+                .chain(&value.rot_values())
+                .copied()
+                .collect(),
+        ),
+        (None, Some(e)) => (
+            e.edits(src, new_trans.into(), turned),
+            e.trans.iter().chain(&e.rot).copied().collect(),
+        ),
+        (None, None) => (Vec::new(), Vec::new()),
+    };
+    let correction = new_trans - pose.translation.vector;
+    let location = program.location(&target.origin);
+    Ok(Solved::Corrected(Box::new(Correction {
+        id: target.id.clone(),
+        kind: target.kind.as_str().to_string(),
+        file: location.file,
+        line: target.origin.pos.line,
+        col: target.origin.pos.col,
+        time_min: minute_of(moment),
+        temps_c: state.temps,
+        drift_mm: drift.into(),
+        drift_norm_mm: drift.norm(),
+        drift_range_mm: range,
+        correction_mm: correction.into(),
+        correction_norm_mm: correction.norm(),
+        dangle_deg: turn.to_degrees(),
+        original,
+        corrected: new_trans.iter().chain(&new_rot).copied().collect(),
+        rewritten: !edits.is_empty(),
+        exact: Some(exact),
+        edits,
+        file_index: target.origin.file,
+    })))
+}
+
+/// The corrected target for one meant pose (TCP `pose` in its work object,
+/// robconf `conf`) at one thermal state.
+fn solve(
+    run: &Run,
+    target: &Target,
+    pose: &Isometry3<f64>,
+    conf: &RobConf,
+    (tool, wobj): (&ToolData, &WobjData),
+    state: &State,
+    moment: Moment,
+) -> Result<Solution> {
+    let Run {
+        program,
+        warm,
+        conf_off,
+        ..
+    } = run;
+    let flange = match flange_of_target(pose, tool, wobj) {
+        Ok(f) => f,
+        Err(e) => return Err(at_target(program, target, e)),
+    };
+    let (q_nominal, conf) = match warm.nominal.ik_conf(&flange, conf) {
+        Ok(q) => (q, *conf),
         // With configuration monitoring off the controller takes the
         // solution nearest the robot's current one and ignores the
         // robconf; the nearest-quadrant solution stands for it, and a
         // correction of tenths of a millimetre keeps that branch.
         Err(e) if *conf_off && e.kind == ErrorKind::Unreachable => {
-            match nearest_solution(warm, &flange, &conf) {
+            match nearest_solution(warm, &flange, conf) {
                 Some(q) => {
                     let nearest = warm.nominal.conf_of(&q);
-                    run.notes.borrow_mut().push(format!(
+                    let note = format!(
                         "target {} (line {}): robconf {conf} matches no solution; configuration monitoring is off (ConfL/ConfJ \\Off), so it is corrected on the nearest configuration {nearest}",
                         target.id, target.origin.pos.line
-                    ));
+                    );
+                    let mut notes = run.notes.borrow_mut();
+                    if !notes.contains(&note) {
+                        notes.push(note);
+                    }
                     (q, nearest)
                 }
                 None => return Err(at_target(program, target, prefix(e, "as written"))),
@@ -108,10 +294,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         }
         Err(e) => return Err(at_target(program, target, prefix(e, "as written"))),
     };
-    let state = states
-        .at(moment)
-        .map_err(|e| at_target(program, target, e))?;
-    let q_warm = warm.joints_for(&flange, &conf, &state).map_err(|e| {
+    let q_warm = warm.joints_for(&flange, &conf, state).map_err(|e| {
         at_target(
             program,
             target,
@@ -119,7 +302,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         )
     })?;
     let corrected_flange = warm.nominal.fk(&q_warm);
-    let exact = target_of_flange(&corrected_flange, &tool, &wobj)?;
+    let exact = target_of_flange(&corrected_flange, tool, wobj)?;
     // The controller must pick back the warm joints from the corrected
     // target and the unchanged robconf.
     let picked = warm
@@ -140,58 +323,83 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
             ),
         ));
     }
-    let drift_at = |state: &State| -> Result<Vector3<f64>> {
-        let reached = target_of_flange(&warm.flange(&q_nominal, state), &tool, &wobj)?;
-        Ok(reached.translation.vector - pose.translation.vector)
-    };
-    let drift = drift_at(&state)?;
-    let mut range = (drift.norm(), drift.norm());
-    if moments.len() > 1 {
-        for m in &moments {
-            let d = drift_at(&states.at(*m).map_err(|e| at_target(program, target, e))?)?.norm();
-            range = (range.0.min(d), range.1.max(d));
+    Ok(Solution { exact, q_nominal })
+}
+
+/// A base no move names, reached only through `Offs`/`RelTool` with
+/// offsets known before the run (`MoveL Offs(pPallet, 0, 0, 50), ...`): it
+/// is corrected so that its derived poses land, on average. Each use's
+/// derived pose is corrected as a target of its own; the base that use
+/// asks for is that corrected pose with the offset taken back; the base
+/// written is the mean of those (positions averaged, orientations by the
+/// normalised sum of aligned quaternions). What remains at each use is
+/// reported as that derived target's residual. `None` when the rule does
+/// not apply: a move names the base itself (then it is corrected for
+/// that), or no use has offsets known before the run.
+#[allow(clippy::too_many_arguments)]
+fn by_derived_uses(
+    run: &Run,
+    target: &Target,
+    uses: Option<&Vec<Usage>>,
+    pose: &Isometry3<f64>,
+    conf: &RobConf,
+    frames: (&ToolData, &WobjData),
+    state: &State,
+    moment: Moment,
+) -> Result<Option<Isometry3<f64>>> {
+    let Some(uses) = uses else { return Ok(None) };
+    if uses
+        .iter()
+        .any(|u| !matches!(u.through, Through::Derived(_)))
+    {
+        return Ok(None);
+    }
+    let eval = |e: &Expr| run.eval(target, e);
+    let mut bases: Vec<Isometry3<f64>> = Vec::new();
+    let mut seen = Vec::new();
+    for u in uses {
+        let Through::Derived(i) = u.through else {
+            continue;
+        };
+        if seen.contains(&i) {
+            continue;
+        }
+        seen.push(i);
+        let derived = &run.program.targets()[i];
+        let Some(call) = run.calls.get(&derived.origin.pos.offset) else {
+            continue;
+        };
+        let Some(meant) = super::derived::apply_with(call, pose, &eval) else {
+            continue;
+        };
+        let sol = solve(run, derived, &meant, conf, frames, state, moment)?;
+        if let Some(base) = unapply_with(call, &sol.exact, &eval) {
+            bases.push(base);
         }
     }
-    let Some(value) = &target.value else {
-        return Ok(Solved::Nothing);
-    };
-    let src = program.source(target.origin.file);
-    let new_trans = exact.translation.vector;
-    let turn = pose.rotation.angle_to(&exact.rotation);
-    // Orientation is rewritten only when it turns: a quaternion rewritten
-    // for nothing would change bytes the correction does not mean.
-    let turned = (turn > ORIENTATION_CHANGE_RAD)
-        .then(|| quaternion_like(&exact.rotation, &value.rot_values()));
-    let new_rot = turned.unwrap_or(value.rot_values());
-    let edits = robtarget_edits(src, value, new_trans.into(), turned, None);
-    let correction = new_trans - pose.translation.vector;
-    let location = program.location(&target.origin);
-    Ok(Solved::Corrected(Box::new(Correction {
-        id: target.id.clone(),
-        kind: target.kind.as_str().to_string(),
-        file: location.file,
-        line: target.origin.pos.line,
-        col: target.origin.pos.col,
-        time_min: minute_of(moment),
-        temps_c: state.temps,
-        drift_mm: drift.into(),
-        drift_norm_mm: drift.norm(),
-        drift_range_mm: range,
-        correction_mm: correction.into(),
-        correction_norm_mm: correction.norm(),
-        dangle_deg: turn.to_degrees(),
-        original: value
-            .trans_values()
-            .iter()
-            .chain(&value.rot_values())
-            .copied()
-            .collect(),
-        corrected: new_trans.iter().chain(&new_rot).copied().collect(),
-        rewritten: !edits.is_empty(),
-        exact: Some(exact),
-        edits,
-        file_index: target.origin.file,
-    })))
+    if bases.is_empty() {
+        return Ok(None);
+    }
+    let n = bases.len() as f64;
+    let position = bases
+        .iter()
+        .map(|b| b.translation.vector)
+        .sum::<Vector3<f64>>()
+        / n;
+    let first = bases[0].rotation.into_inner();
+    let sum = bases
+        .iter()
+        .map(|b| {
+            let q = b.rotation.into_inner();
+            if q.dot(&first) < 0.0 {
+                -q
+            } else {
+                q
+            }
+        })
+        .fold(nalgebra::Quaternion::new(0.0, 0.0, 0.0, 0.0), |a, q| a + q);
+    let rotation = UnitQuaternion::from_quaternion(sum);
+    Ok(Some(Isometry3::from_parts(position.into(), rotation)))
 }
 
 /// Whether the program switches configuration monitoring off
@@ -230,63 +438,7 @@ fn nearest_solution(warm: &WarmRobot, flange: &Isometry3<f64>, conf: &RobConf) -
         .min_by(|a, b| cost(a).total_cmp(&cost(b)))
 }
 
-/// A MoveAbsJ jointtarget: the same flange pose, reached by the warm arm.
-pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<Correction> {
-    let Run {
-        program,
-        warm,
-        states,
-        options,
-        ..
-    } = run;
-    let located = |e: Error| {
-        let msg = format!("jointtarget {}: {}", jt.id, e.message);
-        Error { message: msg, ..e }.at(program.location(&jt.origin))
-    };
-    let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
-    let q: [f64; 6] = degrees.map(f64::to_radians);
-    let flange = warm.nominal.fk(&q);
-    let conf = warm.nominal.conf_of(&q);
-    let moments = joint_moments_of(&options.when, &jt.id).map_err(located)?;
-    let moment = pick(&moments, options.visit);
-    let state = states.at(moment).map_err(located)?;
-    let q_warm = warm.joints_for(&flange, &conf, &state).map_err(located)?;
-    let new_deg = q_warm.map(f64::to_degrees);
-    let drift = warm.flange(&q, &state).translation.vector - flange.translation.vector;
-    let src = program.source(jt.origin.file);
-    let edits = jointtarget_edits(src, jt, new_deg);
-    let dangle = degrees
-        .iter()
-        .zip(&new_deg)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
-    let location = program.location(&jt.origin);
-    let corrected_flange = warm.nominal.fk(&q_warm);
-    let correction = corrected_flange.translation.vector - flange.translation.vector;
-    Ok(Correction {
-        id: jt.id.clone(),
-        kind: "jointtarget".to_string(),
-        file: location.file,
-        line: jt.origin.pos.line,
-        col: jt.origin.pos.col,
-        time_min: minute_of(moment),
-        temps_c: state.temps,
-        drift_mm: drift.into(),
-        drift_norm_mm: drift.norm(),
-        drift_range_mm: (drift.norm(), drift.norm()),
-        correction_mm: correction.into(),
-        correction_norm_mm: correction.norm(),
-        dangle_deg: dangle,
-        original: degrees.to_vec(),
-        corrected: new_deg.to_vec(),
-        rewritten: !edits.is_empty(),
-        exact: Some(corrected_flange),
-        edits,
-        file_index: jt.origin.file,
-    })
-}
-
-fn prefix(e: Error, context: &str) -> Error {
+pub(super) fn prefix(e: Error, context: &str) -> Error {
     Error {
         message: format!("{context}: {}", e.message),
         ..e

@@ -42,6 +42,7 @@
 //! from the original bytes (UTF-8 where valid, Latin-1 otherwise).
 
 pub mod builtins;
+pub mod constants;
 mod motion;
 mod parse;
 pub mod rewrite;
@@ -216,6 +217,19 @@ pub struct Target {
     /// Work object named by that instruction (`\WObj:=`).
     pub wobj: Option<Arc<str>>,
     pub derived: Option<Box<Derivation>>,
+}
+
+impl Target {
+    /// A robtarget literal whose parts are written with named constants
+    /// or expressions (`[[nX,0,300],...]`): a value, not a derivation from
+    /// another target, but not numbers either.
+    pub fn written_with_expressions(&self) -> bool {
+        self.kind == TargetKind::Derived
+            && self
+                .derived
+                .as_ref()
+                .is_some_and(|d| d.function.is_empty() && d.expr.trim_start().starts_with('['))
+    }
 }
 
 /// One jointtarget: `[[rax_1..rax_6],[eax_a..eax_f]]`, degrees.

@@ -15,6 +15,8 @@ use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
 use nalgebra::Isometry3;
 use std::collections::HashMap;
 
+pub mod dataflow;
+
 /// The tools and work objects a program declares, by lower-case name, with
 /// RAPID's predefined `tool0` and `wobj0`.
 #[derive(Debug, Clone)]
@@ -124,12 +126,27 @@ pub fn target_pose(
 /// The tool and work object one motion instruction uses for a target.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Usage {
+    /// How the move reaches the target.
+    pub through: Through,
     pub tool: Option<String>,
     pub wobj: Option<String>,
     /// The instruction (`MoveL`) and where it is, for messages.
     pub instruction: String,
     pub routine: String,
     pub line: u32,
+}
+
+/// How a move reaches a target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Through {
+    /// The move names it (or is written with it).
+    Direct,
+    /// Through a derived expression (`Offs(p10, 0, 0, 50)`): the index of
+    /// that expression among the program's targets.
+    Derived(usize),
+    /// Through a variable the run assigns from it (`pAbove := Offs(p10,
+    /// ...); MoveL pAbove`): the pose is decided at run time.
+    Variable,
 }
 
 /// For every target of the program (by index into [`Program::targets`]),
@@ -143,26 +160,43 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
         .targets()
         .iter()
         .enumerate()
-        .filter(|(_, t)| t.kind != TargetKind::Inline && t.kind != TargetKind::Derived)
+        .filter(|(_, t)| {
+            t.kind != TargetKind::Inline
+                && (t.kind != TargetKind::Derived || t.written_with_expressions())
+        })
         .map(|(i, t)| (t.id.to_ascii_lowercase(), i))
         .collect();
+    let aliases = dataflow::aliases(program);
+    let refs = Refs {
+        program,
+        by_id: &by_id,
+        aliases: &aliases,
+        derived_at: program
+            .targets()
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.kind == TargetKind::Derived)
+            .map(|(i, t)| (t.origin.pos.offset, i))
+            .collect(),
+    };
     let mut out: HashMap<usize, Vec<Usage>> = HashMap::new();
     for module in &program.modules {
         for routine in &module.routines {
             let mut visit = |call: &Call, line: u32| {
                 let Some(m) = call.motion() else { return };
-                let usage = Usage {
-                    tool: m.tool.and_then(expr_name),
-                    wobj: m.wobj.and_then(expr_name),
-                    instruction: call.name.to_string(),
-                    routine: routine.name.to_string(),
-                    line,
-                };
                 for expr in [m.via, m.to].into_iter().flatten() {
-                    for index in referenced_targets(program, expr, &by_id, module.name.as_ref()) {
+                    for (index, through) in refs.targets(expr, module.name.as_ref()) {
+                        let usage = Usage {
+                            through,
+                            tool: m.tool.and_then(expr_name),
+                            wobj: m.wobj.and_then(expr_name),
+                            instruction: call.name.to_string(),
+                            routine: routine.name.to_string(),
+                            line,
+                        };
                         let list = out.entry(index).or_default();
                         if !list.contains(&usage) {
-                            list.push(usage.clone());
+                            list.push(usage);
                         }
                     }
                 }
@@ -214,53 +248,94 @@ fn expr_name(expr: &Expr) -> Option<String> {
     expr.as_name().map(str::to_string)
 }
 
-/// Targets an expression reads: a literal, a declared name, an array
-/// element with literal indices, or the bases of a derived expression.
-fn referenced_targets(
-    program: &Program,
-    expr: &Expr,
-    by_id: &HashMap<String, usize>,
-    module: &str,
-) -> Vec<usize> {
-    let lookup = |id: &str| {
-        by_id
+/// What resolving the targets an expression reads needs.
+struct Refs<'a> {
+    program: &'a Program,
+    by_id: &'a HashMap<String, usize>,
+    aliases: &'a HashMap<String, Vec<String>>,
+    /// Derived targets written in statements (`MoveL Offs(p10, 0, 0, 50)`),
+    /// by where their call starts.
+    derived_at: HashMap<usize, usize>,
+}
+
+impl Refs<'_> {
+    fn lookup(&self, id: &str, module: &str) -> Option<usize> {
+        self.by_id
             .get(&id.to_ascii_lowercase())
-            .or_else(|| by_id.get(&format!("{module}:{id}").to_ascii_lowercase()))
+            .or_else(|| {
+                self.by_id
+                    .get(&format!("{module}:{id}").to_ascii_lowercase())
+            })
             .copied()
-    };
-    match expr {
-        Expr::Target(i) => {
-            let t = &program.targets()[*i];
-            match &t.derived {
-                Some(d) => d.bases.iter().filter_map(|b| lookup(b)).collect(),
-                None => vec![*i],
-            }
+    }
+
+    /// A name read by a move or a derived expression: the target itself,
+    /// and what a variable of that name is assigned from at run time.
+    fn named(&self, name: &str, module: &str, through: Through) -> Vec<(usize, Through)> {
+        let mut out: Vec<(usize, Through)> = self
+            .lookup(name, module)
+            .map(|i| (i, through))
+            .into_iter()
+            .collect();
+        if let Some(bases) = self.aliases.get(&name.to_ascii_lowercase()) {
+            out.extend(
+                bases
+                    .iter()
+                    .filter_map(|b| self.lookup(b, module))
+                    .map(|i| (i, Through::Variable)),
+            );
         }
-        Expr::Name(n) => lookup(n).into_iter().collect(),
-        // `arr{2,1}`, `rec.pos`, `cell{i}.path.start`: the access path as
-        // a pattern over target identifiers, an index that is not a
-        // literal matching every element.
-        Expr::Index(_) | Expr::Component(_) => {
-            let Some(pattern) = access_pattern(expr) else {
-                return Vec::new();
-            };
-            if !pattern.contains('*') {
-                if let Some(i) = lookup(&pattern) {
-                    return vec![i];
+        out
+    }
+
+    /// Targets an expression reads: a literal, a declared name, an array
+    /// element with literal indices, the bases of a derived expression,
+    /// and what a variable read is assigned from.
+    fn targets(&self, expr: &Expr, module: &str) -> Vec<(usize, Through)> {
+        let program = self.program;
+        match expr {
+            Expr::Target(i) => {
+                let t = &program.targets()[*i];
+                match &t.derived {
+                    Some(_) if t.written_with_expressions() => vec![(*i, Through::Direct)],
+                    Some(d) => d
+                        .bases
+                        .iter()
+                        .flat_map(|b| self.named(b, module, Through::Derived(*i)))
+                        .collect(),
+                    None => vec![(*i, Through::Direct)],
                 }
             }
-            program
-                .targets()
-                .iter()
-                .enumerate()
-                .filter(|(_, t)| {
-                    matches!(t.kind, TargetKind::ArrayElement | TargetKind::RecordField)
-                        && glob_match(&pattern, &t.id)
-                })
-                .map(|(i, _)| i)
-                .collect()
+            Expr::Call(c) => match self.derived_at.get(&c.span.start) {
+                Some(&i) => self.targets(&Expr::Target(i), module),
+                None => Vec::new(),
+            },
+            Expr::Name(n) => self.named(n, module, Through::Direct),
+            // `arr{2,1}`, `rec.pos`, `cell{i}.path.start`: the access path as
+            // a pattern over target identifiers, an index that is not a
+            // literal matching every element.
+            Expr::Index(_) | Expr::Component(_) => {
+                let Some(pattern) = access_pattern(expr) else {
+                    return Vec::new();
+                };
+                if !pattern.contains('*') {
+                    if let Some(i) = self.lookup(&pattern, module) {
+                        return vec![(i, Through::Direct)];
+                    }
+                }
+                program
+                    .targets()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, t)| {
+                        matches!(t.kind, TargetKind::ArrayElement | TargetKind::RecordField)
+                            && glob_match(&pattern, &t.id)
+                    })
+                    .map(|(i, _)| (i, Through::Direct))
+                    .collect()
+            }
+            _ => Vec::new(),
         }
-        _ => Vec::new(),
     }
 }
 

@@ -1,4 +1,5 @@
 MODULE Cell
+    ! rapidtherm 0.1.0 corrected: basis=minute 60; model=embedded default model, embedded IRB 140 arm; cold=sha256:fa547465159907c0
     PERS tooldata tGrip:=[TRUE,[[0,0,120],[1,0,0,0]],[1.2,[0,0,50],[1,0,0,0],0,0,0]];
     TASK PERS wobjdata wTable:=[FALSE,TRUE,"",[[400,-200,100],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];
     CONST robtarget p10:=[[99.853,150.015,379.892],[0,0,1,0],[-1,0,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]];

@@ -1,0 +1,157 @@
+//! Robtarget literals written with named constants or expressions
+//! (`[[nX,0,300],...]`, `[[400,0,-300+600],...]`). They are values the
+//! controller computes before the run, but not numbers that can be edited
+//! one by one: they are reported and left alone, unless the run is asked
+//! to write numbers in their place, and then the position (and the
+//! orientation, if it turns) is written as a literal of numbers.
+
+use super::outcome::{leave, LeftAlone, Reason};
+use super::solve::Run;
+use crate::error::Result;
+use crate::rapid::constants::names_read;
+use crate::rapid::rewrite::{format_like, Edit, POSITION_RESOLUTION, QUATERNION_RESOLUTION};
+use crate::rapid::visit::{walk_expr, Visit};
+use crate::rapid::{Aggregate, Expr, Program, Target};
+use crate::robot::conf::RobConf;
+use crate::robot::frames::pose_from_rapid;
+use nalgebra::Isometry3;
+use std::collections::HashMap;
+use std::ops::Range;
+
+/// The program's robtarget-shaped aggregates, by where they start.
+pub(super) struct Expressions<'p> {
+    by_offset: HashMap<usize, &'p Aggregate>,
+}
+
+/// A literal with expressions, valued.
+pub(super) struct Evaluated {
+    pub trans: [f64; 3],
+    pub rot: [f64; 4],
+    conf: [f64; 4],
+    /// Where the position and orientation parts are written.
+    position: Range<usize>,
+    orientation: Range<usize>,
+}
+
+impl<'p> Expressions<'p> {
+    pub fn of(program: &'p Program) -> Expressions<'p> {
+        struct Found<'p>(HashMap<usize, &'p Aggregate>);
+        impl<'a> Visit<'a> for Found<'a> {
+            fn visit_expr(&mut self, e: &'a Expr) {
+                if let Expr::Aggregate(a) = e {
+                    if a.items.len() == 4 {
+                        self.0.insert(a.span.start, a);
+                    }
+                }
+                walk_expr(self, e);
+            }
+        }
+        let mut found = Found(HashMap::new());
+        found.visit_program(program);
+        Expressions { by_offset: found.0 }
+    }
+
+    fn parts(&self, target: &Target) -> Option<&'p [Expr]> {
+        let a = self.by_offset.get(&target.origin.pos.offset)?;
+        Some(&a.items)
+    }
+
+    /// The literal's numbers, when every part is an aggregate of numbers
+    /// the program fixes before it runs (literals and `CONST num`).
+    pub fn evaluate(&self, run: &Run, target: &Target) -> Option<Evaluated> {
+        let parts = self.parts(target)?;
+        let values = |i: usize| -> Option<(Vec<f64>, Range<usize>)> {
+            let Expr::Aggregate(a) = &parts[i] else {
+                return None;
+            };
+            let v: Vec<f64> = a
+                .items
+                .iter()
+                .map(|e| run.eval(target, e))
+                .collect::<Option<_>>()?;
+            Some((v, a.span.clone()))
+        };
+        let (trans, position) = values(0)?;
+        let (rot, orientation) = values(1)?;
+        let (conf, _) = values(2)?;
+        Some(Evaluated {
+            trans: trans.try_into().ok()?,
+            rot: rot.try_into().ok()?,
+            conf: conf.try_into().ok()?,
+            position,
+            orientation,
+        })
+    }
+
+    /// The report for a literal left as written.
+    pub fn left_alone(&self, run: &Run, target: &Target) -> LeftAlone {
+        let names: Vec<String> = self
+            .parts(target)
+            .map(|p| p.iter().flat_map(names_read).collect())
+            .unwrap_or_default();
+        let read = if names.is_empty() {
+            String::new()
+        } else {
+            format!(" (reads {})", names.join(", "))
+        };
+        if self.evaluate(run, target).is_some() {
+            leave(
+                run.program,
+                target,
+                Reason::Expression,
+                format!("written with named constants or expressions{read}: left as written unless numbers may be written in their place"),
+            )
+        } else {
+            leave(
+                run.program,
+                target,
+                Reason::Runtime,
+                format!("written with expressions whose value only the run knows{read}"),
+            )
+        }
+    }
+}
+
+impl Evaluated {
+    pub fn pose_conf(&self) -> Result<(Isometry3<f64>, RobConf)> {
+        let pose = pose_from_rapid(self.trans, self.rot)?;
+        let whole = |x: f64| {
+            if x.fract() == 0.0 && x.abs() < 1e6 {
+                Ok(x as i32)
+            } else {
+                Err(crate::error::Error::input(format!(
+                    "robconf value {x} is not a whole number"
+                )))
+            }
+        };
+        let c = self.conf;
+        Ok((
+            pose,
+            RobConf::new(whole(c[0])?, whole(c[1])?, whole(c[2])?, whole(c[3])?),
+        ))
+    }
+
+    /// The position written as numbers, and the orientation when it turns.
+    pub fn edits(&self, src: &[u8], trans: [f64; 3], rot: Option<[f64; 4]>) -> Vec<Edit> {
+        let literal = |values: &[f64], resolution: f64| {
+            let numbers: Vec<String> = values
+                .iter()
+                .map(|&v| format_like("0", v, resolution))
+                .collect();
+            format!("[{}]", numbers.join(","))
+        };
+        let edit = |span: &Range<usize>, new: String| Edit {
+            span: span.clone(),
+            expected_old: src.get(span.clone()).unwrap_or_default().to_vec(),
+            new: new.into_bytes(),
+        };
+        let mut out = vec![edit(&self.position, literal(&trans, POSITION_RESOLUTION))];
+        if let Some(rot) = rot {
+            out.push(edit(
+                &self.orientation,
+                literal(&rot, QUATERNION_RESOLUTION),
+            ));
+        }
+        out
+    }
+}

@@ -1,0 +1,243 @@
+//! MoveAbsJ jointtargets: the same flange pose, reached by the warm arm
+//! with the joints nearest the ones written.
+//!
+//! Rules:
+//! - The warm joints are the solution in the written joints' configuration,
+//!   each axis taken within ±180° of its written value (the controller
+//!   moves the axes, it does not wrap them).
+//! - At a wrist singularity (axis 5 written as 0) axes 4 and 6 turn about
+//!   one line and only their sum is fixed by the pose: any split is "the
+//!   same pose", but the arm would turn them by up to 180° differently.
+//!   Axis 4 keeps its written value; the other five are solved on the warm
+//!   model in the least-squares sense, and what of the pose remains is
+//!   reported as the target's residual.
+//! - Robot axes all `9E+09` (a positioner's jointtarget): nothing of the arm
+//!   to correct; left alone. External axes are never changed.
+
+use super::moments::{joint_moments_of, minute_of, pick};
+use super::outcome::{Correction, LeftAlone, Reason, Residual};
+use super::solve::Run;
+use crate::error::{Error, ErrorKind, Result};
+use crate::model::warm::pose_error;
+use crate::model::State;
+use crate::rapid::rewrite::jointtarget_edits;
+use crate::rapid::{JointTarget, Storage};
+use crate::robot::Joints;
+use nalgebra::{Isometry3, Matrix6x5, Vector5, Vector6};
+use std::f64::consts::TAU;
+
+/// RAPID's "no value" for an axis (`9E+09`); anything this large is not an
+/// angle.
+const NO_AXIS: f64 = 8.9e9;
+
+/// Axis 5 closer to 0 than this (degrees) is a wrist singularity: the
+/// written value is 0 to the controller's resolution.
+const SINGULAR_DEG: f64 = 1e-3;
+
+/// Orientation weight in the least-squares solve (mm per radian). With
+/// axis 4 held, the pose has one direction of turn the other axes cannot
+/// make; the flange position is reached first (a small weight) and that
+/// turn is what is left, reported as the residual.
+const ORIENTATION_MM_PER_RAD: f64 = 1.0;
+
+/// What became of one jointtarget.
+pub(super) enum JointSolved {
+    Corrected(Box<Correction>, Option<Residual>),
+    LeftAlone(LeftAlone),
+}
+
+pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSolved> {
+    let Run {
+        program,
+        warm,
+        states,
+        options,
+        ..
+    } = run;
+    let location = program.location(&jt.origin);
+    let located = |e: Error| {
+        let msg = format!("jointtarget {}: {}", jt.id, e.message);
+        Error { message: msg, ..e }.at(location.clone())
+    };
+    let leave = |reason: Reason, detail: String| {
+        JointSolved::LeftAlone(LeftAlone {
+            id: jt.id.clone(),
+            kind: "jointtarget".to_string(),
+            file: location.file.clone(),
+            line: jt.origin.pos.line,
+            col: jt.origin.pos.col,
+            reason,
+            detail,
+        })
+    };
+    let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
+    let absent = degrees.iter().filter(|d| d.abs() >= NO_AXIS).count();
+    if absent == 6 {
+        return Ok(leave(
+            Reason::NoRobotAxes,
+            "its robot axes are all 9E+09 (a positioner's or external axes' target): no joint of the arm to correct".to_string(),
+        ));
+    }
+    if absent > 0 {
+        return Err(located(Error::input(format!(
+            "{absent} of its robot axes are 9E+09 and the others are angles: a jointtarget of the arm gives all six"
+        ))));
+    }
+    if matches!(jt.storage, Some(Storage::Var | Storage::Pers)) {
+        let name = jt.name.as_deref().unwrap_or_default().to_lowercase();
+        if let Some(w) = run.writes.get(&name) {
+            return Ok(leave(
+                Reason::Runtime,
+                format!(
+                    "{} is {} at run time ({} line {}): its declared value is not what the robot moves to",
+                    w.variable, w.how, w.routine, w.line
+                ),
+            ));
+        }
+    }
+    let q: Joints = degrees.map(f64::to_radians);
+    let flange = warm.nominal.fk(&q);
+    let conf = warm.nominal.conf_of(&q);
+    let moments = joint_moments_of(&options.when, &jt.id).map_err(located)?;
+    let moment = pick(&moments, options.visit);
+    let state = states.at(moment).map_err(located)?;
+    let mut q_warm = warm.joints_for(&flange, &conf, &state).map_err(located)?;
+    for (w, o) in q_warm.iter_mut().zip(&q) {
+        *w += TAU * ((o - *w) / TAU).round();
+    }
+    let mut residual = None;
+    if degrees[4].abs() < SINGULAR_DEG {
+        q_warm = keep_axis_4(run, &flange, &q, &q_warm, &state);
+        let r = pose_error(&flange, &warm.flange(&q_warm, &state));
+        let (position_mm, angle_deg) = (
+            r.fixed_rows::<3>(0).norm(),
+            r.fixed_rows::<3>(3).norm().to_degrees(),
+        );
+        if position_mm > 1e-6 || angle_deg > 1e-6 {
+            residual = Some(Residual {
+                id: jt.id.clone(),
+                file: location.file.clone(),
+                line: jt.origin.pos.line,
+                position_mm,
+                angle_deg,
+                rule: "wrist singular (axis 5 at 0): axis 4 kept as written".to_string(),
+            });
+        }
+    }
+    if q_warm.iter().any(|x| !x.is_finite()) {
+        return Err(located(Error::new(
+            ErrorKind::NoConvergence,
+            "the warm joints are not finite numbers",
+        )));
+    }
+    let new_deg = q_warm.map(f64::to_degrees);
+    let drift = warm.flange(&q, &state).translation.vector - flange.translation.vector;
+    let src = program.source(jt.origin.file);
+    let edits = jointtarget_edits(src, jt, new_deg);
+    let dangle = degrees
+        .iter()
+        .zip(&new_deg)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let corrected_flange = warm.nominal.fk(&q_warm);
+    let correction = corrected_flange.translation.vector - flange.translation.vector;
+    Ok(JointSolved::Corrected(
+        Box::new(Correction {
+            id: jt.id.clone(),
+            kind: "jointtarget".to_string(),
+            file: location.file.clone(),
+            line: jt.origin.pos.line,
+            col: jt.origin.pos.col,
+            time_min: minute_of(moment),
+            temps_c: state.temps,
+            drift_mm: drift.into(),
+            drift_norm_mm: drift.norm(),
+            drift_range_mm: (drift.norm(), drift.norm()),
+            correction_mm: correction.into(),
+            correction_norm_mm: correction.norm(),
+            dangle_deg: dangle,
+            original: degrees.to_vec(),
+            corrected: new_deg.to_vec(),
+            rewritten: !edits.is_empty(),
+            exact: Some(corrected_flange),
+            edits,
+            file_index: jt.origin.file,
+        }),
+        residual,
+    ))
+}
+
+/// The warm joints with axis 4 at its written value: axis 6 takes over
+/// what the solve gave axis 4 (they turn about one line at the
+/// singularity), then axes 1, 2, 3, 5 and 6 are refined by Gauss-Newton on
+/// the warm model.
+fn keep_axis_4(
+    run: &Run,
+    flange: &Isometry3<f64>,
+    q: &Joints,
+    q_warm: &Joints,
+    state: &State,
+) -> Joints {
+    let warm = run.warm;
+    let error = |x: &Joints| weighted(&pose_error(flange, &warm.flange(x, state)));
+    let moved = q_warm[3] - q[3];
+    let candidates = [1.0, -1.0].map(|s| {
+        let mut x = *q_warm;
+        x[3] = q[3];
+        x[5] = wrap_near(q_warm[5] + s * moved, q[5]);
+        x
+    });
+    let mut x = if error(&candidates[0]).norm() <= error(&candidates[1]).norm() {
+        candidates[0]
+    } else {
+        candidates[1]
+    };
+    const FREE: [usize; 5] = [0, 1, 2, 4, 5];
+    const H: f64 = 1e-7;
+    for _ in 0..20 {
+        let r = error(&x);
+        if r.norm() < 1e-10 {
+            break;
+        }
+        let mut j = Matrix6x5::zeros();
+        for (col, &axis) in FREE.iter().enumerate() {
+            let (mut p, mut m) = (x, x);
+            p[axis] += H;
+            m[axis] -= H;
+            // pose_error(goal, at) is goal − at, so this column is the
+            // (weighted) pose's derivative: J·step = r moves onto the goal.
+            j.set_column(col, &((error(&m) - error(&p)) / (2.0 * H)));
+        }
+        let Ok(step) = j.svd(true, true).solve(&r, 1e-12) else {
+            break;
+        };
+        let step: Vector5<f64> = step;
+        // Halve the step until it helps: near the singularity the model
+        // is far from linear over a full step.
+        let better = (0..12).map(|k| 0.5f64.powi(k)).find_map(|alpha| {
+            let mut next = x;
+            for (col, &axis) in FREE.iter().enumerate() {
+                next[axis] += alpha * step[col];
+            }
+            (error(&next).norm() < r.norm()).then_some(next)
+        });
+        match better {
+            Some(next) => x = next,
+            None => break,
+        }
+    }
+    x
+}
+
+fn weighted(r: &Vector6<f64>) -> Vector6<f64> {
+    let mut w = *r;
+    for i in 3..6 {
+        w[i] *= ORIENTATION_MM_PER_RAD;
+    }
+    w
+}
+
+/// `a` plus whole turns, within half a turn of `near`.
+fn wrap_near(a: f64, near: f64) -> f64 {
+    a + TAU * ((near - a) / TAU).round()
+}

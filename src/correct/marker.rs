@@ -1,0 +1,206 @@
+//! The marker a corrected file carries: a RAPID comment under its module
+//! header that says it is corrected, by which version, for which moment or
+//! schedule, with which model, and the fingerprint (SHA-256) of the cold
+//! original it was made from:
+//!
+//! ```text
+//! MODULE Fixtures
+//!     ! rapidtherm 0.1.0 corrected: basis=minute 120; model=embedded IRB 140; cold=sha256:5f1c…
+//! ```
+//!
+//! A run on a marked program never corrects it a second time: on the same
+//! basis and model there is nothing to do (the file already is what the
+//! run would write), on another it is refused, since the numbers in the
+//! file are no longer the cold ones the correction starts from.
+
+use crate::error::{Error, Location};
+use crate::rapid::rewrite::Edit;
+use crate::rapid::Program;
+use sha2::{Digest, Sha256};
+
+const PREFIX: &str = "! rapidtherm ";
+const CORRECTED: &str = " corrected: ";
+
+/// What a marker records.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Marker {
+    pub version: String,
+    /// When the targets were corrected for (`minute 120`, `steady state`,
+    /// `schedule sha256:…`).
+    pub basis: String,
+    /// The model and arm used.
+    pub model: String,
+    /// `sha256:` and the first 16 hex digits of the cold original's bytes.
+    pub cold: String,
+}
+
+/// A marker found in a file, and where.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Found {
+    pub marker: Marker,
+    pub file: usize,
+    pub line: usize,
+}
+
+/// `sha256:` and the first 16 hex digits of the bytes' SHA-256: enough to
+/// tell files apart, short enough to read.
+pub fn fingerprint(bytes: &[u8]) -> String {
+    let digest = Sha256::digest(bytes);
+    let hex: String = digest.iter().take(8).map(|b| format!("{b:02x}")).collect();
+    format!("sha256:{hex}")
+}
+
+impl Marker {
+    /// The comment line (without indentation or line end).
+    pub fn line(&self) -> String {
+        format!(
+            "{PREFIX}{}{CORRECTED}basis={}; model={}; cold={}",
+            self.version, self.basis, self.model, self.cold
+        )
+    }
+
+    fn parse(comment: &str) -> Option<Marker> {
+        let rest = comment.strip_prefix(PREFIX)?;
+        let (version, fields) = rest.split_once(CORRECTED)?;
+        let mut basis = None;
+        let mut model = None;
+        let mut cold = None;
+        for field in fields.split("; ") {
+            match field.split_once('=') {
+                Some(("basis", v)) => basis = Some(v.to_string()),
+                Some(("model", v)) => model = Some(v.to_string()),
+                Some(("cold", v)) => cold = Some(v.trim_end().to_string()),
+                _ => {}
+            }
+        }
+        Some(Marker {
+            version: version.to_string(),
+            basis: basis?,
+            model: model?,
+            cold: cold?,
+        })
+    }
+
+    /// The run's marker matches this one: same basis, same model (the
+    /// version may differ; the correction it made is the same).
+    pub fn same_correction(&self, other: &Marker) -> bool {
+        self.basis == other.basis && self.model == other.model
+    }
+}
+
+/// The first marker among the program's files.
+pub fn find(program: &Program) -> Option<Found> {
+    (0..program.files.len()).find_map(|file| {
+        let src = program.source(file);
+        src.split(|&b| b == b'\n')
+            .enumerate()
+            .find_map(|(i, line)| {
+                let text = String::from_utf8_lossy(line);
+                let marker = Marker::parse(text.trim())?;
+                Some(Found {
+                    marker,
+                    file,
+                    line: i + 1,
+                })
+            })
+    })
+}
+
+/// The edit inserting `marker` as a new line after the first module
+/// header of file `file`, indented like the line after it, with the line
+/// end the header uses. `None` when the file has no module.
+pub fn insert(program: &Program, file: usize, marker: &Marker) -> Option<Edit> {
+    let module = program.modules.iter().find(|m| m.file == file)?;
+    let src = program.source(file);
+    let header_end = src[module.pos.offset..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map(|p| module.pos.offset + p + 1);
+    let (at, eol, lead) = match header_end {
+        Some(at) => {
+            let crlf = at >= 2 && src[at - 2] == b'\r';
+            (at, if crlf { "\r\n" } else { "\n" }, "")
+        }
+        // A module header on the file's last line, without a line end.
+        None => (src.len(), "", "\n"),
+    };
+    let next = &src[at.min(src.len())..];
+    let indent: String = next
+        .iter()
+        .take_while(|&&b| b == b' ' || b == b'\t')
+        .map(|&b| b as char)
+        .collect();
+    let indent = if indent.is_empty() {
+        "    ".to_string()
+    } else {
+        indent
+    };
+    let new = format!("{lead}{indent}{}{eol}", marker.line());
+    Some(Edit {
+        span: at..at,
+        expected_old: Vec::new(),
+        new: new.into_bytes(),
+    })
+}
+
+/// The refusal to correct a corrected program on another basis.
+pub fn refuse(program: &Program, found: &Found, wanted: &Marker) -> Error {
+    let m = &found.marker;
+    let file = &program.files[found.file];
+    let mut e = Error::input(format!(
+        "this program was already corrected by rapidtherm {} for {} with {}; correcting it again (for {} with {}) would add a second correction on top of the first",
+        m.version, m.basis, m.model, wanted.basis, wanted.model
+    ))
+    .with_note(format!(
+        "correct its cold original instead (fingerprint {})",
+        m.cold
+    ));
+    let src = program.source(found.file);
+    let offset: usize = src
+        .split_inclusive(|&b| b == b'\n')
+        .take(found.line - 1)
+        .map(<[u8]>::len)
+        .sum();
+    let loc = Location::from_offset(file, src, offset);
+    e = e.at(Location { col: 1, ..loc });
+    e
+}
+
+/// The marker's fields of a run, for a cold file's bytes.
+pub fn for_run(basis: &str, model: &str, cold: &[u8]) -> Marker {
+    let clean = |s: &str| s.replace(['\n', '\r', ';'], " ");
+    Marker {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        basis: clean(basis),
+        model: clean(model),
+        cold: fingerprint(cold),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_marker_reads_back() {
+        let m = for_run("minute 120", "embedded IRB 140", b"MODULE A\nENDMODULE\n");
+        assert_eq!(Marker::parse(&m.line()), Some(m.clone()));
+        assert!(m.cold.starts_with("sha256:") && m.cold.len() == 7 + 16);
+    }
+
+    #[test]
+    fn the_marker_goes_under_the_header_with_its_line_end() {
+        let src = b"%%%\r\n  VERSION:1\r\n%%%\r\nMODULE A\r\n  CONST num n := 1;\r\nENDMODULE\r\n";
+        let p = crate::rapid::parse("a.mod", src).unwrap();
+        let m = for_run("minute 1", "m", src);
+        let e = insert(&p, 0, &m).unwrap();
+        let out = crate::rapid::rewrite::apply_edits("a.mod", src, &[e]).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(
+            text.contains(&format!("MODULE A\r\n  {}\r\n  CONST", m.line())),
+            "{text}"
+        );
+        let p2 = crate::rapid::parse("a.mod", text.as_bytes()).unwrap();
+        assert_eq!(find(&p2).map(|f| (f.marker, f.line)), Some((m, 5)));
+    }
+}

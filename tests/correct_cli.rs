@@ -105,3 +105,112 @@ fn standard_input_to_standard_output() {
     // The summary goes to stderr, never into the program.
     assert!(String::from_utf8_lossy(&out.stderr).contains("3 target(s) corrected"));
 }
+
+/// The README's own command run twice: the second run finds the marker
+/// and changes nothing, and the backup stays the cold original (before,
+/// the file was corrected twice and `.orig` overwritten with the once
+/// corrected one).
+#[test]
+fn in_place_twice_is_in_place_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cell.mod");
+    std::fs::copy(data("cell.mod"), &file).unwrap();
+    let args = [
+        "correct",
+        "cell.mod",
+        "--at",
+        "120",
+        "--in-place",
+        "--backup",
+        ".orig",
+    ];
+    let first = rapidtherm(&args, dir.path());
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let once = std::fs::read(&file).unwrap();
+    let second = rapidtherm(&args, dir.path());
+    assert!(
+        second.status.success(),
+        "{}",
+        String::from_utf8_lossy(&second.stderr)
+    );
+    assert!(String::from_utf8_lossy(&second.stderr).contains("already corrected"));
+    assert_eq!(std::fs::read(&file).unwrap(), once);
+    assert_eq!(
+        std::fs::read(dir.path().join("cell.mod.orig")).unwrap(),
+        std::fs::read(data("cell.mod")).unwrap()
+    );
+}
+
+/// A backup that exists is never replaced, and then nothing is written.
+#[test]
+fn an_existing_backup_is_never_overwritten() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cell.mod");
+    std::fs::copy(data("cell.mod"), &file).unwrap();
+    std::fs::write(dir.path().join("cell.mod.orig"), b"the only cold copy").unwrap();
+    let out = rapidtherm(
+        &[
+            "correct",
+            "cell.mod",
+            "--at",
+            "120",
+            "--in-place",
+            "--backup",
+            ".orig",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("exists already"));
+    assert_eq!(
+        std::fs::read(dir.path().join("cell.mod.orig")).unwrap(),
+        b"the only cold copy"
+    );
+    assert_eq!(
+        std::fs::read(&file).unwrap(),
+        std::fs::read(data("cell.mod")).unwrap()
+    );
+}
+
+/// `--diff` of a Latin-1 program is in Latin-1: `patch` applies it to the
+/// original and gives what `-o` writes (before, it was transcoded to UTF-8
+/// and `patch` failed on the original).
+#[test]
+fn a_latin1_diff_applies_with_patch() {
+    if Command::new("patch").arg("--version").output().is_err() {
+        eprintln!("patch is not installed: skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let sample = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("samples/weld_cell_latin1.mod");
+    let original = std::fs::read(&sample).unwrap();
+    assert!(
+        std::str::from_utf8(&original).is_err(),
+        "the sample is Latin-1"
+    );
+    std::fs::write(dir.path().join("w.mod"), &original).unwrap();
+    let diff = rapidtherm(&["correct", "w.mod", "--at", "120", "--diff"], dir.path());
+    assert_eq!(diff.status.code(), Some(1));
+    let corrected = rapidtherm(&["correct", "w.mod", "--at", "120", "-o", "-"], dir.path());
+    assert!(corrected.status.success());
+    std::fs::write(dir.path().join("w.diff"), &diff.stdout).unwrap();
+    let patched = Command::new("patch")
+        .args(["-p1", "-i", "w.diff"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        patched.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&patched.stdout),
+        String::from_utf8_lossy(&patched.stderr)
+    );
+    assert_eq!(
+        std::fs::read(dir.path().join("w.mod")).unwrap(),
+        corrected.stdout
+    );
+}

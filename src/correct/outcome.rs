@@ -241,11 +241,21 @@ pub(super) fn leave(
     let location = program.location(&target.origin);
     LeftAlone {
         id: target.id.clone(),
-        kind: target.kind.as_str().to_string(),
+        kind: kind_of(target).to_string(),
         file: location.file,
         line: target.origin.pos.line,
         col: target.origin.pos.col,
         reason,
         detail: detail.into(),
+    }
+}
+
+/// A robtarget's kind in reports: a literal with expressions is not
+/// derived from another target, whatever the parser files it under.
+pub(super) fn kind_of(target: &Target) -> &'static str {
+    if target.written_with_expressions() {
+        "expression"
+    } else {
+        target.kind.as_str()
     }
 }

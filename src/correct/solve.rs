@@ -227,7 +227,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
     let location = program.location(&target.origin);
     Ok(Solved::Corrected(Box::new(Correction {
         id: target.id.clone(),
-        kind: target.kind.as_str().to_string(),
+        kind: super::outcome::kind_of(target).to_string(),
         file: location.file,
         line: target.origin.pos.line,
         col: target.origin.pos.col,

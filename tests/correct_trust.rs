@@ -182,3 +182,22 @@ fn expressions_are_written_as_numbers_only_when_asked() {
         "the constant itself stays"
     );
 }
+
+/// A target in a work object a positioner moves is left alone with its
+/// reason, not an error for the program.
+#[test]
+fn a_coordinated_target_is_left_alone() {
+    let src = b"MODULE M
+  PERS wobjdata wStn := [FALSE,FALSE,\"STN1\",[[0,0,0],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];
+  CONST robtarget pOnStn := [[10,20,30],[0,0,1,0],[0,0,0,0],[0,9E9,9E9,9E9,9E9,9E9]];
+  CONST robtarget pFixed := [[450,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+  PROC main()
+    MoveL pOnStn, v100, fine, tool0 \\WObj:=wStn;
+    MoveL pFixed, v100, fine, tool0;
+  ENDPROC
+ENDMODULE
+";
+    let (_, outcome) = run("m.mod", src, 120.0);
+    assert_eq!(reason_of(&outcome, "pOnStn"), Some(Reason::Coordinated));
+    assert!(outcome.corrections.iter().any(|c| c.id == "pFixed"));
+}

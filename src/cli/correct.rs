@@ -42,6 +42,8 @@ pub enum AcceptArg {
     Expression,
     /// Declared targets no move reaches.
     Unused,
+    /// Targets in a work object moved by a mechanical unit.
+    Coordinated,
 }
 
 impl From<AcceptArg> for Reason {
@@ -50,6 +52,7 @@ impl From<AcceptArg> for Reason {
             AcceptArg::Runtime => Reason::Runtime,
             AcceptArg::Expression => Reason::Expression,
             AcceptArg::Unused => Reason::Unused,
+            AcceptArg::Coordinated => Reason::Coordinated,
         }
     }
 }

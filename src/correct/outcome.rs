@@ -57,16 +57,20 @@ pub enum Reason {
     /// No move of the program reaches it, so its tool and work object are
     /// unknown.
     Unused,
+    /// In a work object moved by a mechanical unit (coordinated motion),
+    /// which the model does not hold.
+    Coordinated,
     /// A jointtarget without robot axes (all `9E+09`): a positioner's or
     /// an external axis's, nothing of the arm to correct.
     NoRobotAxes,
 }
 
 impl Reason {
-    pub const ALL: [Reason; 4] = [
+    pub const ALL: [Reason; 5] = [
         Reason::Runtime,
         Reason::Expression,
         Reason::Unused,
+        Reason::Coordinated,
         Reason::NoRobotAxes,
     ];
 
@@ -76,6 +80,7 @@ impl Reason {
             Reason::Runtime => "runtime",
             Reason::Expression => "expression",
             Reason::Unused => "unused",
+            Reason::Coordinated => "coordinated",
             Reason::NoRobotAxes => "no-robot-axes",
         }
     }

@@ -161,6 +161,16 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         }
     };
     let (tool, wobj, _, _) = frames_of(program, frames, index, target_uses)?;
+    if let Err(e) = flange_of_target(&pose, &tool, &wobj) {
+        if e.kind == ErrorKind::Unsupported {
+            return Ok(Solved::LeftAlone(leave(
+                program,
+                target,
+                Reason::Coordinated,
+                e.message,
+            )));
+        }
+    }
     let moments = moments_of(&options.when, &target.id)
         .map_err(|e| e.at(program.location(&target.origin)))?;
     let moment = pick(&moments, options.visit);

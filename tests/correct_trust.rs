@@ -103,6 +103,7 @@ fn targets_left_alone_say_why() {
     assert_eq!(reason_of(&outcome, "pUnloadA"), Some(Reason::Runtime));
     assert_eq!(reason_of(&outcome, "pApproach"), Some(Reason::Runtime));
     assert_eq!(reason_of(&outcome, "jPos"), Some(Reason::NoRobotAxes));
+    assert_eq!(reason_of(&outcome, "jNamed"), Some(Reason::Expression));
     // What the placeholder is assigned from is corrected, in the frames of
     // the move through the placeholder.
     assert!(outcome.corrections.iter().any(|c| c.id == "pLage1A"));

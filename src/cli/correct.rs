@@ -350,7 +350,7 @@ fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec
             status: "left-alone",
             correction_mm: None,
             reason: Some(l.reason),
-            detail: reason_words(l.reason, &l.detail),
+            detail: reason_words(l.reason, &l.kind, &l.detail),
         });
     moves.chain(cold).collect()
 }
@@ -408,9 +408,9 @@ fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
 
 /// A reason's words, with what the user can do where the CLI has a flag
 /// for it.
-fn reason_words(reason: Reason, detail: &str) -> String {
+fn reason_words(reason: Reason, kind: &str, detail: &str) -> String {
     match reason {
-        Reason::Expression => format!("{detail} (--expand-expressions)"),
+        Reason::Expression if kind != "jointtarget" => format!("{detail} (--expand-expressions)"),
         _ => detail.to_string(),
     }
 }
@@ -542,7 +542,7 @@ fn report(outcome: &Outcome, format: Format) -> Result<String> {
                     l.id,
                     l.line,
                     l.reason.code(),
-                    reason_words(l.reason, &l.detail)
+                    reason_words(l.reason, &l.kind, &l.detail)
                 ));
             }
             for r in &outcome.residuals {
@@ -590,7 +590,7 @@ fn summary_text(outcome: &Outcome) -> String {
             l.line,
             l.col,
             l.reason.code(),
-            reason_words(l.reason, &l.detail)
+            reason_words(l.reason, &l.kind, &l.detail)
         ));
     }
     for note in &outcome.notes {

@@ -155,3 +155,68 @@ impl Evaluated {
         out
     }
 }
+
+/// Jointtargets written with named constants or expressions
+/// (`CONST jointtarget jHome := [[0,nA2,0,0,30,0],[9E9,...]]`, or so in a
+/// MoveAbsJ): the reader keeps no numbers for them, so they are found here
+/// and reported (left alone: their joints are not rewritten).
+pub(super) fn jointtarget_expressions(program: &Program) -> Vec<LeftAlone> {
+    use crate::error::Location;
+    use crate::rapid::{motion_signature, Statement, StatementKind};
+    let mut out = Vec::new();
+    let mut add = |file: usize, id: String, offset: usize| {
+        let loc = Location::from_offset(&program.files[file], program.source(file), offset);
+        out.push(LeftAlone {
+            id,
+            kind: "jointtarget".to_string(),
+            file: loc.file,
+            line: loc.line as u32,
+            col: loc.col as u32,
+            reason: Reason::Expression,
+            detail: "written with named constants or expressions: its joints are left as written"
+                .to_string(),
+        });
+    };
+    let aggregate = |e: Option<&Expr>| match e {
+        Some(Expr::Aggregate(a)) if a.items.len() == 2 => Some(a.span.start),
+        _ => None,
+    };
+    for m in &program.modules {
+        let decls = m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data));
+        for d in decls {
+            if d.type_name.eq_ignore_ascii_case("jointtarget") && d.dims.is_empty() {
+                if let Some(at) = aggregate(d.init.as_ref()) {
+                    add(m.file, d.name.clone(), at);
+                }
+            }
+        }
+        for r in &m.routines {
+            let mut k = 0;
+            let mut found = Vec::new();
+            crate::resolve::walk_statements(&r.body, &mut |s: &Statement| {
+                let StatementKind::Call(call) = &s.kind else {
+                    return;
+                };
+                let Some(sig) = motion_signature(&call.name) else {
+                    return;
+                };
+                let positional: Vec<&Expr> = call
+                    .args
+                    .iter()
+                    .filter(|a| !a.optional)
+                    .filter_map(|a| a.value.as_ref())
+                    .collect();
+                for &i in sig.jointtargets {
+                    if let Some(at) = aggregate(positional.get(i).copied()) {
+                        k += 1;
+                        found.push((format!("{}#j{k}", r.name), at));
+                    }
+                }
+            });
+            for (id, at) in found {
+                add(m.file, id, at);
+            }
+        }
+    }
+    out
+}

@@ -185,6 +185,7 @@ fn correct_all(
             Err(e) => errors.push(e),
         }
     }
+    left_alone.extend(expressions::jointtarget_expressions(program));
     if let Some(e) = Error::many(
         same_cause(errors)
             .into_iter()

@@ -16,6 +16,7 @@ MODULE NeverSilent
     PERS robtarget pApproach := [[430,-20,380],[0,0,1,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
     ! Wrist singular (axis 5 at 0) and a positioner's jointtarget.
     CONST jointtarget jWrist := [[-60,40,-60,45,0,-70],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
+    CONST jointtarget jNamed := [[0,nX/20,0,0,30,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];
     CONST jointtarget jPos := [[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09],[0,45,9E+09,9E+09,9E+09,9E+09]];
     PROC main()
         MoveJ pNamed, v100, z10, tGrip;
@@ -29,5 +30,6 @@ MODULE NeverSilent
         MoveL pApproach, v100, fine, tGrip;
         MoveAbsJ jWrist, v100, fine, tGrip;
         MoveAbsJ jPos, v100, fine, tGrip;
+        MoveAbsJ jNamed, v100, fine, tGrip;
     ENDPROC
 ENDMODULE

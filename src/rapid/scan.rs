@@ -139,6 +139,16 @@ impl<'a> Scanner<'a> {
                     break;
                 }
             }
+            // `1THEN`: a keyword written against a number (vendor modules
+            // that controllers load) ends the number.
+            if let Some(k) = (p + 1..e).find(|&k| {
+                s[k].is_ascii_alphabetic()
+                    && !matches!(s[k - 1], b'e' | b'E' | b'x' | b'X' | b'o' | b'O' | b'b' | b'B')
+                    && !s[p..k].iter().any(|c| matches!(c, b'x' | b'X' | b'_'))
+                    && is_keyword_after_number(&s[k..e])
+            }) {
+                e = k;
+            }
             (Tok::Number, p, e)
         } else if b == b'"' {
             let mut e = p + 1;
@@ -206,7 +216,9 @@ impl<'a> Scanner<'a> {
             }
             (Tok::Word, "MODULE") => {
                 let (t, _, mut end) = self.token(first_end);
-                if t != Tok::Word {
+                // `MODULE 1_T_ROB2` (controller backups): a name may start
+                // with a digit, which scans as a number.
+                if t != Tok::Word && t != Tok::Number {
                     end = first_end;
                 }
                 let (t, _, _) = self.token(end);
@@ -417,6 +429,13 @@ fn too_deep(offset: usize) -> ScanError {
 
 fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
     hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// Words that may follow a number without a space: what an expression
+/// can be followed by (`1THEN`, `10DO`, `5TO`, `2STEP`, `1AND`, `3MOD`).
+fn is_keyword_after_number(word: &[u8]) -> bool {
+    const WORDS: [&str; 9] = ["THEN", "DO", "TO", "STEP", "AND", "OR", "XOR", "MOD", "DIV"];
+    WORDS.iter().any(|w| w.as_bytes().eq_ignore_ascii_case(word))
 }
 
 #[cfg(test)]

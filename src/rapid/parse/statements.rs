@@ -376,6 +376,12 @@ impl FileParser<'_, '_> {
                 match c.as_rule() {
                     Rule::identifier => name = Some(self.name(&c, base)),
                     Rule::expression => value = Some(self.expr(c, base)?),
+                    // `\WObj?WObj`: the value is the routine's parameter.
+                    Rule::conditional_value => {
+                        if let Some(param) = c.into_inner().next() {
+                            value = Some(Expr::Name(self.name(&param, base)));
+                        }
+                    }
                     _ => {}
                 }
             }

@@ -35,7 +35,7 @@ impl FileParser<'_, '_> {
             let mut attrs = Vec::new();
             for c in pair.into_inner() {
                 match c.as_rule() {
-                    Rule::identifier => name = s.text(&c, head.start),
+                    Rule::module_name => name = s.text(&c, head.start),
                     Rule::module_attributes => {
                         attrs = c.into_inner().map(|a| s.text(&a, head.start)).collect()
                     }

@@ -550,7 +550,7 @@ impl<'p> Walker<'p> {
             file: self.program.files.get(file).cloned().unwrap_or_default(),
             line: s.pos.line as usize,
             col: s.pos.col as usize,
-            line_text: String::new(),
+            line_text: Box::default(),
         }
     }
 

@@ -1,11 +1,12 @@
 //! Target-by-target comparison of two programs (typically an original and
 //! its corrected version): matched by identifier, with the position change
-//! in the target's own frame and the change of orientation.
+//! in the target's own frame and the change of orientation; and the
+//! [`Gate`] a CI job puts on it ([`Diff::gate`]).
 //!
 //! A job of its own beside `correct`: may import `rapid`, `robot`,
 //! `resolve` and the shared `error`; never `correct` or `diagnose`.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::rapid::{Program, TargetKind};
 use crate::robot::frames::pose_from_rapid;
 use serde::Serialize;
@@ -149,5 +150,167 @@ fn summarise(targets: &[TargetDelta]) -> Summary {
             0.0
         },
         max_deg: targets.iter().map(|t| t.dangle).fold(0.0, f64::max),
+    }
+}
+
+/// Default lever (mm) of a gate's angle: a gate of `max_mm` without an
+/// angle of its own lets a robtarget turn, and a jointtarget's joints
+/// turn, by `max_mm / GATE_LEVER_MM` radians, the turn that moves a point
+/// 100 mm from the axis by `max_mm` (0.15 mm → 0.086°, 0.5 mm → 0.29°).
+///
+/// Why 100 mm and not the arm's reach: a thermal correction of a
+/// jointtarget keeps its flange pose and lets the wrist axes make up for
+/// the longer warm arm, so its joints turn by more than the millimetres
+/// suggest at full reach: on `samples/service_positions.mod` at the
+/// steady state a 0.27 mm correction turns joints by up to 0.126°, an
+/// effective lever of about 150 mm. A lever of 500 mm (0.1 mm ≈ 0.01°)
+/// would fail every warm correction of a jointtarget; 100 mm (the wrist
+/// centre to the TCP of a short tool) passes them at the gate that
+/// passes their robtargets, and still fails a jointtarget taught anew or
+/// moved by hand, whose joints turn by degrees. A corrected
+/// robtarget keeps its orientation (it turns by micro-degrees at most),
+/// so the same angle gates a robtarget's orientation change.
+pub const GATE_LEVER_MM: f64 = 100.0;
+
+/// The largest changes a [`Diff`] may show and still pass.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Gate {
+    /// Position change of a robtarget, mm.
+    pub max_mm: f64,
+    /// Orientation change of a robtarget, and the largest joint change of
+    /// a jointtarget, degrees.
+    pub max_deg: f64,
+}
+
+impl Gate {
+    /// A gate of `max_mm` (any limit not given is infinite: not gated),
+    /// with `max_deg` or, without it, the angle of [`GATE_LEVER_MM`].
+    /// Thresholds must be finite and not negative.
+    pub fn new(max_mm: Option<f64>, max_deg: Option<f64>) -> Result<Gate> {
+        for (v, unit) in [(max_mm, "mm"), (max_deg, "°")] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+                return Err(Error::usage(format!(
+                    "gate threshold {v} {unit}: must be a finite number, 0 or more"
+                )));
+            }
+        }
+        Ok(Gate {
+            max_mm: max_mm.unwrap_or(f64::INFINITY),
+            max_deg: max_deg
+                .or(max_mm.map(|mm| (mm / GATE_LEVER_MM).to_degrees()))
+                .unwrap_or(f64::INFINITY),
+        })
+    }
+}
+
+/// Why a [`Diff`] fails a [`Gate`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum GateFailure {
+    /// A target moved (mm) or turned (°) more than the gate allows; a
+    /// change that is not a finite number counts as too large.
+    Moved(TargetDelta),
+    /// A target of the first program is not in the second.
+    OnlyInFirst(String),
+    /// A target of the second program is not in the first.
+    OnlyInSecond(String),
+    /// The two programs have no target in common: nothing was compared,
+    /// so nothing is known to be within the gate.
+    NothingCompared,
+}
+
+impl Diff {
+    /// Every reason this comparison fails `gate`, in the order of the
+    /// diff (empty: it passes). A target in one program only fails (it was
+    /// added, removed or renamed: its change is unknown), and so do two
+    /// programs with no target in common.
+    pub fn gate(&self, gate: &Gate) -> Vec<GateFailure> {
+        let over = |v: f64, limit: f64| v.is_nan() || v > limit;
+        let mut out: Vec<GateFailure> = self
+            .targets
+            .iter()
+            .filter(|t| over(t.dist, gate.max_mm) || over(t.dangle, gate.max_deg))
+            .cloned()
+            .map(GateFailure::Moved)
+            .collect();
+        out.extend(self.only_in_a.iter().cloned().map(GateFailure::OnlyInFirst));
+        out.extend(
+            self.only_in_b
+                .iter()
+                .cloned()
+                .map(GateFailure::OnlyInSecond),
+        );
+        if self.targets.is_empty() {
+            out.push(GateFailure::NothingCompared);
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn delta(id: &str, kind: &'static str, dist: f64, dangle: f64) -> TargetDelta {
+        TargetDelta {
+            id: id.to_string(),
+            kind,
+            dx: dist,
+            dy: 0.0,
+            dz: 0.0,
+            dist,
+            dangle,
+        }
+    }
+
+    fn diff_of(targets: Vec<TargetDelta>, a: &[&str], b: &[&str]) -> Diff {
+        let summary = summarise(&targets);
+        Diff {
+            targets,
+            only_in_a: a.iter().map(|s| s.to_string()).collect(),
+            only_in_b: b.iter().map(|s| s.to_string()).collect(),
+            derived: 0,
+            summary,
+        }
+    }
+
+    // Before the gate existed `--fail-above` looked at `dist` alone: the
+    // jointtarget, the one-sided targets and the empty comparison passed.
+    #[test]
+    fn gate_fails_turned_jointtargets_one_sided_and_disjoint() {
+        let gate = Gate::new(Some(0.15), None).unwrap();
+        assert!((gate.max_deg - 0.15 / 100.0 * 180.0 / std::f64::consts::PI).abs() < 1e-12);
+        let d = diff_of(
+            vec![
+                delta("p10", "robtarget", 0.1, 0.0),
+                delta("j10", "jointtarget", 0.0, 30.0),
+                delta("p20", "robtarget", f64::NAN, 0.0),
+            ],
+            &["pOld"],
+            &["pNew"],
+        );
+        let f = d.gate(&gate);
+        assert_eq!(f.len(), 4, "{f:?}");
+        assert!(matches!(&f[0], GateFailure::Moved(t) if t.id == "j10"));
+        assert!(matches!(&f[1], GateFailure::Moved(t) if t.id == "p20"));
+        assert_eq!(f[2], GateFailure::OnlyInFirst("pOld".into()));
+        assert_eq!(f[3], GateFailure::OnlyInSecond("pNew".into()));
+        let none = diff_of(vec![], &[], &[]);
+        assert_eq!(none.gate(&gate), vec![GateFailure::NothingCompared]);
+        let ok = diff_of(vec![delta("p10", "robtarget", 0.1, 0.01)], &[], &[]);
+        assert!(ok.gate(&gate).is_empty());
+        // An angle alone gates angles only.
+        let deg = Gate::new(None, Some(1.0)).unwrap();
+        assert!(diff_of(vec![delta("p10", "robtarget", 5.0, 0.5)], &[], &[])
+            .gate(&deg)
+            .is_empty());
+    }
+
+    #[test]
+    fn gate_thresholds_must_be_finite_and_not_negative() {
+        for bad in [f64::NAN, f64::INFINITY, -1.0] {
+            assert!(Gate::new(Some(bad), None).is_err());
+            assert!(Gate::new(None, Some(bad)).is_err());
+        }
+        assert!(Gate::new(Some(0.0), Some(0.0)).is_ok());
     }
 }

@@ -155,7 +155,7 @@ impl CsvTable {
                 .lines()
                 .nth(line.saturating_sub(1))
                 .unwrap_or("")
-                .to_string(),
+                .into(),
         }
     }
 

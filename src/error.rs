@@ -77,8 +77,9 @@ pub struct Location {
     pub line: usize,
     pub col: usize,
     /// The text of the offending line, without its line terminator, for the
-    /// caret display. Empty when unknown.
-    pub line_text: String,
+    /// caret display. Empty when unknown. (A `Box<str>`, not a `String`:
+    /// the 8 bytes saved pay for [`Error::related`].)
+    pub line_text: Box<str>,
 }
 
 impl Location {
@@ -100,7 +101,7 @@ impl Location {
             file: file.to_string(),
             line,
             col,
-            line_text: decode_lossless(&src[line_start..line_end]),
+            line_text: decode_lossless(&src[line_start..line_end]).into(),
         }
     }
 }
@@ -125,14 +126,19 @@ pub struct Error {
     /// (`None`) or the note of that index. (Small on purpose: every
     /// `Result` of the library carries an `Error`'s size.)
     pub remedy: Option<(Remedy, Option<u16>)>,
-    /// The next error of the same run, shown after this one (a chain: a
-    /// run reports every error it can find, not only the first; one
-    /// pointer keeps every `Result` small).
-    pub also: Option<Box<Error>>,
+    /// Further errors of the same run, each with its own place: a run
+    /// reports every error it can find (up to [`MAX_RELATED`], gathered by
+    /// [`Errors`]) in one `Error`, and [`Error::render`] shows each after
+    /// this one as its own `file:line:col: error: ...` block. `None` for
+    /// most errors; boxed so that it costs one pointer (see
+    /// [`Error::with_related`], [`Error::related`]).
+    pub related: Option<Box<Vec<Error>>>,
 }
 
-/// How many errors of one run are shown; the rest are counted.
-pub const MAX_REPORTED: usize = 20;
+/// How many errors of one run are listed in one [`Error`] (as its
+/// [`Error::related`], see [`Errors`]); the count of the rest goes in a
+/// note.
+pub const MAX_RELATED: usize = 20;
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -144,30 +150,36 @@ impl Error {
             location: None,
             notes: Vec::new(),
             remedy: None,
-            also: None,
+            related: None,
         }
     }
 
+    /// Add an error found beside this one (see [`Error::related`]).
+    pub fn with_related(mut self, e: Error) -> Error {
+        self.related.get_or_insert_with(Box::default).push(e);
+        self
+    }
+
     /// All errors of a run as one: the first, with the others (up to
-    /// [`MAX_REPORTED`], then a count of the rest) after it. `None` when
-    /// there are none.
-    pub fn many(mut errors: Vec<Error>) -> Option<Error> {
-        if errors.is_empty() {
-            return None;
-        }
+    /// [`MAX_RELATED`], then a note counting the rest) related to it.
+    /// `None` when there are none.
+    pub fn many(errors: Vec<Error>) -> Option<Error> {
         let total = errors.len();
-        errors.truncate(MAX_REPORTED);
-        let mut next: Option<Box<Error>> = (total > MAX_REPORTED).then(|| {
-            Box::new(Error::new(
-                errors[0].kind,
-                format!("{} more error(s) not shown", total - MAX_REPORTED),
-            ))
-        });
-        while let Some(mut e) = errors.pop() {
-            e.also = next;
-            next = Some(Box::new(e));
+        let mut it = errors.into_iter();
+        let mut first = it.next()?;
+        for e in it.by_ref().take(MAX_RELATED) {
+            first = first.with_related(e);
         }
-        next.map(|e| *e)
+        let rest = total.saturating_sub(MAX_RELATED + 1);
+        if rest > 0 {
+            first = first.with_note(format!("{rest} more error(s) not shown"));
+        }
+        Some(first)
+    }
+
+    /// The errors found beside this one, in the order they were added.
+    pub fn related(&self) -> &[Error] {
+        self.related.as_deref().map_or(&[], Vec::as_slice)
     }
 
     /// The remedy completes the line written last (the message, or the
@@ -211,9 +223,9 @@ impl Error {
         for (i, note) in self.notes.iter().enumerate() {
             out.push_str(&format!("\n  = {note}{}", suffix(Some(i))));
         }
-        if let Some(next) = &self.also {
+        for e in self.related() {
             out.push('\n');
-            out.push_str(&next.render(word));
+            out.push_str(&e.render(word));
         }
         out
     }
@@ -246,8 +258,57 @@ impl Error {
             file: file.to_string(),
             line,
             col,
-            line_text: String::new(),
+            line_text: Box::default(),
         })
+    }
+}
+
+/// The errors of one run, gathered so that the run reports every error it
+/// can rather than stopping at the first: the first [`MAX_RELATED`] are
+/// kept, the rest counted; [`Errors::into_error`] makes them one.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Errors {
+    kept: Vec<Error>,
+    count: usize,
+}
+
+impl Errors {
+    pub fn push(&mut self, e: Error) {
+        self.count += 1;
+        if self.kept.len() < MAX_RELATED {
+            self.kept.push(e);
+        }
+    }
+
+    /// How many errors were pushed (kept or not).
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// `None` for no error; the error itself for one; for more,
+    /// `summary(count)` (the caller's words, e.g. "3 targets cannot be
+    /// reached") with the kept errors as its [`Error::related`] and, when
+    /// some were not kept, a note counting them.
+    pub fn into_error(self, summary: impl FnOnce(usize) -> Error) -> Option<Error> {
+        if self.count <= 1 {
+            return self.kept.into_iter().next();
+        }
+        let mut all = summary(self.count);
+        if self.count > self.kept.len() {
+            all = all.with_note(format!(
+                "the first {} are listed, {} more are not",
+                self.kept.len(),
+                self.count - self.kept.len()
+            ));
+        }
+        for e in self.kept {
+            all = all.with_related(e);
+        }
+        Some(all)
     }
 }
 
@@ -275,7 +336,7 @@ mod tests {
         let off = src.iter().position(|&b| b == b't').unwrap();
         let loc = Location::from_offset("a.mod", src, off);
         assert_eq!((loc.line, loc.col), (2, 6));
-        assert_eq!(loc.line_text, "  ! été");
+        assert_eq!(&*loc.line_text, "  ! été");
     }
 
     #[test]
@@ -313,5 +374,52 @@ mod tests {
             e.to_string(),
             "f:1:5: error: bad word\n  |\n1 | abc def\n  |     ^"
         );
+    }
+}
+
+#[cfg(test)]
+mod related_tests {
+    use super::*;
+
+    #[test]
+    fn related_errors_render_as_blocks_of_their_own() {
+        let src = b"p1\np2\n";
+        let a = Error::input("bad p1").at(Location::from_offset("f", src, 0));
+        let b = Error::input("bad p2").at(Location::from_offset("f", src, 3));
+        let mut errors = Errors::default();
+        errors.push(a);
+        errors.push(b);
+        let all = errors
+            .into_error(|n| Error::input(format!("{n} bad targets")))
+            .unwrap();
+        assert_eq!(all.related().len(), 2);
+        assert_eq!(
+            all.to_string(),
+            "error: 2 bad targets\nf:1:1: error: bad p1\n  |\n1 | p1\n  | ^\nf:2:1: error: bad p2\n  |\n2 | p2\n  | ^"
+        );
+        let mut one = Errors::default();
+        one.push(Error::input("alone"));
+        let one = one.into_error(|_| Error::input("x")).unwrap();
+        assert_eq!(one.to_string(), "error: alone");
+        assert!(Errors::default()
+            .into_error(|_| Error::input("x"))
+            .is_none());
+        let mut many = Errors::default();
+        for i in 0..25 {
+            many.push(Error::input(format!("e{i}")));
+        }
+        assert_eq!(many.len(), 25);
+        let all = many
+            .into_error(|n| Error::input(format!("{n} errors")))
+            .unwrap();
+        assert_eq!(all.related().len(), MAX_RELATED);
+        assert!(all.to_string().contains("5 more are not"));
+    }
+
+    /// Every `Result` of the library carries an `Error`: below clippy's
+    /// `result_large_err` limit (128 bytes) on 64-bit targets.
+    #[test]
+    fn error_stays_small() {
+        assert!(std::mem::size_of::<Error>() < 128);
     }
 }

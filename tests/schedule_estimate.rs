@@ -669,3 +669,38 @@ fn deep_nesting_does_not_overflow_the_stack() {
     assert_eq!(est.schedule.times("r63@1").unwrap().len(), 1);
     assert_eq!(est.schedule.times("pA").unwrap().len(), 1);
 }
+
+/// Every target the robot cannot reach is listed, each once at its place,
+/// up to 20 with the rest counted; a reachable target between them does
+/// not stop the walk. (Before: MoveL to an unreachable target was timed
+/// as NaN and the estimate returned `Ok`.)
+#[test]
+fn every_unreachable_target_is_listed_once() {
+    let mut decls = String::new();
+    let mut moves = String::new();
+    for k in 0..25 {
+        decls.push_str(&format!(
+            " CONST robtarget pFar{k} := {};\n",
+            down(3000.0 + f64::from(k), 0.0, 400.0)
+        ));
+        moves.push_str(&format!("  MoveL pFar{k}, v100, fine, tool0;\n"));
+        moves.push_str(&format!(
+            "  MoveL {}, v100, fine, tool0;\n",
+            down(500.0, 0.0, 400.0)
+        ));
+    }
+    let src = format!(
+        "MODULE T\n{decls} PROC main()\n  FOR i FROM 1 TO 2 DO\n{moves}  ENDFOR\n ENDPROC\nENDMODULE\n"
+    );
+    let program = rapid::parse("t.mod", src.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+    let e = estimate(&program, &Robot::irb140(), &main_opts()).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unreachable);
+    assert!(e.message.starts_with("25 targets"), "{e}");
+    assert!(e.notes.iter().any(|n| n.contains("5 more")), "{e}");
+    let related = e.related();
+    assert_eq!(related.len(), 20);
+    for (k, r) in related.iter().enumerate() {
+        assert!(r.message.contains(&format!("pFar{k} ")), "{r}");
+        assert_eq!(r.location.as_ref().map(|l| l.line), Some(k + 2));
+    }
+}

@@ -3,7 +3,7 @@
 
 use super::Format;
 use super::{read_input, write_stdout, Status};
-use rapidtherm::compare::{diff, Diff};
+use rapidtherm::compare::{diff, Diff, Gate, GateFailure};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
@@ -17,26 +17,117 @@ pub struct DiffArgs {
     pub b: PathBuf,
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
-    /// Exit 1 when any target moved more than this (mm): a CI gate.
-    #[arg(long, value_name = "MM")]
+    /// A CI gate: exit 1 when a robtarget moved more than this (mm), a
+    /// target is in one program only, or the programs have no target in
+    /// common; each failing target is named on stderr.
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
     pub fail_above: Option<f64>,
+    /// The gate's angle: exit 1 when a jointtarget's joint or a
+    /// robtarget's orientation turned more than this (degrees). Default
+    /// with --fail-above: the turn that moves a point 100 mm from its axis
+    /// by MM (MM/100 mm rad: 0.15 mm → 0.086°, 0.5 mm → 0.29°), which every
+    /// thermal correction passes and a re-taught jointtarget does not.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub fail_above_deg: Option<f64>,
+}
+
+/// A gate threshold as given: finite, not negative.
+fn threshold(value: Option<f64>, flag: &str, unit: &str) -> Result<Option<f64>> {
+    match value {
+        Some(v) if !(v.is_finite() && v >= 0.0) => Err(Error::usage(format!(
+            "{flag} {v}: the limit must be a finite number of {unit}, 0 or more"
+        ))),
+        v => Ok(v),
+    }
 }
 
 pub fn run_diff(args: DiffArgs) -> Result<Status> {
+    let max_mm = threshold(args.fail_above, "--fail-above", "mm")?;
+    let max_deg = threshold(args.fail_above_deg, "--fail-above-deg", "degrees")?;
+    let gate = match (max_mm, max_deg) {
+        (None, None) => None,
+        _ => Some(Gate::new(max_mm, max_deg)?),
+    };
     let (na, ba) = read_input(&args.a)?;
     let (nb, bb) = read_input(&args.b)?;
     let a = rapid::parse(&na, &ba)?;
     let b = rapid::parse(&nb, &bb)?;
     let d = diff(&a, &b)?;
     write_stdout(render_diff(&d, args.format)?.as_bytes())?;
-    if let Some(limit) = args.fail_above {
-        let over = d.targets.iter().filter(|t| t.dist > limit).count();
-        if over > 0 {
-            eprintln!("{over} target(s) moved more than {limit} mm");
-            return Ok(Status::Changes);
+    let Some(gate) = gate else {
+        return Ok(Status::Success);
+    };
+    let failures = d.gate(&gate);
+    if failures.is_empty() {
+        return Ok(Status::Success);
+    }
+    eprint!(
+        "{}",
+        gate_message(&gate, max_deg.is_none(), &failures, &na, &nb)
+    );
+    Ok(Status::Changes)
+}
+
+/// Why the gate failed, target by target.
+fn gate_message(
+    gate: &Gate,
+    default_deg: bool,
+    failures: &[GateFailure],
+    a: &str,
+    b: &str,
+) -> String {
+    let mut limits = Vec::new();
+    if gate.max_mm.is_finite() {
+        limits.push(format!("{} mm", gate.max_mm));
+    }
+    if default_deg {
+        limits.push(format!(
+            "{}° (default for {} mm)",
+            mm(gate.max_deg, 4),
+            gate.max_mm
+        ));
+    } else if gate.max_deg.is_finite() {
+        limits.push(format!("{}°", gate.max_deg));
+    }
+    let mut lines = Vec::new();
+    let mut nothing = false;
+    for f in failures {
+        match f {
+            GateFailure::Moved(t) if t.kind == "jointtarget" => lines.push(format!(
+                "  {}: jointtarget, a joint turned {}°",
+                t.id,
+                mm(t.dangle, 6)
+            )),
+            GateFailure::Moved(t) => lines.push(format!(
+                "  {}: {} moved {} mm, turned {}°",
+                t.id,
+                t.kind,
+                mm(t.dist, 4),
+                mm(t.dangle, 6)
+            )),
+            GateFailure::OnlyInFirst(id) => lines.push(format!("  {id}: only in {a}")),
+            GateFailure::OnlyInSecond(id) => lines.push(format!("  {id}: only in {b}")),
+            GateFailure::NothingCompared => nothing = true,
         }
     }
-    Ok(Status::Success)
+    let mut text = String::new();
+    if !lines.is_empty() {
+        text.push_str(&format!(
+            "{} target(s) fail the gate of {}:\n",
+            lines.len(),
+            limits.join(" and ")
+        ));
+        for l in lines {
+            text.push_str(&l);
+            text.push('\n');
+        }
+    }
+    if nothing {
+        text.push_str(&format!(
+            "{a} and {b} have no target in common: nothing was compared, the gate fails\n"
+        ));
+    }
+    text
 }
 
 fn render_diff(d: &Diff, format: Format) -> Result<String> {

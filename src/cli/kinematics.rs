@@ -1,4 +1,11 @@
 //! `fk` and `ik`: the robot model by hand.
+//!
+//! Joint limits (the robot's URDF): `fk` computes the pose of any joint
+//! values but warns on stderr for each axis outside its limits (the
+//! controller would refuse the jointtarget); `ik` lists only solutions
+//! within the limits and warns, for each arm branch it leaves out, which
+//! axis is outside its limits, so that a missing configuration is never a
+//! silent one.
 
 use super::Format;
 use super::{write_stdout, Status};
@@ -6,7 +13,7 @@ use rapidtherm::error::{Error, Result};
 use rapidtherm::model::ThermalExpansion;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
 use rapidtherm::robot::frames::{pose_from_rapid, pose_to_rapid};
-use rapidtherm::robot::{LinkScales, RobConf, Robot};
+use rapidtherm::robot::{describe_violation, LinkScales, RobConf, Robot, Solutions};
 use rapidtherm::thermal::MotorTemps;
 use serde_json::json;
 use std::path::PathBuf;
@@ -120,6 +127,9 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
     let q = six(&args.joints, "joint angles")?.map(f64::to_radians);
     let robot = args.model.robot()?;
     let temps = args.model.temps()?;
+    for v in robot.outside_limits(&q) {
+        eprintln!("warning: {}", describe_violation(&v));
+    }
     let conf = robot.conf_of(&q);
     let mut rows = vec![("nominal", robot.fk(&q))];
     if let Some(s) = args.model.scales(temps.as_ref())? {
@@ -177,6 +187,18 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
     Ok(Status::Success)
 }
 
+/// The arm branches `ik` leaves out, one warning each: which axis is
+/// outside its limits in every turn.
+fn warn_dropped(solutions: &Solutions) {
+    for d in solutions.dropped() {
+        eprintln!(
+            "warning: the solution with cfx {} is not listed: {}",
+            d.conf.cfx,
+            describe_violation(&d.violation)
+        );
+    }
+}
+
 pub fn run_ik(args: IkArgs) -> Result<Status> {
     let [x, y, z, q1, q2, q3, q4] = <[f64; 7]>::try_from(args.pose.as_slice())
         .map_err(|_| Error::usage("pose: x y z q1 q2 q3 q4 needed"))?;
@@ -194,13 +216,14 @@ pub fn run_ik(args: IkArgs) -> Result<Status> {
             };
             vec![(q, robot.conf_of(&q))]
         }
-        None => match &scales {
-            Some(s) => robot.ik_scaled(&pose, s)?,
-            None => robot.ik(&pose)?,
+        None => {
+            let all = match &scales {
+                Some(s) => robot.ik_scaled(&pose, s)?,
+                None => robot.ik(&pose)?,
+            };
+            warn_dropped(&all);
+            all.iter().map(|s| (s.q, s.conf)).collect()
         }
-        .iter()
-        .map(|s| (s.q, s.conf))
-        .collect(),
     };
     let out = match args.model.format {
         Format::Json => {

@@ -405,7 +405,7 @@ impl Program {
             file: self.files.get(origin.file).cloned().unwrap_or_default(),
             line: origin.pos.line as usize,
             col: origin.pos.col as usize,
-            line_text: String::new(),
+            line_text: Box::default(),
         }
     }
 }

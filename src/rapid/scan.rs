@@ -143,7 +143,10 @@ impl<'a> Scanner<'a> {
             // that controllers load) ends the number.
             if let Some(k) = (p + 1..e).find(|&k| {
                 s[k].is_ascii_alphabetic()
-                    && !matches!(s[k - 1], b'e' | b'E' | b'x' | b'X' | b'o' | b'O' | b'b' | b'B')
+                    && !matches!(
+                        s[k - 1],
+                        b'e' | b'E' | b'x' | b'X' | b'o' | b'O' | b'b' | b'B'
+                    )
                     && !s[p..k].iter().any(|c| matches!(c, b'x' | b'X' | b'_'))
                     && is_keyword_after_number(&s[k..e])
             }) {
@@ -435,7 +438,9 @@ fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
 /// can be followed by (`1THEN`, `10DO`, `5TO`, `2STEP`, `1AND`, `3MOD`).
 fn is_keyword_after_number(word: &[u8]) -> bool {
     const WORDS: [&str; 9] = ["THEN", "DO", "TO", "STEP", "AND", "OR", "XOR", "MOD", "DIV"];
-    WORDS.iter().any(|w| w.as_bytes().eq_ignore_ascii_case(word))
+    WORDS
+        .iter()
+        .any(|w| w.as_bytes().eq_ignore_ascii_case(word))
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 use super::chain::Chain;
 use super::conf::{CfxBits, RobConf};
 use super::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
-use super::ik::{IkFailure, Limits, OpwArm, Solutions};
+use super::ik::{IkFailure, Limits, OpwArm, Solutions, Violation, LIMIT_EPS};
 use super::urdf::{self, IRB140_URDF};
 use super::{Joints, LinkScales, Opw};
 use crate::error::{Error, ErrorKind, Result};
@@ -111,8 +111,24 @@ impl Robot {
         }
     }
 
+    /// The axes of `q` outside the joint limits, each with its angle and
+    /// limits (rad), in axis order. Joint values are taken as the
+    /// controller takes them, literally (200° on a ±180° axis is outside,
+    /// though -160° is the same angle); within [`LIMIT_EPS`] of a limit is
+    /// on it; a value that is not a number is outside.
+    pub fn outside_limits(&self, q: &Joints) -> Vec<Violation> {
+        (0..6)
+            .filter_map(|j| {
+                let (lo, hi) = self.limits[j];
+                let inside = q[j] >= lo - LIMIT_EPS && q[j] <= hi + LIMIT_EPS;
+                (!inside).then_some((j, q[j], (lo, hi)))
+            })
+            .collect()
+    }
+
     /// All joint solutions (within limits, with every allowed turn of the
-    /// axes) for a flange pose, each with its robconf.
+    /// axes) for a flange pose, each with its robconf; the arm branches
+    /// outside the limits are in [`Solutions::dropped`].
     pub fn ik(&self, pose: &Isometry3<f64>) -> Result<Solutions> {
         self.solve(pose, None)
     }
@@ -190,6 +206,15 @@ impl Robot {
 
     fn failure(&self, f: IkFailure) -> Error {
         match f {
+            IkFailure::OutOfReach(r) if !(r.front.is_finite() && r.back.is_finite()) => {
+                Error::new(
+                    ErrorKind::Unreachable,
+                    format!(
+                        "out of reach: the wrist centre is too far to measure (a coordinate of astronomic size?); the arm reaches {:.3} to {:.3} mm",
+                        r.min, r.max
+                    ),
+                )
+            }
             IkFailure::OutOfReach(r) => Error::new(
                 ErrorKind::Unreachable,
                 format!(
@@ -270,5 +295,29 @@ impl Robot {
                 axis5_negative: q[4] < 0.0,
             },
         )
+    }
+}
+
+/// A joint outside its limits in words: `axis 1 at 200° is outside its
+/// limits [-180°, 180°]` (degrees to 0.001°, trailing zeros dropped).
+pub fn describe_violation(v: &Violation) -> String {
+    let (axis, q, (lo, hi)) = *v;
+    format!(
+        "axis {} at {}° is outside its limits [{}°, {}°]",
+        axis + 1,
+        degrees(q),
+        degrees(lo),
+        degrees(hi)
+    )
+}
+
+/// An angle (rad) in degrees to 0.001°, without trailing zeros.
+fn degrees(rad: f64) -> String {
+    let s = format!("{:.3}", rad.to_degrees());
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
     }
 }

@@ -289,11 +289,24 @@ pub struct Solution {
     pub conf: RobConf,
 }
 
-/// All IK solutions of a pose, in a fixed-size buffer (no allocation).
+/// All IK solutions of a pose, in a fixed-size buffer (no allocation),
+/// and the arm branches left out because a joint is outside its limits in
+/// every turn ([`Solutions::dropped`]).
 #[derive(Clone, Copy)]
 pub struct Solutions {
     items: [Solution; MAX_SOLUTIONS],
     len: usize,
+    dropped: [Option<Dropped>; 8],
+}
+
+/// An arm branch of a pose that no turn of its axes brings within the
+/// joint limits: its joints (each wrapped into [-180°, 180°]), its
+/// robconf, and the first axis outside its limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dropped {
+    pub q: Joints,
+    pub conf: RobConf,
+    pub violation: Violation,
 }
 
 impl Default for Solutions {
@@ -304,6 +317,7 @@ impl Default for Solutions {
                 conf: RobConf::default(),
             }; MAX_SOLUTIONS],
             len: 0,
+            dropped: [None; 8],
         }
     }
 }
@@ -326,6 +340,15 @@ impl Solutions {
     }
     pub fn iter(&self) -> std::slice::Iter<'_, Solution> {
         self.as_slice().iter()
+    }
+    /// The arm branches left out: a joint outside its limits in every turn
+    /// (set by a search for all solutions, not by one for a robconf).
+    pub fn dropped(&self) -> impl Iterator<Item = &Dropped> {
+        self.dropped.iter().flatten()
+    }
+    fn clear(&mut self) {
+        self.len = 0;
+        self.dropped = [None; 8];
     }
     fn push(&mut self, s: Solution) {
         if let Some(slot) = self.items.get_mut(self.len) {
@@ -438,7 +461,7 @@ impl OpwArm {
             const STEPS: i32 = 18;
             for i in 0..STEPS {
                 let hint = lo + (hi - lo) * (f64::from(i) + 0.5) / f64::from(STEPS);
-                sols.len = 0;
+                sols.clear();
                 if self
                     .solve_hinted(pose, limits, Some(want), hint, &mut sols, true)
                     .is_ok()
@@ -453,7 +476,7 @@ impl OpwArm {
             return Ok((first, sols));
         }
         // None: all solutions, for the message.
-        sols.len = 0;
+        sols.clear();
         self.solve_hinted(pose, limits, Some(want), mid, &mut sols, false)?;
         Ok((None, sols))
     }
@@ -503,6 +526,13 @@ impl OpwArm {
                 in_limits = true;
             } else {
                 *violation = first_violation(&q, limits);
+                if let (Some(v), None) = (*violation, keep) {
+                    out.dropped[i] = Some(Dropped {
+                        q,
+                        conf: conf(&q),
+                        violation: v,
+                    });
+                }
             }
         }
         if !any {

@@ -26,10 +26,10 @@ pub mod frames;
 pub mod ik;
 pub mod urdf;
 
-pub use arm::{irb140_opw, Robot};
+pub use arm::{describe_violation, irb140_opw, Robot};
 pub use conf::RobConf;
 pub use frames::{ToolData, WobjData};
-pub use ik::{Solution, Solutions};
+pub use ik::{Dropped, Solution, Solutions};
 
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};

@@ -3,7 +3,7 @@
 
 use super::walk::{Flow, Walker};
 use super::Schedule;
-use crate::error::{Error, Remedy, Result};
+use crate::error::{Error, ErrorKind, Remedy, Result};
 use crate::rapid::{Program, Routine, RoutineKind};
 use crate::robot::Robot;
 
@@ -98,8 +98,13 @@ pub(super) const FALLBACK_SPEED: &str = "v1000";
 ///   that derived target; a base (`p10`) never reached itself gets the
 ///   visits of the targets derived from it.
 ///
-/// Errors: no entry routine, a MoveJ target out of reach, a program whose
-/// walk exceeds 50 million statements.
+/// Errors: no entry routine; a program whose walk exceeds 50 million
+/// statements; a target moved to that is not finite, out of reach (no
+/// joint solution within the limits) or, a jointtarget, outside the joint
+/// limits: each
+/// such target is checked before its move is timed, the walk goes on, and
+/// the error lists every one (up to [`crate::error::MAX_RELATED`], each
+/// at its place) rather than timing any of them.
 pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Result<Estimate> {
     if !opts.start_min.is_finite() || opts.start_min < 0.0 {
         return Err(Error::usage(format!(
@@ -117,6 +122,15 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         if matches!(flow, Flow::Exit) {
             break;
         }
+    }
+    let errors = std::mem::take(&mut w.errors);
+    if let Some(e) = errors.into_error(|n| {
+        Error::new(
+            ErrorKind::Unreachable,
+            format!("{n} targets cannot be timed: each is out of reach or not finite"),
+        )
+    }) {
+        return Err(e);
     }
     let end_s = w.clock.max(w.robot_free);
     if !end_s.is_finite() {

@@ -48,7 +48,7 @@ impl HeatingRecord {
                     file: file.to_string(),
                     line: 1,
                     col: 1,
-                    line_text: String::new(),
+                    line_text: Box::default(),
                 }),
             );
         }
@@ -105,7 +105,7 @@ impl HeatingRecord {
                 file: self.table.file.clone(),
                 line: 1,
                 col: 1,
-                line_text: String::new(),
+                line_text: Box::default(),
             },
         }
     }

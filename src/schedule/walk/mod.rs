@@ -1,9 +1,11 @@
 //! The program walker: RAPID executed as far as timing needs it (routine
 //! calls, control flow, data), each move timed on the nominal robot. Split
 //! by concern: the walker and its statements (here), expressions and
-//! values ([`eval`]), motion instructions ([`moves`]), instructions that
-//! take no time ([`instant`]).
+//! values ([`eval`]), motion instructions ([`moves`]), whether a move's
+//! target can be reached at all ([`check`]), instructions that take no
+//! time ([`instant`]).
 
+mod check;
 mod eval;
 mod instant;
 mod moves;
@@ -13,7 +15,7 @@ use instant::is_instant_builtin;
 use super::estimate::{FALLBACK_SPEED, MAX_DEPTH, STACK_RED_ZONE, STACK_SEGMENT, STEP_BUDGET};
 use super::timing::*;
 use super::Schedule;
-use crate::error::{Error, ErrorKind, Remedy, Result};
+use crate::error::{Error, ErrorKind, Errors, Remedy, Result};
 use crate::rapid::{
     self, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Motion, MotionKind, Program, Routine,
     RoutineKind, Statement, StatementKind, TargetKind, UnaryOp,
@@ -117,6 +119,13 @@ pub(super) struct Walker<'p> {
     /// Visits of bases through derived targets: (base, minutes).
     pub(super) base_visits: Vec<(usize, f64)>,
     pub(super) notes: Vec<String>,
+    /// Targets that cannot be timed (not finite, out of reach), each once:
+    /// the walk goes on to find them all, and the estimate is refused.
+    pub(super) errors: Errors,
+    /// Places (`file:line:col`) of the targets in `errors`.
+    pub(super) failed: HashSet<String>,
+    /// Flange poses (bits) known to be reachable: one IK per pose.
+    pub(super) reachable: HashSet<[u64; 7]>,
     pub(super) noted: HashSet<String>,
     pub(super) evaluating: HashSet<String>,
 }
@@ -183,6 +192,9 @@ impl<'p> Walker<'p> {
             base_visits: Vec::new(),
             notes: Vec::new(),
             noted: HashSet::new(),
+            errors: Errors::default(),
+            failed: HashSet::new(),
+            reachable: HashSet::new(),
             evaluating: HashSet::new(),
         })
     }
@@ -550,7 +562,7 @@ impl<'p> Walker<'p> {
             file: self.program.files.get(file).cloned().unwrap_or_default(),
             line: s.pos.line as usize,
             col: s.pos.col as usize,
-            line_text: String::new(),
+            line_text: Box::default(),
         }
     }
 

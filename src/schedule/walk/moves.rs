@@ -168,6 +168,9 @@ impl<'p> Walker<'p> {
         match (kind, to) {
             (MotionKind::AbsJoint, Value::Joint(j)) => {
                 let (q, id) = *j;
+                if !self.check_joints(&q, id, call, frame, s) {
+                    return Ok(());
+                }
                 let q_from = self.current_joints();
                 let flange = self.robot.fk(&q);
                 let tcp = match (&from, target_of_flange(&flange, &tool, &wobj)) {
@@ -216,11 +219,20 @@ impl<'p> Walker<'p> {
                         return Ok(());
                     }
                 };
+                if !self.check_rob(&rob, &flange, call, frame, s) {
+                    return Ok(());
+                }
                 let from = from.unwrap_or(rob.pose);
                 let mut via_info = None;
                 let secs = match kind {
                     MotionKind::Joint => {
-                        let q = self.joint_goal(&flange, &rob, &max_speed, call, frame, s)?;
+                        let q = match self.joint_goal(&flange, &rob, &max_speed, call, frame, s) {
+                            Ok(q) => q,
+                            Err(e) => {
+                                self.fail_target(e);
+                                return Ok(());
+                            }
+                        };
                         let tcp = (rob.pose.translation.vector - from.translation.vector).norm();
                         let secs = match self.current_joints() {
                             Some(qf) => joint_move_seconds(&qf, &q, &max_speed, tcp, &speed),
@@ -235,6 +247,12 @@ impl<'p> Walker<'p> {
                             None => Value::Unknown,
                         };
                         let angle = from.rotation.angle_to(&rob.pose.rotation).to_degrees();
+                        if let Value::Rob(c) = &cir {
+                            let via = flange_of_target(&c.pose, &tool, &wobj);
+                            if via.is_ok_and(|v| !self.check_rob(c, &v, call, frame, s)) {
+                                return Ok(());
+                            }
+                        }
                         let (len, frac, cir) = match cir {
                             Value::Rob(c) => {
                                 let (len, to_via) = arc_length(

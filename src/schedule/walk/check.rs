@@ -1,0 +1,131 @@
+//! Whether a move's target can be reached at all, checked before the move
+//! is timed: a target that is not finite, out of reach, or (a jointtarget)
+//! outside the joint limits would be timed as NaN or nonsense. Each such
+//! target is recorded once ([`Walker::errors`]) and its move skipped, so
+//! that the walk finds them all and the estimate lists them together.
+
+use super::*;
+use crate::robot::describe_violation;
+
+/// Flange poses remembered as reachable (a target in a loop is checked
+/// once); beyond this many, each further pose is checked at every move
+/// (about 1 µs) rather than held in memory.
+const REACHABLE_CACHE: usize = 65_536;
+
+impl<'p> Walker<'p> {
+    /// Record a target that cannot be timed (once per place).
+    pub(super) fn fail_target(&mut self, e: Error) {
+        let key = e
+            .location
+            .as_ref()
+            .map(|l| format!("{}:{}:{}", l.file, l.line, l.col))
+            .unwrap_or_else(|| e.message.clone());
+        if self.failed.insert(key) {
+            self.errors.push(e);
+        }
+    }
+
+    /// A robtarget the robot can reach (its pose finite, its flange pose
+    /// with a solution within the joint limits); otherwise recorded, and
+    /// `false`. A MoveJ's configuration is chosen later ([`Walker::joint_goal`]).
+    pub(super) fn check_rob(
+        &mut self,
+        rob: &Rob,
+        flange: &Isometry3<f64>,
+        call: &Call,
+        frame: &Frame,
+        s: &Statement,
+    ) -> bool {
+        let t = rob.pose.translation.vector;
+        let q = rob.pose.rotation.coords;
+        if !(t.iter().chain(q.iter()).all(|v| v.is_finite())) {
+            let e = self.target_error(
+                rob,
+                call,
+                frame,
+                s,
+                ErrorKind::Input,
+                format!(
+                    "not a finite pose: [[{},{},{}],[{},{},{},{}]]",
+                    t.x, t.y, t.z, q.w, q.x, q.y, q.z
+                ),
+            );
+            self.fail_target(e);
+            return false;
+        }
+        let key: [u64; 7] = {
+            let v = flange.translation.vector;
+            let r = flange.rotation.coords;
+            [v.x, v.y, v.z, r.w, r.x, r.y, r.z].map(f64::to_bits)
+        };
+        if self.reachable.contains(&key) {
+            return true;
+        }
+        let why = match self.robot.ik(flange) {
+            Ok(sols) if !sols.is_empty() => {
+                if self.reachable.len() < REACHABLE_CACHE {
+                    self.reachable.insert(key);
+                }
+                return true;
+            }
+            Ok(_) => Error::new(
+                ErrorKind::Unreachable,
+                "no solution within the joint limits",
+            ),
+            Err(e) => e,
+        };
+        let e = self.unreachable(rob, call, frame, s, why);
+        self.fail_target(e);
+        false
+    }
+
+    /// A jointtarget within the joint limits (taken literally, as the
+    /// controller takes them); otherwise recorded, and `false`.
+    pub(super) fn check_joints(
+        &mut self,
+        q: &Joints,
+        id: Option<usize>,
+        call: &Call,
+        frame: &Frame,
+        s: &Statement,
+    ) -> bool {
+        let outside = self.robot.outside_limits(q);
+        if outside.is_empty() {
+            return true;
+        }
+        let jt = id.and_then(|i| self.program.jointtargets().get(i));
+        let name = jt.map_or("(computed)", |j| j.id.as_str());
+        let words: Vec<String> = outside.iter().map(describe_violation).collect();
+        let e = Error::new(
+            ErrorKind::Unreachable,
+            format!(
+                "jointtarget {name} ({} at line {}): {}",
+                call.name,
+                s.pos.line,
+                words.join("; ")
+            ),
+        );
+        let e = match jt {
+            Some(j) => e.at(self.program.location(&j.origin)),
+            None => e.at(self.location(frame, s)),
+        };
+        self.fail_target(e);
+        false
+    }
+
+    /// An error about a robtarget, at its declaration (or the statement,
+    /// for a computed one).
+    fn target_error(
+        &self,
+        rob: &Rob,
+        call: &Call,
+        frame: &Frame,
+        s: &Statement,
+        kind: ErrorKind,
+        what: String,
+    ) -> Error {
+        let mut e = self.unreachable(rob, call, frame, s, Error::new(kind, what));
+        e.kind = kind;
+        e
+    }
+}

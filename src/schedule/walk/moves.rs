@@ -168,6 +168,22 @@ impl<'p> Walker<'p> {
         match (kind, to) {
             (MotionKind::AbsJoint, Value::Joint(j)) => {
                 let (q, id) = *j;
+                // Robot axes all 9E+09: a positioner's jointtarget; the arm
+                // stays where it is.
+                if q.iter().all(|a| a.to_degrees().abs() >= 8.9e9) {
+                    self.note(
+                        frame,
+                        line,
+                        format!(
+                            "{}: no robot axes (9E+09): the arm stays, external axes are not modelled, taken as 0 s",
+                            call.name
+                        ),
+                    );
+                    if let Some(jt) = id.and_then(|i| self.program.jointtargets().get(i)) {
+                        self.joint_schedule.visit(&jt.id, self.robot_free / 60.0);
+                    }
+                    return Ok(());
+                }
                 if !self.check_joints(&q, id, call, frame, s) {
                     return Ok(());
                 }

@@ -9,7 +9,7 @@ use std::fmt;
 use std::path::Path;
 
 /// What went wrong, coarsely: the CLI maps this to an exit code.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ErrorKind {
     /// The input text is not valid RAPID.
     Syntax,

@@ -39,7 +39,7 @@ mod solve;
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{Correction, Derived, LeftAlone, Outcome, Reason, Residual, Summary};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, ErrorKind, Result};
 use crate::model::{Moment, WarmRobot};
 use crate::rapid::{Program, TargetKind};
 use crate::schedule::{Schedule, Visit};
@@ -48,6 +48,7 @@ use joints::{correct_jointtarget, JointSolved};
 use moments::check_schedule_names;
 use outcome::{derived_report, summarise};
 use solve::{correct_robtarget, Run, Solved};
+use std::collections::HashMap;
 
 /// When the targets are reached.
 #[derive(Debug, Clone, PartialEq)]
@@ -263,27 +264,39 @@ fn same_cause(errors: Vec<Error>) -> Vec<Error> {
             _ => ("", e.message.as_str()),
         }
     }
-    let mut out: Vec<(Error, Vec<String>)> = Vec::new();
+    // Grouped through a map: a program for another arm can have every one
+    // of a million targets refused for the same cause.
+    let mut out: Vec<(Error, Vec<String>, usize)> = Vec::new();
+    let mut by_cause: HashMap<(ErrorKind, String), usize> = HashMap::new();
     for e in errors {
         let (who, why) = cause(&e);
         if !who.is_empty() {
-            if let Some((_, others)) = out
-                .iter_mut()
-                .find(|(first, _)| first.kind == e.kind && cause(first).1 == why)
-            {
-                others.push(who.to_string());
+            let key = (e.kind, why.to_string());
+            if let Some(&i) = by_cause.get(&key) {
+                let (_, names, count) = &mut out[i];
+                *count += 1;
+                if names.len() < NAMED_PER_CAUSE {
+                    names.push(who.to_string());
+                }
                 continue;
             }
+            by_cause.insert(key, out.len());
         }
-        out.push((e, Vec::new()));
+        out.push((e, Vec::new(), 0));
     }
     out.into_iter()
-        .map(|(e, others)| match others.len() {
+        .map(|(e, names, count)| match count {
             0 => e,
-            n => e.with_note(format!("the same for {n} more: {}", others.join(", "))),
+            n if n > names.len() => {
+                e.with_note(format!("the same for {n} more: {}, ...", names.join(", ")))
+            }
+            n => e.with_note(format!("the same for {n} more: {}", names.join(", "))),
         })
         .collect()
 }
+
+/// How many other targets a grouped error names; the rest are counted.
+const NAMED_PER_CAUSE: usize = 10;
 
 /// Errors located in the program gain the source line and caret.
 fn with_source(e: Error, program: &Program) -> Error {
@@ -306,4 +319,24 @@ fn with_source(e: Error, program: &Program) -> Error {
         ..(**loc).clone()
     };
     e.at(location)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_cause_is_shown_once_with_its_targets_counted() {
+        let errors: Vec<Error> = (0..25)
+            .map(|i| Error::input(format!("target p{i}: unknown tool `t`")))
+            .chain([Error::input("target q: another cause")])
+            .collect();
+        let grouped = same_cause(errors);
+        assert_eq!(grouped.len(), 2);
+        assert_eq!(
+            grouped[0].notes,
+            ["the same for 24 more: target p1, target p2, target p3, target p4, target p5, target p6, target p7, target p8, target p9, target p10, ..."]
+        );
+        assert!(grouped[1].notes.is_empty());
+    }
 }

@@ -88,22 +88,34 @@ impl Marker {
     }
 }
 
-/// The first marker among the program's files.
+/// The first marker among the program's files: on the line under a
+/// module header, where [`insert`] writes it (so a huge program is not
+/// read line by line for it).
 pub fn find(program: &Program) -> Option<Found> {
-    (0..program.files.len()).find_map(|file| {
-        let src = program.source(file);
-        src.split(|&b| b == b'\n')
-            .enumerate()
-            .find_map(|(i, line)| {
-                let text = String::from_utf8_lossy(line);
-                let marker = Marker::parse(text.trim())?;
-                Some(Found {
-                    marker,
-                    file,
-                    line: i + 1,
-                })
-            })
+    program.modules.iter().find_map(|module| {
+        let src = program.source(module.file);
+        let start = header_end(src, module.pos.offset)?;
+        let end = src[start..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(src.len(), |p| start + p);
+        let text = String::from_utf8_lossy(&src[start..end]);
+        let marker = Marker::parse(text.trim())?;
+        let line = 1 + src[..start].iter().filter(|&&b| b == b'\n').count();
+        Some(Found {
+            marker,
+            file: module.file,
+            line,
+        })
     })
+}
+
+/// Where the line after a module header (at `offset`) starts.
+fn header_end(src: &[u8], offset: usize) -> Option<usize> {
+    src.get(offset..)?
+        .iter()
+        .position(|&b| b == b'\n')
+        .map(|p| offset + p + 1)
 }
 
 /// The edit inserting `marker` as a new line after the first module
@@ -112,11 +124,7 @@ pub fn find(program: &Program) -> Option<Found> {
 pub fn insert(program: &Program, file: usize, marker: &Marker) -> Option<Edit> {
     let module = program.modules.iter().find(|m| m.file == file)?;
     let src = program.source(file);
-    let header_end = src[module.pos.offset..]
-        .iter()
-        .position(|&b| b == b'\n')
-        .map(|p| module.pos.offset + p + 1);
-    let (at, eol, lead) = match header_end {
+    let (at, eol, lead) = match header_end(src, module.pos.offset) {
         Some(at) => {
             let crlf = at >= 2 && src[at - 2] == b'\r';
             (at, if crlf { "\r\n" } else { "\n" }, "")

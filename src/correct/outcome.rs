@@ -66,14 +66,6 @@ pub enum Reason {
 }
 
 impl Reason {
-    pub const ALL: [Reason; 5] = [
-        Reason::Runtime,
-        Reason::Expression,
-        Reason::Unused,
-        Reason::Coordinated,
-        Reason::NoRobotAxes,
-    ];
-
     /// The reason's name in reports and where a user accepts it.
     pub fn code(self) -> &'static str {
         match self {
@@ -83,12 +75,6 @@ impl Reason {
             Reason::Coordinated => "coordinated",
             Reason::NoRobotAxes => "no-robot-axes",
         }
-    }
-
-    pub fn from_code(code: &str) -> Option<Reason> {
-        Reason::ALL
-            .into_iter()
-            .find(|r| r.code().eq_ignore_ascii_case(code))
     }
 
     /// Whether a target left alone for this reason may still be wrong on

@@ -12,6 +12,7 @@ use crate::rapid::constants::names_read;
 use crate::rapid::rewrite::{format_like, Edit, POSITION_RESOLUTION, QUATERNION_RESOLUTION};
 use crate::rapid::visit::{walk_expr, Visit};
 use crate::rapid::{Aggregate, Expr, Program, Target};
+use crate::resolve::robconf_of;
 use crate::robot::conf::RobConf;
 use crate::robot::frames::pose_from_rapid;
 use nalgebra::Isometry3;
@@ -47,7 +48,15 @@ impl<'p> Expressions<'p> {
             }
         }
         let mut found = Found(HashMap::new());
-        found.visit_program(program);
+        // The walk over every expression is only needed when some literal
+        // is written with expressions (CAM programs hold none).
+        if program
+            .targets()
+            .iter()
+            .any(Target::written_with_expressions)
+        {
+            found.visit_program(program);
+        }
         Expressions { by_offset: found.0 }
     }
 
@@ -115,20 +124,10 @@ impl<'p> Expressions<'p> {
 impl Evaluated {
     pub fn pose_conf(&self) -> Result<(Isometry3<f64>, RobConf)> {
         let pose = pose_from_rapid(self.trans, self.rot)?;
-        let whole = |x: f64| {
-            if x.fract() == 0.0 && x.abs() < 1e6 {
-                Ok(x as i32)
-            } else {
-                Err(crate::error::Error::input(format!(
-                    "robconf value {x} is not a whole number"
-                )))
-            }
-        };
-        let c = self.conf;
-        Ok((
-            pose,
-            RobConf::new(whole(c[0])?, whole(c[1])?, whole(c[2])?, whole(c[3])?),
-        ))
+        let conf = robconf_of(self.conf).map_err(|x| {
+            crate::error::Error::input(format!("robconf value {x} is not a whole number"))
+        })?;
+        Ok((pose, conf))
     }
 
     /// The position written as numbers, and the orientation when it turns.
@@ -200,12 +199,7 @@ pub(super) fn jointtarget_expressions(program: &Program) -> Vec<LeftAlone> {
                 let Some(sig) = motion_signature(&call.name) else {
                     return;
                 };
-                let positional: Vec<&Expr> = call
-                    .args
-                    .iter()
-                    .filter(|a| !a.optional)
-                    .filter_map(|a| a.value.as_ref())
-                    .collect();
+                let positional: Vec<&Expr> = call.positional().collect();
                 for &i in sig.jointtargets {
                     if let Some(at) = aggregate(positional.get(i).copied()) {
                         k += 1;

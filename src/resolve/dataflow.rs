@@ -65,12 +65,7 @@ pub fn runtime_writes(program: &Program) -> HashMap<String, Write> {
                     }
                 }
                 StatementKind::Call(call) => {
-                    let positional: Vec<&Expr> = call
-                        .args
-                        .iter()
-                        .filter(|a| !a.optional)
-                        .filter_map(|a| a.value.as_ref())
-                        .collect();
+                    let positional: Vec<&Expr> = call.positional().collect();
                     let name = call.name.to_lowercase();
                     let mut written: Vec<usize> = WRITING_INSTRUCTIONS
                         .iter()

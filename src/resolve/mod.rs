@@ -104,23 +104,33 @@ pub fn target_pose(
             format!("target {}: {}", target.id, e.message),
         )
     })?;
-    let cf = v.robconf_values();
+    let conf = robconf_of(v.robconf_values()).map_err(|x| {
+        located(
+            program,
+            &target.origin,
+            format!(
+                "target {}: robconf value {x} is not a whole number",
+                target.id
+            ),
+        )
+    })?;
+    Ok(Some((pose, conf)))
+}
+
+/// A robconf from its four written numbers; `Err` with the first that is
+/// not a whole number.
+pub fn robconf_of(cf: [f64; 4]) -> std::result::Result<RobConf, f64> {
     let whole = |x: f64| {
         (x.fract() == 0.0 && x.abs() < 1e6)
             .then_some(x as i32)
-            .ok_or_else(|| {
-                located(
-                    program,
-                    &target.origin,
-                    format!(
-                        "target {}: robconf value {x} is not a whole number",
-                        target.id
-                    ),
-                )
-            })
+            .ok_or(x)
     };
-    let conf = RobConf::new(whole(cf[0])?, whole(cf[1])?, whole(cf[2])?, whole(cf[3])?);
-    Ok(Some((pose, conf)))
+    Ok(RobConf::new(
+        whole(cf[0])?,
+        whole(cf[1])?,
+        whole(cf[2])?,
+        whole(cf[3])?,
+    ))
 }
 
 /// The tool and work object one motion instruction uses for a target.

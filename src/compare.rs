@@ -69,9 +69,28 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
         let (Some(va), Some(vb)) = (&ta.value, &tb.value) else {
             continue;
         };
-        let pa = pose_from_rapid(va.trans_values(), va.rot_values())?;
-        let pb = pose_from_rapid(vb.trans_values(), vb.rot_values())?;
-        let d = pb.translation.vector - pa.translation.vector;
+        // A run-time placeholder (`[[0,0,0],[0,0,0,0],…]`) has no
+        // orientation: two of them compare by position, and neither turned.
+        let zero = |r: [f64; 4]| r.iter().all(|v| *v == 0.0);
+        let (ra, rb) = (va.rot_values(), vb.rot_values());
+        let (d, dangle) = if zero(ra) && zero(rb) {
+            let (a, b) = (va.trans_values(), vb.trans_values());
+            (
+                nalgebra::Vector3::new(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                0.0,
+            )
+        } else {
+            let at = |p: &Program, t: &crate::rapid::Target, e: Error| {
+                e.with_note(format!("target {}", t.id))
+                    .at(p.location(&t.origin))
+            };
+            let pa = pose_from_rapid(va.trans_values(), ra).map_err(|e| at(a, ta, e))?;
+            let pb = pose_from_rapid(vb.trans_values(), rb).map_err(|e| at(b, tb, e))?;
+            (
+                pb.translation.vector - pa.translation.vector,
+                pa.rotation.angle_to(&pb.rotation).to_degrees(),
+            )
+        };
         targets.push(TargetDelta {
             id: ta.id.clone(),
             kind: "robtarget",
@@ -79,7 +98,7 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
             dy: d.y,
             dz: d.z,
             dist: d.norm(),
-            dangle: pa.rotation.angle_to(&pb.rotation).to_degrees(),
+            dangle,
         });
     }
     for ja in a.jointtargets() {

@@ -2,7 +2,9 @@
 //! any moved.
 
 use super::Format;
+use super::tasks::{self, TaskPick};
 use super::{read_input, write_stdout, Status};
+use rapidtherm::rapid::task::Task;
 use rapidtherm::compare::{diff, Diff, Gate, GateFailure};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid;
@@ -11,7 +13,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct DiffArgs {
-    /// The original program.
+    /// The original program: a RAPID file, a program file (.pgf), a task
+    /// folder or a controller backup (tasks are compared by name).
     pub a: PathBuf,
     /// The program to compare with it (e.g. the corrected one).
     pub b: PathBuf,
@@ -29,6 +32,9 @@ pub struct DiffArgs {
     /// thermal correction passes and a re-taught jointtarget does not.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub fail_above_deg: Option<f64>,
+    /// With backups or task folders: compare only this task (repeatable).
+    #[arg(long = "task", value_name = "NAME")]
+    pub task: Vec<String>,
 }
 
 /// A gate threshold as given: finite, not negative.
@@ -48,24 +54,89 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
         (None, None) => None,
         _ => Some(Gate::new(max_mm, max_deg)?),
     };
-    let (na, ba) = read_input(&args.a)?;
-    let (nb, bb) = read_input(&args.b)?;
-    let a = rapid::parse(&na, &ba)?;
-    let b = rapid::parse(&nb, &bb)?;
-    let d = diff(&a, &b)?;
-    write_stdout(render_diff(&d, args.format)?.as_bytes())?;
-    let Some(gate) = gate else {
-        return Ok(Status::Success);
+    let pick = TaskPick {
+        tasks: args.task.clone(),
     };
-    let failures = d.gate(&gate);
-    if failures.is_empty() {
-        return Ok(Status::Success);
+    let ta = tasks::select(std::slice::from_ref(&args.a), &pick)?;
+    let tb = tasks::select(std::slice::from_ref(&args.b), &pick)?;
+    let named = ta.iter().chain(&tb).any(|t| t.name.is_some());
+    if !named {
+        let (na, ba) = read_input(&args.a)?;
+        let (nb, bb) = read_input(&args.b)?;
+        let a = rapid::parse(&na, &ba)?;
+        let b = rapid::parse(&nb, &bb)?;
+        let d = diff(&a, &b)?;
+        write_stdout(render_diff(&d, args.format)?.as_bytes())?;
+        let Some(gate) = gate else {
+            return Ok(Status::Success);
+        };
+        let failures = d.gate(&gate);
+        if failures.is_empty() {
+            return Ok(Status::Success);
+        }
+        eprint!(
+            "{}",
+            gate_message(&gate, max_deg.is_none(), &failures, &na, &nb)
+        );
+        return Ok(Status::Changes);
     }
-    eprint!(
-        "{}",
-        gate_message(&gate, max_deg.is_none(), &failures, &na, &nb)
-    );
-    Ok(Status::Changes)
+    // Tasks pair by name; two single tasks pair whatever their names.
+    let pairs: Vec<(&Task, &Task)> = if ta.len() == 1 && tb.len() == 1 {
+        vec![(&ta[0], &tb[0])]
+    } else {
+        ta.iter()
+            .filter_map(|a| {
+                tb.iter()
+                    .find(|b| b.label().eq_ignore_ascii_case(&a.label()))
+                    .map(|b| (a, b))
+            })
+            .collect()
+    };
+    let unpaired: Vec<String> = ta
+        .iter()
+        .filter(|a| !pairs.iter().any(|(p, _)| std::ptr::eq(*p, *a)))
+        .map(|a| format!("task {} is only in {}", a.label(), args.a.display()))
+        .chain(
+            tb.iter()
+                .filter(|b| !pairs.iter().any(|(_, q)| std::ptr::eq(*q, *b)))
+                .map(|b| format!("task {} is only in {}", b.label(), args.b.display())),
+        )
+        .collect();
+    let mut texts = Vec::new();
+    let mut labels = Vec::new();
+    let mut message = String::new();
+    for (a, b) in &pairs {
+        let (_, pa) = tasks::read(a)?;
+        let (_, pb) = tasks::read(b)?;
+        let d = diff(&pa, &pb)?;
+        texts.push(render_diff(&d, args.format)?);
+        labels.push(a.label());
+        if let Some(gate) = &gate {
+            let failures = d.gate(gate);
+            if !failures.is_empty() {
+                message.push_str(&format!("task {}: ", a.label()));
+                message.push_str(&gate_message(
+                    gate,
+                    max_deg.is_none(),
+                    &failures,
+                    &args.a.display().to_string(),
+                    &args.b.display().to_string(),
+                ));
+            }
+        }
+    }
+    write_stdout(tasks::join(args.format, Some(&labels), texts, "diff", &[])?.as_bytes())?;
+    for u in &unpaired {
+        eprintln!("{}: {u}", if gate.is_some() { "error" } else { "note" });
+    }
+    eprint!("{message}");
+    Ok(
+        if gate.is_some() && (!message.is_empty() || !unpaired.is_empty()) {
+            Status::Changes
+        } else {
+            Status::Success
+        },
+    )
 }
 
 /// Why the gate failed, target by target.

@@ -1,9 +1,11 @@
 //! `rapidtherm correct`: the main job.
 
 use super::Format;
-use super::{output, read_input, read_program, write_output, write_stdout, Status};
+use super::tasks;
+use super::{output, read_input, write_output, write_stdout, Status};
 use rapidtherm::correct::{correct, marker, Options, Outcome, Reason, When};
-use rapidtherm::error::{Error, Result};
+use rapidtherm::error::{Error, Errors, Result};
+use rapidtherm::rapid::task::Task;
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
@@ -77,9 +79,13 @@ pub struct WhenArgs {
 
 #[derive(clap::Args)]
 pub struct CorrectArgs {
-    /// RAPID files of one program (several files are one run).
+    /// RAPID files of one program (several files are one run), a program
+    /// file (.pgf), a task folder (PROGMOD/SYSMOD, a backup's RAPID/TASKn)
+    /// or a whole controller backup: each task is read as one program.
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
+    #[command(flatten)]
+    pub pick: tasks::TaskPick,
     #[command(flatten)]
     pub when: WhenArgs,
     /// With --schedule or --start: the minute for targets the schedule
@@ -99,9 +105,15 @@ pub struct CorrectArgs {
     /// the embedded IRB 140 and heating profile.
     #[arg(long, value_name = "FILE.toml")]
     pub model: Option<PathBuf>,
-    /// The arm (URDF) the controller moves; default: the embedded IRB 140.
-    #[arg(long, value_name = "FILE.urdf")]
-    pub robot: Option<PathBuf>,
+    /// The arm the controller moves: a URDF file or an embedded arm's name;
+    /// `TASK=ARM` for one task of a backup. Default: the robot type of the
+    /// backup's MOC.cfg, else the embedded IRB 140.
+    #[arg(long, value_name = "[TASK=]NAME|FILE.urdf")]
+    pub robot: Vec<String>,
+    /// Use the IRB 140's thermal defaults (heating and expansion) on an arm
+    /// whose own are unknown; the arm's lengths still scale the drift.
+    #[arg(long)]
+    pub irb140_thermal: bool,
     /// Write the corrected program here (`-`: standard output).
     #[arg(short, long, value_name = "OUT", conflicts_with_all = ["in_place", "check", "diff"])]
     pub output: Option<PathBuf>,
@@ -157,19 +169,7 @@ pub fn load_model(path: Option<&Path>) -> Result<Model> {
     }
 }
 
-pub fn load_robot(path: Option<&Path>) -> Result<Robot> {
-    match path {
-        Some(p) => Robot::from_urdf_file(p),
-        None => Ok(Robot::irb140()),
-    }
-}
-
 pub fn run_correct(args: CorrectArgs) -> Result<Status> {
-    if args.output.is_some() && args.files.len() > 1 {
-        return Err(Error::usage(
-            "-o writes one file: give one input, or use --in-place for several",
-        ));
-    }
     if args.in_place && args.files.iter().any(|f| f == Path::new("-")) {
         return Err(Error::usage("--in-place cannot rewrite standard input"));
     }
@@ -177,9 +177,65 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
     }
     let model = load_model(args.model.as_deref())?;
-    let robot = load_robot(args.robot.as_deref())?;
-    let (inputs, program) = read_program(&args.files)?;
-    let when = when_of(&args, &program, &robot)?;
+    let found = tasks::select(&args.files, &args.pick)?;
+    let (motion, still): (Vec<Task>, Vec<Task>) =
+        found.into_iter().partition(|t| t.motion != Some(false));
+    if args.output.is_some() && (motion.len() != 1 || motion[0].modules.len() != 1) {
+        return Err(Error::usage(
+            "-o writes one file: give one input, or use --in-place for several",
+        ));
+    }
+    if args.when.schedule.is_some() && motion.len() > 1 {
+        return Err(Error::usage(
+            "a schedule file times the targets of one task: pick it with --task (or use --start, which times each task)",
+        ));
+    }
+    // Every task is tried before anything is written or printed, so that a
+    // run reports all its errors and a refused task leaves every file as
+    // it was.
+    let mut runs = Vec::new();
+    let mut errors = Errors::default();
+    for task in motion {
+        match correct_task(&args, &model, task) {
+            Ok(run) => runs.push(run),
+            Err(e) => errors.push(e),
+        }
+    }
+    if let Some(e) = errors.into_error(|n| {
+        Error::input(format!("{n} tasks cannot be corrected; nothing was written"))
+    }) {
+        return Err(e);
+    }
+    for t in &still {
+        eprintln!(
+            "note: task {} is not a motion task (SYSPAR/SYS.cfg): left alone",
+            t.label()
+        );
+    }
+    emit(&args, &runs)
+}
+
+/// One task corrected: what was read, with which arm, and the outcome.
+struct Run {
+    task: Task,
+    arm: String,
+    inputs: super::Inputs,
+    program: rapid::Program,
+    outcome: Outcome,
+}
+
+fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
+    let arm = tasks::arm_for(&task, &args.robot)?;
+    if args.model.is_none() && !arm.is_irb140 && !args.irb140_thermal {
+        return Err(Error::usage(format!(
+            "task {}: {} is not an IRB 140, and how it warms up and expands is unknown: the embedded thermal defaults were measured on an IRB 140",
+            task.label(),
+            arm.robot.name
+        ))
+        .with_note("give a model file of this arm with --model FILE.toml (its heating measured, or a heating recording in it), or use the IRB 140's defaults on this arm's lengths with --irb140-thermal"));
+    }
+    let (inputs, program) = tasks::read(&task)?;
+    let when = when_of(args, &program, &arm.robot)?;
     let horizon = match &when {
         When::At(Moment::Minute(t)) => *t,
         When::At(Moment::Steady) => 0.0,
@@ -200,12 +256,13 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
             }
         }
     };
-    let warm = WarmRobot::new(robot, &model, horizon)?;
+    let arm_name = arm.robot.name.clone();
+    let warm = WarmRobot::new(arm.robot, model, horizon)?;
     let options = Options {
         when,
         visit: args.visit.into(),
         expand_expressions: args.expand_expressions,
-        model_label: model_label(args.model.as_deref(), args.robot.as_deref())?,
+        model_label: model_label(args.model.as_deref(), &arm.label)?,
     };
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
     let outcome = correct(&program, &warm, &options, &mut |done, total| {
@@ -217,55 +274,101 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let changed = outcome
-        .outputs
-        .iter()
-        .enumerate()
-        .any(|(f, o)| o.as_slice() != program.source(f));
-    if let Some(how) = &outcome.already_corrected {
-        eprintln!("note: already corrected: {how}; nothing to do");
+    Ok(Run {
+        task,
+        arm: arm_name,
+        inputs,
+        program,
+        outcome,
+    })
+}
+
+/// Print and write what the runs found, as the options ask.
+fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
+    // A task of a backup is named; files given one by one are one
+    // unnamed task, reported as before.
+    let named = runs.len() > 1 || runs.iter().any(|r| r.task.name.is_some());
+    let heading = |r: &Run| -> String {
+        if named {
+            format!("task {} ({}):\n", r.task.label(), r.arm)
+        } else {
+            String::new()
+        }
+    };
+    for r in runs {
+        if let Some(how) = &r.outcome.already_corrected {
+            eprintln!("note: {}already corrected: {how}; nothing to do", in_task(named, r));
+        }
     }
+    let changed = runs.iter().any(|r| {
+        r.outcome
+            .outputs
+            .iter()
+            .enumerate()
+            .any(|(f, o)| o.as_slice() != r.program.source(f))
+    });
     let accepted: Vec<Reason> = args.accept.iter().map(|&a| a.into()).collect();
-    let findings = check_findings(&outcome, args.tolerance, &accepted);
+    let findings: Vec<Vec<Finding>> = runs
+        .iter()
+        .map(|r| check_findings(&r.outcome, args.tolerance, &accepted))
+        .collect();
+    let any_finding = findings.iter().any(|f| !f.is_empty());
+    let summaries = || -> String {
+        runs.iter()
+            .map(|r| heading(r) + &summary_text(&r.outcome))
+            .collect()
+    };
     if args.diff {
         let mut text = Vec::new();
-        for ((name, before), after) in inputs.iter().zip(&outcome.outputs) {
-            text.extend(unified_diff(name, before, after));
+        for r in runs {
+            for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
+                text.extend(unified_diff(name, before, after));
+            }
         }
         write_stdout(&text)?;
-        eprint!("{}", summary_text(&outcome));
+        eprint!("{}", summaries());
         if args.check {
-            eprint!("{}", check_list(&findings, Format::Table)?);
-            eprint!("{}", check_verdict(&findings, args.tolerance));
+            eprint!("{}", per_task(runs, &findings, Format::Table, named, "findings", check_list)?);
+            eprint!("{}", check_verdict(&findings.concat(), args.tolerance));
         }
-        return Ok(if changed || (args.check && !findings.is_empty()) {
+        return Ok(if changed || (args.check && any_finding) {
             Status::Changes
         } else {
             Status::Success
         });
     }
     if args.check {
-        eprint!("{}", summary_text(&outcome));
-        write_stdout(check_list(&findings, args.format)?.as_bytes())?;
-        eprint!("{}", check_verdict(&findings, args.tolerance));
-        return Ok(if findings.is_empty() {
-            Status::Success
-        } else {
+        eprint!("{}", summaries());
+        write_stdout(per_task(runs, &findings, args.format, named, "findings", check_list)?.as_bytes())?;
+        eprint!("{}", check_verdict(&findings.concat(), args.tolerance));
+        return Ok(if any_finding {
             Status::Changes
+        } else {
+            Status::Success
         });
     }
     if let Some(out) = &args.output {
-        write_output(out, &outcome.outputs[0])?;
-        eprint!("{}", summary_text(&outcome));
+        write_output(out, &runs[0].outcome.outputs[0])?;
+        eprint!("{}", summaries());
         return Ok(Status::Success);
     }
     if args.in_place {
-        let writes: Vec<(&String, &Vec<u8>)> = inputs
-            .iter()
-            .zip(&outcome.outputs)
-            .filter(|((_, before), after)| *after != before)
-            .map(|((name, _), after)| (name, after))
-            .collect();
+        let mut writes: Vec<(&String, &Vec<u8>)> = Vec::new();
+        for r in runs {
+            for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
+                if after == before {
+                    continue;
+                }
+                // One file read in two tasks (a shared module named twice)
+                // must not be corrected twice over.
+                if writes.iter().any(|(n, a)| *n == name && *a != after) {
+                    return Err(Error::input(format!(
+                        "{name} is read in two tasks that would correct it differently; correct one task at a time with --task"
+                    )));
+                }
+                writes.push((name, after));
+            }
+        }
         // Every backup is checked before any file is written: a refused
         // backup leaves the whole program as it was.
         if let Some(suffix) = args.backup.as_deref() {
@@ -276,38 +379,67 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         for (name, after) in writes {
             output::write_atomic(Path::new(name), after, args.backup.as_deref())?;
         }
-        eprint!("{}", summary_text(&outcome));
+        eprint!("{}", summaries());
         return Ok(Status::Success);
     }
-    write_stdout(report(&outcome, args.format)?.as_bytes())?;
+    let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
+    write_stdout(per_task(runs, &outcomes, args.format, named, "report", |o, f| report(o, f))?.as_bytes())?;
     if args.format == Format::Table {
-        eprint!("{}", summary_text(&outcome));
+        eprint!("{}", summaries());
     }
     Ok(Status::Success)
 }
 
+fn in_task(named: bool, r: &Run) -> String {
+    if named {
+        format!("task {}: ", r.task.label())
+    } else {
+        String::new()
+    }
+}
+
+/// One rendering per task, joined (see [`tasks::join`]).
+fn per_task<T>(
+    runs: &[Run],
+    items: &[T],
+    format: Format,
+    named: bool,
+    key: &str,
+    render: impl Fn(&T, Format) -> Result<String>,
+) -> Result<String> {
+    let texts = items
+        .iter()
+        .map(|i| render(i, format))
+        .collect::<Result<Vec<String>>>()?;
+    let labels: Vec<String> = runs.iter().map(|r| r.task.label()).collect();
+    let labels_shown: Vec<String> = runs
+        .iter()
+        .map(|r| format!("{} ({})", r.task.label(), r.arm))
+        .collect();
+    let extra: Vec<Vec<(&str, String)>> = runs.iter().map(|r| vec![("arm", r.arm.clone())]).collect();
+    let shown = match format {
+        Format::Table => &labels_shown,
+        _ => &labels,
+    };
+    tasks::join(format, named.then_some(shown.as_slice()), texts, key, &extra)
+}
+
 /// The model and arm a run uses, as the marker of a corrected file names
 /// them: the embedded ones by name, files by their fingerprint.
-fn model_label(model: Option<&Path>, robot: Option<&Path>) -> Result<String> {
-    let of = |path: Option<&Path>, embedded: &str| -> Result<String> {
-        Ok(match path {
-            Some(p) => {
-                let (_, bytes) = read_input(p)?;
-                marker::fingerprint(&bytes)
-            }
-            None => embedded.to_string(),
-        })
+fn model_label(model: Option<&Path>, arm: &str) -> Result<String> {
+    let model = match model {
+        Some(p) => {
+            let (_, bytes) = read_input(p)?;
+            marker::fingerprint(&bytes)
+        }
+        None => "embedded default".to_string(),
     };
-    Ok(format!(
-        "{} model, {} arm",
-        of(model, "embedded default")?,
-        of(robot, "embedded IRB 140")?
-    ))
+    Ok(format!("{model} model, {arm} arm"))
 }
 
 /// One line of `--check`'s list: a target that would move more than the
 /// tolerance, or one left cold for a reason not accepted.
-#[derive(serde::Serialize)]
+#[derive(Clone, serde::Serialize)]
 struct Finding {
     id: String,
     kind: String,
@@ -355,7 +487,7 @@ fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec
     moves.chain(cold).collect()
 }
 
-fn check_list(findings: &[Finding], format: Format) -> Result<String> {
+fn check_list(findings: &Vec<Finding>, format: Format) -> Result<String> {
     let header = ["target", "kind", "at", "status", "corr_mm", "reason"];
     let rows: Vec<Vec<String>> = findings
         .iter()

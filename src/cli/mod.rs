@@ -14,6 +14,7 @@ mod model;
 mod output;
 mod schedule;
 mod targets;
+mod tasks;
 
 use clap::{Parser, Subcommand};
 use rapidtherm::error::{Error, Result};

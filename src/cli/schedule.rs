@@ -1,18 +1,25 @@
 //! `rapidtherm schedule FILE...`: when each target of a program is
 //! reached, estimated by walking its entry routine (CSV on stdout, the
 //! choices made on stderr).
-use super::{read_program, write_output, Status};
+use super::{write_output, Status};
 use rapidtherm::error::{Error, Result};
-use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, EstimateOptions};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct ScheduleArgs {
     /// RAPID files (.mod, .modx, .prg, .sys) read as one run; `-` reads
-    /// standard input.
+    /// standard input. A program file (.pgf), a task folder or a backup
+    /// with one motion task (or --task picking one).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
+    #[command(flatten)]
+    pub pick: super::tasks::TaskPick,
+    /// The arm (its axis speeds time the moves): a URDF file or an
+    /// embedded arm's name. Default: the backup's robot type, else the
+    /// embedded IRB 140.
+    #[arg(long, value_name = "NAME|FILE.urdf")]
+    pub robot: Option<String>,
     /// Minutes since the cold start at which the program starts.
     #[arg(long, value_name = "MIN", default_value_t = 0.0)]
     pub start: f64,
@@ -31,8 +38,9 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     if args.cycles == 0 {
         return Err(Error::usage("--cycles must be at least 1"));
     }
-    let (_, program) = read_program(&args.files)?;
-    let robot = Robot::irb140();
+    let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
+    let (_, program) = super::tasks::read(&task)?;
+    let robot = super::tasks::arm_for(&task, args.robot.as_slice())?.robot;
     let opts = EstimateOptions {
         entry: args.entry,
         start_min: args.start,

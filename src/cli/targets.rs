@@ -1,6 +1,6 @@
 //! `rapidtherm targets FILE...`: every robtarget of RAPID programs.
 use super::Format;
-use super::{read_program, write_stdout, Status};
+use super::{write_stdout, Status};
 use rapidtherm::error::Result;
 use rapidtherm::rapid::{self, Target};
 use rapidtherm::report::{render_csv, render_table, Align};
@@ -10,8 +10,12 @@ use std::path::PathBuf;
 pub struct TargetsArgs {
     /// RAPID files (.mod, .modx, .prg, .sys); `-` reads standard input.
     /// Several files are read as one run (identifiers unique across them).
+    /// A program file (.pgf), a task folder or a controller backup: each
+    /// task is one run.
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
+    #[command(flatten)]
+    pub pick: super::tasks::TaskPick,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
@@ -44,11 +48,30 @@ fn values(t: &Target) -> Vec<String> {
 }
 
 pub fn run(args: TargetsArgs) -> Result<Status> {
-    let (inputs, prog) = read_program(&args.files)?;
-    if args.joints {
-        write_stdout(joints(&prog, args.format).as_bytes())?;
-        return Ok(Status::Success);
+    let tasks = super::tasks::select(&args.files, &args.pick)?;
+    let refs: Vec<&rapidtherm::rapid::task::Task> = tasks.iter().collect();
+    let labels = super::tasks::labels(&refs);
+    let mut texts = Vec::new();
+    for task in &tasks {
+        let (inputs, prog) = super::tasks::read(task)?;
+        texts.push(if args.joints {
+            joints(&prog, args.format)
+        } else {
+            listing(&args, &inputs, &prog)?
+        });
     }
+    let key = if args.joints { "jointtargets" } else { "targets" };
+    let out = super::tasks::join(args.format, labels.as_deref(), texts, key, &[])?;
+    write_stdout(out.as_bytes())?;
+    Ok(Status::Success)
+}
+
+/// The listing of one program's robtargets.
+fn listing(
+    args: &TargetsArgs,
+    inputs: &super::Inputs,
+    prog: &rapidtherm::rapid::Program,
+) -> Result<String> {
     let several = inputs.len() > 1;
     let opt = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
     let out = match args.format {
@@ -180,8 +203,7 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
             s
         }
     };
-    write_stdout(out.as_bytes())?;
-    Ok(Status::Success)
+    Ok(out)
 }
 
 fn joints(prog: &rapid::Program, format: Format) -> String {

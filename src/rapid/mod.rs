@@ -48,6 +48,7 @@ mod parse;
 pub mod rewrite;
 mod scan;
 pub mod visit;
+pub mod task;
 
 use crate::error::{Location, Result};
 use std::ops::Range;

@@ -1,0 +1,252 @@
+//! What the command line names, as tasks: files one by one, program files
+//! (`.pgf`), task folders and whole controller backups
+//! (`rapidtherm::rapid::task`), `--task` to pick some, and the arm each
+//! task moves.
+
+use super::{read_input, Inputs};
+use rapidtherm::error::{Error, Result};
+use rapidtherm::rapid::task::{self, Task};
+use rapidtherm::rapid::Program;
+use rapidtherm::robot::{irb140_opw, Robot};
+use std::path::{Path, PathBuf};
+
+/// `--task`: the tasks of a backup (or of several task folders) to work
+/// on.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct TaskPick {
+    /// With a controller backup, task folders or program files: only this
+    /// task (its controller name, e.g. T_ROB1, or its folder, e.g. TASK1);
+    /// may be given several times. Default: every task.
+    #[arg(long = "task", value_name = "NAME")]
+    pub tasks: Vec<String>,
+}
+
+/// The tasks `paths` stand for, narrowed to those `pick` names.
+pub fn select(paths: &[PathBuf], pick: &TaskPick) -> Result<Vec<Task>> {
+    let all = task::discover(paths)?;
+    if pick.tasks.is_empty() {
+        return Ok(all);
+    }
+    let named = |t: &Task, want: &str| {
+        t.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(want))
+            || t.origin.as_deref().and_then(Path::file_name).is_some_and(|f| {
+                f.to_string_lossy().eq_ignore_ascii_case(want)
+            })
+    };
+    for want in &pick.tasks {
+        if !all.iter().any(|t| named(t, want)) {
+            let names: Vec<String> = all.iter().map(Task::label).collect();
+            return Err(Error::usage(format!(
+                "--task {want}: no such task here (tasks: {})",
+                names.join(", ")
+            )));
+        }
+    }
+    Ok(all
+        .into_iter()
+        .filter(|t| pick.tasks.iter().any(|w| named(t, w)))
+        .collect())
+}
+
+/// Read a task's modules and parse them as one program; the reader's
+/// warnings and the task's notes go to stderr.
+pub fn read(task: &Task) -> Result<(Inputs, Program)> {
+    for note in &task.notes {
+        eprintln!("note: {note}");
+    }
+    super::read_program(&task.modules)
+}
+
+/// The arm a task moves, and how the marker of a corrected file names it.
+pub struct Arm {
+    pub robot: Robot,
+    /// For the marker: "embedded IRB 140", or a URDF file's fingerprint.
+    pub label: String,
+    /// Whether the arm is the IRB 140 the embedded thermal defaults were
+    /// calibrated on (its geometry, whatever file it came from).
+    pub is_irb140: bool,
+}
+
+/// The arm of `task`: the `--robot` given for it (`T_ROB2=SPEC`), else the
+/// `--robot` given for all, else the robot type the backup's MOC.cfg
+/// names, else the embedded IRB 140.
+pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
+    let mut general = None;
+    let mut own = None;
+    for s in specs {
+        match s.split_once('=') {
+            Some((t, spec)) if !Path::new(s).exists() => {
+                if task.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(t)) {
+                    own = Some(spec);
+                }
+            }
+            _ => general = Some(s.as_str()),
+        }
+    }
+    let arm = match own.or(general) {
+        Some(spec) => arm_of_spec(spec)?,
+        None => match &task.robot_type {
+            Some(rt) => arm_of_robot_type(rt).ok_or_else(|| {
+                Error::usage(format!(
+                    "task {}: the backup's SYSPAR/MOC.cfg says it moves a {rt}, which rapidtherm has no description of; give the arm with --robot {}=NAME|FILE.urdf",
+                    task.label(),
+                    task.label()
+                ))
+            })??,
+            None => embedded_irb140(),
+        },
+    };
+    Ok(arm)
+}
+
+fn embedded_irb140() -> Arm {
+    Arm {
+        robot: Robot::irb140(),
+        label: "embedded IRB 140".to_string(),
+        is_irb140: true,
+    }
+}
+
+/// `--robot`'s value: a URDF file, or the name of an embedded arm.
+pub fn arm_of_spec(spec: &str) -> Result<Arm> {
+    let path = Path::new(spec);
+    if path.exists()
+        || path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+    {
+        let robot = Robot::from_urdf_file(path)?;
+        let (_, bytes) = read_input(path)?;
+        let is_irb140 = same_geometry_as_irb140(&robot);
+        return Ok(Arm {
+            robot,
+            label: rapidtherm::correct::marker::fingerprint(&bytes),
+            is_irb140,
+        });
+    }
+    let normalised: String = spec
+        .chars()
+        .filter(|c| !c.is_whitespace() && *c != '-' && *c != '_')
+        .flat_map(char::to_lowercase)
+        .collect();
+    if normalised == "irb140" || normalised == "irb1406/0.8" || normalised == "irb1406/0.81" {
+        return Ok(embedded_irb140());
+    }
+    Err(Error::usage(format!(
+        "--robot {spec}: neither a URDF file nor an arm rapidtherm knows (irb140)"
+    )))
+}
+
+/// The arm of a controller robot type (`ROB1_140_0.81_6`: robot 1, IRB
+/// 140, 0.81 m reach, 6 kg): `None` when rapidtherm has no description of
+/// it.
+fn arm_of_robot_type(robot_type: &str) -> Option<Result<Arm>> {
+    let parts: Vec<&str> = robot_type.split('_').collect();
+    let family = parts.iter().skip(1).find(|p| p.bytes().all(|b| b.is_ascii_digit()))?;
+    match *family {
+        "140" => Some(Ok(embedded_irb140())),
+        _ => None,
+    }
+}
+
+/// The embedded thermal defaults were calibrated on the IRB 140: an arm of
+/// the same geometry (within a micrometre) can use them.
+fn same_geometry_as_irb140(robot: &Robot) -> bool {
+    let Ok(arm) = &robot.opw else { return false };
+    let (a, b) = (arm.geom, irb140_opw());
+    [
+        (a.c1, b.c1),
+        (a.a1, b.a1),
+        (a.c2, b.c2),
+        (a.c3, b.c3),
+        (a.c4, b.c4),
+        (a.a2, b.a2),
+        (a.b, b.b),
+    ]
+    .iter()
+    .all(|(x, y)| (x - y).abs() < 1e-3)
+}
+
+/// Renderings of several tasks as one output: as it is when `labels` is
+/// `None` (files given one by one: one unnamed task); otherwise a heading
+/// before each table, a leading `task` column in CSV, and a JSON array of
+/// `{"task": …, key: …}` (plus `extra` fields per task).
+pub fn join(
+    format: super::Format,
+    labels: Option<&[String]>,
+    texts: Vec<String>,
+    key: &str,
+    extra: &[Vec<(&str, String)>],
+) -> Result<String> {
+    let Some(labels) = labels else {
+        return Ok(texts.concat());
+    };
+    let mut out = String::new();
+    match format {
+        super::Format::Table => {
+            for (label, text) in labels.iter().zip(&texts) {
+                out.push_str(&format!("task {label}:\n{text}"));
+            }
+        }
+        super::Format::Csv => {
+            let mut header_done = false;
+            for (label, text) in labels.iter().zip(&texts) {
+                for (n, line) in text.lines().enumerate() {
+                    if n == 0 {
+                        if !header_done {
+                            out.push_str(&format!("task,{line}\n"));
+                            header_done = true;
+                        }
+                    } else {
+                        out.push_str(&format!("{label},{line}\n"));
+                    }
+                }
+            }
+        }
+        super::Format::Json => {
+            let mut all = Vec::new();
+            for (k, (label, text)) in labels.iter().zip(&texts).enumerate() {
+                let value: serde_json::Value =
+                    serde_json::from_str(text).map_err(|e| Error::input(e.to_string()))?;
+                let mut entry = serde_json::Map::new();
+                entry.insert("task".into(), label.clone().into());
+                for (name, v) in extra.get(k).into_iter().flatten() {
+                    entry.insert((*name).into(), v.clone().into());
+                }
+                entry.insert(key.into(), value);
+                all.push(serde_json::Value::Object(entry));
+            }
+            out = serde_json::to_string_pretty(&all).map_err(|e| Error::input(e.to_string()))?
+                + "\n";
+        }
+    }
+    Ok(out)
+}
+
+/// The labels of tasks when they are named (a backup, task folders,
+/// program files), `None` for files given one by one.
+pub fn labels(tasks: &[&Task]) -> Option<Vec<String>> {
+    (tasks.len() > 1 || tasks.iter().any(|t| t.name.is_some()))
+        .then(|| tasks.iter().map(|t| t.label()).collect())
+}
+
+/// The one motion task a command that times a single robot works on.
+pub fn one_motion_task(paths: &[PathBuf], pick: &TaskPick, command: &str) -> Result<Task> {
+    let mut motion: Vec<Task> = select(paths, pick)?
+        .into_iter()
+        .filter(|t| t.motion != Some(false))
+        .collect();
+    match motion.len() {
+        1 => Ok(motion.remove(0)),
+        0 => Err(Error::usage(format!(
+            "{command}: no motion task here (SYSPAR/SYS.cfg marks none)"
+        ))),
+        _ => {
+            let names: Vec<String> = motion.iter().map(Task::label).collect();
+            Err(Error::usage(format!(
+                "{command} times one robot: pick one of the motion tasks {} with --task",
+                names.join(", ")
+            )))
+        }
+    }
+}

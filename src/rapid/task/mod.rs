@@ -1,0 +1,413 @@
+//! A task: the modules a controller loads together, read as one program.
+//!
+//! RAPID programs live in tasks. A task's program modules (PROGMOD) and
+//! system modules (SYSMOD, where `user.sys` usually declares the tools and
+//! work objects) see each other's global data, so a target can only be
+//! resolved with the whole task in view. [`discover`] turns what a user
+//! names on the command line into tasks:
+//!
+//! - files one by one: one task of exactly those files (as before);
+//! - a program file (`.pgf`): the modules it lists;
+//! - a task folder (`RAPID/TASK1`, or any folder with `PROGMOD`/`SYSMOD`);
+//! - a whole controller backup (a folder with `RAPID/`), or its `RAPID`
+//!   folder: every `TASKn` folder. The backup's `BACKINFO/backinfo.txt`
+//!   gives each folder's task name and load order, `SYSPAR/SYS.cfg` which
+//!   tasks move a robot and through which mechanical unit group,
+//!   `SYSPAR/MOC.cfg` which robot type that group's robot is;
+//! - any other folder: the RAPID modules in it (or the program file, if it
+//!   holds exactly one).
+//!
+//! Reads the file system but never writes. Knows no robot: the robot type
+//! is the controller's string (`ROB1_140_0.81_6`); which arm that is, is
+//! for the layers that know arms.
+
+pub mod backinfo;
+pub mod cfg;
+pub mod pgf;
+
+use crate::error::{Error, Result};
+use backinfo::BackTask;
+use cfg::Cfg;
+use std::path::{Path, PathBuf};
+
+/// One task to read as one program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Task {
+    /// The controller's name for it (`T_ROB1`) where a backup says, else
+    /// the folder's or program file's name; `None` for files named one by
+    /// one.
+    pub name: Option<String>,
+    /// The folder or program file it was found in.
+    pub origin: Option<PathBuf>,
+    /// Its module files, in load order (`-` is standard input).
+    pub modules: Vec<PathBuf>,
+    /// Whether the task moves a robot, where the backup's SYS.cfg says.
+    pub motion: Option<bool>,
+    /// The robot type of the mechanical unit group the task moves, as
+    /// MOC.cfg writes it (`ROB1_140_0.81_6`), where the backup says.
+    pub robot_type: Option<String>,
+    /// What the reader noticed on the way (a module listed but missing).
+    pub notes: Vec<String>,
+}
+
+impl Task {
+    fn of_files(name: Option<String>, origin: Option<PathBuf>, modules: Vec<PathBuf>) -> Task {
+        Task {
+            name,
+            origin,
+            modules,
+            motion: None,
+            robot_type: None,
+            notes: Vec::new(),
+        }
+    }
+
+    /// How messages name the task: its name, else where it was found.
+    pub fn label(&self) -> String {
+        match (&self.name, &self.origin) {
+            (Some(n), _) => n.clone(),
+            (None, Some(o)) => o.display().to_string(),
+            (None, None) => "program".to_string(),
+        }
+    }
+}
+
+/// True for the file names RAPID modules have: `.mod`, `.modx`, `.sys`,
+/// `.sysx`, and the S4 controllers' `.prg`.
+pub fn is_rapid_file(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| {
+            ["mod", "modx", "sys", "sysx", "prg"]
+                .iter()
+                .any(|x| e.eq_ignore_ascii_case(x))
+        })
+}
+
+fn is_pgf(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("pgf"))
+}
+
+/// The tasks that the paths a user named stand for. Files named one by one
+/// (no folder, no program file) are one task, in the order given. Files
+/// beside folders or program files join the one task those give, and are
+/// an error if they give several.
+pub fn discover(paths: &[PathBuf]) -> Result<Vec<Task>> {
+    if !paths.iter().any(|p| p.is_dir() || is_pgf(p)) {
+        return Ok(vec![Task::of_files(None, None, paths.to_vec())]);
+    }
+    let mut tasks = Vec::new();
+    let mut loose = Vec::new();
+    for p in paths {
+        if p == Path::new("-") {
+            return Err(Error::usage(
+                "standard input cannot be read beside task folders or program files",
+            ));
+        } else if p.is_dir() {
+            tasks.extend(tasks_in_folder(p)?);
+        } else if is_pgf(p) {
+            tasks.push(program_file(p)?);
+        } else {
+            loose.push(p.clone());
+        }
+    }
+    if !loose.is_empty() {
+        match tasks.as_mut_slice() {
+            [one] => one.modules.extend(loose),
+            _ => {
+                return Err(Error::usage(format!(
+                    "{} is named beside {} tasks: say which task it belongs to by naming that task's folder or program file alone",
+                    loose[0].display(),
+                    tasks.len()
+                )))
+            }
+        }
+    }
+    Ok(tasks)
+}
+
+/// The modules of a program file, found beside it.
+fn program_file(path: &Path) -> Result<Task> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+    let listed = pgf::modules(&path.display().to_string(), &bytes)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut modules = Vec::new();
+    for m in &listed {
+        match find_ci(dir, m) {
+            Some(found) => modules.push(found),
+            None => {
+                return Err(Error::input(format!(
+                    "{}: module {m} is listed but not found in {}",
+                    path.display(),
+                    dir.display()
+                )))
+            }
+        }
+    }
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned());
+    Ok(Task::of_files(name, Some(path.to_path_buf()), modules))
+}
+
+/// What a backup says about its tasks, read once per backup.
+#[derive(Default)]
+struct Backup {
+    tasks: Vec<BackTask>,
+    sys: Option<Cfg>,
+    moc: Option<Cfg>,
+}
+
+impl Backup {
+    /// The backup whose root is `root` (a folder holding `RAPID/`); every
+    /// part is optional, as a backup copied by hand may lack it.
+    fn read(root: &Path) -> Result<Backup> {
+        let text = |rel: &str| -> Result<Option<String>> {
+            match find_ci(root, rel) {
+                Some(p) => {
+                    let bytes = std::fs::read(&p).map_err(|e| Error::io(&p, &e))?;
+                    Ok(Some(crate::error::decode_lossless(&bytes)))
+                }
+                None => Ok(None),
+            }
+        };
+        Ok(Backup {
+            tasks: text("BACKINFO/backinfo.txt")?
+                .map(|t| backinfo::parse(&t))
+                .unwrap_or_default(),
+            sys: text("SYSPAR/SYS.cfg")?.map(|t| Cfg::parse(&t)),
+            moc: text("SYSPAR/MOC.cfg")?.map(|t| Cfg::parse(&t)),
+        })
+    }
+
+    fn task_of_folder(&self, folder: &str) -> Option<&BackTask> {
+        self.tasks
+            .iter()
+            .find(|t| t.folder.eq_ignore_ascii_case(folder))
+    }
+
+    /// Whether SYS.cfg makes the task a motion task, and the robot type of
+    /// its mechanical unit group.
+    fn motion_and_robot(&self, task: &str) -> (Option<bool>, Option<String>) {
+        let Some(sys) = &self.sys else {
+            return (None, None);
+        };
+        let Some(entry) = sys
+            .section("CAB_TASKS")
+            .iter()
+            .find(|t| t.get("Name").is_some_and(|n| n.eq_ignore_ascii_case(task)))
+        else {
+            return (None, None);
+        };
+        let motion = entry.has("MotionTask");
+        if !motion {
+            return (Some(false), None);
+        }
+        let robot = match entry.get("UseMechanicalUnitGroup") {
+            Some(group) => sys
+                .section("MECHANICAL_UNIT_GROUP")
+                .iter()
+                .find(|g| g.get("Name").is_some_and(|n| n.eq_ignore_ascii_case(group)))
+                .and_then(|g| g.get("Robot"))
+                .map(str::to_string),
+            None => None,
+        };
+        let robots = self.moc.as_ref().map_or(&[][..], |m| m.section("ROBOT"));
+        let robot_entry = match &robot {
+            Some(name) => robots
+                .iter()
+                .find(|r| r.get("name").is_some_and(|n| n.eq_ignore_ascii_case(name))),
+            // A single-robot system names no group: its one robot.
+            None if robots.len() == 1 => robots.first(),
+            None => None,
+        };
+        (
+            Some(true),
+            robot_entry
+                .and_then(|r| r.get("use_robot_type"))
+                .map(str::to_string),
+        )
+    }
+}
+
+/// The tasks a folder stands for (see the module documentation).
+fn tasks_in_folder(dir: &Path) -> Result<Vec<Task>> {
+    if let Some(rapid) = find_ci(dir, "RAPID").filter(|p| p.is_dir()) {
+        return task_folders(&rapid, &Backup::read(dir)?);
+    }
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if name.eq_ignore_ascii_case("RAPID") {
+        let backup = match dir.parent() {
+            Some(root) => Backup::read(root)?,
+            None => Backup::default(),
+        };
+        return task_folders(dir, &backup);
+    }
+    let has_task_parts = ["PROGMOD", "SYSMOD"]
+        .iter()
+        .any(|s| find_ci(dir, s).is_some_and(|p| p.is_dir()));
+    if has_task_parts || is_task_folder_name(&name) {
+        let backup = match dir.parent().zip(dir.parent().and_then(Path::parent)) {
+            Some((rapid, root))
+                if rapid
+                    .file_name()
+                    .is_some_and(|n| n.eq_ignore_ascii_case("RAPID")) =>
+            {
+                Backup::read(root)?
+            }
+            _ => Backup::default(),
+        };
+        return Ok(vec![task_folder(dir, &backup)?]);
+    }
+    let entries = sorted_entries(dir)?;
+    let task_dirs: Vec<&PathBuf> = entries
+        .iter()
+        .filter(|p| {
+            p.is_dir()
+                && p.file_name()
+                    .is_some_and(|n| is_task_folder_name(&n.to_string_lossy()))
+        })
+        .collect();
+    if !task_dirs.is_empty() {
+        return task_folders(dir, &Backup::default());
+    }
+    let pgfs: Vec<&PathBuf> = entries.iter().filter(|p| is_pgf(p)).collect();
+    if let [one] = pgfs.as_slice() {
+        return Ok(vec![program_file(one)?]);
+    }
+    let modules: Vec<PathBuf> = entries
+        .iter()
+        .filter(|p| p.is_file() && is_rapid_file(p))
+        .cloned()
+        .collect();
+    if modules.is_empty() {
+        return Err(Error::input(format!(
+            "{}: no RAPID modules here (.mod, .modx, .sys, .sysx, .prg), no task folders and no program file",
+            dir.display()
+        )));
+    }
+    Ok(vec![Task::of_files(
+        Some(name),
+        Some(dir.to_path_buf()),
+        modules,
+    )])
+}
+
+fn is_task_folder_name(name: &str) -> bool {
+    name.len() > 4
+        && name[..4].eq_ignore_ascii_case("TASK")
+        && name[4..].bytes().all(|b| b.is_ascii_digit())
+}
+
+/// Every `TASKn` folder of a backup's `RAPID` folder, in task order.
+fn task_folders(rapid: &Path, backup: &Backup) -> Result<Vec<Task>> {
+    let mut folders: Vec<PathBuf> = sorted_entries(rapid)?
+        .into_iter()
+        .filter(|p| {
+            p.is_dir()
+                && p.file_name()
+                    .is_some_and(|n| is_task_folder_name(&n.to_string_lossy()))
+        })
+        .collect();
+    // TASK2 before TASK10.
+    folders.sort_by_key(|p| {
+        p.file_name()
+            .and_then(|n| n.to_string_lossy()[4..].parse::<u32>().ok())
+            .unwrap_or(u32::MAX)
+    });
+    if folders.is_empty() {
+        return Err(Error::input(format!(
+            "{}: no TASKn folders in this backup",
+            rapid.display()
+        )));
+    }
+    folders.iter().map(|f| task_folder(f, backup)).collect()
+}
+
+/// One task folder: its modules in the backup's load order where the
+/// backup lists it, else system modules then program modules by name.
+fn task_folder(dir: &Path, backup: &Backup) -> Result<Task> {
+    let folder = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let listed = backup.task_of_folder(&folder);
+    let name = listed.map_or(folder.clone(), |t| t.name.clone());
+    let mut notes = Vec::new();
+    let mut modules: Vec<PathBuf> = Vec::new();
+    if let Some(t) = listed {
+        for rel in &t.modules {
+            match find_ci(dir, rel) {
+                Some(p) => modules.push(p),
+                None => notes.push(format!(
+                    "task {name}: backinfo.txt lists {rel}, which is not in {}",
+                    dir.display()
+                )),
+            }
+        }
+    }
+    let mut on_disk = Vec::new();
+    for sub in ["SYSMOD", "PROGMOD"] {
+        if let Some(d) = find_ci(dir, sub).filter(|p| p.is_dir()) {
+            on_disk.extend(sorted_entries(&d)?);
+        }
+    }
+    on_disk.extend(sorted_entries(dir)?);
+    for p in on_disk {
+        if p.is_file() && is_rapid_file(&p) && !modules.contains(&p) {
+            modules.push(p);
+        }
+    }
+    let (motion, robot_type) = backup.motion_and_robot(&name);
+    Ok(Task {
+        name: Some(name),
+        origin: Some(dir.to_path_buf()),
+        modules,
+        motion,
+        robot_type,
+        notes,
+    })
+}
+
+/// A folder's entries sorted by lower-case name, so that runs are
+/// repeatable whatever order the file system lists them in.
+fn sorted_entries(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, &e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    entries.sort_by_key(|p| {
+        p.file_name()
+            .map(|n| n.to_string_lossy().to_lowercase())
+            .unwrap_or_default()
+    });
+    Ok(entries)
+}
+
+/// `rel` (with `/` separators) under `dir`, each part matched without
+/// regard to case: backups copied through Windows change the case of
+/// names, the controller does not care.
+fn find_ci(dir: &Path, rel: &str) -> Option<PathBuf> {
+    let mut here = dir.to_path_buf();
+    for part in rel.split(['/', '\\']).filter(|s| !s.is_empty()) {
+        let exact = here.join(part);
+        if exact.exists() {
+            here = exact;
+            continue;
+        }
+        let found = std::fs::read_dir(&here).ok()?.find_map(|e| {
+            let e = e.ok()?;
+            e.file_name()
+                .to_string_lossy()
+                .eq_ignore_ascii_case(part)
+                .then(|| e.path())
+        })?;
+        here = found;
+    }
+    Some(here)
+}

@@ -1,0 +1,150 @@
+//! `rapidtherm correct` on a whole controller backup
+//! (`samples/backup_multimove`: two IRB 140 motion tasks, a background
+//! task, tools in `user.sys`, a run-time placeholder, a 20,000-element
+//! robtarget array, conditional arguments, `1THEN`, `MODULE 1_T_ROB2`).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn sample() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("samples/backup_multimove")
+}
+
+fn rapidtherm(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.path().is_dir() {
+            copy_tree(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), target).unwrap();
+        }
+    }
+}
+
+/// Every file of a tree, by path relative to its root, with its bytes.
+fn files(root: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push((
+                    p.strip_prefix(root).unwrap().to_path_buf(),
+                    std::fs::read(&p).unwrap(),
+                ));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+#[test]
+fn at_minute_zero_every_file_of_the_backup_stays_byte_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let out = rapidtherm(&["correct", "bk", "--at", "0", "--in-place"], dir.path());
+    assert!(out.status.success(), "{}", text(&out));
+    assert_eq!(files(&bk), files(&sample()));
+}
+
+#[test]
+fn one_command_corrects_both_motion_tasks_and_rewrites_only_edited_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let out = rapidtherm(&["correct", "bk", "--at", "120", "--in-place"], dir.path());
+    assert!(out.status.success(), "{}", text(&out));
+    let log = text(&out);
+    assert!(log.contains("task T_COM is not a motion task"), "{log}");
+    assert!(log.contains("20003 target(s) corrected (20003 rewritten)"), "{log}");
+    assert!(log.contains("3 target(s) corrected (3 rewritten)"), "{log}");
+    // The run-time placeholder is reported, not corrected.
+    assert!(log.contains("left alone pCamera") && log.contains("[runtime]"), "{log}");
+    let changed: Vec<PathBuf> = files(&bk)
+        .into_iter()
+        .zip(files(&sample()))
+        .filter(|((_, a), (_, b))| a != b)
+        .map(|((p, _), _)| p)
+        .collect();
+    assert_eq!(
+        changed,
+        [
+            PathBuf::from("RAPID/TASK1/PROGMOD/MainModule.mod"),
+            PathBuf::from("RAPID/TASK1/PROGMOD/ScanPath.mod"),
+            PathBuf::from("RAPID/TASK2/PROGMOD/1_T_ROB2.mod"),
+        ]
+    );
+    // The same bytes as correcting the task's files by hand, with its
+    // tools from its user.sys.
+    let by_hand = dir.path().join("by_hand");
+    copy_tree(&sample(), &by_hand);
+    let out = rapidtherm(
+        &[
+            "correct",
+            "by_hand/RAPID/TASK2/SYSMOD/user.sys",
+            "by_hand/RAPID/TASK2/PROGMOD/1_T_ROB2.mod",
+            "--at",
+            "120",
+            "--in-place",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let rel = "RAPID/TASK2/PROGMOD/1_T_ROB2.mod";
+    assert_eq!(
+        std::fs::read(bk.join(rel)).unwrap(),
+        std::fs::read(by_hand.join(rel)).unwrap()
+    );
+    let again = rapidtherm(&["correct", "bk", "--at", "120", "--in-place"], dir.path());
+    assert!(again.status.success(), "{}", text(&again));
+    assert!(text(&again).contains("already corrected"), "{}", text(&again));
+    let other = rapidtherm(&["correct", "bk", "--at", "60", "--check"], dir.path());
+    assert_eq!(other.status.code(), Some(2), "{}", text(&other));
+}
+
+#[test]
+fn an_arm_without_thermal_defaults_is_refused_unless_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let moc = bk.join("SYSPAR/MOC.cfg");
+    let text_moc = std::fs::read_to_string(&moc).unwrap();
+    std::fs::write(&moc, text_moc.replace("ROB2_140_0.81_6", "ROB2_6660_1.90_205")).unwrap();
+    let out = rapidtherm(&["correct", "bk", "--at", "120", "--check"], dir.path());
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(text(&out).contains("ROB2_6660_1.90_205"), "{}", text(&out));
+    // Naming the arm of that task, or picking the other task, runs.
+    let out = rapidtherm(
+        &["correct", "bk", "--at", "120", "--task", "T_ROB1", "--check"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let out = rapidtherm(
+        &["correct", "bk", "--at", "120", "--robot", "T_ROB2=irb140", "--check"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+}

@@ -1,0 +1,131 @@
+//! Tasks as the controller has them: a controller backup, its task
+//! folders, program files (.pgf) and folders of modules, read by
+//! `rapid::task::discover` into the modules of each task.
+
+use rapidtherm::rapid::task::{discover, Task};
+use std::path::{Path, PathBuf};
+
+fn sample() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("samples/backup_multimove")
+}
+
+fn file_names(t: &Task) -> Vec<String> {
+    t.modules
+        .iter()
+        .map(|p| {
+            let parent = p.parent().and_then(Path::file_name).unwrap();
+            format!(
+                "{}/{}",
+                parent.to_string_lossy(),
+                p.file_name().unwrap().to_string_lossy()
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn a_whole_backup_is_its_tasks_with_names_order_motion_and_robot() {
+    let tasks = discover(&[sample()]).unwrap();
+    let names: Vec<String> = tasks.iter().map(Task::label).collect();
+    assert_eq!(names, ["T_ROB1", "T_ROB2", "T_COM"]);
+    // backinfo.txt's load order: the system module first.
+    assert_eq!(
+        file_names(&tasks[0]),
+        [
+            "SYSMOD/user.sys",
+            "PROGMOD/MainModule.mod",
+            "PROGMOD/ScanPath.mod"
+        ]
+    );
+    assert_eq!(tasks[0].motion, Some(true));
+    assert_eq!(tasks[0].robot_type.as_deref(), Some("ROB1_140_0.81_6"));
+    // Through its mechanical unit group rob2 to ROB_2.
+    assert_eq!(tasks[1].robot_type.as_deref(), Some("ROB2_140_0.81_6"));
+    // No -MotionTask: a background task, whatever group it names.
+    assert_eq!(tasks[2].motion, Some(false));
+    assert_eq!(tasks[2].robot_type, None);
+}
+
+#[test]
+fn the_rapid_folder_and_one_task_folder_know_their_backup() {
+    let rapid = discover(&[sample().join("RAPID")]).unwrap();
+    assert_eq!(rapid.len(), 3);
+    assert_eq!(rapid[1].name.as_deref(), Some("T_ROB2"));
+    let one = discover(&[sample().join("RAPID/TASK2")]).unwrap();
+    assert_eq!(one.len(), 1);
+    assert_eq!(one[0].name.as_deref(), Some("T_ROB2"));
+    assert_eq!(one[0].motion, Some(true));
+    assert_eq!(
+        file_names(&one[0]),
+        ["SYSMOD/user.sys", "PROGMOD/1_T_ROB2.mod"]
+    );
+}
+
+#[test]
+fn a_task_folder_without_a_backup_reads_system_then_program_modules() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = dir.path().join("cell");
+    for (sub, name) in [("PROGMOD", "b.mod"), ("PROGMOD", "A.mod"), ("SYSMOD", "user.sys")] {
+        std::fs::create_dir_all(task.join(sub)).unwrap();
+        std::fs::write(task.join(sub).join(name), "MODULE x\nENDMODULE\n").unwrap();
+    }
+    std::fs::write(task.join("PROGMOD/notes.txt"), "not RAPID").unwrap();
+    let tasks = discover(&[task]).unwrap();
+    assert_eq!(tasks.len(), 1);
+    assert_eq!(tasks[0].name.as_deref(), Some("cell"));
+    assert_eq!(tasks[0].motion, None);
+    assert_eq!(
+        file_names(&tasks[0]),
+        ["SYSMOD/user.sys", "PROGMOD/A.mod", "PROGMOD/b.mod"]
+    );
+}
+
+#[test]
+fn a_program_file_lists_its_modules_and_loose_files_join_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("Main.mod"), "MODULE Main\nENDMODULE\n").unwrap();
+    std::fs::write(d.join("Path.mod"), "MODULE Path\nENDMODULE\n").unwrap();
+    std::fs::write(d.join("Old.mod"), "MODULE Old\nENDMODULE\n").unwrap();
+    std::fs::write(d.join("user.sys"), "MODULE user(SYSMODULE)\nENDMODULE\n").unwrap();
+    std::fs::write(
+        d.join("Cell.pgf"),
+        "<?xml version=\"1.0\" encoding=\"ISO-8859-1\" ?>\r\n<Program>\r\n    <Module>Main.mod</Module>\r\n    <Module>path.MOD</Module>\r\n</Program>\r\n",
+    )
+    .unwrap();
+    let tasks = discover(&[d.join("Cell.pgf"), d.join("user.sys")]).unwrap();
+    assert_eq!(tasks.len(), 1);
+    assert_eq!(tasks[0].name.as_deref(), Some("Cell"));
+    let names: Vec<String> = tasks[0]
+        .modules
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    // Old.mod is beside it but not in the program; the case of a listed
+    // name does not matter, as on the controller.
+    assert_eq!(names, ["Main.mod", "Path.mod", "user.sys"]);
+    // The folder with its one program file is the program.
+    let tasks = discover(&[d.to_path_buf()]).unwrap();
+    assert_eq!(tasks[0].modules.len(), 2);
+    // A listed module that is missing is an error naming it.
+    std::fs::remove_file(d.join("Path.mod")).unwrap();
+    let e = discover(&[d.join("Cell.pgf")]).unwrap_err().to_string();
+    assert!(e.contains("path.MOD") && e.contains("not found"), "{e}");
+}
+
+#[test]
+fn files_one_by_one_are_one_unnamed_task_as_given() {
+    let files = vec![PathBuf::from("b.mod"), PathBuf::from("-")];
+    let tasks = discover(&files).unwrap();
+    assert_eq!(tasks.len(), 1);
+    assert_eq!(tasks[0].name, None);
+    assert_eq!(tasks[0].modules, files);
+}
+
+#[test]
+fn a_folder_with_nothing_of_rapid_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("readme.txt"), "x").unwrap();
+    let e = discover(&[dir.path().to_path_buf()]).unwrap_err().to_string();
+    assert!(e.contains("no RAPID modules"), "{e}");
+}

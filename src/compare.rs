@@ -86,10 +86,14 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
             };
             let pa = pose_from_rapid(va.trans_values(), ra).map_err(|e| at(a, ta, e))?;
             let pb = pose_from_rapid(vb.trans_values(), rb).map_err(|e| at(b, tb, e))?;
-            (
-                pb.translation.vector - pa.translation.vector,
-                pa.rotation.angle_to(&pb.rotation).to_degrees(),
-            )
+            // The same numbers are the same orientation; acos of a
+            // product of equal quaternions is not exactly zero.
+            let dangle = if ra == rb {
+                0.0
+            } else {
+                pa.rotation.angle_to(&pb.rotation).to_degrees()
+            };
+            (pb.translation.vector - pa.translation.vector, dangle)
         };
         targets.push(TargetDelta {
             id: ta.id.clone(),

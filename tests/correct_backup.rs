@@ -79,10 +79,16 @@ fn one_command_corrects_both_motion_tasks_and_rewrites_only_edited_files() {
     assert!(out.status.success(), "{}", text(&out));
     let log = text(&out);
     assert!(log.contains("task T_COM is not a motion task"), "{log}");
-    assert!(log.contains("20003 target(s) corrected (20003 rewritten)"), "{log}");
+    assert!(
+        log.contains("20003 target(s) corrected (20003 rewritten)"),
+        "{log}"
+    );
     assert!(log.contains("3 target(s) corrected (3 rewritten)"), "{log}");
     // The run-time placeholder is reported, not corrected.
-    assert!(log.contains("left alone pCamera") && log.contains("[runtime]"), "{log}");
+    assert!(
+        log.contains("left alone pCamera") && log.contains("[runtime]"),
+        "{log}"
+    );
     let changed: Vec<PathBuf> = files(&bk)
         .into_iter()
         .zip(files(&sample()))
@@ -120,7 +126,11 @@ fn one_command_corrects_both_motion_tasks_and_rewrites_only_edited_files() {
     );
     let again = rapidtherm(&["correct", "bk", "--at", "120", "--in-place"], dir.path());
     assert!(again.status.success(), "{}", text(&again));
-    assert!(text(&again).contains("already corrected"), "{}", text(&again));
+    assert!(
+        text(&again).contains("already corrected"),
+        "{}",
+        text(&again)
+    );
     let other = rapidtherm(&["correct", "bk", "--at", "60", "--check"], dir.path());
     assert_eq!(other.status.code(), Some(2), "{}", text(&other));
 }
@@ -132,18 +142,32 @@ fn an_arm_without_thermal_defaults_is_refused_unless_said() {
     copy_tree(&sample(), &bk);
     let moc = bk.join("SYSPAR/MOC.cfg");
     let text_moc = std::fs::read_to_string(&moc).unwrap();
-    std::fs::write(&moc, text_moc.replace("ROB2_140_0.81_6", "ROB2_6660_1.90_205")).unwrap();
+    std::fs::write(
+        &moc,
+        text_moc.replace("ROB2_140_0.81_6", "ROB2_6660_1.90_205"),
+    )
+    .unwrap();
     let out = rapidtherm(&["correct", "bk", "--at", "120", "--check"], dir.path());
     assert_eq!(out.status.code(), Some(2), "{}", text(&out));
     assert!(text(&out).contains("ROB2_6660_1.90_205"), "{}", text(&out));
     // Naming the arm of that task, or picking the other task, runs.
     let out = rapidtherm(
-        &["correct", "bk", "--at", "120", "--task", "T_ROB1", "--check"],
+        &[
+            "correct", "bk", "--at", "120", "--task", "T_ROB1", "--check",
+        ],
         dir.path(),
     );
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));
     let out = rapidtherm(
-        &["correct", "bk", "--at", "120", "--robot", "T_ROB2=irb140", "--check"],
+        &[
+            "correct",
+            "bk",
+            "--at",
+            "120",
+            "--robot",
+            "T_ROB2=irb140",
+            "--check",
+        ],
         dir.path(),
     );
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));

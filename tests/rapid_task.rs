@@ -65,7 +65,11 @@ fn the_rapid_folder_and_one_task_folder_know_their_backup() {
 fn a_task_folder_without_a_backup_reads_system_then_program_modules() {
     let dir = tempfile::tempdir().unwrap();
     let task = dir.path().join("cell");
-    for (sub, name) in [("PROGMOD", "b.mod"), ("PROGMOD", "A.mod"), ("SYSMOD", "user.sys")] {
+    for (sub, name) in [
+        ("PROGMOD", "b.mod"),
+        ("PROGMOD", "A.mod"),
+        ("SYSMOD", "user.sys"),
+    ] {
         std::fs::create_dir_all(task.join(sub)).unwrap();
         std::fs::write(task.join(sub).join(name), "MODULE x\nENDMODULE\n").unwrap();
     }
@@ -126,6 +130,8 @@ fn files_one_by_one_are_one_unnamed_task_as_given() {
 fn a_folder_with_nothing_of_rapid_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("readme.txt"), "x").unwrap();
-    let e = discover(&[dir.path().to_path_buf()]).unwrap_err().to_string();
+    let e = discover(&[dir.path().to_path_buf()])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no RAPID modules"), "{e}");
 }

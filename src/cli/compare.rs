@@ -1,13 +1,13 @@
 //! `diff`: the targets of two programs compared, and a CI gate on how far
 //! any moved.
 
-use super::Format;
 use super::tasks::{self, TaskPick};
+use super::Format;
 use super::{read_input, write_stdout, Status};
-use rapidtherm::rapid::task::Task;
 use rapidtherm::compare::{diff, Diff, Gate, GateFailure};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid;
+use rapidtherm::rapid::task::Task;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
 use std::path::PathBuf;
 

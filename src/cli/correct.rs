@@ -1,14 +1,14 @@
 //! `rapidtherm correct`: the main job.
 
-use super::Format;
 use super::tasks;
+use super::Format;
 use super::{output, read_input, write_output, write_stdout, Status};
 use rapidtherm::correct::{correct, marker, Options, Outcome, Reason, When};
 use rapidtherm::error::{Error, Errors, Result};
-use rapidtherm::rapid::task::Task;
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
+use rapidtherm::rapid::task::Task;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{self, EstimateOptions, Schedule, Visit};
@@ -202,7 +202,9 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         }
     }
     if let Some(e) = errors.into_error(|n| {
-        Error::input(format!("{n} tasks cannot be corrected; nothing was written"))
+        Error::input(format!(
+            "{n} tasks cannot be corrected; nothing was written"
+        ))
     }) {
         return Err(e);
     }
@@ -297,7 +299,10 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
     };
     for r in runs {
         if let Some(how) = &r.outcome.already_corrected {
-            eprintln!("note: {}already corrected: {how}; nothing to do", in_task(named, r));
+            eprintln!(
+                "note: {}already corrected: {how}; nothing to do",
+                in_task(named, r)
+            );
         }
     }
     let changed = runs.iter().any(|r| {
@@ -328,7 +333,17 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
         write_stdout(&text)?;
         eprint!("{}", summaries());
         if args.check {
-            eprint!("{}", per_task(runs, &findings, Format::Table, named, "findings", check_list)?);
+            eprint!(
+                "{}",
+                per_task(
+                    runs,
+                    &findings,
+                    Format::Table,
+                    named,
+                    "findings",
+                    check_list
+                )?
+            );
             eprint!("{}", check_verdict(&findings.concat(), args.tolerance));
         }
         return Ok(if changed || (args.check && any_finding) {
@@ -339,7 +354,9 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
     }
     if args.check {
         eprint!("{}", summaries());
-        write_stdout(per_task(runs, &findings, args.format, named, "findings", check_list)?.as_bytes())?;
+        write_stdout(
+            per_task(runs, &findings, args.format, named, "findings", check_list)?.as_bytes(),
+        )?;
         eprint!("{}", check_verdict(&findings.concat(), args.tolerance));
         return Ok(if any_finding {
             Status::Changes
@@ -383,7 +400,12 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
         return Ok(Status::Success);
     }
     let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
-    write_stdout(per_task(runs, &outcomes, args.format, named, "report", |o, f| report(o, f))?.as_bytes())?;
+    write_stdout(
+        per_task(runs, &outcomes, args.format, named, "report", |o, f| {
+            report(o, f)
+        })?
+        .as_bytes(),
+    )?;
     if args.format == Format::Table {
         eprint!("{}", summaries());
     }
@@ -416,12 +438,19 @@ fn per_task<T>(
         .iter()
         .map(|r| format!("{} ({})", r.task.label(), r.arm))
         .collect();
-    let extra: Vec<Vec<(&str, String)>> = runs.iter().map(|r| vec![("arm", r.arm.clone())]).collect();
+    let extra: Vec<Vec<(&str, String)>> =
+        runs.iter().map(|r| vec![("arm", r.arm.clone())]).collect();
     let shown = match format {
         Format::Table => &labels_shown,
         _ => &labels,
     };
-    tasks::join(format, named.then_some(shown.as_slice()), texts, key, &extra)
+    tasks::join(
+        format,
+        named.then_some(shown.as_slice()),
+        texts,
+        key,
+        &extra,
+    )
 }
 
 /// The model and arm a run uses, as the marker of a corrected file names

@@ -60,7 +60,11 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
             listing(&args, &inputs, &prog)?
         });
     }
-    let key = if args.joints { "jointtargets" } else { "targets" };
+    let key = if args.joints {
+        "jointtargets"
+    } else {
+        "targets"
+    };
     let out = super::tasks::join(args.format, labels.as_deref(), texts, key, &[])?;
     write_stdout(out.as_bytes())?;
     Ok(Status::Success)

@@ -28,10 +28,13 @@ pub fn select(paths: &[PathBuf], pick: &TaskPick) -> Result<Vec<Task>> {
         return Ok(all);
     }
     let named = |t: &Task, want: &str| {
-        t.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(want))
-            || t.origin.as_deref().and_then(Path::file_name).is_some_and(|f| {
-                f.to_string_lossy().eq_ignore_ascii_case(want)
-            })
+        t.name
+            .as_deref()
+            .is_some_and(|n| n.eq_ignore_ascii_case(want))
+            || t.origin
+                .as_deref()
+                .and_then(Path::file_name)
+                .is_some_and(|f| f.to_string_lossy().eq_ignore_ascii_case(want))
     };
     for want in &pick.tasks {
         if !all.iter().any(|t| named(t, want)) {
@@ -76,7 +79,11 @@ pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
     for s in specs {
         match s.split_once('=') {
             Some((t, spec)) if !Path::new(s).exists() => {
-                if task.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(t)) {
+                if task
+                    .name
+                    .as_deref()
+                    .is_some_and(|n| n.eq_ignore_ascii_case(t))
+                {
                     own = Some(spec);
                 }
             }
@@ -142,7 +149,10 @@ pub fn arm_of_spec(spec: &str) -> Result<Arm> {
 /// it.
 fn arm_of_robot_type(robot_type: &str) -> Option<Result<Arm>> {
     let parts: Vec<&str> = robot_type.split('_').collect();
-    let family = parts.iter().skip(1).find(|p| p.bytes().all(|b| b.is_ascii_digit()))?;
+    let family = parts
+        .iter()
+        .skip(1)
+        .find(|p| p.bytes().all(|b| b.is_ascii_digit()))?;
     match *family {
         "140" => Some(Ok(embedded_irb140())),
         _ => None,
@@ -216,8 +226,8 @@ pub fn join(
                 entry.insert(key.into(), value);
                 all.push(serde_json::Value::Object(entry));
             }
-            out = serde_json::to_string_pretty(&all).map_err(|e| Error::input(e.to_string()))?
-                + "\n";
+            out =
+                serde_json::to_string_pretty(&all).map_err(|e| Error::input(e.to_string()))? + "\n";
         }
     }
     Ok(out)

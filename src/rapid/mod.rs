@@ -47,8 +47,8 @@ mod motion;
 mod parse;
 pub mod rewrite;
 mod scan;
-pub mod visit;
 pub mod task;
+pub mod visit;
 
 use crate::error::{Location, Result};
 use std::ops::Range;

@@ -75,13 +75,11 @@ impl Task {
 /// True for the file names RAPID modules have: `.mod`, `.modx`, `.sys`,
 /// `.sysx`, and the S4 controllers' `.prg`.
 pub fn is_rapid_file(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| {
-            ["mod", "modx", "sys", "sysx", "prg"]
-                .iter()
-                .any(|x| e.eq_ignore_ascii_case(x))
-        })
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        ["mod", "modx", "sys", "sysx", "prg"]
+            .iter()
+            .any(|x| e.eq_ignore_ascii_case(x))
+    })
 }
 
 fn is_pgf(path: &Path) -> bool {
@@ -146,9 +144,7 @@ fn program_file(path: &Path) -> Result<Task> {
             }
         }
     }
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned());
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned());
     Ok(Task::of_files(name, Some(path.to_path_buf()), modules))
 }
 

@@ -104,14 +104,16 @@ fn one_command_corrects_both_motion_tasks_and_rewrites_only_edited_files() {
         ]
     );
     // The same bytes as correcting the task's files by hand, with its
-    // tools from its user.sys.
+    // tools from its user.sys (robot 1 stands at the world origin; robot
+    // 2's placement comes only from the backup's MOC.cfg).
     let by_hand = dir.path().join("by_hand");
     copy_tree(&sample(), &by_hand);
     let out = rapidtherm(
         &[
             "correct",
-            "by_hand/RAPID/TASK2/SYSMOD/user.sys",
-            "by_hand/RAPID/TASK2/PROGMOD/1_T_ROB2.mod",
+            "by_hand/RAPID/TASK1/SYSMOD/user.sys",
+            "by_hand/RAPID/TASK1/PROGMOD/MainModule.mod",
+            "by_hand/RAPID/TASK1/PROGMOD/ScanPath.mod",
             "--at",
             "120",
             "--in-place",
@@ -119,11 +121,15 @@ fn one_command_corrects_both_motion_tasks_and_rewrites_only_edited_files() {
         dir.path(),
     );
     assert!(out.status.success(), "{}", text(&out));
-    let rel = "RAPID/TASK2/PROGMOD/1_T_ROB2.mod";
-    assert_eq!(
-        std::fs::read(bk.join(rel)).unwrap(),
-        std::fs::read(by_hand.join(rel)).unwrap()
-    );
+    for rel in [
+        "RAPID/TASK1/PROGMOD/MainModule.mod",
+        "RAPID/TASK1/PROGMOD/ScanPath.mod",
+    ] {
+        assert!(
+            std::fs::read(bk.join(rel)).unwrap() == std::fs::read(by_hand.join(rel)).unwrap(),
+            "{rel}"
+        );
+    }
     let again = rapidtherm(&["correct", "bk", "--at", "120", "--in-place"], dir.path());
     assert!(again.status.success(), "{}", text(&again));
     assert!(
@@ -171,4 +177,40 @@ fn an_arm_without_thermal_defaults_is_refused_unless_said() {
         dir.path(),
     );
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+}
+
+#[test]
+fn each_robot_stands_where_moc_cfg_places_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let moc = bk.join("SYSPAR/MOC.cfg");
+    let placed = std::fs::read_to_string(&moc).unwrap();
+    // Robot 2 faces robot 1 from 1.6 m: its fixture's targets are in
+    // reach from there and nowhere near the world origin.
+    let at_origin = placed.replace(
+        "-base_frame_pos_x 1.6 -base_frame_orient_u0 0 -base_frame_orient_u3 1",
+        "-base_frame_pos_x 0",
+    );
+    assert_ne!(at_origin, placed);
+    std::fs::write(&moc, &at_origin).unwrap();
+    let out = rapidtherm(
+        &["correct", "bk", "--task", "T_ROB2", "--at", "120"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(text(&out).contains("out of reach"), "{}", text(&out));
+    // A robot on a track: its base is elsewhere at every target; refused
+    // by name rather than corrected as if it stood still.
+    let on_track = placed.replace(
+        "-base_frame_pos_x 1.6",
+        "-base_frame_coordinated \"TRACK_2\" -base_frame_pos_x 1.6",
+    );
+    std::fs::write(&moc, &on_track).unwrap();
+    let out = rapidtherm(
+        &["correct", "bk", "--task", "T_ROB2", "--at", "120"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(text(&out).contains("TRACK_2"), "{}", text(&out));
 }

@@ -41,6 +41,13 @@ fn a_whole_backup_is_its_tasks_with_names_order_motion_and_robot() {
     assert_eq!(tasks[0].robot_type.as_deref(), Some("ROB1_140_0.81_6"));
     // Through its mechanical unit group rob2 to ROB_2.
     assert_eq!(tasks[1].robot_type.as_deref(), Some("ROB2_140_0.81_6"));
+    // Robot 1 at the world origin; robot 2 1.6 m along x, turned about z
+    // (MOC.cfg writes metres).
+    assert_eq!(tasks[0].base_frame, None);
+    assert_eq!(
+        tasks[1].base_frame,
+        Some(([1600.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]))
+    );
     // No -MotionTask: a background task, whatever group it names.
     assert_eq!(tasks[2].motion, Some(false));
     assert_eq!(tasks[2].robot_type, None);

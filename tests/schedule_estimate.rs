@@ -502,6 +502,7 @@ fn every_sample_schedules() {
             entry: entry.into(),
             start_min: 40.0,
             cycles: 2,
+            ..main_opts()
         };
         let est = estimate(&program, &robot, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(!est.schedule.is_empty(), "{name}");

@@ -237,7 +237,7 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
         .with_note("give a model file of this arm with --model FILE.toml (its heating measured, or a heating recording in it), or use the IRB 140's defaults on this arm's lengths with --irb140-thermal"));
     }
     let (inputs, program) = tasks::read(&task)?;
-    let when = when_of(args, &program, &arm.robot)?;
+    let when = when_of(args, &program, &arm.robot, tasks::base_frame(&task)?)?;
     let horizon = match &when {
         When::At(Moment::Minute(t)) => *t,
         When::At(Moment::Steady) => 0.0,
@@ -265,6 +265,7 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
         visit: args.visit.into(),
         expand_expressions: args.expand_expressions,
         model_label: model_label(args.model.as_deref(), &arm.label)?,
+        base_frame: tasks::base_frame(&task)?,
     };
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
     let outcome = correct(&program, &warm, &options, &mut |done, total| {
@@ -577,7 +578,12 @@ fn reason_words(reason: Reason, kind: &str, detail: &str) -> String {
 }
 
 /// When the targets are reached, from --at, --schedule or --start.
-fn when_of(args: &CorrectArgs, program: &rapid::Program, robot: &Robot) -> Result<When> {
+fn when_of(
+    args: &CorrectArgs,
+    program: &rapid::Program,
+    robot: &Robot,
+    base_frame: Option<nalgebra::Isometry3<f64>>,
+) -> Result<When> {
     let default = args
         .default_time
         .as_deref()
@@ -604,6 +610,7 @@ fn when_of(args: &CorrectArgs, program: &rapid::Program, robot: &Robot) -> Resul
                     entry: args.entry.clone(),
                     start_min: start,
                     cycles: args.cycles,
+                    base_frame,
                 },
             )?;
             for note in &estimate.notes {

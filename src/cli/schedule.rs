@@ -45,6 +45,7 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         entry: args.entry,
         start_min: args.start,
         cycles: args.cycles,
+        base_frame: super::tasks::base_frame(&task)?,
     };
     let est = estimate(&program, &robot, &opts)?;
     write_output(&args.output, est.to_csv().as_bytes())?;

@@ -260,3 +260,28 @@ pub fn one_motion_task(paths: &[PathBuf], pick: &TaskPick, command: &str) -> Res
         }
     }
 }
+
+/// Where a task's robot stands in the world, from the backup's MOC.cfg; a
+/// robot whose base rides on another unit (a track) is refused: its base
+/// is somewhere else at every target.
+pub fn base_frame(task: &Task) -> Result<Option<nalgebra::Isometry3<f64>>> {
+    if let Some(unit) = &task.base_moved_by {
+        return Err(Error::new(
+            rapidtherm::error::ErrorKind::Unsupported,
+            format!(
+                "task {}: its robot's base frame moves with {unit} (SYSPAR/MOC.cfg, a track or a carrier): rapidtherm cannot place the arm for its targets",
+                task.label()
+            ),
+        ));
+    }
+    task.base_frame
+        .map(|(pos, rot)| rapidtherm::robot::frames::pose_from_rapid(pos, rot))
+        .transpose()
+        .map_err(|e| {
+            Error::input(format!(
+                "task {}: the base frame in SYSPAR/MOC.cfg: {}",
+                task.label(),
+                e.message
+            ))
+        })
+}

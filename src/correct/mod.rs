@@ -77,6 +77,10 @@ pub struct Options {
     pub expand_expressions: bool,
     /// The model and arm, as the marker of a corrected file names them.
     pub model_label: String,
+    /// Where the robot's base stands in the world (MultiMove, a pedestal):
+    /// targets are written in world and work-object frames. `None`: at the
+    /// world origin.
+    pub base_frame: Option<nalgebra::Isometry3<f64>>,
 }
 
 impl Options {
@@ -89,6 +93,7 @@ impl Options {
             visit: Visit::Mean,
             expand_expressions: false,
             model_label: "embedded default model, embedded IRB 140 arm".to_string(),
+            base_frame: None,
         }
     }
 }

@@ -56,7 +56,10 @@ impl<'a> Run<'a> {
             warm,
             states: warm.states(),
             options,
-            frames: Frames::of_program(program)?,
+            frames: match &options.base_frame {
+                Some(base) => Frames::of_program(program)?.placed(base),
+                None => Frames::of_program(program)?,
+            },
             uses: usages(program),
             conf_off: configuration_monitoring_off(program),
             writes: runtime_writes(program),

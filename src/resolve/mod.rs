@@ -71,6 +71,26 @@ impl Frames {
         Ok(Frames { tools, wobjs })
     }
 
+    /// The same frames for a robot whose base stands at `base` in the
+    /// world: work objects the robot does not hold, and tools it does not
+    /// hold, are written in world coordinates; the arm reaches them in its
+    /// base frame. (Work objects a mechanical unit moves are left alone
+    /// elsewhere.)
+    pub fn placed(mut self, base: &Isometry3<f64>) -> Frames {
+        let inv = base.inverse();
+        for w in self.wobjs.values_mut() {
+            if !w.robhold {
+                w.uframe = inv * w.uframe;
+            }
+        }
+        for t in self.tools.values_mut() {
+            if !t.robhold {
+                t.tframe = inv * t.tframe;
+            }
+        }
+        self
+    }
+
     /// The tooldata of this name (`tool0` when `None`).
     pub fn tool(&self, name: Option<&str>) -> Option<&ToolData> {
         self.tools

@@ -19,6 +19,10 @@ pub struct EstimateOptions {
     pub start_min: f64,
     /// How many times the entry routine runs back to back.
     pub cycles: u32,
+    /// Where the robot's base stands in the world (MultiMove, a robot on a
+    /// pedestal): targets are written in world and work-object frames.
+    /// `None`: at the world origin.
+    pub base_frame: Option<nalgebra::Isometry3<f64>>,
 }
 
 impl Default for EstimateOptions {
@@ -27,6 +31,7 @@ impl Default for EstimateOptions {
             entry: "main".to_string(),
             start_min: 0.0,
             cycles: 1,
+            base_frame: None,
         }
     }
 }
@@ -113,7 +118,7 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         )));
     }
     let (module, routine) = find_entry(program, &opts.entry)?;
-    let mut w = Walker::new(program, robot)?;
+    let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
     let start_s = opts.start_min * 60.0;
     w.clock = start_s;
     w.robot_free = start_s;

@@ -46,6 +46,12 @@ pub struct Task {
     /// The robot type of the mechanical unit group the task moves, as
     /// MOC.cfg writes it (`ROB1_140_0.81_6`), where the backup says.
     pub robot_type: Option<String>,
+    /// Where that robot stands in the world, as MOC.cfg places it: its
+    /// base frame (mm, quaternion w x y z). `None`: at the world origin.
+    pub base_frame: Option<([f64; 3], [f64; 4])>,
+    /// The mechanical unit the base frame moves with (a track), when
+    /// MOC.cfg coordinates it.
+    pub base_moved_by: Option<String>,
     /// What the reader noticed on the way (a module listed but missing).
     pub notes: Vec<String>,
 }
@@ -58,6 +64,8 @@ impl Task {
             modules,
             motion: None,
             robot_type: None,
+            base_frame: None,
+            base_moved_by: None,
             notes: Vec::new(),
         }
     }
@@ -184,22 +192,25 @@ impl Backup {
             .find(|t| t.folder.eq_ignore_ascii_case(folder))
     }
 
-    /// Whether SYS.cfg makes the task a motion task, and the robot type of
-    /// its mechanical unit group.
-    fn motion_and_robot(&self, task: &str) -> (Option<bool>, Option<String>) {
+    /// What SYS.cfg and MOC.cfg say of a task: whether it moves a robot,
+    /// and that robot's type and placement.
+    fn robot_of(&self, task: &str) -> Placement {
+        let none = Placement::default();
         let Some(sys) = &self.sys else {
-            return (None, None);
+            return none;
         };
         let Some(entry) = sys
             .section("CAB_TASKS")
             .iter()
             .find(|t| t.get("Name").is_some_and(|n| n.eq_ignore_ascii_case(task)))
         else {
-            return (None, None);
+            return none;
         };
-        let motion = entry.has("MotionTask");
-        if !motion {
-            return (Some(false), None);
+        if !entry.has("MotionTask") {
+            return Placement {
+                motion: Some(false),
+                ..none
+            };
         }
         let robot = match entry.get("UseMechanicalUnitGroup") {
             Some(group) => sys
@@ -211,7 +222,7 @@ impl Backup {
             None => None,
         };
         let robots = self.moc.as_ref().map_or(&[][..], |m| m.section("ROBOT"));
-        let robot_entry = match &robot {
+        let entry = match &robot {
             Some(name) => robots
                 .iter()
                 .find(|r| r.get("name").is_some_and(|n| n.eq_ignore_ascii_case(name))),
@@ -219,13 +230,43 @@ impl Backup {
             None if robots.len() == 1 => robots.first(),
             None => None,
         };
-        (
-            Some(true),
-            robot_entry
-                .and_then(|r| r.get("use_robot_type"))
-                .map(str::to_string),
-        )
+        let Some(entry) = entry else {
+            return Placement {
+                motion: Some(true),
+                ..none
+            };
+        };
+        let num = |k: &str, default: f64| {
+            entry
+                .get(k)
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(default)
+        };
+        // MOC.cfg places the base in metres.
+        let pos = ["x", "y", "z"].map(|a| num(&format!("base_frame_pos_{a}"), 0.0) * 1000.0);
+        let orient = [
+            num("base_frame_orient_u0", 1.0),
+            num("base_frame_orient_u1", 0.0),
+            num("base_frame_orient_u2", 0.0),
+            num("base_frame_orient_u3", 0.0),
+        ];
+        let at_origin = pos == [0.0; 3] && orient == [1.0, 0.0, 0.0, 0.0];
+        Placement {
+            motion: Some(true),
+            robot_type: entry.get("use_robot_type").map(str::to_string),
+            base_frame: (!at_origin).then_some((pos, orient)),
+            base_moved_by: entry.get("base_frame_coordinated").map(str::to_string),
+        }
     }
+}
+
+/// What a backup's configuration says of one task's robot.
+#[derive(Default)]
+struct Placement {
+    motion: Option<bool>,
+    robot_type: Option<String>,
+    base_frame: Option<([f64; 3], [f64; 4])>,
+    base_moved_by: Option<String>,
 }
 
 /// The tasks a folder stands for (see the module documentation).
@@ -359,13 +400,15 @@ fn task_folder(dir: &Path, backup: &Backup) -> Result<Task> {
             modules.push(p);
         }
     }
-    let (motion, robot_type) = backup.motion_and_robot(&name);
+    let placed = backup.robot_of(&name);
     Ok(Task {
         name: Some(name),
         origin: Some(dir.to_path_buf()),
         modules,
-        motion,
-        robot_type,
+        motion: placed.motion,
+        robot_type: placed.robot_type,
+        base_frame: placed.base_frame,
+        base_moved_by: placed.base_moved_by,
         notes,
     })
 }

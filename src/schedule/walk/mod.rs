@@ -131,7 +131,11 @@ pub(super) struct Walker<'p> {
 }
 
 impl<'p> Walker<'p> {
-    pub(super) fn new(program: &'p Program, robot: &'p Robot) -> Result<Walker<'p>> {
+    pub(super) fn new(
+        program: &'p Program,
+        robot: &'p Robot,
+        base_frame: Option<&nalgebra::Isometry3<f64>>,
+    ) -> Result<Walker<'p>> {
         let mut target_ids = HashMap::new();
         let mut derived_at = HashMap::new();
         for (i, t) in program.targets().iter().enumerate() {
@@ -170,7 +174,10 @@ impl<'p> Walker<'p> {
         Ok(Walker {
             program,
             robot,
-            frames: Frames::of_program(program)?,
+            frames: match base_frame {
+                Some(base) => Frames::of_program(program)?.placed(base),
+                None => Frames::of_program(program)?,
+            },
             target_ids,
             joint_ids,
             derived_at,

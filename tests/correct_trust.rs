@@ -1,18 +1,28 @@
 //! The rule of the main job: every target a program holds is corrected, or
-//! reported with the reason it was not; at minute 0 no byte changes. Each
-//! case below was silently wrong before (named in its test).
+//! reported with the reason it was not, and every use of a target with
+//! another tool or work object than it is corrected for is reported; at
+//! minute 0 no byte changes. Each case below was silently wrong before
+//! (named in its test).
 
 use rapidtherm::correct::{correct, Options, Outcome, Reason, When};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid::{self, Program, TargetKind};
+use rapidtherm::resolve::{usages, uses_by_frames};
 use rapidtherm::robot::Robot;
 use std::path::PathBuf;
 
 fn run(name: &str, bytes: &[u8], minute: f64) -> (Program, Outcome) {
+    run_split(name, bytes, minute, false)
+}
+
+fn run_split(name: &str, bytes: &[u8], minute: f64, split: bool) -> (Program, Outcome) {
     let program = rapid::parse(name, bytes).unwrap();
     let warm = WarmRobot::new(Robot::irb140(), &Model::default(), minute).unwrap();
-    let options = Options::new(When::At(Moment::Minute(minute)));
+    let options = Options {
+        split_shared: split,
+        ..Options::new(When::At(Moment::Minute(minute)))
+    };
     let outcome = correct(&program, &warm, &options, &mut |_, _| {})
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     (program, outcome)
@@ -38,6 +48,7 @@ fn programs() -> Vec<(String, Vec<u8>)> {
                 "conf_wrong",
                 "several_errors",
                 "_at60",
+                "_at120",
             ]
             .iter()
             .any(|k| name.contains(k));
@@ -53,9 +64,33 @@ fn programs() -> Vec<(String, Vec<u8>)> {
 
 #[test]
 fn at_minute_zero_no_byte_changes_and_every_target_is_accounted_for() {
-    for (name, bytes) in programs() {
-        let (program, outcome) = run(&name, &bytes, 0.0);
+    for ((name, bytes), split) in programs()
+        .into_iter()
+        .flat_map(|p| [(p.clone(), false), (p, true)])
+    {
+        let (program, outcome) = run_split(&name, &bytes, 0.0, split);
         assert_eq!(outcome.outputs[0], bytes, "{name}: --at 0 changed bytes");
+        // Every use with another tool or work object than its target's
+        // first use has its line (a split needs numbers that differ, so
+        // at minute 0 none is made).
+        assert!(outcome.splits.is_empty(), "{name}: split at minute 0");
+        for (&i, uses) in &usages(&program) {
+            let t = &program.targets()[i];
+            if !outcome.corrections.iter().any(|c| c.id == t.id) {
+                continue;
+            }
+            for u in uses_by_frames(uses).iter().skip(1).flatten() {
+                assert!(
+                    outcome
+                        .shared
+                        .iter()
+                        .any(|s| s.id == t.id && s.other.line == u.line),
+                    "{name}: use of {} at line {} not reported",
+                    t.id,
+                    u.line
+                );
+            }
+        }
         let reported = |id: &str| {
             outcome.corrections.iter().any(|c| c.id == id)
                 || outcome.left_alone.iter().any(|l| l.id == id)

@@ -46,6 +46,9 @@ pub enum AcceptArg {
     Unused,
     /// Targets in a work object moved by a mechanical unit.
     Coordinated,
+    /// Moves to a target with another tool or work object than the one it
+    /// is corrected for (its first use's).
+    SharedFrames,
 }
 
 impl From<AcceptArg> for Reason {
@@ -55,6 +58,7 @@ impl From<AcceptArg> for Reason {
             AcceptArg::Expression => Reason::Expression,
             AcceptArg::Unused => Reason::Unused,
             AcceptArg::Coordinated => Reason::Coordinated,
+            AcceptArg::SharedFrames => Reason::SharedFrames,
         }
     }
 }
@@ -133,8 +137,9 @@ pub struct CorrectArgs {
     /// change. With --check, the check's list goes to standard error.
     #[arg(long)]
     pub diff: bool,
-    /// With --check: targets left alone for these reasons do not fail the
-    /// check (comma-separated).
+    /// With --check: targets left alone for these reasons (and, for
+    /// shared-frames, moves with another tool or work object) do not fail
+    /// the check (comma-separated).
     #[arg(long, value_enum, value_delimiter = ',', value_name = "REASON")]
     pub accept: Vec<AcceptArg>,
     /// Write numbers in place of robtarget literals written with named
@@ -142,7 +147,21 @@ pub struct CorrectArgs {
     /// without it they are left alone and reported.
     #[arg(long)]
     pub expand_expressions: bool,
-    /// With --check: largest correction (mm) that counts as no change.
+    /// A declared target moved to with several tools or work objects gets
+    /// a copy per extra tool/work-object pair, declared on the line after
+    /// it and named TARGET_TOOL (TARGET_WOBJ, or TARGET_2, ...), each
+    /// corrected for its own pair; the moves with that pair name the copy.
+    /// This changes more than numbers: new declarations and renamed move
+    /// arguments. Only where a copy's numbers would differ from the
+    /// original's (so --at 0 splits nothing). Without it
+    /// (and where a copy cannot be made: array elements, record fields,
+    /// global PERS, targets also reached through Offs/RelTool or a
+    /// variable, or passed to a procedure) such a target is corrected for
+    /// its first use and the other uses are reported with their residual.
+    #[arg(long)]
+    pub split_shared: bool,
+    /// With --check: largest correction (mm) that counts as no change; a
+    /// use with another tool or work object landing farther off fails too.
     #[arg(long, value_name = "MM", default_value_t = 0.001)]
     pub tolerance: f64,
     /// Format of the per-target report (printed when no output is chosen).
@@ -266,6 +285,7 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
         expand_expressions: args.expand_expressions,
         model_label: model_label(args.model.as_deref(), &arm.label)?,
         base_frame: tasks::base_frame(&task)?,
+        split_shared: args.split_shared,
     };
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
     let outcome = correct(&program, &warm, &options, &mut |done, total| {
@@ -476,9 +496,14 @@ struct Finding {
     file: String,
     line: u32,
     col: u32,
-    /// `moves` or `left-alone`.
+    /// `moves`, `left-alone`, or `other-use` (a use with another tool or
+    /// work object than the target is corrected for).
     status: &'static str,
     correction_mm: Option<f64>,
+    /// For `other-use`: how far off the TCP lands there (`None` in JSON
+    /// where only the run time knows).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    residual_mm: Option<Option<f64>>,
     reason: Option<Reason>,
     detail: String,
 }
@@ -496,6 +521,7 @@ fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec
             col: c.col,
             status: "moves",
             correction_mm: Some(c.correction_norm_mm),
+            residual_mm: None,
             reason: None,
             detail: String::new(),
         });
@@ -511,10 +537,30 @@ fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec
             col: l.col,
             status: "left-alone",
             correction_mm: None,
+            residual_mm: None,
             reason: Some(l.reason),
             detail: reason_words(l.reason, &l.kind, &l.detail),
         });
-    moves.chain(cold).collect()
+    // A use landing within the tolerance passes, as a correction that
+    // small does; one whose pose only the run time knows does not.
+    let other_uses = outcome
+        .shared
+        .iter()
+        .filter(|u| u.residual_mm.is_none_or(|r| r > tolerance))
+        .filter(|_| !accepted.contains(&Reason::SharedFrames))
+        .map(|u| Finding {
+            id: u.id.clone(),
+            kind: u.kind.clone(),
+            file: u.file.clone(),
+            line: u.line,
+            col: u.col,
+            status: "other-use",
+            correction_mm: None,
+            residual_mm: Some(u.residual_mm),
+            reason: Some(Reason::SharedFrames),
+            detail: shared_words(u),
+        });
+    moves.chain(cold).chain(other_uses).collect()
 }
 
 fn check_list(findings: &Vec<Finding>, format: Format) -> Result<String> {
@@ -550,7 +596,8 @@ fn check_list(findings: &Vec<Finding>, format: Format) -> Result<String> {
 
 fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
     let moves = findings.iter().filter(|f| f.status == "moves").count();
-    let cold = findings.len() - moves;
+    let other_uses = findings.iter().filter(|f| f.status == "other-use").count();
+    let cold = findings.len() - moves - other_uses;
     if findings.is_empty() {
         return format!("check: no target moves more than {tolerance} mm and none is left cold\n");
     }
@@ -564,6 +611,39 @@ fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
         text.push_str(&format!(
             "check: {cold} target(s) left cold (accept a reason with --accept REASON)\n"
         ));
+    }
+    if other_uses > 0 {
+        text.push_str(&format!(
+            "check: {other_uses} use(s) with another tool or work object than their target is corrected for land more than {tolerance} mm off (--split-shared, or --accept shared-frames)\n"
+        ));
+    }
+    text
+}
+
+/// A use with other frames in words: where, with what, how far off, and
+/// what the target is corrected for.
+fn shared_words(u: &rapidtherm::correct::SharedUse) -> String {
+    let instruction = |f: &rapidtherm::correct::FramesUse| match &f.through {
+        Some(expr) => format!("{} {expr}", f.instruction),
+        None => f.instruction.clone(),
+    };
+    let (o, c) = (&u.other, &u.corrected_for);
+    let off = match (u.residual_mm, u.residual_deg) {
+        (Some(mm_off), Some(deg)) if deg >= 0.00005 => {
+            format!("it lands {} mm, {}° off", mm(mm_off, 4), mm(deg, 4))
+        }
+        (Some(mm_off), _) => format!("it lands {} mm off", mm(mm_off, 4)),
+        (None, _) => format!(
+            "where it lands is known only at run time ({})",
+            u.unknown.as_deref().unwrap_or("")
+        ),
+    };
+    let mut text = format!(
+        "at {} in {} line {} (tool {}, wobj {}) {off}; corrected for tool {}, wobj {} ({} in {} line {}, its first use)",
+        instruction(o), o.routine, o.line, o.tool, o.wobj, c.tool, c.wobj, instruction(c), c.routine, c.line
+    );
+    if let Some(why) = &u.not_split {
+        text.push_str(&format!("; not split: {why}"));
     }
     text
 }
@@ -723,6 +803,30 @@ fn report(outcome: &Outcome, format: Format) -> Result<String> {
                     r.rule
                 ));
             }
+            for u in &outcome.shared {
+                text.push_str(&format!(
+                    "other use {} (line {}): {}\n",
+                    u.id,
+                    u.line,
+                    shared_words(u)
+                ));
+            }
+            for s in &outcome.splits {
+                let moves: Vec<String> = s
+                    .moves
+                    .iter()
+                    .map(|m| format!("{} in {} line {}", m.instruction, m.routine, m.line))
+                    .collect();
+                text.push_str(&format!(
+                    "split {} (line {}): copy {} declared after it, corrected for tool {}, wobj {}; now named by {}\n",
+                    s.id,
+                    s.line,
+                    s.copy,
+                    s.tool,
+                    s.wobj,
+                    moves.join(", ")
+                ));
+            }
             text
         }
     })
@@ -744,6 +848,15 @@ fn summary_text(outcome: &Outcome) -> String {
     if s.left_alone > 0 {
         text.push_str(&format!("; {} left alone", s.left_alone));
     }
+    if s.shared > 0 {
+        text.push_str(&format!(
+            "; {} use(s) with another tool or work object",
+            s.shared
+        ));
+    }
+    if s.split > 0 {
+        text.push_str(&format!("; {} split", s.split));
+    }
     text.push('\n');
     for l in &outcome.left_alone {
         let level = if l.reason.leaves_target_cold() {
@@ -759,6 +872,28 @@ fn summary_text(outcome: &Outcome) -> String {
             l.col,
             l.reason.code(),
             reason_words(l.reason, &l.kind, &l.detail)
+        ));
+    }
+    for u in &outcome.shared {
+        // Below what a written number resolves it is a note, not a warning.
+        let level = match u.residual_mm {
+            Some(r) if r < 0.001 => "note",
+            _ => "warning",
+        };
+        text.push_str(&format!(
+            "{level}: other use of {} ({}:{}:{}) [{}]: {}\n",
+            u.id,
+            u.file,
+            u.line,
+            u.col,
+            Reason::SharedFrames.code(),
+            shared_words(u)
+        ));
+    }
+    for s in &outcome.splits {
+        text.push_str(&format!(
+            "note: split {} ({}:{}): copy {} for tool {}, wobj {}\n",
+            s.id, s.file, s.line, s.copy, s.tool, s.wobj
         ));
     }
     for note in &outcome.notes {

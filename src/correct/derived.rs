@@ -5,10 +5,10 @@
 
 use super::Correction;
 use crate::model::{Moment, States, WarmRobot};
-use crate::rapid::{
-    builtins, Expr, FunctionCall, Program, Statement, StatementKind, Target, UnaryOp,
+use crate::rapid::{builtins, Expr, FunctionCall, Program, Statement, StatementKind, UnaryOp};
+use crate::resolve::{
+    frames_named, frames_of, target_pose, walk_statements, Frames, Through, Usage,
 };
-use crate::resolve::{frames_of, target_pose, walk_statements, Frames, Usage};
 use crate::robot::frames::{flange_of_target, target_of_flange};
 use nalgebra::Isometry3;
 use std::collections::HashMap;
@@ -143,12 +143,13 @@ fn offsets(
 }
 
 #[allow(clippy::too_many_arguments)]
-/// Residual drift (mm) of a derived target after its base's correction,
-/// or `None` where it cannot be evaluated statically (CRobT, a FUNC, a
+/// Residual drift (mm) of the derived target `index` after its base's
+/// correction, in the tool and work object of the first move to it, or
+/// `None` where it cannot be evaluated statically (CRobT, a FUNC, a
 /// computed offset, a base that was not corrected).
 pub fn residual(
     program: &Program,
-    target: &Target,
+    index: usize,
     calls: &HashMap<usize, &FunctionCall>,
     (frames, uses): &(&Frames, &HashMap<usize, Vec<Usage>>),
     corrections: &[Correction],
@@ -156,18 +157,34 @@ pub fn residual(
     states: &States,
     eval: &dyn Fn(&Expr) -> Option<f64>,
 ) -> Option<f64> {
+    let target = &program.targets()[index];
     let call = calls.get(&target.origin.pos.offset)?;
     let base_id = target.derived.as_ref()?.bases.first()?;
     let correction = corrections
         .iter()
         .find(|c| c.id.eq_ignore_ascii_case(base_id))?;
-    let (index, base) = program
+    let (base_index, base) = program
         .targets()
         .iter()
         .enumerate()
         .find(|(_, t)| t.id.eq_ignore_ascii_case(base_id))?;
     let (original, conf) = target_pose(program, base).ok()??;
-    let (tool, wobj, _, _) = frames_of(program, frames, index, uses.get(&index)).ok()?;
+    let base_uses = uses.get(&base_index);
+    // This expression's own move: its tool and work object may be other
+    // than the ones the base is corrected for (its first use's).
+    let (tool, wobj) = match base_uses
+        .into_iter()
+        .flatten()
+        .find(|u| u.through == Through::Derived(index))
+    {
+        Some(u) => {
+            frames_named(program, frames, base, u.tool.as_deref(), u.wobj.as_deref()).ok()?
+        }
+        None => {
+            let (tool, wobj, _, _) = frames_of(program, frames, base_index, base_uses).ok()?;
+            (tool, wobj)
+        }
+    };
     let meant = apply_with(call, &original, eval)?;
     let sent = apply_with(call, &correction.exact?, eval)?;
     let q = warm

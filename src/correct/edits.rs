@@ -1,7 +1,7 @@
 //! The text a correction writes: new numbers spliced into the program's
 //! original bytes, each formatted like the literal it replaces.
 
-use super::{marker, Correction};
+use super::{marker, Correction, Options};
 use crate::error::Result;
 use crate::rapid::rewrite::Edit;
 use crate::rapid::Program;
@@ -22,11 +22,14 @@ pub(super) fn quaternion_like(rot: &UnitQuaternion<f64>, written: &[f64; 4]) -> 
 
 /// The new bytes of every file of the program, in its file order; a file
 /// that changes gets the marker of the run under its module header.
+/// `more` are edits beyond the corrections' numbers (a split's copies
+/// and renamed arguments), by file.
 pub(super) fn write_files(
     program: &Program,
     corrections: &[Correction],
+    more: &[(usize, Edit)],
     basis: &str,
-    model: &str,
+    options: &Options,
 ) -> Result<Vec<Vec<u8>>> {
     (0..program.files.len())
         .map(|f| {
@@ -34,9 +37,19 @@ pub(super) fn write_files(
                 .iter()
                 .filter(|c| c.file_index == f)
                 .flat_map(|c| c.edits.iter().cloned())
+                .chain(
+                    more.iter()
+                        .filter(|(file, _)| *file == f)
+                        .map(|(_, e)| e.clone()),
+                )
                 .collect();
             if !edits.is_empty() {
-                let m = marker::for_run(basis, model, program.source(f));
+                let m = marker::for_run(
+                    basis,
+                    &options.model_label,
+                    options.split_shared,
+                    program.source(f),
+                );
                 edits.extend(marker::insert(program, f, &m));
             }
             program.apply_edits(f, &edits)

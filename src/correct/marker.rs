@@ -8,6 +8,9 @@
 //!     ! rapidtherm 0.1.0 corrected: basis=minute 120; model=embedded IRB 140; cold=sha256:5f1c…
 //! ```
 //!
+//! A run asked to split targets moved to with several tools or work
+//! objects adds `; shared=split`.
+//!
 //! A run on a marked program never corrects it a second time: on the same
 //! basis and model there is nothing to do (the file already is what the
 //! run would write), on another it is refused, since the numbers in the
@@ -32,6 +35,10 @@ pub struct Marker {
     pub model: String,
     /// `sha256:` and the first 16 hex digits of the cold original's bytes.
     pub cold: String,
+    /// The run was asked to split targets moved to with several tools or
+    /// work objects (written `shared=split`; absent: each such target
+    /// corrected for its first use).
+    pub split: bool,
 }
 
 /// A marker found in a file, and where.
@@ -53,8 +60,9 @@ pub fn fingerprint(bytes: &[u8]) -> String {
 impl Marker {
     /// The comment line (without indentation or line end).
     pub fn line(&self) -> String {
+        let split = if self.split { "; shared=split" } else { "" };
         format!(
-            "{PREFIX}{}{CORRECTED}basis={}; model={}; cold={}",
+            "{PREFIX}{}{CORRECTED}basis={}; model={}; cold={}{split}",
             self.version, self.basis, self.model, self.cold
         )
     }
@@ -65,11 +73,13 @@ impl Marker {
         let mut basis = None;
         let mut model = None;
         let mut cold = None;
+        let mut split = false;
         for field in fields.split("; ") {
             match field.split_once('=') {
                 Some(("basis", v)) => basis = Some(v.to_string()),
                 Some(("model", v)) => model = Some(v.to_string()),
                 Some(("cold", v)) => cold = Some(v.trim_end().to_string()),
+                Some(("shared", v)) => split = v.trim_end() == "split",
                 _ => {}
             }
         }
@@ -78,11 +88,16 @@ impl Marker {
             basis: basis?,
             model: model?,
             cold: cold?,
+            split,
         })
     }
 
     /// The run's marker matches this one: same basis, same model (the
-    /// version may differ; the correction it made is the same).
+    /// version may differ; the correction it made is the same). Whether
+    /// targets were split does not count: a split program is right for
+    /// a run without one, and a run asking for a split of a program
+    /// corrected without one is told so (it cannot start from corrected
+    /// numbers).
     pub fn same_correction(&self, other: &Marker) -> bool {
         self.basis == other.basis && self.model == other.model
     }
@@ -175,13 +190,14 @@ pub fn refuse(program: &Program, found: &Found, wanted: &Marker) -> Error {
 }
 
 /// The marker's fields of a run, for a cold file's bytes.
-pub fn for_run(basis: &str, model: &str, cold: &[u8]) -> Marker {
+pub fn for_run(basis: &str, model: &str, split: bool, cold: &[u8]) -> Marker {
     let clean = |s: &str| s.replace(['\n', '\r', ';'], " ");
     Marker {
         version: env!("CARGO_PKG_VERSION").to_string(),
         basis: clean(basis),
         model: clean(model),
         cold: fingerprint(cold),
+        split,
     }
 }
 
@@ -191,8 +207,22 @@ mod tests {
 
     #[test]
     fn a_marker_reads_back() {
-        let m = for_run("minute 120", "embedded IRB 140", b"MODULE A\nENDMODULE\n");
+        let m = for_run(
+            "minute 120",
+            "embedded IRB 140",
+            false,
+            b"MODULE A\nENDMODULE\n",
+        );
         assert_eq!(Marker::parse(&m.line()), Some(m.clone()));
+        let split = for_run(
+            "minute 120",
+            "embedded IRB 140",
+            true,
+            b"MODULE A\nENDMODULE\n",
+        );
+        assert!(split.line().ends_with("; shared=split"));
+        assert_eq!(Marker::parse(&split.line()), Some(split.clone()));
+        assert!(split.same_correction(&m));
         assert!(m.cold.starts_with("sha256:") && m.cold.len() == 7 + 16);
     }
 
@@ -200,7 +230,7 @@ mod tests {
     fn the_marker_goes_under_the_header_with_its_line_end() {
         let src = b"%%%\r\n  VERSION:1\r\n%%%\r\nMODULE A\r\n  CONST num n := 1;\r\nENDMODULE\r\n";
         let p = crate::rapid::parse("a.mod", src).unwrap();
-        let m = for_run("minute 1", "m", src);
+        let m = for_run("minute 1", "m", false, src);
         let e = insert(&p, 0, &m).unwrap();
         let out = crate::rapid::rewrite::apply_edits("a.mod", src, &[e]).unwrap();
         let text = String::from_utf8(out).unwrap();

@@ -34,10 +34,13 @@ mod joints;
 pub mod marker;
 mod moments;
 mod outcome;
+mod shared;
 mod solve;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
-pub use outcome::{Correction, Derived, LeftAlone, Outcome, Reason, Residual, Summary};
+pub use outcome::{
+    Correction, Derived, FramesUse, LeftAlone, Outcome, Reason, Residual, SharedUse, Split, Summary,
+};
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{Moment, WarmRobot};
@@ -81,6 +84,12 @@ pub struct Options {
     /// targets are written in world and work-object frames. `None`: at the
     /// world origin.
     pub base_frame: Option<nalgebra::Isometry3<f64>>,
+    /// Split a declared target moved to with several tools or work
+    /// objects: a copy per other pair, declared after it and named by the
+    /// moves with that pair (this changes more than numbers). Without it,
+    /// such a target is corrected for its first use and the others are
+    /// reported with their residual.
+    pub split_shared: bool,
 }
 
 impl Options {
@@ -94,6 +103,7 @@ impl Options {
             expand_expressions: false,
             model_label: "embedded default model, embedded IRB 140 arm".to_string(),
             base_frame: None,
+            split_shared: false,
         }
     }
 }
@@ -137,11 +147,11 @@ fn correct_all(
 ) -> Result<Outcome> {
     let basis = options.when.basis();
     if let Some(found) = marker::find(program) {
-        let wanted = marker::for_run(&basis, &options.model_label, b"");
+        let wanted = marker::for_run(&basis, &options.model_label, options.split_shared, b"");
         if !found.marker.same_correction(&wanted) {
             return Err(marker::refuse(program, &found, &wanted));
         }
-        return Ok(already_corrected(program, &found));
+        return Ok(already_corrected(program, &found, options));
     }
     let run = Run::new(program, warm, options)?;
     if let When::Schedule {
@@ -158,6 +168,7 @@ fn correct_all(
     let mut left_alone = Vec::new();
     let mut residuals = Vec::new();
     let mut derived_targets = Vec::new();
+    let mut pending = Vec::new();
     // Every target is tried: a run reports all the targets it refuses, not
     // only the first.
     let mut errors = Vec::new();
@@ -170,7 +181,15 @@ fn correct_all(
             continue;
         }
         match correct_robtarget(&run, index, target) {
-            Ok(Solved::Corrected(c)) => corrections.push(*c),
+            Ok(Solved::Corrected(c, pairs)) => {
+                if !pairs.is_empty() {
+                    pending.push(shared::Pending {
+                        correction: corrections.len(),
+                        pairs,
+                    });
+                }
+                corrections.push(*c);
+            }
             Ok(Solved::LeftAlone(s)) => left_alone.push(s),
             Err(e) => errors.push(e),
         }
@@ -201,6 +220,8 @@ fn correct_all(
         return Err(e);
     }
     progress(total, total);
+    let shared =
+        shared::finish(&run, pending, &mut corrections).map_err(|e| with_source(e, program))?;
     let lookup = (&run.frames, &run.uses);
     let derived: Vec<Derived> = derived_targets
         .into_iter()
@@ -209,7 +230,7 @@ fn correct_all(
             let mut report = derived_report(program, target, &corrections);
             report.residual_mm = derived::residual(
                 program,
-                target,
+                i,
                 &run.calls,
                 &lookup,
                 &corrections,
@@ -220,13 +241,20 @@ fn correct_all(
             report
         })
         .collect();
-    let outputs = write_files(program, &corrections, &basis, &options.model_label)?;
-    let summary = summarise(&corrections, &derived, &left_alone);
+    let outputs = write_files(program, &corrections, &shared.edits, &basis, options)?;
+    let summary = summarise(
+        &corrections,
+        &derived,
+        &left_alone,
+        (&shared.lines, &shared.splits),
+    );
     Ok(Outcome {
         corrections,
         derived,
         left_alone,
         residuals,
+        shared: shared.lines,
+        splits: shared.splits,
         already_corrected: None,
         notes: run.notes.into_inner(),
         summary,
@@ -235,21 +263,42 @@ fn correct_all(
 }
 
 /// The outcome of a run on a program its marker says is corrected on the
-/// run's basis: nothing to do, every file as it is.
-fn already_corrected(program: &Program, found: &marker::Found) -> Outcome {
+/// run's basis: nothing to do, every file as it is. A split asked of a
+/// program corrected without one is not made (its numbers are no longer
+/// the cold ones), and a note says so.
+fn already_corrected(program: &Program, found: &marker::Found, options: &Options) -> Outcome {
     let m = &found.marker;
     let how = format!(
         "{} line {} says it was corrected by rapidtherm {} for {} with {} (cold original {})",
         program.files[found.file], found.line, m.version, m.basis, m.model, m.cold
     );
+    let mut notes = Vec::new();
+    if options.split_shared && !m.split {
+        let uses = crate::resolve::usages(program);
+        let mut shared: Vec<&str> = uses
+            .iter()
+            .filter(|(_, u)| crate::resolve::uses_by_frames(u).len() > 1)
+            .map(|(&i, _)| program.targets()[i].id.as_str())
+            .collect();
+        shared.sort_unstable();
+        if !shared.is_empty() {
+            notes.push(format!(
+                "it was corrected without splitting the targets moved to with several tools or work objects ({}): each is right for its first use only; a split starts from the cold original ({})",
+                shared.join(", "),
+                m.cold
+            ));
+        }
+    }
     Outcome {
         corrections: Vec::new(),
         derived: Vec::new(),
         left_alone: Vec::new(),
         residuals: Vec::new(),
+        shared: Vec::new(),
+        splits: Vec::new(),
         already_corrected: Some(how),
-        notes: Vec::new(),
-        summary: summarise(&[], &[], &[]),
+        notes,
+        summary: summarise(&[], &[], &[], (&[], &[])),
         outputs: (0..program.files.len())
             .map(|f| program.source(f).to_vec())
             .collect(),

@@ -3,6 +3,7 @@
 
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Program, Target};
+use crate::resolve::{Through, Usage};
 use nalgebra::Isometry3;
 use serde::Serialize;
 
@@ -45,7 +46,8 @@ pub struct Correction {
     pub(super) file_index: usize,
 }
 
-/// Why a target was left as written.
+/// Why a target was left as written, or (`SharedFrames`) why one of its
+/// uses is not right warm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Reason {
@@ -63,6 +65,10 @@ pub enum Reason {
     /// A jointtarget without robot axes (all `9E+09`): a positioner's or
     /// an external axis's, nothing of the arm to correct.
     NoRobotAxes,
+    /// Not a target left alone but one use of a corrected target: moved to
+    /// with another tool or work object than the one it is corrected for
+    /// (its first use's), so at this use it is not right warm.
+    SharedFrames,
 }
 
 impl Reason {
@@ -74,6 +80,7 @@ impl Reason {
             Reason::Unused => "unused",
             Reason::Coordinated => "coordinated",
             Reason::NoRobotAxes => "no-robot-axes",
+            Reason::SharedFrames => "shared-frames",
         }
     }
 
@@ -131,6 +138,84 @@ pub struct Residual {
     pub rule: String,
 }
 
+/// One use of a corrected target with another tool or work object than
+/// the one it is corrected for (the first use's, in program order): how
+/// far from where the cold program meant it the warm robot's TCP lands
+/// there, in that use's own tool and work object, at the moment the
+/// target is corrected for.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SharedUse {
+    pub id: String,
+    pub kind: String,
+    pub file: String,
+    pub line: u32,
+    pub col: u32,
+    /// The pair the target is corrected for, and the use that decided it.
+    pub corrected_for: FramesUse,
+    /// The other use.
+    pub other: FramesUse,
+    /// Minute of the moment (`None`: steady state).
+    pub time_min: Option<f64>,
+    /// TCP position and orientation off at this use (mm, degrees); `None`
+    /// where only the run time knows the pose there (why in `unknown`).
+    pub residual_mm: Option<f64>,
+    pub residual_deg: Option<f64>,
+    pub unknown: Option<String>,
+    /// Why the target was not split, where a split was asked for.
+    pub not_split: Option<String>,
+}
+
+/// A move instruction and the tool and work object it names.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FramesUse {
+    pub tool: String,
+    pub wobj: String,
+    pub instruction: String,
+    /// The expression the move goes to when it reaches the target through
+    /// one (`Offs(pHome,0,0,50)`).
+    pub through: Option<String>,
+    pub routine: String,
+    pub line: u32,
+}
+
+impl FramesUse {
+    pub(super) fn of(u: &Usage, program: &Program) -> FramesUse {
+        let through = match u.through {
+            Through::Derived(i) => program.targets()[i]
+                .derived
+                .as_ref()
+                .map(|d| d.expr.clone()),
+            _ => None,
+        };
+        FramesUse {
+            tool: u.tool_name().to_string(),
+            wobj: u.wobj_name().to_string(),
+            instruction: u.instruction.clone(),
+            through,
+            routine: u.routine.clone(),
+            line: u.line,
+        }
+    }
+}
+
+/// A target split on request: a copy declared right after it, corrected
+/// for another tool and work object, which the moves with that pair now
+/// name. The copy's correction is among the corrections, by its name.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Split {
+    pub id: String,
+    /// The copy's name.
+    pub copy: String,
+    pub file: String,
+    /// The original's line: the copy is written on the line after its
+    /// declaration.
+    pub line: u32,
+    pub tool: String,
+    pub wobj: String,
+    /// The moves that now name the copy.
+    pub moves: Vec<FramesUse>,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
     pub corrected: usize,
@@ -142,6 +227,11 @@ pub struct Summary {
     pub derived: usize,
     /// Targets left as written (each with its reason).
     pub left_alone: usize,
+    /// Uses of targets with another tool or work object than the one they
+    /// are corrected for.
+    pub shared: usize,
+    /// Copies written for targets split by tool and work object.
+    pub split: usize,
 }
 
 /// The outcome of correcting a program: the per-target report and the new
@@ -153,6 +243,11 @@ pub struct Outcome {
     pub left_alone: Vec<LeftAlone>,
     /// Corrections made by a rule that leaves a residual.
     pub residuals: Vec<Residual>,
+    /// Uses of targets with another tool or work object than the one they
+    /// are corrected for, with what that leaves there.
+    pub shared: Vec<SharedUse>,
+    /// Targets split by tool and work object (only when asked for).
+    pub splits: Vec<Split>,
     /// The program was already corrected on this basis by an earlier run
     /// (its marker says so): nothing was done.
     pub already_corrected: Option<String>,
@@ -168,6 +263,7 @@ pub(super) fn summarise(
     corrections: &[Correction],
     derived: &[Derived],
     left_alone: &[LeftAlone],
+    (shared, splits): (&[SharedUse], &[Split]),
 ) -> Summary {
     let robtargets: Vec<&Correction> = corrections
         .iter()
@@ -196,6 +292,8 @@ pub(super) fn summarise(
             .fold(0.0, f64::max),
         derived: derived.len(),
         left_alone: left_alone.len(),
+        shared: shared.len(),
+        split: splits.len(),
     }
 }
 

@@ -7,6 +7,7 @@ use super::edits::{quaternion_like, ORIENTATION_CHANGE_RAD};
 use super::expressions::{Evaluated, Expressions};
 use super::moments::{minute_of, moments_of, pick};
 use super::outcome::{leave, Correction, LeftAlone, Reason};
+use super::shared::{Names, OtherPair};
 use super::Options;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{Moment, State, States, WarmRobot};
@@ -19,12 +20,13 @@ use crate::robot::conf::{quadrant_distance, RobConf};
 use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use crate::robot::Joints;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
-use std::cell::RefCell;
+use std::cell::{OnceCell, RefCell};
 use std::collections::HashMap;
 
-/// What became of one robtarget.
+/// What became of one robtarget: corrected (with its other tool and
+/// work object pairs, if any), or left alone.
 pub(super) enum Solved {
-    Corrected(Box<Correction>),
+    Corrected(Box<Correction>, Vec<OtherPair>),
     LeftAlone(LeftAlone),
 }
 
@@ -47,6 +49,9 @@ pub(super) struct Run<'a> {
     pub expressions: Expressions<'a>,
     /// Choices made on the way that the user should know about.
     pub notes: RefCell<Vec<String>>,
+    /// Where names are declared and read, for splitting targets (built
+    /// when first needed).
+    pub names: OnceCell<Names>,
 }
 
 impl<'a> Run<'a> {
@@ -67,6 +72,7 @@ impl<'a> Run<'a> {
             calls: calls_by_offset(program),
             expressions: Expressions::of(program),
             notes: RefCell::new(Vec::new()),
+            names: OnceCell::new(),
         })
     }
 
@@ -131,13 +137,29 @@ struct Solution {
     q_nominal: Joints,
 }
 
+/// What the cold program means by a target, and when it is corrected
+/// for: shared by the correction for its first tool and work object and
+/// by what its other uses are checked (or split) against.
+pub(super) struct Meant<'e> {
+    pub pose: Isometry3<f64>,
+    pub conf: RobConf,
+    /// A literal written with expressions, valued (when the run may write
+    /// numbers in its place).
+    pub evaluated: Option<&'e Evaluated>,
+    /// Every moment the target is reached, and the one picked.
+    pub moments: Vec<Moment>,
+    pub moment: Moment,
+    pub state: State,
+}
+
 /// Correct the robtarget `index` of the program: the warm joints that
 /// reach the flange pose it means, written back as the nominal pose of
-/// those joints in the target's own tool and work object.
+/// those joints in the target's own tool and work object. A target moved
+/// to with several tools or work objects is corrected for its first use's
+/// pair; its other pairs are returned for the report (or a split).
 pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Result<Solved> {
     let Run {
         program,
-        warm,
         states,
         options,
         frames,
@@ -180,29 +202,67 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
     let state = states
         .at(moment)
         .map_err(|e| at_target(program, target, e))?;
-    let solution = solve(run, target, &pose, &conf, (&tool, &wobj), &state, moment)?;
-    let exact = match by_derived_uses(
-        run,
-        target,
-        target_uses,
-        &pose,
-        &conf,
-        (&tool, &wobj),
-        &state,
+    let meant = Meant {
+        pose,
+        conf,
+        evaluated: evaluated.as_ref(),
+        moments,
         moment,
-    )? {
-        Some(mean) => mean,
-        None => solution.exact,
+        state,
     };
+    // The uses the target is corrected for: those with its first use's
+    // tool and work object (copied only when some use has another pair:
+    // a CAM program has millions of targets with one use each).
+    let filtered: Vec<Usage>;
+    let first_pair = match target_uses {
+        Some(u) if u.iter().any(|x| !x.same_frames(&u[0])) => {
+            filtered = u.iter().filter(|x| x.same_frames(&u[0])).cloned().collect();
+            Some(&filtered)
+        }
+        other => other,
+    };
+    let exact = by_derived_uses(run, target, first_pair, &meant, (&tool, &wobj))?;
+    let correction = corrected(run, target, &meant, (&tool, &wobj), exact)?;
+    let others = super::shared::other_pairs(run, index, target, &meant, &correction)?;
+    Ok(Solved::Corrected(Box::new(correction), others))
+}
+
+/// The correction of a target for one tool and work object: the solve,
+/// or `exact` where it is already known (a base placed by its derived
+/// uses), the drift over the target's moments, and the edits writing the
+/// new numbers over the literal.
+pub(super) fn corrected(
+    run: &Run,
+    target: &Target,
+    meant: &Meant,
+    (tool, wobj): (&ToolData, &WobjData),
+    exact: Option<Isometry3<f64>>,
+) -> Result<Correction> {
+    let Run {
+        program,
+        warm,
+        states,
+        ..
+    } = run;
+    let Meant {
+        pose,
+        conf,
+        evaluated,
+        moments,
+        moment,
+        state,
+    } = meant;
+    let solution = solve(run, target, pose, conf, (tool, wobj), state, *moment)?;
+    let exact = exact.unwrap_or(solution.exact);
     let q_nominal = solution.q_nominal;
     let drift_at = |state: &State| -> Result<Vector3<f64>> {
-        let reached = target_of_flange(&warm.flange(&q_nominal, state), &tool, &wobj)?;
+        let reached = target_of_flange(&warm.flange(&q_nominal, state), tool, wobj)?;
         Ok(reached.translation.vector - pose.translation.vector)
     };
-    let drift = drift_at(&state)?;
+    let drift = drift_at(state)?;
     let mut range = (drift.norm(), drift.norm());
     if moments.len() > 1 {
-        for m in &moments {
+        for m in moments {
             let d = drift_at(&states.at(*m).map_err(|e| at_target(program, target, e))?)?.norm();
             range = (range.0.min(d), range.1.max(d));
         }
@@ -210,7 +270,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
     let src = program.source(target.origin.file);
     let new_trans = exact.translation.vector;
     let turn = pose.rotation.angle_to(&exact.rotation);
-    let written_rot = match (&target.value, &evaluated) {
+    let written_rot = match (&target.value, evaluated) {
         (Some(v), _) => v.rot_values(),
         (None, Some(e)) => e.rot,
         (None, None) => [1.0, 0.0, 0.0, 0.0],
@@ -220,7 +280,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
     let turned =
         (turn > ORIENTATION_CHANGE_RAD).then(|| quaternion_like(&exact.rotation, &written_rot));
     let new_rot = turned.unwrap_or(written_rot);
-    let (edits, original): (Vec<Edit>, Vec<f64>) = match (&target.value, &evaluated) {
+    let (edits, original): (Vec<Edit>, Vec<f64>) = match (&target.value, evaluated) {
         (Some(value), _) => (
             robtarget_edits(src, value, new_trans.into(), turned, None),
             value
@@ -238,13 +298,13 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
     };
     let correction = new_trans - pose.translation.vector;
     let location = program.location(&target.origin);
-    Ok(Solved::Corrected(Box::new(Correction {
+    Ok(Correction {
         id: target.id.clone(),
         kind: super::outcome::kind_of(target).to_string(),
         file: location.file,
         line: target.origin.pos.line,
         col: target.origin.pos.col,
-        time_min: minute_of(moment),
+        time_min: minute_of(*moment),
         temps_c: state.temps,
         drift_mm: drift.into(),
         drift_norm_mm: drift.norm(),
@@ -258,7 +318,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         exact: Some(exact),
         edits,
         file_index: target.origin.file,
-    })))
+    })
 }
 
 /// The corrected target for one meant pose (TCP `pose` in its work object,
@@ -346,20 +406,25 @@ fn solve(
 /// asks for is that corrected pose with the offset taken back; the base
 /// written is the mean of those (positions averaged, orientations by the
 /// normalised sum of aligned quaternions). What remains at each use is
-/// reported as that derived target's residual. `None` when the rule does
-/// not apply: a move names the base itself (then it is corrected for
-/// that), or no use has offsets known before the run.
-#[allow(clippy::too_many_arguments)]
+/// reported as that derived target's residual. `uses` are those with the
+/// tool and work object the base is corrected for (its first use's).
+/// `None` when the rule does not apply: a move names the base itself
+/// (then it is corrected for that), or no use has offsets known before
+/// the run.
 fn by_derived_uses(
     run: &Run,
     target: &Target,
     uses: Option<&Vec<Usage>>,
-    pose: &Isometry3<f64>,
-    conf: &RobConf,
+    meant: &Meant,
     frames: (&ToolData, &WobjData),
-    state: &State,
-    moment: Moment,
 ) -> Result<Option<Isometry3<f64>>> {
+    let Meant {
+        pose,
+        conf,
+        state,
+        moment,
+        ..
+    } = meant;
     let Some(uses) = uses else { return Ok(None) };
     if uses
         .iter()
@@ -385,7 +450,7 @@ fn by_derived_uses(
         let Some(meant) = super::derived::apply_with(call, pose, &eval) else {
             continue;
         };
-        let sol = solve(run, derived, &meant, conf, frames, state, moment)?;
+        let sol = solve(run, derived, &meant, conf, frames, state, *moment)?;
         if let Some(base) = unapply_with(call, &sol.exact, &eval) {
             bases.push(base);
         }
@@ -437,7 +502,11 @@ fn configuration_monitoring_off(program: &Program) -> bool {
 
 /// The solution of the nominal arm whose axes lie nearest the quadrants of
 /// `conf` (same cfx preferred).
-fn nearest_solution(warm: &WarmRobot, flange: &Isometry3<f64>, conf: &RobConf) -> Option<Joints> {
+pub(super) fn nearest_solution(
+    warm: &WarmRobot,
+    flange: &Isometry3<f64>,
+    conf: &RobConf,
+) -> Option<Joints> {
     let sols = warm.nominal.ik(flange).ok()?;
     let cost = |q: &Joints| {
         let c = warm.nominal.conf_of(q);
@@ -458,7 +527,7 @@ pub(super) fn prefix(e: Error, context: &str) -> Error {
     }
 }
 
-fn at_target(program: &Program, target: &Target, e: Error) -> Error {
+pub(super) fn at_target(program: &Program, target: &Target, e: Error) -> Error {
     let message = format!("target {}: {}", target.id, e.message);
     Error { message, ..e }.at(program.location(&target.origin))
 }

@@ -293,6 +293,22 @@ fn render_exp(
     format!("{mant}{letter}{sign}{:0width$}", e.abs())
 }
 
+/// The statement or declaration of `src` that starts at `start` (through
+/// its `;`), and the byte ranges of the words written in it, strings and
+/// comments skipped: where an edit of a name in it goes (blanks and
+/// comments before `start` are skipped). `None` at the end of the text.
+pub fn statement_words(src: &[u8], start: usize) -> Option<(Range<usize>, Vec<Range<usize>>)> {
+    let mut scanner = super::scan::Scanner::new(src);
+    scanner.skip_to(start);
+    let piece = scanner.next_piece().ok()??;
+    let words = scanner
+        .words(piece.start, piece.end)
+        .into_iter()
+        .map(|(s, e)| s..e)
+        .collect();
+    Some((piece.start..piece.end, words))
+}
+
 /// The same edits with the bytes taken from the program, which keeps each
 /// file's source.
 impl Program {

@@ -174,6 +174,23 @@ impl<'a> Scanner<'a> {
         }
     }
 
+    /// Byte ranges of the words (names and keywords) that start in
+    /// `start..end`; strings and comments are skipped.
+    pub fn words(&self, start: usize, end: usize) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        let mut p = start;
+        loop {
+            let (t, s, e) = self.token(p);
+            if t == Tok::Eof || s >= end {
+                return out;
+            }
+            if t == Tok::Word {
+                out.push((s, e));
+            }
+            p = e;
+        }
+    }
+
     fn word_is(&self, start: usize, end: usize, kw: &str) -> bool {
         self.src[start..end].eq_ignore_ascii_case(kw.as_bytes())
     }

@@ -164,6 +164,44 @@ pub struct Usage {
     pub instruction: String,
     pub routine: String,
     pub line: u32,
+    /// The file (index into [`Program::files`]) and byte offset where the
+    /// instruction starts, for edits of its arguments.
+    pub file: usize,
+    pub offset: usize,
+}
+
+impl Usage {
+    /// The tool's name as written (`tool0` when the move names none).
+    pub fn tool_name(&self) -> &str {
+        self.tool.as_deref().unwrap_or("tool0")
+    }
+
+    /// The work object's name as written (`wobj0` when the move names
+    /// none).
+    pub fn wobj_name(&self) -> &str {
+        self.wobj.as_deref().unwrap_or("wobj0")
+    }
+
+    /// Whether two uses move with the same tool and work object (by name,
+    /// as RAPID compares names: case-insensitively).
+    pub fn same_frames(&self, other: &Usage) -> bool {
+        self.tool_name().eq_ignore_ascii_case(other.tool_name())
+            && self.wobj_name().eq_ignore_ascii_case(other.wobj_name())
+    }
+}
+
+/// A target's uses grouped by tool and work object, in program order of
+/// each pair's first use: the first group is the pair the target is
+/// corrected for (see [`frames_of`]).
+pub fn uses_by_frames(uses: &[Usage]) -> Vec<Vec<&Usage>> {
+    let mut groups: Vec<Vec<&Usage>> = Vec::new();
+    for u in uses {
+        match groups.iter_mut().find(|g| g[0].same_frames(u)) {
+            Some(g) => g.push(u),
+            None => groups.push(vec![u]),
+        }
+    }
+    groups
 }
 
 /// How a move reaches a target.
@@ -212,7 +250,7 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
     let mut out: HashMap<usize, Vec<Usage>> = HashMap::new();
     for module in &program.modules {
         for routine in &module.routines {
-            let mut visit = |call: &Call, line: u32| {
+            let mut visit = |call: &Call, line: u32, offset: usize| {
                 let Some(m) = call.motion() else { return };
                 for expr in [m.via, m.to].into_iter().flatten() {
                     for (index, through) in refs.targets(expr, module.name.as_ref()) {
@@ -223,6 +261,8 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
                             instruction: call.name.to_string(),
                             routine: routine.name.to_string(),
                             line,
+                            file: module.file,
+                            offset,
                         };
                         let list = out.entry(index).or_default();
                         if !list.contains(&usage) {
@@ -238,7 +278,11 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
                 routine.error.as_ref().map(|(_, s)| s),
             ];
             for body in bodies.into_iter().flatten() {
-                walk_calls(body, &mut visit);
+                walk_statements(body, &mut |s| {
+                    if let StatementKind::Call(call) = &s.kind {
+                        visit(call, s.pos.line, s.pos.offset);
+                    }
+                });
             }
         }
     }
@@ -422,9 +466,11 @@ fn glob_match(pattern: &str, id: &str) -> bool {
     j == s.len()
 }
 
-/// The one tool/work-object pair a target is corrected for: the first
-/// usage's. A target moved to with several different pairs is an error
-/// (one robtarget cannot be right for two frames), as is an unknown name.
+/// The one tool/work-object pair a target is corrected for: its first
+/// use's, in program order (as [`usages`] lists them). A target moved to
+/// with other pairs too is still corrected for the first; what that
+/// leaves at the other uses is the job's to report. An unknown name is an
+/// error.
 pub fn frames_of(
     program: &Program,
     frames: &Frames,
@@ -433,65 +479,54 @@ pub fn frames_of(
 ) -> Result<(ToolData, WobjData, Option<String>, Option<String>)> {
     let target = &program.targets()[index];
     let (tool_name, wobj_name) = match uses.and_then(|u| u.first()) {
-        Some(first) => {
-            if let Some(other) = uses.into_iter().flatten().find(|u| {
-                !same(&u.tool, &first.tool, "tool0") || !same(&u.wobj, &first.wobj, "wobj0")
-            }) {
-                return Err(located(
-                    program,
-                    &target.origin,
-                    format!(
-                        "target {} is used with tool {} / wobj {} ({} in {} line {}) and with tool {} / wobj {} ({} in {} line {}): one robtarget cannot be corrected for both",
-                        target.id,
-                        first.tool.as_deref().unwrap_or("tool0"),
-                        first.wobj.as_deref().unwrap_or("wobj0"),
-                        first.instruction,
-                        first.routine,
-                        first.line,
-                        other.tool.as_deref().unwrap_or("tool0"),
-                        other.wobj.as_deref().unwrap_or("wobj0"),
-                        other.instruction,
-                        other.routine,
-                        other.line
-                    ),
-                ));
-            }
-            (first.tool.clone(), first.wobj.clone())
-        }
+        Some(first) => (first.tool.clone(), first.wobj.clone()),
         None => (
             target.tool.as_deref().map(str::to_string),
             target.wobj.as_deref().map(str::to_string),
         ),
     };
-    let tool = frames.tool(tool_name.as_deref()).ok_or_else(|| {
+    let (tool, wobj) = frames_named(
+        program,
+        frames,
+        target,
+        tool_name.as_deref(),
+        wobj_name.as_deref(),
+    )?;
+    Ok((tool, wobj, tool_name, wobj_name))
+}
+
+/// The tooldata and wobjdata of these names (`tool0`/`wobj0` for `None`)
+/// for `target`; an unknown name is an error located at the target.
+pub fn frames_named(
+    program: &Program,
+    frames: &Frames,
+    target: &Target,
+    tool_name: Option<&str>,
+    wobj_name: Option<&str>,
+) -> Result<(ToolData, WobjData)> {
+    let tool = frames.tool(tool_name).ok_or_else(|| {
         located(
             program,
             &target.origin,
             format!(
                 "target {}: unknown tool `{}` (no tooldata of that name in the program)",
                 target.id,
-                tool_name.as_deref().unwrap_or("tool0")
+                tool_name.unwrap_or("tool0")
             ),
         )
     })?;
-    let wobj = frames.wobj(wobj_name.as_deref()).ok_or_else(|| {
+    let wobj = frames.wobj(wobj_name).ok_or_else(|| {
         located(
             program,
             &target.origin,
             format!(
                 "target {}: unknown work object `{}` (no wobjdata of that name in the program)",
                 target.id,
-                wobj_name.as_deref().unwrap_or("wobj0")
+                wobj_name.unwrap_or("wobj0")
             ),
         )
     })?;
-    Ok((tool.clone(), wobj.clone(), tool_name, wobj_name))
-}
-
-fn same(a: &Option<String>, b: &Option<String>, default: &str) -> bool {
-    a.as_deref()
-        .unwrap_or(default)
-        .eq_ignore_ascii_case(b.as_deref().unwrap_or(default))
+    Ok((tool.clone(), wobj.clone()))
 }
 
 /// An error for a target whose frames cannot be modelled.

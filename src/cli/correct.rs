@@ -99,8 +99,9 @@ pub struct CorrectArgs {
     /// the embedded IRB 140 and heating profile.
     #[arg(long, value_name = "FILE.toml")]
     pub model: Option<PathBuf>,
-    /// The arm (URDF) the controller moves; default: the embedded IRB 140.
-    #[arg(long, value_name = "FILE.urdf")]
+    /// The arm the controller moves: an ABB arm by name (`rapidtherm arms`)
+    /// or a URDF file; default: the embedded IRB 140.
+    #[arg(long, value_name = "NAME|FILE.urdf")]
     pub robot: Option<PathBuf>,
     /// Write the corrected program here (`-`: standard output).
     #[arg(short, long, value_name = "OUT", conflicts_with_all = ["in_place", "check", "diff"])]
@@ -157,13 +158,6 @@ pub fn load_model(path: Option<&Path>) -> Result<Model> {
     }
 }
 
-pub fn load_robot(path: Option<&Path>) -> Result<Robot> {
-    match path {
-        Some(p) => Robot::from_urdf_file(p),
-        None => Ok(Robot::irb140()),
-    }
-}
-
 pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     if args.output.is_some() && args.files.len() > 1 {
         return Err(Error::usage(
@@ -177,7 +171,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
     }
     let model = load_model(args.model.as_deref())?;
-    let robot = load_robot(args.robot.as_deref())?;
+    let robot = super::arms::load_robot(args.robot.as_deref())?;
     let (inputs, program) = read_program(&args.files)?;
     let when = when_of(&args, &program, &robot)?;
     let horizon = match &when {
@@ -287,22 +281,19 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
 }
 
 /// The model and arm a run uses, as the marker of a corrected file names
-/// them: the embedded ones by name, files by their fingerprint.
+/// them: the embedded ones and catalogue arms by name, files by their
+/// fingerprint.
 fn model_label(model: Option<&Path>, robot: Option<&Path>) -> Result<String> {
-    let of = |path: Option<&Path>, embedded: &str| -> Result<String> {
-        Ok(match path {
-            Some(p) => {
-                let (_, bytes) = read_input(p)?;
-                marker::fingerprint(&bytes)
-            }
-            None => embedded.to_string(),
-        })
+    let fingerprint = |p: &Path| -> Result<String> {
+        let (_, bytes) = read_input(p)?;
+        Ok(marker::fingerprint(&bytes))
     };
-    Ok(format!(
-        "{} model, {} arm",
-        of(model, "embedded default")?,
-        of(robot, "embedded IRB 140")?
-    ))
+    let model = match model {
+        Some(p) => fingerprint(p)?,
+        None => "embedded default".to_string(),
+    };
+    let arm = super::arms::robot_label(robot, &fingerprint)?;
+    Ok(format!("{model} model, {arm} arm"))
 }
 
 /// One line of `--check`'s list: a target that would move more than the

@@ -49,6 +49,8 @@ pub enum Remedy {
     FitSaturatingOrGiveMinute,
     /// A minute outside a heating recording: fit a saturating model to it.
     FitBeyondRecording,
+    /// A name not in the catalogue of ABB arms: see the list.
+    ListArms,
 }
 
 impl Remedy {
@@ -65,6 +67,7 @@ impl Remedy {
             Remedy::FitBeyondRecording => {
                 "; fit a saturating model to predict beyond it, or hold the end values explicitly"
             }
+            Remedy::ListArms => " (the catalogue lists every name)",
         }
     }
 }

@@ -15,7 +15,7 @@
 //! | 5 | [`correct`], [`compare`], [`diagnose`] | the two jobs: corrected programs, program diffs, the sim-to-real gap |
 //! | 4 | [`resolve`], [`schedule`] | what a program means by its targets (tools, work objects, poses); when each target is reached |
 //! | 3 | [`model`] | the warm robot both jobs share: model file, expansion, effects, perturbed chain, `WarmRobot` |
-//! | 2 | [`rapid`], [`robot`], [`thermal`] | the language; geometry (URDF, chain, OPW FK/IK, robconf, frames); temperatures over time and the thermal lag |
+//! | 2 | [`rapid`], [`robot`], [`thermal`] | the language; geometry (URDF, ABB arms by name, chain, OPW FK/IK, robconf, frames); temperatures over time and the thermal lag |
 //! | 1 | [`error`], [`csv_table`], [`report`] | shared foundations: errors with locations, CSV tables, number and table formatting |
 //!
 //! The main job's data flow: `rapid::parse` → `resolve` (the flange pose

@@ -248,9 +248,12 @@ struct Run {
 fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
     let arm = tasks::arm_for(&task, &args.robot)?;
     if args.model.is_none() && !arm.is_irb140 && !args.irb140_thermal {
+        let whose = match &task.name {
+            Some(n) => format!("task {n}: "),
+            None => String::new(),
+        };
         return Err(Error::usage(format!(
-            "task {}: {} is not an IRB 140, and how it warms up and expands is unknown: the embedded thermal defaults were measured on an IRB 140",
-            task.label(),
+            "{whose}{} is not an IRB 140, and how it warms up and expands is unknown: the embedded thermal defaults were measured on an IRB 140",
             arm.robot.name
         ))
         .with_note("give a model file of this arm with --model FILE.toml (its heating measured, or a heating recording in it), or use the IRB 140's defaults on this arm's lengths with --irb140-thermal"));

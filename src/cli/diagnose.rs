@@ -52,9 +52,10 @@ pub struct SimulateArgs {
     /// The model the "real" robot departs from (default: nominal IRB 140).
     #[arg(long)]
     model: Option<PathBuf>,
-    /// Robot description (URDF) of an arm with an offset shoulder and a
-    /// spherical wrist; its lengths replace the model's geometry.
-    #[arg(long, value_name = "FILE.urdf")]
+    /// An arm with an offset shoulder and a spherical wrist, by name
+    /// (`rapidtherm arms`) or URDF file; its lengths replace the model's
+    /// geometry.
+    #[arg(long, value_name = "NAME|FILE.urdf")]
     robot: Option<PathBuf>,
     /// Output CSV (`-`: standard output).
     #[arg(short = 'o', long = "output", default_value = "-")]
@@ -82,8 +83,8 @@ pub struct DiagnoseArgs {
     /// First fit the rigid transform from the instrument's frame to the robot base.
     #[arg(long)]
     register: bool,
-    /// Robot description (URDF).
-    #[arg(long, value_name = "FILE.urdf")]
+    /// The arm, by name (`rapidtherm arms`) or URDF file.
+    #[arg(long, value_name = "NAME|FILE.urdf")]
     robot: Option<PathBuf>,
 }
 
@@ -98,8 +99,8 @@ pub struct GapArgs {
     /// First fit the rigid transform from the instrument's frame to the robot base.
     #[arg(long)]
     register: bool,
-    /// Robot description (URDF).
-    #[arg(long, value_name = "FILE.urdf")]
+    /// The arm, by name (`rapidtherm arms`) or URDF file.
+    #[arg(long, value_name = "NAME|FILE.urdf")]
     robot: Option<PathBuf>,
     /// Exit with status 1 when the RMS gap exceeds this many mm (a gate for scripts).
     #[arg(long, value_name = "MM")]
@@ -113,42 +114,48 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model> {
     }
 }
 
-/// The robot the command works on: the URDF's (its OPW lengths as the
-/// nominal geometry, its limits) or the embedded IRB 140 with the model's
-/// geometry.
+/// The robot the command works on: a URDF's or a catalogue arm's (its OPW
+/// lengths as the nominal geometry, its limits), or the embedded IRB 140
+/// with the model's geometry.
 struct Setup {
     robot: Robot,
     arm: Arm,
-    from_urdf: bool,
+    /// Where the nominal geometry comes from when it is not the model's:
+    /// `urdf` or `catalogue`.
+    own_geometry: Option<&'static str>,
 }
 
 fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result<Setup> {
-    match path {
-        Some(p) => {
-            let robot = Robot::from_urdf_file(p)?;
-            let arm = Arm::of_robot(&robot, &p.display().to_string()).map_err(|e| Error {
-                message: format!("--robot {}: {}", p.display(), e.message),
-                ..e
-            })?;
-            if model_file && model.robot.opw != arm.nominal {
-                eprintln!(
-                    "note: the lengths of {} replace the model's [robot] geometry ({})",
-                    p.display(),
-                    model.robot.name
-                );
-            }
-            Ok(Setup {
-                robot,
-                arm,
-                from_urdf: true,
-            })
-        }
-        None => Ok(Setup {
+    let Some(p) = path else {
+        return Ok(Setup {
             robot: Robot::irb140(),
             arm: Arm::of_model(model),
-            from_urdf: false,
-        }),
+            own_geometry: None,
+        });
+    };
+    let robot = super::arms::load_robot(Some(p))?;
+    let (source, from) = if super::arms::is_file(p) {
+        (p.display().to_string(), "urdf")
+    } else {
+        let file = rapidtherm::robot::abb::find(&p.display().to_string())?.file;
+        (file.to_string(), "catalogue")
+    };
+    let arm = Arm::of_robot(&robot, &source).map_err(|e| Error {
+        message: format!("--robot {}: {}", p.display(), e.message),
+        ..e
+    })?;
+    if model_file && model.robot.opw != arm.nominal {
+        eprintln!(
+            "note: the lengths of {} replace the model's [robot] geometry ({})",
+            p.display(),
+            model.robot.name
+        );
     }
+    Ok(Setup {
+        robot,
+        arm,
+        own_geometry: Some(from),
+    })
 }
 
 fn read_measurements(path: &Path, arm: &Arm) -> Result<Measurements> {
@@ -376,21 +383,27 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     }
 }
 
-/// The URDF robot's nominal geometry, which replaces the model's.
-fn robot_words(arm: &Arm) -> String {
+/// The robot's own nominal geometry (a URDF's or a catalogue arm's), which
+/// replaces the model's.
+fn robot_words(arm: &Arm, from: &str) -> String {
     let o = &arm.nominal;
+    let from = if from == "urdf" {
+        "the URDF"
+    } else {
+        "the catalogue"
+    };
     format!(
-        "robot: {} ({}); nominal geometry from the URDF, not the model: a1 {:.3}, a2 {:.3}, b {:.3}, c1 {:.3}, c2 {:.3}, c3 {:.3}, c4 {:.3} mm\n",
+        "robot: {} ({}); nominal geometry from {from}, not the model: a1 {:.3}, a2 {:.3}, b {:.3}, c1 {:.3}, c2 {:.3}, c3 {:.3}, c4 {:.3} mm\n",
         arm.name, arm.source, o.a1, o.a2, o.b, o.c1, o.c2, o.c3, o.c4
     )
 }
 
-fn robot_json(arm: &Arm) -> serde_json::Value {
+fn robot_json(arm: &Arm, from: &str) -> serde_json::Value {
     let o = &arm.nominal;
     serde_json::json!({
         "name": arm.name,
         "source": arm.source,
-        "nominal_geometry": "urdf",
+        "nominal_geometry": from,
         "opw_mm": {"a1": o.a1, "a2": o.a2, "b": o.b, "c1": o.c1, "c2": o.c2, "c3": o.c3, "c4": o.c4},
     })
 }
@@ -434,8 +447,8 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     }
     if let Some(path) = &args.save_model {
         let mut m = diagnose::diagnosed_model(&model, &d);
-        if setup.from_urdf {
-            // The effects were fitted on the URDF's geometry.
+        if setup.own_geometry.is_some() {
+            // The effects were fitted on the robot's own geometry.
             m.robot.name = setup.arm.name.clone();
             m.robot.opw = setup.arm.nominal;
         }
@@ -447,7 +460,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
             let json_err = |e: serde_json::Error| {
                 Error::new(ErrorKind::Input, format!("cannot write JSON: {e}"))
             };
-            let v = if setup.from_urdf {
+            let v = if let Some(from) = setup.own_geometry {
                 // Flattened so the diagnosis keeps its field order.
                 #[derive(serde::Serialize)]
                 struct WithRobot<'a> {
@@ -456,7 +469,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
                     diagnosis: WithWords<'a>,
                 }
                 serde_json::to_string_pretty(&WithRobot {
-                    robot: robot_json(&setup.arm),
+                    robot: robot_json(&setup.arm, from),
                     diagnosis: WithWords::of(&d),
                 })
                 .map_err(json_err)?
@@ -468,8 +481,8 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
         Format::Csv => candidate_csv(&d),
         Format::Table => {
             let mut s = String::new();
-            if setup.from_urdf {
-                s.push_str(&robot_words(&setup.arm));
+            if let Some(from) = setup.own_geometry {
+                s.push_str(&robot_words(&setup.arm, from));
             }
             s.push_str(&diagnosis_table(&d));
             s

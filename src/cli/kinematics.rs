@@ -29,8 +29,9 @@ pub struct ModelArgs {
         allow_hyphen_values = true
     )]
     temps: Option<Vec<f64>>,
-    /// Another serial six-axis arm (URDF) instead of the embedded IRB 140.
-    #[arg(long, value_name = "FILE.urdf")]
+    /// Another arm instead of the embedded IRB 140: an ABB arm by name
+    /// (`rapidtherm arms`) or any serial six-axis arm's URDF file.
+    #[arg(long, value_name = "NAME|FILE.urdf")]
     robot: Option<PathBuf>,
     /// Thermal-expansion model (TOML: t_ref, and alpha/motors per link).
     #[arg(long, value_name = "FILE.toml")]
@@ -81,10 +82,7 @@ fn six(values: &[f64], what: &str) -> Result<[f64; 6]> {
 
 impl ModelArgs {
     fn robot(&self) -> Result<Robot> {
-        match &self.robot {
-            Some(path) => Robot::from_urdf_file(path),
-            None => Ok(Robot::irb140()),
-        }
+        super::arms::load_robot(self.robot.as_deref())
     }
 
     fn temps(&self) -> Result<Option<MotorTemps>> {

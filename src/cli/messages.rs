@@ -17,6 +17,7 @@ pub fn remedy(r: Remedy) -> &'static str {
         Remedy::FitBeyondRecording => {
             "; fit a saturating model (`heating fit --model first-order`) to predict beyond it, or hold the end values explicitly"
         }
+        Remedy::ListArms => " (`rapidtherm arms` lists every name)",
     }
 }
 

@@ -4,6 +4,7 @@
 //! Exit codes: 0 success; 1 when `--check`/`--diff` finds changes or a gate
 //! (`--fail-above`) fails; 2 for usage and input errors.
 
+mod arms;
 mod compare;
 mod correct;
 mod diagnose;
@@ -60,6 +61,8 @@ enum Command {
     Diagnose(diagnose::DiagnoseArgs),
     /// RMS and max gap of a model on measured data.
     Gap(diagnose::GapArgs),
+    /// List the ABB arms `--robot` takes by name (payload, reach, where the numbers come from).
+    Arms(arms::ArmsArgs),
 }
 
 /// Output format chosen with `--format`: the library renders tables, CSV
@@ -94,6 +97,7 @@ pub fn main() -> ExitCode {
         Command::Simulate(a) => diagnose::run_simulate(a),
         Command::Diagnose(a) => diagnose::run_diagnose(a),
         Command::Gap(a) => diagnose::run_gap(a),
+        Command::Arms(a) => arms::run_arms(a),
     };
     match result {
         Ok(Status::Success) => ExitCode::SUCCESS,

@@ -7,6 +7,7 @@ use super::{read_input, Inputs};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::task::{self, Task};
 use rapidtherm::rapid::Program;
+use rapidtherm::robot::abb::{self, AbbArm};
 use rapidtherm::robot::{irb140_opw, Robot};
 use std::path::{Path, PathBuf};
 
@@ -107,17 +108,31 @@ pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
 }
 
 fn embedded_irb140() -> Arm {
+    let mut robot = Robot::irb140();
+    robot.name = "IRB 140".to_string();
     Arm {
-        robot: Robot::irb140(),
+        robot,
         label: "embedded IRB 140".to_string(),
         is_irb140: true,
     }
 }
 
-/// `--robot`'s value: a URDF file, or the name of an embedded arm.
+fn catalogue_arm(arm: &AbbArm) -> Arm {
+    if arm.is_embedded_irb140() {
+        return embedded_irb140();
+    }
+    Arm {
+        robot: arm.robot(),
+        label: arm.name.clone(),
+        is_irb140: false,
+    }
+}
+
+/// `--robot`'s value: a URDF file (a file that exists, or a name ending in
+/// `.urdf`), or an arm of the catalogue by name (`rapidtherm arms`).
 pub fn arm_of_spec(spec: &str) -> Result<Arm> {
     let path = Path::new(spec);
-    if path.exists()
+    if path.is_file()
         || path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
@@ -131,30 +146,45 @@ pub fn arm_of_spec(spec: &str) -> Result<Arm> {
             is_irb140,
         });
     }
-    let normalised: String = spec
-        .chars()
-        .filter(|c| !c.is_whitespace() && *c != '-' && *c != '_')
-        .flat_map(char::to_lowercase)
-        .collect();
-    if normalised == "irb140" || normalised == "irb1406/0.8" || normalised == "irb1406/0.81" {
-        return Ok(embedded_irb140());
-    }
-    Err(Error::usage(format!(
-        "--robot {spec}: neither a URDF file nor an arm rapidtherm knows (irb140)"
-    )))
+    let arm = abb::find(spec).map_err(|e| Error {
+        message: format!("--robot {spec}: {}", e.message),
+        ..e
+    })?;
+    Ok(catalogue_arm(arm))
 }
 
-/// The arm of a controller robot type (`ROB1_140_0.81_6`: robot 1, IRB
-/// 140, 0.81 m reach, 6 kg): `None` when rapidtherm has no description of
-/// it.
+/// The catalogue arm of a controller robot type, as MOC.cfg writes it:
+/// `ROB1_140_0.81_6` is robot 1, an IRB 140 of 0.81 m reach and 6 kg;
+/// `ROB1_6700_LeanID_2.65_220` has a variant word. `None` when no arm of
+/// the catalogue has that family, payload and reach (within 0.05 m: types
+/// write the reach to two decimals, designations to one or two).
 fn arm_of_robot_type(robot_type: &str) -> Option<Result<Arm>> {
-    let parts: Vec<&str> = robot_type.split('_').collect();
-    let family = parts
+    let parts: Vec<&str> = robot_type.split('_').skip(1).collect();
+    let family = parts.first()?;
+    let numbers: Vec<f64> = parts[1..].iter().filter_map(|p| p.parse().ok()).collect();
+    let words: Vec<&str> = parts[1..]
         .iter()
-        .skip(1)
-        .find(|p| p.bytes().all(|b| b.is_ascii_digit()))?;
-    match *family {
-        "140" => Some(Ok(embedded_irb140())),
+        .filter(|p| p.parse::<f64>().is_err())
+        .copied()
+        .collect();
+    let [reach, payload] = numbers[..] else {
+        return None;
+    };
+    let squash = |s: &str| -> String {
+        s.chars()
+            .filter(char::is_ascii_alphanumeric)
+            .flat_map(|c| c.to_lowercase())
+            .collect()
+    };
+    let want_family = squash(&format!("irb{family}"));
+    let fits: Vec<&AbbArm> = abb::catalogue()
+        .iter()
+        .filter(|a| squash(&a.family) == want_family)
+        .filter(|a| (a.payload_kg - payload).abs() < 0.5 && (a.reach_m - reach).abs() < 0.05)
+        .filter(|a| words.iter().all(|w| squash(&a.name).contains(&squash(w))))
+        .collect();
+    match fits.as_slice() {
+        [one] => Some(Ok(catalogue_arm(one))),
         _ => None,
     }
 }

@@ -4,9 +4,11 @@
 //!
 //! The robot's joint `q` and the chain's `qc` relate through the arm's OPW
 //! signs and offsets: θ = s·q + o (robot → OPW angle) and qc = θ − θ_abb
-//! offset (θ3 = qc3 + 90°), so `qc = s·q + (o − o_abb)`. The robot's tool0
-//! is the chain's flange turned by the constant rotation `tip`. On the IRB
-//! 140 the map is exactly the identity.
+//! offset (θ3 = qc3 + 90°), so `qc = s·q + (o − o_abb)`, with q3 first
+//! made serial on a parallel-arm robot (q3 + coupling·q2,
+//! [`crate::robot::ik::serial_angles`]). The robot's tool0 is the chain's
+//! flange turned by the constant rotation `tip`. On the IRB 140 the map is
+//! exactly the identity.
 //!
 //! Joint-angle parameters of effects (joint offsets, their drift, gravity
 //! sag) are in the chain's convention: on an axis whose sign is −1 the
@@ -16,6 +18,7 @@ use super::instrument::instrument;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::Base;
 use crate::model::Model;
+use crate::robot::ik::{controller_angles, serial_angles};
 use crate::robot::{Joints, Opw, Robot, OPW_OFFSET_Q3};
 use nalgebra::{Isometry3, UnitQuaternion};
 
@@ -26,6 +29,8 @@ pub struct ArmMap {
     pub signs: [f64; 6],
     /// rad, added after the sign: `qc = sign·q + offset`.
     pub offsets: Joints,
+    /// Axis 3 read against the horizontal (−1) or the lower arm (0).
+    pub coupling: f64,
     /// Robot tool0 = chain flange · tip.
     pub tip: UnitQuaternion<f64>,
 }
@@ -35,6 +40,7 @@ impl Default for ArmMap {
         ArmMap {
             signs: [1.0; 6],
             offsets: [0.0; 6],
+            coupling: 0.0,
             tip: UnitQuaternion::identity(),
         }
     }
@@ -59,6 +65,7 @@ impl ArmMap {
             ArmMap {
                 signs: arm.signs,
                 offsets: std::array::from_fn(|i| arm.offsets[i] - abb[i]),
+                coupling: arm.coupling,
                 tip: arm.tip,
             },
         ))
@@ -66,12 +73,14 @@ impl ArmMap {
 
     /// Chain angles of robot joints.
     pub fn to_chain(&self, q: &Joints) -> Joints {
-        std::array::from_fn(|i| self.signs[i] * q[i] + self.offsets[i])
+        let s = serial_angles(q, self.coupling);
+        std::array::from_fn(|i| self.signs[i] * s[i] + self.offsets[i])
     }
 
     /// Robot joints of chain angles (signs are ±1: their own inverse).
     pub fn from_chain(&self, qc: &Joints) -> Joints {
-        std::array::from_fn(|i| (qc[i] - self.offsets[i]) * self.signs[i])
+        let s: Joints = std::array::from_fn(|i| (qc[i] - self.offsets[i]) * self.signs[i]);
+        controller_angles(&s, self.coupling)
     }
 
     /// The robot's tool0 pose of a chain flange pose.

@@ -65,6 +65,28 @@ impl Robot {
         })
     }
 
+    /// An ABB arm from its OPW lengths (mm): the chain built from them
+    /// ([`Chain::from_opw`]), ABB's joint conventions ([`OpwArm::abb`]),
+    /// `coupling` as [`Chain::coupling`], limits in rad, speeds in °/s.
+    pub fn from_opw(
+        name: &str,
+        geom: Opw,
+        coupling: f64,
+        limits: Limits,
+        max_speed_deg_s: [f64; 6],
+    ) -> Robot {
+        Robot {
+            name: name.to_string(),
+            chain: Chain::from_opw(&geom, coupling),
+            opw: Ok(OpwArm {
+                coupling,
+                ..OpwArm::abb(geom)
+            }),
+            limits,
+            max_speed_deg_s,
+        }
+    }
+
     pub fn from_urdf_file(path: &Path) -> Result<Robot> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
         Robot::from_urdf_str(&path.display().to_string(), &text)

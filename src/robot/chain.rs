@@ -9,7 +9,7 @@
 //! and 5's in the upper arm (c3, a2), joint 6's and the flange's (tool0) in
 //! the wrist (c4). For the IRB 140 this is exactly the OPW expansion.
 
-use super::ik::{wrap, OpwArm};
+use super::ik::{serial_angles, wrap, OpwArm};
 use super::{Joints, Opw};
 use nalgebra::{Isometry3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::f64::consts::FRAC_PI_2;
@@ -54,6 +54,11 @@ pub struct Chain {
     pub joints: [ChainJoint; 6],
     /// Flange (tool0) in the last joint's frame.
     pub tip: Isometry3<f64>,
+    /// How the controller reads axis 3 ([`super::ik::serial_angles`]): 0
+    /// for a serial arm (every URDF), −1 for a parallel-arm robot whose
+    /// axis 3 is measured against the horizontal. The joint angles this
+    /// chain takes are the controller's.
+    pub coupling: f64,
 }
 
 fn scaled(iso: &Isometry3<f64>, s: f64) -> Isometry3<f64> {
@@ -61,6 +66,37 @@ fn scaled(iso: &Isometry3<f64>, s: f64) -> Isometry3<f64> {
 }
 
 impl Chain {
+    /// The chain of an ABB arm given by its OPW lengths, joint by joint as
+    /// the IRB 140's URDF writes it: axis 1 up through the base origin,
+    /// axis 2 at (a1, b, c1), axis 3 c2 above it, axis 4 along the upper
+    /// arm −a2 above axis 3, axis 5 c3 along it, the flange c4 beyond on
+    /// axis 6, tool0 with z out of the flange. Each offset sits in the
+    /// link whose temperature scales it ([`Segment`]), so the warm chain
+    /// is [`Opw::scaled`]'s arm. `coupling` as [`Chain::coupling`].
+    pub fn from_opw(geom: &Opw, coupling: f64) -> Chain {
+        let joint = |name: &str, x: f64, y: f64, z: f64, axis: Unit<Vector3<f64>>| ChainJoint {
+            name: name.to_string(),
+            origin: Isometry3::translation(x, y, z),
+            axis,
+        };
+        let (ex, ey, ez) = (Vector3::x_axis(), Vector3::y_axis(), Vector3::z_axis());
+        Chain {
+            joints: [
+                joint("joint_1", 0.0, 0.0, 0.0, ez),
+                joint("joint_2", geom.a1, geom.b, geom.c1, ey),
+                joint("joint_3", 0.0, 0.0, geom.c2, ey),
+                joint("joint_4", 0.0, 0.0, -geom.a2, ex),
+                joint("joint_5", geom.c3, 0.0, 0.0, ey),
+                joint("joint_6", geom.c4, 0.0, 0.0, ex),
+            ],
+            tip: Isometry3::from_parts(
+                Translation3::identity(),
+                UnitQuaternion::from_axis_angle(&ey, FRAC_PI_2),
+            ),
+            coupling,
+        }
+    }
+
     /// Flange pose in the base frame.
     pub fn fk(&self, q: &Joints) -> Isometry3<f64> {
         self.fk_scaled(q, &[1.0; 4])
@@ -69,6 +105,7 @@ impl Chain {
     /// Flange pose with each segment's translations scaled (base, lower
     /// arm, upper arm, wrist).
     pub fn fk_scaled(&self, q: &Joints, scale: &[f64; 4]) -> Isometry3<f64> {
+        let q = serial_angles(q, self.coupling);
         let mut t = Isometry3::identity();
         for (i, j) in self.joints.iter().enumerate() {
             let s = scale[Segment::of_joint(i).index()];
@@ -79,6 +116,7 @@ impl Chain {
 
     /// Frames of the six joints (before their own rotation) at `q`.
     pub fn joint_frames(&self, q: &Joints) -> [Isometry3<f64>; 6] {
+        let q = serial_angles(q, self.coupling);
         let mut out = [Isometry3::identity(); 6];
         let mut t = Isometry3::identity();
         for (i, j) in self.joints.iter().enumerate() {
@@ -201,6 +239,7 @@ impl Chain {
             },
             signs: [s1, s2, s3, s4, s5, s6],
             offsets: [o1, o2, o3, o4, o5, 0.0].map(clean_angle),
+            coupling: self.coupling,
             tip,
         };
         // Whatever the shape tests missed shows up here.

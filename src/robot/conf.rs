@@ -2,7 +2,8 @@
 //! target means.
 //!
 //! cf1, cf4, cf6 are the quadrants of axes 1, 4 and 6, `floor(q / 90°)`.
-//! cfx, for the IRB 140 family (eight arm/wrist solutions), is `4a + 2b + c`
+//! cfx, for the six-axis arms with eight arm/wrist solutions (the IRB 140
+//! family and every arm of the catalogue, `data/arms/`), is `4a + 2b + c`
 //! (RAPID reference manual, confdata; `shared/spec/irb140.md`):
 //!
 //! | cfx | wrist centre vs axis 1 (a) | wrist centre vs lower arm (b) | axis 5 (c) |
@@ -17,10 +18,17 @@
 //! | 7   | behind                     | behind                        | negative   |
 //!
 //! "In front of axis 1" is measured from axis 1 itself (not from the axis-2
-//! line 70 mm further out), along the direction the arm faces after axis 1
-//! turned. "In front of the lower arm" is the forward side of the line
-//! through axes 2 and 3. Zero (exactly on the line, or axis 5 at exactly 0)
-//! counts as "in front of" / "positive".
+//! line a1 further out: 70 mm on the IRB 140, 320 mm on the IRB 6700),
+//! along the direction the arm faces after axis 1 turned. "In front of the
+//! lower arm" is the forward side of the line through axes 2 and 3, the
+//! lower arm itself, whatever the elbow offset a2: on the IRB 2600 (a2 =
+//! −115 mm) the wrist centre crosses that line at q3 ≈ −81.8°, not at
+//! −90° as on the IRB 140. That line is where the arm stretches (the elbow
+//! singularity), so each of the IK's two elbow branches has one cfx. On a
+//! parallel-arm robot (IRB 2400) it is the same physical lower arm: the
+//! controller reading q3 against the horizontal changes the angles, not the
+//! geometry. Zero (exactly on the line, or axis 5 at exactly 0) counts as
+//! "in front of" / "positive".
 
 use super::Joints;
 use serde::Serialize;

@@ -24,9 +24,11 @@ pub const LIMIT_EPS: f64 = 1e-9;
 /// Room for all solutions. The IRB 140 has at most 48: per arm branch, a
 /// wrist and its flip together have at most 8 turns of axes 4 (±200°) and 6
 /// (±400°), and axis 1 at exactly ±180° doubles the two front (or back)
-/// branches. Arms with wider limits may have more; what does not fit is
-/// dropped from the list (a search by robconf keeps only near matches and
-/// is not limited by it).
+/// branches. With axes 4 and 6 both at ±400° (IRB 2600, 4600) a wrist and
+/// its flip have at most 3·3 + 2·2 = 13 turns (the flip is 180° away, out
+/// of the 80° where a third turn fits), 52 in all, and up to 78 with axis 1
+/// at exactly ±180°. What does not fit is dropped from the list (a search
+/// by robconf keeps only near matches and is not limited by it).
 pub const MAX_SOLUTIONS: usize = 64;
 
 /// Angle wrapped into [-π, π].
@@ -269,9 +271,11 @@ fn in_acos_domain(x: f64) -> bool {
     x.abs() <= 1.0 + 1e-12
 }
 
-/// An OPW arm in the robot's own joint convention: θ_i = sign_i·q_i +
-/// offset_i, and the flange frame (tool0) is the OPW flange frame turned by
-/// the fixed rotation `tip`.
+/// An OPW arm in the robot's own joint convention: θ_i = sign_i·s_i +
+/// offset_i with s the serial angles of the controller's joints `q`
+/// ([`serial_angles`]: s = q, except s3 = q3 + coupling·q2), and the
+/// flange frame (tool0) is the OPW flange frame turned by the fixed
+/// rotation `tip`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OpwArm {
     pub geom: Opw,
@@ -279,7 +283,29 @@ pub struct OpwArm {
     pub signs: [f64; 6],
     /// rad.
     pub offsets: [f64; 6],
+    /// 0 on a serial arm; −1 where the controller reads axis 3 against the
+    /// horizontal rather than against the lower arm (ABB's parallel-arm
+    /// robots, IRB 2400: `data/arms/README.md`).
+    pub coupling: f64,
     pub tip: UnitQuaternion<f64>,
+}
+
+/// The serial joint angles (each axis relative to the link before it) of
+/// the controller's joints: axis 3 of a parallel-arm robot is driven
+/// through a parallelogram, so the controller's q3 is the upper arm's angle
+/// to the horizontal and the serial angle is q3 + coupling·q2 (coupling
+/// −1; 0 leaves `q` as it is).
+pub fn serial_angles(q: &Joints, coupling: f64) -> Joints {
+    let mut s = *q;
+    s[2] += coupling * q[1];
+    s
+}
+
+/// The controller's joints of serial angles: [`serial_angles`] undone.
+pub fn controller_angles(s: &Joints, coupling: f64) -> Joints {
+    let mut q = *s;
+    q[2] -= coupling * s[1];
+    q
 }
 
 /// One IK solution: joint angles (rad) and their robconf.
@@ -384,22 +410,32 @@ pub enum IkFailure {
 }
 
 impl OpwArm {
-    /// The IRB 140 in ABB's joint convention.
+    /// A serial ABB arm in the controller's joint convention (all signs
+    /// +1, θ3 = q3 + 90°, tool0 z out of the flange and x down at the zero
+    /// pose), as the IRB 140.
     pub fn abb(geom: Opw) -> OpwArm {
         OpwArm {
             geom,
             signs: [1.0; 6],
             offsets: [0.0, 0.0, super::OPW_OFFSET_Q3, 0.0, 0.0, 0.0],
+            coupling: 0.0,
             tip: UnitQuaternion::identity(),
         }
     }
 
     pub fn theta_of(&self, q: &Joints) -> Joints {
-        std::array::from_fn(|i| self.signs[i] * q[i] + self.offsets[i])
+        let s = serial_angles(q, self.coupling);
+        std::array::from_fn(|i| self.signs[i] * s[i] + self.offsets[i])
     }
 
     pub fn q_of(&self, t: &Joints) -> Joints {
-        std::array::from_fn(|i| wrap((t[i] - self.offsets[i]) * self.signs[i]))
+        let s: Joints = std::array::from_fn(|i| wrap((t[i] - self.offsets[i]) * self.signs[i]));
+        if self.coupling == 0.0 {
+            return s;
+        }
+        let mut q = controller_angles(&s, self.coupling);
+        q[2] = wrap(q[2]);
+        q
     }
 
     /// Flange (tool0) pose in the base frame.

@@ -14,11 +14,14 @@
 //!   `ik`, `ik_conf`, `conf_of`. What later code calls.
 //! - `urdf`: the embedded IRB 140 URDF (`data/irb140/irb140.urdf`) and the
 //!   reader for other arms; [`irb140_opw`] is its nominal OPW geometry.
-//! - `chain`: forward kinematics of any serial chain, OPW extraction.
+//! - `abb`: ABB's arms by name (`data/arms/*.toml`), `Robot::abb`.
+//! - `chain`: forward kinematics of any serial chain, the chain of OPW
+//!   lengths, OPW extraction.
 //! - `ik`: the closed-form OPW solution, turns, limits, singularities.
 //! - `conf`: robconf (confdata) and the cfx table.
 //! - `frames`: tooldata / wobjdata, robtarget ↔ flange.
 
+pub mod abb;
 pub mod arm;
 pub mod chain;
 pub mod conf;

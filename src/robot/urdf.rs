@@ -168,6 +168,7 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
         chain: Chain {
             joints,
             tip: pending,
+            coupling: 0.0,
         },
         limits: std::array::from_fn(|i| limits[i]),
         max_speed_deg_s: std::array::from_fn(|i| speeds[i]),

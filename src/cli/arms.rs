@@ -1,0 +1,121 @@
+//! `--robot NAME|FILE.urdf` for every command that takes an arm, and
+//! `arms`: the catalogue of ABB arms by name.
+
+use super::{write_stdout, Format, Status};
+use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::report::{render_csv, render_table, Align};
+use rapidtherm::robot::abb::{self, AbbArm};
+use rapidtherm::robot::Robot;
+use std::path::Path;
+
+#[derive(clap::Args)]
+pub struct ArmsArgs {
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
+}
+
+/// What `--robot` names: a URDF file (a file that exists, or a path ending
+/// in `.urdf`) or an arm of the catalogue.
+enum RobotArg<'a> {
+    File(&'a Path),
+    Name(&'a str),
+}
+
+fn robot_arg(arg: &Path) -> Result<RobotArg<'_>> {
+    let urdf = arg
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    if urdf || arg.is_file() {
+        return Ok(RobotArg::File(arg));
+    }
+    arg.to_str().map(RobotArg::Name).ok_or_else(|| {
+        Error::usage(format!(
+            "--robot {}: not a file, nor an arm name",
+            arg.display()
+        ))
+    })
+}
+
+/// The arm `--robot` gives (a URDF file or a catalogue name), or the
+/// embedded IRB 140 without it.
+pub fn load_robot(arg: Option<&Path>) -> Result<Robot> {
+    match arg {
+        None => Ok(Robot::irb140()),
+        Some(a) => match robot_arg(a)? {
+            RobotArg::File(p) => Robot::from_urdf_file(p),
+            RobotArg::Name(n) => Robot::abb(n).map_err(|e| Error {
+                message: format!("--robot {n}: {}", e.message),
+                ..e
+            }),
+        },
+    }
+}
+
+/// Whether `--robot` names a file (its geometry "from the URDF") rather
+/// than a catalogue arm.
+pub fn is_file(arg: &Path) -> bool {
+    matches!(robot_arg(arg), Ok(RobotArg::File(_)))
+}
+
+fn sources(arm: &AbbArm) -> String {
+    let mut labels: Vec<&str> = Vec::new();
+    for s in &arm.sources.geometry {
+        if !labels.contains(&s.label.as_str()) {
+            labels.push(&s.label);
+        }
+    }
+    labels.join(", ")
+}
+
+fn number(v: f64) -> String {
+    format!("{v}")
+}
+
+pub fn run_arms(args: ArmsArgs) -> Result<Status> {
+    let arms = abb::catalogue();
+    let header = [
+        "name",
+        "payload_kg",
+        "reach_m",
+        "axis3",
+        "speeds",
+        "geometry_from",
+    ];
+    let rows: Vec<Vec<String>> = arms
+        .iter()
+        .map(|a| {
+            vec![
+                a.name.clone(),
+                number(a.payload_kg),
+                number(a.reach_m),
+                serde_json::to_value(a.axis3)
+                    .ok()
+                    .and_then(|v| v.as_str().map(str::to_string))
+                    .unwrap_or_default(),
+                if a.max_speed_deg_s.is_some() {
+                    "known"
+                } else {
+                    "unknown"
+                }
+                .to_string(),
+                sources(a),
+            ]
+        })
+        .collect();
+    let text = match args.format {
+        Format::Table => {
+            use Align::{Left, Right};
+            render_table(&header, &[Left, Right, Right, Left, Left, Left], &rows)
+        }
+        Format::Csv => render_csv(&header, &rows),
+        Format::Json => {
+            let mut s = serde_json::to_string_pretty(arms)
+                .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write JSON: {e}")))?;
+            s.push('\n');
+            s
+        }
+    };
+    write_stdout(text.as_bytes())?;
+    Ok(Status::Success)
+}

@@ -514,6 +514,7 @@ pub fn frames_named(
                 tool_name.unwrap_or("tool0")
             ),
         )
+        .with_note(ELSEWHERE)
     })?;
     let wobj = frames.wobj(wobj_name).ok_or_else(|| {
         located(
@@ -525,9 +526,14 @@ pub fn frames_named(
                 wobj_name.unwrap_or("wobj0")
             ),
         )
+        .with_note(ELSEWHERE)
     })?;
     Ok((tool.clone(), wobj.clone()))
 }
+
+/// Why a tool or work object is often missing: cells declare them in a
+/// system module of the task, which a program read alone does not have.
+const ELSEWHERE: &str = "tools and work objects are often declared in a system module of the task (user.sys): read the whole task (its folder, a backup, or that module beside this one)";
 
 /// An error for a target whose frames cannot be modelled.
 pub fn unsupported(program: &Program, target: &Target, why: &str) -> Error {

@@ -177,6 +177,50 @@ fn an_arm_without_thermal_defaults_is_refused_unless_said() {
         dir.path(),
     );
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    // A type the catalogue has: found by family, payload and reach, and
+    // refused for want of thermal defaults until the user says which.
+    std::fs::write(
+        &moc,
+        text_moc.replace("ROB2_140_0.81_6", "ROB2_2600_1.65_12"),
+    )
+    .unwrap();
+    let out = rapidtherm(&["correct", "bk", "--at", "120", "--check"], dir.path());
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(
+        text(&out).contains("task T_ROB2: IRB 2600-12/1.65 is not an IRB 140"),
+        "{}",
+        text(&out)
+    );
+    // Past the thermal refusal with --irb140-thermal: the IRB 140's
+    // targets are not an IRB 2600's (their robconf has no solution
+    // there), an error of its own.
+    let out = rapidtherm(
+        &[
+            "correct",
+            "bk",
+            "--at",
+            "120",
+            "--check",
+            "--irb140-thermal",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(!text(&out).contains("not an IRB 140"), "{}", text(&out));
+    assert!(text(&out).contains("robconf"), "{}", text(&out));
+    // A designation that names a payload class (the IRB 2400-10 carries
+    // 12 kg) is found by the designation.
+    std::fs::write(
+        &moc,
+        text_moc.replace("ROB2_140_0.81_6", "ROB2_2400_1.55_10"),
+    )
+    .unwrap();
+    let out = rapidtherm(&["correct", "bk", "--at", "120", "--check"], dir.path());
+    assert!(
+        text(&out).contains("task T_ROB2: IRB 2400-10 is not an IRB 140"),
+        "{}",
+        text(&out)
+    );
 }
 
 #[test]

@@ -185,6 +185,15 @@ fn arm_of_robot_type(robot_type: &str) -> Option<Result<Arm>> {
         .collect();
     match fits.as_slice() {
         [one] => Some(Ok(catalogue_arm(one))),
+        // Some designations name a payload class, not the rated payload
+        // (the IRB 2400-10 carries 12 kg): try the designation itself.
+        [] if words.is_empty() => [
+            format!("irb{family}-{payload}/{reach}"),
+            format!("irb{family}-{payload}"),
+        ]
+        .iter()
+        .find_map(|name| abb::find(name).ok())
+        .map(|arm| Ok(catalogue_arm(arm))),
         _ => None,
     }
 }

@@ -64,7 +64,9 @@ fn simulate_diagnose_save_and_gap() {
     let candidates = v["candidates"].as_array().unwrap();
     assert_eq!(candidates.len(), 8);
     for c in candidates {
-        assert!(c["name"].is_string() && c["explained"].is_number() && c["params"].is_array());
+        // A candidate is scored, or says why its fit gave no score.
+        assert!(c["name"].is_string() && c["params"].is_array(), "{c}");
+        assert!(c["explained"].is_number() || c["error"].is_string(), "{c}");
     }
     // The c2 drift was simulated at 40 µrad/K: the saved model says so.
     let text = std::fs::read_to_string(&model).unwrap();

@@ -410,12 +410,14 @@ fn warm_ik_inverts_warm_fk() {
 /// Δc2 = 360·α·13.2225 = 0.1037702, Δc3 = 380·α·19.635667 = 0.1626619,
 /// Δc4 = 65·α·22.121 = 0.0313455.
 /// Δx = Δa1 + Δc3 + Δc4 = 0.2120706, Δz = Δc1 + Δc2 = 0.1946026,
-/// |Δ| = 0.2878265 mm (the FEA: 0.097 mm).
+/// |Δ| = 0.2878265 mm with the base model (K0 = 1); the FEA gives 0.097 mm.
 #[test]
 fn calibration_pose_drift_with_table1_temperatures() {
     let robot = Robot::irb140();
     let cold = robot.fk(&[0.0; 6]);
-    let warm = robot.fk_scaled(&[0.0; 6], &ThermalExpansion::default().scales(&TABLE1_TMAX));
+    let mut base = ThermalExpansion::default();
+    base.k0 = 1.0;
+    let warm = robot.fk_scaled(&[0.0; 6], &base.scales(&TABLE1_TMAX));
     let d = warm.translation.vector - cold.translation.vector;
     assert_relative_eq!(d.x, 0.2120706, epsilon = 1e-6);
     assert_relative_eq!(d.y, 0.0, epsilon = 1e-12);
@@ -423,6 +425,24 @@ fn calibration_pose_drift_with_table1_temperatures() {
     assert_relative_eq!(d.norm(), 0.2878265, epsilon = 1e-6);
     // Expansion moves positions only.
     assert!(warm.rotation.angle_to(&cold.rotation) < 1e-15);
+}
+
+/// The calibrated default (`data/irb140/model.toml`, K0 = 0.33699) moves
+/// the flange 0.097 mm at the calibration pose with the table-1
+/// temperatures: the FEA's number (`shared/spec/irb140.md`, "Calibrated
+/// default"), and `--model base` keeps the spec's unscaled 0.2878 mm.
+#[test]
+fn the_calibrated_default_drifts_as_the_fea_says() {
+    let robot = Robot::irb140();
+    let drift = |m: &rapidtherm::model::Model| {
+        let warm = robot.fk_scaled(&[0.0; 6], &m.thermal.scales(&TABLE1_TMAX));
+        (warm.translation.vector - robot.fk(&[0.0; 6]).translation.vector).norm()
+    };
+    let default = rapidtherm::model::Model::default();
+    assert_eq!(default.thermal.k0, 0.33699);
+    assert_relative_eq!(drift(&default), 0.097, epsilon = 5e-5);
+    let base = rapidtherm::model::Model::named("base").unwrap();
+    assert_relative_eq!(drift(&base), 0.2878265, epsilon = 1e-6);
 }
 
 #[test]

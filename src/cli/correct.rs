@@ -181,11 +181,24 @@ fn moment(text: &str, what: &str) -> Result<Moment> {
     }
 }
 
+/// `--model`: a model file, or an embedded model by name (`default`, the
+/// calibrated one; `base`, the spec's unscaled base model) when no file of
+/// that name exists.
 pub fn load_model(path: Option<&Path>) -> Result<Model> {
     match path {
-        Some(p) => Model::load(p),
+        Some(p) => match embedded_model(p) {
+            Some(m) => Ok(m),
+            None => Model::load(p),
+        },
         None => Ok(Model::default()),
     }
+}
+
+fn embedded_model(path: &Path) -> Option<Model> {
+    if path.exists() {
+        return None;
+    }
+    path.to_str().and_then(Model::named)
 }
 
 pub fn run_correct(args: CorrectArgs) -> Result<Status> {
@@ -481,6 +494,9 @@ fn per_task<T>(
 /// them: the embedded ones by name, files by their fingerprint.
 fn model_label(model: Option<&Path>, arm: &str) -> Result<String> {
     let model = match model {
+        Some(p) if embedded_model(p).is_some() => {
+            format!("embedded {}", p.display().to_string().to_ascii_lowercase())
+        }
         Some(p) => {
             let (_, bytes) = read_input(p)?;
             marker::fingerprint(&bytes)

@@ -109,7 +109,7 @@ pub struct GapArgs {
 
 fn load_model(path: &Option<PathBuf>) -> Result<Model> {
     match path {
-        Some(p) => Model::load(p),
+        Some(p) => super::correct::load_model(Some(p)),
         None => Ok(Model::default()),
     }
 }

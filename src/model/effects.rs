@@ -459,7 +459,9 @@ mod tests {
         let mut e = Effect::zero(EffectKind::ExpansionScale);
         e.params[1] = -1.0; // lower arm does not expand at all
         let (_, pert) = perturbation(&base, &[e], &row);
-        assert_relative_eq!(pert.dlen[2], -360.0 * 21.8e-6 * 10.0, epsilon = 1e-12);
+        // Relative to the model in use: its K0 included.
+        let k0 = base.thermal.k0;
+        assert_relative_eq!(pert.dlen[2], -360.0 * k0 * 21.8e-6 * 10.0, epsilon = 1e-12);
         assert_eq!(pert.dlen[0], 0.0);
         assert_eq!(pert.dlen[3], 0.0);
     }

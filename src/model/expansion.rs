@@ -25,6 +25,13 @@ pub struct LinkThermal {
 pub struct ThermalExpansion {
     /// Temperature at which the program's targets were taught, °C.
     pub t_ref: f64,
+    /// K0: one factor on every link's expansion, L(T) = L·(1 + K0·α·ΔT).
+    /// The castings run cooler than the motor surfaces whose temperatures
+    /// drive the model; the embedded default calibrates K0 to the FEA
+    /// (`shared/spec/irb140.md`, "Calibrated default"). 1 (the base model
+    /// of the spec, unscaled) when a file does not say.
+    #[serde(default = "unscaled")]
+    pub k0: f64,
     /// Base link: c1 and a1.
     pub base: LinkThermal,
     /// Lower arm: c2.
@@ -33,6 +40,10 @@ pub struct ThermalExpansion {
     pub upper_arm: LinkThermal,
     /// Wrist: c4.
     pub wrist: LinkThermal,
+}
+
+fn unscaled() -> f64 {
+    1.0
 }
 
 impl Default for ThermalExpansion {
@@ -64,9 +75,9 @@ impl LinkThermal {
             / self.motors.len() as f64
     }
 
-    /// Length scale factor 1 + α·(T_link − T_ref).
-    pub fn scale(&self, motors: &MotorTemps, t_ref: f64) -> f64 {
-        1.0 + self.alpha * (self.temperature(motors) - t_ref)
+    /// Length scale factor 1 + k0·α·(T_link − T_ref).
+    pub fn scale(&self, motors: &MotorTemps, t_ref: f64, k0: f64) -> f64 {
+        1.0 + k0 * self.alpha * (self.temperature(motors) - t_ref)
     }
 }
 
@@ -84,10 +95,10 @@ impl ThermalExpansion {
     /// Length scale factors of base, lower arm, upper arm and wrist.
     pub fn scales(&self, motors: &MotorTemps) -> LinkScales {
         [
-            self.base.scale(motors, self.t_ref),
-            self.lower_arm.scale(motors, self.t_ref),
-            self.upper_arm.scale(motors, self.t_ref),
-            self.wrist.scale(motors, self.t_ref),
+            self.base.scale(motors, self.t_ref, self.k0),
+            self.lower_arm.scale(motors, self.t_ref, self.k0),
+            self.upper_arm.scale(motors, self.t_ref, self.k0),
+            self.wrist.scale(motors, self.t_ref, self.k0),
         ]
     }
 
@@ -113,6 +124,9 @@ impl ThermalExpansion {
         let bad = |msg: String| Error::input(format!("{file}: thermal model: {msg}"));
         if !th.t_ref.is_finite() {
             return Err(bad("t_ref must be a finite temperature".into()));
+        }
+        if !(th.k0.is_finite() && th.k0 >= 0.0) {
+            return Err(bad("k0 must be a finite factor ≥ 0".into()));
         }
         for (name, link) in [
             ("base", &th.base),
@@ -151,6 +165,10 @@ mod tests {
         let nominal = irb140_opw();
         assert_eq!(th.expand(&nominal, &[7.0; 6]), nominal);
         let warm = th.expand(&nominal, &[17.0; 6]);
-        assert_relative_eq!(warm.c2, 360.0 * (1.0 + 21.8e-6 * 10.0), epsilon = 1e-12);
+        assert_relative_eq!(
+            warm.c2,
+            360.0 * (1.0 + 0.33699 * 21.8e-6 * 10.0),
+            epsilon = 1e-12
+        );
     }
 }

@@ -116,10 +116,27 @@ pub(crate) fn default_model() -> &'static Model {
 }
 
 impl Default for Model {
-    /// The nominal IRB 140 with the base thermal model of `irb140.md`
-    /// (`data/irb140/model.toml`).
+    /// The nominal IRB 140 with the calibrated default of `irb140.md`
+    /// (`data/irb140/model.toml`: the base thermal model, every link's
+    /// expansion scaled by K0).
     fn default() -> Self {
         default_model().clone()
+    }
+}
+
+impl Model {
+    /// The embedded models by name: `default` (calibrated, K0 of the data
+    /// file) and `base` (the spec's base model, K0 = 1, unscaled).
+    pub fn named(name: &str) -> Option<Model> {
+        match name.to_ascii_lowercase().as_str() {
+            "default" => Some(Model::default()),
+            "base" => {
+                let mut m = Model::default();
+                m.thermal.k0 = 1.0;
+                Some(m)
+            }
+            _ => None,
+        }
     }
 }
 
@@ -207,6 +224,9 @@ impl Model {
             if !link.alpha.is_finite() {
                 return Err(Error::input("model: alpha must be finite"));
             }
+        }
+        if !(th.k0.is_finite() && th.k0 >= 0.0) {
+            return Err(Error::input("model: k0 must be a finite factor ≥ 0"));
         }
         if !th.t_ref.is_finite() {
             return Err(Error::input("model: t_ref must be finite"));

@@ -117,12 +117,15 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
     if thermal_lengths {
         // Structure expansion replaces the base model's motor-driven one.
         let nominal = &base.nominal;
+        // The effective coefficients of the model in use: an
+        // expansion-scale factor is relative to them, K0 included.
         let alpha = [
             th.base.alpha,
             th.lower_arm.alpha,
             th.upper_arm.alpha,
             th.wrist.alpha,
-        ];
+        ]
+        .map(|a| a * th.k0);
         let extra =
             |link: usize| alpha[link] * (scale[link] * struct_rise[link] - motor_rise[link]);
         pert.dlen[0] += nominal.c1 * extra(0);

@@ -7,15 +7,15 @@ MODULE GlueCell
     TASK PERS wobjdata wFixtureA:=[FALSE,TRUE,"",[[420,-260,80],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];
     TASK PERS wobjdata wFixtureB:=[FALSE,TRUE,"",[[540,-100,80],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];
     ! Both tools park here.
-    CONST robtarget pHome:=[[514.839,0,711.788],[0.5,0,0.866025,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
-    CONST robtarget pHome_tGlueGun:=[[514.859,0,711.785],[0.5,0,0.866025,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget pHome:=[[514.946,0,711.929],[0.5,0,0.866025,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget pHome_tGlueGun:=[[514.953,0,711.928],[0.5,0,0.866025,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
     ! The same pick point in either fixture.
-    CONST robtarget pPick:=[[59.847,40.07,24.994],[0,0,1,0],[-1,-1,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
-    CONST robtarget pPick_wFixtureB:=[[59.807,40.019,24.989],[0,0,1,0],[-1,-1,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
-    CONST robtarget pBead{2}:=[[[39.86,20.08,29.972],[0,0,1,0],[-1,0,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]],[[119.835,20.079,29.969],[0,0,1,0],[-1,0,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]]];
-    CONST robtarget pApproach:=[[559.803,-79.972,419.877],[0,0,1,0],[-1,0,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
-    PERS robtarget pService:=[[599.795,0,299.921],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
-    CONST robtarget pPurge:=[[449.851,299.89,349.88],[0,0,1,0],[0,-1,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget pPick:=[[59.948,40.024,24.998],[0,0,1,0],[-1,-1,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget pPick_wFixtureB:=[[59.935,40.006,24.996],[0,0,1,0],[-1,-1,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget pBead{2}:=[[[39.953,20.027,29.991],[0,0,1,0],[-1,0,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]],[[119.944,20.027,29.989],[0,0,1,0],[-1,0,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]]];
+    CONST robtarget pApproach:=[[559.934,-79.991,419.958],[0,0,1,0],[-1,0,-1,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    PERS robtarget pService:=[[599.931,0,299.973],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget pPurge:=[[449.95,299.963,349.959],[0,0,1,0],[0,-1,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
     VAR robtarget pWipe;
 
     PROC main()

@@ -415,8 +415,10 @@ fn warm_ik_inverts_warm_fk() {
 fn calibration_pose_drift_with_table1_temperatures() {
     let robot = Robot::irb140();
     let cold = robot.fk(&[0.0; 6]);
-    let mut base = ThermalExpansion::default();
-    base.k0 = 1.0;
+    let base = ThermalExpansion {
+        k0: 1.0,
+        ..Default::default()
+    };
     let warm = robot.fk_scaled(&[0.0; 6], &base.scales(&TABLE1_TMAX));
     let d = warm.translation.vector - cold.translation.vector;
     assert_relative_eq!(d.x, 0.2120706, epsilon = 1e-6);

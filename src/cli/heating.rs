@@ -1,6 +1,6 @@
 use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
-use rapidtherm::error::{Error, Result};
+use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::thermal::fit::{fit_axis, AxisFit, ModelKind};
 use rapidtherm::thermal::plot::plot_fits;
@@ -123,10 +123,29 @@ fn run_fit(a: FitArgs) -> Result<Status> {
     }
     let record = read_record(&a.records)?;
     let mut fits: Vec<AxisFit> = Vec::new();
+    let mut failed = Vec::new();
     for &axis in &axes {
         for &kind in &models {
-            fits.push(fit_axis(&record, axis, kind, a.pin_t0)?);
+            match fit_axis(&record, axis, kind, a.pin_t0) {
+                Ok(f) => fits.push(f),
+                // A fit that did not converge, or converged to a degenerate
+                // curve, is no result: said, and left out of the table.
+                Err(e) if e.kind == ErrorKind::NoConvergence => {
+                    failed.push(format!("axis {axis}, {kind}: {}", e.message));
+                }
+                Err(e) => return Err(e),
+            }
         }
+    }
+    for f in &failed {
+        eprintln!("warning: {f}; not listed");
+    }
+    if fits.is_empty() {
+        return Err(Error::new(
+            ErrorKind::NoConvergence,
+            "no model could be fitted to this recording",
+        )
+        .with_note("a recording shorter than its time constants cannot tell them: try first-order, or record longer"));
     }
     let svg = a
         .plot

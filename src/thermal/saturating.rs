@@ -99,8 +99,25 @@ pub fn fit_saturating(
                 .iter()
                 .all(|k| k.delta.is_finite() && k.tau.is_finite() && k.tau > 0.0)
     });
+    let range = {
+        let (lo, hi) = problem
+            .y
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                (l.min(v), h.max(v))
+            });
+        hi - lo
+    };
     match curve {
-        Some(c) if report.termination.was_successful() && finite => Ok(c),
+        Some(c) if report.termination.was_successful() && finite => {
+            match degenerate(&c, range, TAU_MAX_SPANS * span) {
+                Some(why) => Err(Error::new(
+                    ErrorKind::NoConvergence,
+                    format!("the {n_terms}-time-constant fit is degenerate: {why}"),
+                )),
+                None => Ok(c),
+            }
+        }
         _ => Err(Error::new(
             ErrorKind::NoConvergence,
             format!(
@@ -110,6 +127,46 @@ pub fn fit_saturating(
         )),
     }
 }
+
+/// Why a converged fit is still no result, if it is not one: terms that
+/// cancel (ΔT of opposite signs, each far larger than the rise the data
+/// show), time constants that merged, or a term whose time constant ran to
+/// its bound (a straight line over the record: its ΔT says nothing). A
+/// recording shorter than its time constants gives these; the curve would
+/// forecast anything.
+fn degenerate(c: &SatCurve, range: f64, tau_max: f64) -> Option<String> {
+    let big = (MAX_AMPLITUDE_RANGES * range).max(1e-9);
+    if c.terms.len() == 2 {
+        let (a, b) = (c.terms[0], c.terms[1]);
+        if a.delta.signum() != b.delta.signum() && a.delta.abs().min(b.delta.abs()) > big {
+            return Some(format!(
+                "its terms cancel ({:+.3} and {:+.3} °C, where the data rise {range:.3} °C)",
+                a.delta, b.delta
+            ));
+        }
+        if b.tau / a.tau < MERGED_TAU_RATIO && a.delta.abs().max(b.delta.abs()) > big {
+            return Some(format!(
+                "its time constants merged ({:.1} and {:.1} min)",
+                a.tau, b.tau
+            ));
+        }
+    }
+    for k in &c.terms {
+        if k.tau >= 0.99 * tau_max {
+            return Some(format!(
+                "a time constant ran to its bound ({:.0} min) with a rise of {:.1} °C: the recording is too short to tell it",
+                k.tau, k.delta
+            ));
+        }
+    }
+    None
+}
+
+/// A term larger than this many times the rise the data show is not one
+/// the data can support (see [`degenerate`]).
+const MAX_AMPLITUDE_RANGES: f64 = 3.0;
+/// Two time constants closer than this ratio are one.
+const MERGED_TAU_RATIO: f64 = 1.05;
 
 /// Shortest time constant a fit may take, minutes (well below a 5-s sample
 /// step: a jump).

@@ -182,6 +182,30 @@ fn a_short_recording_never_gives_a_degenerate_curve() {
         }
     }
     // The 4-h term cannot be told from 50 minutes: some two-tau fits are
-    // refused rather than printed.
+    // refused rather than printed, and the others say how little they know
+    // of the steady temperature.
     assert!(refused > 0);
+    let widest = (1..=6)
+        .filter_map(|axis| fit_axis(&rec, axis, ModelKind::TwoTau, None).ok())
+        .filter_map(|f| f.steady_interval.map(|(lo, hi)| hi - lo))
+        .fold(0.0, f64::max);
+    assert!(widest > 1.0, "widest steady interval {widest} °C");
+}
+
+/// On a recording as long as its warm-up (the 168-min reference sample)
+/// the steady temperature is told to within half a degree.
+#[test]
+fn a_full_recording_tells_its_steady_temperature() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/samples/heating_irb140_60pct.csv"
+    );
+    let rec = HeatingRecord::parse(path, &std::fs::read(path).unwrap()).unwrap();
+    for axis in 1..=6 {
+        for kind in [ModelKind::FirstOrder, ModelKind::TwoTau] {
+            let f = fit_axis(&rec, axis, kind, None).unwrap();
+            let (lo, hi) = f.steady_interval.unwrap();
+            assert!(hi - lo < 0.5, "axis {axis} {kind}: {lo}..{hi}");
+        }
+    }
 }

@@ -103,6 +103,12 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
     Ok(record)
 }
 
+/// Width (°C) of the steady-temperature interval above which `heating fit`
+/// warns that the recording cannot tell where the warm-up ends: a degree
+/// of motor temperature moves the IRB 140's flange by a few micrometres
+/// (K0·α·380 mm·1 K ≈ 0.003 mm on the upper arm), less is not worth a word.
+const STEADY_WARN_C: f64 = 1.0;
+
 fn run_fit(a: FitArgs) -> Result<Status> {
     let models = parse_models(&a.model)?;
     let mut axes: Vec<usize> = Vec::new();
@@ -139,6 +145,21 @@ fn run_fit(a: FitArgs) -> Result<Status> {
     }
     for f in &failed {
         eprintln!("warning: {f}; not listed");
+    }
+    let span = record.times.iter().copied().fold(0.0, f64::max);
+    for f in &fits {
+        if let (Some((lo, hi)), rapidtherm::thermal::fit::Curve::Saturating(c)) =
+            (f.steady_interval, &f.curve)
+        {
+            if hi - lo > STEADY_WARN_C {
+                eprintln!(
+                    "warning: axis {}, {}: a {span:.0}-min recording cannot tell where this warm-up ends: its steady temperature is anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); record longer, at least as long as the time constant",
+                    f.axis,
+                    f.kind,
+                    c.steady()
+                );
+            }
+        }
     }
     if fits.is_empty() {
         return Err(Error::new(

@@ -4,7 +4,7 @@
 
 use super::poly::{fit_poly, PolyCurve};
 use super::record::{HeatingRecord, AXIS_COLUMNS};
-use super::saturating::{fit_saturating, SatCurve};
+use super::saturating::{fit_saturating, steady_interval, SatCurve};
 use crate::error::{Error, ErrorKind, Result};
 use std::fmt;
 use std::str::FromStr;
@@ -186,6 +186,10 @@ pub struct AxisFit {
     /// last 20 % (extrapolating, which is the point). `None` when the first
     /// 80 % is too short for the model.
     pub holdout: Option<Metrics>,
+    /// Saturating models: the steady temperatures the recording cannot
+    /// tell apart from the fitted one's (`saturating::steady_interval`),
+    /// °C. Wide when the recording is shorter than its time constants.
+    pub steady_interval: Option<(f64, f64)>,
 }
 
 /// Fit one model to points. `pin_t0` fixes T(0) of saturating models.
@@ -216,12 +220,17 @@ pub fn fit_points(
     } else {
         None
     };
+    let steady_interval = match &curve {
+        Curve::Saturating(c) => steady_interval(&t[..n], &y[..n], c, pin_t0),
+        Curve::Poly(_) => None,
+    };
     Ok(AxisFit {
         axis,
         kind,
         curve,
         fit,
         holdout,
+        steady_interval,
     })
 }
 

@@ -128,6 +128,70 @@ pub fn fit_saturating(
     }
 }
 
+/// The steady temperatures (T0 + ΣΔT) the data cannot tell apart from the
+/// fitted curve's: the longest time constant is scanned over a log grid
+/// from a tenth of its value to [`TAU_MAX_SPANS`] spans (the others held),
+/// T0 and the ΔT re-solved exactly for each, and every curve whose sum of
+/// squared residuals stays within RSS·(1 + 4/(n − p)) (about two standard
+/// errors of the time constant) counts. On a recording longer than its
+/// time constants the interval is narrow; on a short one it says how little
+/// the data know about where the warm-up ends. `None` without terms.
+pub fn steady_interval(
+    t: &[f64],
+    y: &[f64],
+    curve: &SatCurve,
+    pin_t0: Option<f64>,
+) -> Option<(f64, f64)> {
+    let n = t.len().min(y.len());
+    let longest = curve.terms.last()?.tau;
+    let held: Vec<f64> = curve.terms[..curve.terms.len() - 1]
+        .iter()
+        .map(|k| k.tau)
+        .collect();
+    let span = t[..n].iter().copied().fold(0.0, f64::max);
+    let problem = Problem {
+        t: t[..n].to_vec(),
+        y: y[..n].to_vec(),
+        pin_t0,
+        ln_tau_lo: TAU_MIN.ln(),
+        ln_tau_hi: (TAU_MAX_SPANS * span).ln(),
+        u: DVector::zeros(curve.terms.len()),
+    };
+    let params = 2 * curve.terms.len() + usize::from(pin_t0.is_none());
+    let dof = n.checked_sub(params).filter(|&d| d > 0)? as f64;
+    let rss_of = |taus: &[f64]| -> Option<(f64, f64)> {
+        let (x, r) = problem.linear_for(taus)?;
+        let o = usize::from(pin_t0.is_none());
+        let t0 = pin_t0.unwrap_or_else(|| x[0]);
+        let steady = t0 + x.iter().skip(o).sum::<f64>();
+        Some((r.norm_squared(), steady))
+    };
+    let mut taus = held.clone();
+    taus.push(longest);
+    let (best, steady0) = rss_of(&taus)?;
+    let limit = best * (1.0 + 4.0 / dof);
+    let (lo_ln, hi_ln) = (
+        (longest / 10.0).max(TAU_MIN).ln(),
+        (TAU_MAX_SPANS * span).ln(),
+    );
+    let mut interval = (steady0, steady0);
+    const STEPS: usize = 200;
+    for i in 0..=STEPS {
+        let tau = (lo_ln + (hi_ln - lo_ln) * i as f64 / STEPS as f64).exp();
+        if held.iter().any(|h| (h / tau - 1.0).abs() < 0.05) {
+            continue;
+        }
+        let mut taus = held.clone();
+        taus.push(tau);
+        if let Some((rss, steady)) = rss_of(&taus) {
+            if rss <= limit && steady.is_finite() {
+                interval = (interval.0.min(steady), interval.1.max(steady));
+            }
+        }
+    }
+    Some(interval)
+}
+
 /// Why a converged fit is still no result, if it is not one: terms that
 /// cancel (ΔT of opposite signs, each far larger than the rise the data
 /// show), time constants that merged, or a term whose time constant ran to

@@ -200,6 +200,7 @@ pub fn render_fits_json(file: &str, rows: usize, fits: &[AxisFit]) -> String {
                         .map(|k| json!({"delta_c": k.delta, "tau_min": k.tau}))
                         .collect::<Vec<_>>());
                     v["steady_c"] = json!(s.steady());
+                    v["steady_interval_c"] = json!(f.steady_interval.map(|(a, b)| [a, b]));
                 }
             }
             v

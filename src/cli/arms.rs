@@ -44,12 +44,18 @@ pub fn load_robot(arg: Option<&Path>) -> Result<Robot> {
         None => Ok(Robot::irb140()),
         Some(a) => match robot_arg(a)? {
             RobotArg::File(p) => Robot::from_urdf_file(p),
-            RobotArg::Name(n) => Robot::abb(n).map_err(|e| Error {
-                message: format!("--robot {n}: {}", e.message),
-                ..e
-            }),
+            RobotArg::Name(n) => find_arm(n).map(AbbArm::robot),
         },
     }
+}
+
+/// The catalogue arm `--robot NAME` names; the error says it came from
+/// `--robot`.
+pub fn find_arm(name: &str) -> Result<&'static AbbArm> {
+    abb::find(name).map_err(|e| Error {
+        message: format!("--robot {name}: {}", e.message),
+        ..e
+    })
 }
 
 /// Whether `--robot` names a file (its geometry "from the URDF") rather

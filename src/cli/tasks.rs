@@ -101,56 +101,49 @@ pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
                     task.label()
                 ))
             })??,
-            None => embedded_irb140(),
+            None => embedded_irb140()?,
         },
     };
     Ok(arm)
 }
 
-fn embedded_irb140() -> Arm {
-    let mut robot = Robot::irb140();
-    robot.name = "IRB 140".to_string();
-    Arm {
-        robot,
-        label: "embedded IRB 140".to_string(),
-        is_irb140: true,
-    }
+/// The embedded IRB 140, the arm the thermal defaults were measured on.
+fn embedded_irb140() -> Result<Arm> {
+    abb::find("irb140").map(catalogue_arm)
 }
 
 fn catalogue_arm(arm: &AbbArm) -> Arm {
-    if arm.is_embedded_irb140() {
-        return embedded_irb140();
-    }
+    let is_irb140 = arm.is_embedded_irb140();
     Arm {
         robot: arm.robot(),
-        label: arm.name.clone(),
-        is_irb140: false,
+        label: if is_irb140 {
+            "embedded IRB 140".to_string()
+        } else {
+            arm.name.clone()
+        },
+        is_irb140,
     }
 }
 
-/// `--robot`'s value: a URDF file (a file that exists, or a name ending in
-/// `.urdf`), or an arm of the catalogue by name (`rapidtherm arms`).
+/// `--robot`'s value: a URDF file or an arm of the catalogue by name
+/// (`rapidtherm arms`), as every command's `--robot` reads it
+/// (`arms::is_file`).
 pub fn arm_of_spec(spec: &str) -> Result<Arm> {
     let path = Path::new(spec);
-    if path.is_file()
-        || path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
-    {
-        let robot = Robot::from_urdf_file(path)?;
-        let (_, bytes) = read_input(path)?;
-        let is_irb140 = same_geometry_as_irb140(&robot);
-        return Ok(Arm {
-            robot,
-            label: rapidtherm::correct::marker::fingerprint(&bytes),
-            is_irb140,
-        });
+    if !super::arms::is_file(path) {
+        return super::arms::find_arm(spec).map(catalogue_arm);
     }
-    let arm = abb::find(spec).map_err(|e| Error {
-        message: format!("--robot {spec}: {}", e.message),
-        ..e
-    })?;
-    Ok(catalogue_arm(arm))
+    // Read once: the same bytes are the arm and its fingerprint.
+    let (name, bytes) = read_input(path)?;
+    let text = std::str::from_utf8(&bytes)
+        .map_err(|_| Error::input(format!("{name}: a URDF file must be UTF-8")))?;
+    let robot = Robot::from_urdf_str(&name, text)?;
+    let is_irb140 = same_geometry_as_irb140(&robot);
+    Ok(Arm {
+        robot,
+        label: rapidtherm::correct::marker::fingerprint(&bytes),
+        is_irb140,
+    })
 }
 
 /// The catalogue arm of a controller robot type, as MOC.cfg writes it:

@@ -18,25 +18,9 @@ use rs_opw_kinematics::kinematics_impl::OPWKinematics;
 use rs_opw_kinematics::parameters::opw_kinematics::Parameters;
 use std::f64::consts::{FRAC_PI_2, PI};
 
-/// Deterministic uniform numbers for sampling (xorshift64*).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn joints_within(&mut self, robot: &Robot) -> Joints {
-        std::array::from_fn(|i| {
-            let (lo, hi) = robot.limits[i];
-            lo + (hi - lo) * self.next()
-        })
-    }
-    fn any_joints(&mut self) -> Joints {
-        std::array::from_fn(|_| (self.next() * 2.0 - 1.0) * 2.0 * PI)
-    }
-}
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 fn pose_dist(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
     (

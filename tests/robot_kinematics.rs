@@ -14,22 +14,9 @@ fn deg(q: [f64; 6]) -> Joints {
     q.map(f64::to_radians)
 }
 
-/// Deterministic uniform numbers for sampling (xorshift64*).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn joints_within(&mut self, robot: &Robot) -> Joints {
-        std::array::from_fn(|i| {
-            let (lo, hi) = robot.limits[i];
-            lo + (hi - lo) * self.next()
-        })
-    }
-}
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 fn pose_dist(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
     (

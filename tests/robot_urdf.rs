@@ -5,7 +5,7 @@
 use nalgebra::{Isometry3, Quaternion, UnitQuaternion};
 use rapidtherm::error::ErrorKind;
 use rapidtherm::model::ThermalExpansion;
-use rapidtherm::robot::{Joints, Robot};
+use rapidtherm::robot::Robot;
 use rs_opw_kinematics::kinematic_traits::Kinematics;
 use rs_opw_kinematics::kinematics_impl::OPWKinematics;
 use rs_opw_kinematics::parameters::opw_kinematics::Parameters;
@@ -89,18 +89,9 @@ fn irb120() -> String {
     ])
 }
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn joints(&mut self, r: &Robot) -> Joints {
-        std::array::from_fn(|i| r.limits[i].0 + (r.limits[i].1 - r.limits[i].0) * self.next())
-    }
-}
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 fn dist(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
     (
@@ -112,7 +103,7 @@ fn dist(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
 fn assert_ik_round_trips(robot: &Robot, seed: u64) {
     let mut rng = Rng(seed);
     for _ in 0..300 {
-        let q = rng.joints(robot);
+        let q = rng.joints_within(robot);
         let pose = robot.fk(&q);
         let (dp, dr) = dist(&pose, &robot.chain.fk(&q));
         assert!(dp < 1e-9 && dr < 1e-12, "OPW vs chain {dp} {dr}");
@@ -138,7 +129,7 @@ fn irb120_matches_the_rs_opw_kinematics_preset() {
     let reference = OPWKinematics::new(p);
     let mut rng = Rng(3);
     for _ in 0..1000 {
-        let q = rng.joints(&robot);
+        let q = rng.joints_within(&robot);
         let theirs = reference.forward(&q);
         let t = theirs.translation * 1000.0;
         let r = theirs.rotation;

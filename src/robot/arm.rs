@@ -193,9 +193,14 @@ impl Robot {
                 "robconf {conf}: cfx must be 0..7 for this robot family"
             )));
         }
-        let (found, sols) = self
-            .checked_arm(pose, scales)?
-            .solve_conf(pose, &self.limits, conf)
+        let arm = self.checked_arm(pose, scales)?;
+        if let Some(s) = arm.solve_conf_exact(pose, &self.limits, conf) {
+            return Ok(s.q);
+        }
+        // Everything else (near matches, the shoulder singularity, errors
+        // and their list of configurations) as the enumeration decides it.
+        let (found, sols) = arm
+            .solve_conf_by_enumeration(pose, &self.limits, conf)
             .map_err(|f| self.failure(f))?;
         match found {
             Some(s) => Ok(s.q),

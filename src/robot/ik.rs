@@ -128,11 +128,21 @@ impl Opw {
             forward: [0.0; 8],
             side: [0.0; 8],
         };
+        // The two elbows of a shoulder share θ1 and so its sine and cosine.
+        let mut trig: Option<(f64, (f64, f64))> = None;
         for (j, arm) in arms.iter().enumerate() {
             if !arm.valid() {
                 continue;
             }
-            for (h, branch) in self.wrists(r, arm).iter().enumerate() {
+            let sc1 = match trig {
+                Some((t1, sc1)) if t1.to_bits() == arm.t1.to_bits() => sc1,
+                _ => {
+                    let sc1 = arm.t1.sin_cos();
+                    trig = Some((arm.t1, sc1));
+                    sc1
+                }
+            };
+            for (h, branch) in self.wrists(r, arm, sc1).iter().enumerate() {
                 let i = 2 * j + h;
                 out.forward[i] = arm.forward;
                 out.side[i] = arm.side;
@@ -174,7 +184,7 @@ impl Opw {
         } else {
             cy.atan2(cx)
         };
-        let off = self.b.atan2(nx1 + self.a1);
+        let off = atan2_of_offset(self.b, nx1 + self.a1);
         let t1_i = base - off;
         let t1_ii = base + off - PI;
         let tmp1 = nx1.atan2(czp);
@@ -188,9 +198,9 @@ impl Opw {
         let back_ok = in_acos_domain(arg2b) && in_acos_domain(arg3b);
         // The triangle's angles by atan2 with Heron's area: acos loses
         // half the digits near full stretch and full fold.
-        let (a2a, a3a, sidea) = self.triangle(s1, s1_2);
-        let (a2b, a3b, sideb) = self.triangle(s2, s2_2);
-        let psi3 = self.a2.atan2(self.c3);
+        let (a2a, a3a, sidea) = self.triangle(s1, s1_2, k2, k);
+        let (a2b, a3b, sideb) = self.triangle(s2, s2_2, k2, k);
+        let psi3 = atan2_of_offset(self.a2, self.c3);
         // The front arms face the wrist centre (forward = its lateral
         // distance from axis 1), the back arms turn away from it; elbow
         // sign decides the side of the lower arm.
@@ -219,11 +229,15 @@ impl Opw {
 
     /// The wrist of one arm solution: the wrist and its flip, each with its
     /// OPW angles (θ1..θ3 wrapped) and how the wrist was resolved; at the
-    /// wrist singularity only the first.
+    /// wrist singularity only the first. `(st1, ct1)`: θ1's sine and cosine.
     #[inline]
-    pub(super) fn wrists(&self, r: &Matrix3<f64>, arm: &ArmAngles) -> [Option<(Joints, Wrist)>; 2] {
+    pub(super) fn wrists(
+        &self,
+        r: &Matrix3<f64>,
+        arm: &ArmAngles,
+        (st1, ct1): (f64, f64),
+    ) -> [Option<(Joints, Wrist)>; 2] {
         let (t1, t2, t3) = (arm.t1, arm.t2, arm.t3);
-        let (st1, ct1) = t1.sin_cos();
         let (sa, ca) = (t2 + t3).sin_cos();
         // Rows of R03ᵀ with R03 = Rz(θ1)·Ry(θ2+θ3).
         let x = Vector3::new(ct1 * ca, st1 * ca, -sa);
@@ -309,16 +323,26 @@ impl Opw {
     /// centre) and at axis 3 (θ3 + ψ3) of the triangle with sides c2, k, s.
     /// Also k·sin(θ3+ψ3) = 2·area/c2 (≥ 0), the wrist centre's distance
     /// from the lower-arm line.
-    fn triangle(&self, s: f64, s_2: f64) -> (f64, f64, f64) {
+    fn triangle(&self, s: f64, s_2: f64, k2: f64, k: f64) -> (f64, f64, f64) {
         let c2 = self.c2;
-        let k2 = self.a2 * self.a2 + self.c3 * self.c3;
-        let k = k2.sqrt();
         // 4·area² = ((c2+k)² − s²)(s² − (c2−k)²), factored for accuracy.
         let p = ((c2 + k - s) * (c2 + k + s) * (s - c2 + k) * (s + c2 - k)).max(0.0);
         let root = p.sqrt();
         let at2 = root.atan2(s_2 + c2 * c2 - k2);
         let at3 = root.atan2(s_2 - c2 * c2 - k2);
         (at2, at3, 0.5 * root / c2)
+    }
+}
+
+/// `y.atan2(x)`, without the call for an offset of zero in front (b = 0 on
+/// every catalogue arm, a2 = 0 on the IRB 140): atan2(±0, x > 0) is ±0
+/// exactly, so the result is the same to the bit.
+#[inline]
+fn atan2_of_offset(y: f64, x: f64) -> f64 {
+    if y == 0.0 && x > 0.0 {
+        y
+    } else {
+        y.atan2(x)
     }
 }
 
@@ -665,7 +689,7 @@ fn push_turns(
     q: &Joints,
     limits: &Limits,
     out: &mut Solutions,
-    conf: &dyn Fn(&Joints) -> RobConf,
+    conf: &impl Fn(&Joints) -> RobConf,
     keep: Option<&RobConf>,
 ) -> bool {
     let mut reps = [[0.0f64; 5]; 6];

@@ -63,7 +63,8 @@ impl OpwArm {
             {
                 continue;
             }
-            for (theta, wrist) in self.geom.wrists(r, arm).into_iter().flatten() {
+            let sc1 = arm.t1.sin_cos();
+            for (theta, wrist) in self.geom.wrists(r, arm, sc1).into_iter().flatten() {
                 let q = self.branch_q(&theta, wrist, Some(want));
                 if let Some(q) = exact_turns(&q, limits, want, bits.axis5_negative) {
                     return Some(Solution { q, conf: *want });

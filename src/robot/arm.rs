@@ -161,9 +161,15 @@ impl Robot {
     }
 
     fn solve(&self, pose: &Isometry3<f64>, scales: Option<&LinkScales>) -> Result<Solutions> {
-        self.checked_arm(pose, scales)?
-            .solve(pose, &self.limits, None)
-            .map_err(|f| self.failure(f))
+        let arm = self.checked_arm(pose, scales)?;
+        // Filled where it is returned from (a 4 kB buffer; see OpwArm::solve).
+        let mut out = Ok(Solutions::default());
+        if let Ok(sols) = &mut out {
+            if let Err(f) = arm.solve_in(pose, &self.limits, None, sols) {
+                out = Err(self.failure(f));
+            }
+        }
+        out
     }
 
     /// The solution with robconf `conf` (exactly, or within

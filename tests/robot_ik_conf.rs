@@ -146,3 +146,55 @@ fn the_direct_path_answers_taught_targets() {
         assert!(direct >= 490, "{}: {direct} of 500 direct", robot.name);
     }
 }
+
+/// `wrap` and `quadrant` skip libm's `round` and `floor` where the answer
+/// is exact without them; they still give those formulas' bits.
+#[test]
+fn wrap_and_quadrant_are_the_formulas_to_the_bit() {
+    use rapidtherm::robot::conf::quadrant;
+    use rapidtherm::robot::ik::wrap;
+    use std::f64::consts::{PI, TAU};
+    let mut xs = vec![
+        0.0,
+        -0.0,
+        PI,
+        -PI,
+        3.0,
+        -3.0,
+        FRAC_PI_2,
+        -FRAC_PI_2,
+        TAU,
+        1e300,
+        -1e300,
+        f64::INFINITY,
+        f64::NAN,
+        2_147_483_648.0 * FRAC_PI_2,
+        -2_147_483_648.0 * FRAC_PI_2,
+        4_503_599_627_370_496.0,
+    ];
+    for x in xs.clone() {
+        xs.push(f64::from_bits(x.to_bits().wrapping_add(1)));
+        xs.push(f64::from_bits(x.to_bits().wrapping_sub(1)));
+    }
+    let mut state = 3u64;
+    for _ in 0..100_000 {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+        xs.push((u - 0.5) * 40.0);
+        xs.push(((u - 0.5) * 20.0).round() * FRAC_PI_2);
+    }
+    for x in xs {
+        let w = x - TAU * (x / TAU).round();
+        assert!(
+            wrap(x).to_bits() == w.to_bits() || (w.is_nan() && wrap(x).is_nan()),
+            "wrap({x:e})"
+        );
+        assert_eq!(
+            quadrant(x),
+            (x / FRAC_PI_2).floor() as i32,
+            "quadrant({x:e})"
+        );
+    }
+}

@@ -4,7 +4,8 @@
 //! the same joints, the same `None`, the same failure, on random poses and
 //! robconfs of the IRB 140, the IRB 2600-12/1.65 and the parallel-arm IRB
 //! 2400-10, cold and warm, at the wrist singularity and on quadrant
-//! boundaries.
+//! boundaries; and `wrap` and `quadrant`, which skip libm calls, against
+//! their formulas to the bit.
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use proptest::prelude::*;

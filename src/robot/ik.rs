@@ -85,6 +85,7 @@ pub struct Reach {
 impl Opw {
     /// Flange pose for OPW angles θ (θ3 = 0 with the forearm in line with
     /// the lower arm, all axes pointing up; no joint offsets).
+    #[inline]
     pub fn fk_theta(&self, t: &Joints) -> Isometry3<f64> {
         // Half-angle sines and cosines build the quaternion directly; the
         // full angles for the position come from them (6 sin_cos in all).
@@ -511,6 +512,7 @@ impl OpwArm {
         }
     }
 
+    #[inline]
     pub fn theta_of(&self, q: &Joints) -> Joints {
         let s = serial_angles(q, self.coupling);
         std::array::from_fn(|i| self.signs[i] * s[i] + self.offsets[i])

@@ -67,8 +67,19 @@ fn bench(c: &mut Criterion) {
     g.bench_function("rapidtherm_with_robconf", |b| {
         b.iter(|| robot.ik_conf(black_box(&pose), &conf))
     });
+    // The enumerate-and-pick search the direct robconf path replaced (its
+    // fallback and test reference), for before and after in one run.
+    g.bench_function("rapidtherm_with_robconf_by_enumeration", |b| {
+        b.iter(|| arm.solve_conf_by_enumeration(black_box(&pose), &robot.limits, &conf))
+    });
     g.bench_function("rs_opw_kinematics", |b| {
         b.iter(|| reference.inverse(black_box(&ref_pose)))
+    });
+    // The reference's closest call to IK with a robconf: one pose, its
+    // solutions sorted by closeness to the previous joints (the first is
+    // the one a program would take).
+    g.bench_function("rs_opw_kinematics_continuing", |b| {
+        b.iter(|| reference.inverse_continuing(black_box(&ref_pose), &q))
     });
     g.finish();
 }

@@ -161,9 +161,15 @@ impl Robot {
     }
 
     fn solve(&self, pose: &Isometry3<f64>, scales: Option<&LinkScales>) -> Result<Solutions> {
-        self.checked_arm(pose, scales)?
-            .solve(pose, &self.limits, None)
-            .map_err(|f| self.failure(f))
+        let arm = self.checked_arm(pose, scales)?;
+        // Filled where it is returned from (a 4 kB buffer; see OpwArm::solve).
+        let mut out = Ok(Solutions::default());
+        if let Ok(sols) = &mut out {
+            if let Err(f) = arm.solve_in(pose, &self.limits, None, sols) {
+                out = Err(self.failure(f));
+            }
+        }
+        out
     }
 
     /// The solution with robconf `conf` (exactly, or within
@@ -193,9 +199,14 @@ impl Robot {
                 "robconf {conf}: cfx must be 0..7 for this robot family"
             )));
         }
-        let (found, sols) = self
-            .checked_arm(pose, scales)?
-            .solve_conf(pose, &self.limits, conf)
+        let arm = self.checked_arm(pose, scales)?;
+        if let Some(s) = arm.solve_conf_exact(pose, &self.limits, conf) {
+            return Ok(s.q);
+        }
+        // Everything else (near matches, the shoulder singularity, errors
+        // and their list of configurations) as the enumeration decides it.
+        let (found, sols) = arm
+            .solve_conf_by_enumeration(pose, &self.limits, conf)
             .map_err(|f| self.failure(f))?;
         match found {
             Some(s) => Ok(s.q),

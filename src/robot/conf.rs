@@ -51,9 +51,17 @@ impl fmt::Display for RobConf {
 }
 
 /// Quadrant of an angle in radians, `floor(q / 90°)`.
+#[inline]
 pub fn quadrant(q: f64) -> i32 {
+    let x = q / FRAC_PI_2;
+    // floor without the libm call (no SSE4.1 in the baseline target): the
+    // truncation is exact below 2³¹, one less for negative fractions.
+    if x.abs() < 2_147_483_648.0 {
+        let t = x as i32;
+        return if f64::from(t) > x { t - 1 } else { t };
+    }
     // Saturating cast: absurd angles give absurd but finite quadrants.
-    (q / FRAC_PI_2).floor() as i32
+    x.floor() as i32
 }
 
 /// The interval `[lo, hi)` (radians) of a quadrant.

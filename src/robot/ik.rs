@@ -32,7 +32,15 @@ pub const LIMIT_EPS: f64 = 1e-9;
 pub const MAX_SOLUTIONS: usize = 64;
 
 /// Angle wrapped into [-π, π].
+#[inline]
 pub fn wrap(a: f64) -> f64 {
+    // Most angles are already inside: there a/2π rounds to ±0 and the
+    // result is a itself (+0 for −0), without the division and the libm
+    // call of `round` (no SSE4.1 in the baseline target). 3 < π keeps
+    // a/2π well away from the halves.
+    if a.abs() < 3.0 {
+        return a + 0.0;
+    }
     a - TAU * (a / TAU).round()
 }
 
@@ -77,6 +85,7 @@ pub struct Reach {
 impl Opw {
     /// Flange pose for OPW angles θ (θ3 = 0 with the forearm in line with
     /// the lower arm, all axes pointing up; no joint offsets).
+    #[inline]
     pub fn fk_theta(&self, t: &Joints) -> Isometry3<f64> {
         // Half-angle sines and cosines build the quaternion directly; the
         // full angles for the position come from them (6 sin_cos in all).
@@ -118,6 +127,54 @@ impl Opw {
     /// All eight OPW solutions for a flange pose (rotation `r`, position
     /// `p`, mm). `theta1_hint` is used for θ1 at the shoulder singularity.
     pub fn ik_theta(&self, r: &Matrix3<f64>, p: &Vector3<f64>, theta1_hint: f64) -> Branches {
+        let (arms, reach, shoulder_singular) = self.arm_angles(r, p, theta1_hint);
+        let mut out = Branches {
+            theta: [[0.0; 6]; 8],
+            valid: [false; 8],
+            wrist: [Wrist::Regular; 8],
+            shoulder_singular,
+            reach,
+            forward: [0.0; 8],
+            side: [0.0; 8],
+        };
+        // The two elbows of a shoulder share θ1 and so its sine and cosine.
+        let mut trig: Option<(f64, (f64, f64))> = None;
+        for (j, arm) in arms.iter().enumerate() {
+            if !arm.valid() {
+                continue;
+            }
+            let sc1 = match trig {
+                Some((t1, sc1)) if t1.to_bits() == arm.t1.to_bits() => sc1,
+                _ => {
+                    let sc1 = arm.t1.sin_cos();
+                    trig = Some((arm.t1, sc1));
+                    sc1
+                }
+            };
+            for (h, branch) in self.wrists(r, arm, sc1).iter().enumerate() {
+                let i = 2 * j + h;
+                out.forward[i] = arm.forward;
+                out.side[i] = arm.side;
+                if let Some((theta, wrist)) = *branch {
+                    out.theta[i] = theta;
+                    out.valid[i] = true;
+                    out.wrist[i] = wrist;
+                }
+            }
+        }
+        out
+    }
+
+    /// The four arm solutions (θ1, θ2, θ3, before the wrist) in the order
+    /// of [`Branches`], the reach, and whether the wrist centre is on
+    /// axis 1. Split from the wrist so that a search for one robconf
+    /// solves the wrist of its own arm only.
+    pub(super) fn arm_angles(
+        &self,
+        r: &Matrix3<f64>,
+        p: &Vector3<f64>,
+        theta1_hint: f64,
+    ) -> ([ArmAngles; 4], Reach, bool) {
         let zc = r.column(2);
         let c = p - self.c4 * zc;
         let (cx, cy, cz) = (c.x, c.y, c.z);
@@ -136,7 +193,7 @@ impl Opw {
         } else {
             cy.atan2(cx)
         };
-        let off = self.b.atan2(nx1 + self.a1);
+        let off = atan2_of_offset(self.b, nx1 + self.a1);
         let t1_i = base - off;
         let t1_ii = base + off - PI;
         let tmp1 = nx1.atan2(czp);
@@ -150,101 +207,123 @@ impl Opw {
         let back_ok = in_acos_domain(arg2b) && in_acos_domain(arg3b);
         // The triangle's angles by atan2 with Heron's area: acos loses
         // half the digits near full stretch and full fold.
-        let (a2a, a3a, sidea) = self.triangle(s1, s1_2);
-        let (a2b, a3b, sideb) = self.triangle(s2, s2_2);
-        let psi3 = self.a2.atan2(self.c3);
+        let (a2a, a3a, sidea) = self.triangle(s1, s1_2, k2, k);
+        let (a2b, a3b, sideb) = self.triangle(s2, s2_2, k2, k);
+        let psi3 = atan2_of_offset(self.a2, self.c3);
         // The front arms face the wrist centre (forward = its lateral
         // distance from axis 1), the back arms turn away from it; elbow
         // sign decides the side of the lower arm.
-        let arms = [
-            (t1_i, -a2a + tmp1, a3a - psi3, front_ok, lateral, sidea),
-            (t1_i, a2a + tmp1, -a3a - psi3, front_ok, lateral, -sidea),
-            (t1_ii, -a2b - tmp2, a3b - psi3, back_ok, -lateral, sideb),
-            (t1_ii, a2b - tmp2, -a3b - psi3, back_ok, -lateral, -sideb),
-        ];
-        let mut out = Branches {
-            theta: [[0.0; 6]; 8],
-            valid: [false; 8],
-            wrist: [Wrist::Regular; 8],
-            shoulder_singular,
-            reach: Reach {
-                front: s1,
-                back: s2,
-                min: (self.c2 - k).abs(),
-                max: self.c2 + k,
-            },
-            forward: [0.0; 8],
-            side: [0.0; 8],
+        let arm = |t1: f64, t2: f64, t3: f64, ok: bool, forward: f64, side: f64| ArmAngles {
+            t1,
+            t2,
+            t3,
+            ok,
+            forward,
+            side,
         };
-        for (j, &(t1, t2, t3, ok, forward, side)) in arms.iter().enumerate() {
-            if !(ok && t1.is_finite() && t2.is_finite() && t3.is_finite()) {
-                continue;
-            }
-            out.forward[2 * j] = forward;
-            out.forward[2 * j + 1] = forward;
-            out.side[2 * j] = side;
-            out.side[2 * j + 1] = side;
-            let (st1, ct1) = t1.sin_cos();
-            let (sa, ca) = (t2 + t3).sin_cos();
-            // Rows of R03ᵀ with R03 = Rz(θ1)·Ry(θ2+θ3).
-            let x = Vector3::new(ct1 * ca, st1 * ca, -sa);
-            let y = Vector3::new(-st1, ct1, 0.0);
-            let z = Vector3::new(ct1 * sa, st1 * sa, ca);
-            let (r0, r1, r2) = (r.column(0), r.column(1), r.column(2));
-            let m13 = x.dot(&r2);
-            let m23 = y.dot(&r2);
-            let m33 = z.dot(&r2);
-            let sb = (m13 * m13 + m23 * m23).sqrt();
-            let t5 = sb.atan2(m33);
-            let (t1w, t2w, t3w) = (wrap(t1), wrap(t2), wrap(t3));
-            let i = 2 * j;
-            let m11 = x.dot(&r0);
-            let m21 = y.dot(&r0);
-            // θ4 + θ6 from the upper-left block, (1 + cos θ5)·(cos, sin) of
-            // the sum: well conditioned for θ5 < 90°, where the separate
-            // atan2s of θ4 and θ6 lose precision as θ5 → 0.
-            let sum = if m33 > 0.0 {
-                let m12 = x.dot(&r1);
-                let m22 = y.dot(&r1);
-                Some((m21 - m12).atan2(m11 + m22))
-            } else {
-                None
-            };
-            if sb < WRIST_SINGULAR_EPS {
-                let (t6, kind) = match sum {
-                    Some(sum) => (sum, Wrist::Sum(sum)),
-                    None => {
-                        let diff = (-m21).atan2(-m11);
-                        (-diff, Wrist::Diff(diff))
-                    }
-                };
-                out.theta[i] = [t1w, t2w, t3w, 0.0, t5, wrap(t6)];
-                out.valid[i] = true;
-                out.wrist[i] = kind;
-            } else {
-                let mut t4 = m23.atan2(m13);
-                let mut t6 = z.dot(&r1).atan2(-z.dot(&r0));
-                if let Some(sum) = sum {
-                    // Keep θ4 − θ6 from the atan2s (its error only matters
-                    // in proportion to sin θ5) and the sum from above.
-                    let diff = t4 - t6;
-                    let half = 0.5 * (sum + diff);
-                    // (sum + diff)/2 is θ4 up to π: take the one nearer θ4.
-                    let refined = if wrap(half - t4).abs() <= FRAC_PI_2 {
-                        half
-                    } else {
-                        half + PI
-                    };
-                    t4 = wrap(refined);
-                    t6 = wrap(sum - refined);
+        let arms = [
+            arm(t1_i, -a2a + tmp1, a3a - psi3, front_ok, lateral, sidea),
+            arm(t1_i, a2a + tmp1, -a3a - psi3, front_ok, lateral, -sidea),
+            arm(t1_ii, -a2b - tmp2, a3b - psi3, back_ok, -lateral, sideb),
+            arm(t1_ii, a2b - tmp2, -a3b - psi3, back_ok, -lateral, -sideb),
+        ];
+        let reach = Reach {
+            front: s1,
+            back: s2,
+            min: (self.c2 - k).abs(),
+            max: self.c2 + k,
+        };
+        (arms, reach, shoulder_singular)
+    }
+
+    /// The wrist of one arm solution: the wrist and its flip, each with its
+    /// OPW angles (θ1..θ3 wrapped) and how the wrist was resolved; at the
+    /// wrist singularity only the first. `(st1, ct1)`: θ1's sine and cosine.
+    #[inline]
+    pub(super) fn wrists(
+        &self,
+        r: &Matrix3<f64>,
+        arm: &ArmAngles,
+        (st1, ct1): (f64, f64),
+    ) -> [Option<(Joints, Wrist)>; 2] {
+        let (t1, t2, t3) = (arm.t1, arm.t2, arm.t3);
+        let (sa, ca) = (t2 + t3).sin_cos();
+        // Rows of R03ᵀ with R03 = Rz(θ1)·Ry(θ2+θ3).
+        let x = Vector3::new(ct1 * ca, st1 * ca, -sa);
+        let y = Vector3::new(-st1, ct1, 0.0);
+        let z = Vector3::new(ct1 * sa, st1 * sa, ca);
+        let (r0, r1, r2) = (r.column(0), r.column(1), r.column(2));
+        let m13 = x.dot(&r2);
+        let m23 = y.dot(&r2);
+        let m33 = z.dot(&r2);
+        let sb = (m13 * m13 + m23 * m23).sqrt();
+        let t5 = sb.atan2(m33);
+        let (t1w, t2w, t3w) = (wrap(t1), wrap(t2), wrap(t3));
+        let m11 = x.dot(&r0);
+        let m21 = y.dot(&r0);
+        // θ4 + θ6 from the upper-left block, (1 + cos θ5)·(cos, sin) of
+        // the sum: well conditioned for θ5 < 90°, where the separate
+        // atan2s of θ4 and θ6 lose precision as θ5 → 0.
+        let sum = if m33 > 0.0 {
+            let m12 = x.dot(&r1);
+            let m22 = y.dot(&r1);
+            Some((m21 - m12).atan2(m11 + m22))
+        } else {
+            None
+        };
+        if sb < WRIST_SINGULAR_EPS {
+            let (t6, kind) = match sum {
+                Some(sum) => (sum, Wrist::Sum(sum)),
+                None => {
+                    let diff = (-m21).atan2(-m11);
+                    (-diff, Wrist::Diff(diff))
                 }
-                out.theta[i] = [t1w, t2w, t3w, t4, t5, t6];
-                out.theta[i + 1] = [t1w, t2w, t3w, wrap(t4 + PI), -t5, wrap(t6 + PI)];
-                out.valid[i] = true;
-                out.valid[i + 1] = true;
+            };
+            [Some(([t1w, t2w, t3w, 0.0, t5, wrap(t6)], kind)), None]
+        } else {
+            let mut t4 = m23.atan2(m13);
+            let mut t6 = z.dot(&r1).atan2(-z.dot(&r0));
+            if let Some(sum) = sum {
+                // Keep θ4 − θ6 from the atan2s (its error only matters
+                // in proportion to sin θ5) and the sum from above.
+                let diff = t4 - t6;
+                let half = 0.5 * (sum + diff);
+                // (sum + diff)/2 is θ4 up to π: take the one nearer θ4.
+                let refined = if wrap(half - t4).abs() <= FRAC_PI_2 {
+                    half
+                } else {
+                    half + PI
+                };
+                t4 = wrap(refined);
+                t6 = wrap(sum - refined);
             }
+            [
+                Some(([t1w, t2w, t3w, t4, t5, t6], Wrist::Regular)),
+                Some((
+                    [t1w, t2w, t3w, wrap(t4 + PI), -t5, wrap(t6 + PI)],
+                    Wrist::Regular,
+                )),
+            ]
         }
-        out
+    }
+}
+
+/// One arm solution before the wrist: OPW angles θ1..θ3 (unwrapped),
+/// whether the triangle closes, and the wrist centre's forward distance
+/// from axis 1 and side of the lower arm (mm).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ArmAngles {
+    pub t1: f64,
+    pub t2: f64,
+    pub t3: f64,
+    pub ok: bool,
+    pub forward: f64,
+    pub side: f64,
+}
+
+impl ArmAngles {
+    pub(super) fn valid(&self) -> bool {
+        self.ok && self.t1.is_finite() && self.t2.is_finite() && self.t3.is_finite()
     }
 }
 
@@ -253,16 +332,26 @@ impl Opw {
     /// centre) and at axis 3 (θ3 + ψ3) of the triangle with sides c2, k, s.
     /// Also k·sin(θ3+ψ3) = 2·area/c2 (≥ 0), the wrist centre's distance
     /// from the lower-arm line.
-    fn triangle(&self, s: f64, s_2: f64) -> (f64, f64, f64) {
+    fn triangle(&self, s: f64, s_2: f64, k2: f64, k: f64) -> (f64, f64, f64) {
         let c2 = self.c2;
-        let k2 = self.a2 * self.a2 + self.c3 * self.c3;
-        let k = k2.sqrt();
         // 4·area² = ((c2+k)² − s²)(s² − (c2−k)²), factored for accuracy.
         let p = ((c2 + k - s) * (c2 + k + s) * (s - c2 + k) * (s + c2 - k)).max(0.0);
         let root = p.sqrt();
         let at2 = root.atan2(s_2 + c2 * c2 - k2);
         let at3 = root.atan2(s_2 - c2 * c2 - k2);
         (at2, at3, 0.5 * root / c2)
+    }
+}
+
+/// `y.atan2(x)`, without the call for an offset of zero in front (b = 0 on
+/// every catalogue arm, a2 = 0 on the IRB 140): atan2(±0, x > 0) is ±0
+/// exactly, so the result is the same to the bit.
+#[inline]
+fn atan2_of_offset(y: f64, x: f64) -> f64 {
+    if y == 0.0 && x > 0.0 {
+        y
+    } else {
+        y.atan2(x)
     }
 }
 
@@ -372,7 +461,7 @@ impl Solutions {
     pub fn dropped(&self) -> impl Iterator<Item = &Dropped> {
         self.dropped.iter().flatten()
     }
-    fn clear(&mut self) {
+    pub(super) fn clear(&mut self) {
         self.len = 0;
         self.dropped = [None; 8];
     }
@@ -423,6 +512,7 @@ impl OpwArm {
         }
     }
 
+    #[inline]
     pub fn theta_of(&self, q: &Joints) -> Joints {
         let s = serial_angles(q, self.coupling);
         std::array::from_fn(|i| self.signs[i] * s[i] + self.offsets[i])
@@ -462,62 +552,34 @@ impl OpwArm {
         limits: &Limits,
         want: Option<&RobConf>,
     ) -> Result<Solutions, IkFailure> {
+        // Built in the place it is returned from: the buffer is 4 kB, and
+        // moving it into the result took a sixth of the time.
+        let mut out = Ok(Solutions::default());
+        if let Ok(sols) = &mut out {
+            if let Err(f) = self.solve_in(pose, limits, want, sols) {
+                out = Err(f);
+            }
+        }
+        out
+    }
+
+    /// [`OpwArm::solve`] into an empty buffer.
+    pub(super) fn solve_in(
+        &self,
+        pose: &Isometry3<f64>,
+        limits: &Limits,
+        want: Option<&RobConf>,
+        out: &mut Solutions,
+    ) -> Result<(), IkFailure> {
         let q1_hint = want.map_or(0.0, |c| {
             let (lo, hi) = quadrant_range(c.cf1);
             0.5 * (lo + hi)
         });
-        let mut out = Solutions::default();
-        self.solve_hinted(pose, limits, want, q1_hint, &mut out, false)?;
-        Ok(out)
+        self.solve_hinted(pose, limits, want, q1_hint, out, false)
+            .map(|_| ())
     }
 
-    /// The solution with robconf `want` (see [`pick_conf`]), or `Ok(None)`
-    /// with all solutions when none has it. At the shoulder singularity q1
-    /// is free: the middle of the cf1 quadrant first, then points across
-    /// the quadrant until the wrist quadrants match too.
-    pub fn solve_conf(
-        &self,
-        pose: &Isometry3<f64>,
-        limits: &Limits,
-        want: &RobConf,
-    ) -> Result<(Option<Solution>, Solutions), IkFailure> {
-        // Only near matches are kept while searching: an arm with wide
-        // limits has more turns than the buffer holds.
-        let (lo, hi) = quadrant_range(want.cf1);
-        let mid = 0.5 * (lo + hi);
-        let mut sols = Solutions::default();
-        let singular = self.solve_hinted(pose, limits, Some(want), mid, &mut sols, true)?;
-        let first = pick_conf(&sols, want);
-        if let Some(s) = first {
-            if s.conf == *want || !singular {
-                return Ok((Some(s), sols));
-            }
-        }
-        if singular {
-            const STEPS: i32 = 18;
-            for i in 0..STEPS {
-                let hint = lo + (hi - lo) * (f64::from(i) + 0.5) / f64::from(STEPS);
-                sols.clear();
-                if self
-                    .solve_hinted(pose, limits, Some(want), hint, &mut sols, true)
-                    .is_ok()
-                {
-                    if let Some(s) = sols.iter().find(|s| s.conf == *want) {
-                        return Ok((Some(*s), sols));
-                    }
-                }
-            }
-        }
-        if first.is_some() {
-            return Ok((first, sols));
-        }
-        // None: all solutions, for the message.
-        sols.clear();
-        self.solve_hinted(pose, limits, Some(want), mid, &mut sols, false)?;
-        Ok((None, sols))
-    }
-
-    fn solve_hinted(
+    pub(super) fn solve_hinted(
         &self,
         pose: &Isometry3<f64>,
         limits: &Limits,
@@ -539,23 +601,7 @@ impl OpwArm {
                 continue;
             }
             any = true;
-            let theta = br.theta[i];
-            let mut q = self.q_of(&theta);
-            match br.wrist[i] {
-                Wrist::Regular => {}
-                Wrist::Sum(v) => self.split_wrist(
-                    &mut q,
-                    v - self.offsets[3] - self.offsets[5],
-                    self.signs[5],
-                    want,
-                ),
-                Wrist::Diff(v) => self.split_wrist(
-                    &mut q,
-                    v - self.offsets[3] + self.offsets[5],
-                    -self.signs[5],
-                    want,
-                ),
-            }
+            let q = self.branch_q(&br.theta[i], br.wrist[i], want);
             let (forward, side) = (br.forward[i], br.side[i]);
             let conf = |qq: &Joints| RobConf::from_parts(qq, cfx_bits(forward, side, qq[4]));
             if push_turns(&q, limits, out, &conf, keep) {
@@ -578,6 +624,29 @@ impl OpwArm {
             return Err(IkFailure::JointLimits(Box::new(violations)));
         }
         Ok(br.shoulder_singular)
+    }
+
+    /// The controller's joints of one branch's OPW angles, the free split
+    /// of a singular wrist chosen for `want` ([`OpwArm::split_wrist`]).
+    #[inline]
+    pub(super) fn branch_q(&self, theta: &Joints, wrist: Wrist, want: Option<&RobConf>) -> Joints {
+        let mut q = self.q_of(theta);
+        match wrist {
+            Wrist::Regular => {}
+            Wrist::Sum(v) => self.split_wrist(
+                &mut q,
+                v - self.offsets[3] - self.offsets[5],
+                self.signs[5],
+                want,
+            ),
+            Wrist::Diff(v) => self.split_wrist(
+                &mut q,
+                v - self.offsets[3] + self.offsets[5],
+                -self.signs[5],
+                want,
+            ),
+        }
+        q
     }
 
     /// At the wrist singularity only s4·q4 + e·q6 ≡ t (mod 2π) is fixed.
@@ -633,7 +702,7 @@ impl OpwArm {
 /// cfx bits from the wrist centre's forward distance from axis 1 and its
 /// side of the lower arm (mm). On the line within rounding (the shoulder or
 /// elbow singularity) counts as in front, as the manual's zero does.
-fn cfx_bits(forward: f64, side: f64, q5: f64) -> CfxBits {
+pub(super) fn cfx_bits(forward: f64, side: f64, q5: f64) -> CfxBits {
     CfxBits {
         behind_axis1: forward < -SHOULDER_SINGULAR_EPS,
         behind_lower_arm: side < -SHOULDER_SINGULAR_EPS,
@@ -648,7 +717,7 @@ fn push_turns(
     q: &Joints,
     limits: &Limits,
     out: &mut Solutions,
-    conf: &dyn Fn(&Joints) -> RobConf,
+    conf: &impl Fn(&Joints) -> RobConf,
     keep: Option<&RobConf>,
 ) -> bool {
     let mut reps = [[0.0f64; 5]; 6];

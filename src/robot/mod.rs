@@ -18,6 +18,8 @@
 //! - `chain`: forward kinematics of any serial chain, the chain of OPW
 //!   lengths, OPW extraction.
 //! - `ik`: the closed-form OPW solution, turns, limits, singularities.
+//! - `ik_conf`: IK for one robconf, the requested branch computed directly
+//!   (the enumeration of `ik` as its fallback and reference).
 //! - `conf`: robconf (confdata) and the cfx table.
 //! - `frames`: tooldata / wobjdata, robtarget ↔ flange.
 
@@ -27,6 +29,7 @@ pub mod chain;
 pub mod conf;
 pub mod frames;
 pub mod ik;
+mod ik_conf;
 pub mod urdf;
 
 pub use arm::{describe_violation, irb140_opw, Robot};

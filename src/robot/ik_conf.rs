@@ -1,0 +1,156 @@
+//! IK for one robconf, the main job's call: the solution of the requested
+//! arm branch and quadrants, computed directly, with the enumeration of
+//! every solution ([`OpwArm::solve_conf_by_enumeration`]) as the fallback
+//! that decides everything the direct path does not (near matches within
+//! [`super::ik::CONF_TOLERANCE`], the shoulder singularity's search,
+//! errors) and as the reference the direct path is tested against
+//! (`tests/robot_ik_conf.rs`).
+
+use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
+use super::ik::{cfx_bits, pick_conf, IkFailure, Limits, OpwArm, Solution, Solutions, LIMIT_EPS};
+use super::Joints;
+use nalgebra::Isometry3;
+use std::f64::consts::TAU;
+
+impl OpwArm {
+    /// The solution with robconf `want` (see [`pick_conf`]), or `Ok(None)`
+    /// when none has it. The same solution as
+    /// [`OpwArm::solve_conf_by_enumeration`], computed from the requested
+    /// arm branch alone when one has it exactly.
+    pub fn solve_conf(
+        &self,
+        pose: &Isometry3<f64>,
+        limits: &Limits,
+        want: &RobConf,
+    ) -> Result<Option<Solution>, IkFailure> {
+        if let Some(s) = self.solve_conf_exact(pose, limits, want) {
+            return Ok(Some(s));
+        }
+        Ok(self.solve_conf_by_enumeration(pose, limits, want)?.0)
+    }
+
+    /// The first solution, in the order of the enumeration, with exactly
+    /// robconf `want`: the arm solutions whose wrist centre is on the
+    /// requested sides of axis 1 and the lower arm, their wrist and its
+    /// flip, and for each axis the first turn (of the enumeration's −2..2)
+    /// within the limits that lands in the requested quadrant (axes 1, 4,
+    /// 6) or sign (axis 5). None when no solution has it exactly; the
+    /// enumeration then decides (a near match, the other points of cf1's
+    /// quadrant at the shoulder singularity, or the error), so this never
+    /// answers differently from it.
+    #[doc(hidden)]
+    pub fn solve_conf_exact(
+        &self,
+        pose: &Isometry3<f64>,
+        limits: &Limits,
+        want: &RobConf,
+    ) -> Option<Solution> {
+        let bits = CfxBits::from_cfx(want.cfx)?;
+        // The same hint for θ1 at the shoulder singularity as the
+        // enumeration's first pass, so the same solution where it has one.
+        let (lo, hi) = quadrant_range(want.cf1);
+        let q1_hint = 0.5 * (lo + hi);
+        let rot = (pose.rotation * self.tip.inverse()).to_rotation_matrix();
+        let r = rot.matrix();
+        let p = pose.translation.vector;
+        let theta1_hint = self.signs[0] * q1_hint + self.offsets[0];
+        let (arms, _, _) = self.geom.arm_angles(r, &p, theta1_hint);
+        for arm in arms.iter().filter(|a| a.valid()) {
+            // Both branches of an arm solution share its cfx arm bits.
+            let arm_bits = cfx_bits(arm.forward, arm.side, 0.0);
+            if arm_bits.behind_axis1 != bits.behind_axis1
+                || arm_bits.behind_lower_arm != bits.behind_lower_arm
+            {
+                continue;
+            }
+            let sc1 = arm.t1.sin_cos();
+            for (theta, wrist) in self.geom.wrists(r, arm, sc1).into_iter().flatten() {
+                let q = self.branch_q(&theta, wrist, Some(want));
+                if let Some(q) = exact_turns(&q, limits, want, bits.axis5_negative) {
+                    return Some(Solution { q, conf: *want });
+                }
+            }
+        }
+        None
+    }
+
+    /// The enumerate-and-pick search: every solution near `want` (all
+    /// branches, all turns within the limits), then [`pick_conf`]; at the
+    /// shoulder singularity q1 is free: the middle of the cf1 quadrant
+    /// first, then points across the quadrant until the wrist quadrants
+    /// match too. Without a match, `Ok(None)` with all solutions (for the
+    /// error's list of configurations). The reference of
+    /// [`OpwArm::solve_conf`], and its fallback.
+    #[doc(hidden)]
+    pub fn solve_conf_by_enumeration(
+        &self,
+        pose: &Isometry3<f64>,
+        limits: &Limits,
+        want: &RobConf,
+    ) -> Result<(Option<Solution>, Solutions), IkFailure> {
+        // Only near matches are kept while searching: an arm with wide
+        // limits has more turns than the buffer holds.
+        let (lo, hi) = quadrant_range(want.cf1);
+        let mid = 0.5 * (lo + hi);
+        let mut sols = Solutions::default();
+        let singular = self.solve_hinted(pose, limits, Some(want), mid, &mut sols, true)?;
+        let first = pick_conf(&sols, want);
+        if let Some(s) = first {
+            if s.conf == *want || !singular {
+                return Ok((Some(s), sols));
+            }
+        }
+        if singular {
+            const STEPS: i32 = 18;
+            for i in 0..STEPS {
+                let hint = lo + (hi - lo) * (f64::from(i) + 0.5) / f64::from(STEPS);
+                sols.clear();
+                if self
+                    .solve_hinted(pose, limits, Some(want), hint, &mut sols, true)
+                    .is_ok()
+                {
+                    if let Some(s) = sols.iter().find(|s| s.conf == *want) {
+                        return Ok((Some(*s), sols));
+                    }
+                }
+            }
+        }
+        if first.is_some() {
+            return Ok((first, sols));
+        }
+        // None: all solutions, for the message.
+        sols.clear();
+        self.solve_hinted(pose, limits, Some(want), mid, &mut sols, false)?;
+        Ok((None, sols))
+    }
+}
+
+/// The turn of each axis the enumeration would give first for an exact
+/// match: the first of q + 2πk (k = −2..2) within the limits (clamped onto
+/// them, as the enumeration does) that is in the requested quadrant (axes
+/// 1, 4, 6) or has the requested sign (axis 5); axes 2 and 3 take their
+/// first turn within the limits. The enumeration's order runs axis 1
+/// fastest, so its first exact match is the first such turn of every axis.
+#[inline]
+fn exact_turns(q: &Joints, limits: &Limits, want: &RobConf, q5_negative: bool) -> Option<Joints> {
+    let mut out = [0.0; 6];
+    for j in 0..6 {
+        let (lo, hi) = limits[j];
+        let fits = |v: f64| match j {
+            0 => quadrant(v) == want.cf1,
+            3 => quadrant(v) == want.cf4,
+            4 => (v < 0.0) == q5_negative,
+            5 => quadrant(v) == want.cf6,
+            _ => true,
+        };
+        out[j] = (-2..=2).find_map(|k| {
+            let v = q[j] + TAU * f64::from(k);
+            if !(v >= lo - LIMIT_EPS && v <= hi + LIMIT_EPS) {
+                return None;
+            }
+            let v = v.clamp(lo, hi);
+            fits(v).then_some(v)
+        })?;
+    }
+    Some(out)
+}

@@ -81,22 +81,40 @@ pub fn report(outcome: &Outcome, format: Format) -> Result<String> {
             render_csv(&CSV_HEADER, &rows)
         }
         Format::Table => {
+            // A target also moved to with other pairs is marked: its
+            // numbers are right for the pair shown, its first use's.
+            let shared = |c: &rapidtherm::correct::Correction| {
+                outcome
+                    .shared
+                    .iter()
+                    .any(|u| u.id == c.id && u.file == c.file && u.line == c.line)
+            };
+            let mut marked = false;
             let rows: Vec<Vec<String>> = outcome
                 .corrections
                 .iter()
                 .map(|c| {
                     let mut r = vec![c.id.clone(), c.kind.clone(), c.line.to_string(), minute(c)];
                     r.push(c.tool.clone().unwrap_or_else(|| "-".to_string()));
-                    r.push(c.wobj.clone().unwrap_or_else(|| "-".to_string()));
+                    let mut wobj = c.wobj.clone().unwrap_or_else(|| "-".to_string());
+                    if shared(c) {
+                        wobj.push('*');
+                        marked = true;
+                    }
+                    r.push(wobj);
                     r.extend(numbers(c));
                     r
                 })
                 .collect();
-            let mut align = vec![Align::Left; 6];
+            let mut align = vec![Align::Left, Align::Left, Align::Right, Align::Right];
+            align.extend([Align::Left; 2]);
             align.extend([Align::Right; 6]);
             align.push(Align::Left);
             let mut text = render_table(&TABLE_HEADER, &align, &rows);
             text.push_str(&legend(outcome));
+            if marked {
+                text.push_str("*: also moved to with other tools or work objects; corrected for the pair shown, its first use (the other uses are listed below)\n");
+            }
             text.push_str(&lines(outcome));
             text
         }

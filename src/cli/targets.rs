@@ -262,20 +262,41 @@ fn listing(
                     let v = t.value.as_ref();
                     let p = pairs(t, uses.get(&i));
                     let first = p.first();
-                    let listed: Vec<serde_json::Value> = uses
+                    let use_json = |tool: &str, wobj: &str, instruction: &str, routine, line| {
+                        serde_json::json!({
+                            "tool": tool,
+                            "wobj": wobj,
+                            "instruction": instruction,
+                            "routine": routine,
+                            "line": line,
+                        })
+                    };
+                    let mut listed: Vec<serde_json::Value> = uses
                         .get(&i)
                         .into_iter()
                         .flatten()
                         .map(|u| {
-                            serde_json::json!({
-                                "tool": u.tool_name(),
-                                "wobj": u.wobj_name(),
-                                "instruction": u.instruction,
-                                "routine": u.routine,
-                                "line": u.line,
-                            })
+                            use_json(
+                                u.tool_name(),
+                                u.wobj_name(),
+                                &u.instruction,
+                                Some(u.routine.as_str()),
+                                u.line,
+                            )
                         })
                         .collect();
+                    // A derived target written in a move: that move.
+                    if let (true, Some(instruction), Some((tool, wobj))) =
+                        (listed.is_empty(), t.instruction.as_deref(), first)
+                    {
+                        listed.push(use_json(
+                            tool,
+                            wobj,
+                            instruction,
+                            t.origin.routine.as_deref(),
+                            t.origin.pos.line,
+                        ));
+                    }
                     serde_json::json!({
                         "target": t.id,
                         "kind": t.kind.as_str(),

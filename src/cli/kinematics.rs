@@ -9,10 +9,10 @@
 
 use super::Format;
 use super::{write_stdout, Status};
+use rapidtherm::correct::Frame;
 use rapidtherm::error::{Error, Result};
 use rapidtherm::model::ThermalExpansion;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
-use rapidtherm::correct::Frame;
 use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::{pose_from_rapid, pose_to_rapid};
 use rapidtherm::robot::{describe_violation, LinkScales, RobConf, Robot, Solutions};

@@ -373,9 +373,8 @@ fn joints(prog: &rapid::Program, format: Format) -> String {
             align.extend([Align::Right; 6]);
             align.extend([Align::Left; 2]);
             let mut table_header = header;
-            table_header[5..11].copy_from_slice(&[
-                "j1_deg", "j2_deg", "j3_deg", "j4_deg", "j5_deg", "j6_deg",
-            ]);
+            table_header[5..11]
+                .copy_from_slice(&["j1_deg", "j2_deg", "j3_deg", "j4_deg", "j5_deg", "j6_deg"]);
             render_table(&table_header, &align, &rows)
         }
         Format::Csv => render_csv(&header, &rows),

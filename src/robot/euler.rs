@@ -115,6 +115,8 @@ mod tests {
     /// RY = +90°: RZ is 0 and RX carries the turn (RX − RZ of the
     /// product). pHome of samples/fixtures.mod, [0.707107,0,0.707107,0],
     /// is 90° about y.
+    // 0.707107 is the six-digit number RAPID programs write, not 1/√2.
+    #[allow(clippy::approx_constant)]
     #[test]
     fn gimbal_lock_puts_the_turn_in_rx() {
         close(

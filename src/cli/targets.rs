@@ -115,7 +115,10 @@ fn listing(
     prog: &rapidtherm::rapid::Program,
 ) -> Result<String> {
     let several = inputs.len() > 1;
-    let uses = resolve::usages(prog);
+    // Declared derived targets (`CONST robtarget p20 := Offs(p10, ...)`)
+    // with the moves that name them: `usages` gives those to no target.
+    let mut uses = resolve::usages(prog);
+    uses.extend(resolve::declared_derived_usages(prog));
     let opt = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
     let eulers = |t: &Target| -> Vec<String> {
         match euler(t) {

@@ -361,10 +361,28 @@ pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) 
     });
 }
 
-/// The name of a plain variable argument (`tool1`), or `None` for anything
-/// else (an array element of tools cannot be resolved statically).
+/// The name of a tool or work-object argument: a plain variable (`tool1`)
+/// by its name; anything else (an element of a tool array, a record field,
+/// a function's result) by a description no declaration matches, so that
+/// its target is refused as having a tool nobody can tell before the run,
+/// never corrected for `tool0`.
 fn expr_name(expr: &Expr) -> Option<String> {
-    expr.as_name().map(str::to_string)
+    Some(describe(expr))
+}
+
+fn describe(expr: &Expr) -> String {
+    match expr {
+        Expr::Name(n) => n.to_string(),
+        Expr::Index(b) => format!("{}{{…}}", describe(&b.0)),
+        Expr::Component(b) => format!("{}.{}", describe(&b.0), b.1),
+        Expr::Call(c) => format!("{}(…)", c.name),
+        _ => "an expression".to_string(),
+    }
+}
+
+/// Whether a tool or work-object name is one a declaration can have.
+fn is_plain_name(name: &str) -> bool {
+    name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
 /// What resolving the targets an expression reads needs.
@@ -549,30 +567,35 @@ pub fn frames_named(
     tool_name: Option<&str>,
     wobj_name: Option<&str>,
 ) -> Result<(ToolData, WobjData)> {
-    let tool = frames.tool(tool_name).ok_or_else(|| {
-        located(
-            program,
-            &target.origin,
-            format!(
-                "target {}: unknown tool `{}` (no tooldata of that name in the program)",
-                target.id,
-                tool_name.unwrap_or("tool0")
-            ),
-        )
-        .with_note(ELSEWHERE)
-    })?;
-    let wobj = frames.wobj(wobj_name).ok_or_else(|| {
-        located(
-            program,
-            &target.origin,
-            format!(
-                "target {}: unknown work object `{}` (no wobjdata of that name in the program)",
-                target.id,
-                wobj_name.unwrap_or("wobj0")
-            ),
-        )
-        .with_note(ELSEWHERE)
-    })?;
+    let unknown = |what: &str, data: &str, name: &str| {
+        if is_plain_name(name) {
+            located(
+                program,
+                &target.origin,
+                format!(
+                    "target {}: unknown {what} `{name}` (no {data} of that name in the program)",
+                    target.id
+                ),
+            )
+            .with_note(ELSEWHERE)
+        } else {
+            located(
+                program,
+                &target.origin,
+                format!(
+                    "target {}: the {what} is `{name}`, which only the run decides (not a {data} declared by name); correcting it for another {what} would be silently wrong",
+                    target.id
+                ),
+            )
+            .with_note("name the tooldata/wobjdata in the move instruction, or correct such targets by hand")
+        }
+    };
+    let tool = frames
+        .tool(tool_name)
+        .ok_or_else(|| unknown("tool", "tooldata", tool_name.unwrap_or("tool0")))?;
+    let wobj = frames
+        .wobj(wobj_name)
+        .ok_or_else(|| unknown("work object", "wobjdata", wobj_name.unwrap_or("wobj0")))?;
     Ok((tool.clone(), wobj.clone()))
 }
 

@@ -5,10 +5,13 @@
 //! (`--fail-above`) fails; 2 for usage and input errors.
 
 mod arms;
+mod check_rule;
+mod ci_report;
 mod compare;
 mod correct;
 mod diagnose;
 mod heating;
+mod junit;
 mod kinematics;
 mod messages;
 mod model;

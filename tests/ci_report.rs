@@ -185,11 +185,11 @@ fn github_check_annotates_each_target_at_its_place_with_names_escaped() {
     assert_eq!(
         cold,
         [
-            "pNamed left alone: expression",
-            "pExpr left alone: expression",
-            "pUnloadA left alone: runtime",
-            "pApproach left alone: runtime",
-            "jNamed left alone: expression",
+            "pNamed left cold (expression)",
+            "pExpr left cold (expression)",
+            "pUnloadA left cold (runtime)",
+            "pApproach left cold (runtime)",
+            "jNamed left cold (expression)",
         ]
     );
     assert!(c.iter().all(|c| c.get("file").is_none_or(|f| f == silent)));

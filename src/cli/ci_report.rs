@@ -214,9 +214,10 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
         counts[1] += usize::from(cold);
         let code = l.reason.code();
         let words = reason_words(l.reason, &l.kind, &l.detail);
-        let (level, message) = if cold {
+        let (level, title, message) = if cold {
             (
                 Level::Error,
+                format!("{} left cold ({code})", l.id),
                 format!(
                     "{} ({}) left cold [{code}]: {words} (accept with --accept {code})",
                     l.id, l.kind
@@ -225,6 +226,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
         } else if l.reason.leaves_target_cold() {
             (
                 Level::Skip,
+                format!("{} left cold ({code}), accepted", l.id),
                 format!(
                     "{} ({}) left cold [{code}], accepted: {words}",
                     l.id, l.kind
@@ -233,6 +235,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
         } else {
             (
                 Level::Notice,
+                format!("{} left alone ({code})", l.id),
                 format!("{} ({}) left alone [{code}]: {words}", l.id, l.kind),
             )
         };
@@ -243,7 +246,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
             col: l.col,
             level,
             kind: code,
-            title: format!("{} left alone: {code}", l.id),
+            title,
             message,
         });
     }
@@ -317,10 +320,14 @@ pub fn gate(
         let mut cases = Vec::new();
         for t in &p.diff.targets {
             let fails = moved.contains(t.id.as_str());
-            let moved = if t.kind == "jointtarget" {
-                format!("a joint turned {}°", mm(t.dangle, 6))
+            let (moved, title) = if t.kind == "jointtarget" {
+                let turned = format!("a joint turned {}°", mm(t.dangle, 6));
+                (turned.clone(), format!("{} {turned}", t.id))
             } else {
-                format!("moved {} mm, turned {}°", mm(t.dist, 4), mm(t.dangle, 6))
+                (
+                    format!("moved {} mm, turned {}°", mm(t.dist, 4), mm(t.dangle, 6)),
+                    format!("{} moved {} mm", t.id, mm(t.dist, 4)),
+                )
             };
             cases.push(located(
                 &b,
@@ -328,7 +335,7 @@ pub fn gate(
                 nb,
                 if fails { Level::Error } else { Level::Pass },
                 "moved",
-                format!("{} {moved}", t.id),
+                title,
                 format!(
                     "{} ({}) {moved} from {na} to {nb}: more than the gate of {limits}",
                     t.id, t.kind

@@ -225,8 +225,14 @@ fn github_diff_names_the_file_a_target_is_in() {
         .map(|c| (c.get("file").unwrap(), c.data.as_str()))
         .collect();
     assert_eq!(errors.len(), 2, "{}", r.stdout);
+    // The names, `%` and line break and all, in properties and messages.
+    assert!(r.stdout.contains("50%25%0Aof it.mod"), "{}", r.stdout);
+    assert!(r.stdout.contains("odd%2C name%3A 50%25%0Aof it.moda"));
     assert_eq!(errors[0].0, a);
-    assert!(errors[0].1.starts_with("pCheck is only in"));
+    assert_eq!(
+        errors[0].1,
+        format!("pCheck is only in {a}, not in {b}: its change is unknown")
+    );
     assert_eq!(errors[1].0, b);
     assert!(errors[1].1.starts_with("pCheck2 is only in"));
     // Within the gate: the verdict alone.

@@ -1,6 +1,7 @@
 //! `diff`: the targets of two programs compared, and a CI gate on how far
 //! any moved.
 
+use super::ci_report::{self, Compared, ReportFormat};
 use super::tasks::{self, TaskPick};
 use super::Format;
 use super::{read_input, write_stdout, Status};
@@ -18,8 +19,10 @@ pub struct DiffArgs {
     pub a: PathBuf,
     /// The program to compare with it (e.g. the corrected one).
     pub b: PathBuf,
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
+    /// Format of the comparison; with a gate also github or junit, for CI
+    /// (docs/ci.md).
+    #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
+    pub format: ReportFormat,
     /// A CI gate: exit 1 when a robtarget moved more than this (mm), a
     /// target is in one program only, or the programs have no target in
     /// common; each failing target is named on stderr.
@@ -54,6 +57,7 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
         (None, None) => None,
         _ => Some(Gate::new(max_mm, max_deg)?),
     };
+    ci_report::refuse_outside_gate(args.format, gate.is_some())?;
     let pick = TaskPick {
         tasks: args.task.clone(),
     };
@@ -66,7 +70,21 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
         let a = rapid::parse(&na, &ba)?;
         let b = rapid::parse(&nb, &bb)?;
         let d = diff(&a, &b)?;
-        write_stdout(render_diff(&d, args.format)?.as_bytes())?;
+        let text = match args.format.data() {
+            Some(format) => render_diff(&d, format)?,
+            None => ci_report::gate(
+                args.format,
+                gate.as_ref(),
+                &[Compared {
+                    task: None,
+                    names: (&na, &nb),
+                    programs: (&a, &b),
+                    diff: &d,
+                }],
+                &[],
+            )?,
+        };
+        write_stdout(text.as_bytes())?;
         let Some(gate) = gate else {
             return Ok(Status::Success);
         };
@@ -105,11 +123,14 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
     let mut texts = Vec::new();
     let mut labels = Vec::new();
     let mut message = String::new();
+    let mut compared = Vec::new();
     for (a, b) in &pairs {
         let (_, pa) = tasks::read(a)?;
         let (_, pb) = tasks::read(b)?;
         let d = diff(&pa, &pb)?;
-        texts.push(render_diff(&d, args.format)?);
+        if let Some(format) = args.format.data() {
+            texts.push(render_diff(&d, format)?);
+        }
         labels.push(a.label());
         if let Some(gate) = &gate {
             let failures = d.gate(gate);
@@ -124,8 +145,28 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
                 ));
             }
         }
+        if args.format.data().is_none() {
+            compared.push((pa, pb, d));
+        }
     }
-    write_stdout(tasks::join(args.format, Some(&labels), texts, "diff", &[])?.as_bytes())?;
+    let text = match args.format.data() {
+        Some(format) => tasks::join(format, Some(&labels), texts, "diff", &[])?,
+        None => {
+            let (na, nb) = (args.a.display().to_string(), args.b.display().to_string());
+            let pairs: Vec<Compared> = labels
+                .iter()
+                .zip(&compared)
+                .map(|(label, (pa, pb, d))| Compared {
+                    task: Some(label.clone()),
+                    names: (&na, &nb),
+                    programs: (pa, pb),
+                    diff: d,
+                })
+                .collect();
+            ci_report::gate(args.format, gate.as_ref(), &pairs, &unpaired)?
+        }
+    };
+    write_stdout(text.as_bytes())?;
     for u in &unpaired {
         eprintln!("{}: {u}", if gate.is_some() { "error" } else { "note" });
     }

@@ -1,5 +1,7 @@
 //! `rapidtherm correct`: the main job.
 
+use super::check_rule::CheckRule;
+use super::ci_report::{self, ReportFormat};
 use super::tasks;
 use super::Format;
 use super::{output, read_input, write_output, write_stdout, Status};
@@ -164,9 +166,10 @@ pub struct CorrectArgs {
     /// use with another tool or work object landing farther off fails too.
     #[arg(long, value_name = "MM", default_value_t = 0.001)]
     pub tolerance: f64,
-    /// Format of the per-target report (printed when no output is chosen).
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
+    /// Format of the per-target report (printed when no output is chosen);
+    /// with --check also github or junit, for CI (docs/ci.md).
+    #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
+    pub format: ReportFormat,
 }
 
 fn moment(text: &str, what: &str) -> Result<Moment> {
@@ -208,6 +211,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     if args.tolerance.is_nan() || args.tolerance < 0.0 {
         return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
     }
+    ci_report::refuse_outside_check(args.format, args.check, args.diff)?;
     let model = load_model(args.model.as_deref())?;
     let found = tasks::select(&args.files, &args.pick)?;
     let (motion, still): (Vec<Task>, Vec<Task>) =
@@ -350,9 +354,13 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
             .any(|(f, o)| o.as_slice() != r.program.source(f))
     });
     let accepted: Vec<Reason> = args.accept.iter().map(|&a| a.into()).collect();
+    let rule = CheckRule {
+        tolerance: args.tolerance,
+        accepted: &accepted,
+    };
     let findings: Vec<Vec<Finding>> = runs
         .iter()
-        .map(|r| check_findings(&r.outcome, args.tolerance, &accepted))
+        .map(|r| check_findings(&r.outcome, &rule))
         .collect();
     let any_finding = findings.iter().any(|f| !f.is_empty());
     let summaries = || -> String {
@@ -391,9 +399,21 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
     }
     if args.check {
         eprint!("{}", summaries());
-        write_stdout(
-            per_task(runs, &findings, args.format, named, "findings", check_list)?.as_bytes(),
-        )?;
+        let list = match args.format.data() {
+            Some(format) => per_task(runs, &findings, format, named, "findings", check_list)?,
+            None => {
+                let checked: Vec<ci_report::Checked> = runs
+                    .iter()
+                    .map(|r| ci_report::Checked {
+                        task: named.then(|| r.task.label()),
+                        files: r.inputs.iter().map(|(n, _)| n.as_str()).collect(),
+                        outcome: &r.outcome,
+                    })
+                    .collect();
+                ci_report::check(args.format, &checked, &rule)?
+            }
+        };
+        write_stdout(list.as_bytes())?;
         eprint!("{}", check_verdict(&findings.concat(), args.tolerance));
         return Ok(if any_finding {
             Status::Changes
@@ -436,14 +456,16 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
         eprint!("{}", summaries());
         return Ok(Status::Success);
     }
+    // Refused before the run: github and junit report a check only.
+    let format = args.format.data().unwrap_or_default();
     let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
     write_stdout(
-        per_task(runs, &outcomes, args.format, named, "report", |o, f| {
+        per_task(runs, &outcomes, format, named, "report", |o, f| {
             super::correct_report::report(o, f)
         })?
         .as_bytes(),
     )?;
-    if args.format == Format::Table {
+    if format == Format::Table {
         eprint!("{}", summaries());
     }
     Ok(Status::Success)
@@ -527,11 +549,11 @@ struct Finding {
     detail: String,
 }
 
-fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec<Finding> {
+fn check_findings(outcome: &Outcome, rule: &CheckRule) -> Vec<Finding> {
     let moves = outcome
         .corrections
         .iter()
-        .filter(|c| c.correction_norm_mm > tolerance)
+        .filter(|c| rule.moves(c))
         .map(|c| Finding {
             id: c.id.clone(),
             kind: c.kind.clone(),
@@ -547,7 +569,7 @@ fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec
     let cold = outcome
         .left_alone
         .iter()
-        .filter(|l| l.reason.leaves_target_cold() && !accepted.contains(&l.reason))
+        .filter(|l| rule.left_cold(l))
         .map(|l| Finding {
             id: l.id.clone(),
             kind: l.kind.clone(),
@@ -560,13 +582,10 @@ fn check_findings(outcome: &Outcome, tolerance: f64, accepted: &[Reason]) -> Vec
             reason: Some(l.reason),
             detail: reason_words(l.reason, &l.kind, &l.detail),
         });
-    // A use landing within the tolerance passes, as a correction that
-    // small does; one whose pose only the run time knows does not.
     let other_uses = outcome
         .shared
         .iter()
-        .filter(|u| u.residual_mm.is_none_or(|r| r > tolerance))
-        .filter(|_| !accepted.contains(&Reason::SharedFrames))
+        .filter(|u| rule.lands_off(u))
         .map(|u| Finding {
             id: u.id.clone(),
             kind: u.kind.clone(),

@@ -5,11 +5,14 @@
 //! (`--fail-above`) fails; 2 for usage and input errors.
 
 mod arms;
+mod check_rule;
+mod ci_report;
 mod compare;
 mod correct;
 mod correct_report;
 mod diagnose;
 mod heating;
+mod junit;
 mod kinematics;
 mod messages;
 mod model;

@@ -1,0 +1,450 @@
+//! The CI reports of the two gates (`--format github|junit` of `correct
+//! --check` and `diff --fail-above`): every GitHub line parses as a
+//! workflow command and says what it should, file names and messages
+//! escaped; every JUnit report is valid under `tests/junit/junit.xsd`
+//! (checked by xmllint, which must be installed: `.ci/run` installs it)
+//! and its counts add up.
+
+use quick_xml::events::Event;
+use quick_xml::Reader;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_rapidtherm");
+
+struct Run {
+    code: i32,
+    stdout: String,
+}
+
+fn run(args: &[&str]) -> Run {
+    let out = Command::new(BIN).args(args).output().unwrap();
+    Run {
+        code: out.status.code().unwrap(),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+    }
+}
+
+/// A file name that needs every escape a property value has: `,`, `:`,
+/// `%`, and a line break.
+const ODD: &str = "odd, name: 50%\nof it.mod";
+
+fn odd_copy(dir: &Path, from: &str, suffix: &str) -> PathBuf {
+    let to = dir.join(format!("{ODD}{suffix}"));
+    std::fs::copy(from, &to).unwrap();
+    to
+}
+
+/// One workflow command: `::name key=value,...::data`, parsed by GitHub's
+/// grammar, values and data unescaped.
+#[derive(Debug)]
+struct WorkflowCommand {
+    name: String,
+    properties: Vec<(String, String)>,
+    data: String,
+}
+
+impl WorkflowCommand {
+    fn get(&self, key: &str) -> Option<&str> {
+        self.properties
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+}
+
+/// Undo GitHub's escapes; anything else after a `%` is not an escape
+/// GitHub writes, and fails.
+fn unescape(text: &str, escapes: &[(&str, char)]) -> Result<String, String> {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find('%') {
+        out.push_str(&rest[..i]);
+        let code = rest.get(i + 1..i + 3).unwrap_or("");
+        let Some((_, c)) = escapes.iter().find(|(e, _)| *e == code) else {
+            return Err(format!("`%{code}` is no escape in {text:?}"));
+        };
+        out.push(*c);
+        rest = &rest[i + 3..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+const DATA: &[(&str, char)] = &[("25", '%'), ("0D", '\r'), ("0A", '\n')];
+const PROPERTY: &[(&str, char)] = &[
+    ("25", '%'),
+    ("0D", '\r'),
+    ("0A", '\n'),
+    ("3A", ':'),
+    ("2C", ','),
+];
+
+fn parse(line: &str) -> Result<WorkflowCommand, String> {
+    let rest = line
+        .strip_prefix("::")
+        .ok_or_else(|| format!("does not start with `::`: {line:?}"))?;
+    // The first `::` ends the command and its properties: a value can
+    // hold no `:` unescaped.
+    let end = rest
+        .find("::")
+        .ok_or_else(|| format!("no `::` before the message: {line:?}"))?;
+    let (head, data) = (&rest[..end], &rest[end + 2..]);
+    if data.contains(['\r', '\n']) {
+        return Err(format!("raw line break in the message: {line:?}"));
+    }
+    let (name, props) = head.split_once(' ').unwrap_or((head, ""));
+    if !["error", "warning", "notice"].contains(&name) {
+        return Err(format!("`{name}` is not an annotation command"));
+    }
+    let mut properties = Vec::new();
+    for p in props.split(',').filter(|p| !p.is_empty()) {
+        let (k, v) = p
+            .split_once('=')
+            .ok_or_else(|| format!("property without `=`: {p:?}"))?;
+        if !["file", "line", "endLine", "col", "endColumn", "title"].contains(&k) {
+            return Err(format!("unknown property `{k}`"));
+        }
+        if k != "title" && k != "file" && v.parse::<u32>().map_or(true, |n| n == 0) {
+            return Err(format!("`{k}={v}` is not a line or column number"));
+        }
+        // GitHub's escapeProperty leaves no `:` in a value.
+        if v.contains(':') {
+            return Err(format!("raw `:` in `{k}={v}`"));
+        }
+        properties.push((k.to_string(), unescape(v, PROPERTY)?));
+    }
+    Ok(WorkflowCommand {
+        name: name.to_string(),
+        properties,
+        data: unescape(data, DATA)?,
+    })
+}
+
+fn commands(run: &Run) -> Vec<WorkflowCommand> {
+    run.stdout
+        .lines()
+        .map(|l| parse(l).unwrap_or_else(|e| panic!("{e}\n{}", run.stdout)))
+        .collect()
+}
+
+#[test]
+fn the_grammar_refuses_what_github_would_misread() {
+    assert!(parse("::error file=a.mod,line=3::x").is_ok());
+    assert!(
+        parse("::error file=a:b.mod::x").is_err(),
+        "`:` in a value ends the properties"
+    );
+    assert!(parse("::error title=50%::x").is_err(), "a bare `%`");
+    assert!(parse("::error line=x::x").is_err());
+    assert!(parse("::debug::x").is_err());
+    assert!(parse("error::x").is_err());
+}
+
+#[test]
+fn github_check_annotates_each_target_at_its_place_with_names_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = odd_copy(dir.path(), "tests/cmd/correct_data/cell.mod", "");
+    let cell = cell.to_str().unwrap();
+    let r = run(&[
+        "correct", cell, "--at", "60", "--check", "--format", "github",
+    ]);
+    assert_eq!(r.code, 1, "{}", r.stdout);
+    let c = commands(&r);
+    let errors: Vec<&WorkflowCommand> = c.iter().filter(|c| c.name == "error").collect();
+    let places: Vec<(Option<&str>, Option<&str>, Option<&str>)> = errors
+        .iter()
+        .map(|e| (e.get("file"), e.get("line"), e.get("col")))
+        .collect();
+    // p10, p20 and the inline target of main, where the table puts them.
+    assert_eq!(
+        places,
+        [
+            (Some(cell), Some("4"), Some("26")),
+            (Some(cell), Some("5"), Some("26")),
+            (Some(cell), Some("9"), Some("15")),
+        ]
+    );
+    assert!(errors[0].data.contains("p10") && errors[0].data.contains("0.0616 mm"));
+    assert_eq!(c.last().unwrap().name, "notice");
+    assert!(c.last().unwrap().data.contains("the check fails"));
+
+    // Left cold: each target with its reason; accepted ones warn.
+    let silent = odd_copy(dir.path(), "tests/cmd/correct_data/never_silent.mod", "2");
+    let silent = silent.to_str().unwrap();
+    let r = run(&[
+        "correct", silent, "--at", "0", "--check", "--format", "github",
+    ]);
+    assert_eq!(r.code, 1);
+    let c = commands(&r);
+    let cold: Vec<&str> = c
+        .iter()
+        .filter(|c| c.name == "error")
+        .map(|c| c.get("title").unwrap())
+        .collect();
+    assert_eq!(
+        cold,
+        [
+            "pNamed left cold (expression)",
+            "pExpr left cold (expression)",
+            "pUnloadA left cold (runtime)",
+            "pApproach left cold (runtime)",
+            "jNamed left cold (expression)",
+        ]
+    );
+    assert!(c.iter().all(|c| c.get("file").is_none_or(|f| f == silent)));
+    let r = run(&[
+        "correct",
+        silent,
+        "--at",
+        "0",
+        "--check",
+        "--accept",
+        "runtime,expression",
+        "--format",
+        "github",
+    ]);
+    assert_eq!(r.code, 0);
+    let c = commands(&r);
+    assert!(c.iter().all(|c| c.name != "error"), "{}", r.stdout);
+    assert_eq!(c.iter().filter(|c| c.name == "warning").count(), 5);
+}
+
+#[test]
+fn github_diff_names_the_file_a_target_is_in() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = odd_copy(dir.path(), "tests/cmd/diff_data/joint_a.mod", "a");
+    let b = odd_copy(dir.path(), "tests/cmd/diff_data/renamed.mod", "b");
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let r = run(&["diff", a, b, "--fail-above", "0.15", "--format", "github"]);
+    assert_eq!(r.code, 1);
+    let c = commands(&r);
+    let errors: Vec<(&str, &str)> = c
+        .iter()
+        .filter(|c| c.name == "error")
+        .map(|c| (c.get("file").unwrap(), c.data.as_str()))
+        .collect();
+    assert_eq!(errors.len(), 2, "{}", r.stdout);
+    // The names, `%` and line break and all, in properties and messages.
+    assert!(r.stdout.contains("50%25%0Aof it.mod"), "{}", r.stdout);
+    assert!(r.stdout.contains("odd%2C name%3A 50%25%0Aof it.moda"));
+    assert_eq!(errors[0].0, a);
+    assert_eq!(
+        errors[0].1,
+        format!("pCheck is only in {a}, not in {b}: its change is unknown")
+    );
+    assert_eq!(errors[1].0, b);
+    assert!(errors[1].1.starts_with("pCheck2 is only in"));
+    // Within the gate: the verdict alone.
+    let r = run(&[
+        "diff",
+        "tests/cmd/correct_data/cell.mod",
+        "tests/cmd/correct_data/cell_at60.mod",
+        "--fail-above",
+        "0.1",
+        "--format",
+        "github",
+    ]);
+    assert_eq!(r.code, 0);
+    let c = commands(&r);
+    assert_eq!(c.len(), 1);
+    assert!(c[0].data.contains("all within the gate"), "{}", c[0].data);
+}
+
+/// Validate with xmllint against our schema; a missing xmllint fails.
+fn xmllint(xml: &str, schema: &str) -> Result<(), String> {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("report.xml");
+    std::fs::write(&file, xml).unwrap();
+    let out = Command::new("xmllint")
+        .args(["--noout", "--schema", schema])
+        .arg(&file)
+        .output()
+        .unwrap_or_else(|e| {
+            panic!(
+                "xmllint cannot run ({e}): install it (Debian: apt-get install libxml2-utils; .ci/run does)"
+            )
+        });
+    if out.status.success() {
+        Ok(())
+    } else {
+        Err(String::from_utf8_lossy(&out.stderr).into_owned())
+    }
+}
+
+const SCHEMA: &str = "tests/junit/junit.xsd";
+
+/// Counts of one element as its attributes say and as its children are.
+#[derive(Debug, Default, PartialEq)]
+struct Counts {
+    tests: usize,
+    failures: usize,
+    skipped: usize,
+}
+
+/// The counts of each `<testsuite>` and of `<testsuites>` (skipped
+/// not counted there): said, and found.
+fn counts(xml: &str) -> Vec<(Counts, Counts)> {
+    let mut reader = Reader::from_str(xml);
+    let mut out = Vec::new();
+    let mut total = (Counts::default(), Counts::default());
+    let attr = |e: &quick_xml::events::BytesStart, k: &str| -> usize {
+        e.try_get_attribute(k)
+            .unwrap()
+            .map_or(0, |a| a.unescape_value().unwrap().parse().unwrap())
+    };
+    loop {
+        match reader.read_event().unwrap() {
+            Event::Start(e) | Event::Empty(e) => match e.name().as_ref() {
+                b"testsuites" => {
+                    total.0 = Counts {
+                        tests: attr(&e, "tests"),
+                        failures: attr(&e, "failures"),
+                        skipped: 0,
+                    }
+                }
+                b"testsuite" => out.push((
+                    Counts {
+                        tests: attr(&e, "tests"),
+                        failures: attr(&e, "failures"),
+                        skipped: attr(&e, "skipped"),
+                    },
+                    Counts::default(),
+                )),
+                b"testcase" => {
+                    out.last_mut().unwrap().1.tests += 1;
+                    total.1.tests += 1;
+                }
+                b"failure" => {
+                    out.last_mut().unwrap().1.failures += 1;
+                    total.1.failures += 1;
+                }
+                b"skipped" => out.last_mut().unwrap().1.skipped += 1,
+                _ => {}
+            },
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    out.push(total);
+    out
+}
+
+#[test]
+fn junit_reports_are_valid_and_add_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let odd = odd_copy(dir.path(), "tests/cmd/correct_data/never_silent.mod", "");
+    let odd = odd.to_str().unwrap();
+    let cases: &[(&[&str], i32, usize)] = &[
+        // (arguments, exit code, failures)
+        (
+            &[
+                "correct",
+                "tests/cmd/correct_data/cell.mod",
+                "--at",
+                "60",
+                "--check",
+            ],
+            1,
+            3,
+        ),
+        (
+            &[
+                "correct",
+                "tests/cmd/correct_data/cell.mod",
+                "--at",
+                "0",
+                "--check",
+            ],
+            0,
+            0,
+        ),
+        (&["correct", odd, "--at", "0", "--check"], 1, 5),
+        (
+            &[
+                "correct",
+                odd,
+                "--at",
+                "0",
+                "--check",
+                "--accept",
+                "runtime,expression",
+            ],
+            0,
+            0,
+        ),
+        (
+            &[
+                "correct",
+                "samples/backup_multimove",
+                "--task",
+                "T_ROB2",
+                "--at",
+                "120",
+                "--check",
+            ],
+            1,
+            3,
+        ),
+        (
+            &[
+                "diff",
+                "tests/cmd/correct_data/cell.mod",
+                "tests/cmd/correct_data/cell_at60.mod",
+                "--fail-above",
+                "0.05",
+            ],
+            1,
+            3,
+        ),
+        (
+            &[
+                "diff",
+                "tests/cmd/diff_data/joint_a.mod",
+                "tests/cmd/diff_data/other.mod",
+                "--fail-above",
+                "0.15",
+            ],
+            1,
+            6,
+        ),
+    ];
+    for (args, code, failures) in cases {
+        let mut args = args.to_vec();
+        args.extend(["--format", "junit"]);
+        let r = run(&args);
+        assert_eq!(r.code, *code, "{args:?}\n{}", r.stdout);
+        if let Err(e) = xmllint(&r.stdout, SCHEMA) {
+            panic!("{args:?}: not valid under {SCHEMA}:\n{e}\n{}", r.stdout);
+        }
+        let counts = counts(&r.stdout);
+        for (said, found) in &counts {
+            assert_eq!(said, found, "{args:?}\n{}", r.stdout);
+        }
+        assert_eq!(
+            counts.last().unwrap().0.failures,
+            *failures,
+            "{args:?}\n{}",
+            r.stdout
+        );
+    }
+}
+
+#[test]
+fn the_schema_bites() {
+    let r = run(&[
+        "correct",
+        "tests/cmd/correct_data/cell.mod",
+        "--at",
+        "60",
+        "--check",
+        "--format",
+        "junit",
+    ]);
+    assert!(xmllint(&r.stdout, SCHEMA).is_ok());
+    // A failure that does not say why, and a suite without its counts.
+    let broken = r.stdout.replacen(" type=\"moves\"", "", 1);
+    assert!(xmllint(&broken, SCHEMA).is_err());
+    let broken = r.stdout.replacen(" skipped=\"0\"", "", 1);
+    assert!(xmllint(&broken, SCHEMA).is_err());
+}

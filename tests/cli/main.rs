@@ -1,0 +1,8 @@
+//! The command line as a user meets it: transcripts of every case in
+//! `tests/cmd/` (regenerate with `TRYCMD=overwrite cargo test --test cli`),
+//! the CI report formats against their specifications, and the pre-commit
+//! hook as pre-commit runs it. One binary, one link.
+
+mod ci_report;
+mod pre_commit_hook;
+mod transcripts;

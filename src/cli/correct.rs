@@ -164,6 +164,13 @@ pub struct CorrectArgs {
     /// use with another tool or work object landing farther off fails too.
     #[arg(long, value_name = "MM", default_value_t = 0.001)]
     pub tolerance: f64,
+    /// Also draw the correction: SVG pictures written into this folder
+    /// (created if missing): top.svg and side.svg (the targets in the
+    /// world frame, coloured by correction), drift.svg (correction against
+    /// the minute each target is reached); a backup's tasks each with
+    /// their name in front (T_ROB1-top.svg). See docs/plot.md.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
     /// Format of the per-target report (printed when no output is chosen).
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
@@ -208,6 +215,9 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     if args.tolerance.is_nan() || args.tolerance < 0.0 {
         return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
     }
+    if let Some(dir) = &args.plot {
+        super::plot::check_dir(dir)?;
+    }
     let model = load_model(args.model.as_deref())?;
     let found = tasks::select(&args.files, &args.pick)?;
     let (motion, still): (Vec<Task>, Vec<Task>) =
@@ -246,7 +256,21 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
             t.label()
         );
     }
-    emit(&args, &runs)
+    let pictures = match &args.plot {
+        Some(_) => {
+            let drawn: Vec<_> = runs
+                .iter()
+                .map(|r| (&r.task, &r.inputs, &r.outcome))
+                .collect();
+            Some(super::plot::draw(&drawn)?)
+        }
+        None => None,
+    };
+    let status = emit(&args, &runs)?;
+    if let (Some(dir), Some(p)) = (&args.plot, &pictures) {
+        super::plot::write(dir, p)?;
+    }
+    Ok(status)
 }
 
 /// One task corrected: what was read, with which arm, and the outcome.

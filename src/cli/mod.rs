@@ -13,6 +13,7 @@ mod kinematics;
 mod messages;
 mod model;
 mod output;
+mod plot;
 mod schedule;
 mod targets;
 mod tasks;

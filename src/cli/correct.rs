@@ -164,11 +164,8 @@ pub struct CorrectArgs {
     /// use with another tool or work object landing farther off fails too.
     #[arg(long, value_name = "MM", default_value_t = 0.001)]
     pub tolerance: f64,
-    /// Also draw the correction: SVG pictures written into this folder
-    /// (created if missing): top.svg and side.svg (the targets in the
-    /// world frame, coloured by correction), drift.svg (correction against
-    /// the minute each target is reached); a backup's tasks each with
-    /// their name in front (T_ROB1-top.svg). See docs/plot.md.
+    /// Also draw the correction as SVG pictures in this folder (created if
+    /// missing): top.svg, side.svg, drift.svg (see docs/plot.md).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
     /// Format of the per-target report (printed when no output is chosen).
@@ -215,9 +212,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     if args.tolerance.is_nan() || args.tolerance < 0.0 {
         return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
     }
-    if let Some(dir) = &args.plot {
-        super::plot::check_dir(dir)?;
-    }
+    super::plot::check_dir(args.plot.as_deref())?;
     let model = load_model(args.model.as_deref())?;
     let found = tasks::select(&args.files, &args.pick)?;
     let (motion, still): (Vec<Task>, Vec<Task>) =
@@ -256,20 +251,13 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
             t.label()
         );
     }
-    let pictures = match &args.plot {
-        Some(_) => {
-            let drawn: Vec<_> = runs
-                .iter()
-                .map(|r| (&r.task, &r.inputs, &r.outcome))
-                .collect();
-            Some(super::plot::draw(&drawn)?)
-        }
-        None => None,
-    };
+    let drawn: Vec<_> = runs
+        .iter()
+        .map(|r| (&r.task, &r.inputs, &r.outcome))
+        .collect();
+    let pictures = super::plot::draw(args.plot.as_deref(), &drawn)?;
     let status = emit(&args, &runs)?;
-    if let (Some(dir), Some(p)) = (&args.plot, &pictures) {
-        super::plot::write(dir, p)?;
-    }
+    super::plot::write(args.plot.as_deref(), &pictures)?;
     Ok(status)
 }
 

@@ -13,7 +13,8 @@ use rapidtherm::rapid::task::Task;
 use std::path::{Path, PathBuf};
 
 /// A `--plot` folder that exists must be a folder.
-pub fn check_dir(dir: &Path) -> Result<()> {
+pub fn check_dir(dir: Option<&Path>) -> Result<()> {
+    let Some(dir) = dir else { return Ok(()) };
     match std::fs::metadata(dir) {
         Ok(meta) if !meta.is_dir() => Err(Error::usage(format!(
             "--plot {}: not a folder (the pictures are written into a folder, created if missing)",
@@ -25,8 +26,15 @@ pub fn check_dir(dir: &Path) -> Result<()> {
 
 /// The pictures of every task (its files as read, its outcome), by file
 /// name in the folder: `top.svg`, `side.svg`, `drift.svg`; with tasks
-/// named (a backup) each task's name in front (`T_ROB1-top.svg`).
-pub fn draw(runs: &[(&Task, &Inputs, &Outcome)]) -> Result<Vec<(PathBuf, String)>> {
+/// named (a backup) each task's name in front (`T_ROB1-top.svg`). None
+/// without `--plot`.
+pub fn draw(
+    dir: Option<&Path>,
+    runs: &[(&Task, &Inputs, &Outcome)],
+) -> Result<Vec<(PathBuf, String)>> {
+    if dir.is_none() {
+        return Ok(Vec::new());
+    }
     let named = runs.len() > 1 || runs.iter().any(|(t, _, _)| t.name.is_some());
     let mut out = Vec::new();
     for (task, inputs, outcome) in runs {
@@ -59,7 +67,8 @@ fn file_name(path: &str) -> &str {
 }
 
 /// Write the pictures into `dir` (created if missing), each atomically.
-pub fn write(dir: &Path, drawn: &[(PathBuf, String)]) -> Result<()> {
+pub fn write(dir: Option<&Path>, drawn: &[(PathBuf, String)]) -> Result<()> {
+    let Some(dir) = dir else { return Ok(()) };
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
     for (name, svg) in drawn {
         let path = dir.join(name);

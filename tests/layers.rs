@@ -14,9 +14,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("error", &[]),
     ("csv_table", &["error"]),
     ("report", &["error"]),
+    ("plot", &["error"]),
     ("rapid", &["error"]),
     ("robot", &["error", "csv_table"]),
-    ("thermal", &["error", "csv_table", "report"]),
+    ("thermal", &["error", "csv_table", "report", "plot"]),
     ("model", &["error", "csv_table", "robot", "thermal"]),
     ("resolve", &["error", "rapid", "robot"]),
     (
@@ -26,7 +27,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "correct",
         &[
-            "error", "rapid", "robot", "thermal", "model", "resolve", "schedule",
+            "error", "plot", "rapid", "robot", "thermal", "model", "resolve", "schedule",
         ],
     ),
     ("compare", &["error", "rapid", "robot", "resolve"]),
@@ -36,6 +37,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "error",
             "csv_table",
             "report",
+            "plot",
             "rapid",
             "robot",
             "thermal",

@@ -166,6 +166,10 @@ pub struct CorrectArgs {
     /// use with another tool or work object landing farther off fails too.
     #[arg(long, value_name = "MM", default_value_t = 0.001)]
     pub tolerance: f64,
+    /// Also draw the correction as SVG pictures in this folder (created if
+    /// missing): top.svg, side.svg, drift.svg (see docs/plot.md).
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
     /// Format of the per-target report (printed when no output is chosen);
     /// with --check also github or junit, for CI (docs/ci.md).
     #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
@@ -212,6 +216,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
     }
     ci_report::refuse_outside_check(args.format, args.check, args.diff)?;
+    super::plot::check_dir(args.plot.as_deref())?;
     let model = load_model(args.model.as_deref())?;
     let found = tasks::select(&args.files, &args.pick)?;
     let (motion, still): (Vec<Task>, Vec<Task>) =
@@ -250,7 +255,14 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
             t.label()
         );
     }
-    emit(&args, &runs)
+    let drawn: Vec<_> = runs
+        .iter()
+        .map(|r| (&r.task, &r.inputs, &r.outcome))
+        .collect();
+    let pictures = super::plot::draw(args.plot.as_deref(), &drawn)?;
+    let status = emit(&args, &runs)?;
+    super::plot::write(args.plot.as_deref(), &pictures)?;
+    Ok(status)
 }
 
 /// One task corrected: what was read, with which arm, and the outcome.

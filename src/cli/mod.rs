@@ -17,6 +17,7 @@ mod kinematics;
 mod messages;
 mod model;
 mod output;
+mod plot;
 mod schedule;
 mod targets;
 mod tasks;

@@ -174,6 +174,7 @@ pub(super) fn jointtarget_expressions(program: &Program) -> Vec<LeftAlone> {
             reason: Reason::Expression,
             detail: "written with named constants or expressions: its joints are left as written"
                 .to_string(),
+            world_mm: None,
         });
     };
     let aggregate = |e: Option<&Expr>| match e {

@@ -68,6 +68,7 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
             col: jt.origin.pos.col,
             reason,
             detail,
+            world_mm: None,
         })
     };
     let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
@@ -163,6 +164,15 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
             corrected: new_deg.to_vec(),
             rewritten: !edits.is_empty(),
             exact: Some(corrected_flange),
+            world_mm: Some(
+                run.options
+                    .base_frame
+                    .map_or(flange, |base| base * flange)
+                    .translation
+                    .vector
+                    .into(),
+            ),
+            order: (jt.origin.file, jt.origin.pos.offset),
             edits,
             file_index: jt.origin.file,
         }),

@@ -34,6 +34,7 @@ mod joints;
 pub mod marker;
 mod moments;
 mod outcome;
+pub mod plot;
 mod shared;
 mod solve;
 
@@ -191,7 +192,10 @@ fn correct_all(
                 }
                 corrections.push(*c);
             }
-            Ok(Solved::LeftAlone(s)) => left_alone.push(s),
+            Ok(Solved::LeftAlone(s)) => left_alone.push(LeftAlone {
+                world_mm: solve::written_in_world(&run, index, target),
+                ..s
+            }),
             Err(e) => errors.push(e),
         }
     }

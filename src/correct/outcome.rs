@@ -47,6 +47,18 @@ pub struct Correction {
     /// The exact corrected pose (before rounding to the written digits).
     #[serde(skip)]
     pub exact: Option<Isometry3<f64>>,
+    /// Where the target as written puts the robot, in the world frame (the
+    /// base frame where the robot stands in the cell; mm): the TCP of a
+    /// robot-held tool, the flange with a stationary tool (whose TCP
+    /// stands still) and for jointtargets. One frame for every work
+    /// object, for pictures of where on the part the corrections are.
+    #[serde(skip)]
+    pub world_mm: Option<[f64; 3]>,
+    /// Where the program first moves to the target (file index, byte
+    /// offset; an inline target's or a jointtarget's own place): its
+    /// place in program order.
+    #[serde(skip)]
+    pub order: (usize, usize),
     #[serde(skip)]
     pub(super) edits: Vec<Edit>,
     #[serde(skip)]
@@ -137,6 +149,11 @@ pub struct LeftAlone {
     pub reason: Reason,
     /// The reason in words, with what the program does that causes it.
     pub detail: String,
+    /// Where its written numbers put the robot in the world frame (as
+    /// [`Correction::world_mm`]); `None` where they do not say (no move
+    /// gives its work object, a moving work object, no numbers).
+    #[serde(skip)]
+    pub world_mm: Option<[f64; 3]>,
 }
 
 /// A derived target (`Offs(p10, ...)`): left as written; its base's
@@ -368,6 +385,7 @@ pub(super) fn leave(
         col: target.origin.pos.col,
         reason,
         detail: detail.into(),
+        world_mm: None,
     }
 }
 

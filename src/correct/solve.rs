@@ -226,7 +226,10 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         other => other,
     };
     let exact = by_derived_uses(run, target, first_pair, &meant, (&tool, &wobj))?;
-    let correction = corrected(run, target, &meant, (&tool, &wobj), names, exact)?;
+    let mut correction = corrected(run, target, &meant, (&tool, &wobj), names, exact)?;
+    if let Some(first) = target_uses.and_then(|u| u.first()) {
+        correction.order = (first.file, first.offset);
+    }
     let others = super::shared::other_pairs(run, index, target, &meant, &correction)?;
     Ok(Solved::Corrected(Box::new(correction), others))
 }
@@ -325,9 +328,50 @@ pub(super) fn corrected(
         corrected: new_trans.iter().chain(&new_rot).copied().collect(),
         rewritten: !edits.is_empty(),
         exact: Some(exact),
+        world_mm: in_world(run, pose, tool, wobj),
+        order: (target.origin.file, target.origin.pos.offset),
         edits,
         file_index: target.origin.file,
     })
+}
+
+/// Where a target pose in `tool` and `wobj` puts the robot in the world
+/// frame: the TCP of a robot-held tool, the flange with a stationary tool
+/// (its TCP stands still; the flange is what moves over the cell).
+fn in_world(
+    run: &Run,
+    pose: &Isometry3<f64>,
+    tool: &ToolData,
+    wobj: &WobjData,
+) -> Option<[f64; 3]> {
+    let flange = flange_of_target(pose, tool, wobj).ok()?;
+    let in_base = if tool.robhold {
+        flange * tool.tframe
+    } else {
+        flange
+    };
+    let world = run
+        .options
+        .base_frame
+        .map_or(in_base, |base| base * in_base);
+    Some(world.translation.vector.into())
+}
+
+/// Where a target left alone puts the robot in the world frame by its
+/// written numbers and the tool and work object of its first move; `None`
+/// where they do not say (no move names its work object, no numbers, a
+/// work object a mechanical unit moves).
+pub(super) fn written_in_world(run: &Run, index: usize, target: &Target) -> Option<[f64; 3]> {
+    let uses = run.uses.get(&index);
+    if uses.is_none() && target.kind != TargetKind::Inline {
+        return None;
+    }
+    let (pose, _) = match &target.value {
+        Some(_) => target_pose(run.program, target).ok()??,
+        None => run.expressions.evaluate(run, target)?.pose_conf().ok()?,
+    };
+    let (tool, wobj, _, _) = frames_of(run.program, &run.frames, index, uses).ok()?;
+    in_world(run, &pose, &tool, &wobj)
 }
 
 /// The corrected target for one meant pose (TCP `pose` in its work object,

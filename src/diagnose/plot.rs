@@ -2,14 +2,11 @@
 //! pose (top view), before and after the diagnosed effects.
 
 use super::{Diagnosis, Prepared};
-use crate::error::{Error, ErrorKind, Result};
+use crate::error::Result;
+use crate::plot::{error as plot_err, FONT};
 use nalgebra::Vector3;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
-
-fn plot_err<E: std::fmt::Display>(e: E) -> Error {
-    Error::new(ErrorKind::Io, format!("cannot draw the plot: {e}"))
-}
 
 /// Per-time RMS of gap vectors.
 fn rms_by_time(times: &[f64], gaps: &[Vector3<f64>]) -> Vec<(f64, f64)> {
@@ -40,14 +37,11 @@ pub fn gap_over_time_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
         .map(|g| g.norm())
         .fold(1e-6, f64::max)
         * 1.05;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (800, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_err)?;
-        let mut chart = ChartBuilder::on(&root)
+    crate::plot::svg((800, 480), |root| {
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 "Gap over the warm-up (red: current model, blue: with the diagnosed effects)",
-                ("sans-serif", 16),
+                (FONT, 16),
             )
             .margin(12)
             .x_label_area_size(40)
@@ -79,9 +73,8 @@ pub fn gap_over_time_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
         chart
             .draw_series(LineSeries::new(after, BLUE.stroke_width(2)))
             .map_err(plot_err)?;
-        root.present().map_err(plot_err)?;
-    }
-    Ok(svg)
+        Ok(())
+    })
 }
 
 /// Top and side views of the measured poses with their mean gap vector
@@ -139,19 +132,16 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
         * 1.15;
     let zmax = poses.iter().map(|p| p.0.z).fold(100.0, f64::max) * 1.15;
     let zmin = poses.iter().map(|p| p.0.z).fold(0.0, f64::min) * 1.15;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (1200, 620)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_err)?;
+    crate::plot::svg((1200, 620), |root| {
         let root = root
             .titled(
                 &format!("Mean gap per pose, magnified ×{scale:.0} (red: before, blue: after)"),
-                ("sans-serif", 18),
+                (FONT, 18),
             )
             .map_err(plot_err)?;
         let (left, right) = root.split_horizontally(600);
         let mut top = ChartBuilder::on(&left)
-            .caption("top view", ("sans-serif", 14))
+            .caption("top view", (FONT, 14))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
@@ -169,7 +159,7 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
         )
         .map_err(plot_err)?;
         let mut elevation = ChartBuilder::on(&right)
-            .caption("side view (reach from axis 1, height)", ("sans-serif", 14))
+            .caption("side view (reach from axis 1, height)", (FONT, 14))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
@@ -207,9 +197,8 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
                 }))
                 .map_err(plot_err)?;
         }
-        root.present().map_err(plot_err)?;
-    }
-    Ok(svg)
+        Ok(())
+    })
 }
 
 /// The diagnosis's plots as (file name, SVG text); the caller writes them.

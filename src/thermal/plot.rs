@@ -1,12 +1,10 @@
-//! SVG plot of measured and fitted heating curves, one panel per axis.
-//!
-//! plotters' SVG backend without its font features writes text as `<text>`
-//! elements (layout estimated from the string length), so the file renders
-//! anywhere without system fonts, and the same input gives the same bytes.
+//! SVG plot of measured and fitted heating curves, one panel per axis
+//! (text as `<text>` elements: see [`crate::plot`]).
 
 use super::fit::AxisFit;
 use super::record::HeatingRecord;
-use crate::error::{Error, Result};
+use crate::error::Result;
+use crate::plot::{error as plot_error, FONT};
 use plotters::prelude::*;
 
 const WIDTH: u32 = 1200;
@@ -28,13 +26,6 @@ const PALETTE: [RGBColor; 6] = [
 ];
 const MEASURED: RGBColor = RGBColor(170, 170, 170);
 
-fn plot_error(e: impl std::fmt::Display) -> Error {
-    Error::new(
-        crate::error::ErrorKind::Io,
-        format!("drawing the plot failed: {e}"),
-    )
-}
-
 /// Render the recording and the fitted curves (any axes, any models) as SVG.
 /// Each axis that has at least one fit gets a panel.
 pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
@@ -55,14 +46,11 @@ pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
     let t_hi = if t_hi > t_lo { t_hi } else { t_lo + 1.0 };
     let step = record.len().div_ceil(MAX_MEASURED_POINTS).max(1);
 
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_error)?;
+    crate::plot::svg((WIDTH, HEIGHT), |root| {
         let root = root
             .titled(
                 &format!("Heating curves: {} (measured and fitted)", record.file()),
-                ("sans-serif", 22),
+                (FONT, 22),
             )
             .map_err(plot_error)?;
         let cols = if axes.len() > 3 { 3 } else { axes.len().max(1) };
@@ -103,7 +91,7 @@ pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
             let pad = ((hi - lo) * 0.08).max(0.5);
             let mut chart = ChartBuilder::on(panel)
                 .margin(8)
-                .caption(format!("axis {axis}"), ("sans-serif", 18))
+                .caption(format!("axis {axis}"), (FONT, 18))
                 .x_label_area_size(36)
                 .y_label_area_size(44)
                 .build_cartesian_2d(t_lo..t_hi, (lo - pad)..(hi + pad))
@@ -148,11 +136,10 @@ pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
                 .position(SeriesLabelPosition::LowerRight)
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
-                .label_font(("sans-serif", 13))
+                .label_font((FONT, 13))
                 .draw()
                 .map_err(plot_error)?;
         }
-        root.present().map_err(plot_error)?;
-    }
-    Ok(svg)
+        Ok(())
+    })
 }

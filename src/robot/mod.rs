@@ -30,6 +30,7 @@ pub mod conf;
 pub mod frames;
 pub mod ik;
 mod ik_conf;
+mod lanes;
 pub mod urdf;
 
 pub use arm::{describe_violation, irb140_opw, Robot};

@@ -5,7 +5,7 @@
 //! (except for the error of a pose whose every solution violates a limit).
 
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
-use super::lanes::{atan2_4, sin_cos2, sin_cos4};
+use super::lanes::{sin_cos2, sin_cos4};
 use super::{Joints, Opw};
 use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -186,29 +186,27 @@ impl Opw {
         let k = k2.sqrt();
         let (s1, s2) = (s1_2.sqrt(), s2_2.sqrt());
         let shoulder_singular = self.b == 0.0 && rho2.sqrt() < SHOULDER_SINGULAR_EPS;
-        let c2sq = self.c2 * self.c2;
-        // The triangle's angles by atan2 with Heron's area: acos loses
-        // half the digits near full stretch and full fold.
-        let (ya, yb) = (self.heron(s1, k), self.heron(s2, k));
-        let [at1, tmp1, tmp2, a2a] = atan2_4(
-            [cy, nx1, nx1 + 2.0 * self.a1, ya],
-            [cx, czp, czp, s1_2 + c2sq - k2],
-        );
-        let [a3a, a2b, a3b, _] = atan2_4(
-            [ya, yb, yb, 0.0],
-            [s1_2 - c2sq - k2, s2_2 + c2sq - k2, s2_2 - c2sq - k2, 1.0],
-        );
-        let base = if shoulder_singular { theta1_hint } else { at1 };
+        let base = if shoulder_singular {
+            theta1_hint
+        } else {
+            cy.atan2(cx)
+        };
         let off = atan2_of_offset(self.b, nx1 + self.a1);
         let t1_i = base - off;
         let t1_ii = base + off - PI;
+        let tmp1 = nx1.atan2(czp);
+        let tmp2 = (nx1 + 2.0 * self.a1).atan2(czp);
+        let c2sq = self.c2 * self.c2;
         let arg2a = (s1_2 + c2sq - k2) / (2.0 * s1 * self.c2);
         let arg3a = (s1_2 - c2sq - k2) / (2.0 * self.c2 * k);
         let arg2b = (s2_2 + c2sq - k2) / (2.0 * s2 * self.c2);
         let arg3b = (s2_2 - c2sq - k2) / (2.0 * self.c2 * k);
         let front_ok = in_acos_domain(arg2a) && in_acos_domain(arg3a);
         let back_ok = in_acos_domain(arg2b) && in_acos_domain(arg3b);
-        let (sidea, sideb) = (0.5 * ya / self.c2, 0.5 * yb / self.c2);
+        // The triangle's angles by atan2 with Heron's area: acos loses
+        // half the digits near full stretch and full fold.
+        let (a2a, a3a, sidea) = self.triangle(s1, s1_2, k2, k);
+        let (a2b, a3b, sideb) = self.triangle(s2, s2_2, k2, k);
         let psi3 = atan2_of_offset(self.a2, self.c3);
         // The front arms face the wrist centre (forward = its lateral
         // distance from axis 1), the back arms turn away from it; elbow
@@ -257,20 +255,20 @@ impl Opw {
         let m23 = y.dot(&r2);
         let m33 = z.dot(&r2);
         let sb = (m13 * m13 + m23 * m23).sqrt();
+        let t5 = sb.atan2(m33);
         let (t1w, t2w, t3w) = (wrap(t1), wrap(t2), wrap(t3));
         let m11 = x.dot(&r0);
         let m21 = y.dot(&r0);
-        let m12 = x.dot(&r1);
-        let m22 = y.dot(&r1);
         // θ4 + θ6 from the upper-left block, (1 + cos θ5)·(cos, sin) of
         // the sum: well conditioned for θ5 < 90°, where the separate
-        // atan2s of θ4 and θ6 lose precision as θ5 → 0. All four atan2s in
-        // lanes, whether or not θ4, θ6 and the sum are used.
-        let [t5, sum, t4, t6] = atan2_4(
-            [sb, m21 - m12, m23, z.dot(&r1)],
-            [m33, m11 + m22, m13, -z.dot(&r0)],
-        );
-        let sum = (m33 > 0.0).then_some(sum);
+        // atan2s of θ4 and θ6 lose precision as θ5 → 0.
+        let sum = if m33 > 0.0 {
+            let m12 = x.dot(&r1);
+            let m22 = y.dot(&r1);
+            Some((m21 - m12).atan2(m11 + m22))
+        } else {
+            None
+        };
         if sb < WRIST_SINGULAR_EPS {
             let (t6, kind) = match sum {
                 Some(sum) => (sum, Wrist::Sum(sum)),
@@ -281,7 +279,8 @@ impl Opw {
             };
             [Some(([t1w, t2w, t3w, 0.0, t5, wrap(t6)], kind)), None]
         } else {
-            let (mut t4, mut t6) = (t4, t6);
+            let mut t4 = m23.atan2(m13);
+            let mut t6 = z.dot(&r1).atan2(-z.dot(&r0));
             if let Some(sum) = sum {
                 // Keep θ4 − θ6 from the atan2s (its error only matters
                 // in proportion to sin θ5) and the sum from above.
@@ -327,16 +326,18 @@ impl ArmAngles {
 }
 
 impl Opw {
-    /// Twice the area of the triangle with sides c2, k (the upper arm to
-    /// the wrist centre) and `s`: the angles at axis 2 (between the lower
-    /// arm and the line to the wrist centre) and at axis 3 (θ3 + ψ3) are
-    /// its atan2 over s² + c2² − k² and s² − c2² − k², and k·sin(θ3+ψ3) =
-    /// it/c2 (≥ 0) is the wrist centre's distance from the lower-arm line.
-    fn heron(&self, s: f64, k: f64) -> f64 {
+    /// Angles at axis 2 (between the lower arm and the line to the wrist
+    /// centre) and at axis 3 (θ3 + ψ3) of the triangle with sides c2, k, s.
+    /// Also k·sin(θ3+ψ3) = 2·area/c2 (≥ 0), the wrist centre's distance
+    /// from the lower-arm line.
+    fn triangle(&self, s: f64, s_2: f64, k2: f64, k: f64) -> (f64, f64, f64) {
         let c2 = self.c2;
         // 4·area² = ((c2+k)² − s²)(s² − (c2−k)²), factored for accuracy.
         let p = ((c2 + k - s) * (c2 + k + s) * (s - c2 + k) * (s + c2 - k)).max(0.0);
-        p.sqrt()
+        let root = p.sqrt();
+        let at2 = root.atan2(s_2 + c2 * c2 - k2);
+        let at3 = root.atan2(s_2 - c2 * c2 - k2);
+        (at2, at3, 0.5 * root / c2)
     }
 }
 

@@ -3,13 +3,21 @@
 //! generated CAM program of 1,000,000 inline targets (`gen_cam`, 5 passes;
 //! set `SCHEDULE_BENCH_TARGETS` to change the count). Prints the parse
 //! time, walk time and peak resident memory once per case on stderr.
+//!
+//! Then end to end, the binary on one generated CAM program of 80,000
+//! targets (`gen_cam`; `SCHEDULE_BENCH_CORRECT_TARGETS` changes the count):
+//! `correct --start 0` (the schedule estimated from the program) beside
+//! `correct --at 120` (one moment for all), runs alternated so that both
+//! see the same load, medians and the median of the per-pair ratios on
+//! stderr.
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{criterion_group, Criterion, Throughput};
 use rapidtherm::rapid;
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, EstimateOptions};
 use std::hint::black_box;
-use std::time::Instant;
+use std::process::Command;
+use std::time::{Duration, Instant};
 
 #[path = "../examples/gen_cam.rs"]
 #[allow(dead_code)]
@@ -65,5 +73,61 @@ fn generated(c: &mut Criterion) {
     case(c, "generated", text.as_bytes(), 10);
 }
 
+/// One run of `rapidtherm correct` with `when` (its arguments) on `input`.
+fn time_correct(when: &[&str], input: &std::path::Path, out: &std::path::Path) -> Duration {
+    let t = Instant::now();
+    let result = Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
+        .arg("correct")
+        .args(when)
+        .arg("-o")
+        .arg(out)
+        .arg(input)
+        .output()
+        .expect("rapidtherm");
+    let elapsed = t.elapsed();
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    elapsed
+}
+
+fn median<T: PartialOrd + Copy>(mut v: Vec<T>) -> T {
+    v.sort_by(|a, b| a.partial_cmp(b).expect("no NaN"));
+    v[v.len() / 2]
+}
+
+fn start_beside_at() {
+    let n: usize = std::env::var("SCHEDULE_BENCH_CORRECT_TARGETS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(80_000);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let input = dir.path().join("cam.mod");
+    std::fs::write(&input, gen_cam::cam_program(n / 5, 5)).expect("temp file");
+    let out = dir.path().join("out.mod");
+    let (mut at, mut start, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..3 {
+        let a = time_correct(&["--at", "120"], &input, &out);
+        let s = time_correct(&["--start", "0"], &input, &out);
+        ratios.push(s.as_secs_f64() / a.as_secs_f64());
+        at.push(a);
+        start.push(s);
+    }
+    let (at, start) = (median(at), median(start));
+    eprintln!(
+        "correct on {n} CAM targets, 3 runs each: --at 120 {:.2} s, --start 0 {:.2} s (median ratio {:.2})",
+        at.as_secs_f64(),
+        start.as_secs_f64(),
+        median(ratios)
+    );
+}
+
 criterion_group!(benches, cam_sample, generated);
-criterion_main!(benches);
+
+fn main() {
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+    start_beside_at();
+}

@@ -322,6 +322,12 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
     let outcome = correct(&program, &warm, &options, &mut |done, total| {
         if let Some(b) = &bar {
+            // The time left is estimated from the pace of the targets
+            // alone: what ran before the first (reading, the schedule)
+            // would make it many times too long.
+            if done == 0 {
+                b.reset_eta();
+            }
             b.set_length(total as u64);
             b.set_position(done as u64);
         }

@@ -35,6 +35,7 @@ pub mod marker;
 mod moments;
 mod outcome;
 pub mod plot;
+mod progress;
 mod shared;
 mod solve;
 
@@ -52,6 +53,7 @@ use edits::write_files;
 use joints::{correct_jointtarget, JointSolved};
 use moments::check_schedule_names;
 use outcome::{derived_report, summarise};
+use progress::Progress;
 use solve::{correct_robtarget, Run, Solved};
 use std::collections::HashMap;
 
@@ -131,7 +133,8 @@ impl When {
 
 /// Correct every target of `program` (which keeps the bytes it was parsed
 /// from: the corrected files are those bytes with new numbers). `progress` is called with
-/// (done, total) now and then.
+/// (done, total) now and then, in targets solved: (0, total) when the
+/// first is started, (total, total) when the last is done.
 pub fn correct(
     program: &Program,
     warm: &WarmRobot,
@@ -165,7 +168,12 @@ fn correct_all(
             check_schedule_names(program, j)?;
         }
     }
-    let total = program.targets().len() + program.jointtargets().len();
+    let costly_joints = program
+        .jointtargets()
+        .iter()
+        .filter(|jt| jt.kind != TargetKind::Derived)
+        .count();
+    let mut progress = Progress::new(program.targets().len() + costly_joints, progress);
     let mut corrections = Vec::new();
     let mut left_alone = Vec::new();
     let mut residuals = Vec::new();
@@ -175,13 +183,11 @@ fn correct_all(
     // only the first.
     let mut errors = Vec::new();
     for (index, target) in program.targets().iter().enumerate() {
-        if index % 4096 == 0 {
-            progress(index, total);
-        }
         if target.kind == TargetKind::Derived && !target.written_with_expressions() {
             derived_targets.push(index);
             continue;
         }
+        progress.step();
         match correct_robtarget(&run, index, target) {
             Ok(Solved::Corrected(c, pairs)) => {
                 if !pairs.is_empty() {
@@ -199,13 +205,11 @@ fn correct_all(
             Err(e) => errors.push(e),
         }
     }
-    for (k, jt) in program.jointtargets().iter().enumerate() {
-        if k % 4096 == 0 {
-            progress(program.targets().len() + k, total);
-        }
+    for jt in program.jointtargets() {
         if jt.kind == TargetKind::Derived {
             continue;
         }
+        progress.step();
         match correct_jointtarget(&run, jt) {
             Ok(JointSolved::Corrected(c, r)) => {
                 corrections.push(*c);
@@ -224,13 +228,13 @@ fn correct_all(
     ) {
         return Err(e);
     }
-    progress(total, total);
     let shared =
         shared::finish(&run, pending, &mut corrections).map_err(|e| with_source(e, program))?;
     let lookup = (&run.frames, &run.uses);
     let derived: Vec<Derived> = derived_targets
         .into_iter()
         .map(|i| {
+            progress.step();
             let target = &program.targets()[i];
             let mut report = derived_report(program, target, &corrections);
             report.residual_mm = derived::residual(
@@ -246,6 +250,7 @@ fn correct_all(
             report
         })
         .collect();
+    progress.finish();
     let outputs = write_files(program, &corrections, &shared.edits, &basis, options)?;
     let summary = summarise(
         &corrections,

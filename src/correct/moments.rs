@@ -6,6 +6,7 @@ use crate::error::{Error, Remedy, Result};
 use crate::model::Moment;
 use crate::rapid::Program;
 use crate::schedule::{Schedule, Visit};
+use std::collections::HashSet;
 
 /// The moments a target is reached.
 pub(super) fn moments_of(when: &When, id: &str) -> Result<Vec<Moment>> {
@@ -62,14 +63,19 @@ pub(super) fn minute_of(m: Moment) -> Option<f64> {
 }
 
 /// Every identifier of the schedule must name a target of the program.
+/// The program's identifiers are gathered once (lower case, as RAPID
+/// ignores case): a lookup per schedule entry in the list of targets made
+/// a schedule of every target quadratic.
 pub(super) fn check_schedule_names(program: &Program, schedule: &Schedule) -> Result<()> {
+    let ids: HashSet<String> = program
+        .targets()
+        .iter()
+        .map(|t| t.id.as_str())
+        .chain(program.jointtargets().iter().map(|j| j.id.as_str()))
+        .map(str::to_ascii_lowercase)
+        .collect();
     for id in schedule.targets() {
-        let known = program.target(id).is_some()
-            || program
-                .jointtargets()
-                .iter()
-                .any(|j| j.id.eq_ignore_ascii_case(id));
-        if !known {
+        if !ids.contains(&id.to_ascii_lowercase()) {
             return Err(Error::input(format!(
                 "the schedule names target `{id}`, which the program does not have"
             )));

@@ -5,6 +5,7 @@
 //! (except for the error of a pose whose every solution violates a limit).
 
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
+use super::lanes::{sin_cos2, sin_cos4};
 use super::{Joints, Opw};
 use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -88,12 +89,12 @@ impl Opw {
     #[inline]
     pub fn fk_theta(&self, t: &Joints) -> Isometry3<f64> {
         // Half-angle sines and cosines build the quaternion directly; the
-        // full angles for the position come from them (6 sin_cos in all).
-        let h = |a: f64| (0.5 * a).sin_cos();
-        let (sh1, ch1) = h(t[0]);
+        // full angles for the position come from them (six sin/cos pairs,
+        // in lanes).
         let t23 = t[1] + t[2];
-        let (sh23, ch23) = h(t23);
-        let (s2, c2) = t[1].sin_cos();
+        let ([sh1, sh23, sh4, sh5], [ch1, ch23, ch4, ch5]) =
+            sin_cos4([0.5 * t[0], 0.5 * t23, 0.5 * t[3], 0.5 * t[4]]);
+        let ([s2, sh6], [c2, ch6]) = sin_cos2([t[1], 0.5 * t[5]]);
         let (s1, c1) = (2.0 * sh1 * ch1, ch1 * ch1 - sh1 * sh1);
         let (s23, c23) = (2.0 * sh23 * ch23, ch23 * ch23 - sh23 * sh23);
         // k·sin(θ2+θ3+ψ3) = c3·sin θ23 + a2·cos θ23 (no atan2, no sqrt).
@@ -103,9 +104,6 @@ impl Opw {
         let wrist = Vector3::new(cx1 * c1 - cy1 * s1, cx1 * s1 + cy1 * c1, cz1 + self.c1);
         // Rz(θ1)·Ry(θ23) and the wrist's Rz·Ry·Rz.
         let arm = Quaternion::new(ch1 * ch23, -sh1 * sh23, ch1 * sh23, sh1 * ch23);
-        let (sh4, ch4) = h(t[3]);
-        let (sh5, ch5) = h(t[4]);
-        let (sh6, ch6) = h(t[5]);
         let zy = Quaternion::new(ch4 * ch5, -sh4 * sh5, ch4 * sh5, sh4 * ch5);
         let wrist_rot = zy * Quaternion::new(ch6, 0.0, 0.0, sh6);
         let rot = UnitQuaternion::new_unchecked(arm * wrist_rot);

@@ -32,6 +32,7 @@ pub mod euler;
 pub mod frames;
 pub mod ik;
 mod ik_conf;
+mod lanes;
 pub mod urdf;
 
 pub use arm::{describe_violation, irb140_opw, Robot};

@@ -8,6 +8,7 @@ mod arms;
 mod compare;
 mod correct;
 mod diagnose;
+mod diagnose_chain;
 mod heating;
 mod kinematics;
 mod messages;

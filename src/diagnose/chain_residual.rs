@@ -4,7 +4,7 @@
 //! part of the gap's mean square a small least-squares model explains.
 
 use super::gap::{gap_stats, GapStats};
-use super::locate::direction_words;
+use super::locate::{direction_words, median};
 use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
@@ -88,12 +88,6 @@ fn explained(basis: &DMatrix<f64>, gaps: &[Vector3<f64>]) -> f64 {
 
 fn rms(v: &[Vector3<f64>]) -> f64 {
     gap_stats(v).rms_mm
-}
-
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    s.get(s.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// Describe the remainder of `rows`.

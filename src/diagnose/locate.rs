@@ -352,7 +352,8 @@ fn fmt_min(t: f64) -> String {
     }
 }
 
-fn median(v: &[f64]) -> f64 {
+/// The upper median (0 for no values).
+pub(super) fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
     s.get(s.len() / 2).copied().unwrap_or(0.0)

@@ -4,7 +4,7 @@
 //! part of the gap's mean square a small least-squares model explains.
 
 use super::gap::{gap_stats, GapStats};
-use super::locate::{direction_words, median};
+use super::locate::{direction_words, split_at_median, Region};
 use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
@@ -31,13 +31,6 @@ pub struct Share {
 pub struct PoseGap {
     pub pose: String,
     pub gap_mm: f64,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct Region {
-    pub name: String,
-    pub rms_mm: f64,
-    pub n: usize,
 }
 
 /// The structure of a remainder.
@@ -84,10 +77,6 @@ fn explained(basis: &DMatrix<f64>, gaps: &[Vector3<f64>]) -> f64 {
         return 0.0;
     }
     ((const_left - left) / total).clamp(0.0, 1.0)
-}
-
-fn rms(v: &[Vector3<f64>]) -> f64 {
-    gap_stats(v).rms_mm
 }
 
 /// Describe the remainder of `rows`.
@@ -150,26 +139,11 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
         ("reach", &reach, "near", "far"),
         ("height", &height, "low", "high"),
     ] {
-        let med = median(vals);
-        let lo: Vec<Vector3<f64>> = (0..n)
-            .filter(|&i| vals[i] <= med)
-            .map(|i| gaps[i])
-            .collect();
-        let hi: Vec<Vector3<f64>> = (0..n).filter(|&i| vals[i] > med).map(|i| gaps[i]).collect();
-        if lo.is_empty() || hi.is_empty() {
+        let Some((med, [low, high])) = split_at_median(what, vals, lo_name, hi_name, &gaps) else {
             continue;
-        }
-        let (rl, rh) = (rms(&lo), rms(&hi));
-        regions.push(Region {
-            name: format!("{lo_name} ({what} <= {med:.0} mm)"),
-            rms_mm: rl,
-            n: lo.len(),
-        });
-        regions.push(Region {
-            name: format!("{hi_name} ({what} > {med:.0} mm)"),
-            rms_mm: rh,
-            n: hi.len(),
-        });
+        };
+        let (rl, rh) = (low.rms_mm, high.rms_mm);
+        regions.extend([low, high]);
         if rh > 1.3 * rl || rl > 1.3 * rh {
             words.push(format!(
                 "By {what} (split at {med:.0} mm): {rl:.3} mm {lo_name}, {rh:.3} mm {hi_name}."

@@ -65,27 +65,39 @@ pub struct SimulateArgs {
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
     /// Measurements CSV (`-`: standard input).
-    data: PathBuf,
+    pub data: PathBuf,
     /// The current model (default: nominal IRB 140 with the base thermal model).
     #[arg(long)]
-    model: Option<PathBuf>,
+    pub model: Option<PathBuf>,
     /// Tracker noise, mm per axis (default: estimated from repeated poses, else 0.01).
     #[arg(long)]
-    noise: Option<f64>,
+    pub noise: Option<f64>,
     #[arg(long, value_enum, default_value_t = Format::Table)]
-    format: Format,
+    pub format: Format,
     /// Write the model with the diagnosed effects added.
     #[arg(long, value_name = "FILE.toml")]
-    save_model: Option<PathBuf>,
+    pub save_model: Option<PathBuf>,
     /// Write SVG plots of the gap before and after into this directory.
     #[arg(long, value_name = "DIR")]
-    plot: Option<PathBuf>,
+    pub plot: Option<PathBuf>,
     /// First fit the rigid transform from the instrument's frame to the robot base.
     #[arg(long)]
-    register: bool,
+    pub register: bool,
     /// The arm, by name (`rapidtherm arms`) or URDF file.
     #[arg(long, value_name = "NAME|FILE.urdf")]
-    robot: Option<PathBuf>,
+    pub robot: Option<PathBuf>,
+    /// Diagnose as a general serial chain (geometric calibration of every
+    /// joint origin), even when the arm has the OPW form.
+    #[arg(long)]
+    pub chain: bool,
+    /// The URDF link the instrument measured (a reflector), hung on the
+    /// flange by fixed joints; its offset is fitted (default: tool0).
+    #[arg(long, value_name = "LINK")]
+    pub point: Option<String>,
+    /// A second measurements file in the same instrument frame, held out:
+    /// the geometry fitted on DATA is judged on it.
+    #[arg(long, value_name = "FILE.csv")]
+    pub holdout: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -423,6 +435,9 @@ fn registration_words(r: &diagnose::Registration) -> String {
 }
 
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
+    if let Some((setup, robot)) = super::diagnose_chain::chain_setup(&args)? {
+        return super::diagnose_chain::run(&args, setup, &robot);
+    }
     let model = load_model(&args.model)?;
     let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = read_measurements(&args.data, &setup.arm)?;

@@ -11,6 +11,7 @@ mod compare;
 mod correct;
 mod correct_report;
 mod diagnose;
+mod diagnose_chain;
 mod heating;
 mod junit;
 mod kinematics;

@@ -277,26 +277,12 @@ pub fn locate(
         ("reach", &reach, "near reach", "far reach"),
         ("height", &height, "low", "high"),
     ] {
-        let med = median(vals);
-        let lo: Vec<Vector3<f64>> = (0..n)
-            .filter(|&i| vals[i] <= med)
-            .map(|i| gaps[i])
-            .collect();
-        let hi: Vec<Vector3<f64>> = (0..n).filter(|&i| vals[i] > med).map(|i| gaps[i]).collect();
-        if lo.is_empty() || hi.is_empty() {
+        let Some((med, [low, high])) = split_at_median(what, vals, lo_name, hi_name, &gaps[..n])
+        else {
             continue;
-        }
-        let (rl, rh) = (rms(&lo), rms(&hi));
-        regions.push(Region {
-            name: format!("{lo_name} ({what} <= {med:.0} mm)"),
-            rms_mm: rl,
-            n: lo.len(),
-        });
-        regions.push(Region {
-            name: format!("{hi_name} ({what} > {med:.0} mm)"),
-            rms_mm: rh,
-            n: hi.len(),
-        });
+        };
+        let (rl, rh) = (low.rms_mm, high.rms_mm);
+        regions.extend([low, high]);
         if total > 1.5 * noise_rms && (rh > 1.5 * rl || rl > 1.5 * rh) {
             let (big, small, name) = if rh > rl {
                 (rh, rl, hi_name)
@@ -344,6 +330,42 @@ pub fn locate(
     }
 }
 
+/// The gaps split at the median of `vals` (one per gap): the RMS of each
+/// half, named `lo_name`/`hi_name` and `what`; `None` when a half is empty.
+pub(super) fn split_at_median(
+    what: &str,
+    vals: &[f64],
+    lo_name: &str,
+    hi_name: &str,
+    gaps: &[Vector3<f64>],
+) -> Option<(f64, [Region; 2])> {
+    let n = gaps.len().min(vals.len());
+    let med = median(&vals[..n]);
+    let lo: Vec<Vector3<f64>> = (0..n)
+        .filter(|&i| vals[i] <= med)
+        .map(|i| gaps[i])
+        .collect();
+    let hi: Vec<Vector3<f64>> = (0..n).filter(|&i| vals[i] > med).map(|i| gaps[i]).collect();
+    if lo.is_empty() || hi.is_empty() {
+        return None;
+    }
+    Some((
+        med,
+        [
+            Region {
+                name: format!("{lo_name} ({what} <= {med:.0} mm)"),
+                rms_mm: rms(&lo),
+                n: lo.len(),
+            },
+            Region {
+                name: format!("{hi_name} ({what} > {med:.0} mm)"),
+                rms_mm: rms(&hi),
+                n: hi.len(),
+            },
+        ],
+    ))
+}
+
 fn fmt_min(t: f64) -> String {
     if (t - t.round()).abs() < 1e-6 {
         format!("{t:.0}")
@@ -352,7 +374,8 @@ fn fmt_min(t: f64) -> String {
     }
 }
 
-fn median(v: &[f64]) -> f64 {
+/// The upper median (0 for no values).
+pub(super) fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
     s.get(s.len() / 2).copied().unwrap_or(0.0)

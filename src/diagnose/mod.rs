@@ -27,6 +27,9 @@
 //! [`measurements`], [`simulate`], [`plot`].
 
 pub mod arm;
+pub mod chain_calib;
+pub mod chain_diagnose;
+pub mod chain_residual;
 pub mod fit;
 pub mod gap;
 pub mod instrument;

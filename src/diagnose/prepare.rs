@@ -217,26 +217,8 @@ fn rigid_fit(
         .collect();
     let meas: Vec<Vector3<f64>> = all.iter().map(|&i| problem.rows[i].position).collect();
     let n = sim.len() as f64;
-    let cs = sim.iter().sum::<Vector3<f64>>() / n;
-    let cm = meas.iter().sum::<Vector3<f64>>() / n;
-    let mut h = Matrix3::zeros();
-    for (s, m) in sim.iter().zip(&meas) {
-        h += (s - cs) * (m - cm).transpose();
-    }
-    let svd = h.svd(true, true);
-    let (Some(u), Some(vt)) = (svd.u, svd.v_t) else {
-        return Err(RegisterFailure::NoFrame);
-    };
-    let s = svd.singular_values;
-    if s.min() < 1e-9 * s.max().max(1e-300) {
-        return Err(RegisterFailure::NotSpread);
-    }
-    let v = vt.transpose();
-    let d = (v * u.transpose()).determinant().signum();
-    let r = v * Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, d)) * u.transpose();
-    let rot = UnitQuaternion::from_matrix(&r);
-    let t = cm - rot * cs;
-    let transform = Isometry3::from_parts(Translation3::from(t), rot);
+    let transform = kabsch(&sim, &meas)?;
+    let (t, rot) = (transform.translation.vector, transform.rotation);
     let rms = (sim
         .iter()
         .zip(&meas)
@@ -252,4 +234,36 @@ fn rigid_fit(
         rows_used: all.len(),
         transform,
     })
+}
+
+/// The rigid transform T that best maps the points `sim` onto `meas`
+/// (least squares, Kabsch): meas ≈ T · sim.
+pub fn kabsch(
+    sim: &[Vector3<f64>],
+    meas: &[Vector3<f64>],
+) -> std::result::Result<Isometry3<f64>, RegisterFailure> {
+    if sim.len() < 3 || sim.len() != meas.len() {
+        return Err(RegisterFailure::TooFewPoses);
+    }
+    let n = sim.len() as f64;
+    let cs = sim.iter().sum::<Vector3<f64>>() / n;
+    let cm = meas.iter().sum::<Vector3<f64>>() / n;
+    let mut h = Matrix3::zeros();
+    for (s, m) in sim.iter().zip(meas) {
+        h += (s - cs) * (m - cm).transpose();
+    }
+    let svd = h.svd(true, true);
+    let (Some(u), Some(vt)) = (svd.u, svd.v_t) else {
+        return Err(RegisterFailure::NoFrame);
+    };
+    let s = svd.singular_values;
+    if s.min() < 1e-9 * s.max().max(1e-300) {
+        return Err(RegisterFailure::NotSpread);
+    }
+    let v = vt.transpose();
+    let d = (v * u.transpose()).determinant().signum();
+    let r = v * Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, d)) * u.transpose();
+    let rot = UnitQuaternion::from_matrix(&r);
+    let t = cm - rot * cs;
+    Ok(Isometry3::from_parts(Translation3::from(t), rot))
 }

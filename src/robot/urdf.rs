@@ -174,3 +174,40 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
         max_speed_deg_s: std::array::from_fn(|i| speeds[i]),
     })
 }
+
+/// The pose of link `link` in the flange (tool0) frame of `arm`, the chain
+/// `parse` read from the same `text`: the link must hang on the arm's six
+/// revolute joints through fixed joints only (a reflector, a tool point).
+pub fn link_in_tip(file: &str, text: &str, arm: &UrdfArm, link: &str) -> Result<Isometry3<f64>> {
+    let robot = urdf_rs::read_from_string(text)
+        .map_err(|e| Error::input(format!("{file}: not a readable URDF: {e}")))?;
+    if !robot.links.iter().any(|l| l.name == link) {
+        let names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
+        return Err(Error::input(format!(
+            "{file}: no link `{link}` (links: {})",
+            names.join(", ")
+        )));
+    }
+    // Fixed joints from the link up to the last revolute joint.
+    let mut after = Isometry3::identity();
+    let mut at = link;
+    for _ in 0..=robot.joints.len() {
+        let Some(j) = robot.joints.iter().find(|j| j.child.link == at) else {
+            return Err(Error::input(format!(
+                "{file}: link `{link}` is not carried by the arm's last joint"
+            )));
+        };
+        if j.name == arm.chain.joints[5].name {
+            return Ok(arm.chain.tip.inverse() * after);
+        }
+        if j.joint_type != urdf_rs::JointType::Fixed {
+            return Err(Error::input(format!(
+                "{file}: link `{link}` hangs on the movable joint `{}`, not on the flange through fixed joints",
+                j.name
+            )));
+        }
+        after = pose_of(&j.origin) * after;
+        at = j.parent.link.as_str();
+    }
+    Err(Error::input(format!("{file}: the joints form a cycle")))
+}

@@ -1,0 +1,235 @@
+//! `diagnose` on a general serial chain (an arm without the OPW form, or
+//! any arm with `--chain`): argument checks and printing only; the work is
+//! `rapidtherm::diagnose::chain_diagnose`.
+
+use super::diagnose::DiagnoseArgs;
+use super::Format;
+use super::{read_input, write_stdout, Status};
+use rapidtherm::diagnose::chain_calib::Sample;
+use rapidtherm::diagnose::chain_diagnose::{
+    diagnose_chain, ChainData, ChainDiagnosis, ChainOptions, ChainSetup,
+};
+use rapidtherm::diagnose::measurements::Measurements;
+use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::report::{render_csv, render_table, Align};
+use rapidtherm::robot::{urdf, Robot};
+use std::path::Path;
+
+/// The chain setup when this diagnosis is the general chain's: the arm has
+/// no OPW form, or `--chain` asks for it. `None`: the OPW diagnosis.
+pub fn chain_setup(args: &DiagnoseArgs) -> Result<Option<(ChainSetup, Robot)>> {
+    let general_only = args.point.is_some() || args.holdout.is_some();
+    let Some(p) = &args.robot else {
+        if args.chain || general_only {
+            return Err(Error::usage(
+                "--chain, --point and --holdout need --robot FILE.urdf (the general chain's diagnosis)",
+            ));
+        }
+        return Ok(None);
+    };
+    let robot = super::arms::load_robot(Some(p))?;
+    if robot.opw.is_ok() && !args.chain {
+        if general_only {
+            return Err(Error::usage(format!(
+                "--point and --holdout are the general chain's: {} has the OPW form, add --chain",
+                p.display()
+            )));
+        }
+        return Ok(None);
+    }
+    for (given, flag) in [
+        (args.model.is_some(), "--model"),
+        (args.save_model.is_some(), "--save-model"),
+        (args.plot.is_some(), "--plot"),
+        (args.noise.is_some(), "--noise"),
+    ] {
+        if given {
+            return Err(Error::usage(format!(
+                "{flag} is not available in the general chain's diagnosis (geometric calibration of {}) yet",
+                p.display()
+            )));
+        }
+    }
+    let (point, point_name) = match &args.point {
+        None => (nalgebra::Vector3::zeros(), "tool0".to_string()),
+        Some(link) => {
+            if !super::arms::is_file(p) {
+                return Err(Error::usage(format!(
+                    "--point {link} names a URDF link: give --robot as a URDF file"
+                )));
+            }
+            let (name, bytes) = read_input(p)?;
+            let text = String::from_utf8_lossy(&bytes);
+            let arm = urdf::parse(&name, &text)?;
+            let iso = urdf::link_in_tip(&name, &text, &arm, link)
+                .map_err(|e| Error::usage(format!("--point {link}: {}", e.message)))?;
+            (iso.translation.vector, link.clone())
+        }
+    };
+    Ok(Some((
+        ChainSetup {
+            robot: robot.name.clone(),
+            chain: robot.chain.clone(),
+            point,
+            point_name,
+        },
+        robot,
+    )))
+}
+
+fn read_data(path: &Path, robot: &Robot) -> Result<ChainData> {
+    let (name, bytes) = read_input(path)?;
+    let limits = robot
+        .limits
+        .map(|(lo, hi)| (lo.to_degrees(), hi.to_degrees()));
+    let meas = Measurements::parse(&name, &bytes, &limits)?;
+    for w in &meas.warnings {
+        eprintln!("warning: {w}");
+    }
+    let poses = meas
+        .rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| r.pose.clone().unwrap_or_else(|| format!("#{}", i + 1)))
+        .collect();
+    Ok(ChainData {
+        samples: meas
+            .rows
+            .iter()
+            .map(|r| Sample {
+                q: r.joints,
+                position: r.position,
+            })
+            .collect(),
+        times_min: meas.rows.iter().map(|r| r.time_min).collect(),
+        poses,
+        has_temps: meas.has_temps(),
+    })
+}
+
+pub fn run(args: &DiagnoseArgs, setup: ChainSetup, robot: &Robot) -> Result<Status> {
+    let data = read_data(&args.data, robot)?;
+    let holdout = match &args.holdout {
+        Some(p) => Some(read_data(p, robot)?),
+        None => None,
+    };
+    let d = diagnose_chain(&setup, &data, holdout.as_ref(), &ChainOptions::default())?;
+    let text = match args.format {
+        Format::Json => {
+            let v = serde_json::to_string_pretty(&d)
+                .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write JSON: {e}")))?;
+            format!("{v}\n")
+        }
+        Format::Csv => render_csv(
+            &[
+                "stage",
+                "parameters",
+                "fit_rms_mm",
+                "cv_rms_mm",
+                "holdout_rms_mm",
+                "holdout_max_mm",
+            ],
+            &stage_rows(&d),
+        ),
+        Format::Table => table(&d),
+    };
+    write_stdout(text.as_bytes())?;
+    Ok(Status::Success)
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map(|v| format!("{v:.4}")).unwrap_or_else(|| "-".into())
+}
+
+fn stage_rows(d: &ChainDiagnosis) -> Vec<Vec<String>> {
+    d.stages
+        .iter()
+        .map(|s| {
+            vec![
+                s.name.clone(),
+                s.parameters.to_string(),
+                format!("{:.4}", s.fit.rms_mm),
+                opt(s.cv_rms_mm),
+                opt(s.holdout.map(|h| h.rms_mm)),
+                opt(s.holdout.map(|h| h.max_mm)),
+            ]
+        })
+        .collect()
+}
+
+fn table(d: &ChainDiagnosis) -> String {
+    let mut s = String::new();
+    for w in &d.words {
+        s.push_str(w);
+        s.push('\n');
+    }
+    s.push_str(&format!(
+        "\nModels of growing scope ({} rows fitted{}):\n",
+        d.rows,
+        d.holdout_rows
+            .map(|n| format!(", {n} held out"))
+            .unwrap_or_default()
+    ));
+    s.push_str(&render_table(
+        &[
+            "model",
+            "parameters",
+            "fit RMS mm",
+            "cross-validated mm",
+            "held-out RMS mm",
+            "held-out max mm",
+        ],
+        &[
+            Align::Left,
+            Align::Right,
+            Align::Right,
+            Align::Right,
+            Align::Right,
+            Align::Right,
+        ],
+        &stage_rows(d),
+    ));
+    s.push_str("\nFitted parameters of the full geometry (± standard error):\n");
+    let rows: Vec<Vec<String>> = d
+        .parameters
+        .iter()
+        .map(|p| {
+            vec![
+                p.name.clone(),
+                format!("{:.4}", p.value),
+                format!("{:.4}", p.stderr),
+                p.unit.to_string(),
+            ]
+        })
+        .collect();
+    s.push_str(&render_table(
+        &["parameter", "value", "± stderr", "unit"],
+        &[Align::Left, Align::Right, Align::Right, Align::Left],
+        &rows,
+    ));
+    s.push_str(&format!(
+        "\nNot identifiable from these positions (held at zero; {} kept, of rank {} and condition {:.0}):\n",
+        d.parameters.len(),
+        d.rank,
+        d.condition
+    ));
+    for x in &d.dropped {
+        s.push_str(&format!(
+            "  {}{}\n",
+            x.name,
+            if x.same_as.is_empty() {
+                String::new()
+            } else {
+                format!(" (same effect as {})", x.same_as.join(" + "))
+            }
+        ));
+    }
+    if let Some(r) = &d.holdout_remainder {
+        s.push_str("\nOn the held-out set:\n");
+        for w in &r.words {
+            s.push_str(w);
+            s.push('\n');
+        }
+    }
+    s
+}

@@ -5,6 +5,7 @@
 mod common;
 
 mod blind;
+mod chain;
 mod cli;
 mod fit;
 mod loop_model;

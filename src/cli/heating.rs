@@ -1,3 +1,4 @@
+use super::messages::warning;
 use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::error::{Error, ErrorKind, Result};
@@ -98,7 +99,7 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
     let (name, bytes) = read_input(path)?;
     let record = HeatingRecord::parse(&name, &bytes)?;
     for col in &record.ignored_columns {
-        eprintln!("warning: {name}: ignoring unknown column `{col}`");
+        warning!("{name}: ignoring unknown column `{col}`");
     }
     Ok(record)
 }
@@ -144,7 +145,7 @@ fn run_fit(a: FitArgs) -> Result<Status> {
         }
     }
     for f in &failed {
-        eprintln!("warning: {f}; not listed");
+        warning!("{f}; not listed");
     }
     let span = record.times.iter().copied().fold(0.0, f64::max);
     for f in &fits {
@@ -152,8 +153,8 @@ fn run_fit(a: FitArgs) -> Result<Status> {
             (f.steady_interval, &f.curve)
         {
             if hi - lo > STEADY_WARN_C {
-                eprintln!(
-                    "warning: axis {}, {}: a {span:.0}-min recording cannot tell where this warm-up ends: its steady temperature is anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); record longer, at least as long as the time constant",
+                warning!(
+                    "axis {}, {}: a {span:.0}-min recording cannot tell where this warm-up ends: its steady temperature is anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); record longer, at least as long as the time constant",
                     f.axis,
                     f.kind,
                     c.steady()

@@ -30,7 +30,14 @@ use std::sync::atomic::{AtomicI8, Ordering};
 pub struct MessageArgs {
     /// Print only errors and what a check or gate found: no warnings,
     /// notes, summaries or progress bar (standard output is unchanged).
-    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    // Repeated, as an alias may add it, it is still one -q.
+    #[arg(
+        short,
+        long,
+        global = true,
+        conflicts_with = "verbose",
+        overrides_with = "quiet"
+    )]
     pub quiet: bool,
     /// Say on standard error which arm, model and files each task uses;
     /// -vv adds timings.

@@ -3,6 +3,10 @@
 //!
 //! Exit codes: 0 success; 1 when `--check`/`--diff` finds changes or a gate
 //! (`--fail-above`) fails; 2 for usage and input errors.
+//!
+//! Messages go through `messages` (`-q`, `-v`, `--color`), never straight
+//! to standard error.
+#![deny(clippy::print_stderr)]
 
 mod arms;
 mod compare;

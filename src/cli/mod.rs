@@ -11,6 +11,7 @@
 mod arms;
 mod compare;
 mod correct;
+mod correct_report;
 mod diagnose;
 mod generate;
 mod heating;

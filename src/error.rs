@@ -196,6 +196,17 @@ impl Error {
     /// The error as `Display` shows it, with each remedy in `word`'s
     /// words: the CLI passes its own, which name its flags.
     pub fn render(&self, word: &dyn Fn(Remedy) -> &'static str) -> String {
+        self.render_styled(word, &|label| label.to_string())
+    }
+
+    /// As [`Error::render`], with the `error:` label as `label` writes it
+    /// (the CLI colours it; the library knows no terminal).
+    pub fn render_styled(
+        &self,
+        word: &dyn Fn(Remedy) -> &'static str,
+        label: &dyn Fn(&str) -> String,
+    ) -> String {
+        let error = label("error:");
         let suffix = |line: Option<usize>| match self.remedy {
             Some((r, at)) if at.map(usize::from) == line => word(r),
             _ => "",
@@ -205,7 +216,7 @@ impl Error {
         match &self.location {
             Some(loc) => {
                 out.push_str(&format!(
-                    "{}:{}:{}: error: {message}",
+                    "{}:{}:{}: {error} {message}",
                     loc.file, loc.line, loc.col
                 ));
                 if !loc.line_text.is_empty() {
@@ -221,14 +232,14 @@ impl Error {
                     out.push_str(&format!("\n{:gutter$} | {}^", "", pad));
                 }
             }
-            None => out.push_str(&format!("error: {message}")),
+            None => out.push_str(&format!("{error} {message}")),
         }
         for (i, note) in self.notes.iter().enumerate() {
             out.push_str(&format!("\n  = {note}{}", suffix(Some(i))));
         }
         for e in self.related() {
             out.push('\n');
-            out.push_str(&e.render(word));
+            out.push_str(&e.render_styled(word, label));
         }
         out
     }

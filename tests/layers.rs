@@ -213,3 +213,40 @@ fn no_source_file_is_over_1000_lines() {
         .collect();
     assert!(long.is_empty(), "files over 1,000 lines: {long:?}");
 }
+
+/// Every message of the command line goes through `src/cli/messages.rs`,
+/// so that `-q`, `-v` and `--color` apply to it: no other file of the CLI
+/// writes to standard error itself.
+#[test]
+fn the_cli_speaks_on_stderr_only_through_its_messages_module() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    rust_files(&root.join("src/cli"), &mut files);
+    files.push(root.join("src/main.rs"));
+    assert!(
+        files.iter().any(|f| f.ends_with("src/cli/messages.rs")),
+        "src/cli/messages.rs is where messages are written"
+    );
+    let mut wrong = Vec::new();
+    for file in files.iter().filter(|f| !f.ends_with("messages.rs")) {
+        let code = code_of(&std::fs::read_to_string(file).unwrap());
+        for (n, line) in code.lines().enumerate() {
+            if ["eprintln!", "eprint!", "stderr()"]
+                .iter()
+                .any(|w| line.contains(w))
+            {
+                wrong.push(format!(
+                    "{}:{}: {}",
+                    file.strip_prefix(root).unwrap().display(),
+                    n + 1,
+                    line.trim()
+                ));
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "write messages with the macros of src/cli/messages.rs (error!, warning!, note!, status!, outcome!, info!), not directly:\n{}",
+        wrong.join("\n")
+    );
+}

@@ -1,6 +1,7 @@
 //! `--robot NAME|FILE.urdf` for every command that takes an arm, and
 //! `arms`: the catalogue of ABB arms by name.
 
+use super::messages::info;
 use super::{write_stdout, Format, Status};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::report::{render_csv, render_table, Align};
@@ -40,13 +41,21 @@ fn robot_arg(arg: &Path) -> Result<RobotArg<'_>> {
 /// The arm `--robot` gives (a URDF file or a catalogue name), or the
 /// embedded IRB 140 without it.
 pub fn load_robot(arg: Option<&Path>) -> Result<Robot> {
-    match arg {
-        None => Ok(Robot::irb140()),
+    let (robot, from) = match arg {
+        None => (Robot::irb140(), "the embedded IRB 140, default".to_string()),
         Some(a) => match robot_arg(a)? {
-            RobotArg::File(p) => Robot::from_urdf_file(p),
-            RobotArg::Name(n) => find_arm(n).map(AbbArm::robot),
+            RobotArg::File(p) => (
+                Robot::from_urdf_file(p)?,
+                format!("from the URDF file {}, chosen by --robot", p.display()),
+            ),
+            RobotArg::Name(n) => (
+                find_arm(n).map(AbbArm::robot)?,
+                format!("from the catalogue, chosen by --robot {n}"),
+            ),
         },
-    }
+    };
+    info!("arm {} ({from})", robot.name);
+    Ok(robot)
 }
 
 /// The catalogue arm `--robot NAME` names; the error says it came from

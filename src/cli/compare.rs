@@ -2,6 +2,7 @@
 //! any moved.
 
 use super::ci_report::{self, Compared, ReportFormat};
+use super::messages::{self, error, note};
 use super::tasks::{self, TaskPick};
 use super::Format;
 use super::{read_input, write_stdout, Status};
@@ -92,10 +93,7 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
         if failures.is_empty() {
             return Ok(Status::Success);
         }
-        eprint!(
-            "{}",
-            gate_message(&gate, max_deg.is_none(), &failures, &na, &nb)
-        );
+        messages::outcome_lines(&gate_message(&gate, max_deg.is_none(), &failures, &na, &nb));
         return Ok(Status::Changes);
     }
     // Tasks pair by name; two single tasks pair whatever their names.
@@ -168,9 +166,13 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
     };
     write_stdout(text.as_bytes())?;
     for u in &unpaired {
-        eprintln!("{}: {u}", if gate.is_some() { "error" } else { "note" });
+        if gate.is_some() {
+            error!("{u}");
+        } else {
+            note!("{u}");
+        }
     }
-    eprint!("{message}");
+    messages::outcome_lines(&message);
     Ok(
         if gate.is_some() && (!message.is_empty() || !unpaired.is_empty()) {
             Status::Changes

@@ -2,6 +2,7 @@
 
 use super::check_rule::CheckRule;
 use super::ci_report::{self, ReportFormat};
+use super::messages::{self, info, note};
 use super::tasks;
 use super::Format;
 use super::{output, read_input, write_output, write_stdout, Status};
@@ -14,7 +15,6 @@ use rapidtherm::rapid::task::Task;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{self, EstimateOptions, Schedule, Visit};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 /// `--visit`: the command line's names for [`Visit`].
@@ -250,8 +250,8 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         return Err(e);
     }
     for t in &still {
-        eprintln!(
-            "note: task {} is not a motion task (SYSPAR/SYS.cfg): left alone",
+        note!(
+            "task {} is not a motion task (SYSPAR/SYS.cfg): left alone",
             t.label()
         );
     }
@@ -311,15 +311,27 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
     };
     let arm_name = arm.robot.name.clone();
     let warm = WarmRobot::new(arm.robot, model, horizon)?;
+    let model_label = model_label(args.model.as_deref(), &arm.label)?;
+    let borrowed = args.model.is_none() && !arm.is_irb140;
+    let on_lengths = if borrowed {
+        " on this arm's lengths"
+    } else {
+        ""
+    };
+    info!(
+        "task {}: thermal model: {model_label}{on_lengths}",
+        task.label()
+    );
     let options = Options {
         when,
         visit: args.visit.into(),
         expand_expressions: args.expand_expressions,
-        model_label: model_label(args.model.as_deref(), &arm.label)?,
+        model_label,
         base_frame: tasks::base_frame(&task)?,
         split_shared: args.split_shared,
     };
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
+    let started = std::time::Instant::now();
     let outcome = correct(&program, &warm, &options, &mut |done, total| {
         if let Some(b) = &bar {
             // The time left is estimated from the pace of the targets
@@ -332,6 +344,7 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
             b.set_position(done as u64);
         }
     })?;
+    messages::took(&format!("task {}: correcting", task.label()), started);
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -358,8 +371,8 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
     };
     for r in runs {
         if let Some(how) = &r.outcome.already_corrected {
-            eprintln!(
-                "note: {}already corrected: {how}; nothing to do",
+            note!(
+                "{}already corrected: {how}; nothing to do",
                 in_task(named, r)
             );
         }
@@ -394,20 +407,17 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
             }
         }
         write_stdout(&text)?;
-        eprint!("{}", summaries());
+        messages::lines(&summaries());
         if args.check {
-            eprint!(
-                "{}",
-                per_task(
-                    runs,
-                    &findings,
-                    Format::Table,
-                    named,
-                    "findings",
-                    check_list
-                )?
-            );
-            eprint!("{}", check_verdict(&findings.concat(), args.tolerance));
+            messages::outcome_lines(&per_task(
+                runs,
+                &findings,
+                Format::Table,
+                named,
+                "findings",
+                check_list,
+            )?);
+            messages::lines(&check_verdict(&findings.concat(), args.tolerance));
         }
         return Ok(if changed || (args.check && any_finding) {
             Status::Changes
@@ -416,7 +426,7 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
         });
     }
     if args.check {
-        eprint!("{}", summaries());
+        messages::lines(&summaries());
         let list = match args.format.data() {
             Some(format) => per_task(runs, &findings, format, named, "findings", check_list)?,
             None => {
@@ -432,7 +442,7 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
             }
         };
         write_stdout(list.as_bytes())?;
-        eprint!("{}", check_verdict(&findings.concat(), args.tolerance));
+        messages::lines(&check_verdict(&findings.concat(), args.tolerance));
         return Ok(if any_finding {
             Status::Changes
         } else {
@@ -441,7 +451,7 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
     }
     if let Some(out) = &args.output {
         write_output(out, &runs[0].outcome.outputs[0])?;
-        eprint!("{}", summaries());
+        messages::lines(&summaries());
         return Ok(Status::Success);
     }
     if args.in_place {
@@ -471,7 +481,7 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
         for (name, after) in writes {
             output::write_atomic(Path::new(name), after, args.backup.as_deref())?;
         }
-        eprint!("{}", summaries());
+        messages::lines(&summaries());
         return Ok(Status::Success);
     }
     // Refused before the run: github and junit report a check only.
@@ -484,7 +494,7 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
         .as_bytes(),
     )?;
     if format == Format::Table {
-        eprint!("{}", summaries());
+        messages::lines(&summaries());
     }
     Ok(Status::Success)
 }
@@ -750,7 +760,7 @@ fn when_of(
                 },
             )?;
             for note in &estimate.notes {
-                eprintln!("note: {note}");
+                note!("{note}");
             }
             When::Schedule {
                 schedule: estimate.schedule,
@@ -768,7 +778,7 @@ fn when_of(
 
 fn progress_bar(total: usize) -> Option<indicatif::ProgressBar> {
     // Only worth showing for long runs, and only to a person.
-    if total < 50_000 || !std::io::stderr().is_terminal() {
+    if total < 50_000 || !messages::progress_shown() {
         return None;
     }
     let bar = indicatif::ProgressBar::new(total as u64);

@@ -1,5 +1,6 @@
 //! `simulate`, `diagnose` and `gap`: argument parsing and printing only.
 
+use super::messages::{note, outcome, status, warning};
 use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
@@ -157,8 +158,8 @@ fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result
         ..e
     })?;
     if model_file && model.robot.opw != arm.nominal {
-        eprintln!(
-            "note: the lengths of {} replace the model's [robot] geometry ({})",
+        note!(
+            "the lengths of {} replace the model's [robot] geometry ({})",
             p.display(),
             model.robot.name
         );
@@ -174,7 +175,7 @@ fn read_measurements(path: &Path, arm: &Arm) -> Result<Measurements> {
     let (name, bytes) = read_input(path)?;
     let meas = Measurements::parse(&name, &bytes, &arm.limits_deg)?;
     for w in &meas.warnings {
-        eprintln!("warning: {w}");
+        warning!("{w}");
     }
     Ok(meas)
 }
@@ -388,7 +389,7 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
             Err(Error::usage("--fail-above must be a number of mm >= 0"))
         }
         Some(limit) if g.rms_mm > limit => {
-            eprintln!("gap {:.4} mm RMS is above {limit} mm", g.rms_mm);
+            outcome!("gap {:.4} mm RMS is above {limit} mm", g.rms_mm);
             Ok(Status::Changes)
         }
         _ => Ok(Status::Success),
@@ -457,7 +458,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
         for (name, svg) in diagnose::plot::plots(&prepared, &d)? {
             let path = dir.join(name);
             super::output::write_atomic(&path, svg.as_bytes(), None)?;
-            eprintln!("wrote {}", path.display());
+            status!("wrote {}", path.display());
         }
     }
     if let Some(path) = &args.save_model {
@@ -468,7 +469,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
             m.robot.opw = setup.arm.nominal;
         }
         crate::cli::output::write_atomic(path, m.to_toml()?.as_bytes(), None)?;
-        eprintln!("wrote {}", path.display());
+        status!("wrote {}", path.display());
     }
     let text = match args.format {
         Format::Json => {

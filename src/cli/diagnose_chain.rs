@@ -3,6 +3,7 @@
 //! `rapidtherm::diagnose::chain_diagnose`.
 
 use super::diagnose::DiagnoseArgs;
+use super::messages::warning;
 use super::Format;
 use super::{read_input, write_stdout, Status};
 use rapidtherm::diagnose::chain_calib::Sample;
@@ -84,7 +85,7 @@ fn read_data(path: &Path, robot: &Robot) -> Result<ChainData> {
         .map(|(lo, hi)| (lo.to_degrees(), hi.to_degrees()));
     let meas = Measurements::parse(&name, &bytes, &limits)?;
     for w in &meas.warnings {
-        eprintln!("warning: {w}");
+        warning!("{w}");
     }
     let poses = meas
         .rows

@@ -1,3 +1,4 @@
+use super::messages::warning;
 use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::error::{Error, ErrorKind, Result};
@@ -98,7 +99,7 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
     let (name, bytes) = read_input(path)?;
     let record = HeatingRecord::parse(&name, &bytes)?;
     for col in &record.ignored_columns {
-        eprintln!("warning: {name}: ignoring unknown column `{col}`");
+        warning!("{name}: ignoring unknown column `{col}`");
     }
     Ok(record)
 }
@@ -144,7 +145,7 @@ fn run_fit(a: FitArgs) -> Result<Status> {
         }
     }
     for f in &failed {
-        eprintln!("warning: {f}; not listed");
+        warning!("{f}; not listed");
     }
     let span = record.times.iter().copied().fold(0.0, f64::max);
     for f in &fits {
@@ -155,15 +156,15 @@ fn run_fit(a: FitArgs) -> Result<Status> {
             if hi - lo > STEADY_WARN_C && span >= 3.0 * longest {
                 // Long enough for its own time constant: what spreads the
                 // steady temperature is a heat path this curve lacks.
-                eprintln!(
-                    "warning: axis {}, {}: curves with more heat paths fit this recording at least as well and put the steady temperature anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); compare with two-tau, or let auto choose",
+                warning!(
+                    "axis {}, {}: curves with more heat paths fit this recording at least as well and put the steady temperature anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); compare with two-tau, or let auto choose",
                     f.axis,
                     f.model_name(),
                     c.steady()
                 );
             } else if hi - lo > STEADY_WARN_C {
-                eprintln!(
-                    "warning: axis {}, {}: a {span:.0}-min recording cannot tell where this warm-up ends: its steady temperature is anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); record longer, at least as long as the time constant",
+                warning!(
+                    "axis {}, {}: a {span:.0}-min recording cannot tell where this warm-up ends: its steady temperature is anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); record longer, at least as long as the time constant",
                     f.axis,
                     f.model_name(),
                     c.steady()
@@ -207,8 +208,8 @@ fn warn_uncertain_forecasts(fitted: &FittedProfile, at: &[f64]) {
     for &t in at.iter().filter(|&&t| t > end) {
         for (axis, range) in fitted.uncertainty_at(t).iter().enumerate() {
             if let Some((lo, hi)) = range.filter(|(lo, hi)| hi - lo > STEADY_WARN_C) {
-                eprintln!(
-                    "warning: axis {}, minute {t}: a {end:.0}-min recording cannot tell this forecast better than {lo:.1} to {hi:.1} °C; record longer",
+                warning!(
+                    "axis {}, minute {t}: a {end:.0}-min recording cannot tell this forecast better than {lo:.1} to {hi:.1} °C; record longer",
                     axis + 1
                 );
             }

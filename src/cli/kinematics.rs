@@ -7,6 +7,7 @@
 //! axis is outside its limits, so that a missing configuration is never a
 //! silent one.
 
+use super::messages::warning;
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::correct::Frame;
@@ -131,7 +132,7 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
     let robot = args.model.robot()?;
     let temps = args.model.temps()?;
     for v in robot.outside_limits(&q) {
-        eprintln!("warning: {}", describe_violation(&v));
+        warning!("{}", describe_violation(&v));
     }
     let conf = robot.conf_of(&q);
     let mut rows = vec![("nominal", robot.fk(&q))];
@@ -204,8 +205,8 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
 /// outside its limits in every turn.
 fn warn_dropped(solutions: &Solutions) {
     for d in solutions.dropped() {
-        eprintln!(
-            "warning: the solution with cfx {} is not listed: {}",
+        warning!(
+            "the solution with cfx {} is not listed: {}",
             d.conf.cfx,
             describe_violation(&d.violation)
         );

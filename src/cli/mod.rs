@@ -3,6 +3,10 @@
 //!
 //! Exit codes: 0 success; 1 when `--check`/`--diff` finds changes or a gate
 //! (`--fail-above`) fails; 2 for usage and input errors.
+//!
+//! Messages go through `messages` (`-q`, `-v`, `--color`), never straight
+//! to standard error.
+#![deny(clippy::print_stderr)]
 
 mod arms;
 mod check_rule;
@@ -12,6 +16,7 @@ mod correct;
 mod correct_report;
 mod diagnose;
 mod diagnose_chain;
+mod generate;
 mod heating;
 mod junit;
 mod kinematics;
@@ -23,7 +28,7 @@ mod schedule;
 mod targets;
 mod tasks;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 use rapidtherm::error::{Error, Result};
 use std::io::{Read, Write};
 use std::path::Path;
@@ -37,6 +42,8 @@ use std::process::ExitCode;
     propagate_version = true
 )]
 struct Cli {
+    #[command(flatten)]
+    messages: messages::MessageArgs,
     #[command(subcommand)]
     command: Command,
 }
@@ -69,6 +76,10 @@ enum Command {
     Gap(diagnose::GapArgs),
     /// List the ABB arms `--robot` takes by name (payload, reach, where the numbers come from).
     Arms(arms::ArmsArgs),
+    /// Print the shell completion script for bash, zsh, fish, elvish or powershell.
+    Completions(generate::CompletionsArgs),
+    /// Print the man page (roff), or write one page per subcommand with --out-dir.
+    Man(generate::ManArgs),
 }
 
 /// Output format chosen with `--format`: the library renders tables, CSV
@@ -90,7 +101,21 @@ pub enum Status {
 }
 
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    // Before parsing: clap's own errors and help follow --color too.
+    messages::set_color(messages::color_before_parsing(&args));
+    let cli = Cli::parse_from(args);
+    // clap sees the conflict only when both flags are on the same side
+    // of the subcommand.
+    if cli.messages.quiet && cli.messages.verbose > 0 {
+        Cli::command()
+            .error(
+                clap::error::ErrorKind::ArgumentConflict,
+                "the argument '--quiet' cannot be used with '--verbose'",
+            )
+            .exit();
+    }
+    messages::init(&cli.messages);
     let result = match cli.command {
         Command::Targets(a) => targets::run(a),
         Command::Fk(a) => kinematics::run_fk(a),
@@ -104,12 +129,14 @@ pub fn main() -> ExitCode {
         Command::Diagnose(a) => diagnose::run_diagnose(a),
         Command::Gap(a) => diagnose::run_gap(a),
         Command::Arms(a) => arms::run_arms(a),
+        Command::Completions(a) => generate::run_completions(a, Cli::command()),
+        Command::Man(a) => generate::run_man(a, Cli::command()),
     };
     match result {
         Ok(Status::Success) => ExitCode::SUCCESS,
         Ok(Status::Changes) => ExitCode::from(1),
         Err(e) => {
-            eprintln!("{}", messages::error(&e));
+            messages::print_error(&e);
             ExitCode::from(2)
         }
     }
@@ -144,9 +171,11 @@ pub fn read_program(files: &[std::path::PathBuf]) -> Result<(Inputs, rapidtherm:
         .iter()
         .map(|(n, b)| (n.as_str(), b.as_slice()))
         .collect();
+    let started = std::time::Instant::now();
     let program = rapidtherm::rapid::parse_files(&refs)?;
+    messages::took("parsing", started);
     for w in &program.warnings {
-        eprintln!("{w}");
+        messages::warning_at(w);
     }
     Ok((inputs, program))
 }

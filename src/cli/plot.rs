@@ -4,6 +4,7 @@
 //! written, and written last: a run that fails leaves the folder as it
 //! was.
 
+use super::messages::status;
 use super::output::write_atomic;
 use super::Inputs;
 use rapidtherm::correct::plot::{pictures, Picture};
@@ -73,7 +74,7 @@ pub fn write(dir: Option<&Path>, drawn: &[(PathBuf, String)]) -> Result<()> {
     for (name, svg) in drawn {
         let path = dir.join(name);
         write_atomic(&path, svg.as_bytes(), None)?;
-        eprintln!("wrote {}", path.display());
+        status!("wrote {}", path.display());
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `rapidtherm schedule FILE...`: when each target of a program is
 //! reached, estimated by walking its entry routine (CSV on stdout, the
 //! choices made on stderr).
+use super::messages::{note, status};
 use super::{write_output, Status};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::schedule::{estimate, EstimateOptions};
@@ -50,9 +51,9 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     let est = estimate(&program, &robot, &opts)?;
     write_output(&args.output, est.to_csv().as_bytes())?;
     for n in &est.notes {
-        eprintln!("note: {n}");
+        note!("{n}");
     }
-    eprintln!(
+    status!(
         "{} target(s), {} visit(s), {:.2} min from minute {} to {:.2}",
         est.schedule.targets().len() + est.joint_schedule.targets().len(),
         est.schedule.visit_count() + est.joint_schedule.visit_count(),

@@ -3,6 +3,7 @@
 //! (`rapidtherm::rapid::task`), `--task` to pick some, and the arm each
 //! task moves.
 
+use super::messages::{info, note};
 use super::{read_input, Inputs};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::task::{self, Task};
@@ -56,8 +57,14 @@ pub fn select(paths: &[PathBuf], pick: &TaskPick) -> Result<Vec<Task>> {
 /// warnings and the task's notes go to stderr.
 pub fn read(task: &Task) -> Result<(Inputs, Program)> {
     for note in &task.notes {
-        eprintln!("note: {note}");
+        note!("{note}");
     }
+    let modules: Vec<String> = task
+        .modules
+        .iter()
+        .map(|m| m.display().to_string())
+        .collect();
+    info!("task {}: reads {}", task.label(), modules.join(", "));
     super::read_program(&task.modules)
 }
 
@@ -69,6 +76,9 @@ pub struct Arm {
     /// Whether the arm is the IRB 140 the embedded thermal defaults were
     /// calibrated on (its geometry, whatever file it came from).
     pub is_irb140: bool,
+    /// What it is (`the catalogue`, `URDF file X`) and what chose it
+    /// (`--robot`, the backup's MOC.cfg, the default), for `-v`.
+    pub provenance: String,
 }
 
 /// The arm of `task`: the `--robot` given for it (`T_ROB2=SPEC`), else the
@@ -91,19 +101,28 @@ pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
             _ => general = Some(s.as_str()),
         }
     }
-    let arm = match own.or(general) {
-        Some(spec) => arm_of_spec(spec)?,
+    let (mut arm, chosen_by) = match own.or(general) {
+        Some(spec) if own.is_some() => (arm_of_spec(spec)?, format!("--robot {}={spec}", task.label())),
+        Some(spec) => (arm_of_spec(spec)?, format!("--robot {spec}")),
         None => match &task.robot_type {
-            Some(rt) => arm_of_robot_type(rt).ok_or_else(|| {
+            Some(rt) => (arm_of_robot_type(rt).ok_or_else(|| {
                 Error::usage(format!(
                     "task {}: the backup's SYSPAR/MOC.cfg says it moves a {rt}, which rapidtherm has no description of; give the arm with --robot {}=NAME|FILE.urdf",
                     task.label(),
                     task.label()
                 ))
-            })??,
-            None => embedded_irb140()?,
+            })??, format!("the robot type {rt} of the backup's SYSPAR/MOC.cfg")),
+            None => (embedded_irb140()?, "default (no --robot, no robot type in a MOC.cfg)".to_string()),
         },
     };
+    arm.provenance = format!("{}, chosen by {chosen_by}", arm.provenance);
+    info!(
+        "task {}: arm {} ({}), {}",
+        task.label(),
+        arm.robot.name,
+        arm.label,
+        arm.provenance
+    );
     Ok(arm)
 }
 
@@ -122,6 +141,7 @@ fn catalogue_arm(arm: &AbbArm) -> Arm {
             arm.name.clone()
         },
         is_irb140,
+        provenance: "from the catalogue".to_string(),
     }
 }
 
@@ -143,6 +163,7 @@ pub fn arm_of_spec(spec: &str) -> Result<Arm> {
         robot,
         label: rapidtherm::correct::marker::fingerprint(&bytes),
         is_irb140,
+        provenance: format!("from the URDF file {name}"),
     })
 }
 

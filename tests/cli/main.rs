@@ -4,5 +4,6 @@
 //! hook as pre-commit runs it. One binary, one link.
 
 mod ci_report;
+mod conventions;
 mod pre_commit_hook;
 mod transcripts;

@@ -1,0 +1,72 @@
+//! `completions` and `man`: shell completion scripts and man pages made
+//! from the clap definitions at run time, so that they always describe the
+//! binary that prints them (`cargo install` installs a binary and nothing
+//! else; a build-time generation would leave them in the target folder).
+
+use super::messages::info;
+use super::{write_stdout, Status};
+use rapidtherm::error::{Error, Result};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct CompletionsArgs {
+    /// The shell to complete for.
+    #[arg(value_enum)]
+    shell: clap_complete::Shell,
+}
+
+#[derive(clap::Args)]
+pub struct ManArgs {
+    /// Write one page per command and subcommand (rapidtherm.1,
+    /// rapidtherm-correct.1, ...) into this folder instead of printing the
+    /// main page.
+    #[arg(long, value_name = "DIR")]
+    out_dir: Option<PathBuf>,
+}
+
+pub fn run_completions(args: CompletionsArgs, mut cmd: clap::Command) -> Result<Status> {
+    let mut script = Vec::new();
+    clap_complete::generate(args.shell, &mut cmd, "rapidtherm", &mut script);
+    write_stdout(&script)?;
+    Ok(Status::Success)
+}
+
+pub fn run_man(args: ManArgs, cmd: clap::Command) -> Result<Status> {
+    // As clap_mangen::generate_to prepares it: subcommands named
+    // `rapidtherm-correct`, no `help` subcommand page.
+    let mut cmd = cmd.disable_help_subcommand(true);
+    cmd.build();
+    let Some(dir) = args.out_dir else {
+        write_stdout(&page(&cmd)?)?;
+        return Ok(Status::Success);
+    };
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, &e))?;
+    let mut pages = Vec::new();
+    collect(&cmd, &mut pages)?;
+    for (name, roff) in pages {
+        let path = dir.join(name);
+        super::output::write_atomic(&path, &roff, None)?;
+        info!("wrote {}", path.display());
+    }
+    Ok(Status::Success)
+}
+
+/// One command's page, in roff.
+fn page(cmd: &clap::Command) -> Result<Vec<u8>> {
+    let mut roff = Vec::new();
+    clap_mangen::Man::new(cmd.clone())
+        .render(&mut roff)
+        .map_err(|e| Error::io(std::path::Path::new("<man page>"), &e))?;
+    Ok(roff)
+}
+
+/// The page of `cmd` and of every visible subcommand below it, with their
+/// file names.
+fn collect(cmd: &clap::Command, out: &mut Vec<(String, Vec<u8>)>) -> Result<()> {
+    let name = cmd.get_display_name().unwrap_or_else(|| cmd.get_name());
+    out.push((format!("{name}.1"), page(cmd)?));
+    for sub in cmd.get_subcommands().filter(|s| !s.is_hide_set()) {
+        collect(sub, out)?;
+    }
+    Ok(())
+}

@@ -14,6 +14,7 @@ mod messages;
 mod model;
 mod output;
 mod schedule;
+mod stream;
 mod targets;
 mod tasks;
 

@@ -235,6 +235,20 @@ pub(super) fn corrected(
     run: &Run,
     target: &Target,
     meant: &Meant,
+    frames: (&ToolData, &WobjData),
+    exact: Option<Isometry3<f64>>,
+) -> Result<Correction> {
+    let src = run.program.source(target.origin.file);
+    corrected_in(run, src, target, meant, frames, exact)
+}
+
+/// [`corrected`] for a target whose numbers lie in `src` (a streamed
+/// file the run's program was cut from).
+pub(super) fn corrected_in(
+    run: &Run,
+    src: &[u8],
+    target: &Target,
+    meant: &Meant,
     (tool, wobj): (&ToolData, &WobjData),
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
@@ -267,7 +281,6 @@ pub(super) fn corrected(
             range = (range.0.min(d), range.1.max(d));
         }
     }
-    let src = program.source(target.origin.file);
     let new_trans = exact.translation.vector;
     let turn = pose.rotation.angle_to(&exact.rotation);
     let written_rot = match (&target.value, evaluated) {

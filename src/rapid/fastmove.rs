@@ -28,9 +28,12 @@ pub struct FastMove {
 }
 
 /// Reads one token at a time over one line: blanks are spaces and tabs.
+/// Without `values`, numbers are checked for their form only (the cut
+/// pass: the numbers are read, and checked finite, when corrected).
 struct Cursor<'a> {
     s: &'a [u8],
     p: usize,
+    values: bool,
 }
 
 fn is_ident_char(b: u8) -> bool {
@@ -121,6 +124,10 @@ impl Cursor<'_> {
         if s.get(p).is_some_and(|&b| is_ident_char(b) || b == b'.') {
             return None;
         }
+        if !self.values {
+            self.p = p;
+            return Some(Number::new(0.0, start..p));
+        }
         let text = std::str::from_utf8(&s[digits_from..p]).ok()?;
         let v: f64 = text.parse().ok()?;
         if !v.is_finite() {
@@ -187,7 +194,15 @@ fn leading_targets(name: &str) -> Option<usize> {
 /// The move that starts at `at` of `src`, when it is one this recogniser
 /// reads; `None` otherwise (the pest grammar then reads it).
 pub fn recognise(src: &[u8], at: usize) -> Option<FastMove> {
-    let mut c = Cursor { s: src, p: at };
+    read_move(src, at, true)
+}
+
+fn read_move(src: &[u8], at: usize, values: bool) -> Option<FastMove> {
+    let mut c = Cursor {
+        s: src,
+        p: at,
+        values,
+    };
     let instruction = c.name()?;
     let k = leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?;
     if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
@@ -267,7 +282,7 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
     loop {
         if in_routine {
             let at = scanner.next_start();
-            if let Some(m) = recognise(src, at).filter(|m| rest_is_blank(src, m.span.end)) {
+            if let Some(m) = read_move(src, at, false).filter(|m| rest_is_blank(src, m.span.end)) {
                 cuts.push(m.span.clone());
                 scanner.skip_to(m.span.end);
                 continue;

@@ -17,7 +17,7 @@ use super::solve::{corrected_in, Meant, Run};
 use super::{evaluate, marker, Findings, Options, Outcome, When};
 use crate::error::{Error, Result};
 use crate::model::{Moment, State, WarmRobot};
-use crate::rapid::fastmove::{recognise, Skeleton};
+use crate::rapid::fastmove::{reread, Skeleton};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Origin, Pos, Program, Target, TargetKind};
 use crate::resolve::target_pose;
@@ -157,7 +157,7 @@ fn correct_chunk(
     let module: Arc<str> = Arc::from("");
     let mut out = Vec::with_capacity(cuts.len());
     for cut in cuts {
-        let m = recognise(src, cut.start)?;
+        let m = reread(src, cut.start)?;
         let name = |r: &Range<usize>| std::str::from_utf8(&src[r.clone()]).ok();
         let tool = run.frames.tool(Some(name(&m.tool)?))?;
         let wobj = match &m.wobj {

@@ -28,12 +28,15 @@ pub struct FastMove {
 }
 
 /// Reads one token at a time over one line: blanks are spaces and tabs.
-/// Without `values`, numbers are checked for their form only (the cut
-/// pass: the numbers are read, and checked finite, when corrected).
+/// The cut pass checks numbers for their form only (their values are
+/// read, and checked finite, when corrected); reading a cut move again
+/// does not look its names up among the reserved words (the cut pass
+/// did).
 struct Cursor<'a> {
     s: &'a [u8],
     p: usize,
     values: bool,
+    names: bool,
 }
 
 fn is_ident_char(b: u8) -> bool {
@@ -66,9 +69,11 @@ impl Cursor<'_> {
             }
             e += 1;
         }
-        let word = std::str::from_utf8(&self.s[start..e]).ok()?;
-        if super::parse::is_reserved_word(word) {
-            return None;
+        if self.names {
+            let word = std::str::from_utf8(&self.s[start..e]).ok()?;
+            if super::parse::is_reserved_word(word) {
+                return None;
+            }
         }
         self.p = e;
         Some(start..e)
@@ -194,14 +199,21 @@ fn leading_targets(name: &str) -> Option<usize> {
 /// The move that starts at `at` of `src`, when it is one this recogniser
 /// reads; `None` otherwise (the pest grammar then reads it).
 pub fn recognise(src: &[u8], at: usize) -> Option<FastMove> {
-    read_move(src, at, true)
+    read_move(src, at, true, true)
 }
 
-fn read_move(src: &[u8], at: usize, values: bool) -> Option<FastMove> {
+/// [`recognise`] for a move [`skeleton`] cut out of `src` at `at`: its
+/// names were checked then.
+pub fn reread(src: &[u8], at: usize) -> Option<FastMove> {
+    read_move(src, at, true, false)
+}
+
+fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMove> {
     let mut c = Cursor {
         s: src,
         p: at,
         values,
+        names,
     };
     let instruction = c.name()?;
     let k = leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?;
@@ -282,7 +294,9 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
     loop {
         if in_routine {
             let at = scanner.next_start();
-            if let Some(m) = read_move(src, at, false).filter(|m| rest_is_blank(src, m.span.end)) {
+            if let Some(m) =
+                read_move(src, at, false, true).filter(|m| rest_is_blank(src, m.span.end))
+            {
                 cuts.push(m.span.clone());
                 scanner.skip_to(m.span.end);
                 continue;

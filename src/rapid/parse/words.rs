@@ -66,7 +66,7 @@ pub(super) const RESERVED: [&str; 57] = [
 pub(super) fn is_reserved(word: &str) -> bool {
     // Upper-cased on the stack and looked up in the sorted list: the fast
     // move recogniser asks this of every name of a million moves.
-    if word.len() > 9 {
+    if word.len() > 9 || !word.bytes().all(|b| b.is_ascii_alphabetic()) {
         return false;
     }
     let mut upper = [0u8; 9];

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// What each top-level module of the library may import (besides external
 /// crates). Bottom to top: foundations; the language, geometry and
 /// temperatures; the warm robot; what programs mean and when targets are
-/// reached; the jobs. `src/lib.rs` and the README's code map say the same.
+/// reached; the jobs. `src/lib.rs` and the code map in docs/development.md say the same.
 const ALLOWED: &[(&str, &[&str])] = &[
     ("error", &[]),
     ("csv_table", &["error"]),
@@ -134,7 +134,7 @@ fn every_module_imports_only_the_layers_below_it() {
         seen_modules.insert(module.clone());
         let Some(may) = allowed.get(module.as_str()) else {
             wrong.push(format!(
-                "{}: module `{module}` has no place in the layers (add it to ALLOWED, the README map and src/lib.rs)",
+                "{}: module `{module}` has no place in the layers (add it to ALLOWED, the map in docs/development.md and src/lib.rs)",
                 file.display()
             ));
             continue;

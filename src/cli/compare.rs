@@ -226,7 +226,12 @@ fn render_diff(d: &Diff, format: Format) -> Result<String> {
         Format::Table => {
             let mut align = vec![Align::Left, Align::Left];
             align.extend([Align::Right; 5]);
-            let mut text = render_table(&header, &align, &rows);
+            let mut table_header = header;
+            table_header[2..5].copy_from_slice(&["dx_mm", "dy_mm", "dz_mm"]);
+            let mut text = render_table(&table_header, &align, &rows);
+            if !rows.is_empty() {
+                text.push_str("frame: dx_mm, dy_mm, dz_mm are in the frame each target is written in (the object frame of the work object it is used with); for jointtargets dangle_deg is the largest joint change\n");
+            }
             for id in &d.only_in_a {
                 text.push_str(&format!("only in the first: {id}\n"));
             }

@@ -466,7 +466,7 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
     let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
     write_stdout(
         per_task(runs, &outcomes, args.format, named, "report", |o, f| {
-            report(o, f)
+            super::correct_report::report(o, f)
         })?
         .as_bytes(),
     )?;
@@ -668,7 +668,7 @@ fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
 
 /// A use with other frames in words: where, with what, how far off, and
 /// what the target is corrected for.
-fn shared_words(u: &rapidtherm::correct::SharedUse) -> String {
+pub(super) fn shared_words(u: &rapidtherm::correct::SharedUse) -> String {
     let instruction = |f: &rapidtherm::correct::FramesUse| match &f.through {
         Some(expr) => format!("{} {expr}", f.instruction),
         None => f.instruction.clone(),
@@ -696,7 +696,7 @@ fn shared_words(u: &rapidtherm::correct::SharedUse) -> String {
 
 /// A reason's words, with what the user can do where the CLI has a flag
 /// for it.
-fn reason_words(reason: Reason, kind: &str, detail: &str) -> String {
+pub(super) fn reason_words(reason: Reason, kind: &str, detail: &str) -> String {
     match reason {
         Reason::Expression if kind != "jointtarget" => format!("{detail} (--expand-expressions)"),
         _ => detail.to_string(),
@@ -768,114 +768,6 @@ fn progress_bar(total: usize) -> Option<indicatif::ProgressBar> {
         bar.set_style(style);
     }
     Some(bar)
-}
-
-/// The per-target report: corrected against original.
-fn report(outcome: &Outcome, format: Format) -> Result<String> {
-    let header = [
-        "target",
-        "kind",
-        "line",
-        "minute",
-        "drift_mm",
-        "dx",
-        "dy",
-        "dz",
-        "corr_mm",
-        "dangle_deg",
-        "rewritten",
-    ];
-    let rows: Vec<Vec<String>> = outcome
-        .corrections
-        .iter()
-        .map(|c| {
-            vec![
-                c.id.clone(),
-                c.kind.clone(),
-                c.line.to_string(),
-                c.time_min
-                    .map_or("steady".to_string(), |t| format!("{t:.2}")),
-                mm(c.drift_norm_mm, 4),
-                mm(c.correction_mm[0], 4),
-                mm(c.correction_mm[1], 4),
-                mm(c.correction_mm[2], 4),
-                mm(c.correction_norm_mm, 4),
-                mm(c.dangle_deg, 6),
-                if c.rewritten { "yes" } else { "no" }.to_string(),
-            ]
-        })
-        .collect();
-    Ok(match format {
-        Format::Json => {
-            serde_json::to_string_pretty(outcome).map_err(|e| Error::input(e.to_string()))? + "\n"
-        }
-        Format::Csv => render_csv(&header, &rows),
-        Format::Table => {
-            let mut align = vec![Align::Left, Align::Left];
-            align.extend([Align::Right; 8]);
-            align.push(Align::Left);
-            let mut text = render_table(&header, &align, &rows);
-            for d in &outcome.derived {
-                let residual = match d.residual_mm {
-                    Some(r) => format!("residual drift {} mm", mm(r, 4)),
-                    None => "its pose is known only at run time".to_string(),
-                };
-                text.push_str(&format!(
-                    "derived {} (line {}): {} left as written; its bases move by up to {} mm; {}\n",
-                    d.id,
-                    d.line,
-                    d.expr,
-                    mm(d.base_correction_mm, 4),
-                    residual
-                ));
-            }
-            for l in &outcome.left_alone {
-                text.push_str(&format!(
-                    "left alone {} {} (line {}): {}: {}\n",
-                    l.kind,
-                    l.id,
-                    l.line,
-                    l.reason.code(),
-                    reason_words(l.reason, &l.kind, &l.detail)
-                ));
-            }
-            for r in &outcome.residuals {
-                text.push_str(&format!(
-                    "residual {} (line {}): {} mm, {}° at the flange ({})\n",
-                    r.id,
-                    r.line,
-                    mm(r.position_mm, 4),
-                    mm(r.angle_deg, 4),
-                    r.rule
-                ));
-            }
-            for u in &outcome.shared {
-                text.push_str(&format!(
-                    "other use {} (line {}): {}\n",
-                    u.id,
-                    u.line,
-                    shared_words(u)
-                ));
-            }
-            for s in &outcome.splits {
-                let moves: Vec<String> = s
-                    .moves
-                    .iter()
-                    .map(|m| format!("{} in {} line {}", m.instruction, m.routine, m.line))
-                    .collect();
-                text.push_str(&format!(
-                    "split {} (line {}): copy {} declared after it, corrected for tool {}, wobj {}; now named by {}\n",
-                    s.id,
-                    s.line,
-                    s.copy,
-                    s.tool,
-                    s.wobj,
-                    moves.join(", ")
-                ));
-            }
-            text
-        }
-    })
 }
 
 pub(super) fn summary_text(outcome: &Outcome) -> String {

@@ -54,7 +54,7 @@ pub struct EvalArgs {
     pub records: Option<PathBuf>,
     /// Model fitted to `--records` (a polynomial refuses minutes outside
     /// the recording).
-    #[arg(long, default_value = "two-tau", requires = "records")]
+    #[arg(long, default_value = "auto", requires = "records")]
     pub model: String,
     /// Fix T(0) of a saturating model fitted to `--records` (°C).
     #[arg(long, value_name = "CELSIUS", requires = "records")]
@@ -151,11 +151,21 @@ fn run_fit(a: FitArgs) -> Result<Status> {
         if let (Some((lo, hi)), rapidtherm::thermal::fit::Curve::Saturating(c)) =
             (f.steady_interval, &f.curve)
         {
-            if hi - lo > STEADY_WARN_C {
+            let longest = c.terms.last().map_or(0.0, |k| k.tau);
+            if hi - lo > STEADY_WARN_C && span >= 3.0 * longest {
+                // Long enough for its own time constant: what spreads the
+                // steady temperature is a heat path this curve lacks.
+                eprintln!(
+                    "warning: axis {}, {}: curves with more heat paths fit this recording at least as well and put the steady temperature anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); compare with two-tau, or let auto choose",
+                    f.axis,
+                    f.model_name(),
+                    c.steady()
+                );
+            } else if hi - lo > STEADY_WARN_C {
                 eprintln!(
                     "warning: axis {}, {}: a {span:.0}-min recording cannot tell where this warm-up ends: its steady temperature is anywhere between {lo:.1} and {hi:.1} °C (fitted {:.1} °C); record longer, at least as long as the time constant",
                     f.axis,
-                    f.kind,
+                    f.model_name(),
                     c.steady()
                 );
             }
@@ -189,12 +199,31 @@ fn run_fit(a: FitArgs) -> Result<Status> {
     Ok(Status::Success)
 }
 
+/// A forecast beyond the recording whose curves the data cannot tell apart
+/// spread over more than [`STEADY_WARN_C`] is said with its range: the
+/// number printed is one of many the recording allows.
+fn warn_uncertain_forecasts(fitted: &FittedProfile, at: &[f64]) {
+    let (_, end) = fitted.window();
+    for &t in at.iter().filter(|&&t| t > end) {
+        for (axis, range) in fitted.uncertainty_at(t).iter().enumerate() {
+            if let Some((lo, hi)) = range.filter(|(lo, hi)| hi - lo > STEADY_WARN_C) {
+                eprintln!(
+                    "warning: axis {}, minute {t}: a {end:.0}-min recording cannot tell this forecast better than {lo:.1} to {hi:.1} °C; record longer",
+                    axis + 1
+                );
+            }
+        }
+    }
+}
+
 fn run_eval(a: EvalArgs) -> Result<Status> {
     let profile: Box<dyn HeatingProfile> = match (&a.records, &a.measured) {
         (Some(path), _) => {
             let record = read_record(path)?;
             let kind: ModelKind = a.model.parse()?;
-            Box::new(FittedProfile::fit(&record, kind, a.pin_t0)?)
+            let fitted = FittedProfile::fit(&record, kind, a.pin_t0)?;
+            warn_uncertain_forecasts(&fitted, &a.at);
+            Box::new(fitted)
         }
         (None, Some(path)) => {
             let record = read_record(path)?;

@@ -9,9 +9,11 @@
 
 use super::Format;
 use super::{write_stdout, Status};
+use rapidtherm::correct::Frame;
 use rapidtherm::error::{Error, Result};
 use rapidtherm::model::ThermalExpansion;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
+use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::{pose_from_rapid, pose_to_rapid};
 use rapidtherm::robot::{describe_violation, LinkScales, RobConf, Robot, Solutions};
 use rapidtherm::thermal::MotorTemps;
@@ -104,6 +106,9 @@ impl ModelArgs {
     }
 }
 
+/// What the `fk` table's numbers are, under it.
+const FK_LEGEND: &str = "frame: the flange (tool0) in the robot base frame; rx_deg, ry_deg, rz_deg are q1..q4 as RobotStudio's Euler ZYX (R = Rz·Ry·Rx)\n";
+
 fn deg(v: f64) -> String {
     mm(v, 4)
 }
@@ -145,6 +150,7 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
                         "y_mm": round(t[1], 9),
                         "z_mm": round(t[2], 9),
                         "q": r.map(|v| round(v, 12)),
+                        "euler_zyx_deg": euler_zyx_deg(&pose.rotation).map(|v| round(v, 9)),
                     })
                 })
                 .collect();
@@ -152,14 +158,18 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
                 "joints_deg": args.joints,
                 "temps_c": temps,
                 "robconf": [conf.cf1, conf.cf4, conf.cf6, conf.cfx],
+                "frame": Frame::BaseFlange.code(),
                 "poses": poses,
             });
             format!("{v:#}\n")
         }
         format => {
             let header = [
-                "model", "x_mm", "y_mm", "z_mm", "q1", "q2", "q3", "q4", "robconf",
+                "model", "x_mm", "y_mm", "z_mm", "q1", "q2", "q3", "q4", "robconf", "rx_deg",
+                "ry_deg", "rz_deg",
             ];
+            // Rows in CSV's order (new columns last: scripts read the
+            // others by place); the table shows the angles beside q1..q4.
             let cells: Vec<Vec<String>> = rows
                 .iter()
                 .map(|(model, pose)| {
@@ -168,16 +178,21 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
                     row.extend(t.iter().map(|v| mm(*v, 4)));
                     row.extend(r.iter().map(|v| mm(*v, 6)));
                     row.push(conf.to_string());
+                    row.extend(euler_zyx_deg(&pose.rotation).map(deg));
                     row
                 })
                 .collect();
             if format == Format::Csv {
                 render_csv(&header, &cells)
             } else {
+                let order = [0, 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 8];
+                let pick = |row: &[String]| order.map(|i| row[i].clone()).to_vec();
+                let table_header = order.map(|i| header[i]);
+                let cells: Vec<Vec<String>> = cells.iter().map(|r| pick(r)).collect();
                 let mut align = vec![Align::Left];
-                align.extend([Align::Right; 7]);
+                align.extend([Align::Right; 10]);
                 align.push(Align::Left);
-                render_table(&header, &align, &cells)
+                render_table(&table_header, &align, &cells) + FK_LEGEND
             }
         }
     };
@@ -234,10 +249,22 @@ pub fn run_ik(args: IkArgs) -> Result<Status> {
                     })
                 })
                 .collect();
-            format!("{:#}\n", json!({ "solutions": list }))
+            let (t, r) = pose_to_rapid(&pose);
+            let asked = json!({
+                "frame": Frame::BaseFlange.code(),
+                "x_mm": round(t[0], 9),
+                "y_mm": round(t[1], 9),
+                "z_mm": round(t[2], 9),
+                "q": r.map(|v| round(v, 12)),
+                "euler_zyx_deg": euler_zyx_deg(&pose.rotation).map(|v| round(v, 9)),
+            });
+            format!("{:#}\n", json!({ "pose": asked, "solutions": list }))
         }
         format => {
             let header = ["j1", "j2", "j3", "j4", "j5", "j6", "robconf"];
+            let table_header = [
+                "j1_deg", "j2_deg", "j3_deg", "j4_deg", "j5_deg", "j6_deg", "robconf",
+            ];
             let cells: Vec<Vec<String>> = solutions
                 .iter()
                 .map(|(q, c)| {
@@ -251,7 +278,9 @@ pub fn run_ik(args: IkArgs) -> Result<Status> {
             } else {
                 let mut align = vec![Align::Right; 6];
                 align.push(Align::Left);
-                render_table(&header, &align, &cells)
+                let [rx, ry, rz] = euler_zyx_deg(&pose.rotation).map(deg);
+                render_table(&table_header, &align, &cells)
+                    + &format!("pose: the flange (tool0) in the robot base frame, rx_deg {rx}, ry_deg {ry}, rz_deg {rz} (RobotStudio's Euler ZYX of q1..q4)\n")
             }
         }
     };

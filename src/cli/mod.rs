@@ -7,6 +7,7 @@
 mod arms;
 mod compare;
 mod correct;
+mod correct_report;
 mod diagnose;
 mod heating;
 mod kinematics;

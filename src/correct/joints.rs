@@ -15,7 +15,7 @@
 //!   to correct; left alone. External axes are never changed.
 
 use super::moments::{joint_moments_of, minute_of, pick};
-use super::outcome::{Correction, LeftAlone, Reason, Residual};
+use super::outcome::{Correction, Frame, LeftAlone, Reason, Residual};
 use super::solve::Run;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::warm::pose_error;
@@ -150,6 +150,9 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
             col: jt.origin.pos.col,
             time_min: minute_of(moment),
             temps_c: state.temps,
+            tool: None,
+            wobj: None,
+            frame: Frame::BaseFlange,
             drift_mm: drift.into(),
             drift_norm_mm: drift.norm(),
             drift_range_mm: (drift.norm(), drift.norm()),

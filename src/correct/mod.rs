@@ -40,7 +40,8 @@ pub mod stream;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
-    Correction, Derived, FramesUse, LeftAlone, Outcome, Reason, Residual, SharedUse, Split, Summary,
+    Correction, Derived, Frame, FramesUse, LeftAlone, Outcome, Reason, Residual, SharedUse, Split,
+    Summary,
 };
 
 use crate::error::{Error, ErrorKind, Result};

@@ -19,6 +19,13 @@ pub struct Correction {
     /// Minute the correction is for (`None`: steady state).
     pub time_min: Option<f64>,
     pub temps_c: [f64; 6],
+    /// The tool and work object the target is corrected for, by name
+    /// (`tool0`/`wobj0` where the moves name none); `None` for
+    /// jointtargets, which are joint angles in no frame.
+    pub tool: Option<String>,
+    pub wobj: Option<String>,
+    /// The frame `drift_mm` and `correction_mm` are in.
+    pub frame: Frame,
     /// Where the uncorrected program puts the TCP, minus where it should
     /// be, in the target's work object (mm); for jointtargets, at the
     /// flange in the base frame.
@@ -44,6 +51,31 @@ pub struct Correction {
     pub(super) edits: Vec<Edit>,
     #[serde(skip)]
     pub(super) file_index: usize,
+}
+
+/// The frame a correction's position differences are in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Frame {
+    /// The object frame of the work object the target is corrected for
+    /// (its `wobj`): the frame the robtarget's own numbers are written
+    /// in, so a difference reads against them directly. For `wobj0` the
+    /// world frame (the robot's base frame unless the task places the
+    /// robot elsewhere).
+    WobjObject,
+    /// The robot's base frame, at the flange (jointtargets: the arm's
+    /// tool0 point moved by the new joint angles).
+    BaseFlange,
+}
+
+impl Frame {
+    /// The frame's name in reports, as JSON writes it.
+    pub fn code(self) -> &'static str {
+        match self {
+            Frame::WobjObject => "wobj-object",
+            Frame::BaseFlange => "base-flange",
+        }
+    }
 }
 
 /// Why a target was left as written, or (`SharedFrames`) why one of its

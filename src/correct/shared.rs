@@ -138,7 +138,8 @@ pub(super) fn other_pairs(
         let copy = declaration.as_ref().map(|d| {
             let decl = d.clone()?;
             let renames = renames(run, target, group)?;
-            let correction = corrected(run, target, meant, (&frames.0, &frames.1), None)
+            let names = [pair.tool_name(), pair.wobj_name()];
+            let correction = corrected(run, target, meant, (&frames.0, &frames.1), names, None)
                 .map_err(|e| format!("it cannot be corrected for this pair: {}", e.message))?;
             Ok(Copy {
                 correction,

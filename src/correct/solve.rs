@@ -6,7 +6,7 @@ use super::derived::{calls_by_offset, unapply_with};
 use super::edits::{quaternion_like, ORIENTATION_CHANGE_RAD};
 use super::expressions::{Evaluated, Expressions};
 use super::moments::{minute_of, moments_of, pick};
-use super::outcome::{leave, Correction, LeftAlone, Reason};
+use super::outcome::{leave, Correction, Frame, LeftAlone, Reason};
 use super::shared::{Names, OtherPair};
 use super::Options;
 use crate::error::{Error, ErrorKind, Result};
@@ -185,7 +185,11 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
             pc
         }
     };
-    let (tool, wobj, _, _) = frames_of(program, frames, index, target_uses)?;
+    let (tool, wobj, tool_name, wobj_name) = frames_of(program, frames, index, target_uses)?;
+    let names = [
+        tool_name.as_deref().unwrap_or("tool0"),
+        wobj_name.as_deref().unwrap_or("wobj0"),
+    ];
     if let Err(e) = flange_of_target(&pose, &tool, &wobj) {
         if e.kind == ErrorKind::Unsupported {
             return Ok(Solved::LeftAlone(leave(
@@ -222,12 +226,13 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         other => other,
     };
     let exact = by_derived_uses(run, target, first_pair, &meant, (&tool, &wobj))?;
-    let correction = corrected(run, target, &meant, (&tool, &wobj), exact)?;
+    let correction = corrected(run, target, &meant, (&tool, &wobj), names, exact)?;
     let others = super::shared::other_pairs(run, index, target, &meant, &correction)?;
     Ok(Solved::Corrected(Box::new(correction), others))
 }
 
-/// The correction of a target for one tool and work object: the solve,
+/// The correction of a target for one tool and work object (`names`, as
+/// the report gives them): the solve,
 /// or `exact` where it is already known (a base placed by its derived
 /// uses), the drift over the target's moments, and the edits writing the
 /// new numbers over the literal.
@@ -250,6 +255,7 @@ pub(super) fn corrected_in(
     target: &Target,
     meant: &Meant,
     (tool, wobj): (&ToolData, &WobjData),
+    [tool_name, wobj_name]: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
     let Run {
@@ -319,6 +325,9 @@ pub(super) fn corrected_in(
         col: target.origin.pos.col,
         time_min: minute_of(*moment),
         temps_c: state.temps,
+        tool: Some(tool_name.to_string()),
+        wobj: Some(wobj_name.to_string()),
+        frame: Frame::WobjObject,
         drift_mm: drift.into(),
         drift_norm_mm: drift.norm(),
         drift_range_mm: range,

@@ -248,27 +248,73 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
             .collect(),
     };
     let mut out: HashMap<usize, Vec<Usage>> = HashMap::new();
+    each_move(program, &mut |module, expr, usage| {
+        for (index, through) in refs.targets(expr, module) {
+            let usage = Usage {
+                through,
+                ..usage.clone()
+            };
+            let list = out.entry(index).or_default();
+            if !list.contains(&usage) {
+                list.push(usage);
+            }
+        }
+    });
+    out
+}
+
+/// The moves that name a derived target declared as data (`CONST
+/// robtarget p20 := Offs(p10, 0, 0, 50);` and `MoveL p20, ...`), by its
+/// index: [`usages`] leaves them out (the base's correction carries the
+/// derived pose), but a listing says what the target is moved with.
+pub fn declared_derived_usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
+    let by_id: HashMap<String, usize> = program
+        .targets()
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| {
+            t.kind == TargetKind::Derived
+                && !t.written_with_expressions()
+                && t.instruction.is_none()
+        })
+        .map(|(i, t)| (t.id.to_ascii_lowercase(), i))
+        .collect();
+    let mut out: HashMap<usize, Vec<Usage>> = HashMap::new();
+    if by_id.is_empty() {
+        return out;
+    }
+    each_move(program, &mut |module, expr, usage| {
+        let Some(name) = expr.as_name() else { return };
+        let found = by_id
+            .get(&name.to_ascii_lowercase())
+            .or_else(|| by_id.get(&format!("{module}:{name}").to_ascii_lowercase()));
+        if let Some(&i) = found {
+            out.entry(i).or_default().push(usage.clone());
+        }
+    });
+    out
+}
+
+/// Every target expression of every move instruction (ToPoint, and the
+/// CirPoint of circular moves) with its module's name and the use it
+/// makes (`through` direct, to be set by the caller).
+fn each_move(program: &Program, visit: &mut dyn FnMut(&str, &Expr, &Usage)) {
     for module in &program.modules {
         for routine in &module.routines {
-            let mut visit = |call: &Call, line: u32, offset: usize| {
+            let mut on_call = |call: &Call, line: u32, offset: usize| {
                 let Some(m) = call.motion() else { return };
+                let usage = Usage {
+                    through: Through::Direct,
+                    tool: m.tool.and_then(expr_name),
+                    wobj: m.wobj.and_then(expr_name),
+                    instruction: call.name.to_string(),
+                    routine: routine.name.to_string(),
+                    line,
+                    file: module.file,
+                    offset,
+                };
                 for expr in [m.via, m.to].into_iter().flatten() {
-                    for (index, through) in refs.targets(expr, module.name.as_ref()) {
-                        let usage = Usage {
-                            through,
-                            tool: m.tool.and_then(expr_name),
-                            wobj: m.wobj.and_then(expr_name),
-                            instruction: call.name.to_string(),
-                            routine: routine.name.to_string(),
-                            line,
-                            file: module.file,
-                            offset,
-                        };
-                        let list = out.entry(index).or_default();
-                        if !list.contains(&usage) {
-                            list.push(usage);
-                        }
-                    }
+                    visit(module.name.as_ref(), expr, &usage);
                 }
             };
             let bodies = [
@@ -280,13 +326,12 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
             for body in bodies.into_iter().flatten() {
                 walk_statements(body, &mut |s| {
                     if let StatementKind::Call(call) = &s.kind {
-                        visit(call, s.pos.line, s.pos.offset);
+                        on_call(call, s.pos.line, s.pos.offset);
                     }
                 });
             }
         }
     }
-    out
 }
 
 /// Every statement of a list, nested ones included, in source order: the
@@ -316,10 +361,28 @@ pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) 
     });
 }
 
-/// The name of a plain variable argument (`tool1`), or `None` for anything
-/// else (an array element of tools cannot be resolved statically).
+/// The name of a tool or work-object argument: a plain variable (`tool1`)
+/// by its name; anything else (an element of a tool array, a record field,
+/// a function's result) by a description no declaration matches, so that
+/// its target is refused as having a tool nobody can tell before the run,
+/// never corrected for `tool0`.
 fn expr_name(expr: &Expr) -> Option<String> {
-    expr.as_name().map(str::to_string)
+    Some(describe(expr))
+}
+
+fn describe(expr: &Expr) -> String {
+    match expr {
+        Expr::Name(n) => n.to_string(),
+        Expr::Index(b) => format!("{}{{…}}", describe(&b.0)),
+        Expr::Component(b) => format!("{}.{}", describe(&b.0), b.1),
+        Expr::Call(c) => format!("{}(…)", c.name),
+        _ => "an expression".to_string(),
+    }
+}
+
+/// Whether a tool or work-object name is one a declaration can have.
+fn is_plain_name(name: &str) -> bool {
+    name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
 /// What resolving the targets an expression reads needs.
@@ -504,30 +567,35 @@ pub fn frames_named(
     tool_name: Option<&str>,
     wobj_name: Option<&str>,
 ) -> Result<(ToolData, WobjData)> {
-    let tool = frames.tool(tool_name).ok_or_else(|| {
-        located(
-            program,
-            &target.origin,
-            format!(
-                "target {}: unknown tool `{}` (no tooldata of that name in the program)",
-                target.id,
-                tool_name.unwrap_or("tool0")
-            ),
-        )
-        .with_note(ELSEWHERE)
-    })?;
-    let wobj = frames.wobj(wobj_name).ok_or_else(|| {
-        located(
-            program,
-            &target.origin,
-            format!(
-                "target {}: unknown work object `{}` (no wobjdata of that name in the program)",
-                target.id,
-                wobj_name.unwrap_or("wobj0")
-            ),
-        )
-        .with_note(ELSEWHERE)
-    })?;
+    let unknown = |what: &str, data: &str, name: &str| {
+        if is_plain_name(name) {
+            located(
+                program,
+                &target.origin,
+                format!(
+                    "target {}: unknown {what} `{name}` (no {data} of that name in the program)",
+                    target.id
+                ),
+            )
+            .with_note(ELSEWHERE)
+        } else {
+            located(
+                program,
+                &target.origin,
+                format!(
+                    "target {}: the {what} is `{name}`, which only the run decides (not a {data} declared by name); correcting it for another {what} would be silently wrong",
+                    target.id
+                ),
+            )
+            .with_note("name the tooldata/wobjdata in the move instruction, or correct such targets by hand")
+        }
+    };
+    let tool = frames
+        .tool(tool_name)
+        .ok_or_else(|| unknown("tool", "tooldata", tool_name.unwrap_or("tool0")))?;
+    let wobj = frames
+        .wobj(wobj_name)
+        .ok_or_else(|| unknown("work object", "wobjdata", wobj_name.unwrap_or("wobj0")))?;
     Ok((tool.clone(), wobj.clone()))
 }
 

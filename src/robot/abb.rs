@@ -173,7 +173,7 @@ impl Robot {
 }
 
 /// Every arm of the catalogue, parsed once per process. Tests parse the
-/// embedded files and check every arm (`tests/robot_arms.rs`), so the
+/// embedded files and check every arm (`tests/robot/arms.rs`), so the
 /// `expect` cannot fire on a tested build.
 pub fn catalogue() -> &'static [AbbArm] {
     static CATALOGUE: OnceLock<Vec<AbbArm>> = OnceLock::new();

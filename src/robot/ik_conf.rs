@@ -4,7 +4,7 @@
 //! that decides everything the direct path does not (near matches within
 //! [`super::ik::CONF_TOLERANCE`], the shoulder singularity's search,
 //! errors) and as the reference the direct path is tested against
-//! (`tests/robot_ik_conf.rs`).
+//! (`tests/robot/ik_conf.rs`).
 
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
 use super::ik::{cfx_bits, pick_conf, IkFailure, Limits, OpwArm, Solution, Solutions, LIMIT_EPS};

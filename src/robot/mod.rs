@@ -22,11 +22,13 @@
 //!   (the enumeration of `ik` as its fallback and reference).
 //! - `conf`: robconf (confdata) and the cfx table.
 //! - `frames`: tooldata / wobjdata, robtarget ↔ flange.
+//! - `euler`: a rotation as RobotStudio's Euler ZYX angles (RX, RY, RZ).
 
 pub mod abb;
 pub mod arm;
 pub mod chain;
 pub mod conf;
+pub mod euler;
 pub mod frames;
 pub mod ik;
 mod ik_conf;

@@ -4,7 +4,9 @@
 
 use super::poly::{fit_poly, PolyCurve};
 use super::record::{HeatingRecord, AXIS_COLUMNS};
-use super::saturating::{fit_saturating, steady_interval, SatCurve};
+use super::saturating::{fit_saturating, SatCurve};
+use super::select::{select_saturating, Candidate};
+use super::uncertainty::forecast_interval;
 use crate::error::{Error, ErrorKind, Result};
 use std::fmt;
 use std::str::FromStr;
@@ -18,6 +20,9 @@ pub enum ModelKind {
     FirstOrder,
     /// T0 + ΔT1·(1 − e^(−t/τ1)) + ΔT2·(1 − e^(−t/τ2)).
     TwoTau,
+    /// First-order or two-tau, whichever forecasts the held-out end of the
+    /// recording better ([`super::select`]).
+    Auto,
 }
 
 /// Highest polynomial degree accepted: far above any useful heating curve
@@ -29,7 +34,8 @@ impl ModelKind {
     pub fn params(self, pinned_t0: bool) -> usize {
         match self {
             ModelKind::Poly(d) => d + 1,
-            ModelKind::FirstOrder => 3 - usize::from(pinned_t0),
+            // Auto needs at least what its simplest candidate needs.
+            ModelKind::FirstOrder | ModelKind::Auto => 3 - usize::from(pinned_t0),
             ModelKind::TwoTau => 5 - usize::from(pinned_t0),
         }
     }
@@ -53,6 +59,7 @@ impl fmt::Display for ModelKind {
             ModelKind::Poly(d) => write!(f, "poly{d}"),
             ModelKind::FirstOrder => f.write_str("first-order"),
             ModelKind::TwoTau => f.write_str("two-tau"),
+            ModelKind::Auto => f.write_str("auto"),
         }
     }
 }
@@ -64,6 +71,7 @@ impl FromStr for ModelKind {
         match lower.as_str() {
             "first-order" | "first_order" | "exp" => return Ok(ModelKind::FirstOrder),
             "two-tau" | "two_tau" | "exp2" => return Ok(ModelKind::TwoTau),
+            "auto" => return Ok(ModelKind::Auto),
             "linear" => return Ok(ModelKind::Poly(1)),
             "quadratic" => return Ok(ModelKind::Poly(2)),
             "cubic" => return Ok(ModelKind::Poly(3)),
@@ -72,7 +80,7 @@ impl FromStr for ModelKind {
         match lower.strip_prefix("poly").map(str::parse::<usize>) {
             Some(Ok(d)) if (1..=MAX_POLY_DEGREE).contains(&d) => Ok(ModelKind::Poly(d)),
             _ => Err(Error::usage(format!(
-                "unknown heating model `{s}`: expected poly1 .. poly{MAX_POLY_DEGREE}, first-order or two-tau"
+                "unknown heating model `{s}`: expected poly1 .. poly{MAX_POLY_DEGREE}, first-order, two-tau or auto"
             ))),
         }
     }
@@ -187,9 +195,25 @@ pub struct AxisFit {
     /// 80 % is too short for the model.
     pub holdout: Option<Metrics>,
     /// Saturating models: the steady temperatures the recording cannot
-    /// tell apart from the fitted one's (`saturating::steady_interval`),
+    /// tell apart from the fitted one's (`uncertainty::forecast_interval`
+    /// at t = ∞),
     /// °C. Wide when the recording is shorter than its time constants.
     pub steady_interval: Option<(f64, f64)>,
+    /// With `auto`: every candidate and how it forecast the held-out rows
+    /// (`kind` is the one chosen). Empty for a model asked for by name.
+    pub chosen_from: Vec<Candidate>,
+}
+
+impl AxisFit {
+    /// The model as a report names it: `first-order`, or `auto: first-order`
+    /// when `auto` chose it.
+    pub fn model_name(&self) -> String {
+        if self.chosen_from.is_empty() {
+            self.kind.to_string()
+        } else {
+            format!("auto: {}", self.kind)
+        }
+    }
 }
 
 /// Fit one model to points. `pin_t0` fixes T(0) of saturating models.
@@ -198,6 +222,7 @@ pub fn fit_curve(t: &[f64], y: &[f64], kind: ModelKind, pin_t0: Option<f64>) -> 
         ModelKind::Poly(d) => Curve::Poly(fit_poly(t, y, d)?),
         ModelKind::FirstOrder => Curve::Saturating(fit_saturating(t, y, 1, pin_t0)?),
         ModelKind::TwoTau => Curve::Saturating(fit_saturating(t, y, 2, pin_t0)?),
+        ModelKind::Auto => select_saturating(0, t, y, pin_t0)?.curve,
     })
 }
 
@@ -209,6 +234,9 @@ pub fn fit_points(
     kind: ModelKind,
     pin_t0: Option<f64>,
 ) -> Result<AxisFit> {
+    if kind == ModelKind::Auto {
+        return select_saturating(axis, t, y, pin_t0);
+    }
     let curve = fit_curve(t, y, kind, pin_t0)?;
     let fit = Metrics::of(t, y, |x| curve.eval(x));
     let n = t.len().min(y.len());
@@ -221,7 +249,7 @@ pub fn fit_points(
         None
     };
     let steady_interval = match &curve {
-        Curve::Saturating(c) => steady_interval(&t[..n], &y[..n], c, pin_t0),
+        Curve::Saturating(c) => forecast_interval(&t[..n], &y[..n], c, pin_t0, f64::INFINITY),
         Curve::Poly(_) => None,
     };
     Ok(AxisFit {
@@ -231,6 +259,7 @@ pub fn fit_points(
         fit,
         holdout,
         steady_interval,
+        chosen_from: Vec::new(),
     })
 }
 

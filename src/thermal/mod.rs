@@ -5,6 +5,8 @@
 //!   temperatures interpolated in time.
 //! - [`poly`]: polynomial curves (the paper's regression), solved stably.
 //! - [`saturating`]: first-order and two-time-constant curves.
+//! - [`uncertainty`]: how far a forecast beyond a recording can be trusted.
+//! - [`select`]: choosing a saturating model by its held-out forecast.
 //! - [`fit`]: fitting one axis, metrics (R, R², Ā, RMSE, max, held-out).
 //! - [`profile`]: profiles from fitted curves and [`default_profile`].
 //! - [`plot`]: SVG of measured and fitted curves.
@@ -22,7 +24,9 @@ pub mod poly;
 pub mod profile;
 pub mod record;
 pub mod saturating;
+pub mod select;
 pub mod table;
+pub mod uncertainty;
 
 pub use fit::{fit_axis, AxisFit, Curve, Metrics, ModelKind};
 pub use lag::{Lagged, TempHistory, LAG_STEP_MIN};

@@ -43,7 +43,7 @@ pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
     axes.dedup();
     let mut models: Vec<String> = Vec::new();
     for f in fits {
-        let name = f.kind.to_string();
+        let name = f.model_name();
         if !models.contains(&name) {
             models.push(name);
         }
@@ -79,7 +79,7 @@ pub fn plot_fits(record: &HeatingRecord, fits: &[AxisFit]) -> Result<String> {
                 .map(|f| {
                     let index = models
                         .iter()
-                        .position(|m| *m == f.kind.to_string())
+                        .position(|m| *m == f.model_name())
                         .unwrap_or(0);
                     let points = (0..=CURVE_POINTS)
                         .map(|i| {

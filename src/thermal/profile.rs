@@ -4,6 +4,7 @@
 use super::fit::{fit_axis, AxisFit, Curve, ModelKind};
 use super::record::HeatingRecord;
 use super::saturating::{SatCurve, SatTerm};
+use super::uncertainty::forecast_interval;
 use super::HeatingProfile;
 use crate::error::{Error, Location, Result};
 use crate::thermal::MotorTemps;
@@ -11,10 +12,14 @@ use serde::Deserialize;
 use std::sync::OnceLock;
 
 /// One fitted curve per axis. A polynomial axis refuses times outside its
-/// window (never a silent extrapolation).
+/// window (never a silent extrapolation). Keeps the points it was fitted
+/// to, to say how uncertain a forecast beyond them is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FittedProfile {
     pub axes: [Curve; 6],
+    times: Vec<f64>,
+    temps: [Vec<f64>; 6],
+    pin_t0: Option<f64>,
 }
 
 impl FittedProfile {
@@ -32,7 +37,33 @@ impl FittedProfile {
         let axes: [Curve; 6] = curves
             .try_into()
             .map_err(|_| Error::input("a heating record has six axes"))?;
-        Ok(FittedProfile { axes })
+        Ok(FittedProfile {
+            axes,
+            times: record.times.clone(),
+            temps: record.temps.clone(),
+            pin_t0,
+        })
+    }
+
+    /// Minutes the curves were fitted over (first and last row).
+    pub fn window(&self) -> (f64, f64) {
+        let lo = self.times.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = self.times.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    }
+
+    /// Per axis, the temperatures at `t_min` of every saturating curve the
+    /// recording cannot tell apart from the fitted one
+    /// ([`forecast_interval`]); `None` for a polynomial axis (it refuses
+    /// to forecast at all). Beyond a recording shorter than its time
+    /// constants this is the forecast's honest uncertainty.
+    pub fn uncertainty_at(&self, t_min: f64) -> [Option<(f64, f64)>; 6] {
+        std::array::from_fn(|a| match &self.axes[a] {
+            Curve::Saturating(c) => {
+                forecast_interval(&self.times, &self.temps[a], c, self.pin_t0, t_min)
+            }
+            Curve::Poly(_) => None,
+        })
     }
 }
 
@@ -93,7 +124,7 @@ pub const DEFAULT_HEATING_TOML: &str = include_str!("../../data/irb140/heating.t
 #[derive(Debug, Clone, PartialEq)]
 pub struct DefaultHeating {
     /// The model kind (two-tau: chosen by held-out error on the reference
-    /// sample; see `tests/thermal_sample.rs`).
+    /// sample; see `tests/thermal/sample.rs`).
     pub kind: ModelKind,
     /// Temperature of every motor at the cold start of the reference
     /// recording (a cold laboratory), °C: the T_ref of the default model,

@@ -108,7 +108,7 @@ fn metric_cells(f: &AxisFit) -> Vec<String> {
     let m: &Metrics = &f.fit;
     vec![
         f.axis.to_string(),
-        f.kind.to_string(),
+        f.model_name(),
         equation(&f.curve),
         opt(m.r, 4),
         opt(m.r2, 5),
@@ -133,7 +133,7 @@ pub fn render_fits_table(fits: &[AxisFit]) -> String {
         .flat_map(|f| {
             parameters(&f.curve)
                 .into_iter()
-                .map(move |(name, v)| vec![f.axis.to_string(), f.kind.to_string(), name, exact(v)])
+                .map(move |(name, v)| vec![f.axis.to_string(), f.model_name(), name, exact(v)])
         })
         .collect();
     out.push_str(&render_table(
@@ -185,6 +185,19 @@ pub fn render_fits_json(file: &str, rows: usize, fits: &[AxisFit]) -> String {
                 "fit": metrics_json(&f.fit),
                 "holdout": f.holdout.as_ref().map(metrics_json),
             });
+            if !f.chosen_from.is_empty() {
+                // How `auto` chose: each candidate's held-out forecast error.
+                v["chosen_by"] = json!("auto");
+                v["candidates"] = json!(f
+                    .chosen_from
+                    .iter()
+                    .map(|c| json!({
+                        "model": c.kind.to_string(),
+                        "holdout_rmse_c": c.holdout_rmse,
+                        "refused": c.refused,
+                    }))
+                    .collect::<Vec<_>>());
+            }
             match &f.curve {
                 Curve::Poly(p) => {
                     v["window_min"] = json!([p.t_lo, p.t_hi]);

@@ -89,9 +89,7 @@ fn irb120() -> String {
     ])
 }
 
-#[path = "common/rng.rs"]
-mod rng;
-use rng::Rng;
+use crate::rng::Rng;
 
 fn dist(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
     (

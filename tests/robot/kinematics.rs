@@ -14,9 +14,7 @@ fn deg(q: [f64; 6]) -> Joints {
     q.map(f64::to_radians)
 }
 
-#[path = "common/rng.rs"]
-mod rng;
-use rng::Rng;
+use crate::rng::Rng;
 
 fn pose_dist(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
     (

@@ -61,7 +61,7 @@ fn cubic_of_axis_1_reproduces_the_printed_coefficients() {
         ["0.000005", "-0.001969", "0.247369", "7.769163"]
     );
     // The paper: R = 0.9975, R² = 0.99520, Ā = 1.1737 %. Ours has less
-    // scatter (0.05 °C sensor noise): same order, recorded in the README.
+    // scatter (0.05 °C sensor noise): same order, recorded in docs/heating.md.
     assert!(f.fit.r2.unwrap() > 0.995 && f.fit.r2.unwrap() < 0.999);
     let a = f.fit.mean_rel_pct.unwrap();
     assert!((0.8..1.5).contains(&a), "Ā {a}");

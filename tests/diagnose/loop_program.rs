@@ -3,7 +3,7 @@
 //! meant, on the simulated real robot, than one corrected with the base
 //! model.
 
-mod common;
+use crate::common;
 
 use nalgebra::Isometry3;
 use rapidtherm::correct::{correct, Options, When};

@@ -44,9 +44,7 @@ fn from_ref(p: &Pose) -> Isometry3<f64> {
     )
 }
 
-#[path = "common/rng.rs"]
-mod rng;
-use rng::Rng;
+use crate::rng::Rng;
 
 #[test]
 fn forward_kinematics_agrees_with_rs_opw_kinematics() {

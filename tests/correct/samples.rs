@@ -2,7 +2,7 @@
 //! corrected target, turned into joints by the controller's nominal model
 //! and driven through the warm model, lands on the original target.
 
-mod common;
+use crate::common;
 
 use approx::assert_relative_eq;
 use nalgebra::{Isometry3, UnitQuaternion};

@@ -18,9 +18,7 @@ use rs_opw_kinematics::kinematics_impl::OPWKinematics;
 use rs_opw_kinematics::parameters::opw_kinematics::Parameters;
 use std::f64::consts::{FRAC_PI_2, PI};
 
-#[path = "common/rng.rs"]
-mod rng;
-use rng::Rng;
+use crate::rng::Rng;
 
 fn pose_dist(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
     (

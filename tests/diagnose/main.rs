@@ -1,0 +1,14 @@
+//! Integration tests of the `diagnose` layer, one binary (one link) for all
+//! of them: a test binary per file made the clean build minutes longer.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod blind;
+mod cli;
+mod fit;
+mod loop_model;
+mod loop_program;
+mod poses;
+mod robust;
+mod urdf;

@@ -1,0 +1,8 @@
+//! Integration tests of the `rapid` layer, one binary (one link) for all
+//! of them: a test binary per file made the clean build minutes longer.
+
+mod field;
+mod proptest;
+mod rewrite;
+mod samples;
+mod task;

@@ -1,0 +1,13 @@
+//! Integration tests of the `robot` layer, one binary (one link) for all
+//! of them: a test binary per file made the clean build minutes longer.
+
+#[path = "../common/rng.rs"]
+mod rng;
+
+mod arms;
+mod crosscheck;
+mod frames;
+mod ik_conf;
+mod kinematics;
+mod robustness;
+mod urdf;

@@ -1,0 +1,6 @@
+//! Integration tests of the `schedule` layer, one binary (one link) for all
+//! of them: a test binary per file made the clean build minutes longer.
+
+mod cli;
+mod estimate;
+mod props;

@@ -241,10 +241,11 @@ pub(super) fn corrected(
     target: &Target,
     meant: &Meant,
     frames: (&ToolData, &WobjData),
+    names: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
     let src = run.program.source(target.origin.file);
-    corrected_in(run, src, target, meant, frames, exact)
+    corrected_in(run, src, target, meant, frames, names, exact)
 }
 
 /// [`corrected`] for a target whose numbers lie in `src` (a streamed

@@ -159,11 +159,13 @@ fn correct_chunk(
     for cut in cuts {
         let m = reread(src, cut.start)?;
         let name = |r: &Range<usize>| std::str::from_utf8(&src[r.clone()]).ok();
-        let tool = run.frames.tool(Some(name(&m.tool)?))?;
-        let wobj = match &m.wobj {
-            Some(w) => run.frames.wobj(Some(name(w)?))?,
-            None => run.frames.wobj(None)?,
+        let tool_name = name(&m.tool)?;
+        let wobj_name = match &m.wobj {
+            Some(w) => name(w)?,
+            None => "wobj0",
         };
+        let tool = run.frames.tool(Some(tool_name))?;
+        let wobj = run.frames.wobj(Some(wobj_name))?;
         for (at, value) in m.targets {
             let target = Target {
                 id: String::new(),
@@ -195,7 +197,16 @@ fn correct_chunk(
                 moment,
                 state: *state,
             };
-            let c = corrected_in(&run, src, &target, &meant, (tool, wobj), None).ok()?;
+            let c = corrected_in(
+                &run,
+                src,
+                &target,
+                &meant,
+                (tool, wobj),
+                [tool_name, wobj_name],
+                None,
+            )
+            .ok()?;
             out.push(Fast {
                 at,
                 norm: c.correction_norm_mm,

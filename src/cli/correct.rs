@@ -176,7 +176,7 @@ pub struct CorrectArgs {
     pub format: ReportFormat,
 }
 
-fn moment(text: &str, what: &str) -> Result<Moment> {
+pub(super) fn moment(text: &str, what: &str) -> Result<Moment> {
     if text.eq_ignore_ascii_case("steady") {
         return Ok(Moment::Steady);
     }
@@ -231,6 +231,9 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
             "a schedule file times the targets of one task: pick it with --task (or use --start, which times each task)",
         ));
     }
+    if let Some(status) = super::stream::correct(&args, &model, &motion, &still)? {
+        return Ok(status);
+    }
     // Every task is tried before anything is written or printed, so that a
     // run reports all its errors and a refused task leaves every file as
     // it was.
@@ -249,12 +252,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     }) {
         return Err(e);
     }
-    for t in &still {
-        note!(
-            "task {} is not a motion task (SYSPAR/SYS.cfg): left alone",
-            t.label()
-        );
-    }
+    note_still(&still);
     let drawn: Vec<_> = runs
         .iter()
         .map(|r| (&r.task, &r.inputs, &r.outcome))
@@ -263,6 +261,16 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let status = emit(&args, &runs)?;
     super::plot::write(args.plot.as_deref(), &pictures)?;
     Ok(status)
+}
+
+/// Tasks that move no robot are named and left alone.
+pub(super) fn note_still(still: &[Task]) {
+    for t in still {
+        note!(
+            "task {} is not a motion task (SYSPAR/SYS.cfg): left alone",
+            t.label()
+        );
+    }
 }
 
 /// One task corrected: what was read, with which arm, and the outcome.
@@ -274,8 +282,9 @@ struct Run {
     outcome: Outcome,
 }
 
-fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
-    let arm = tasks::arm_for(&task, &args.robot)?;
+/// The arm of a task, refused when the thermal defaults would be guessed.
+pub(super) fn checked_arm(args: &CorrectArgs, task: &Task) -> Result<tasks::Arm> {
+    let arm = tasks::arm_for(task, &args.robot)?;
     if args.model.is_none() && !arm.is_irb140 && !args.irb140_thermal {
         let whose = match &task.name {
             Some(n) => format!("task {n}: "),
@@ -287,8 +296,18 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
         ))
         .with_note("give a model file of this arm with --model FILE.toml (its heating measured, or a heating recording in it), or use the IRB 140's defaults on this arm's lengths with --irb140-thermal"));
     }
-    let (inputs, program) = tasks::read(&task)?;
-    let when = when_of(args, &program, &arm.robot, tasks::base_frame(&task)?)?;
+    Ok(arm)
+}
+
+/// The warm robot a task's run needs until `when`'s last minute, and the
+/// run's options: (arm name, warm robot, options).
+pub(super) fn warm_run(
+    args: &CorrectArgs,
+    model: &Model,
+    task: &Task,
+    arm: tasks::Arm,
+    when: When,
+) -> Result<(String, WarmRobot, Options)> {
     let horizon = match &when {
         When::At(Moment::Minute(t)) => *t,
         When::At(Moment::Steady) => 0.0,
@@ -327,9 +346,17 @@ fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
         visit: args.visit.into(),
         expand_expressions: args.expand_expressions,
         model_label,
-        base_frame: tasks::base_frame(&task)?,
+        base_frame: tasks::base_frame(task)?,
         split_shared: args.split_shared,
     };
+    Ok((arm_name, warm, options))
+}
+
+fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
+    let arm = checked_arm(args, &task)?;
+    let (inputs, program) = tasks::read(&task)?;
+    let when = when_of(args, &program, &arm.robot, tasks::base_frame(&task)?)?;
+    let (arm_name, warm, options) = warm_run(args, model, &task, arm, when)?;
     let bar = progress_bar(program.targets().len() + program.jointtargets().len());
     let started = std::time::Instant::now();
     let outcome = correct(&program, &warm, &options, &mut |done, total| {
@@ -790,7 +817,7 @@ fn progress_bar(total: usize) -> Option<indicatif::ProgressBar> {
     Some(bar)
 }
 
-fn summary_text(outcome: &Outcome) -> String {
+pub(super) fn summary_text(outcome: &Outcome) -> String {
     let s = &outcome.summary;
     let mut text = format!(
         "{} target(s) corrected ({} rewritten): max {} mm, RMS {} mm; largest drift {} mm",

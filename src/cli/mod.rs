@@ -25,6 +25,7 @@ mod model;
 mod output;
 mod plot;
 mod schedule;
+mod stream;
 mod targets;
 mod tasks;
 

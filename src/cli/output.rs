@@ -26,6 +26,28 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
                 .map_err(|e| Error::io(path, &e));
         }
     }
+    write_atomic_with(path, backup, |f| {
+        f.write_all(bytes).map_err(|e| Error::io(path, &e))?;
+        Ok(Some(()))
+    })
+    .map(|_| ())
+}
+
+/// Write the regular file `path` atomically with what `fill` writes into
+/// its temporary file; `fill` returning `None` leaves `path` untouched.
+pub fn write_atomic_with<T>(
+    path: &Path,
+    backup: Option<&str>,
+    fill: impl FnOnce(&mut std::fs::File) -> Result<Option<T>>,
+) -> Result<Option<T>> {
+    if let Ok(meta) = std::fs::metadata(path) {
+        if !meta.is_file() {
+            return Err(Error::new(
+                ErrorKind::Io,
+                format!("{}: not a regular file", path.display()),
+            ));
+        }
+    }
     // Through a symbolic link, the file it points to is replaced, and the
     // link stays.
     let resolved;
@@ -40,11 +62,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
         _ => Path::new("."),
     };
     let existing = std::fs::metadata(path).ok();
-    if let (Some(suffix), Some(_)) = (backup, &existing) {
-        let name = backup_path(path, suffix);
-        check_backup_free(&name)?;
-        std::fs::copy(path, &name).map_err(|e| Error::io(Path::new(&name), &e))?;
-    }
+    let backup = match (backup, &existing) {
+        (Some(suffix), Some(_)) => {
+            let name = backup_path(path, suffix);
+            check_backup_free(&name)?;
+            Some(name)
+        }
+        _ => None,
+    };
     let mut builder = tempfile::Builder::new();
     builder.prefix(".rapidtherm-");
     // A new file gets the usual mode (0666 less the umask), not the
@@ -55,16 +80,22 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     let mut tmp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, &e))?;
-    tmp.write_all(bytes)
-        .and_then(|_| tmp.as_file().sync_all())
+    let Some(done) = fill(tmp.as_file_mut())? else {
+        return Ok(None);
+    };
+    tmp.as_file()
+        .sync_all()
         .map_err(|e| Error::io(tmp.path(), &e))?;
+    if let Some(name) = backup {
+        std::fs::copy(path, &name).map_err(|e| Error::io(Path::new(&name), &e))?;
+    }
     if let Some(meta) = existing {
         std::fs::set_permissions(tmp.path(), meta.permissions())
             .map_err(|e| Error::io(path, &e))?;
     }
     tmp.persist(path)
         .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {}", path.display(), e.error)))?;
-    Ok(())
+    Ok(Some(done))
 }
 
 /// `path` + `suffix`.

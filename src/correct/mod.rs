@@ -38,6 +38,7 @@ pub mod plot;
 mod progress;
 mod shared;
 mod solve;
+pub mod stream;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
@@ -158,6 +159,61 @@ fn correct_all(
         }
         return Ok(already_corrected(program, &found, options));
     }
+    let findings = evaluate(program, warm, options, progress)?;
+    let outputs = write_files(
+        program,
+        &findings.corrections,
+        &findings.more,
+        &basis,
+        options,
+    )?;
+    Ok(findings.into_outcome(outputs))
+}
+
+/// What a run finds before any file is written: every target's
+/// correction or why it is left alone, and the edits beyond the numbers
+/// (a split's copies).
+struct Findings {
+    corrections: Vec<Correction>,
+    derived: Vec<Derived>,
+    left_alone: Vec<LeftAlone>,
+    residuals: Vec<Residual>,
+    shared: Vec<SharedUse>,
+    splits: Vec<Split>,
+    notes: Vec<String>,
+    more: Vec<(usize, crate::rapid::rewrite::Edit)>,
+}
+
+impl Findings {
+    fn into_outcome(self, outputs: Vec<Vec<u8>>) -> Outcome {
+        let summary = summarise(
+            &self.corrections,
+            &self.derived,
+            &self.left_alone,
+            (&self.shared, &self.splits),
+        );
+        Outcome {
+            corrections: self.corrections,
+            derived: self.derived,
+            left_alone: self.left_alone,
+            residuals: self.residuals,
+            shared: self.shared,
+            splits: self.splits,
+            already_corrected: None,
+            notes: self.notes,
+            summary,
+            outputs,
+        }
+    }
+}
+
+/// Correct every target of a program not yet corrected (see [`correct`]).
+fn evaluate(
+    program: &Program,
+    warm: &WarmRobot,
+    options: &Options,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Findings> {
     let run = Run::new(program, warm, options)?;
     if let When::Schedule {
         schedule, joints, ..
@@ -251,24 +307,15 @@ fn correct_all(
         })
         .collect();
     progress.finish();
-    let outputs = write_files(program, &corrections, &shared.edits, &basis, options)?;
-    let summary = summarise(
-        &corrections,
-        &derived,
-        &left_alone,
-        (&shared.lines, &shared.splits),
-    );
-    Ok(Outcome {
+    Ok(Findings {
         corrections,
         derived,
         left_alone,
         residuals,
         shared: shared.lines,
         splits: shared.splits,
-        already_corrected: None,
         notes: run.notes.into_inner(),
-        summary,
-        outputs,
+        more: shared.edits,
     })
 }
 

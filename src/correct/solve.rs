@@ -243,6 +243,21 @@ pub(super) fn corrected(
     run: &Run,
     target: &Target,
     meant: &Meant,
+    frames: (&ToolData, &WobjData),
+    names: [&str; 2],
+    exact: Option<Isometry3<f64>>,
+) -> Result<Correction> {
+    let src = run.program.source(target.origin.file);
+    corrected_in(run, src, target, meant, frames, names, exact)
+}
+
+/// [`corrected`] for a target whose numbers lie in `src` (a streamed
+/// file the run's program was cut from).
+pub(super) fn corrected_in(
+    run: &Run,
+    src: &[u8],
+    target: &Target,
+    meant: &Meant,
     (tool, wobj): (&ToolData, &WobjData),
     [tool_name, wobj_name]: [&str; 2],
     exact: Option<Isometry3<f64>>,
@@ -276,7 +291,6 @@ pub(super) fn corrected(
             range = (range.0.min(d), range.1.max(d));
         }
     }
-    let src = program.source(target.origin.file);
     let new_trans = exact.translation.vector;
     let turn = pose.rotation.angle_to(&exact.rotation);
     let written_rot = match (&target.value, evaluated) {

@@ -96,6 +96,11 @@ impl<'a> Scanner<'a> {
         self.pos = pos.min(self.src.len());
     }
 
+    /// Where the next piece starts (after blanks and comments).
+    pub fn next_start(&self) -> usize {
+        self.skip_trivia(self.pos)
+    }
+
     /// Offset of the first byte that is not blank or comment from `p`.
     fn skip_trivia(&self, mut p: usize) -> usize {
         let s = self.src;

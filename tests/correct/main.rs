@@ -9,4 +9,5 @@ mod cli;
 mod plot;
 mod samples;
 mod shared;
+mod streaming;
 mod trust;

@@ -45,6 +45,11 @@ const MAX_BLOCK_DEPTH: usize = 64;
 /// is as deep as the chain is long).
 const MAX_OPERATORS: usize = 1000;
 
+/// Whether `word` is one of RAPID's reserved words (no name can be one).
+pub(super) fn is_reserved_word(word: &str) -> bool {
+    is_reserved(word)
+}
+
 /// Parse one file (one or several modules).
 pub fn parse(file_name: &str, bytes: &[u8]) -> Result<Program> {
     parse_files(&[(file_name, bytes)])

@@ -1,0 +1,98 @@
+//! `correct FILE --at MIN -o OUT` on a program of millions of moves: the
+//! file memory-mapped, its moves cut out by the fast recogniser, the rest
+//! parsed whole, the corrected file written as it is produced (see
+//! `docs/streaming.md`). Any other run, and any program the fast path
+//! declines, takes the whole-program path unchanged.
+
+use super::correct::{checked_arm, moment, note_still, summary_text, warm_run, CorrectArgs};
+use super::messages::{self, note};
+use super::{output, Status};
+use rapidtherm::correct::stream::correct_streamed;
+use rapidtherm::correct::When;
+use rapidtherm::error::{Error, Result};
+use rapidtherm::model::Model;
+use rapidtherm::rapid;
+use rapidtherm::rapid::task::Task;
+use std::io::{Seek, Write};
+use std::path::Path;
+
+/// Run `correct` streamed where it applies; `None`: it does not (or the
+/// fast path declined), and nothing was written or printed.
+pub fn correct(
+    args: &CorrectArgs,
+    model: &Model,
+    motion: &[Task],
+    still: &[Task],
+) -> Result<Option<Status>> {
+    let (Some(out), Some(at)) = (&args.output, &args.when.at) else {
+        return Ok(None);
+    };
+    let [task] = motion else {
+        return Ok(None);
+    };
+    let [path] = task.modules.as_slice() else {
+        return Ok(None);
+    };
+    let plain_file =
+        |p: &Path| p != Path::new("-") && std::fs::metadata(p).is_ok_and(|m| m.is_file());
+    if task.name.is_some()
+        || !plain_file(path)
+        || out == Path::new("-")
+        || std::fs::metadata(out).is_ok_and(|m| !m.is_file())
+    {
+        return Ok(None);
+    }
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
+    // SAFETY: the map is read while this run holds it; a program being
+    // rewritten by another process as it is corrected is outside what
+    // any reader can promise (the whole-program path would read a mix
+    // too).
+    let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| Error::io(path, &e))?;
+    let src: &[u8] = &map;
+    let skeleton = rapid::fastmove::skeleton(src);
+    if skeleton.cuts.is_empty() {
+        return Ok(None);
+    }
+    let name = path.display().to_string();
+    let Ok(program) = rapid::parse(&name, &skeleton.bytes) else {
+        return Ok(None);
+    };
+    // Anything refused here is refused again, and said, by the whole path.
+    let Ok(arm) = checked_arm(args, task) else {
+        return Ok(None);
+    };
+    let Ok(when) = moment(at, "--at").map(When::At) else {
+        return Ok(None);
+    };
+    let Ok((_, warm, options)) = warm_run(args, model, task, arm, when) else {
+        return Ok(None);
+    };
+    let streamed = output::write_atomic_with(out, None, |file| {
+        let mut sink = std::io::BufWriter::with_capacity(1 << 20, &mut *file);
+        let Some(s) = correct_streamed(&program, &skeleton, src, &warm, &options, &mut sink)?
+        else {
+            return Ok(None);
+        };
+        drop(sink);
+        if !s.changed {
+            // Nothing changes: the output is the file as it is.
+            file.set_len(0)
+                .and_then(|_| file.rewind())
+                .and_then(|_| file.write_all(src))
+                .map_err(|e| Error::io(out, &e))?;
+        }
+        Ok(Some(s))
+    })?;
+    let Some(streamed) = streamed else {
+        return Ok(None);
+    };
+    for note in &task.notes {
+        note!("{note}");
+    }
+    for w in &program.warnings {
+        messages::warning_at(w);
+    }
+    note_still(still);
+    messages::lines(&summary_text(&streamed.outcome));
+    Ok(Some(Status::Success))
+}

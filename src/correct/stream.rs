@@ -1,0 +1,349 @@
+//! The main job at the speed of the disk. A CAM program of a million
+//! inline moves is read as a skeleton (everything but the moves
+//! [`fastmove`](crate::rapid::fastmove) recognises, parsed and corrected
+//! whole as ever) and the moves themselves, read again where they were,
+//! corrected a batch at a time on every core by the same solve, and
+//! written out in order as they come: memory holds a batch, not the
+//! program.
+//!
+//! Whatever the fast path could not say exactly as the whole-program path
+//! does (an error with its place, a target left alone, a note, a program
+//! already corrected) sends the caller back to [`correct`](super::correct),
+//! which then says it: the fast path either writes the same bytes or
+//! declines.
+
+use super::outcome::Summary;
+use super::solve::{corrected_in, Meant, Run};
+use super::{evaluate, marker, Findings, Options, Outcome, When};
+use crate::error::{Error, Result};
+use crate::model::{Moment, State, WarmRobot};
+use crate::rapid::fastmove::{reread, Skeleton};
+use crate::rapid::rewrite::Edit;
+use crate::rapid::{Origin, Pos, Program, Target, TargetKind};
+use crate::resolve::target_pose;
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::io::Write;
+use std::ops::Range;
+use std::sync::Arc;
+
+/// Moves corrected between two writes: what memory holds at once.
+const BATCH: usize = 65_536;
+/// Moves one core takes at a time (each sets up its own view of the run).
+const CHUNK: usize = 4_096;
+
+/// A streamed run.
+pub struct Streamed {
+    /// The summary and the skeleton's reports; no per-target rows
+    /// (`corrections` is empty: a million rows is what streaming avoids).
+    pub outcome: Outcome,
+    /// Whether the program changes. When it does not, what was written is
+    /// not the output: the file stays byte for byte as it is (and gets no
+    /// marker), as the whole-program path leaves it.
+    pub changed: bool,
+}
+
+/// Correct the file `src`, read as `skeleton` (its kept bytes parsed as
+/// `program`) and its cut moves, writing the corrected file to `out` as
+/// it goes. `Ok(None)`: the fast path declines (see the module doc);
+/// what it wrote is to be thrown away.
+pub fn correct_streamed(
+    program: &Program,
+    skeleton: &Skeleton,
+    src: &[u8],
+    warm: &WarmRobot,
+    options: &Options,
+    out: &mut dyn Write,
+) -> Result<Option<Streamed>> {
+    let When::At(moment) = options.when else {
+        return Ok(None);
+    };
+    if program.files.len() != 1 || marker::find(program).is_some() {
+        return Ok(None);
+    }
+    let Ok(findings) = evaluate(program, warm, options, &mut |_, _| {}) else {
+        return Ok(None);
+    };
+    let Ok(state) = warm.states().at(moment) else {
+        return Ok(None);
+    };
+    if !said_alike(&findings) {
+        return Ok(None);
+    }
+    let moved = |e: &Edit| Edit {
+        span: skeleton.file_offset(e.span.start)..skeleton.file_offset(e.span.end),
+        ..e.clone()
+    };
+    let mut fixed: Vec<Edit> = findings
+        .corrections
+        .iter()
+        .flat_map(|c| c.edits.iter())
+        .chain(findings.more.iter().map(|(_, e)| e))
+        .map(moved)
+        .collect();
+    let mut changed = !fixed.is_empty();
+    let basis = options.when.basis();
+    let m = marker::for_run(&basis, &options.model_label, options.split_shared, src);
+    fixed.extend(marker::insert(program, 0, &m).map(|e| moved(&e)));
+    fixed.sort_by_key(|e| (e.span.start, e.span.end));
+    let mut fixed = fixed.into_iter().peekable();
+    let mut tally = Tally::of_skeleton(program, skeleton, &findings);
+    let mut splice = Splice { src, at: 0, out };
+    for batch in skeleton.cuts.chunks(BATCH) {
+        let done: Vec<Option<Vec<Fast>>> = batch
+            .par_chunks(CHUNK)
+            .map(|cuts| correct_chunk(program, warm, options, src, cuts, (moment, &state)))
+            .collect();
+        for fast in done {
+            let Some(fast) = fast else {
+                return Ok(None);
+            };
+            for f in fast {
+                tally.add(f.at, f.norm, f.drift, !f.edits.is_empty());
+                for e in f.edits {
+                    while let Some(x) = fixed.next_if(|x| x.span.start < e.span.start) {
+                        splice.edit(&x)?;
+                    }
+                    changed = true;
+                    splice.edit(&e)?;
+                }
+            }
+        }
+    }
+    for x in fixed {
+        splice.edit(&x)?;
+    }
+    splice.finish()?;
+    let summary = tally.summary(&findings);
+    let mut outcome = findings.into_outcome(Vec::new());
+    outcome.corrections.clear();
+    outcome.summary = summary;
+    Ok(Some(Streamed { outcome, changed }))
+}
+
+/// Whether the skeleton's reports read as the whole program's would: the
+/// skeleton numbers its inline literals without the cut ones, so a
+/// report naming one (`main#3`) or a note is left to the whole path.
+fn said_alike(f: &Findings) -> bool {
+    let inline = |id: &str| id.contains('#');
+    f.notes.is_empty()
+        && !f.left_alone.iter().any(|l| inline(&l.id))
+        && !f.derived.iter().any(|d| inline(&d.id))
+        && !f.residuals.iter().any(|r| inline(&r.id))
+        && !f.shared.iter().any(|u| inline(&u.id))
+        && !f.splits.iter().any(|s| inline(&s.id))
+}
+
+/// One cut target corrected: where its literal starts, its numbers, and
+/// the edits writing them.
+struct Fast {
+    at: usize,
+    norm: f64,
+    drift: f64,
+    edits: Vec<Edit>,
+}
+
+/// Correct the moves of `cuts`; `None` when one of them needs the whole
+/// path (an unknown tool, an unreachable target, a note).
+fn correct_chunk(
+    program: &Program,
+    warm: &WarmRobot,
+    options: &Options,
+    src: &[u8],
+    cuts: &[Range<usize>],
+    (moment, state): (Moment, &State),
+) -> Option<Vec<Fast>> {
+    let run = Run::new(program, warm, options).ok()?;
+    let module: Arc<str> = Arc::from("");
+    let mut out = Vec::with_capacity(cuts.len());
+    for cut in cuts {
+        let m = reread(src, cut.start)?;
+        let name = |r: &Range<usize>| std::str::from_utf8(&src[r.clone()]).ok();
+        let tool_name = name(&m.tool)?;
+        let wobj_name = match &m.wobj {
+            Some(w) => name(w)?,
+            None => "wobj0",
+        };
+        let tool = run.frames.tool(Some(tool_name))?;
+        let wobj = run.frames.wobj(Some(wobj_name))?;
+        for (at, value) in m.targets {
+            let target = Target {
+                id: String::new(),
+                kind: TargetKind::Inline,
+                origin: Origin {
+                    file: 0,
+                    module: module.clone(),
+                    routine: None,
+                    pos: Pos {
+                        offset: at,
+                        line: 0,
+                        col: 0,
+                    },
+                },
+                name: None,
+                storage: None,
+                value: Some(value),
+                instruction: None,
+                tool: None,
+                wobj: None,
+                derived: None,
+            };
+            let (pose, conf) = target_pose(program, &target).ok()??;
+            let meant = Meant {
+                pose,
+                conf,
+                evaluated: None,
+                moments: vec![moment],
+                moment,
+                state: *state,
+            };
+            let c = corrected_in(
+                &run,
+                src,
+                &target,
+                &meant,
+                (tool, wobj),
+                [tool_name, wobj_name],
+                None,
+            )
+            .ok()?;
+            out.push(Fast {
+                at,
+                norm: c.correction_norm_mm,
+                drift: c.drift_norm_mm,
+                edits: c.edits,
+            });
+        }
+    }
+    let quiet = run.notes.borrow().is_empty();
+    quiet.then_some(out)
+}
+
+/// The summary's numbers, gathered in the order the whole path sums them
+/// (robtargets in source order), so that its RMS is the same to the bit.
+struct Tally {
+    /// The skeleton's robtarget corrections not yet merged: (file offset,
+    /// norm), in order.
+    pending: std::vec::IntoIter<(usize, f64)>,
+    next: Option<(usize, f64)>,
+    norms: Vec<f64>,
+    corrected: usize,
+    rewritten: usize,
+    max_drift: f64,
+}
+
+impl Tally {
+    fn of_skeleton(program: &Program, skeleton: &Skeleton, f: &Findings) -> Tally {
+        let offsets: HashMap<&str, usize> = program
+            .targets()
+            .iter()
+            .map(|t| (t.id.as_str(), skeleton.file_offset(t.origin.pos.offset)))
+            .collect();
+        let mut pending: Vec<(usize, f64)> = f
+            .corrections
+            .iter()
+            .filter(|c| c.kind != "jointtarget")
+            .map(|c| {
+                (
+                    offsets.get(c.id.as_str()).copied().unwrap_or(usize::MAX),
+                    c.correction_norm_mm,
+                )
+            })
+            .collect();
+        pending.sort_by_key(|p| p.0);
+        let mut pending = pending.into_iter();
+        let next = pending.next();
+        Tally {
+            pending,
+            next,
+            norms: Vec::new(),
+            corrected: f.corrections.len(),
+            rewritten: f.corrections.iter().filter(|c| c.rewritten).count(),
+            max_drift: f
+                .corrections
+                .iter()
+                .map(|c| c.drift_norm_mm)
+                .fold(0.0, f64::max),
+        }
+    }
+
+    fn add(&mut self, at: usize, norm: f64, drift: f64, rewritten: bool) {
+        while let Some((_, n)) = self.next.filter(|(o, _)| *o < at) {
+            self.norms.push(n);
+            self.next = self.pending.next();
+        }
+        self.norms.push(norm);
+        self.corrected += 1;
+        self.rewritten += usize::from(rewritten);
+        self.max_drift = self.max_drift.max(drift);
+    }
+
+    fn summary(mut self, f: &Findings) -> Summary {
+        while let Some((_, n)) = self.next {
+            self.norms.push(n);
+            self.next = self.pending.next();
+        }
+        let n = self.norms.len();
+        let sum_sq: f64 = self.norms.iter().map(|c| c.powi(2)).sum();
+        Summary {
+            corrected: self.corrected,
+            rewritten: self.rewritten,
+            max_mm: self.norms.iter().copied().fold(0.0, f64::max),
+            rms_mm: if n > 0 {
+                (sum_sq / n as f64).sqrt()
+            } else {
+                0.0
+            },
+            max_drift_mm: self.max_drift,
+            derived: f.derived.len(),
+            left_alone: f.left_alone.len(),
+            shared: f.shared.len(),
+            split: f.splits.len(),
+        }
+    }
+}
+
+/// The file's bytes with edits spliced in, written as they come (edits in
+/// order, each checked against the bytes it replaces, as
+/// [`apply_edits`](crate::rapid::rewrite::apply_edits) checks them).
+struct Splice<'a> {
+    src: &'a [u8],
+    at: usize,
+    out: &'a mut dyn Write,
+}
+
+impl Splice<'_> {
+    fn edit(&mut self, e: &Edit) -> Result<()> {
+        let old = self.src.get(e.span.clone());
+        if e.span.start < self.at || old != Some(e.expected_old.as_slice()) {
+            return Err(Error::input(format!(
+                "internal: a streamed edit at byte {} does not fit the file",
+                e.span.start
+            )));
+        }
+        self.write(e.span.start)?;
+        self.out.write_all(&e.new).map_err(write_error)?;
+        self.at = e.span.end;
+        Ok(())
+    }
+
+    fn write(&mut self, to: usize) -> Result<()> {
+        self.out
+            .write_all(&self.src[self.at..to])
+            .map_err(write_error)?;
+        self.at = to;
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<()> {
+        self.write(self.src.len())?;
+        self.out.flush().map_err(write_error)
+    }
+}
+
+fn write_error(e: std::io::Error) -> Error {
+    Error::new(
+        crate::error::ErrorKind::Io,
+        format!("writing the corrected program: {e}"),
+    )
+}

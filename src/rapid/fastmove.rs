@@ -1,0 +1,349 @@
+//! The statements CAM programs are made of, read by hand: a move with
+//! inline literal robtargets, a speed, a zone, a tool and at most a work
+//! object, on one line (`MoveL [[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],
+//! [e1..e6]],v100,z1,tSpindle\WObj:=wPlate;`). A million of them parse
+//! here at the speed of the disk; anything this recogniser does not know
+//! (another argument, an expression, a comment or a line break inside)
+//! is left to the pest grammar, which gives the same numbers for what
+//! both read (`tests/streaming.rs` holds them to it).
+//!
+//! [`skeleton`] cuts the recognised moves out of a file: what is left is
+//! parsed whole, the moves are read again one by one where they were.
+
+use super::scan::{PieceKind, Scanner};
+use super::{motion_signature, ArgAt, MotionKind, Number, RobTargetValue};
+use std::ops::Range;
+
+/// One recognised move. Offsets are those of the file it was read from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FastMove {
+    /// From the instruction's name to its `;` included.
+    pub span: Range<usize>,
+    pub instruction: Range<usize>,
+    /// Each robtarget literal (CirPoint before ToPoint): where its `[`
+    /// is, and its numbers.
+    pub targets: Vec<(usize, RobTargetValue)>,
+    pub tool: Range<usize>,
+    pub wobj: Option<Range<usize>>,
+}
+
+/// Reads one token at a time over one line: blanks are spaces and tabs.
+/// The cut pass checks numbers for their form only (their values are
+/// read, and checked finite, when corrected); reading a cut move again
+/// does not look its names up among the reserved words (the cut pass
+/// did).
+struct Cursor<'a> {
+    s: &'a [u8],
+    p: usize,
+    values: bool,
+    names: bool,
+}
+
+fn is_ident_char(b: u8) -> bool {
+    b.is_ascii_alphanumeric() || b == b'_' || b >= 0x80
+}
+
+impl Cursor<'_> {
+    fn blank(&mut self) {
+        while matches!(self.s.get(self.p), Some(b' ' | b'\t')) {
+            self.p += 1;
+        }
+    }
+
+    fn byte(&mut self, b: u8) -> Option<()> {
+        self.blank();
+        (self.s.get(self.p) == Some(&b)).then(|| self.p += 1)
+    }
+
+    /// An ASCII name that is no reserved word.
+    fn name(&mut self) -> Option<Range<usize>> {
+        self.blank();
+        let start = self.p;
+        if !self.s.get(start)?.is_ascii_alphabetic() {
+            return None;
+        }
+        let mut e = start + 1;
+        while e < self.s.len() && is_ident_char(self.s[e]) {
+            if self.s[e] >= 0x80 {
+                return None;
+            }
+            e += 1;
+        }
+        if self.names {
+            let word = std::str::from_utf8(&self.s[start..e]).ok()?;
+            if super::parse::is_reserved_word(word) {
+                return None;
+            }
+        }
+        self.p = e;
+        Some(start..e)
+    }
+
+    /// A decimal literal, with a sign written against it (the parser folds
+    /// such a sign into the literal): `-150.000`, `9E9`, `.5`, `1.`.
+    fn number(&mut self) -> Option<Number> {
+        self.blank();
+        let s = self.s;
+        let start = self.p;
+        let mut p = start;
+        let negative = match s.get(p) {
+            Some(b'-') => {
+                p += 1;
+                true
+            }
+            Some(b'+') => {
+                p += 1;
+                false
+            }
+            _ => false,
+        };
+        let digits_from = p;
+        let digits = |mut p: usize| {
+            while s.get(p).is_some_and(u8::is_ascii_digit) {
+                p += 1;
+            }
+            p
+        };
+        let int_end = digits(p);
+        p = int_end;
+        if s.get(p) == Some(&b'.') {
+            let frac_end = digits(p + 1);
+            if int_end == digits_from && frac_end == p + 1 {
+                return None;
+            }
+            p = frac_end;
+        } else if int_end == digits_from {
+            return None;
+        }
+        if matches!(s.get(p), Some(b'e' | b'E')) {
+            let mut q = p + 1;
+            if matches!(s.get(q), Some(b'+' | b'-')) {
+                q += 1;
+            }
+            let exp_end = digits(q);
+            if exp_end == q {
+                return None;
+            }
+            p = exp_end;
+        }
+        if s.get(p).is_some_and(|&b| is_ident_char(b) || b == b'.') {
+            return None;
+        }
+        if !self.values {
+            self.p = p;
+            return Some(Number::new(0.0, start..p));
+        }
+        let text = std::str::from_utf8(&s[digits_from..p]).ok()?;
+        let v: f64 = text.parse().ok()?;
+        if !v.is_finite() {
+            return None;
+        }
+        self.p = p;
+        Some(Number::new(if negative { -v } else { v }, start..p))
+    }
+
+    /// `[n, n, ...]` of exactly `N` numbers.
+    fn numbers<const N: usize>(&mut self) -> Option<[Number; N]> {
+        self.byte(b'[')?;
+        let mut out: Vec<Number> = Vec::with_capacity(N);
+        for i in 0..N {
+            if i > 0 {
+                self.byte(b',')?;
+            }
+            out.push(self.number()?);
+        }
+        self.byte(b']')?;
+        out.try_into().ok()
+    }
+
+    fn robtarget(&mut self) -> Option<(usize, RobTargetValue)> {
+        self.blank();
+        let start = self.p;
+        self.byte(b'[')?;
+        let trans = self.numbers::<3>()?;
+        self.byte(b',')?;
+        let rot = self.numbers::<4>()?;
+        self.byte(b',')?;
+        let robconf = self.numbers::<4>()?;
+        self.byte(b',')?;
+        let extax = self.numbers::<6>()?;
+        self.byte(b']')?;
+        Some((
+            start,
+            RobTargetValue {
+                trans,
+                rot,
+                robconf,
+                extax,
+            },
+        ))
+    }
+}
+
+/// How many robtarget literals lead the positional arguments of a move
+/// instruction whose other arguments are exactly speed, zone and tool;
+/// `None` for any other instruction.
+fn leading_targets(name: &str) -> Option<usize> {
+    let sig = motion_signature(name)?;
+    let k = sig.robtargets.len();
+    let plain = matches!(
+        sig.kind,
+        MotionKind::Linear | MotionKind::Joint | MotionKind::Circular
+    ) && sig.robtargets.iter().enumerate().all(|(i, &at)| i == at)
+        && sig.speed == Some(ArgAt::Index(k))
+        && sig.zone == Some(ArgAt::Index(k + 1))
+        && sig.tool == Some(ArgAt::Index(k + 2));
+    plain.then_some(k)
+}
+
+/// The move that starts at `at` of `src`, when it is one this recogniser
+/// reads; `None` otherwise (the pest grammar then reads it).
+pub fn recognise(src: &[u8], at: usize) -> Option<FastMove> {
+    read_move(src, at, true, true)
+}
+
+/// [`recognise`] for a move [`skeleton`] cut out of `src` at `at`: its
+/// names were checked then.
+pub fn reread(src: &[u8], at: usize) -> Option<FastMove> {
+    read_move(src, at, true, false)
+}
+
+fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMove> {
+    let mut c = Cursor {
+        s: src,
+        p: at,
+        values,
+        names,
+    };
+    let instruction = c.name()?;
+    let k = leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?;
+    if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
+        return None;
+    }
+    let mut targets = Vec::with_capacity(k);
+    for i in 0..k {
+        if i > 0 {
+            c.byte(b',')?;
+        }
+        targets.push(c.robtarget()?);
+    }
+    c.byte(b',')?;
+    c.name()?;
+    c.byte(b',')?;
+    c.name()?;
+    c.byte(b',')?;
+    let tool = c.name()?;
+    let mut wobj = None;
+    if c.byte(b'\\').is_some() {
+        let word = c.name()?;
+        if !src[word].eq_ignore_ascii_case(b"WObj") {
+            return None;
+        }
+        c.byte(b':')?;
+        // `:=` is one token: no blank inside.
+        if src.get(c.p) != Some(&b'=') {
+            return None;
+        }
+        c.p += 1;
+        wobj = Some(c.name()?);
+    }
+    c.byte(b';')?;
+    Some(FastMove {
+        span: at..c.p,
+        instruction,
+        targets,
+        tool,
+        wobj,
+    })
+}
+
+/// A file with its recognised moves cut out: `bytes` is what is left
+/// (every line still there, so lines and the columns before a cut are
+/// those of the file), `cuts` the ranges cut out of the file, in order.
+#[derive(Debug, Default)]
+pub struct Skeleton {
+    pub bytes: Vec<u8>,
+    pub cuts: Vec<Range<usize>>,
+    /// Where each cut is in the skeleton, and the bytes cut out before
+    /// cut k (k = 0..=cuts.len()).
+    starts: Vec<usize>,
+    cut_before: Vec<usize>,
+}
+
+impl Skeleton {
+    /// The file's offset of the skeleton's offset `at`: a kept byte right
+    /// after a cut maps to after the cut.
+    pub fn file_offset(&self, at: usize) -> usize {
+        let k = self.starts.partition_point(|&s| s <= at);
+        at + self.cut_before.get(k).copied().unwrap_or(0)
+    }
+}
+
+/// Cut the moves [`recognise`] reads out of `src`, where it is safe to:
+/// inside a routine, and with nothing but blanks or a comment after the
+/// move on its line (so that no statement the skeleton keeps moves to
+/// another column). A file the scanner refuses is returned whole: the
+/// parser then reports why.
+pub fn skeleton(src: &[u8]) -> Skeleton {
+    let mut scanner = Scanner::new(src);
+    if src.starts_with(&[0xEF, 0xBB, 0xBF]) {
+        scanner.skip_to(3);
+    }
+    let mut cuts = Vec::new();
+    let mut in_routine = false;
+    loop {
+        if in_routine {
+            let at = scanner.next_start();
+            if let Some(m) =
+                read_move(src, at, false, true).filter(|m| rest_is_blank(src, m.span.end))
+            {
+                cuts.push(m.span.clone());
+                scanner.skip_to(m.span.end);
+                continue;
+            }
+        }
+        match scanner.next_piece() {
+            Ok(Some(piece)) => match piece.kind {
+                PieceKind::Routine => in_routine = true,
+                PieceKind::EndRoutine | PieceKind::Module | PieceKind::EndModule => {
+                    in_routine = false
+                }
+                _ => {}
+            },
+            Ok(None) => break,
+            Err(_) => {
+                cuts.clear();
+                break;
+            }
+        }
+    }
+    let mut bytes = Vec::with_capacity(src.len() - cuts.iter().map(Range::len).sum::<usize>());
+    let mut at = 0;
+    for c in &cuts {
+        bytes.extend_from_slice(&src[at..c.start]);
+        at = c.end;
+    }
+    bytes.extend_from_slice(&src[at..]);
+    let mut cut_before = Vec::with_capacity(cuts.len() + 1);
+    let mut starts = Vec::with_capacity(cuts.len());
+    cut_before.push(0);
+    for c in &cuts {
+        let before = cut_before.last().copied().unwrap_or(0);
+        starts.push(c.start - before);
+        cut_before.push(before + c.len());
+    }
+    Skeleton {
+        bytes,
+        cuts,
+        starts,
+        cut_before,
+    }
+}
+
+/// Nothing but blanks, then a line end, a comment or the end of the file.
+fn rest_is_blank(src: &[u8], mut p: usize) -> bool {
+    while matches!(src.get(p), Some(b' ' | b'\t')) {
+        p += 1;
+    }
+    matches!(src.get(p), None | Some(b'\r' | b'\n' | b'!'))
+}

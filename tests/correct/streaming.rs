@@ -1,0 +1,238 @@
+//! The streamed main job (`correct::stream`, `rapid::fastmove`) against
+//! the whole-program path: on generated programs (inline moves the fast
+//! recogniser reads, and declared, derived, array and record targets,
+//! several modules, moves it leaves to the grammar) it writes the same
+//! bytes and the same summary, or declines; and the recogniser reads the
+//! same numbers the grammar does.
+
+use proptest::prelude::*;
+use rapidtherm::correct::stream::correct_streamed;
+use rapidtherm::correct::{correct, Options, When};
+use rapidtherm::model::warm::{Moment, WarmRobot};
+use rapidtherm::model::Model;
+use rapidtherm::rapid::fastmove::{recognise, skeleton};
+use rapidtherm::rapid::{self, TargetKind};
+use rapidtherm::robot::Robot;
+use std::sync::OnceLock;
+
+fn warm() -> &'static WarmRobot {
+    static WARM: OnceLock<WarmRobot> = OnceLock::new();
+    WARM.get_or_init(|| WarmRobot::new(Robot::irb140(), &Model::default(), 120.0).unwrap())
+}
+
+fn options() -> Options {
+    Options::new(When::At(Moment::Minute(120.0)))
+}
+
+/// One statement of a generated routine body.
+#[derive(Debug, Clone)]
+enum Stmt {
+    /// An inline move: instruction, point index, number style, work
+    /// object, what follows on the line.
+    Inline(&'static str, u32, u8, bool, &'static str),
+    /// A move to a declared target, an array element, a record field or
+    /// a derived pose of the first declared target.
+    Named(u8),
+    ConfOff,
+    /// A target no arm reaches: the run refuses the program.
+    Unreachable,
+}
+
+/// A reachable point of the CAM field (the benchmark's zigzag).
+fn point(i: u32) -> (f64, f64, f64, i32) {
+    let u = f64::from(i % 37) / 37.0;
+    let v = f64::from(i % 23) / 23.0;
+    let y = -150.0 + 300.0 * v;
+    (
+        420.0 + 80.0 * u,
+        y,
+        250.0 + 20.0 * (u * 7.0).sin(),
+        if y >= 0.0 { 0 } else { -1 },
+    )
+}
+
+/// A robtarget literal in one of a few number styles.
+fn literal(i: u32, style: u8) -> String {
+    let (x, y, z, cf) = point(i);
+    match style % 4 {
+        0 => format!("[[{x:.3},{y:.3},{z:.3}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]]"),
+        1 => format!(
+            "[ [ {x:.1} , {y:.2} , {z:.4} ] , [ 0.0 , 0. , 1 , .0 ] , [ {cf} , 0 , {cf} , 0 ] , [ 9E+09 , 9e9 , 9E9 , 9E9 , 9E9 , 9E9 ] ]"
+        ),
+        2 => format!("[[+{x:.2},{y:.0},{z:.5}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]]"),
+        _ => format!("[[{x:.3}E0,{y:.3},{z:.3}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]]"),
+    }
+}
+
+fn stmt() -> impl Strategy<Value = Stmt> {
+    prop_oneof![
+        8 => (
+            prop::sample::select(vec!["MoveL", "MoveJ", "movel", "MoveC"]),
+            0u32..1000,
+            0u8..4,
+            any::<bool>(),
+            prop::sample::select(vec!["", " ! pass", "\tWaitTime 0;", " ! caf\u{e9}"]),
+        )
+            .prop_map(|(i, p, s, w, after)| Stmt::Inline(i, p, s, w, after)),
+        2 => (0u8..4).prop_map(Stmt::Named),
+        1 => Just(Stmt::ConfOff),
+        1 => prop::bool::weighted(0.15).prop_map(|b| if b { Stmt::Unreachable } else { Stmt::ConfOff }),
+    ]
+}
+
+/// A program of one or two modules, every line ended with `eol`, the
+/// comments Latin-1 where `latin1`.
+fn program(bodies: &[Vec<Stmt>], eol: &str, latin1: bool) -> Vec<u8> {
+    let mut s = String::new();
+    for (m, body) in bodies.iter().enumerate() {
+        s += &format!("MODULE M{m}{eol}");
+        s += &format!("  PERS tooldata tSpindle{m}:=[TRUE,[[0,0,150],[1,0,0,0]],[2,[0,0,60],[1,0,0,0],0,0,0]];{eol}");
+        s += &format!("  PERS wobjdata wPlate{m}:=[FALSE,TRUE,\"\",[[0,0,20],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];{eol}");
+        s += &format!("  CONST robtarget pD{m}:={};{eol}", literal(5, 0));
+        s += &format!(
+            "  CONST robtarget aD{m}{{2}}:=[{},{}];{eol}",
+            literal(7, 0),
+            literal(8, 0)
+        );
+        s += &format!(
+            "  RECORD path{m}{eol}    robtarget start;{eol}    num n;{eol}  ENDRECORD{eol}"
+        );
+        s += &format!("  CONST path{m} rD{m}:=[{},1];{eol}", literal(9, 0));
+        s += &format!("  PROC main{m}(){eol}");
+        for st in body {
+            let line = match st {
+                Stmt::Inline(ins, p, style, w, after) => {
+                    let wobj = if *w {
+                        format!("\\WObj:=wPlate{m}")
+                    } else {
+                        String::new()
+                    };
+                    let points = if ins.eq_ignore_ascii_case("MoveC") {
+                        format!("{}, {}", literal(*p, *style), literal(p + 1, *style))
+                    } else {
+                        literal(*p, *style)
+                    };
+                    format!("    {ins} {points},v200,z1,tSpindle{m}{wobj};{after}")
+                }
+                Stmt::Named(k) => {
+                    let t = match k {
+                        0 => format!("pD{m}"),
+                        1 => format!("aD{m}{{2}}"),
+                        2 => format!("rD{m}.start"),
+                        _ => format!("Offs(pD{m},0,0,5)"),
+                    };
+                    format!("    MoveL {t},v200,z1,tSpindle{m}\\WObj:=wPlate{m};")
+                }
+                Stmt::ConfOff => "    ConfL \\Off;".to_string(),
+                Stmt::Unreachable => format!(
+                    "    MoveL [[3000,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v200,z1,tSpindle{m};"
+                ),
+            };
+            s += &line;
+            s += eol;
+        }
+        s += &format!("  ENDPROC{eol}ENDMODULE{eol}");
+    }
+    if latin1 {
+        s.chars()
+            .map(|c| u8::try_from(u32::from(c)).unwrap_or(b'?'))
+            .collect()
+    } else {
+        s.into_bytes()
+    }
+}
+
+/// Whether the streamed path wrote what the whole path writes and said
+/// the same summary; `false` when it declined.
+fn same_as_whole(src: &[u8]) -> bool {
+    let whole =
+        rapid::parse("p.mod", src).and_then(|p| correct(&p, warm(), &options(), &mut |_, _| {}));
+    let skel = skeleton(src);
+    let Ok(program) = rapid::parse("p.mod", &skel.bytes) else {
+        assert!(
+            whole.is_err(),
+            "the skeleton of a program that parses must parse"
+        );
+        return false;
+    };
+    let mut written = Vec::new();
+    let streamed = correct_streamed(&program, &skel, src, warm(), &options(), &mut written)
+        .expect("writes to memory");
+    let Some(streamed) = streamed else {
+        return false;
+    };
+    let whole = whole.expect("the fast path corrected a program the whole path refuses");
+    let bytes = if streamed.changed { &written[..] } else { src };
+    assert!(
+        bytes == whole.outputs[0].as_slice(),
+        "streamed bytes differ:\n{}",
+        String::from_utf8_lossy(bytes)
+    );
+    let said = |o: &rapidtherm::correct::Outcome| {
+        serde_json::to_string(&(&o.summary, &o.left_alone, &o.shared, &o.splits, &o.notes)).unwrap()
+    };
+    assert_eq!(said(&streamed.outcome), said(&whole));
+    true
+}
+
+#[test]
+fn a_cam_program_streams_with_the_same_bytes() {
+    let body: Vec<Stmt> = (0..300)
+        .map(|i| Stmt::Inline("MoveL", i, (i % 4) as u8, i % 3 == 0, ""))
+        .chain([Stmt::Named(0), Stmt::Named(3)])
+        .collect();
+    for eol in ["\n", "\r\n"] {
+        let src = program(
+            &[body.clone(), vec![Stmt::Named(1), Stmt::Named(2)]],
+            eol,
+            true,
+        );
+        assert_eq!(skeleton(&src).cuts.len(), 300);
+        assert!(same_as_whole(&src), "the fast path declined a CAM program");
+    }
+}
+
+#[test]
+fn a_refused_program_is_declined_and_left_to_the_whole_path() {
+    let body = vec![
+        Stmt::Inline("MoveL", 1, 0, false, ""),
+        Stmt::Unreachable,
+        Stmt::Inline("MoveL", 2, 0, false, ""),
+    ];
+    assert!(!same_as_whole(&program(&[body], "\n", false)));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    #[test]
+    fn streamed_and_whole_write_the_same_bytes(
+        bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
+        crlf in any::<bool>(),
+        latin1 in any::<bool>(),
+    ) {
+        let src = program(&bodies, if crlf { "\r\n" } else { "\n" }, latin1);
+        same_as_whole(&src);
+    }
+
+    #[test]
+    fn the_recogniser_reads_what_the_grammar_reads(
+        body in prop::collection::vec(stmt(), 1..30),
+    ) {
+        let src = program(&[body], "\n", false);
+        let program = rapid::parse("p.mod", &src).unwrap();
+        let skel = skeleton(&src);
+        let read: Vec<_> = skel
+            .cuts
+            .iter()
+            .flat_map(|c| recognise(&src, c.start).unwrap().targets)
+            .collect();
+        let inline: Vec<_> = program
+            .targets()
+            .iter()
+            .filter(|t| t.kind == TargetKind::Inline && read.iter().any(|(at, _)| *at == t.origin.pos.offset))
+            .map(|t| (t.origin.pos.offset, t.value.clone().unwrap()))
+            .collect();
+        prop_assert_eq!(read, inline);
+    }
+}

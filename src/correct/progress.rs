@@ -26,7 +26,7 @@ impl<'f> Progress<'f> {
     /// One more target done.
     pub(super) fn step(&mut self) {
         self.done += 1;
-        if self.done % EVERY == 0 {
+        if self.done.is_multiple_of(EVERY) {
             (self.report)(self.done, self.total);
         }
     }

@@ -5,7 +5,7 @@
 //! here at the speed of the disk; anything this recogniser does not know
 //! (another argument, an expression, a comment or a line break inside)
 //! is left to the pest grammar, which gives the same numbers for what
-//! both read (`tests/streaming.rs` holds them to it).
+//! both read (`tests/correct/streaming.rs` holds them to it).
 //!
 //! [`skeleton`] cuts the recognised moves out of a file: what is left is
 //! parsed whole, the moves are read again one by one where they were.

@@ -27,6 +27,11 @@ pub fn correct(
     let (Some(out), Some(at)) = (&args.output, &args.when.at) else {
         return Ok(None);
     };
+    // The pictures need every target's correction, which a streamed run
+    // does not keep: with --plot the whole path runs, and draws them.
+    if args.plot.is_some() {
+        return Ok(None);
+    }
     let [task] = motion else {
         return Ok(None);
     };

@@ -349,6 +349,50 @@ fn the_folder_is_made_and_each_task_named() {
     );
 }
 
+/// A CAM program written with `-o` at one minute is what the streaming
+/// path takes; with `--plot` the pictures are still drawn, never skipped.
+#[test]
+fn writing_a_cam_program_with_plots_draws_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let cam = sample("cam_contour.mod");
+    let out = rapidtherm(
+        &[
+            "correct",
+            cam.to_str().unwrap(),
+            "--at",
+            "120",
+            "-o",
+            "warm.mod",
+            "--plot",
+            "pics",
+        ],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let top = std::fs::read_to_string(dir.path().join("pics/top.svg")).unwrap();
+    assert_eq!(dots(&top).len(), 5252);
+    let streamed = rapidtherm(
+        &[
+            "correct",
+            cam.to_str().unwrap(),
+            "--at",
+            "120",
+            "-o",
+            "plain.mod",
+        ],
+        dir.path(),
+    );
+    assert!(streamed.status.success());
+    assert_eq!(
+        std::fs::read(dir.path().join("warm.mod")).unwrap(),
+        std::fs::read(dir.path().join("plain.mod")).unwrap()
+    );
+}
+
 #[test]
 fn a_failed_run_writes_nothing_into_the_folder() {
     let dir = tempfile::tempdir().unwrap();

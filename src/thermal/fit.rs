@@ -226,7 +226,7 @@ pub fn fit_curve(t: &[f64], y: &[f64], kind: ModelKind, pin_t0: Option<f64>) -> 
     })
 }
 
-/// Fit, metrics and held-out check of one axis of points.
+/// Fit, metrics, held-out check and steady interval of one axis of points.
 pub fn fit_points(
     axis: usize,
     t: &[f64],
@@ -237,6 +237,20 @@ pub fn fit_points(
     if kind == ModelKind::Auto {
         return select_saturating(axis, t, y, pin_t0);
     }
+    let mut fit = fit_without_interval(axis, t, y, kind, pin_t0)?;
+    fit.steady_interval = steady_interval_of(&fit.curve, t, y, pin_t0);
+    Ok(fit)
+}
+
+/// [`fit_points`] of a named kind but the steady interval, the costly part:
+/// `auto` computes that for the candidate it keeps only.
+pub(super) fn fit_without_interval(
+    axis: usize,
+    t: &[f64],
+    y: &[f64],
+    kind: ModelKind,
+    pin_t0: Option<f64>,
+) -> Result<AxisFit> {
     let curve = fit_curve(t, y, kind, pin_t0)?;
     let fit = Metrics::of(t, y, |x| curve.eval(x));
     let n = t.len().min(y.len());
@@ -248,19 +262,30 @@ pub fn fit_points(
     } else {
         None
     };
-    let steady_interval = match &curve {
-        Curve::Saturating(c) => forecast_interval(&t[..n], &y[..n], c, pin_t0, f64::INFINITY),
-        Curve::Poly(_) => None,
-    };
     Ok(AxisFit {
         axis,
         kind,
         curve,
         fit,
         holdout,
-        steady_interval,
+        steady_interval: None,
         chosen_from: Vec::new(),
     })
+}
+
+/// The steady temperatures the points cannot rule out, for a saturating
+/// curve (a polynomial has no steady state).
+pub(super) fn steady_interval_of(
+    curve: &Curve,
+    t: &[f64],
+    y: &[f64],
+    pin_t0: Option<f64>,
+) -> Option<(f64, f64)> {
+    let n = t.len().min(y.len());
+    match curve {
+        Curve::Saturating(c) => forecast_interval(&t[..n], &y[..n], c, pin_t0, f64::INFINITY),
+        Curve::Poly(_) => None,
+    }
 }
 
 /// Fit one axis (1-based) of a recording. Input errors (too few points, time

@@ -7,7 +7,7 @@
 //! 116 K, 7.7 K off five hours later, where a first-order fit was within
 //! about 1 K).
 
-use super::fit::{fit_points, AxisFit, ModelKind};
+use super::fit::{fit_without_interval, steady_interval_of, AxisFit, ModelKind};
 use crate::error::{Error, ErrorKind, Result};
 
 /// The models `auto` chooses among, simplest first.
@@ -45,7 +45,7 @@ pub fn select_saturating(
     let mut best: Option<AxisFit> = None;
     let mut first_error = None;
     for kind in CANDIDATES {
-        match fit_points(axis, t, y, kind, pin_t0) {
+        match fit_without_interval(axis, t, y, kind, pin_t0) {
             Ok(fit) => {
                 let rmse = fit.holdout.as_ref().map(|m| m.rmse);
                 candidates.push(Candidate {
@@ -81,6 +81,7 @@ pub fn select_saturating(
             Error::new(ErrorKind::NoConvergence, "no heating model to choose from")
         }));
     };
+    fit.steady_interval = steady_interval_of(&fit.curve, t, y, pin_t0);
     fit.chosen_from = candidates;
     Ok(fit)
 }

@@ -10,6 +10,7 @@
 //! a statistical stopping rule.
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
 use crate::model::{predict, Base, Effect, EffectKind, LinkLags, RowState};
 use crate::robot::Joints;
 use crate::thermal::MotorTemps;
@@ -50,6 +51,12 @@ pub struct Problem {
     /// (see [`Problem::with_zero_jacobians`]): reused by every fit that
     /// starts there, instead of recomputed per fold and per step.
     pub zero_jacobians: Option<Arc<BTreeMap<EffectKind, DMatrix<f64>>>>,
+    /// Give every pose its own constant offset (eliminated: residuals are
+    /// taken about each pose's mean over the rows fitted). Whatever is the
+    /// same at every visit of a pose (the arm's geometric error, the
+    /// reflector, a frame, sag) is then absorbed whatever its form, and
+    /// only what changes with time is left to the effects.
+    pub centre_poses: bool,
 }
 
 impl Problem {
@@ -99,7 +106,33 @@ impl Problem {
             }
             c0 += b.ncols();
         }
+        if self.centre_poses {
+            self.centre(&mut j, rows);
+        }
         Some(j)
+    }
+
+    /// Subtract from each residual component its pose's mean over `rows`
+    /// (rows of `m` are `rows`' residuals, `width()` per row), column by
+    /// column.
+    fn centre(&self, m: &mut DMatrix<f64>, rows: &[usize]) {
+        let w = self.width();
+        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+        for (k, &i) in rows.iter().enumerate() {
+            if let Some(r) = self.rows.get(i) {
+                groups.entry(r.pose).or_default().push(k);
+            }
+        }
+        for c in 0..m.ncols() {
+            for ks in groups.values() {
+                for d in 0..w {
+                    let mean = ks.iter().map(|&k| m[(k * w + d, c)]).sum::<f64>() / ks.len() as f64;
+                    for &k in ks {
+                        m[(k * w + d, c)] -= mean;
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -162,6 +195,11 @@ impl Problem {
                 }
             }
         }
+        if self.centre_poses {
+            let mut m = DMatrix::from_column_slice(out.len(), 1, out.as_slice());
+            self.centre(&mut m, rows);
+            out = DVector::from_column_slice(m.as_slice());
+        }
         out
     }
 }
@@ -200,7 +238,7 @@ impl Fit {
 /// Relative singular value under which a parameter direction counts as not
 /// identifiable on these data.
 const IDENTIFIABLE: f64 = 1e-5;
-const MAX_ITER: usize = 60;
+const MAX_ITER: usize = 200;
 /// Longest thermal-lag time constant fitted, minutes: a structure that
 /// lags by more than 10 h hardly warms during a test, which
 /// expansion-scale (k → 0) describes better than a lag.
@@ -293,7 +331,29 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         .iter()
         .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
         .collect();
-    let free = identifiable(&j0, &typical, problem.noise_mm);
+    // The joint-origin part of geometry-offset only from enough poses: with
+    // fewer, it would fit each pose's own error and predict no other.
+    let poses: std::collections::BTreeSet<usize> = rows
+        .iter()
+        .filter_map(|&i| problem.rows.get(i))
+        .map(|r| r.pose)
+        .collect();
+    let allowed: Vec<usize> = (0..m)
+        .filter(|&p| {
+            let (kind, idx) = layout[p];
+            kind != EffectKind::GeometryOffset
+                || idx < GEOMETRY_ORIGINS_FROM
+                || poses.len() >= FULL_GEOMETRY_POSES
+        })
+        .collect();
+    let free: Vec<usize> = {
+        let sub = j0.select_columns(allowed.iter());
+        let typ: Vec<f64> = allowed.iter().map(|&p| typical[p]).collect();
+        identifiable(&sub, &typ, problem.noise_mm)
+            .into_iter()
+            .map(|c| allowed[c])
+            .collect()
+    };
     for (p, value) in theta.iter_mut().enumerate() {
         // A time constant the data cannot pin keeps its grid value (zero
         // would mean "no lag", a claim the data do not support either).

@@ -31,6 +31,7 @@ pub mod chain_calib;
 pub mod chain_diagnose;
 pub mod chain_residual;
 pub mod fit;
+pub mod forward;
 pub mod gap;
 pub mod instrument;
 pub mod locate;
@@ -48,4 +49,6 @@ pub use pipeline::{diagnose, diagnosed_model, Options};
 pub use prepare::{
     prepare, prepare_arm, problem_of, register_instrument, Prepared, RegisterFailure, Registration,
 };
-pub use verdict::{Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, StepOut, Verdict};
+pub use verdict::{
+    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, StageSummary, StepOut, Verdict,
+};

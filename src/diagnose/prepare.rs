@@ -156,6 +156,7 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         w_ori: noise.position.noise_mm / noise.orientation.noise_mrad,
         noise_mm: noise.position.noise_mm,
         zero_jacobians: None,
+        centre_poses: false,
     };
     Ok(Prepared {
         problem,

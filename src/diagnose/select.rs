@@ -25,7 +25,9 @@ pub fn make_folds(problem: &Problem, k: usize) -> Folds {
     times.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
     let n_poses = rows.iter().map(|r| r.pose + 1).max().unwrap_or(0);
     let use_time = times.len() >= k;
-    let use_pose = n_poses >= k;
+    // With a pose's own offset fitted, a held-out pose cannot be predicted:
+    // hold out time only.
+    let use_pose = n_poses >= k && !problem.centre_poses;
     let time_block = |t: f64| -> usize {
         let i = times.partition_point(|&x| x < t - 1e-9);
         (i * k / times.len().max(1)).min(k - 1)
@@ -78,12 +80,70 @@ pub fn cv_rms(problem: &Problem, folds: &Folds, kinds: &[EffectKind]) -> Result<
         } else {
             fit(problem, train, kinds)?.effects
         };
-        for g in problem.position_gaps(&effects, test) {
+        for g in held_out_gaps(problem, &effects, train, test) {
             sum += g.norm_squared();
             count += 1;
         }
     }
     Ok((sum / count.max(1) as f64).sqrt())
+}
+
+/// Gaps of the `test` rows with `effects`; with pose offsets, each pose's
+/// offset is its mean gap over the `train` rows (a pose never trained on
+/// cannot be predicted and is left out).
+pub fn held_out_gaps(
+    problem: &Problem,
+    effects: &[Effect],
+    train: &[usize],
+    test: &[usize],
+) -> Vec<Vector3<f64>> {
+    let gaps = problem.position_gaps(effects, test);
+    if !problem.centre_poses {
+        return gaps;
+    }
+    let offsets = pose_means(problem, train, &problem.position_gaps(effects, train));
+    test.iter()
+        .zip(gaps)
+        .filter_map(|(&i, g)| {
+            let pose = problem.rows.get(i)?.pose;
+            offsets.get(&pose).map(|o| g - o)
+        })
+        .collect()
+}
+
+/// Mean of `values` (one per row of `rows`) per pose.
+pub fn pose_means(
+    problem: &Problem,
+    rows: &[usize],
+    values: &[Vector3<f64>],
+) -> std::collections::HashMap<usize, Vector3<f64>> {
+    let mut sums: std::collections::HashMap<usize, (Vector3<f64>, usize)> = Default::default();
+    for (&i, v) in rows.iter().zip(values) {
+        if let Some(r) = problem.rows.get(i) {
+            let e = sums.entry(r.pose).or_insert((Vector3::zeros(), 0));
+            e.0 += v;
+            e.1 += 1;
+        }
+    }
+    sums.into_iter()
+        .map(|(p, (s, n))| (p, s / n as f64))
+        .collect()
+}
+
+/// `values` (one per row of `rows`) less their pose's mean when the
+/// problem fits pose offsets.
+pub fn centred(problem: &Problem, rows: &[usize], values: Vec<Vector3<f64>>) -> Vec<Vector3<f64>> {
+    if !problem.centre_poses {
+        return values;
+    }
+    let means = pose_means(problem, rows, &values);
+    rows.iter()
+        .zip(values)
+        .map(|(&i, v)| {
+            let pose = problem.rows.get(i).map_or(usize::MAX, |r| r.pose);
+            v - means.get(&pose).copied().unwrap_or_default()
+        })
+        .collect()
 }
 
 /// Score adding each of `candidates` to `current` (fitted jointly), in
@@ -96,11 +156,15 @@ pub fn score_candidates(
     candidates: &[EffectKind],
 ) -> Vec<Scored> {
     let all: Vec<usize> = (0..problem.rows.len()).collect();
-    let before: Vec<Vector3<f64>> = problem
-        .predict_rows(current_fit, &all)
-        .iter()
-        .map(|p| p.translation.vector)
-        .collect();
+    let before: Vec<Vector3<f64>> = centred(
+        problem,
+        &all,
+        problem
+            .predict_rows(current_fit, &all)
+            .iter()
+            .map(|p| p.translation.vector)
+            .collect(),
+    );
     let score = |kind: EffectKind| -> Scored {
         let mut kinds = current.to_vec();
         kinds.push(kind);
@@ -108,12 +172,20 @@ pub fn score_candidates(
             cv_rms(problem, folds, &kinds).and_then(|cv| Ok((cv, fit(problem, &all, &kinds)?)));
         match result {
             Ok((cv, full)) => {
-                let after = problem.predict_rows(&full.effects, &all);
+                let after = centred(
+                    problem,
+                    &all,
+                    problem
+                        .predict_rows(&full.effects, &all)
+                        .iter()
+                        .map(|p| p.translation.vector)
+                        .collect(),
+                );
                 let contribution = after
                     .iter()
                     .zip(&before)
                     .flat_map(|(a, b)| {
-                        let d = a.translation.vector - b;
+                        let d = a - b;
                         [d.x, d.y, d.z]
                     })
                     .collect();

@@ -66,6 +66,22 @@ impl Serialize for Verdict {
     }
 }
 
+/// One stage of a diagnosis and its held-out gap.
+#[derive(Debug, Clone, Serialize)]
+pub struct StageSummary {
+    /// `over-time` (each pose's own offset fitted, held out by time span),
+    /// `static` (thermal effects found held fixed, held out by pose and
+    /// time) or `all` (one stage over every effect).
+    pub part: &'static str,
+    pub gap_before_mm: f64,
+    pub gap_after_mm: f64,
+    pub effects: Vec<String>,
+    /// Whether structure left here may be called unexplained (a static
+    /// part from fewer poses than a full kinematic calibration needs is
+    /// reported, not judged).
+    pub judged: bool,
+}
+
 /// What to do about the gap.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Advice {
@@ -149,6 +165,9 @@ pub struct Diagnosis {
     /// Where what is left after the selected effects lies.
     pub where_after: Where,
     pub registration: Option<Registration>,
+    /// The stages of the diagnosis: with poses measured again and again,
+    /// first what changes with time, then what stays; else one.
+    pub stages: Vec<StageSummary>,
     /// What to do about it.
     #[serde(skip)]
     pub advice: Advice,

@@ -170,6 +170,201 @@ const GEOMETRY: &[ParamText] = &[
         "mm",
         "lateral offset of the arm plane from axis 1 (b)",
     ),
+    p(
+        "j1_x_mm",
+        "mm",
+        "joint-1 origin error along x, in the frame after axis 1",
+    ),
+    p(
+        "j1_y_mm",
+        "mm",
+        "joint-1 origin error along y, in the frame after axis 1",
+    ),
+    p(
+        "j1_z_mm",
+        "mm",
+        "joint-1 origin error along z, in the frame after axis 1",
+    ),
+    p(
+        "j1_rx_mrad",
+        "mrad",
+        "joint-1 origin error, rotation about x after axis 1",
+    ),
+    p(
+        "j1_ry_mrad",
+        "mrad",
+        "joint-1 origin error, rotation about y after axis 1",
+    ),
+    p(
+        "j1_rz_mrad",
+        "mrad",
+        "joint-1 origin error, rotation about z after axis 1",
+    ),
+    p(
+        "j2_x_mm",
+        "mm",
+        "joint-2 origin error along x, in the frame after axis 2",
+    ),
+    p(
+        "j2_y_mm",
+        "mm",
+        "joint-2 origin error along y, in the frame after axis 2",
+    ),
+    p(
+        "j2_z_mm",
+        "mm",
+        "joint-2 origin error along z, in the frame after axis 2",
+    ),
+    p(
+        "j2_rx_mrad",
+        "mrad",
+        "joint-2 origin error, rotation about x after axis 2",
+    ),
+    p(
+        "j2_ry_mrad",
+        "mrad",
+        "joint-2 origin error, rotation about y after axis 2",
+    ),
+    p(
+        "j2_rz_mrad",
+        "mrad",
+        "joint-2 origin error, rotation about z after axis 2",
+    ),
+    p(
+        "j3_x_mm",
+        "mm",
+        "joint-3 origin error along x, in the frame after axis 3",
+    ),
+    p(
+        "j3_y_mm",
+        "mm",
+        "joint-3 origin error along y, in the frame after axis 3",
+    ),
+    p(
+        "j3_z_mm",
+        "mm",
+        "joint-3 origin error along z, in the frame after axis 3",
+    ),
+    p(
+        "j3_rx_mrad",
+        "mrad",
+        "joint-3 origin error, rotation about x after axis 3",
+    ),
+    p(
+        "j3_ry_mrad",
+        "mrad",
+        "joint-3 origin error, rotation about y after axis 3",
+    ),
+    p(
+        "j3_rz_mrad",
+        "mrad",
+        "joint-3 origin error, rotation about z after axis 3",
+    ),
+    p(
+        "j4_x_mm",
+        "mm",
+        "joint-4 origin error along x, in the frame after axis 4",
+    ),
+    p(
+        "j4_y_mm",
+        "mm",
+        "joint-4 origin error along y, in the frame after axis 4",
+    ),
+    p(
+        "j4_z_mm",
+        "mm",
+        "joint-4 origin error along z, in the frame after axis 4",
+    ),
+    p(
+        "j4_rx_mrad",
+        "mrad",
+        "joint-4 origin error, rotation about x after axis 4",
+    ),
+    p(
+        "j4_ry_mrad",
+        "mrad",
+        "joint-4 origin error, rotation about y after axis 4",
+    ),
+    p(
+        "j4_rz_mrad",
+        "mrad",
+        "joint-4 origin error, rotation about z after axis 4",
+    ),
+    p(
+        "j5_x_mm",
+        "mm",
+        "joint-5 origin error along x, in the frame after axis 5",
+    ),
+    p(
+        "j5_y_mm",
+        "mm",
+        "joint-5 origin error along y, in the frame after axis 5",
+    ),
+    p(
+        "j5_z_mm",
+        "mm",
+        "joint-5 origin error along z, in the frame after axis 5",
+    ),
+    p(
+        "j5_rx_mrad",
+        "mrad",
+        "joint-5 origin error, rotation about x after axis 5",
+    ),
+    p(
+        "j5_ry_mrad",
+        "mrad",
+        "joint-5 origin error, rotation about y after axis 5",
+    ),
+    p(
+        "j5_rz_mrad",
+        "mrad",
+        "joint-5 origin error, rotation about z after axis 5",
+    ),
+    p(
+        "j6_x_mm",
+        "mm",
+        "joint-6 origin error along x, in the frame after axis 6",
+    ),
+    p(
+        "j6_y_mm",
+        "mm",
+        "joint-6 origin error along y, in the frame after axis 6",
+    ),
+    p(
+        "j6_z_mm",
+        "mm",
+        "joint-6 origin error along z, in the frame after axis 6",
+    ),
+    p(
+        "j6_rx_mrad",
+        "mrad",
+        "joint-6 origin error, rotation about x after axis 6",
+    ),
+    p(
+        "j6_ry_mrad",
+        "mrad",
+        "joint-6 origin error, rotation about y after axis 6",
+    ),
+    p(
+        "j6_rz_mrad",
+        "mrad",
+        "joint-6 origin error, rotation about z after axis 6",
+    ),
+    p(
+        "point_x_mm",
+        "mm",
+        "measured point off tool0 along the flange's x",
+    ),
+    p(
+        "point_y_mm",
+        "mm",
+        "measured point off tool0 along the flange's y",
+    ),
+    p(
+        "point_z_mm",
+        "mm",
+        "measured point off tool0 along the flange's z",
+    ),
 ];
 const TRACKER: &[ParamText] = &[
     p("x_mm", "mm", "tracker frame origin x"),
@@ -322,6 +517,18 @@ fn parse_defaults(file: &str, text: &str) -> Result<Vec<Vec<ParamInfo>>> {
     }
     Ok(all)
 }
+
+/// Parameters of `geometry-offset` after the lengths and zeros: an error
+/// of every joint origin and the measured point, what a full kinematic
+/// calibration identifies. Fitted only from enough poses
+/// ([`FULL_GEOMETRY_POSES`]).
+pub const GEOMETRY_ORIGINS_FROM: usize = 13;
+
+/// Fewest distinct poses from which the joint-origin part of
+/// `geometry-offset` is fitted: about 30 of its parameters are
+/// identifiable from positions, 3 numbers per pose, and held-out poses
+/// must remain.
+pub const FULL_GEOMETRY_POSES: usize = 30;
 
 /// Index meaning "every thermal-lag time constant" (`tau_min`).
 const ALL_TAUS: usize = usize::MAX;

@@ -10,6 +10,8 @@ mod cli;
 mod fit;
 mod loop_model;
 mod loop_program;
+mod nuisance;
 mod poses;
 mod robust;
 mod urdf;
+mod world;

@@ -1,0 +1,166 @@
+//! Forward selection over a pool of candidate effects: each step adds the
+//! candidate that lowers the held-out gap most, while it still drops
+//! clearly (by held-out score, by the noise it is above, and by BIC); a
+//! near tie with a collinear runner-up is recorded as an ambiguity. The
+//! selected set is refitted on all rows at the end.
+
+use super::fit::{self, Problem};
+use super::select::{self, Folds};
+use super::verdict::{Ambiguity, CandidateOut, ParamOut, StepOut};
+use crate::error::{Error, ErrorKind, Result};
+use crate::model::EffectKind;
+
+/// What a forward selection found.
+#[derive(Debug, Clone)]
+pub struct Forward {
+    pub selected: Vec<EffectKind>,
+    /// Held-out RMS gap without and with the selected effects, mm.
+    pub cv0: f64,
+    pub cv: f64,
+    /// The selected effects refitted on all rows.
+    pub fit: Option<fit::Fit>,
+    pub steps: Vec<StepOut>,
+    /// Every candidate's score at the first step.
+    pub candidates: Vec<CandidateOut>,
+    pub ambiguities: Vec<Ambiguity>,
+}
+
+pub fn params_out(fit: &fit::Fit) -> Vec<ParamOut> {
+    fit.effects
+        .iter()
+        .zip(&fit.params)
+        .flat_map(|(e, ps)| {
+            e.kind.params().iter().zip(ps).map(|(info, p)| ParamOut {
+                name: format!("{}.{}", e.kind.name(), info.name),
+                unit: info.unit.to_string(),
+                value: p.value,
+                stderr: p.stderr,
+            })
+        })
+        .collect()
+}
+
+/// Select from `pool` on `problem` (fits judged against `noise_rms_mm`, the
+/// 3-D RMS of the noise), adding at most `max_effects`.
+pub fn forward(
+    problem: &Problem,
+    folds: &Folds,
+    pool: &[EffectKind],
+    noise_rms_mm: f64,
+    max_effects: usize,
+) -> Result<Forward> {
+    let all: Vec<usize> = (0..problem.rows.len()).collect();
+    let cv0 = select::cv_rms(problem, folds, &[])?;
+    let r0 = problem.residuals(&[], &all);
+    let n_obs = r0.len().max(1) as f64;
+    let bic0 = n_obs * (r0.norm_squared().max(1e-300) / n_obs).ln();
+    let mut pool: Vec<EffectKind> = pool.to_vec();
+    // The slowest fit first, so that the threads finish together.
+    pool.sort_by_key(|k| *k != EffectKind::ThermalLag);
+    let mut selected: Vec<EffectKind> = Vec::new();
+    let mut current_fit: Option<fit::Fit> = None;
+    let mut cur_cv = cv0;
+    let mut cur_bic = bic0;
+    let mut steps = Vec::new();
+    let mut candidates: Vec<CandidateOut> = Vec::new();
+    let mut ambiguities = Vec::new();
+    let nr2 = noise_rms_mm * noise_rms_mm;
+    while selected.len() < max_effects && !pool.is_empty() {
+        let cur_effects = current_fit
+            .as_ref()
+            .map(|f| f.effects.clone())
+            .unwrap_or_default();
+        let mut scored = select::score_candidates(problem, folds, &selected, &cur_effects, &pool);
+        if steps.is_empty() {
+            candidates = scored
+                .iter()
+                .map(|s| CandidateOut {
+                    name: s.kind.name().into(),
+                    explained: 1.0 - (s.cv_rms_mm / cv0.max(1e-300)).powi(2),
+                    cv_rms_mm: s.cv_rms_mm,
+                    bic: s.fit.as_ref().map(fit::Fit::bic),
+                    params: s.fit.as_ref().map(params_out).unwrap_or_default(),
+                    selected: false,
+                    error: s.error.clone(),
+                })
+                .collect();
+        }
+        scored.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
+        let Some(best) = scored.first() else { break };
+        let Some(best_fit) = best.fit.clone() else {
+            break;
+        };
+        let drop_ok = best.cv_rms_mm < 0.9 * cur_cv
+            && cur_cv * cur_cv - best.cv_rms_mm * best.cv_rms_mm > 0.2 * nr2
+            && best_fit.bic() < cur_bic - 10.0;
+        if !drop_ok {
+            break;
+        }
+        let runner = scored.get(1).filter(|r| r.fit.is_some());
+        if let Some(r) = runner {
+            let corr = select::collinearity(&best.contribution, &r.contribution);
+            // Nearly equal held-out scores: closer than a quarter of the
+            // noise variance (the scores' own scatter is a few percent of it).
+            let close = r.cv_rms_mm * r.cv_rms_mm - best.cv_rms_mm * best.cv_rms_mm < 0.25 * nr2;
+            if corr > 0.95 && close {
+                ambiguities.push(Ambiguity {
+                    pair: [best.kind.name().into(), r.kind.name().into()],
+                    correlation: corr,
+                    separate_by: select::separating_advice(best.kind, r.kind),
+                });
+            }
+        }
+        steps.push(StepOut {
+            added: best.kind.name().into(),
+            gap_before_mm: cur_cv,
+            gap_after_mm: best.cv_rms_mm,
+            drop_pct: 100.0 * (1.0 - best.cv_rms_mm / cur_cv.max(1e-300)),
+            runner_up: runner.map(|r| r.kind.name().to_string()),
+        });
+        selected.push(best.kind);
+        pool.retain(|k| *k != best.kind);
+        cur_cv = best.cv_rms_mm;
+        cur_bic = best_fit.bic();
+        current_fit = Some(best_fit);
+        if cur_cv <= 1.05 * noise_rms_mm {
+            break;
+        }
+    }
+    // The final model must come from a converged fit: refit and propagate.
+    let fit = if selected.is_empty() {
+        None
+    } else {
+        Some(fit::fit(problem, &all, &selected).map_err(|e| {
+            if e.kind == ErrorKind::NoConvergence {
+                Error::new(
+                    ErrorKind::NoConvergence,
+                    format!("{}; no verdict", e.message),
+                )
+            } else {
+                e
+            }
+        })?)
+    };
+    if let Some(f) = &fit {
+        let finals = params_out(f);
+        for c in &mut candidates {
+            c.selected = selected.iter().any(|k| k.name() == c.name);
+            if c.selected {
+                c.params = finals
+                    .iter()
+                    .filter(|p| p.name.starts_with(&format!("{}.", c.name)))
+                    .cloned()
+                    .collect();
+            }
+        }
+    }
+    Ok(Forward {
+        selected,
+        cv0,
+        cv: cur_cv,
+        fit,
+        steps,
+        candidates,
+        ambiguities,
+    })
+}

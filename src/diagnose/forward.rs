@@ -17,7 +17,7 @@ pub struct Forward {
     /// Held-out RMS gap without and with the selected effects, mm.
     pub cv0: f64,
     pub cv: f64,
-    /// The selected effects refitted on all rows.
+    /// The selected effects (and the base) refitted on all rows.
     pub fit: Option<fit::Fit>,
     pub steps: Vec<StepOut>,
     /// Every candidate's score at the first step.
@@ -41,31 +41,41 @@ pub fn params_out(fit: &fit::Fit) -> Vec<ParamOut> {
 }
 
 /// Select from `pool` on `problem` (fits judged against `noise_rms_mm`, the
-/// 3-D RMS of the noise), adding at most `max_effects`.
+/// 3-D RMS of the noise), adding at most `max_effects` to `base` (always
+/// fitted with them, never reported as selected).
 pub fn forward(
     problem: &Problem,
     folds: &Folds,
+    base: &[EffectKind],
     pool: &[EffectKind],
     noise_rms_mm: f64,
     max_effects: usize,
 ) -> Result<Forward> {
     let all: Vec<usize> = (0..problem.rows.len()).collect();
-    let cv0 = select::cv_rms(problem, folds, &[])?;
-    let r0 = problem.residuals(&[], &all);
+    let cv0 = select::cv_rms(problem, folds, base)?;
+    let base_fit = match base {
+        [] => None,
+        _ => Some(fit::fit(problem, &all, base)?),
+    };
+    let r0 = problem.residuals(base_fit.as_ref().map_or(&[][..], |f| &f.effects[..]), &all);
     let n_obs = r0.len().max(1) as f64;
-    let bic0 = n_obs * (r0.norm_squared().max(1e-300) / n_obs).ln();
-    let mut pool: Vec<EffectKind> = pool.to_vec();
+    let bic0 = match &base_fit {
+        Some(f) => f.bic(),
+        None => n_obs * (r0.norm_squared().max(1e-300) / n_obs).ln(),
+    };
+    let mut pool: Vec<EffectKind> = pool.iter().copied().filter(|k| !base.contains(k)).collect();
     // The slowest fit first, so that the threads finish together.
     pool.sort_by_key(|k| *k != EffectKind::ThermalLag);
-    let mut selected: Vec<EffectKind> = Vec::new();
-    let mut current_fit: Option<fit::Fit> = None;
+    let mut selected: Vec<EffectKind> = base.to_vec();
+    let mut current_fit: Option<fit::Fit> = base_fit;
     let mut cur_cv = cv0;
     let mut cur_bic = bic0;
     let mut steps = Vec::new();
     let mut candidates: Vec<CandidateOut> = Vec::new();
     let mut ambiguities = Vec::new();
+    let mut ties: Vec<Option<EffectKind>> = Vec::new();
     let nr2 = noise_rms_mm * noise_rms_mm;
-    while selected.len() < max_effects && !pool.is_empty() {
+    while selected.len() < base.len() + max_effects && !pool.is_empty() {
         let cur_effects = current_fit
             .as_ref()
             .map(|f| f.effects.clone())
@@ -97,6 +107,13 @@ pub fn forward(
             break;
         }
         let runner = scored.get(1).filter(|r| r.fit.is_some());
+        // A runner-up within half the noise variance is a near tie: which of
+        // the two fits better may only show with what is added later.
+        ties.push(
+            runner
+                .filter(|r| r.cv_rms_mm.powi(2) - best.cv_rms_mm.powi(2) < 0.5 * nr2)
+                .map(|r| r.kind),
+        );
         if let Some(r) = runner {
             let corr = select::collinearity(&best.contribution, &r.contribution);
             // Nearly equal held-out scores: closer than a quarter of the
@@ -105,7 +122,7 @@ pub fn forward(
             if corr > 0.95 && close {
                 ambiguities.push(Ambiguity {
                     pair: [best.kind.name().into(), r.kind.name().into()],
-                    correlation: corr,
+                    correlation: Some(corr),
                     separate_by: select::separating_advice(best.kind, r.kind),
                 });
             }
@@ -126,6 +143,55 @@ pub fn forward(
             break;
         }
     }
+    // Near ties settled with the whole set: the runner-up in the place of
+    // the effect it tied with, kept where the set then scores better; where
+    // both sets score alike, the data cannot tell the two apart.
+    for (i, tie) in ties.iter().enumerate() {
+        let Some(runner) = *tie else { continue };
+        let at = base.len() + i;
+        if selected.contains(&runner) {
+            continue;
+        }
+        let mut alt = selected.clone();
+        alt[at] = runner;
+        let Ok(cv_alt) = select::cv_rms(problem, folds, &alt) else {
+            continue;
+        };
+        let chosen = selected[at];
+        if cv_alt < cur_cv {
+            selected = alt;
+            cur_cv = cv_alt;
+            if let Some(step) = steps.get_mut(i) {
+                step.added = runner.name().into();
+                step.runner_up = Some(chosen.name().into());
+            }
+            for a in &mut ambiguities {
+                if a.pair == [chosen.name().to_string(), runner.name().to_string()] {
+                    a.pair.swap(0, 1);
+                }
+            }
+        }
+        if (cv_alt.powi(2) - cur_cv.powi(2)).abs() < 0.25 * nr2
+            && !ambiguities.iter().any(|a| {
+                a.pair.contains(&chosen.name().to_string())
+                    && a.pair.contains(&runner.name().to_string())
+            })
+        {
+            let (kept, other) = (
+                selected[at],
+                if selected[at] == runner {
+                    chosen
+                } else {
+                    runner
+                },
+            );
+            ambiguities.push(Ambiguity {
+                pair: [kept.name().into(), other.name().into()],
+                correlation: None,
+                separate_by: select::separating_advice(kept, other),
+            });
+        }
+    }
     // The final model must come from a converged fit: refit and propagate.
     let fit = if selected.is_empty() {
         None
@@ -144,7 +210,7 @@ pub fn forward(
     if let Some(f) = &fit {
         let finals = params_out(f);
         for c in &mut candidates {
-            c.selected = selected.iter().any(|k| k.name() == c.name);
+            c.selected = selected[base.len()..].iter().any(|k| k.name() == c.name);
             if c.selected {
                 c.params = finals
                     .iter()
@@ -155,7 +221,7 @@ pub fn forward(
         }
     }
     Ok(Forward {
-        selected,
+        selected: selected[base.len()..].to_vec(),
         cv0,
         cv: cur_cv,
         fit,
@@ -163,4 +229,16 @@ pub fn forward(
         candidates,
         ambiguities,
     })
+}
+
+impl Forward {
+    /// The fitted effects of the selected kinds (the base left out).
+    pub fn effects(&self) -> Vec<crate::model::Effect> {
+        self.fit
+            .iter()
+            .flat_map(|f| f.effects.iter())
+            .filter(|e| self.selected.contains(&e.kind))
+            .cloned()
+            .collect()
+    }
 }

@@ -110,9 +110,13 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
     }
     words.push(advice(&d.advice, remedies));
     for a in &d.ambiguities {
+        let why = match a.correlation {
+            Some(c) => format!("correlation {c:.2}"),
+            None => "the set scores alike on held-out data with either".to_string(),
+        };
         words.push(format!(
-            "{} and {} are nearly indistinguishable on these poses (correlation {:.2}): {}.",
-            a.pair[0], a.pair[1], a.correlation, a.separate_by
+            "{} and {} are nearly indistinguishable on these poses ({why}): {}.",
+            a.pair[0], a.pair[1], a.separate_by
         ));
     }
     words

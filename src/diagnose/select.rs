@@ -28,9 +28,13 @@ pub fn make_folds(problem: &Problem, k: usize) -> Folds {
     // With a pose's own offset fitted, a held-out pose cannot be predicted:
     // hold out time only.
     let use_pose = n_poses >= k && !problem.centre_poses;
+    // With pose offsets, twice as many blocks, dealt out in turn: each fold
+    // holds out two spans apart, so that the offsets are still pinned on
+    // both sides of every held-out span.
+    let blocks = if problem.centre_poses { 2 * k } else { k };
     let time_block = |t: f64| -> usize {
         let i = times.partition_point(|&x| x < t - 1e-9);
-        (i * k / times.len().max(1)).min(k - 1)
+        (i * blocks / times.len().max(1)).min(blocks - 1) % k
     };
     let mut folds = Vec::new();
     for f in 0..k {

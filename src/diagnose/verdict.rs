@@ -136,7 +136,10 @@ pub struct StepOut {
 #[derive(Debug, Clone, Serialize)]
 pub struct Ambiguity {
     pub pair: [String; 2],
-    pub correlation: f64,
+    /// Cosine of the two effects' contributions where they were scored
+    /// one against the other; `None` where the tie showed only in the
+    /// whole set (either in it scores alike).
+    pub correlation: Option<f64>,
     pub separate_by: String,
 }
 

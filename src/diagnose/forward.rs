@@ -100,7 +100,15 @@ pub fn forward(
         let Some(best_fit) = best.fit.clone() else {
             break;
         };
-        let drop_ok = best.cv_rms_mm < 0.9 * cur_cv
+        // A further effect must earn its place more clearly than the first:
+        // with each one added, the held-out score has been chosen over more
+        // candidates, and a small gain is likelier luck.
+        let factor = if selected.len() > base.len() {
+            0.85
+        } else {
+            0.9
+        };
+        let drop_ok = best.cv_rms_mm < factor * cur_cv
             && cur_cv * cur_cv - best.cv_rms_mm * best.cv_rms_mm > 0.2 * nr2
             && best_fit.bic() < cur_bic - 10.0;
         if !drop_ok {

@@ -289,25 +289,37 @@ fn two_stages(
     )?;
     let mut held = ctx.held_by(&thermal);
     let mut statics = ctx.select(&held, &[], &static_pool)?;
-    // Where the library's static effects leave nothing of the static part,
-    // each pose's offset is known, not free: the absolute level of the gap
-    // (thermal effects vanish at the cold start) then shows a small thermal
-    // effect the time variation alone misses. Taken when it finds all the
-    // free-offset stage found, and more.
-    if statics.cv <= 1.2 * ctx.noise_rms_mm {
+    // Where the library's static effects leave nothing of the static part
+    // (or find none to take up), each pose's offset is known, not free: the
+    // absolute level of the gap (thermal effects vanish at the cold start)
+    // then shows what the time variation alone misses, such as a small
+    // effect or one of two that move the flange alike. Taken when it finds
+    // all the free-offset stage found, and more, and the whole held-out gap
+    // drops clearly with it or stays with fewer static effects.
+    if statics.selected.is_empty() || statics.cv <= 1.2 * ctx.noise_rms_mm {
         let absolute = ctx.select(problem, &statics.selected, &thermal_pool)?;
         let superset = thermal
             .selected
             .iter()
             .all(|k| absolute.selected.contains(k));
         if superset && absolute.selected.len() > thermal.selected.len() {
-            let candidates = std::mem::take(&mut thermal.candidates);
-            thermal = Forward {
-                candidates,
-                ..absolute
-            };
-            held = ctx.held_by(&thermal);
-            statics = ctx.select(&held, &[], &static_pool)?;
+            let held_abs = ctx.held_by(&absolute);
+            let statics_abs = ctx.select(&held_abs, &[], &static_pool)?;
+            let nr2 = ctx.noise_rms_mm.powi(2);
+            // Better held out, or as good with fewer static effects (a
+            // static one had only taken up the thermal effect's average).
+            let better = statics_abs.cv.powi(2) < statics.cv.powi(2) - 0.2 * nr2;
+            let simpler = statics_abs.selected.len() < statics.selected.len()
+                && statics_abs.cv <= 1.02 * statics.cv;
+            if better || simpler {
+                let candidates = std::mem::take(&mut thermal.candidates);
+                thermal = Forward {
+                    candidates,
+                    ..absolute
+                };
+                held = held_abs;
+                statics = statics_abs;
+            }
         }
     }
     // Structure over time, each pose's own offset taken out.

@@ -508,13 +508,20 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     Ok(Status::Success)
 }
 
-fn candidate_rows(d: &Diagnosis) -> Vec<Vec<String>> {
+fn candidate_rows(d: &Diagnosis, staged: bool) -> Vec<Vec<String>> {
     let mut c = d.candidates.clone();
+    // Stage by stage (a stable sort keeps their order), best first.
     c.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
+    if staged {
+        c.sort_by_key(|c| c.part != "over-time");
+    }
     c.iter()
         .map(|c| {
-            vec![
-                c.name.clone(),
+            let mut row = vec![c.name.clone()];
+            if staged {
+                row.push(c.part.to_string());
+            }
+            row.extend([
                 if c.cv_rms_mm.is_finite() {
                     format!("{:.4}", c.cv_rms_mm)
                 } else {
@@ -531,7 +538,8 @@ fn candidate_rows(d: &Diagnosis) -> Vec<Vec<String>> {
                     String::new()
                 },
                 c.error.clone().unwrap_or_default(),
-            ]
+            ]);
+            row
         })
         .collect()
 }
@@ -540,12 +548,13 @@ fn candidate_csv(d: &Diagnosis) -> String {
     render_csv(
         &[
             "effect",
+            "part",
             "heldout_rms_mm",
             "explained_pct",
             "selected",
             "note",
         ],
-        &candidate_rows(d),
+        &candidate_rows(d, true),
     )
 }
 
@@ -559,24 +568,23 @@ fn diagnosis_table(d: &Diagnosis) -> String {
         s.push('\n');
     }
     s.push('\n');
-    s.push_str("Each effect alone, scored on held-out times and poses:\n");
-    s.push_str(&render_table(
-        &[
-            "effect",
-            "held-out RMS mm",
-            "explained %",
-            "selected",
-            "note",
-        ],
-        &[
-            Align::Left,
-            Align::Right,
-            Align::Right,
-            Align::Left,
-            Align::Left,
-        ],
-        &candidate_rows(d),
-    ));
+    let staged = d.stages.len() > 1;
+    if staged {
+        s.push_str(
+            "Each effect alone, scored on held-out data: over time with each pose's own offset fitted (held out by time span), static with the thermal effects found fitted (held out by pose and time):\n",
+        );
+    } else {
+        s.push_str("Each effect alone, scored on held-out times and poses:\n");
+    }
+    let mut header = vec!["effect"];
+    let mut align = vec![Align::Left];
+    if staged {
+        header.push("part");
+        align.push(Align::Left);
+    }
+    header.extend(["held-out RMS mm", "explained %", "selected", "note"]);
+    align.extend([Align::Right, Align::Right, Align::Left, Align::Left]);
+    s.push_str(&render_table(&header, &align, &candidate_rows(d, staged)));
     let selected: Vec<_> = d.candidates.iter().filter(|c| c.selected).collect();
     if !selected.is_empty() {
         s.push_str("\nFitted parameters (± standard error):\n");

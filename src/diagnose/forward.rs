@@ -86,6 +86,7 @@ pub fn forward(
                 .iter()
                 .map(|s| CandidateOut {
                     name: s.kind.name().into(),
+                    part: "all",
                     explained: 1.0 - (s.cv_rms_mm / cv0.max(1e-300)).powi(2),
                     cv_rms_mm: s.cv_rms_mm,
                     bic: s.fit.as_ref().map(fit::Fit::bic),

@@ -3,12 +3,12 @@
 //! clearly, the final fit, and the verdict.
 
 use super::fit::Problem;
-use super::forward::{forward, Forward};
+use super::forward::{forward, params_out, Forward};
 use super::gap::{gap_stats, noise_level, orientation_weight, NoiseSource};
 use super::locate::{self, Where};
 use super::prepare::Prepared;
 use super::select;
-use super::verdict::{Advice, Diagnosis, StageSummary, Verdict};
+use super::verdict::{Advice, CandidateOut, Diagnosis, StageSummary, Verdict};
 use crate::error::{Error, Result};
 use crate::model::effects::FULL_GEOMETRY_POSES;
 use crate::model::{EffectEntry, EffectKind, Model};
@@ -148,15 +148,41 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let mut steps = Vec::new();
     let mut ambiguities = Vec::new();
     let mut fitted = Vec::new();
-    for (f, _) in &stages {
-        candidates.extend(f.candidates.iter().cloned());
+    for ((f, _), part) in stages.iter().zip(parts) {
+        // What each stage selected, with the parameters of its final fit
+        // (the base an absolute pass fitted with them left out).
+        let finals = f.fit.as_ref().map(params_out).unwrap_or_default();
+        for c in &f.candidates {
+            let selected = f.selected.iter().any(|k| k.name() == c.name);
+            let prefix = format!("{}.", c.name);
+            candidates.push(CandidateOut {
+                part,
+                selected,
+                params: if selected {
+                    finals
+                        .iter()
+                        .filter(|p| p.name.starts_with(&prefix))
+                        .cloned()
+                        .collect()
+                } else {
+                    c.params.clone()
+                },
+                ..c.clone()
+            });
+        }
         steps.extend(f.steps.iter().cloned());
         ambiguities.extend(f.ambiguities.iter().cloned());
         if let Some(fit) = &f.fit {
-            fitted.extend(fit.effects.iter().zip(&fit.params).map(|(e, ps)| {
-                let se: Vec<Option<f64>> = ps.iter().map(|p| p.stderr).collect();
-                EffectEntry::from_effect(e, Some(&se))
-            }));
+            fitted.extend(
+                fit.effects
+                    .iter()
+                    .zip(&fit.params)
+                    .filter(|(e, _)| f.selected.contains(&e.kind))
+                    .map(|(e, ps)| {
+                        let se: Vec<Option<f64>> = ps.iter().map(|p| p.stderr).collect();
+                        EffectEntry::from_effect(e, Some(&se))
+                    }),
+            );
         }
     }
     let where_after = locate::locate(problem, &gaps_after, &prepared.pose_names, noise.rms_mm);

@@ -114,6 +114,8 @@ pub struct ParamOut {
 #[derive(Debug, Clone, Serialize)]
 pub struct CandidateOut {
     pub name: String,
+    /// The stage that scored it ([`StageSummary::part`]).
+    pub part: &'static str,
     /// Fraction of the base model's held-out mean-square gap this effect
     /// alone removes.
     pub explained: f64,

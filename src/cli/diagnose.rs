@@ -513,7 +513,7 @@ fn candidate_rows(d: &Diagnosis, staged: bool) -> Vec<Vec<String>> {
     // Stage by stage (a stable sort keeps their order), best first.
     c.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
     if staged {
-        c.sort_by_key(|c| c.part != "over-time");
+        c.sort_by_key(|c| c.part == "static");
     }
     c.iter()
         .map(|c| {

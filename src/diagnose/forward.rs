@@ -138,6 +138,7 @@ pub fn forward(
         }
         steps.push(StepOut {
             added: best.kind.name().into(),
+            part: "all",
             gap_before_mm: cur_cv,
             gap_after_mm: best.cv_rms_mm,
             drop_pct: 100.0 * (1.0 - best.cv_rms_mm / cur_cv.max(1e-300)),

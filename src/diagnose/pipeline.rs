@@ -8,9 +8,9 @@ use super::gap::{gap_stats, noise_level, orientation_weight, NoiseSource};
 use super::locate::{self, Where};
 use super::prepare::Prepared;
 use super::select;
-use super::verdict::{Advice, CandidateOut, Diagnosis, StageSummary, Verdict};
+use super::verdict::{Advice, CandidateOut, Diagnosis, ParamOut, StageSummary, StepOut, Verdict};
 use crate::error::{Error, Result};
-use crate::model::effects::FULL_GEOMETRY_POSES;
+use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
 use crate::model::{EffectEntry, EffectKind, Model};
 
 /// Options of a diagnosis.
@@ -114,11 +114,11 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         n_poses,
     };
     let (stages, final_problem, parts, judged) = if repeats_over_time(problem) {
-        let (stages, held) = two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
+        let (stages, held, first) = two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
         (
             stages,
             held,
-            ["over-time", "static"],
+            [first, "static"],
             [true, n_poses >= FULL_GEOMETRY_POSES],
         )
     } else {
@@ -155,22 +155,25 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         for c in &f.candidates {
             let selected = f.selected.iter().any(|k| k.name() == c.name);
             let prefix = format!("{}.", c.name);
+            // Geometry's joint origins are not fitted from too few poses:
+            // not listed, rather than listed as unidentifiable.
+            let listed = |p: &ParamOut| n_poses >= FULL_GEOMETRY_POSES || !is_origin_param(&p.name);
             candidates.push(CandidateOut {
                 part,
                 selected,
                 params: if selected {
                     finals
                         .iter()
-                        .filter(|p| p.name.starts_with(&prefix))
+                        .filter(|p| p.name.starts_with(&prefix) && listed(p))
                         .cloned()
                         .collect()
                 } else {
-                    c.params.clone()
+                    c.params.iter().filter(|p| listed(p)).cloned().collect()
                 },
                 ..c.clone()
             });
         }
-        steps.extend(f.steps.iter().cloned());
+        steps.extend(f.steps.iter().map(|s| StepOut { part, ..s.clone() }));
         ambiguities.extend(f.ambiguities.iter().cloned());
         if let Some(fit) = &f.fit {
             fitted.extend(
@@ -288,15 +291,17 @@ impl Ctx<'_> {
 
 /// The two stages of data that measure poses again and again: what changes
 /// with time (each pose's own offset free, held out by time span), then
-/// what stays (the thermal effects found held fixed). Returns the stages
-/// and the problem of the last.
+/// what stays (the thermal effects found held fixed). Returns the stages,
+/// the problem of the last, and the first stage's part (`absolute` when the
+/// absolute pass replaced it).
 fn two_stages(
     ctx: &Ctx,
     pool: &[EffectKind],
     gaps_before: &[nalgebra::Vector3<f64>],
     pose_names: &[String],
-) -> Result<(Vec<(Forward, Verdict)>, Problem)> {
+) -> Result<(Vec<(Forward, Verdict)>, Problem, &'static str)> {
     let problem = ctx.problem;
+    let mut first = "over-time";
     let all: Vec<usize> = (0..problem.rows.len()).collect();
     let centred = Problem {
         centre_poses: true,
@@ -338,13 +343,10 @@ fn two_stages(
             let simpler = statics_abs.selected.len() < statics.selected.len()
                 && statics_abs.cv <= 1.02 * statics.cv;
             if better || simpler {
-                let candidates = std::mem::take(&mut thermal.candidates);
-                thermal = Forward {
-                    candidates,
-                    ..absolute
-                };
+                thermal = absolute;
                 held = held_abs;
                 statics = statics_abs;
+                first = "absolute";
             }
         }
     }
@@ -363,7 +365,18 @@ fn two_stages(
     Ok((
         vec![(thermal, thermal_verdict), (statics, static_verdict)],
         held,
+        first,
     ))
+}
+
+/// Whether `name` (`effect.param`) is one of geometry-offset's joint-origin
+/// or measured-point parameters.
+fn is_origin_param(name: &str) -> bool {
+    name.strip_prefix("geometry-offset.").is_some_and(|p| {
+        EffectKind::GeometryOffset.params()[GEOMETRY_ORIGINS_FROM..]
+            .iter()
+            .any(|info| info.name == p)
+    })
 }
 
 /// One verdict from the stages': every effect named, in stage order; an

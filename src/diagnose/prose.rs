@@ -94,8 +94,14 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             words.push(format!("Verdict: {}.", d.verdict.labels().join(" + ")));
             words.extend(d.where_.words.iter().cloned());
             for s in &d.steps {
+                let stage = match s.part {
+                    "over-time" => "Over time (each pose's own offset fitted), adding",
+                    "absolute" => "Over time (the static effects fitted), adding",
+                    "static" => "Static (the thermal effects fitted), adding",
+                    _ => "Adding",
+                };
                 words.push(format!(
-                    "Adding {}: held-out gap {:.3} → {:.3} mm (−{:.0} %).",
+                    "{stage} {}: held-out gap {:.3} → {:.3} mm (−{:.0} %).",
                     s.added, s.gap_before_mm, s.gap_after_mm, s.drop_pct
                 ));
             }
@@ -107,6 +113,18 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                 words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
             }
         }
+    }
+    // A static part the poses are too few to attribute: said, not judged.
+    if let Some(st) = d
+        .stages
+        .iter()
+        .find(|s| s.part == "static" && !s.judged)
+        .filter(|s| s.gap_after_mm > 1.5 * noise.rms_mm)
+    {
+        words.push(format!(
+            "Pose-to-pose error of {:.3} mm (held-out, noise {:.3} mm) stays the same over time and is left unattributed: from these poses the arm's own geometry cannot be told from other static causes (a full kinematic calibration needs 30 poses or more, spread over the joint ranges).",
+            st.gap_after_mm, noise.rms_mm
+        ));
     }
     words.push(advice(&d.advice, remedies));
     for a in &d.ambiguities {

@@ -70,8 +70,10 @@ impl Serialize for Verdict {
 #[derive(Debug, Clone, Serialize)]
 pub struct StageSummary {
     /// `over-time` (each pose's own offset fitted, held out by time span),
-    /// `static` (thermal effects found held fixed, held out by pose and
-    /// time) or `all` (one stage over every effect).
+    /// `absolute` (thermal effects on top of the static ones found, held
+    /// out by pose and time, where that saw more), `static` (thermal
+    /// effects found held fixed, held out by pose and time) or `all` (one
+    /// stage over every effect).
     pub part: &'static str,
     pub gap_before_mm: f64,
     pub gap_after_mm: f64,
@@ -129,6 +131,8 @@ pub struct CandidateOut {
 #[derive(Debug, Clone, Serialize)]
 pub struct StepOut {
     pub added: String,
+    /// The stage that added it ([`StageSummary::part`]).
+    pub part: &'static str,
     pub gap_before_mm: f64,
     pub gap_after_mm: f64,
     pub drop_pct: f64,

@@ -143,10 +143,15 @@ impl Model {
 impl EffectEntry {
     pub fn from_effect(effect: &Effect, stderr: Option<&[Option<f64>]>) -> EffectEntry {
         let infos = effect.kind.params();
+        // A parameter held at zero and never fitted (geometry-offset's joint
+        // origins from too few poses) is what loading gives anyway: left out.
+        let fitted = |i: usize| stderr.is_none_or(|s| s.get(i).is_some_and(Option::is_some));
         let params = infos
             .iter()
             .zip(&effect.params)
-            .map(|(p, v)| (p.name.to_string(), *v))
+            .enumerate()
+            .filter(|&(i, (_, v))| *v != 0.0 || fitted(i))
+            .map(|(_, (p, v))| (p.name.to_string(), *v))
             .collect();
         let stderr = stderr
             .map(|s| {

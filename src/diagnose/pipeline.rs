@@ -8,7 +8,9 @@ use super::gap::{gap_stats, noise_level, orientation_weight, NoiseSource};
 use super::locate::{self, Where};
 use super::prepare::Prepared;
 use super::select;
-use super::verdict::{Advice, CandidateOut, Diagnosis, ParamOut, StageSummary, StepOut, Verdict};
+use super::verdict::{
+    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, StageSummary, StepOut, Verdict,
+};
 use crate::error::{Error, Result};
 use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
 use crate::model::{EffectEntry, EffectKind, Model};
@@ -350,6 +352,30 @@ fn two_stages(
             }
         }
     }
+    // From too few poses for a full kinematic calibration, with static
+    // error left over, sag cannot be told from the arm's own geometry: it
+    // would only take up part of that geometry. Said, not named.
+    let mut ambiguous_sag = None;
+    if ctx.n_poses < FULL_GEOMETRY_POSES
+        && statics.cv > 1.5 * ctx.noise_rms_mm
+        && statics.selected.contains(&EffectKind::GravitySag)
+    {
+        let without: Vec<EffectKind> = static_pool
+            .iter()
+            .copied()
+            .filter(|k| *k != EffectKind::GravitySag)
+            .collect();
+        let sag_cv = statics.cv;
+        statics = ctx.select(&held, &[], &without)?;
+        ambiguous_sag = Some(Ambiguity {
+            pair: ["geometry-offset".into(), "gravity-sag".into()],
+            correlation: None,
+            separate_by: format!(
+                "measure {FULL_GEOMETRY_POSES} poses or more spread over the joint ranges, with the upper arm horizontal and vertical: from these, gravity-sag would take the static gap to {sag_cv:.3} mm held-out, but the arm's own geometry, fitted in full only from that many poses, may explain it as well"
+            ),
+        });
+    }
+    statics.ambiguities.extend(ambiguous_sag);
     // Structure over time, each pose's own offset taken out.
     let over_time = locate::locate(
         &centred,

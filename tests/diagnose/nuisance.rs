@@ -258,3 +258,73 @@ fn one_case() {
     eprintln!("{:?}", d.where_.words);
     eprintln!("{:?}", d.where_after.words);
 }
+
+/// A wider randomised sweep, not kept as a test (minutes): `DIAG_SWEEP=N`
+/// sets with random effects, magnitudes, seeds, tracker distance and
+/// noise; prints the rate of right verdicts.
+#[test]
+#[ignore = "a randomised sweep: DIAG_SWEEP=N cargo test --test diagnose sweep -- --ignored --nocapture"]
+fn sweep() {
+    use rand::{RngExt, SeedableRng};
+    let n: u64 = std::env::var("DIAG_SWEEP").map_or(20, |v| v.parse().unwrap());
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let mut right_count = 0;
+    for i in 0..n {
+        let m: f64 = rng.random_range(0.6..2.0);
+        let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let effects = match rng.random_range(0..8) {
+            0 => vec![],
+            1 => vec![Effect::ExpansionScale([1.0 + 1.5 * m; 4])],
+            2 => vec![Effect::ArmBending([25e-6 * m * sign, 35e-6 * m])],
+            3 => vec![Effect::JointOffsetDrift([
+                0.0,
+                30e-6 * m * sign,
+                -30e-6 * m,
+                0.0,
+                20e-6 * m,
+                0.0,
+            ])],
+            4 => vec![Effect::MountDrift(
+                Vector3::new(0.001, -0.001, 0.006 * m * sign),
+                [3e-6 * m, -2e-6],
+            )],
+            5 => vec![Effect::Knock(
+                rng.random_range(40.0..140.0),
+                Vector3::new(0.03, -0.02, -0.05) * m,
+            )],
+            6 => vec![
+                Effect::ExpansionScale([1.0 + 1.5 * m; 4]),
+                Effect::JointOffsetDrift([0.0, 30e-6 * sign, -40e-6, 0.0, 0.0, 0.0]),
+            ],
+            _ => vec![
+                Effect::ExpansionScale([3.0; 4]),
+                Effect::ThermalLag(rng.random_range(30.0..60.0)),
+            ],
+        };
+        let mut spec = SetSpec::new(effects, 5000 + i);
+        spec.temps_logged = rng.random_bool(0.5);
+        spec.noise_mm = rng.random_range(0.015..0.03);
+        spec.tracker_mm = rng.random_range(2000.0..6000.0);
+        spec.poses = rng.random_range(10..20);
+        let case = Case {
+            label: format!("{:?}", spec.effects),
+            spec,
+        };
+        let d = run(&generate(&case.spec));
+        let ok = right(&case, &d);
+        right_count += ok as usize;
+        eprintln!(
+            "{} {}: {}",
+            if ok { "ok  " } else { "FAIL" },
+            case.label,
+            summary(&d)
+        );
+        if !ok && std::env::var_os("DIAG_VERBOSE").is_some() {
+            for c in &d.candidates {
+                eprintln!("    {} {} {:.4} {:?}", c.part, c.name, c.cv_rms_mm, c.error);
+            }
+            eprintln!("    stages {:?}", d.stages);
+        }
+    }
+    eprintln!("right {right_count}/{n}");
+}

@@ -570,9 +570,23 @@ fn diagnosis_table(d: &Diagnosis) -> String {
     s.push('\n');
     let staged = d.stages.len() > 1;
     if staged {
-        s.push_str(
-            "Each effect alone, scored on held-out data: over time with each pose's own offset fitted (held out by time span), static with the thermal effects found fitted (held out by pose and time):\n",
-        );
+        let parts: Vec<&str> = d
+            .stages
+            .iter()
+            .map(|st| match st.part {
+                "over-time" => {
+                    "over time with each pose's own offset fitted (held out by time span)"
+                }
+                "absolute" => {
+                    "absolute on top of the static effects found (held out by pose and time)"
+                }
+                _ => "static with the thermal effects found fitted (held out by pose and time)",
+            })
+            .collect();
+        s.push_str(&format!(
+            "Each effect alone, scored on held-out data: {}:\n",
+            parts.join("; ")
+        ));
     } else {
         s.push_str("Each effect alone, scored on held-out times and poses:\n");
     }

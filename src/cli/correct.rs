@@ -330,6 +330,12 @@ pub(super) fn warm_run(
     };
     let arm_name = arm.robot.name.clone();
     let warm = WarmRobot::new(arm.robot, model, horizon)?;
+    if warm.instrument_left_out() {
+        note!(
+            "task {}: the model's tracker-frame is the frame of the instrument it was diagnosed with, not the robot's: left out of the correction",
+            task.label()
+        );
+    }
     let model_label = model_label(args.model.as_deref(), &arm.label)?;
     let borrowed = args.model.is_none() && !arm.is_irb140;
     let on_lengths = if borrowed {

@@ -3,7 +3,7 @@
 //! the model file's (base link expansion and any effects a diagnosis
 //! added), with motor temperatures from its heating profile.
 
-use super::effects::Effect;
+use super::effects::{Effect, EffectKind};
 use super::file::Model;
 use super::perturb::{lag_taus, predict, Base, LinkLags, RowState};
 use crate::error::{Error, ErrorKind, Result};
@@ -46,6 +46,7 @@ pub struct WarmRobot {
     effects: Vec<Effect>,
     profile: Box<dyn HeatingProfile>,
     history: Option<TempHistory>,
+    instrument_left_out: bool,
 }
 
 /// Newton's tolerances for models whose warm arm changes shape: the
@@ -59,7 +60,12 @@ impl WarmRobot {
     /// controller uses). `horizon_min`: the latest minute that will be
     /// asked for (the thermal lag integrates the history up to it).
     pub fn new(robot: Robot, model: &Model, horizon_min: f64) -> Result<WarmRobot> {
-        let effects = model.effects()?;
+        // A tracker frame describes the instrument a diagnosis measured
+        // with, not the robot: moving every target by it would be wrong.
+        let (effects, instrument): (Vec<Effect>, Vec<Effect>) = model
+            .effects()?
+            .into_iter()
+            .partition(|e| e.kind != EffectKind::TrackerFrame);
         let profile = model.profile()?;
         let history = match lag_taus(&effects) {
             Some(_) => Some(TempHistory::from_profile(
@@ -81,7 +87,14 @@ impl WarmRobot {
             effects,
             profile,
             history,
+            instrument_left_out: !instrument.is_empty(),
         })
+    }
+
+    /// Whether the model's tracker frame (the instrument's, not the
+    /// robot's) was left out.
+    pub fn instrument_left_out(&self) -> bool {
+        self.instrument_left_out
     }
 
     /// True when the warm arm is the nominal arm with longer links only:

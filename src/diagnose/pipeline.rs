@@ -291,6 +291,10 @@ impl Ctx<'_> {
     }
 }
 
+/// The stages of a diagnosis, the problem of the last, and the first
+/// stage's part.
+type Staged = (Vec<(Forward, Verdict)>, Problem, &'static str);
+
 /// The two stages of data that measure poses again and again: what changes
 /// with time (each pose's own offset free, held out by time span), then
 /// what stays (the thermal effects found held fixed). Returns the stages,
@@ -301,7 +305,7 @@ fn two_stages(
     pool: &[EffectKind],
     gaps_before: &[nalgebra::Vector3<f64>],
     pose_names: &[String],
-) -> Result<(Vec<(Forward, Verdict)>, Problem, &'static str)> {
+) -> Result<Staged> {
     let problem = ctx.problem;
     let mut first = "over-time";
     let all: Vec<usize> = (0..problem.rows.len()).collect();

@@ -540,7 +540,13 @@ fn find_step(problem: &Problem, gaps: &[Vector3<f64>], noise_rms: f64) -> Option
     let se = sd_noise.max(sd_fit)
         * (1.0 / split as f64 + 1.0 / (tn - split) as f64).sqrt()
         * 3f64.sqrt();
-    if rss_step < 0.25 * rss_smooth && d.norm() > 6.0 * se && d.norm() > 0.5 * noise_rms {
+    // The step must take most of what a smooth trend leaves, or, where
+    // every measurement time is its own (a sweep over the poses, one pose a
+    // time) and noise dominates each, be overwhelming by the F test (30:
+    // far past the best of hundreds of splits under noise alone).
+    let f = (rss_smooth - rss_step) / 3.0 / (rss_step / (3.0 * (tn as f64 - 4.0)).max(1e-300));
+    let takes_most = rss_step < 0.25 * rss_smooth || f > 30.0;
+    if takes_most && d.norm() > 6.0 * se && d.norm() > 0.5 * noise_rms {
         let dir = d.normalize();
         Some(Step {
             before_min: series[split - 1].0,

@@ -105,7 +105,14 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     s.added, s.gap_before_mm, s.gap_after_mm, s.drop_pct
                 ));
             }
-            if *remainder {
+            if *remainder && d.left_over_time {
+                let over_time = d.stages.first().map_or(cv, |s| s.gap_after_mm);
+                words.push(format!(
+                    "What changes over time and they leave ({over_time:.3} mm held-out with each pose's own offset, noise {:.3} mm) is not explained by the library:",
+                    noise.rms_mm
+                ));
+                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+            } else if *remainder {
                 words.push(format!(
                     "What they leave ({:.3} mm held-out, noise {:.3} mm) is not explained by the library:",
                     cv, noise.rms_mm

@@ -173,6 +173,9 @@ pub struct Diagnosis {
     pub where_: Where,
     /// Where what is left after the selected effects lies.
     pub where_after: Where,
+    /// What is left unexplained changes over time (located with each
+    /// pose's own offset taken out), rather than from pose to pose.
+    pub left_over_time: bool,
     pub registration: Option<Registration>,
     /// The stages of the diagnosis: with poses measured again and again,
     /// first what changes with time, then what stays; else one.

@@ -81,7 +81,15 @@ fn right(case: &Case, d: &Diagnosis) -> bool {
             || EffectKind::from_name(l).is_some_and(EffectKind::is_thermal)
     });
     let flagged = labels.iter().any(|l| l == "unexplained");
-    all_found && no_spurious && static_ok && flagged == outside
+    // A knock is located: a step between the measurements around it.
+    let located = case.spec.effects.iter().all(|e| match e {
+        Effect::Knock(at, _) => [&d.where_after, &d.where_]
+            .iter()
+            .filter_map(|w| w.step.as_ref())
+            .any(|s| s.before_min < *at && *at < s.after_min),
+        _ => true,
+    });
+    all_found && no_spurious && static_ok && flagged == outside && located
 }
 
 fn cases() -> Vec<Case> {
@@ -250,7 +258,11 @@ fn verdicts_hold_under_the_nuisance_of_real_measurements() {
 fn one_case() {
     let seed: u64 = std::env::var("DIAG_SEED").unwrap().parse().unwrap();
     let case = cases().into_iter().find(|c| c.spec.seed == seed).unwrap();
-    let d = run(&generate(&case.spec));
+    let set = generate(&case.spec);
+    if let Some(path) = std::env::var_os("DIAG_DUMP") {
+        std::fs::write(path, &set.csv).unwrap();
+    }
+    let d = run(&set);
     eprintln!("{}: {}", case.label, summary(&d));
     for c in &d.candidates {
         eprintln!("  {} {:.4} {:?}", c.name, c.cv_rms_mm, c.error);

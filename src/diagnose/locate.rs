@@ -62,6 +62,31 @@ pub struct Step {
     pub direction: [f64; 3],
 }
 
+impl Step {
+    /// The step in a sentence.
+    pub fn words(&self) -> String {
+        format!(
+            "A step of {:.3} mm along {} between minute {} and {}.",
+            self.size_mm,
+            direction_words(&Vector3::from(self.direction)),
+            fmt_min(self.before_min),
+            fmt_min(self.after_min)
+        )
+    }
+}
+
+impl Where {
+    /// Put `step` here where none was found (a step scored as a candidate
+    /// is stronger evidence than the trend test).
+    pub fn with_step(mut self, step: Step) -> Where {
+        if self.step.is_none() {
+            self.words.push(step.words());
+            self.step = Some(step);
+        }
+        self
+    }
+}
+
 /// The localisation of a gap.
 #[derive(Debug, Clone, Serialize)]
 pub struct Where {
@@ -309,13 +334,7 @@ pub fn locate(
     }
     let step = find_step(problem, &gaps[..n], noise_rms);
     if let Some(s) = &step {
-        words.push(format!(
-            "A step of {:.3} mm along {} between minute {} and {}.",
-            s.size_mm,
-            direction_words(&Vector3::from(s.direction)),
-            fmt_min(s.before_min),
-            fmt_min(s.after_min)
-        ));
+        words.push(s.words());
     }
     Where {
         rms_mm: total,

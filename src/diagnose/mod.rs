@@ -34,6 +34,7 @@ pub mod fit;
 pub mod forward;
 pub mod gap;
 pub mod instrument;
+pub mod knock;
 pub mod locate;
 pub mod measurements;
 pub mod pipeline;

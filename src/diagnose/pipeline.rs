@@ -5,6 +5,7 @@
 use super::fit::Problem;
 use super::forward::{forward, params_out, Forward};
 use super::gap::{gap_stats, noise_level, orientation_weight, NoiseSource};
+use super::knock;
 use super::locate::{self, Where};
 use super::prepare::Prepared;
 use super::select;
@@ -115,13 +116,15 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         structured: where_.has_structure(),
         n_poses,
     };
-    let (stages, final_problem, parts, judged) = if repeats_over_time(problem) {
-        let (stages, held, first) = two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
+    let (stages, final_problem, parts, judged, knock) = if repeats_over_time(problem) {
+        let (stages, held, first, knock) =
+            two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
         (
             stages,
             held,
             [first, "static"],
             [true, n_poses >= FULL_GEOMETRY_POSES],
+            knock,
         )
     } else {
         let one = forward(problem, &folds, &[], &pool, noise.rms_mm, opts.max_effects)?;
@@ -131,6 +134,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             problem.clone(),
             ["all", "all"],
             [true, true],
+            None,
         )
     };
     let last = stages.last().map(|(f, _)| f);
@@ -213,7 +217,11 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             ..problem.clone()
         };
         let left = select::centred(&centred, &all, gaps_after.clone());
-        locate::locate(&centred, &left, &prepared.pose_names, noise.rms_mm)
+        let w = locate::locate(&centred, &left, &prepared.pose_names, noise.rms_mm);
+        match knock {
+            Some(step) => w.with_step(step),
+            None => w,
+        }
     } else {
         locate::locate(problem, &gaps_after, &prepared.pose_names, noise.rms_mm)
     };
@@ -320,13 +328,41 @@ impl Ctx<'_> {
 
 /// The stages of a diagnosis, the problem of the last, and the first
 /// stage's part.
-type Staged = (Vec<(Forward, Verdict)>, Problem, &'static str);
+type Staged = (
+    Vec<(Forward, Verdict)>,
+    Problem,
+    &'static str,
+    Option<locate::Step>,
+);
+
+/// A knock as a step between the measurement times around it.
+fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {
+    let before = problem
+        .rows
+        .iter()
+        .map(|r| r.time_min)
+        .filter(|&t| t < k.after_min - 1e-9)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let size = k.shift_mm.norm();
+    let dir = if size > 0.0 {
+        k.shift_mm / size
+    } else {
+        k.shift_mm
+    };
+    locate::Step {
+        before_min: before,
+        after_min: k.after_min,
+        size_mm: size,
+        direction: [dir.x, dir.y, dir.z],
+    }
+}
 
 /// The two stages of data that measure poses again and again: what changes
 /// with time (each pose's own offset free, held out by time span), then
 /// what stays (the thermal effects found held fixed). Returns the stages,
-/// the problem of the last, and the first stage's part (`absolute` when the
-/// absolute pass replaced it).
+/// the problem of the last, the first stage's part (`absolute` when the
+/// absolute pass replaced it), and a knock that explains the change over
+/// time better than any thermal effect.
 fn two_stages(
     ctx: &Ctx,
     pool: &[EffectKind],
@@ -383,6 +419,40 @@ fn two_stages(
             }
         }
     }
+    // A step of the whole robot competes with the thermal effects found:
+    // where it predicts the held-out time spans clearly better (by a fifth
+    // of the noise variance, as an effect must to be added), the change
+    // over time is no thermal effect of the library (a knock early in the
+    // warm-up looks like the base motor's rise); where nothing thermal is
+    // found, a step that beats "no change" the same way is structure.
+    let mut knocked = None;
+    let gaps = problem.position_gaps(&[], &all);
+    if let Some((knock_cv, knock)) = knock::score(&centred, &time_folds, &gaps) {
+        let nr2 = ctx.noise_rms_mm.powi(2);
+        let cv0 = select::cv_rms(&centred, &time_folds, &[])?;
+        let beats = |cv: f64| cv.powi(2) - knock_cv.powi(2) > 0.2 * nr2;
+        let thermal_cv = match thermal.selected.is_empty() {
+            true => cv0,
+            false => select::cv_rms(&centred, &time_folds, &thermal.selected)?,
+        };
+        if beats(cv0) && beats(thermal_cv) {
+            knocked = Some(knock);
+            if !thermal.selected.is_empty() {
+                thermal = Forward {
+                    selected: Vec::new(),
+                    cv0,
+                    cv: cv0,
+                    fit: None,
+                    steps: Vec::new(),
+                    ambiguities: Vec::new(),
+                    candidates: std::mem::take(&mut thermal.candidates),
+                };
+                first = "over-time";
+                held = ctx.held_by(&thermal);
+                statics = ctx.select(&held, &[], &static_pool)?;
+            }
+        }
+    }
     // From too few poses for a full kinematic calibration, with static
     // error left over, sag cannot be told from the arm's own geometry: it
     // would only take up part of that geometry. Said, not named.
@@ -414,7 +484,13 @@ fn two_stages(
         pose_names,
         ctx.noise_rms_mm,
     );
-    let thermal_verdict = ctx.judge(&thermal, over_time.has_structure(), true);
+    let thermal_verdict = if knocked.is_some() {
+        Verdict::Unexplained {
+            partial: Vec::new(),
+        }
+    } else {
+        ctx.judge(&thermal, over_time.has_structure(), true)
+    };
     // With fewer poses than a full kinematic calibration needs, pose-to-pose
     // structure left may still be geometry: reported, not called
     // unexplained.
@@ -423,6 +499,7 @@ fn two_stages(
         vec![(thermal, thermal_verdict), (statics, static_verdict)],
         held,
         first,
+        knocked.map(|k| step_of(problem, &k)),
     ))
 }
 

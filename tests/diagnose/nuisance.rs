@@ -332,6 +332,10 @@ fn sweep() {
             summary(&d)
         );
         if !ok && std::env::var_os("DIAG_VERBOSE").is_some() {
+            eprintln!(
+                "    after: {:?} where: {:?}",
+                d.where_after.words, d.where_.step
+            );
             for c in &d.candidates {
                 eprintln!("    {} {} {:.4} {:?}", c.part, c.name, c.cv_rms_mm, c.error);
             }

@@ -38,21 +38,14 @@ pub fn correct(
     let [path] = task.modules.as_slice() else {
         return Ok(None);
     };
-    let plain_file =
-        |p: &Path| p != Path::new("-") && std::fs::metadata(p).is_ok_and(|m| m.is_file());
     if task.name.is_some()
-        || !plain_file(path)
+        || !is_plain_file(path)
         || out == Path::new("-")
         || std::fs::metadata(out).is_ok_and(|m| !m.is_file())
     {
         return Ok(None);
     }
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
-    // SAFETY: the map is read while this run holds it; a program being
-    // rewritten by another process as it is corrected is outside what
-    // any reader can promise (the whole-program path would read a mix
-    // too).
-    let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| Error::io(path, &e))?;
+    let map = map_file(path)?;
     let src: &[u8] = &map;
     let skeleton = rapid::fastmove::skeleton(src);
     if skeleton.cuts.is_empty() {
@@ -100,4 +93,19 @@ pub fn correct(
     note_still(still);
     messages::lines(&summary_text(&streamed.outcome));
     Ok(Some(Status::Success))
+}
+
+/// A file by name, not standard input, a folder or a device.
+pub fn is_plain_file(p: &Path) -> bool {
+    p != Path::new("-") && std::fs::metadata(p).is_ok_and(|m| m.is_file())
+}
+
+/// The bytes of `path`, memory-mapped: a program of 100 MB is read as the
+/// work needs it, not copied first.
+pub fn map_file(path: &Path) -> Result<memmap2::Mmap> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
+    // SAFETY: the map is read while this run holds it; a program being
+    // rewritten by another process as it is read is outside what any
+    // reader can promise (the whole-program path would read a mix too).
+    unsafe { memmap2::Mmap::map(&file) }.map_err(|e| Error::io(path, &e))
 }

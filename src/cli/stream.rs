@@ -47,7 +47,9 @@ pub fn correct(
     }
     let map = map_file(path)?;
     let src: &[u8] = &map;
+    let started = std::time::Instant::now();
     let skeleton = rapid::fastmove::skeleton(src);
+    messages::took("cutting the moves out", started);
     if skeleton.cuts.is_empty() {
         return Ok(None);
     }
@@ -65,6 +67,7 @@ pub fn correct(
     let Ok((_, warm, options)) = warm_run(args, model, task, arm, when) else {
         return Ok(None);
     };
+    let started = std::time::Instant::now();
     let streamed = output::write_atomic_with(out, None, |file| {
         let mut sink = std::io::BufWriter::with_capacity(1 << 20, &mut *file);
         let Some(s) = correct_streamed(&program, &skeleton, src, &warm, &options, &mut sink)?
@@ -84,6 +87,7 @@ pub fn correct(
     let Some(streamed) = streamed else {
         return Ok(None);
     };
+    messages::took("correcting and writing", started);
     for note in &task.notes {
         note!("{note}");
     }

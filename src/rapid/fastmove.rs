@@ -57,6 +57,12 @@ impl Cursor<'_> {
 
     /// An ASCII name that is no reserved word.
     fn name(&mut self) -> Option<Range<usize>> {
+        self.name_as(self.names)
+    }
+
+    /// An ASCII name, looked up among the reserved words where `check`
+    /// (a name known otherwise, a motion instruction or `WObj`, need not).
+    fn name_as(&mut self, check: bool) -> Option<Range<usize>> {
         self.blank();
         let start = self.p;
         if !self.s.get(start)?.is_ascii_alphabetic() {
@@ -69,7 +75,7 @@ impl Cursor<'_> {
             }
             e += 1;
         }
-        if self.names {
+        if check {
             let word = std::str::from_utf8(&self.s[start..e]).ok()?;
             if super::parse::is_reserved_word(word) {
                 return None;
@@ -271,7 +277,8 @@ fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMov
         values,
         names,
     };
-    let instruction = c.name()?;
+    // Motion instructions are no reserved words: their signature says.
+    let instruction = c.name_as(false)?;
     let k = leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?;
     if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
         return None;
@@ -291,7 +298,7 @@ fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMov
     let tool = c.name()?;
     let mut wobj = None;
     if c.byte(b'\\').is_some() {
-        let word = c.name()?;
+        let word = c.name_as(false)?;
         if !src[word].eq_ignore_ascii_case(b"WObj") {
             return None;
         }
@@ -356,15 +363,23 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
     let mut cuts = Vec::new();
     let mut literals = Vec::new();
     let mut in_routine = false;
+    let found = moves_at_line_starts(src);
+    let mut next = found.iter().peekable();
     loop {
         if in_routine {
             let at = scanner.next_start();
-            if let Some(m) =
-                read_move(src, at, false, true).filter(|m| rest_is_blank(src, m.span.end))
-            {
-                cuts.push(m.span.clone());
-                literals.push(m.targets.len() as u8);
-                scanner.skip_to(m.span.end);
+            while next.next_if(|f| f.0.start < at).is_some() {}
+            let m = match next.peek() {
+                Some(f) if f.0.start == at => Some((*f).clone()),
+                // A statement after another on its line.
+                _ => read_move(src, at, false, true)
+                    .filter(|m| rest_is_blank(src, m.span.end))
+                    .map(|m| (m.span, m.targets.len() as u8)),
+            };
+            if let Some((span, n)) = m {
+                cuts.push(span.clone());
+                literals.push(n);
+                scanner.skip_to(span.end);
                 continue;
             }
         }
@@ -406,6 +421,53 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
         starts,
         cut_before,
     }
+}
+
+/// The moves [`skeleton`] would cut that start a line (after blanks),
+/// found on every core ahead of the scan, which is sequential (strings
+/// and comments decide what a byte is) and then only looks them up: the
+/// span and the number of literals of each, in file order. Whether one
+/// is cut is still the scan's to say (it must be a statement of a
+/// routine).
+fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
+    use rayon::prelude::*;
+    const PART: usize = 1 << 20;
+    let mut bounds = vec![0];
+    while let Some(&last) = bounds.last() {
+        if last >= src.len() {
+            break;
+        }
+        let end = (last + PART).min(src.len());
+        let end = src[end..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(src.len(), |i| end + i + 1);
+        bounds.push(end);
+    }
+    bounds
+        .par_windows(2)
+        .flat_map_iter(|w| {
+            let mut out = Vec::new();
+            let mut line = w[0];
+            while line < w[1] {
+                let end = src[line..w[1]]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .map_or(w[1], |i| line + i + 1);
+                let mut at = line;
+                while matches!(src.get(at), Some(b' ' | b'\t')) {
+                    at += 1;
+                }
+                if let Some(m) =
+                    read_move(src, at, false, true).filter(|m| rest_is_blank(src, m.span.end))
+                {
+                    out.push((m.span, m.targets.len() as u8));
+                }
+                line = end;
+            }
+            out
+        })
+        .collect()
 }
 
 /// Nothing but blanks, then a line end, a comment or the end of the file.

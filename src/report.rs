@@ -103,56 +103,92 @@ impl Rows {
 
 /// [`render_table`] written out as it is laid out, of rows made in parts
 /// (by several threads): the columns as wide as the widest cell of all.
+/// The parts' lines are laid out on every core, a few parts at a time.
 pub fn write_table(
     out: &mut dyn std::io::Write,
     header: &[&str],
     align: &[Align],
     parts: &[Rows],
 ) -> std::io::Result<()> {
-    let ncol = header.len();
+    use rayon::prelude::*;
     let mut width: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
     for part in parts {
         for (w, p) in width.iter_mut().zip(&part.width) {
             *w = (*w).max(*p);
         }
     }
+    let layout = Layout {
+        width: &width,
+        align,
+    };
     let mut buf = String::new();
-    let mut line = |out: &mut dyn std::io::Write, cells: &mut dyn Iterator<Item = &str>| {
-        buf.clear();
+    layout.line(&mut buf, &mut header.iter().copied());
+    let rule: Vec<String> = width.iter().map(|w| "-".repeat(*w)).collect();
+    layout.line(&mut buf, &mut rule.iter().map(String::as_str));
+    out.write_all(buf.as_bytes())?;
+    for group in parts.chunks(2 * rayon::current_num_threads().max(1)) {
+        let texts: Vec<String> = group
+            .par_iter()
+            .map(|part| {
+                let mut text = String::with_capacity(part.text.len() * 3 / 2);
+                for i in 0..part.len() {
+                    layout.line(&mut text, &mut part.row(i));
+                }
+                text
+            })
+            .collect();
+        for t in texts {
+            out.write_all(t.as_bytes())?;
+        }
+    }
+    Ok(())
+}
+
+/// How a table's lines are laid out.
+struct Layout<'a> {
+    width: &'a [usize],
+    align: &'a [Align],
+}
+
+impl Layout<'_> {
+    /// One line of `cells` at the end of `out`: padded, two spaces apart,
+    /// no blanks at its end.
+    fn line(&self, out: &mut String, cells: &mut dyn Iterator<Item = &str>) {
+        const SPACES: &str = "                                                                ";
+        let pad = |out: &mut String, mut n: usize| {
+            while n > 0 {
+                let k = n.min(SPACES.len());
+                out.push_str(&SPACES[..k]);
+                n -= k;
+            }
+        };
+        let ncol = self.width.len();
+        let start = out.len();
         for (i, cell) in cells.enumerate().take(ncol) {
             if i > 0 {
-                buf.push_str("  ");
+                out.push_str("  ");
             }
             let n = if cell.is_ascii() {
                 cell.len()
             } else {
                 cell.chars().count()
             };
-            let pad = width[i] - n;
-            let right = align.get(i).copied().unwrap_or(Align::Left) == Align::Right;
+            let fill = self.width[i] - n;
+            let right = self.align.get(i).copied().unwrap_or(Align::Left) == Align::Right;
             if right {
-                buf.extend(std::iter::repeat_n(' ', pad));
-                buf.push_str(cell);
+                pad(out, fill);
+                out.push_str(cell);
             } else {
-                buf.push_str(cell);
+                out.push_str(cell);
                 if i + 1 < ncol {
-                    buf.extend(std::iter::repeat_n(' ', pad));
+                    pad(out, fill);
                 }
             }
         }
-        buf.truncate(buf.trim_end().len());
-        buf.push('\n');
-        out.write_all(buf.as_bytes())
-    };
-    line(out, &mut header.iter().copied())?;
-    let rule: Vec<String> = width.iter().map(|w| "-".repeat(*w)).collect();
-    line(out, &mut rule.iter().map(String::as_str))?;
-    for part in parts {
-        for i in 0..part.len() {
-            line(out, &mut part.row(i))?;
-        }
+        let end = start + out[start..].trim_end().len();
+        out.truncate(end);
+        out.push('\n');
     }
-    Ok(())
 }
 
 /// Rows as CSV (RFC 4180 quoting where a cell needs it).
@@ -193,7 +229,10 @@ pub fn shortest_of_literal(buf: &mut String, text: &str) -> bool {
         Some(b'+') => (false, &text[1..]),
         _ => (false, text),
     };
-    let (int, frac) = digits.split_once('.').unwrap_or((digits, ""));
+    let (int, frac) = match digits.bytes().position(|c| c == b'.') {
+        Some(p) => (&digits[..p], &digits[p + 1..]),
+        None => (digits, ""),
+    };
     if int.is_empty() && frac.is_empty()
         || !int.bytes().chain(frac.bytes()).all(|c| c.is_ascii_digit())
     {

@@ -269,7 +269,7 @@ pub fn shortest_of_literal(buf: &mut String, text: &str) -> bool {
 pub fn shortest_to_4_places(buf: &mut String, v: f64) {
     use std::fmt::Write as _;
     let r = (v * 1e4).round();
-    if !(r.abs() < 1e15) {
+    if r.is_nan() || r.abs() >= 1e15 {
         shortest(buf, r / 1e4);
         return;
     }

@@ -154,7 +154,7 @@ pub(super) enum Sink {
     },
     Csv {
         row: Rows,
-        out: csv::Writer<Vec<u8>>,
+        out: Box<csv::Writer<Vec<u8>>>,
     },
     /// The items pretty-printed one level in, `,\n` between them.
     Json { out: Vec<u8>, items: usize },
@@ -208,7 +208,7 @@ impl Lister<'_> {
             },
             Format::Csv => Sink::Csv {
                 row: Rows::default(),
-                out: csv::WriterBuilder::new().from_writer(Vec::new()),
+                out: Box::new(csv::WriterBuilder::new().from_writer(Vec::new())),
             },
             Format::Json => Sink::Json {
                 out: Vec::new(),
@@ -385,7 +385,7 @@ impl Lister<'_> {
                 out.write_all(render_csv(&CSV_HEADER, &[]).as_bytes())?;
                 for p in parts {
                     if let Sink::Csv { out: w, .. } = p {
-                        out.write_all(&w.into_inner().unwrap_or_default())?;
+                        out.write_all(&(*w).into_inner().unwrap_or_default())?;
                     }
                 }
             }

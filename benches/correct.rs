@@ -2,10 +2,11 @@
 //!
 //! - criterion: correcting the CAM sample (5,252 targets) in memory, and
 //!   one target through the warm robot;
-//! - end to end: `rapidtherm correct` on a generated program of 1,000,000
-//!   inline targets (about 100 MB, written to a temporary folder, never
-//!   committed), side by side with `cp` of the same file (the floor), three
-//!   runs each, medians and the child's peak resident memory on stderr.
+//! - end to end: `rapidtherm correct` and `rapidtherm targets` on a
+//!   generated program of 1,000,000 inline targets (117 MB, written to a
+//!   temporary folder, never committed), side by side with `cp` of the
+//!   same file (the floor), three runs each, medians, the load average and
+//!   the children's peak resident memory on stderr.
 //!   Set `RAPIDTHERM_BENCH_TARGETS` to change the count.
 
 use criterion::{Criterion, Throughput};
@@ -37,17 +38,22 @@ fn bench_sample(c: &mut Criterion) {
     group.finish();
 }
 
-/// A CAM-style program: `n` inline MoveL targets with a spindle tool, all
-/// reachable, robconf consistent with the pose.
+/// A CAM-style program as the issue describes it: `n` inline MoveL
+/// targets with a spindle tool and a work object, CRLF line ends, all
+/// reachable, robconf consistent with the pose (117 MB for a million).
 fn write_program(path: &Path, n: usize) {
     let file = std::fs::File::create(path).expect("temp file");
     let mut w = std::io::BufWriter::new(file);
-    let _ = writeln!(w, "MODULE Big");
-    let _ = writeln!(
+    let _ = write!(w, "MODULE Big\r\n");
+    let _ = write!(
         w,
-        "  PERS tooldata tSpindle:=[TRUE,[[0,0,150],[1,0,0,0]],[2,[0,0,60],[1,0,0,0],0,0,0]];"
+        "  PERS tooldata tSpindle:=[TRUE,[[0,0,150],[1,0,0,0]],[2,[0,0,60],[1,0,0,0],0,0,0]];\r\n"
     );
-    let _ = writeln!(w, "  PROC main()");
+    let _ = write!(
+        w,
+        "  PERS wobjdata wPlate:=[FALSE,TRUE,\"\",[[0,0,0],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];\r\n"
+    );
+    let _ = write!(w, "  PROC main()\r\n");
     // A deterministic zigzag over a 300 x 300 mm field.
     for i in 0..n {
         let u = (i % 1000) as f64 / 1000.0;
@@ -58,12 +64,12 @@ fn write_program(path: &Path, n: usize) {
             250.0 + 20.0 * (u * 7.0).sin(),
         );
         let cf = if y >= 0.0 { 0 } else { -1 };
-        let _ = writeln!(
+        let _ = write!(
             w,
-            "    MoveL [[{x:.3},{y:.3},{z:.3}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]],v200,z1,tSpindle;"
+            "    MoveL [[{x:.3},{y:.3},{z:.3}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]],v200,z1,tSpindle\\WObj:=wPlate;\r\n"
         );
     }
-    let _ = writeln!(w, "  ENDPROC\nENDMODULE");
+    let _ = write!(w, "  ENDPROC\r\nENDMODULE\r\n");
 }
 
 /// Peak resident memory (kB) of the largest waited-for child so far.
@@ -72,6 +78,16 @@ fn children_peak_kb() -> i64 {
     // SAFETY: getrusage writes into the struct we own.
     unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) };
     usage.ru_maxrss
+}
+
+/// CPU time (user and system) of all waited-for children so far: on a
+/// machine other work shares, what a run costs apart from the wait.
+fn children_cpu() -> Duration {
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: getrusage writes into the struct we own.
+    unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) };
+    let t = |v: libc::timeval| Duration::new(v.tv_sec as u64, v.tv_usec as u32 * 1000);
+    t(usage.ru_utime) + t(usage.ru_stime)
 }
 
 fn median(mut v: Vec<Duration>) -> Duration {
@@ -103,8 +119,10 @@ fn end_to_end() {
     }
     let cp_peak = children_peak_kb();
     let mut times = Vec::new();
+    let mut cpu = Vec::new();
     for _ in 0..3 {
         let t = Instant::now();
+        let c = children_cpu();
         let result = Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
             .args(["correct", "--at", "120", "-o"])
             .arg(&out)
@@ -117,17 +135,45 @@ fn end_to_end() {
             String::from_utf8_lossy(&result.stderr)
         );
         times.push(t.elapsed());
+        cpu.push(children_cpu() - c);
     }
     let peak = children_peak_kb();
-    let (cp, rt) = (median(cp_times), median(times));
+    // `targets` after `correct`: the peak memory read next is the larger
+    // of the two runs'.
+    let mut listing = Vec::new();
+    let mut listing_cpu = Vec::new();
+    for _ in 0..3 {
+        let t = Instant::now();
+        let c = children_cpu();
+        let status = Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
+            .arg("targets")
+            .arg(&input)
+            .stdout(std::process::Stdio::null())
+            .status()
+            .expect("rapidtherm");
+        assert!(status.success());
+        listing.push(t.elapsed());
+        listing_cpu.push(children_cpu() - c);
+    }
+    let listing_peak = children_peak_kb();
+    let (cp, rt, ls) = (median(cp_times), median(times), median(listing));
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     eprintln!(
-        "end to end, {n} inline targets ({size_mb:.1} MB): cp {:.3} s (peak {} MB); rapidtherm correct {:.2} s = {:.1} MB/s, {:.2} µs/target (peak {} MB)",
+        "end to end, {n} inline targets ({size_mb:.1} MB), medians of 3, load average {}:\n  cp {:.3} s (peak {} MB)\n  rapidtherm correct --at 120 -o OUT {:.2} s = {:.1} x cp, {:.1} MB/s, {:.2} µs/target, CPU {:.2} s (peak {} MB = {:.2} x the file)\n  rapidtherm targets {:.2} s = {:.1} MB/s, CPU {:.2} s (peak of both runs {} MB)",
+        load.split_whitespace().take(3).collect::<Vec<_>>().join(" "),
         cp.as_secs_f64(),
         cp_peak / 1024,
         rt.as_secs_f64(),
+        rt.as_secs_f64() / cp.as_secs_f64(),
         size_mb / rt.as_secs_f64(),
         rt.as_secs_f64() * 1e6 / n as f64,
-        peak / 1024
+        median(cpu).as_secs_f64(),
+        peak / 1024,
+        peak as f64 * 1024.0 / 1e6 / size_mb,
+        ls.as_secs_f64(),
+        size_mb / ls.as_secs_f64(),
+        median(listing_cpu).as_secs_f64(),
+        listing_peak / 1024
     );
     black_box(out);
 }

@@ -10,6 +10,7 @@ use crate::error::{Error, Result};
 use crate::rapid::{Program, TargetKind};
 use crate::robot::frames::pose_from_rapid;
 use serde::Serialize;
+use std::collections::HashMap;
 
 /// One target present in both programs.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -54,6 +55,12 @@ pub struct Summary {
 /// Compare every robtarget and jointtarget of `a` with the one of the same
 /// identifier in `b`.
 pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
+    // Identifiers compared as RAPID compares names (without regard to
+    // case), each looked up once: a scan of the other program per target
+    // made two backups of 20,000 targets take half a minute.
+    let (a_ids, b_ids) = (by_id(a.targets(), |t| &t.id), by_id(b.targets(), |t| &t.id));
+    let a_joints = by_id(a.jointtargets(), |j| &j.id);
+    let b_joints = by_id(b.jointtargets(), |j| &j.id);
     let mut targets = Vec::new();
     let mut only_in_a = Vec::new();
     let mut derived = 0;
@@ -62,7 +69,10 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
             derived += 1;
             continue;
         }
-        let Some(tb) = b.target(&ta.id) else {
+        let Some(tb) = b_ids
+            .get(&ta.id.to_ascii_lowercase())
+            .map(|&i| &b.targets()[i])
+        else {
             only_in_a.push(ta.id.clone());
             continue;
         };
@@ -106,10 +116,9 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
         });
     }
     for ja in a.jointtargets() {
-        let Some(jb) = b
-            .jointtargets()
-            .iter()
-            .find(|j| j.id.eq_ignore_ascii_case(&ja.id))
+        let Some(jb) = b_joints
+            .get(&ja.id.to_ascii_lowercase())
+            .map(|&i| &b.jointtargets()[i])
         else {
             only_in_a.push(ja.id.clone());
             continue;
@@ -133,16 +142,14 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
     let only_in_b = b
         .targets()
         .iter()
-        .filter(|t| t.kind != TargetKind::Derived && a.target(&t.id).is_none())
+        .filter(|t| {
+            t.kind != TargetKind::Derived && !a_ids.contains_key(&t.id.to_ascii_lowercase())
+        })
         .map(|t| t.id.clone())
         .chain(
             b.jointtargets()
                 .iter()
-                .filter(|j| {
-                    !a.jointtargets()
-                        .iter()
-                        .any(|x| x.id.eq_ignore_ascii_case(&j.id))
-                })
+                .filter(|j| !a_joints.contains_key(&j.id.to_ascii_lowercase()))
                 .map(|j| j.id.clone()),
         )
         .collect();
@@ -154,6 +161,16 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
         derived,
         summary,
     })
+}
+
+/// Index of the first item of each identifier, by its identifier in
+/// ASCII lower case (what `eq_ignore_ascii_case` compares).
+fn by_id<T>(items: &[T], id: impl Fn(&T) -> &String) -> HashMap<String, usize> {
+    let mut out = HashMap::with_capacity(items.len());
+    for (i, t) in items.iter().enumerate() {
+        out.entry(id(t).to_ascii_lowercase()).or_insert(i);
+    }
+    out
 }
 
 fn summarise(targets: &[TargetDelta]) -> Summary {

@@ -15,42 +15,180 @@ pub enum Align {
 /// two spaces apart, header underlined with dashes. Numbers are usually
 /// right-aligned so that decimal points line up.
 pub fn render_table(header: &[&str], align: &[Align], rows: &[Vec<String>]) -> String {
-    let ncol = header.len();
-    let mut width: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    let mut cells = Rows::default();
     for row in rows {
-        for (i, cell) in row.iter().enumerate().take(ncol) {
-            width[i] = width[i].max(cell.chars().count());
+        for cell in row {
+            cells.cell(cell);
+        }
+        cells.end_row();
+    }
+    let mut out = Vec::new();
+    // Writing to a Vec cannot fail.
+    let _ = write_table(&mut out, header, align, &[cells]);
+    String::from_utf8(out).unwrap_or_default()
+}
+
+/// Rows of cells as they are made, their text in one buffer: a table of
+/// a million rows is one string, not sixteen million.
+#[derive(Debug, Default)]
+pub struct Rows {
+    text: String,
+    /// Where each cell ends in `text`.
+    ends: Vec<usize>,
+    /// Where each row ends in `ends`.
+    rows: Vec<usize>,
+    /// The widest cell of each column so far, in characters.
+    width: Vec<usize>,
+}
+
+impl Rows {
+    /// The buffer the next cell is written into; [`Rows::end_cell`] ends
+    /// it.
+    pub fn text(&mut self) -> &mut String {
+        &mut self.text
+    }
+
+    /// End the cell written since the last one.
+    pub fn end_cell(&mut self) {
+        let start = self.ends.last().copied().unwrap_or(0);
+        let col = self.ends.len() - self.rows.last().copied().unwrap_or(0);
+        let cell = &self.text[start..];
+        let n = if cell.is_ascii() {
+            cell.len()
+        } else {
+            cell.chars().count()
+        };
+        if self.width.len() <= col {
+            self.width.resize(col + 1, 0);
+        }
+        self.width[col] = self.width[col].max(n);
+        self.ends.push(self.text.len());
+    }
+
+    /// A whole cell.
+    pub fn cell(&mut self, s: &str) {
+        self.text.push_str(s);
+        self.end_cell();
+    }
+
+    pub fn end_row(&mut self) {
+        self.rows.push(self.ends.len());
+    }
+
+    /// How many rows.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// Forget every row, keeping the buffers.
+    pub fn clear(&mut self) {
+        self.text.clear();
+        self.ends.clear();
+        self.rows.clear();
+    }
+
+    /// The cells of row `i`.
+    pub fn row(&self, i: usize) -> impl Iterator<Item = &str> {
+        let first = if i == 0 { 0 } else { self.rows[i - 1] };
+        (first..self.rows[i]).map(move |c| {
+            let start = if c == 0 { 0 } else { self.ends[c - 1] };
+            &self.text[start..self.ends[c]]
+        })
+    }
+}
+
+/// [`render_table`] written out as it is laid out, of rows made in parts
+/// (by several threads): the columns as wide as the widest cell of all.
+/// The parts' lines are laid out on every core, a few parts at a time.
+pub fn write_table(
+    out: &mut dyn std::io::Write,
+    header: &[&str],
+    align: &[Align],
+    parts: &[Rows],
+) -> std::io::Result<()> {
+    use rayon::prelude::*;
+    let mut width: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for part in parts {
+        for (w, p) in width.iter_mut().zip(&part.width) {
+            *w = (*w).max(*p);
         }
     }
-    let line = |cells: &mut dyn Iterator<Item = &str>| -> String {
-        let mut out = String::new();
+    let layout = Layout {
+        width: &width,
+        align,
+    };
+    let mut buf = String::new();
+    layout.line(&mut buf, &mut header.iter().copied());
+    let rule: Vec<String> = width.iter().map(|w| "-".repeat(*w)).collect();
+    layout.line(&mut buf, &mut rule.iter().map(String::as_str));
+    out.write_all(buf.as_bytes())?;
+    for group in parts.chunks(2 * rayon::current_num_threads().max(1)) {
+        let texts: Vec<String> = group
+            .par_iter()
+            .map(|part| {
+                let mut text = String::with_capacity(part.text.len() * 3 / 2);
+                for i in 0..part.len() {
+                    layout.line(&mut text, &mut part.row(i));
+                }
+                text
+            })
+            .collect();
+        for t in texts {
+            out.write_all(t.as_bytes())?;
+        }
+    }
+    Ok(())
+}
+
+/// How a table's lines are laid out.
+struct Layout<'a> {
+    width: &'a [usize],
+    align: &'a [Align],
+}
+
+impl Layout<'_> {
+    /// One line of `cells` at the end of `out`: padded, two spaces apart,
+    /// no blanks at its end.
+    fn line(&self, out: &mut String, cells: &mut dyn Iterator<Item = &str>) {
+        const SPACES: &str = "                                                                ";
+        let pad = |out: &mut String, mut n: usize| {
+            while n > 0 {
+                let k = n.min(SPACES.len());
+                out.push_str(&SPACES[..k]);
+                n -= k;
+            }
+        };
+        let ncol = self.width.len();
+        let start = out.len();
         for (i, cell) in cells.enumerate().take(ncol) {
             if i > 0 {
                 out.push_str("  ");
             }
-            let pad = width[i] - cell.chars().count();
-            let right = align.get(i).copied().unwrap_or(Align::Left) == Align::Right;
+            let n = if cell.is_ascii() {
+                cell.len()
+            } else {
+                cell.chars().count()
+            };
+            let fill = self.width[i] - n;
+            let right = self.align.get(i).copied().unwrap_or(Align::Left) == Align::Right;
             if right {
-                out.extend(std::iter::repeat_n(' ', pad));
+                pad(out, fill);
                 out.push_str(cell);
             } else {
                 out.push_str(cell);
                 if i + 1 < ncol {
-                    out.extend(std::iter::repeat_n(' ', pad));
+                    pad(out, fill);
                 }
             }
         }
-        out.truncate(out.trim_end().len());
+        let end = start + out[start..].trim_end().len();
+        out.truncate(end);
         out.push('\n');
-        out
-    };
-    let mut out = line(&mut header.iter().copied());
-    let rule: Vec<String> = width.iter().map(|w| "-".repeat(*w)).collect();
-    out.push_str(&line(&mut rule.iter().map(String::as_str)));
-    for row in rows {
-        out.push_str(&line(&mut row.iter().map(String::as_str)));
     }
-    out
 }
 
 /// Rows as CSV (RFC 4180 quoting where a cell needs it).
@@ -63,6 +201,92 @@ pub fn render_csv(header: &[&str], rows: &[Vec<String>]) -> String {
     }
     let bytes = w.into_inner().unwrap_or_default();
     String::from_utf8(bytes).unwrap_or_default()
+}
+
+/// Write `v` as `{v}` writes it (the shortest text that reads back as
+/// the same number), `-0` as `0`.
+pub fn shortest(buf: &mut String, v: f64) {
+    use std::fmt::Write as _;
+    let start = buf.len();
+    let _ = write!(buf, "{v}");
+    if &buf[start..] == "-0" {
+        buf.truncate(start);
+        buf.push('0');
+    }
+}
+
+/// [`shortest`] of the number a decimal literal reads as, from its text
+/// alone (`+420.080` → `420.08`, `-.5` → `-0.5`, `-0.0` → `0`): without
+/// formatting a float, which is most of the time a listing of a million
+/// targets takes. Only for literals without exponent of at most 15
+/// significant digits (counting zeros after the point), where it is
+/// exact: two such decimals never read as the same `f64`, so the literal
+/// is the one shortest text of its value. `false` (nothing written)
+/// otherwise.
+pub fn shortest_of_literal(buf: &mut String, text: &str) -> bool {
+    let (negative, digits) = match text.as_bytes().first() {
+        Some(b'-') => (true, &text[1..]),
+        Some(b'+') => (false, &text[1..]),
+        _ => (false, text),
+    };
+    let (int, frac) = match digits.bytes().position(|c| c == b'.') {
+        Some(p) => (&digits[..p], &digits[p + 1..]),
+        None => (digits, ""),
+    };
+    if int.is_empty() && frac.is_empty()
+        || !int.bytes().chain(frac.bytes()).all(|c| c.is_ascii_digit())
+    {
+        return false;
+    }
+    let int = int.trim_start_matches('0');
+    let frac = frac.trim_end_matches('0');
+    if int.len() + frac.len() > 15 {
+        return false;
+    }
+    if int.is_empty() && frac.is_empty() {
+        buf.push('0');
+        return true;
+    }
+    if negative {
+        buf.push('-');
+    }
+    if int.is_empty() {
+        buf.push('0');
+    }
+    buf.push_str(int);
+    if !frac.is_empty() {
+        buf.push('.');
+        buf.push_str(frac);
+    }
+    true
+}
+
+/// [`shortest`] of `(v * 1e4).round() / 1e4`, what a listing shows of an
+/// angle (to 0.0001°). The quotient of the rounded integer by 10⁴ is the
+/// `f64` nearest to that decimal, and so (it has at most 15 significant
+/// digits) prints as it: written from the integer, without formatting a
+/// float.
+pub fn shortest_to_4_places(buf: &mut String, v: f64) {
+    use std::fmt::Write as _;
+    let r = (v * 1e4).round();
+    if r.is_nan() || r.abs() >= 1e15 {
+        shortest(buf, r / 1e4);
+        return;
+    }
+    let k = r as i64;
+    if k < 0 {
+        buf.push('-');
+    }
+    let (int, mut frac) = (k.unsigned_abs() / 10_000, k.unsigned_abs() % 10_000);
+    let _ = write!(buf, "{int}");
+    if frac > 0 {
+        let mut places = 4;
+        while frac % 10 == 0 {
+            frac /= 10;
+            places -= 1;
+        }
+        let _ = write!(buf, ".{frac:0places$}");
+    }
 }
 
 /// A length in mm with a fixed number of decimals, `-0.000` printed as
@@ -97,6 +321,70 @@ mod tests {
     fn csv_quotes_when_needed() {
         let rows = vec![vec!["a,b".to_string(), "1".to_string()]];
         assert_eq!(render_csv(&["name", "v"], &rows), "name,v\n\"a,b\",1\n");
+    }
+
+    #[test]
+    fn literals_print_as_their_value_would() {
+        for text in [
+            "420.080",
+            "+420.08",
+            "-150.000",
+            "-.5",
+            ".5",
+            "1.",
+            "007",
+            "-0.0",
+            "0",
+            "-0",
+            "0.000120",
+            "123456789012345",
+            "-99999.9999999999",
+            "1000000",
+            "0.000000000000001",
+        ] {
+            let mut buf = String::new();
+            assert!(shortest_of_literal(&mut buf, text), "{text}");
+            let mut want = String::new();
+            shortest(&mut want, text.parse::<f64>().unwrap());
+            assert_eq!(buf, want, "{text}");
+        }
+        for text in [
+            "9E9",
+            "1234567890123456",
+            "0.0000000000000001",
+            "-",
+            ".",
+            "1.2.3",
+            "",
+        ] {
+            assert!(!shortest_of_literal(&mut String::new(), text), "{text}");
+        }
+    }
+
+    #[test]
+    fn angles_print_as_their_rounded_value_would() {
+        for v in [
+            180.0,
+            -180.0,
+            0.0,
+            -0.0,
+            -0.00001,
+            0.00005,
+            12.34565,
+            -45.000049,
+            89.99999,
+            1e-9,
+            -123.45678,
+            1e11,
+            3e15,
+            f64::NAN,
+        ] {
+            let mut buf = String::new();
+            shortest_to_4_places(&mut buf, v);
+            let mut want = String::new();
+            shortest(&mut want, (v * 1e4).round() / 1e4);
+            assert_eq!(buf, want, "{v}");
+        }
     }
 
     #[test]

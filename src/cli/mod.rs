@@ -27,6 +27,7 @@ mod plot;
 mod schedule;
 mod stream;
 mod targets;
+mod targets_fast;
 mod tasks;
 
 use clap::{CommandFactory, Parser, Subcommand};
@@ -185,7 +186,12 @@ pub fn read_program(files: &[std::path::PathBuf]) -> Result<(Inputs, rapidtherm:
 /// panic: the reader has what it wanted).
 pub fn write_stdout(bytes: &[u8]) -> Result<()> {
     let mut out = std::io::stdout().lock();
-    match out.write_all(bytes).and_then(|_| out.flush()) {
+    stdout_written(out.write_all(bytes).and_then(|_| out.flush()))
+}
+
+/// What writing to standard output came to, as [`write_stdout`] takes it.
+pub fn stdout_written(r: std::io::Result<()>) -> Result<()> {
+    match r {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         Err(e) => Err(Error::io(Path::new("<stdout>"), &e)),

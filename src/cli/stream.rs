@@ -38,23 +38,18 @@ pub fn correct(
     let [path] = task.modules.as_slice() else {
         return Ok(None);
     };
-    let plain_file =
-        |p: &Path| p != Path::new("-") && std::fs::metadata(p).is_ok_and(|m| m.is_file());
     if task.name.is_some()
-        || !plain_file(path)
+        || !is_plain_file(path)
         || out == Path::new("-")
         || std::fs::metadata(out).is_ok_and(|m| !m.is_file())
     {
         return Ok(None);
     }
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
-    // SAFETY: the map is read while this run holds it; a program being
-    // rewritten by another process as it is corrected is outside what
-    // any reader can promise (the whole-program path would read a mix
-    // too).
-    let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| Error::io(path, &e))?;
+    let map = map_file(path)?;
     let src: &[u8] = &map;
+    let started = std::time::Instant::now();
     let skeleton = rapid::fastmove::skeleton(src);
+    messages::took("cutting the moves out", started);
     if skeleton.cuts.is_empty() {
         return Ok(None);
     }
@@ -72,6 +67,7 @@ pub fn correct(
     let Ok((_, warm, options)) = warm_run(args, model, task, arm, when) else {
         return Ok(None);
     };
+    let started = std::time::Instant::now();
     let streamed = output::write_atomic_with(out, None, |file| {
         let mut sink = std::io::BufWriter::with_capacity(1 << 20, &mut *file);
         let Some(s) = correct_streamed(&program, &skeleton, src, &warm, &options, &mut sink)?
@@ -91,6 +87,7 @@ pub fn correct(
     let Some(streamed) = streamed else {
         return Ok(None);
     };
+    messages::took("correcting and writing", started);
     for note in &task.notes {
         note!("{note}");
     }
@@ -100,4 +97,19 @@ pub fn correct(
     note_still(still);
     messages::lines(&summary_text(&streamed.outcome));
     Ok(Some(Status::Success))
+}
+
+/// A file by name, not standard input, a folder or a device.
+pub fn is_plain_file(p: &Path) -> bool {
+    p != Path::new("-") && std::fs::metadata(p).is_ok_and(|m| m.is_file())
+}
+
+/// The bytes of `path`, memory-mapped: a program of 100 MB is read as the
+/// work needs it, not copied first.
+pub fn map_file(path: &Path) -> Result<memmap2::Mmap> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
+    // SAFETY: the map is read while this run holds it; a program being
+    // rewritten by another process as it is read is outside what any
+    // reader can promise (the whole-program path would read a mix too).
+    unsafe { memmap2::Mmap::map(&file) }.map_err(|e| Error::io(path, &e))
 }

@@ -2,11 +2,17 @@
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::error::Result;
-use rapidtherm::rapid::{self, Target};
-use rapidtherm::report::{render_csv, render_table, Align};
+use rapidtherm::rapid::{self, Number, Program, Target};
+use rapidtherm::report::{
+    render_csv, render_table, shortest, shortest_of_literal, shortest_to_4_places, write_table,
+    Align, Rows,
+};
 use rapidtherm::resolve::{self, Usage};
 use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::pose_from_rapid;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::io::Write;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -29,29 +35,26 @@ pub struct TargetsArgs {
 
 /// Shortest text that reads back as the same number.
 fn n(v: f64) -> String {
-    let s = format!("{v}");
-    if s == "-0" {
-        "0".into()
-    } else {
-        s
-    }
+    let mut s = String::new();
+    shortest(&mut s, v);
+    s
 }
 
-fn values(t: &Target) -> Vec<String> {
-    match &t.value {
-        Some(v) => v
-            .trans_values()
-            .into_iter()
-            .chain(v.rot_values())
-            .chain(v.robconf_values())
-            .map(n)
-            .collect(),
-        None => vec![String::new(); 11],
+/// [`n`] of a number of the source `src`, written at the end of `buf`:
+/// from its text where that gives the same.
+fn num(buf: &mut String, x: &Number, src: &[u8]) {
+    let text = x.text(src);
+    let same_sign = text.starts_with('-') == x.value.is_sign_negative();
+    if !(same_sign && shortest_of_literal(buf, text)) {
+        shortest(buf, x.value);
     }
 }
 
 pub fn run(args: TargetsArgs) -> Result<Status> {
     let tasks = super::tasks::select(&args.files, &args.pick)?;
+    if let Some(status) = super::targets_fast::run(&args, &tasks)? {
+        return Ok(status);
+    }
     let refs: Vec<&rapidtherm::rapid::task::Task> = tasks.iter().collect();
     let labels = super::tasks::labels(&refs);
     let mut texts = Vec::new();
@@ -78,17 +81,17 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
 /// pair's first use, so the first is the one `correct` corrects it for.
 /// Names as written, `tool0`/`wobj0` where the move names none (RAPID's
 /// defaults). Empty: no move instruction reaches the target.
-fn pairs(t: &Target, uses: Option<&Vec<Usage>>) -> Vec<(String, String)> {
+fn pairs<'a>(t: &'a Target, uses: Option<&'a Vec<Usage>>) -> Vec<(&'a str, &'a str)> {
     match uses {
         Some(u) if !u.is_empty() => resolve::uses_by_frames(u)
             .iter()
-            .map(|g| (g[0].tool_name().to_string(), g[0].wobj_name().to_string()))
+            .map(|g| (g[0].tool_name(), g[0].wobj_name()))
             .collect(),
         // A derived target written in a move (`MoveL Offs(p10, ...)`):
         // its bases carry the uses, the target the move's own names.
         _ if t.instruction.is_some() => vec![(
-            t.tool.as_deref().unwrap_or("tool0").to_string(),
-            t.wobj.as_deref().unwrap_or("wobj0").to_string(),
+            t.tool.as_deref().unwrap_or("tool0"),
+            t.wobj.as_deref().unwrap_or("wobj0"),
         )],
         _ => Vec::new(),
     }
@@ -102,236 +105,400 @@ fn euler(t: &Target) -> Option<[f64; 3]> {
     Some(euler_zyx_deg(&pose.rotation))
 }
 
-/// An angle for the listing: to 0.0001° (what RobotStudio shows), in the
-/// shortest text.
-fn angle(v: f64) -> String {
-    n((v * 1e4).round() / 1e4)
-}
-
 /// The listing of one program's robtargets.
 fn listing(
     args: &TargetsArgs,
     inputs: &super::Inputs,
     prog: &rapidtherm::rapid::Program,
 ) -> Result<String> {
-    let several = inputs.len() > 1;
-    // Declared derived targets (`CONST robtarget p20 := Offs(p10, ...)`)
-    // with the moves that name them: `usages` gives those to no target.
+    let lister = Lister {
+        prog,
+        several: inputs.len() > 1,
+        format: args.format,
+    };
+    let uses = all_uses(prog);
+    let mut sink = lister.sink();
+    for (i, t) in prog.targets().iter().enumerate() {
+        lister.add(&mut sink, t, uses.get(&i), prog.source(t.origin.file));
+    }
+    let mut out = Vec::new();
+    // Writing to a Vec cannot fail.
+    let _ = lister.finish(vec![sink], &mut out);
+    Ok(String::from_utf8(out).unwrap_or_default())
+}
+
+/// The moves that reach each target: those [`resolve::usages`] finds, and
+/// the moves naming declared derived targets (`CONST robtarget p20 :=
+/// Offs(p10, ...)`), which it gives to no target.
+pub(super) fn all_uses(prog: &Program) -> HashMap<usize, Vec<Usage>> {
     let mut uses = resolve::usages(prog);
     uses.extend(resolve::declared_derived_usages(prog));
-    let opt = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
-    let eulers = |t: &Target| -> Vec<String> {
-        match euler(t) {
-            Some(e) => e.iter().map(|v| angle(*v)).collect(),
-            None => vec![String::new(); 3],
+    uses
+}
+
+/// Makes the rows of one program's listing; the whole program and the
+/// streamed file (`targets_fast`) share it, so both print the same bytes.
+pub(super) struct Lister<'p> {
+    pub prog: &'p Program,
+    /// Several files: the table's `at` names the file.
+    pub several: bool,
+    pub format: Format,
+}
+
+/// Rows made so far (by one thread), in the format of the listing.
+pub(super) enum Sink {
+    Table {
+        rows: Rows,
+        several_pairs: bool,
+        unused: bool,
+    },
+    Csv {
+        row: Rows,
+        out: Box<csv::Writer<Vec<u8>>>,
+    },
+    /// The items pretty-printed one level in, `,\n` between them.
+    Json { out: Vec<u8>, items: usize },
+}
+
+const TABLE_HEADER: [&str; 16] = [
+    "target", "kind", "at", "x_mm", "y_mm", "z_mm", "q1", "q2", "q3", "q4", "rx_deg", "ry_deg",
+    "rz_deg", "robconf", "tool", "wobj",
+];
+
+// Scripts read these columns by name or place: new ones are added at the
+// end, none renamed.
+const CSV_HEADER: [&str; 28] = [
+    "target",
+    "kind",
+    "file",
+    "line",
+    "col",
+    "x",
+    "y",
+    "z",
+    "q1",
+    "q2",
+    "q3",
+    "q4",
+    "cf1",
+    "cf4",
+    "cf6",
+    "cfx",
+    "tool",
+    "wobj",
+    "instruction",
+    "module",
+    "routine",
+    "derived_from",
+    "expression",
+    "rx_deg",
+    "ry_deg",
+    "rz_deg",
+    "frames",
+    "moves",
+];
+
+impl Lister<'_> {
+    pub fn sink(&self) -> Sink {
+        match self.format {
+            Format::Table => Sink::Table {
+                rows: Rows::default(),
+                several_pairs: false,
+                unused: false,
+            },
+            Format::Csv => Sink::Csv {
+                row: Rows::default(),
+                out: Box::new(csv::WriterBuilder::new().from_writer(Vec::new())),
+            },
+            Format::Json => Sink::Json {
+                out: Vec::new(),
+                items: 0,
+            },
         }
-    };
-    let out = match args.format {
-        Format::Table => {
-            let header = [
-                "target", "kind", "at", "x_mm", "y_mm", "z_mm", "q1", "q2", "q3", "q4", "rx_deg",
-                "ry_deg", "rz_deg", "robconf", "tool", "wobj",
-            ];
-            let mut align = vec![Align::Left, Align::Left, Align::Left];
-            align.extend([Align::Right; 10]);
-            align.extend([Align::Left; 3]);
-            let (mut several_pairs, mut unused) = (false, false);
-            let rows: Vec<Vec<String>> = prog
-                .targets()
-                .iter()
-                .enumerate()
-                .map(|(i, t)| {
-                    let at = if several {
-                        format!(
-                            "{}:{}:{}",
-                            prog.files[t.origin.file], t.origin.pos.line, t.origin.pos.col
-                        )
-                    } else {
-                        format!("{}:{}", t.origin.pos.line, t.origin.pos.col)
-                    };
-                    let mut r = vec![t.id.clone(), t.kind.as_str().to_string(), at];
-                    let v = values(t);
-                    match &t.derived {
-                        Some(d) if t.value.is_none() => {
-                            r.extend(std::iter::repeat_n(String::new(), 10));
-                            r.push(format!("= {}", d.expr));
+    }
+
+    /// The row of target `t`, reached by the moves `uses`, its numbers
+    /// written in `src`.
+    pub fn add(&self, sink: &mut Sink, t: &Target, uses: Option<&Vec<Usage>>, src: &[u8]) {
+        let prog = self.prog;
+        match sink {
+            Sink::Table {
+                rows,
+                several_pairs,
+                unused,
+            } => {
+                rows.cell(&t.id);
+                rows.cell(t.kind.as_str());
+                let (line, col) = (t.origin.pos.line, t.origin.pos.col);
+                let _ = if self.several {
+                    write!(rows.text(), "{}:{line}:{col}", prog.files[t.origin.file])
+                } else {
+                    write!(rows.text(), "{line}:{col}")
+                };
+                rows.end_cell();
+                match &t.derived {
+                    Some(d) if t.value.is_none() => {
+                        for _ in 0..10 {
+                            rows.cell("");
                         }
-                        _ => {
-                            r.extend(v[..7].iter().cloned());
-                            r.extend(eulers(t));
-                            r.push(format!("[{}]", v[7..11].join(",")));
+                        let _ = write!(rows.text(), "= {}", d.expr);
+                        rows.end_cell();
+                    }
+                    _ => {
+                        let v = t.value.as_ref();
+                        for x in v.into_iter().flat_map(|v| v.trans.iter().chain(&v.rot)) {
+                            num(rows.text(), x, src);
+                            rows.end_cell();
+                        }
+                        if v.is_none() {
+                            for _ in 0..7 {
+                                rows.cell("");
+                            }
+                        }
+                        eulers(rows, t);
+                        rows.text().push('[');
+                        for i in 0..4 {
+                            if i > 0 {
+                                rows.text().push(',');
+                            }
+                            if let Some(v) = v {
+                                num(rows.text(), &v.robconf[i], src);
+                            }
+                        }
+                        rows.text().push(']');
+                        rows.end_cell();
+                    }
+                }
+                let p = pairs(t, uses);
+                *several_pairs |= p.len() > 1;
+                *unused |= p.is_empty();
+                if p.is_empty() {
+                    rows.cell("-");
+                    rows.cell("-");
+                } else {
+                    join(rows, p.iter().map(|x| x.0), ",");
+                    join(rows, p.iter().map(|x| x.1), ",");
+                }
+                rows.end_row();
+            }
+            Sink::Csv { row, out } => {
+                row.clear();
+                row.cell(&t.id);
+                row.cell(t.kind.as_str());
+                row.cell(&prog.files[t.origin.file]);
+                let _ = write!(row.text(), "{}", t.origin.pos.line);
+                row.end_cell();
+                let _ = write!(row.text(), "{}", t.origin.pos.col);
+                row.end_cell();
+                match &t.value {
+                    Some(v) => {
+                        for x in v.trans.iter().chain(&v.rot).chain(&v.robconf) {
+                            num(row.text(), x, src);
+                            row.end_cell();
                         }
                     }
-                    let p = pairs(t, uses.get(&i));
-                    several_pairs |= p.len() > 1;
-                    unused |= p.is_empty();
-                    if p.is_empty() {
-                        r.extend(["-".to_string(), "-".to_string()]);
-                    } else {
-                        let (tools, wobjs): (Vec<String>, Vec<String>) = p.into_iter().unzip();
-                        r.push(tools.join(","));
-                        r.push(wobjs.join(","));
+                    None => {
+                        for _ in 0..11 {
+                            row.cell("");
+                        }
                     }
-                    r
-                })
-                .collect();
-            let mut text = render_table(&header, &align, &rows);
-            if !rows.is_empty() {
-                text.push_str(LEGEND);
+                }
+                let p = pairs(t, uses);
+                let first = p.first().copied().unwrap_or_default();
+                row.cell(first.0);
+                row.cell(first.1);
+                row.cell(t.instruction.as_deref().unwrap_or(""));
+                row.cell(&t.origin.module);
+                row.cell(t.origin.routine.as_deref().unwrap_or(""));
+                match &t.derived {
+                    Some(d) => {
+                        join(row, d.bases.iter().map(String::as_str), " ");
+                        row.cell(&d.expr);
+                    }
+                    None => {
+                        row.cell("");
+                        row.cell("");
+                    }
+                }
+                eulers(row, t);
+                for (k, (tool, wobj)) in p.iter().enumerate() {
+                    let _ = write!(row.text(), "{}{tool}/{wobj}", if k > 0 { " " } else { "" });
+                }
+                row.end_cell();
+                let _ = write!(row.text(), "{}", moves(t, uses));
+                row.end_cell();
+                row.end_row();
+                // Writing to a Vec cannot fail.
+                let _ = out.write_record(row.row(0));
             }
-            if several_pairs {
-                text.push_str(LEGEND_PAIRS);
+            Sink::Json { out, items } => {
+                let item = json_item(prog, t, uses);
+                let text = serde_json::to_string_pretty(&item).unwrap_or_default();
+                if *items > 0 {
+                    out.extend_from_slice(b",\n");
+                }
+                for (k, line) in text.split('\n').enumerate() {
+                    if k > 0 {
+                        out.push(b'\n');
+                    }
+                    out.extend_from_slice(b"  ");
+                    out.extend_from_slice(line.as_bytes());
+                }
+                *items += 1;
             }
-            if unused {
-                text.push_str(LEGEND_UNUSED);
-            }
-            text
         }
-        Format::Csv => {
-            // Scripts read these columns by name or place: new ones are
-            // added at the end, none renamed.
-            let header = [
-                "target",
-                "kind",
-                "file",
-                "line",
-                "col",
-                "x",
-                "y",
-                "z",
-                "q1",
-                "q2",
-                "q3",
-                "q4",
-                "cf1",
-                "cf4",
-                "cf6",
-                "cfx",
-                "tool",
-                "wobj",
-                "instruction",
-                "module",
-                "routine",
-                "derived_from",
-                "expression",
-                "rx_deg",
-                "ry_deg",
-                "rz_deg",
-                "frames",
-                "moves",
-            ];
-            let rows: Vec<Vec<String>> = prog
-                .targets()
-                .iter()
-                .enumerate()
-                .map(|(i, t)| {
-                    let mut r = vec![
-                        t.id.clone(),
-                        t.kind.as_str().to_string(),
-                        prog.files[t.origin.file].clone(),
-                        t.origin.pos.line.to_string(),
-                        t.origin.pos.col.to_string(),
-                    ];
-                    r.extend(values(t));
-                    let p = pairs(t, uses.get(&i));
-                    let first = p.first().cloned().unwrap_or_default();
-                    r.push(first.0);
-                    r.push(first.1);
-                    r.push(opt(&t.instruction));
-                    r.push(t.origin.module.to_string());
-                    r.push(opt(&t.origin.routine));
-                    let (bases, expr) = t
-                        .derived
-                        .as_ref()
-                        .map(|d| (d.bases.join(" "), d.expr.clone()))
-                        .unwrap_or_default();
-                    r.push(bases);
-                    r.push(expr);
-                    r.extend(eulers(t));
-                    let all: Vec<String> = p.iter().map(|(t, w)| format!("{t}/{w}")).collect();
-                    r.push(all.join(" "));
-                    r.push(moves(t, uses.get(&i)).to_string());
-                    r
-                })
-                .collect();
-            render_csv(&header, &rows)
-        }
-        Format::Json => {
-            let items: Vec<serde_json::Value> = prog
-                .targets()
-                .iter()
-                .enumerate()
-                .map(|(i, t)| {
-                    let v = t.value.as_ref();
-                    let p = pairs(t, uses.get(&i));
-                    let first = p.first();
-                    let use_json = |tool: &str, wobj: &str, instruction: &str, routine, line| {
-                        serde_json::json!({
-                            "tool": tool,
-                            "wobj": wobj,
-                            "instruction": instruction,
-                            "routine": routine,
-                            "line": line,
-                        })
-                    };
-                    let mut listed: Vec<serde_json::Value> = uses
-                        .get(&i)
-                        .into_iter()
-                        .flatten()
-                        .map(|u| {
-                            use_json(
-                                u.tool_name(),
-                                u.wobj_name(),
-                                &u.instruction,
-                                Some(u.routine.as_str()),
-                                u.line,
-                            )
-                        })
-                        .collect();
-                    // A derived target written in a move: that move.
-                    if let (true, Some(instruction), Some((tool, wobj))) =
-                        (listed.is_empty(), t.instruction.as_deref(), first)
+    }
+
+    /// Write the listing of the rows of `parts`, in order.
+    pub fn finish(&self, parts: Vec<Sink>, out: &mut dyn Write) -> std::io::Result<()> {
+        match self.format {
+            Format::Table => {
+                let mut tables = Vec::with_capacity(parts.len());
+                let (mut several, mut unused) = (false, false);
+                for p in parts {
+                    if let Sink::Table {
+                        rows,
+                        several_pairs,
+                        unused: u,
+                    } = p
                     {
-                        listed.push(use_json(
-                            tool,
-                            wobj,
-                            instruction,
-                            t.origin.routine.as_deref(),
-                            t.origin.pos.line,
-                        ));
+                        several |= several_pairs;
+                        unused |= u;
+                        tables.push(rows);
                     }
-                    serde_json::json!({
-                        "target": t.id,
-                        "kind": t.kind.as_str(),
-                        "file": prog.files[t.origin.file],
-                        "line": t.origin.pos.line,
-                        "col": t.origin.pos.col,
-                        "module": &*t.origin.module,
-                        "routine": t.origin.routine.as_deref(),
-                        "trans": v.map(|v| v.trans_values()),
-                        "rot": v.map(|v| v.rot_values()),
-                        "euler_zyx_deg": euler(t).map(|e| e.map(|a| (a * 1e9).round() / 1e9)),
-                        "robconf": v.map(|v| v.robconf_values()),
-                        "extax": v.map(|v| v.extax_values()),
-                        "instruction": t.instruction.as_deref(),
-                        "tool": first.map(|f| &f.0),
-                        "wobj": first.map(|f| &f.1),
-                        "frames": p.iter().map(|(t, w)| serde_json::json!({"tool": t, "wobj": w})).collect::<Vec<_>>(),
-                        "uses": listed,
-                        "derived": t.derived.as_ref().map(|d| serde_json::json!({
-                            "expression": d.expr,
-                            "function": d.function,
-                            "bases": d.bases,
-                        })),
-                    })
-                })
-                .collect();
-            let mut s = serde_json::to_string_pretty(&items).unwrap_or_default();
-            s.push('\n');
-            s
+                }
+                let mut align = vec![Align::Left, Align::Left, Align::Left];
+                align.extend([Align::Right; 10]);
+                align.extend([Align::Left; 3]);
+                write_table(out, &TABLE_HEADER, &align, &tables)?;
+                if tables.iter().any(|t| !t.is_empty()) {
+                    out.write_all(LEGEND.as_bytes())?;
+                }
+                if several {
+                    out.write_all(LEGEND_PAIRS.as_bytes())?;
+                }
+                if unused {
+                    out.write_all(LEGEND_UNUSED.as_bytes())?;
+                }
+            }
+            Format::Csv => {
+                out.write_all(render_csv(&CSV_HEADER, &[]).as_bytes())?;
+                for p in parts {
+                    if let Sink::Csv { out: w, .. } = p {
+                        out.write_all(&(*w).into_inner().unwrap_or_default())?;
+                    }
+                }
+            }
+            Format::Json => {
+                let mut first = true;
+                for p in parts {
+                    if let Sink::Json { out: text, items } = p {
+                        if items == 0 {
+                            continue;
+                        }
+                        out.write_all(if first { b"[\n" } else { b",\n" })?;
+                        out.write_all(&text)?;
+                        first = false;
+                    }
+                }
+                out.write_all(if first { b"[]\n" } else { b"\n]\n" })?;
+            }
         }
+        Ok(())
+    }
+}
+
+/// The RX, RY, RZ cells of a target (empty without numbers).
+fn eulers(rows: &mut Rows, t: &Target) {
+    match euler(t) {
+        Some(e) => {
+            for a in e {
+                shortest_to_4_places(rows.text(), a);
+                rows.end_cell();
+            }
+        }
+        None => {
+            for _ in 0..3 {
+                rows.cell("");
+            }
+        }
+    }
+}
+
+/// One cell of `parts` joined by `sep`.
+fn join<'a>(rows: &mut Rows, parts: impl Iterator<Item = &'a str>, sep: &str) {
+    for (k, p) in parts.enumerate() {
+        if k > 0 {
+            rows.text().push_str(sep);
+        }
+        rows.text().push_str(p);
+    }
+    rows.end_cell();
+}
+
+/// The JSON object of one target.
+fn json_item(prog: &Program, t: &Target, uses: Option<&Vec<Usage>>) -> serde_json::Value {
+    let v = t.value.as_ref();
+    let p = pairs(t, uses);
+    let first = p.first();
+    let use_json = |tool: &str, wobj: &str, instruction: &str, routine, line| {
+        serde_json::json!({
+            "tool": tool,
+            "wobj": wobj,
+            "instruction": instruction,
+            "routine": routine,
+            "line": line,
+        })
     };
-    Ok(out)
+    let mut listed: Vec<serde_json::Value> = uses
+        .into_iter()
+        .flatten()
+        .map(|u| {
+            use_json(
+                u.tool_name(),
+                u.wobj_name(),
+                &u.instruction,
+                Some(u.routine.as_str()),
+                u.line,
+            )
+        })
+        .collect();
+    // A derived target written in a move: that move.
+    if let (true, Some(instruction), Some((tool, wobj))) =
+        (listed.is_empty(), t.instruction.as_deref(), first)
+    {
+        listed.push(use_json(
+            tool,
+            wobj,
+            instruction,
+            t.origin.routine.as_deref(),
+            t.origin.pos.line,
+        ));
+    }
+    serde_json::json!({
+        "target": t.id,
+        "kind": t.kind.as_str(),
+        "file": prog.files[t.origin.file],
+        "line": t.origin.pos.line,
+        "col": t.origin.pos.col,
+        "module": &*t.origin.module,
+        "routine": t.origin.routine.as_deref(),
+        "trans": v.map(|v| v.trans_values()),
+        "rot": v.map(|v| v.rot_values()),
+        "euler_zyx_deg": euler(t).map(|e| e.map(|a| (a * 1e9).round() / 1e9)),
+        "robconf": v.map(|v| v.robconf_values()),
+        "extax": v.map(|v| v.extax_values()),
+        "instruction": t.instruction.as_deref(),
+        "tool": first.map(|f| f.0),
+        "wobj": first.map(|f| f.1),
+        "frames": p.iter().map(|(t, w)| serde_json::json!({"tool": t, "wobj": w})).collect::<Vec<_>>(),
+        "uses": listed,
+        "derived": t.derived.as_ref().map(|d| serde_json::json!({
+            "expression": d.expr,
+            "function": d.function,
+            "bases": d.bases,
+        })),
+    })
 }
 
 /// How many move instructions reach a target (a derived target written

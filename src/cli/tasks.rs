@@ -56,6 +56,13 @@ pub fn select(paths: &[PathBuf], pick: &TaskPick) -> Result<Vec<Task>> {
 /// Read a task's modules and parse them as one program; the reader's
 /// warnings and the task's notes go to stderr.
 pub fn read(task: &Task) -> Result<(Inputs, Program)> {
+    announce(task);
+    super::read_program(&task.modules)
+}
+
+/// What reading a task says before it reads: its notes, and with `-v`
+/// its files.
+pub fn announce(task: &Task) {
     for note in &task.notes {
         note!("{note}");
     }
@@ -65,7 +72,6 @@ pub fn read(task: &Task) -> Result<(Inputs, Program)> {
         .map(|m| m.display().to_string())
         .collect();
     info!("task {}: reads {}", task.label(), modules.join(", "));
-    super::read_program(&task.modules)
 }
 
 /// The arm a task moves, and how the marker of a corrected file names it.

@@ -86,39 +86,103 @@ pub fn correct_streamed(
     let m = marker::for_run(&basis, &options.model_label, options.split_shared, src);
     fixed.extend(marker::insert(program, 0, &m).map(|e| moved(&e)));
     fixed.sort_by_key(|e| (e.span.start, e.span.end));
-    let mut fixed = fixed.into_iter().peekable();
     let mut tally = Tally::of_skeleton(program, skeleton, &findings);
+    let cuts = &skeleton.cuts;
+    // The bytes before the first cut move here; from there on each chunk
+    // of moves is written, with the skeleton's edits among them, by the
+    // thread that corrects it, up to the next chunk's first move: this
+    // thread only puts the chunks' bytes in order.
+    let first = cuts.first().map_or(src.len(), |c| c.start);
+    let head = fixed.partition_point(|x| x.span.start < first);
     let mut splice = Splice { src, at: 0, out };
-    for batch in skeleton.cuts.chunks(BATCH) {
-        let done: Vec<Option<Vec<Fast>>> = batch
-            .par_chunks(CHUNK)
-            .map(|cuts| correct_chunk(program, warm, options, src, cuts, (moment, &state)))
+    for x in &fixed[..head] {
+        splice.edit(x)?;
+    }
+    splice.write(first)?;
+    for lo in (0..cuts.len()).step_by(BATCH) {
+        let hi = (lo + BATCH).min(cuts.len());
+        let chunks: Vec<Range<usize>> = (lo..hi)
+            .step_by(CHUNK)
+            .map(|k| k..(k + CHUNK).min(hi))
             .collect();
-        for fast in done {
-            let Some(fast) = fast else {
+        let done: Vec<Result<Option<Done>>> = chunks
+            .into_par_iter()
+            .map(|k| {
+                let Some(fast) = correct_chunk(
+                    program,
+                    warm,
+                    options,
+                    src,
+                    &cuts[k.clone()],
+                    (moment, &state),
+                ) else {
+                    return Ok(None);
+                };
+                let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
+                write_chunk(src, cuts[k.start].start..to, &fixed, fast).map(Some)
+            })
+            .collect();
+        for d in done {
+            let Some(d) = d? else {
                 return Ok(None);
             };
-            for f in fast {
-                tally.add(f.at, f.norm, f.drift, !f.edits.is_empty());
-                for e in f.edits {
-                    while let Some(x) = fixed.next_if(|x| x.span.start < e.span.start) {
-                        splice.edit(&x)?;
-                    }
-                    changed = true;
-                    splice.edit(&e)?;
-                }
+            for (at, norm, drift, rewritten) in d.rows {
+                tally.add(at, norm, drift, rewritten);
             }
+            changed |= d.changed;
+            splice.out.write_all(&d.bytes).map_err(write_error)?;
         }
     }
-    for x in fixed {
-        splice.edit(&x)?;
-    }
-    splice.finish()?;
+    splice.out.flush().map_err(write_error)?;
     let summary = tally.summary(&findings);
     let mut outcome = findings.into_outcome(Vec::new());
     outcome.corrections.clear();
     outcome.summary = summary;
     Ok(Some(Streamed { outcome, changed }))
+}
+
+/// A chunk of moves corrected and written: the file's bytes of its span
+/// with every edit in it, and each target's numbers for the summary.
+struct Done {
+    bytes: Vec<u8>,
+    rows: Vec<(usize, f64, f64, bool)>,
+    changed: bool,
+}
+
+/// The bytes of `span` (from a chunk's first move to the next chunk's)
+/// with the chunk's corrections `fast` and the skeleton's edits `fixed`
+/// that fall in it, in file order.
+fn write_chunk(src: &[u8], span: Range<usize>, fixed: &[Edit], fast: Vec<Fast>) -> Result<Done> {
+    let lo = fixed.partition_point(|x| x.span.start < span.start);
+    let hi = fixed.partition_point(|x| x.span.start < span.end);
+    let mut fixed = fixed[lo..hi].iter().peekable();
+    let mut bytes = Vec::with_capacity(span.len() + span.len() / 8);
+    let mut rows = Vec::with_capacity(fast.len());
+    let mut changed = false;
+    let mut splice = Splice {
+        src,
+        at: span.start,
+        out: &mut bytes,
+    };
+    for f in fast {
+        rows.push((f.at, f.norm, f.drift, !f.edits.is_empty()));
+        for e in &f.edits {
+            while let Some(x) = fixed.next_if(|x| x.span.start < e.span.start) {
+                splice.edit(x)?;
+            }
+            changed = true;
+            splice.edit(e)?;
+        }
+    }
+    for x in fixed {
+        splice.edit(x)?;
+    }
+    splice.write(span.end)?;
+    Ok(Done {
+        bytes,
+        rows,
+        changed,
+    })
 }
 
 /// Whether the skeleton's reports read as the whole program's would: the
@@ -333,11 +397,6 @@ impl Splice<'_> {
             .map_err(write_error)?;
         self.at = to;
         Ok(())
-    }
-
-    fn finish(mut self) -> Result<()> {
-        self.write(self.src.len())?;
-        self.out.flush().map_err(write_error)
     }
 }
 

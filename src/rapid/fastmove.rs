@@ -57,6 +57,12 @@ impl Cursor<'_> {
 
     /// An ASCII name that is no reserved word.
     fn name(&mut self) -> Option<Range<usize>> {
+        self.name_as(self.names)
+    }
+
+    /// An ASCII name, looked up among the reserved words where `check`
+    /// (a name known otherwise, a motion instruction or `WObj`, need not).
+    fn name_as(&mut self, check: bool) -> Option<Range<usize>> {
         self.blank();
         let start = self.p;
         if !self.s.get(start)?.is_ascii_alphabetic() {
@@ -69,7 +75,7 @@ impl Cursor<'_> {
             }
             e += 1;
         }
-        if self.names {
+        if check {
             let word = std::str::from_utf8(&self.s[start..e]).ok()?;
             if super::parse::is_reserved_word(word) {
                 return None;
@@ -133,8 +139,7 @@ impl Cursor<'_> {
             self.p = p;
             return Some(Number::new(0.0, start..p));
         }
-        let text = std::str::from_utf8(&s[digits_from..p]).ok()?;
-        let v: f64 = text.parse().ok()?;
+        let v = decimal_value(&s[digits_from..p])?;
         if !v.is_finite() {
             return None;
         }
@@ -145,15 +150,17 @@ impl Cursor<'_> {
     /// `[n, n, ...]` of exactly `N` numbers.
     fn numbers<const N: usize>(&mut self) -> Option<[Number; N]> {
         self.byte(b'[')?;
-        let mut out: Vec<Number> = Vec::with_capacity(N);
-        for i in 0..N {
+        // Filled in place: a million moves make four million groups, and
+        // a vector each was an allocation each.
+        let mut out = [(); N].map(|_| Number::new(0.0, 0..0));
+        for (i, slot) in out.iter_mut().enumerate() {
             if i > 0 {
                 self.byte(b',')?;
             }
-            out.push(self.number()?);
+            *slot = self.number()?;
         }
         self.byte(b']')?;
-        out.try_into().ok()
+        Some(out)
     }
 
     fn robtarget(&mut self) -> Option<(usize, RobTargetValue)> {
@@ -177,6 +184,61 @@ impl Cursor<'_> {
                 extax,
             },
         ))
+    }
+}
+
+/// The value of a decimal literal whose form is checked (digits, at most
+/// one point, an exponent), as `str::parse` reads it. Clinger's fast
+/// path where it holds (at most 2^53 in the digits, a power of ten up to
+/// 10^22: one correctly rounded operation on exact operands gives the
+/// correctly rounded value), the standard parser otherwise.
+fn decimal_value(text: &[u8]) -> Option<f64> {
+    const POW10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
+    let slow = || std::str::from_utf8(text).ok()?.parse::<f64>().ok();
+    let (mut m, mut frac, mut point) = (0u64, 0i32, false);
+    let mut i = 0;
+    while let Some(&c) = text.get(i) {
+        match c {
+            b'.' => point = true,
+            b'0'..=b'9' => {
+                if m >= (1 << 53) / 10 {
+                    return slow();
+                }
+                m = m * 10 + u64::from(c - b'0');
+                frac += i32::from(point);
+            }
+            _ => break,
+        }
+        i += 1;
+    }
+    let mut exp = 0i32;
+    if i < text.len() {
+        let (negative, digits) = match text.get(i + 1) {
+            Some(b'-') => (true, &text[i + 2..]),
+            Some(b'+') => (false, &text[i + 2..]),
+            _ => (false, &text[i + 1..]),
+        };
+        if digits.len() > 4 {
+            return slow();
+        }
+        for &d in digits {
+            exp = exp * 10 + i32::from(d - b'0');
+        }
+        if negative {
+            exp = -exp;
+        }
+    }
+    let e = exp - frac;
+    match usize::try_from(e.unsigned_abs())
+        .ok()
+        .and_then(|k| POW10.get(k))
+    {
+        Some(p) if e >= 0 => Some(m as f64 * p),
+        Some(p) => Some(m as f64 / p),
+        None => slow(),
     }
 }
 
@@ -215,7 +277,8 @@ fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMov
         values,
         names,
     };
-    let instruction = c.name()?;
+    // Motion instructions are no reserved words: their signature says.
+    let instruction = c.name_as(false)?;
     let k = leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?;
     if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
         return None;
@@ -235,7 +298,7 @@ fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMov
     let tool = c.name()?;
     let mut wobj = None;
     if c.byte(b'\\').is_some() {
-        let word = c.name()?;
+        let word = c.name_as(false)?;
         if !src[word].eq_ignore_ascii_case(b"WObj") {
             return None;
         }
@@ -264,6 +327,8 @@ fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMov
 pub struct Skeleton {
     pub bytes: Vec<u8>,
     pub cuts: Vec<Range<usize>>,
+    /// How many robtarget literals each cut move holds (two for MoveC).
+    pub literals: Vec<u8>,
     /// Where each cut is in the skeleton, and the bytes cut out before
     /// cut k (k = 0..=cuts.len()).
     starts: Vec<usize>,
@@ -276,6 +341,12 @@ impl Skeleton {
     pub fn file_offset(&self, at: usize) -> usize {
         let k = self.starts.partition_point(|&s| s <= at);
         at + self.cut_before.get(k).copied().unwrap_or(0)
+    }
+
+    /// Where cut `k` was in the skeleton: the offset of the byte after it
+    /// (on the same line as the cut move).
+    pub fn place_of_cut(&self, k: usize) -> usize {
+        self.starts.get(k).copied().unwrap_or(self.bytes.len())
     }
 }
 
@@ -290,15 +361,25 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
         scanner.skip_to(3);
     }
     let mut cuts = Vec::new();
+    let mut literals = Vec::new();
     let mut in_routine = false;
+    let found = moves_at_line_starts(src);
+    let mut next = found.iter().peekable();
     loop {
         if in_routine {
             let at = scanner.next_start();
-            if let Some(m) =
-                read_move(src, at, false, true).filter(|m| rest_is_blank(src, m.span.end))
-            {
-                cuts.push(m.span.clone());
-                scanner.skip_to(m.span.end);
+            while next.next_if(|f| f.0.start < at).is_some() {}
+            let m = match next.peek() {
+                Some(f) if f.0.start == at => Some((*f).clone()),
+                // A statement after another on its line.
+                _ => read_move(src, at, false, true)
+                    .filter(|m| rest_is_blank(src, m.span.end))
+                    .map(|m| (m.span, m.targets.len() as u8)),
+            };
+            if let Some((span, n)) = m {
+                cuts.push(span.clone());
+                literals.push(n);
+                scanner.skip_to(span.end);
                 continue;
             }
         }
@@ -313,6 +394,7 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
             Ok(None) => break,
             Err(_) => {
                 cuts.clear();
+                literals.clear();
                 break;
             }
         }
@@ -335,9 +417,57 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
     Skeleton {
         bytes,
         cuts,
+        literals,
         starts,
         cut_before,
     }
+}
+
+/// The moves [`skeleton`] would cut that start a line (after blanks),
+/// found on every core ahead of the scan, which is sequential (strings
+/// and comments decide what a byte is) and then only looks them up: the
+/// span and the number of literals of each, in file order. Whether one
+/// is cut is still the scan's to say (it must be a statement of a
+/// routine).
+fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
+    use rayon::prelude::*;
+    const PART: usize = 1 << 20;
+    let mut bounds = vec![0];
+    while let Some(&last) = bounds.last() {
+        if last >= src.len() {
+            break;
+        }
+        let end = (last + PART).min(src.len());
+        let end = src[end..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(src.len(), |i| end + i + 1);
+        bounds.push(end);
+    }
+    bounds
+        .par_windows(2)
+        .flat_map_iter(|w| {
+            let mut out = Vec::new();
+            let mut line = w[0];
+            while line < w[1] {
+                let end = src[line..w[1]]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .map_or(w[1], |i| line + i + 1);
+                let mut at = line;
+                while matches!(src.get(at), Some(b' ' | b'\t')) {
+                    at += 1;
+                }
+                if let Some(m) =
+                    read_move(src, at, false, true).filter(|m| rest_is_blank(src, m.span.end))
+                {
+                    out.push((m.span, m.targets.len() as u8));
+                }
+                line = end;
+            }
+            out
+        })
+        .collect()
 }
 
 /// Nothing but blanks, then a line end, a comment or the end of the file.

@@ -43,6 +43,7 @@
 
 pub mod builtins;
 pub mod constants;
+pub mod fastlist;
 pub mod fastmove;
 mod motion;
 mod parse;

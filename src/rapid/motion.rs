@@ -59,7 +59,15 @@ pub struct MotionSignature {
 pub fn motion_signature(name: &str) -> Option<MotionSignature> {
     use ArgAt::{FromEnd, Index};
     use MotionKind::*;
-    let n = name.to_ascii_uppercase();
+    // Upper-cased on the stack: the fast move recogniser asks this of a
+    // million moves, twice. No motion instruction's name is longer.
+    let mut upper = [0u8; 16];
+    let n = upper.get_mut(..name.len()).map(|u| {
+        u.copy_from_slice(name.as_bytes());
+        u.make_ascii_uppercase();
+        &*u
+    })?;
+    let n = std::str::from_utf8(n).ok()?;
     let sig = |kind, robtargets, jointtargets, speed, zone, tool| {
         Some(MotionSignature {
             kind,
@@ -70,7 +78,7 @@ pub fn motion_signature(name: &str) -> Option<MotionSignature> {
             tool,
         })
     };
-    match n.as_str() {
+    match n {
         "MOVEL" | "MOVELDO" | "MOVELSYNC" | "MOVELAO" | "MOVELGO" | "PAINTL" | "TRIGGLIOS" => {
             sig(Linear, &[0], &[], Index(1), Some(Index(2)), Some(Index(3)))
         }

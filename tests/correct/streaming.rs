@@ -2,14 +2,16 @@
 //! the whole-program path: on generated programs (inline moves the fast
 //! recogniser reads, and declared, derived, array and record targets,
 //! several modules, moves it leaves to the grammar) it writes the same
-//! bytes and the same summary, or declines; and the recogniser reads the
-//! same numbers the grammar does.
+//! bytes and the same summary, or declines; the recogniser reads the
+//! same numbers the grammar does; and `targets` lists the same targets
+//! (`rapid::fastlist`) and prints the same bytes in every format.
 
 use proptest::prelude::*;
 use rapidtherm::correct::stream::correct_streamed;
 use rapidtherm::correct::{correct, Options, When};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
+use rapidtherm::rapid::fastlist::{Entry, Listing};
 use rapidtherm::rapid::fastmove::{recognise, skeleton};
 use rapidtherm::rapid::{self, TargetKind};
 use rapidtherm::robot::Robot;
@@ -34,6 +36,8 @@ enum Stmt {
     /// a derived pose of the first declared target.
     Named(u8),
     ConfOff,
+    /// A literal assigned to a variable (numbered with the inline ones).
+    Assigned(u32),
     /// A target no arm reaches: the run refuses the program.
     Unreachable,
 }
@@ -76,6 +80,7 @@ fn stmt() -> impl Strategy<Value = Stmt> {
             .prop_map(|(i, p, s, w, after)| Stmt::Inline(i, p, s, w, after)),
         2 => (0u8..4).prop_map(Stmt::Named),
         1 => Just(Stmt::ConfOff),
+        1 => (0u32..1000).prop_map(Stmt::Assigned),
         1 => prop::bool::weighted(0.15).prop_map(|b| if b { Stmt::Unreachable } else { Stmt::ConfOff }),
     ]
 }
@@ -83,8 +88,20 @@ fn stmt() -> impl Strategy<Value = Stmt> {
 /// A program of one or two modules, every line ended with `eol`, the
 /// comments Latin-1 where `latin1`.
 fn program(bodies: &[Vec<Stmt>], eol: &str, latin1: bool) -> Vec<u8> {
+    program_with(bodies, eol, latin1, false)
+}
+
+/// [`program`], the routines of every module named `main` where
+/// `one_name` (their inline targets' identifiers then name the module:
+/// `M0:main#3`).
+fn program_with(bodies: &[Vec<Stmt>], eol: &str, latin1: bool, one_name: bool) -> Vec<u8> {
     let mut s = String::new();
     for (m, body) in bodies.iter().enumerate() {
+        let routine = if one_name {
+            "main".to_string()
+        } else {
+            format!("main{m}")
+        };
         s += &format!("MODULE M{m}{eol}");
         s += &format!("  PERS tooldata tSpindle{m}:=[TRUE,[[0,0,150],[1,0,0,0]],[2,[0,0,60],[1,0,0,0],0,0,0]];{eol}");
         s += &format!("  PERS wobjdata wPlate{m}:=[FALSE,TRUE,\"\",[[0,0,20],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];{eol}");
@@ -98,7 +115,8 @@ fn program(bodies: &[Vec<Stmt>], eol: &str, latin1: bool) -> Vec<u8> {
             "  RECORD path{m}{eol}    robtarget start;{eol}    num n;{eol}  ENDRECORD{eol}"
         );
         s += &format!("  CONST path{m} rD{m}:=[{},1];{eol}", literal(9, 0));
-        s += &format!("  PROC main{m}(){eol}");
+        s += &format!("  VAR robtarget pV{m};{eol}");
+        s += &format!("  PROC {routine}(){eol}");
         for st in body {
             let line = match st {
                 Stmt::Inline(ins, p, style, w, after) => {
@@ -124,6 +142,7 @@ fn program(bodies: &[Vec<Stmt>], eol: &str, latin1: bool) -> Vec<u8> {
                     format!("    MoveL {t},v200,z1,tSpindle{m}\\WObj:=wPlate{m};")
                 }
                 Stmt::ConfOff => "    ConfL \\Off;".to_string(),
+                Stmt::Assigned(p) => format!("    pV{m} := {};", literal(*p, 0)),
                 Stmt::Unreachable => format!(
                     "    MoveL [[3000,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v200,z1,tSpindle{m};"
                 ),
@@ -234,5 +253,165 @@ proptest! {
             .map(|t| (t.origin.pos.offset, t.value.clone().unwrap()))
             .collect();
         prop_assert_eq!(read, inline);
+    }
+}
+
+/// What `targets` prints of a target, field by field (the numbers as
+/// written and as read).
+fn listed(t: &rapid::Target, src: &[u8]) -> String {
+    let numbers: Vec<(String, u64)> = t
+        .value
+        .iter()
+        .flat_map(|v| v.numbers())
+        .map(|n| (n.text(src).to_string(), n.value.to_bits()))
+        .collect();
+    format!(
+        "{} {} {}:{} {} {:?} {:?} {:?} {:?} {:?} {:?} {numbers:?}",
+        t.id,
+        t.kind.as_str(),
+        t.origin.pos.line,
+        t.origin.pos.col,
+        t.origin.module,
+        t.origin.routine,
+        t.instruction,
+        t.tool,
+        t.wobj,
+        t.name,
+        t.derived,
+    )
+}
+
+/// Whether the fast listing of `src` (`rapid::fastlist`) lists the targets
+/// the whole parse lists; `false` when it declined.
+fn listed_as_whole(src: &[u8]) -> bool {
+    let whole = rapid::parse("p.mod", src);
+    let skel = skeleton(src);
+    let Ok(program) = rapid::parse("p.mod", &skel.bytes) else {
+        assert!(
+            whole.is_err(),
+            "the skeleton of a program that parses must parse"
+        );
+        return false;
+    };
+    let Some(listing) = Listing::new(&program, &skel, src) else {
+        return false;
+    };
+    let whole = whole.expect("the skeleton parses where the whole file does not");
+    let mut got = Vec::new();
+    let mut reader = listing.reader();
+    for e in listing.entries() {
+        match *e {
+            Entry::Kept(i) => got.push(listed(listing.kept(i), &skel.bytes)),
+            Entry::Cut(k) => reader
+                .read(k, &mut |t| got.push(listed(t, src)))
+                .expect("a cut move reads again"),
+        }
+    }
+    let want: Vec<String> = whole.targets().iter().map(|t| listed(t, src)).collect();
+    assert_eq!(got, want);
+    true
+}
+
+/// `rapidtherm targets` of the file `src` in `format`, read by name (the
+/// fast path where it applies) and from standard input (always the whole
+/// path; its file is named `<stdin>`, put back to the name).
+fn targets_both_ways(src: &[u8], format: &str) -> (String, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.mod");
+    std::fs::write(&path, src).unwrap();
+    let run = |stdin: bool| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_rapidtherm"));
+        cmd.args(["targets", "--format", format]);
+        if stdin {
+            cmd.arg("-").stdin(std::fs::File::open(&path).unwrap());
+        } else {
+            cmd.arg(&path);
+        }
+        let out = cmd.output().unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let (code, by_name, said) = run(false);
+    let (whole_code, whole, whole_said) = run(true);
+    assert_eq!(code, whole_code, "{said}\n{whole_said}");
+    let name = path.display().to_string();
+    (by_name, whole.replace("<stdin>", &name))
+}
+
+#[test]
+fn a_cam_program_lists_the_same_targets() {
+    let body: Vec<Stmt> = (0..300)
+        .map(|i| {
+            Stmt::Inline(
+                ["MoveL", "MoveC"][(i % 7 == 0) as usize],
+                i,
+                (i % 4) as u8,
+                i % 3 == 0,
+                "",
+            )
+        })
+        .chain([Stmt::Named(0), Stmt::Named(3), Stmt::Assigned(4)])
+        .collect();
+    for one_name in [false, true] {
+        // The second module's one literal is cut: only the whole file
+        // has `main#` in two modules when the routines share a name.
+        let second = vec![
+            Stmt::Named(1),
+            Stmt::Inline("MoveL", 5, 0, false, ""),
+            Stmt::Named(2),
+        ];
+        let src = program_with(&[body.clone(), second], "\r\n", true, one_name);
+        assert!(
+            listed_as_whole(&src),
+            "the fast listing declined a CAM program"
+        );
+        let text = String::from_utf8_lossy(&src).into_owned();
+        let qualified = rapid::parse("p.mod", &src)
+            .unwrap()
+            .targets()
+            .iter()
+            .any(|t| t.id.starts_with("M1:main#"));
+        assert_eq!(qualified, one_name, "{text}");
+        for format in ["table", "csv", "json"] {
+            let (fast, whole) = targets_both_ways(&src, format);
+            assert_eq!(fast, whole, "{format}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    #[test]
+    fn fast_and_whole_list_the_same_targets(
+        bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
+        crlf in any::<bool>(),
+        latin1 in any::<bool>(),
+        one_name in any::<bool>(),
+    ) {
+        let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, latin1, one_name);
+        listed_as_whole(&src);
+    }
+}
+
+proptest! {
+    // Each case runs the binary six times.
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    #[test]
+    fn targets_prints_the_same_bytes_either_way(
+        bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..25), 1..3),
+        crlf in any::<bool>(),
+        latin1 in any::<bool>(),
+        one_name in any::<bool>(),
+    ) {
+        let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, latin1, one_name);
+        for format in ["table", "csv", "json"] {
+            let (fast, whole) = targets_both_ways(&src, format);
+            prop_assert_eq!(fast, whole, "{}", format);
+        }
     }
 }

@@ -31,6 +31,7 @@ mod words;
 
 use calls::*;
 use expressions::*;
+pub(super) use run::{name_space, qualified};
 use shapes::*;
 use words::*;
 
@@ -92,7 +93,7 @@ pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
     Ok(b.prog)
 }
 
-fn line_starts(src: &[u8]) -> Vec<usize> {
+pub(super) fn line_starts(src: &[u8]) -> Vec<usize> {
     let mut v = vec![0];
     v.extend(
         src.iter()
@@ -107,16 +108,21 @@ fn pos_of(src: &[u8], lines: &[usize], offset: usize) -> Pos {
     let offset = offset.min(src.len());
     let line = lines.partition_point(|&s| s <= offset).max(1);
     let start = lines.get(line - 1).copied().unwrap_or(0);
-    let prefix = &src[start..offset];
-    let col = 1 + match std::str::from_utf8(prefix) {
-        Ok(s) => s.chars().count(),
-        Err(_) => prefix.len(),
-    };
     Pos {
         offset,
         line: line as u32,
-        col: col as u32,
+        col: column(&src[start..offset]),
     }
+}
+
+/// The 1-based column after `prefix`, the line up to a place: characters
+/// where it is UTF-8, bytes otherwise.
+pub(super) fn column(prefix: &[u8]) -> u32 {
+    let n = match std::str::from_utf8(prefix) {
+        Ok(s) => s.chars().count(),
+        Err(_) => prefix.len(),
+    };
+    1 + n as u32
 }
 
 // ------------------------------------------------------------- builder

@@ -150,7 +150,7 @@ impl Builder {
 /// The name space an identifier is unique in (lower case): the routine
 /// for `main#3` / `main@2`, else the declared name (`arr` for `arr{2}`,
 /// `w` for `w{3}.pos`).
-fn name_space(id: &str) -> String {
+pub(in crate::rapid) fn name_space(id: &str) -> String {
     id.split(['#', '@', '{', '.'])
         .next()
         .unwrap_or("")
@@ -189,9 +189,14 @@ fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
     for it in items.iter_mut() {
         let (m, id) = f(it);
         if modules_of.get(&name_space(id)).is_some_and(|s| s.len() > 1) {
-            *id = format!("{m}:{id}");
+            *id = qualified(m, id);
         }
     }
+}
+
+/// An identifier qualified with its module (`MainModule:main#3`).
+pub(in crate::rapid) fn qualified(module: &str, id: &str) -> String {
+    format!("{module}:{id}")
 }
 
 /// Sort by (file, offset) in place; returns old index -> new index. Most

@@ -66,7 +66,7 @@ pub(super) const RESERVED: [&str; 57] = [
 pub(super) fn is_reserved(word: &str) -> bool {
     // Upper-cased on the stack and looked up in the sorted list: the fast
     // move recogniser asks this of every name of a million moves.
-    if word.len() > 9 || !word.bytes().all(|b| b.is_ascii_alphabetic()) {
+    if word.is_empty() || word.len() > 9 || !word.bytes().all(|b| b.is_ascii_alphabetic()) {
         return false;
     }
     let mut upper = [0u8; 9];
@@ -74,6 +74,20 @@ pub(super) fn is_reserved(word: &str) -> bool {
         *u = b.to_ascii_uppercase();
     }
     let upper = &upper[..word.len()];
+    // Most names have no reserved word of their length and first letter.
+    static FIRST_LETTERS: std::sync::OnceLock<[u32; 10]> = std::sync::OnceLock::new();
+    let first = FIRST_LETTERS.get_or_init(|| {
+        let mut by_len = [0u32; 10];
+        for r in RESERVED {
+            if let (Some(m), Some(c)) = (by_len.get_mut(r.len()), r.bytes().next()) {
+                *m |= 1 << (c.to_ascii_uppercase().wrapping_sub(b'A') % 32);
+            }
+        }
+        by_len
+    });
+    if first[upper.len()] & 1 << (upper[0].wrapping_sub(b'A') % 32) == 0 {
+        return false;
+    }
     RESERVED
         .binary_search_by(|r| r.as_bytes().cmp(upper))
         .is_ok()

@@ -298,15 +298,20 @@ impl Ctx<'_> {
         })
     }
 
-    /// The problem with `thermal`'s effects held fixed.
+    /// The problem with `thermal`'s effects held fixed, for the static
+    /// effects to be fitted on.
     fn held_by(&self, thermal: &Forward) -> Problem {
         let mut fixed = self.problem.fixed.clone();
         fixed.extend(thermal.effects());
+        let statics: Vec<EffectKind> = EffectKind::ALL
+            .into_iter()
+            .filter(|k| !k.is_thermal())
+            .collect();
         Problem {
             fixed,
             ..self.problem.clone()
         }
-        .with_zero_jacobians()
+        .with_zero_jacobians_of(&statics)
     }
 
     fn select(

@@ -27,8 +27,9 @@ pub struct Perturbation {
     /// Transform from the robot base frame to the frame the positions are
     /// measured in (a tracker not exactly aligned).
     pub frame: Isometry3<f64>,
-    /// A small error of each joint's origin, right after its rotation.
-    pub origin: [Isometry3<f64>; 6],
+    /// A small error of each joint's origin, right after its rotation
+    /// (`None`: none, the common case, which skips six products per pose).
+    pub origin: Option<[Isometry3<f64>; 6]>,
     /// The measured point in the flange frame, mm.
     pub point: Vector3<f64>,
 }
@@ -42,7 +43,7 @@ impl Default for Perturbation {
             kappa_upper: 0.0,
             base: Isometry3::identity(),
             frame: Isometry3::identity(),
-            origin: [Isometry3::identity(); 6],
+            origin: None,
             point: Vector3::zeros(),
         }
     }
@@ -73,21 +74,32 @@ pub fn fk_chain(opw: &Opw, q: &Joints, p: &Perturbation) -> Isometry3<f64> {
     let c3 = opw.c3 + p.dlen[3];
     let c4 = opw.c4 + p.dlen[4];
     let iso = |r: UnitQuaternion<f64>| Isometry3::from_parts(Translation3::identity(), r);
-    let o = &p.origin;
-    let shoulder =
-        iso(rz(q[0] + p.dq[0])) * o[0] * Isometry3::translation(a1, opw.b + p.dlen[6], c1);
-    let lower = iso(ry(q[1] + p.dq[1])) * o[1] * link(c2, p.kappa_lower);
-    let upper = iso(ry(q[2] + OPW_OFFSET_Q3 + p.dq[2]))
-        * o[2]
-        * Isometry3::translation(opw.a2 + p.dlen[5], 0.0, 0.0)
-        * link(c3, p.kappa_upper);
-    let wrist = iso(rz(q[3] + p.dq[3]))
-        * o[3]
-        * iso(ry(q[4] + p.dq[4]))
-        * o[4]
-        * iso(rz(q[5] + p.dq[5]))
-        * o[5]
-        * Isometry3::translation(p.point.x, p.point.y, c4 + p.point.z);
+    let flange = Isometry3::translation(p.point.x, p.point.y, c4 + p.point.z);
+    let (shoulder, lower, upper, wrist) = match &p.origin {
+        None => (
+            iso(rz(q[0] + p.dq[0])) * Isometry3::translation(a1, opw.b + p.dlen[6], c1),
+            iso(ry(q[1] + p.dq[1])) * link(c2, p.kappa_lower),
+            iso(ry(q[2] + OPW_OFFSET_Q3 + p.dq[2]))
+                * Isometry3::translation(opw.a2 + p.dlen[5], 0.0, 0.0)
+                * link(c3, p.kappa_upper),
+            iso(rz(q[3] + p.dq[3]) * ry(q[4] + p.dq[4]) * rz(q[5] + p.dq[5])) * flange,
+        ),
+        Some(o) => (
+            iso(rz(q[0] + p.dq[0])) * o[0] * Isometry3::translation(a1, opw.b + p.dlen[6], c1),
+            iso(ry(q[1] + p.dq[1])) * o[1] * link(c2, p.kappa_lower),
+            iso(ry(q[2] + OPW_OFFSET_Q3 + p.dq[2]))
+                * o[2]
+                * Isometry3::translation(opw.a2 + p.dlen[5], 0.0, 0.0)
+                * link(c3, p.kappa_upper),
+            iso(rz(q[3] + p.dq[3]))
+                * o[3]
+                * iso(ry(q[4] + p.dq[4]))
+                * o[4]
+                * iso(rz(q[5] + p.dq[5]))
+                * o[5]
+                * flange,
+        ),
+    };
     p.frame * p.base * shoulder * lower * upper * wrist
 }
 

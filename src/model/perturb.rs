@@ -103,15 +103,20 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
                 pert.dlen[5] += e.get(11);
                 pert.dlen[6] += e.get(12);
                 let g = super::effects::GEOMETRY_ORIGINS_FROM;
-                for (j, o) in pert.origin.iter_mut().enumerate() {
-                    let k = g + 6 * j;
-                    let small = Isometry3::from_parts(
-                        Translation3::new(e.get(k), e.get(k + 1), e.get(k + 2)),
-                        UnitQuaternion::from_scaled_axis(
-                            Vector3::new(e.get(k + 3), e.get(k + 4), e.get(k + 5)) * 1e-3,
-                        ),
-                    );
-                    *o = small * *o;
+                // Joint origins only where they are not all zero: the
+                // products they add are a third of the chain's cost.
+                if (g..g + 36).any(|k| e.get(k) != 0.0) {
+                    let origins = pert.origin.get_or_insert([Isometry3::identity(); 6]);
+                    for (j, o) in origins.iter_mut().enumerate() {
+                        let k = g + 6 * j;
+                        let small = Isometry3::from_parts(
+                            Translation3::new(e.get(k), e.get(k + 1), e.get(k + 2)),
+                            UnitQuaternion::from_scaled_axis(
+                                Vector3::new(e.get(k + 3), e.get(k + 4), e.get(k + 5)) * 1e-3,
+                            ),
+                        );
+                        *o = small * *o;
+                    }
                 }
                 pert.point += Vector3::new(e.get(g + 36), e.get(g + 37), e.get(g + 38));
             }

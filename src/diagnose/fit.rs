@@ -123,14 +123,9 @@ impl Problem {
     /// column.
     fn centre(&self, m: &mut DMatrix<f64>, rows: &[usize]) {
         let w = self.width();
-        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-        for (k, &i) in rows.iter().enumerate() {
-            if let Some(r) = self.rows.get(i) {
-                groups.entry(r.pose).or_default().push(k);
-            }
-        }
+        let groups = self.pose_groups(rows);
         for c in 0..m.ncols() {
-            for ks in groups.values() {
+            for ks in &groups {
                 for d in 0..w {
                     let mean = ks.iter().map(|&k| m[(k * w + d, c)]).sum::<f64>() / ks.len() as f64;
                     for &k in ks {
@@ -139,6 +134,17 @@ impl Problem {
                 }
             }
         }
+    }
+
+    /// Positions in `rows` grouped by pose (every pose's rows together).
+    pub fn pose_groups(&self, rows: &[usize]) -> Vec<Vec<usize>> {
+        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+        for (k, &i) in rows.iter().enumerate() {
+            if let Some(r) = self.rows.get(i) {
+                groups.entry(r.pose).or_default().push(k);
+            }
+        }
+        groups.into_values().collect()
     }
 }
 

@@ -5,7 +5,7 @@
 //! effect is not named where a step fits the time variation better.
 
 use super::fit::Problem;
-use super::select::Folds;
+use super::select::{centre_by_pose, Folds};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -44,7 +44,7 @@ fn fit(problem: &Problem, rows: &[usize], gaps: &[Vector3<f64>]) -> Option<Knock
     };
     let stride = (splits.len() / 100).max(1);
     splits = splits.into_iter().step_by(stride).collect();
-    let gc = centre_v(problem, rows, gaps);
+    let gc = centre_by_pose(problem, rows, gaps.to_vec());
     let mut best: Option<(f64, Knock)> = None;
     for k in splits {
         let tau = times[k];
@@ -52,7 +52,7 @@ fn fit(problem: &Problem, rows: &[usize], gaps: &[Vector3<f64>]) -> Option<Knock
             .iter()
             .map(|&i| f64::from(u8::from(problem.rows[i].time_min >= tau - 1e-9)))
             .collect();
-        let hc = centre(problem, rows, &h);
+        let hc = centre_by_pose(problem, rows, h);
         let hh: f64 = hc.iter().map(|x| x * x).sum();
         if hh <= 1e-12 {
             continue;
@@ -79,33 +79,6 @@ fn fit(problem: &Problem, rows: &[usize], gaps: &[Vector3<f64>]) -> Option<Knock
         }
     }
     best.map(|(_, k)| k)
-}
-
-fn centre(problem: &Problem, rows: &[usize], x: &[f64]) -> Vec<f64> {
-    let mut sums: HashMap<usize, (f64, usize)> = HashMap::new();
-    for (&i, v) in rows.iter().zip(x) {
-        let e = sums.entry(problem.rows[i].pose).or_insert((0.0, 0));
-        e.0 += v;
-        e.1 += 1;
-    }
-    rows.iter()
-        .zip(x)
-        .map(|(&i, v)| {
-            let (s, n) = sums[&problem.rows[i].pose];
-            v - s / n as f64
-        })
-        .collect()
-}
-
-fn centre_v(problem: &Problem, rows: &[usize], x: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
-    super::select::centred(
-        &Problem {
-            centre_poses: true,
-            ..problem.clone()
-        },
-        rows,
-        x.to_vec(),
-    )
 }
 
 /// Held-out RMS of `gaps` (one per row of the problem) under a step with

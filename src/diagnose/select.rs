@@ -137,17 +137,30 @@ pub fn pose_means(
 /// `values` (one per row of `rows`) less their pose's mean when the
 /// problem fits pose offsets.
 pub fn centred(problem: &Problem, rows: &[usize], values: Vec<Vector3<f64>>) -> Vec<Vector3<f64>> {
-    if !problem.centre_poses {
-        return values;
+    if problem.centre_poses {
+        centre_by_pose(problem, rows, values)
+    } else {
+        values
     }
-    let means = pose_means(problem, rows, &values);
-    rows.iter()
-        .zip(values)
-        .map(|(&i, v)| {
-            let pose = problem.rows.get(i).map_or(usize::MAX, |r| r.pose);
-            v - means.get(&pose).copied().unwrap_or_default()
-        })
-        .collect()
+}
+
+/// `values` (one per row of `rows`) less their pose's mean over `rows`.
+pub fn centre_by_pose<T>(problem: &Problem, rows: &[usize], mut values: Vec<T>) -> Vec<T>
+where
+    T: Copy + std::ops::AddAssign + std::ops::SubAssign + std::ops::Div<f64, Output = T>,
+{
+    for ks in problem.pose_groups(rows) {
+        let Some(&first) = ks.first() else { continue };
+        let mut sum = values[first];
+        for &k in &ks[1..] {
+            sum += values[k];
+        }
+        let mean = sum / ks.len() as f64;
+        for &k in &ks {
+            values[k] -= mean;
+        }
+    }
+    values
 }
 
 /// Score adding each of `candidates` to `current` (fitted jointly), in

@@ -10,7 +10,7 @@ use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::simulate::{
     iso_cube_poses, program_poses, random_poses, simulate_arm, SimSpec,
 };
-use rapidtherm::diagnose::{self, Diagnosis, Options, Prepared, RegisterFailure};
+use rapidtherm::diagnose::{self, Diagnosis, Options, Part, Prepared, RegisterFailure};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
@@ -513,13 +513,13 @@ fn candidate_rows(d: &Diagnosis, staged: bool) -> Vec<Vec<String>> {
     // Stage by stage (a stable sort keeps their order), best first.
     c.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
     if staged {
-        c.sort_by_key(|c| c.part == "static");
+        c.sort_by_key(|c| c.part == Part::Static);
     }
     c.iter()
         .map(|c| {
             let mut row = vec![c.name.clone()];
             if staged {
-                row.push(c.part.to_string());
+                row.push(c.part.name().to_string());
             }
             row.extend([
                 if c.cv_rms_mm.is_finite() {
@@ -574,13 +574,15 @@ fn diagnosis_table(d: &Diagnosis) -> String {
             .stages
             .iter()
             .map(|st| match st.part {
-                "over-time" => {
+                Part::OverTime => {
                     "over time with each pose's own offset fitted (held out by time span)"
                 }
-                "absolute" => {
+                Part::Absolute => {
                     "absolute on top of the static effects found (held out by pose and time)"
                 }
-                _ => "static with the thermal effects found fitted (held out by pose and time)",
+                Part::Static | Part::All => {
+                    "static with the thermal effects found fitted (held out by pose and time)"
+                }
             })
             .collect();
         s.push_str(&format!(

@@ -6,7 +6,7 @@
 
 use super::fit::{self, Problem};
 use super::select::{self, Folds};
-use super::verdict::{Ambiguity, CandidateOut, ParamOut, StepOut};
+use super::verdict::{Ambiguity, CandidateOut, ParamOut, Part, StepOut};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::EffectKind;
 
@@ -86,7 +86,7 @@ pub fn forward(
                 .iter()
                 .map(|s| CandidateOut {
                     name: s.kind.name().into(),
-                    part: "all",
+                    part: Part::All,
                     explained: 1.0 - (s.cv_rms_mm / cv0.max(1e-300)).powi(2),
                     cv_rms_mm: s.cv_rms_mm,
                     bic: s.fit.as_ref().map(fit::Fit::bic),
@@ -122,7 +122,7 @@ pub fn forward(
             };
             steps.push(StepOut {
                 added: format!("{} + {}", pair[0].name(), pair[1].name()),
-                part: "all",
+                part: Part::All,
                 gap_before_mm: cur_cv,
                 gap_after_mm: pair_cv,
                 drop_pct: 100.0 * (1.0 - pair_cv / cur_cv.max(1e-300)),
@@ -164,7 +164,7 @@ pub fn forward(
         }
         steps.push(StepOut {
             added: best.kind.name().into(),
-            part: "all",
+            part: Part::All,
             gap_before_mm: cur_cv,
             gap_after_mm: best.cv_rms_mm,
             drop_pct: 100.0 * (1.0 - best.cv_rms_mm / cur_cv.max(1e-300)),

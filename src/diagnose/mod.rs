@@ -51,5 +51,5 @@ pub use prepare::{
     prepare, prepare_arm, problem_of, register_instrument, Prepared, RegisterFailure, Registration,
 };
 pub use verdict::{
-    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, StageSummary, StepOut, Verdict,
+    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
 };

@@ -10,7 +10,7 @@ use super::locate::{self, Where};
 use super::prepare::Prepared;
 use super::select;
 use super::verdict::{
-    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, StageSummary, StepOut, Verdict,
+    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
 };
 use crate::error::{Error, Result};
 use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
@@ -122,7 +122,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         (
             stages,
             held,
-            [first, "static"],
+            [first, Part::Static],
             [true, n_poses >= FULL_GEOMETRY_POSES],
             knock,
         )
@@ -132,7 +132,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         (
             vec![(one, verdict)],
             problem.clone(),
-            ["all", "all"],
+            [Part::All, Part::All],
             [true, true],
             None,
         )
@@ -255,7 +255,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         registration: prepared.registration.clone(),
         stages: stages
             .iter()
-            .zip(parts.iter().zip(judged))
+            .zip(parts.into_iter().zip(judged))
             .map(|((f, _), (part, judged))| StageSummary {
                 part,
                 gap_before_mm: f.cv0,
@@ -333,12 +333,7 @@ impl Ctx<'_> {
 
 /// The stages of a diagnosis, the problem of the last, and the first
 /// stage's part.
-type Staged = (
-    Vec<(Forward, Verdict)>,
-    Problem,
-    &'static str,
-    Option<locate::Step>,
-);
+type Staged = (Vec<(Forward, Verdict)>, Problem, Part, Option<locate::Step>);
 
 /// A knock as a step between the measurement times around it.
 fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {
@@ -375,7 +370,7 @@ fn two_stages(
     pose_names: &[String],
 ) -> Result<Staged> {
     let problem = ctx.problem;
-    let mut first = "over-time";
+    let mut first = Part::OverTime;
     let all: Vec<usize> = (0..problem.rows.len()).collect();
     let centred = Problem {
         centre_poses: true,
@@ -420,7 +415,7 @@ fn two_stages(
                 thermal = absolute;
                 held = held_abs;
                 statics = statics_abs;
-                first = "absolute";
+                first = Part::Absolute;
             }
         }
     }
@@ -452,7 +447,7 @@ fn two_stages(
                     ambiguities: Vec::new(),
                     candidates: std::mem::take(&mut thermal.candidates),
                 };
-                first = "over-time";
+                first = Part::OverTime;
                 held = ctx.held_by(&thermal);
                 statics = ctx.select(&held, &[], &static_pool)?;
             }

@@ -4,7 +4,7 @@
 //! the library's default names none.
 
 use super::gap::NoiseSource;
-use super::verdict::{Advice, Diagnosis, Verdict};
+use super::verdict::{Advice, Diagnosis, Part, Verdict};
 use serde::Serializer;
 
 /// How the caller lets a user act on the advice, as phrases that fit in
@@ -95,10 +95,10 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             words.extend(d.where_.words.iter().cloned());
             for s in &d.steps {
                 let stage = match s.part {
-                    "over-time" => "Over time (each pose's own offset fitted), adding",
-                    "absolute" => "Over time (the static effects fitted), adding",
-                    "static" => "Static (the thermal effects fitted), adding",
-                    _ => "Adding",
+                    Part::OverTime => "Over time (each pose's own offset fitted), adding",
+                    Part::Absolute => "Over time (the static effects fitted), adding",
+                    Part::Static => "Static (the thermal effects fitted), adding",
+                    Part::All => "Adding",
                 };
                 words.push(format!(
                     "{stage} {}: held-out gap {:.3} → {:.3} mm (−{:.0} %).",
@@ -125,7 +125,7 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
     if let Some(st) = d
         .stages
         .iter()
-        .find(|s| s.part == "static" && !s.judged)
+        .find(|s| s.part == Part::Static && !s.judged)
         .filter(|s| s.gap_after_mm > 1.5 * noise.rms_mm)
     {
         words.push(format!(

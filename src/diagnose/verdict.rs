@@ -66,15 +66,37 @@ impl Serialize for Verdict {
     }
 }
 
+/// Which stage of a diagnosis scored an effect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Part {
+    /// Each pose's own offset fitted, held out by time span.
+    OverTime,
+    /// Thermal effects on top of the static ones found, held out by pose
+    /// and time, where that saw more than the first stage.
+    Absolute,
+    /// The thermal effects found held fixed, held out by pose and time.
+    Static,
+    /// One stage over every effect.
+    All,
+}
+
+impl Part {
+    /// The name in reports and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Part::OverTime => "over-time",
+            Part::Absolute => "absolute",
+            Part::Static => "static",
+            Part::All => "all",
+        }
+    }
+}
+
 /// One stage of a diagnosis and its held-out gap.
 #[derive(Debug, Clone, Serialize)]
 pub struct StageSummary {
-    /// `over-time` (each pose's own offset fitted, held out by time span),
-    /// `absolute` (thermal effects on top of the static ones found, held
-    /// out by pose and time, where that saw more), `static` (thermal
-    /// effects found held fixed, held out by pose and time) or `all` (one
-    /// stage over every effect).
-    pub part: &'static str,
+    pub part: Part,
     pub gap_before_mm: f64,
     pub gap_after_mm: f64,
     pub effects: Vec<String>,
@@ -117,7 +139,7 @@ pub struct ParamOut {
 pub struct CandidateOut {
     pub name: String,
     /// The stage that scored it ([`StageSummary::part`]).
-    pub part: &'static str,
+    pub part: Part,
     /// Fraction of the base model's held-out mean-square gap this effect
     /// alone removes.
     pub explained: f64,
@@ -132,7 +154,7 @@ pub struct CandidateOut {
 pub struct StepOut {
     pub added: String,
     /// The stage that added it ([`StageSummary::part`]).
-    pub part: &'static str,
+    pub part: Part,
     pub gap_before_mm: f64,
     pub gap_after_mm: f64,
     pub drop_pct: f64,

@@ -8,7 +8,7 @@
 use super::world::{generate, DataSet, Effect, SetSpec};
 use nalgebra::Vector3;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
-use rapidtherm::diagnose::{diagnose, prepare, Diagnosis, Options};
+use rapidtherm::diagnose::{diagnose, prepare, Diagnosis, Options, Part};
 use rapidtherm::model::{EffectKind, Model};
 
 /// What a set holds, by the library's names; `outside`: an effect the
@@ -218,7 +218,7 @@ fn verdicts_hold_under_the_nuisance_of_real_measurements() {
         if let Some(s) = d
             .stages
             .iter()
-            .find(|s| s.part == "over-time")
+            .find(|s| s.part == Part::OverTime)
             .filter(|_| thermal)
         {
             time_shrinks.push(excess(s.gap_before_mm, s.gap_after_mm));
@@ -337,7 +337,13 @@ fn sweep() {
                 d.where_after.words, d.where_.step
             );
             for c in &d.candidates {
-                eprintln!("    {} {} {:.4} {:?}", c.part, c.name, c.cv_rms_mm, c.error);
+                eprintln!(
+                    "    {} {} {:.4} {:?}",
+                    c.part.name(),
+                    c.name,
+                    c.cv_rms_mm,
+                    c.error
+                );
             }
             eprintln!("    stages {:?}", d.stages);
         }

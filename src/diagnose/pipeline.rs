@@ -387,6 +387,8 @@ fn two_stages(
         ctx.noise_rms_mm,
         ctx.max_effects,
     )?;
+    // The held-out gap over time with no thermal effect.
+    let centred_cv0 = thermal.cv0;
     let mut held = ctx.held_by(&thermal);
     let mut statics = ctx.select(&held, &[], &static_pool)?;
     // Where the library's static effects leave nothing of the static part
@@ -426,10 +428,9 @@ fn two_stages(
     // warm-up looks like the base motor's rise); where nothing thermal is
     // found, a step that beats "no change" the same way is structure.
     let mut knocked = None;
-    let gaps = problem.position_gaps(&[], &all);
-    if let Some((knock_cv, knock)) = knock::score(&centred, &time_folds, &gaps) {
+    if let Some((knock_cv, knock)) = knock::score(&centred, &time_folds, gaps_before) {
         let nr2 = ctx.noise_rms_mm.powi(2);
-        let cv0 = select::cv_rms(&centred, &time_folds, &[])?;
+        let cv0 = centred_cv0;
         let beats = |cv: f64| cv.powi(2) - knock_cv.powi(2) > 0.2 * nr2;
         let thermal_cv = match thermal.selected.is_empty() {
             true => cv0,

@@ -604,24 +604,11 @@ fn diagnosis_table(d: &Diagnosis) -> String {
     let selected: Vec<_> = d.candidates.iter().filter(|c| c.selected).collect();
     if !selected.is_empty() {
         s.push_str("\nFitted parameters (± standard error):\n");
-        let rows: Vec<Vec<String>> = selected
-            .iter()
-            .flat_map(|c| c.params.iter())
-            .map(|p| {
-                vec![
-                    p.name.clone(),
-                    format!("{:.4}", p.value),
-                    p.stderr
-                        .map(|e| format!("{e:.4}"))
-                        .unwrap_or_else(|| "not identifiable".into()),
-                    p.unit.clone(),
-                ]
-            })
-            .collect();
-        s.push_str(&render_table(
-            &["parameter", "value", "± stderr", "unit"],
-            &[Align::Left, Align::Right, Align::Right, Align::Left],
-            &rows,
+        s.push_str(&parameter_table(
+            selected
+                .iter()
+                .flat_map(|c| c.params.iter())
+                .map(|p| (p.name.as_str(), p.value, p.stderr, p.unit.as_str())),
         ));
     }
     s.push_str(&format!(
@@ -631,6 +618,30 @@ fn diagnosis_table(d: &Diagnosis) -> String {
         100.0 * (1.0 - d.gap_after_mm / d.gap_before_mm.max(1e-300))
     ));
     s
+}
+
+/// Fitted parameters as a table: name, value, standard error ("not
+/// identifiable" where the data could not pin it), unit.
+pub(crate) fn parameter_table<'a>(
+    params: impl Iterator<Item = (&'a str, f64, Option<f64>, &'a str)>,
+) -> String {
+    let rows: Vec<Vec<String>> = params
+        .map(|(name, value, stderr, unit)| {
+            vec![
+                name.to_string(),
+                format!("{value:.4}"),
+                stderr
+                    .map(|e| format!("{e:.4}"))
+                    .unwrap_or_else(|| "not identifiable".into()),
+                unit.to_string(),
+            ]
+        })
+        .collect();
+    render_table(
+        &["parameter", "value", "± stderr", "unit"],
+        &[Align::Left, Align::Right, Align::Right, Align::Left],
+        &rows,
+    )
 }
 
 #[cfg(test)]

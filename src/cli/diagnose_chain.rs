@@ -2,7 +2,7 @@
 //! any arm with `--chain`): argument checks and printing only; the work is
 //! `rapidtherm::diagnose::chain_diagnose`.
 
-use super::diagnose::DiagnoseArgs;
+use super::diagnose::{parameter_table, DiagnoseArgs};
 use super::messages::warning;
 use super::Format;
 use super::{read_input, write_stdout, Status};
@@ -191,22 +191,10 @@ fn table(d: &ChainDiagnosis) -> String {
         &stage_rows(d),
     ));
     s.push_str("\nFitted parameters of the full geometry (± standard error):\n");
-    let rows: Vec<Vec<String>> = d
-        .parameters
-        .iter()
-        .map(|p| {
-            vec![
-                p.name.clone(),
-                format!("{:.4}", p.value),
-                format!("{:.4}", p.stderr),
-                p.unit.to_string(),
-            ]
-        })
-        .collect();
-    s.push_str(&render_table(
-        &["parameter", "value", "± stderr", "unit"],
-        &[Align::Left, Align::Right, Align::Right, Align::Left],
-        &rows,
+    s.push_str(&parameter_table(
+        d.parameters
+            .iter()
+            .map(|p| (p.name.as_str(), p.value, Some(p.stderr), p.unit)),
     ));
     s.push_str(&format!(
         "\nNot identifiable from these positions (held at zero; {} kept, of rank {} and condition {:.0}):\n",

@@ -140,9 +140,11 @@ struct Setup {
 
 fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result<Setup> {
     let Some(p) = path else {
+        // A model fitted on a URDF arm names it: that arm, not the IRB 140.
+        let robot = model.robot_urdf()?.unwrap_or_else(Robot::irb140);
         return Ok(Setup {
-            robot: Robot::irb140(),
-            arm: Arm::of_model(model),
+            robot,
+            arm: Arm::of_model(model)?,
             own_geometry: None,
         });
     };
@@ -157,7 +159,7 @@ fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result
         message: format!("--robot {}: {}", p.display(), e.message),
         ..e
     })?;
-    if model_file && model.robot.opw != arm.nominal {
+    if model_file && model.robot.opw.as_ref() != arm.nominal.opw() {
         note!(
             "the lengths of {} replace the model's [robot] geometry ({})",
             p.display(),
@@ -173,7 +175,11 @@ fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result
 
 fn read_measurements(path: &Path, arm: &Arm) -> Result<Measurements> {
     let (name, bytes) = read_input(path)?;
-    let meas = Measurements::parse(&name, &bytes, &arm.limits_deg)?;
+    parse_measurements(&name, &bytes, arm)
+}
+
+fn parse_measurements(name: &str, bytes: &[u8], arm: &Arm) -> Result<Measurements> {
+    let meas = Measurements::parse(name, bytes, &arm.limits_deg)?;
     for w in &meas.warnings {
         warning!("{w}");
     }
@@ -399,11 +405,17 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
 /// The robot's own nominal geometry (a URDF's or a catalogue arm's), which
 /// replaces the model's.
 fn robot_words(arm: &Arm, from: &str) -> String {
-    let o = &arm.nominal;
     let from = if from == "urdf" {
         "the URDF"
     } else {
         "the catalogue"
+    };
+    let Some(o) = arm.nominal.opw() else {
+        let [lower, upper] = arm.nominal.arm_lengths();
+        return format!(
+            "robot: {} ({}); nominal geometry from {from}, not the model: a serial chain without the OPW form, lower arm {lower:.3} mm, upper arm {upper:.3} mm, in the URDF's joint convention\n",
+            arm.name, arm.source
+        );
     };
     format!(
         "robot: {} ({}); nominal geometry from {from}, not the model: a1 {:.3}, a2 {:.3}, b {:.3}, c1 {:.3}, c2 {:.3}, c3 {:.3}, c4 {:.3} mm\n",
@@ -412,12 +424,14 @@ fn robot_words(arm: &Arm, from: &str) -> String {
 }
 
 fn robot_json(arm: &Arm, from: &str) -> serde_json::Value {
-    let o = &arm.nominal;
+    let opw = arm.nominal.opw().map(|o| {
+        serde_json::json!({"a1": o.a1, "a2": o.a2, "b": o.b, "c1": o.c1, "c2": o.c2, "c3": o.c3, "c4": o.c4})
+    });
     serde_json::json!({
         "name": arm.name,
         "source": arm.source,
         "nominal_geometry": from,
-        "opw_mm": {"a1": o.a1, "a2": o.a2, "b": o.b, "c1": o.c1, "c2": o.c2, "c3": o.c3, "c4": o.c4},
+        "opw_mm": opw,
     })
 }
 
@@ -436,12 +450,15 @@ fn registration_words(r: &diagnose::Registration) -> String {
 }
 
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
-    if let Some((setup, robot)) = super::diagnose_chain::chain_setup(&args)? {
-        return super::diagnose_chain::run(&args, setup, &robot);
+    // Read once: standard input cannot be read twice, and the choice of
+    // diagnosis looks at the data.
+    let (name, bytes) = read_input(&args.data)?;
+    if let Some((setup, robot)) = super::diagnose_chain::chain_setup(&args, &name, &bytes)? {
+        return super::diagnose_chain::run(&args, setup, &robot, &name, &bytes);
     }
     let model = load_model(&args.model)?;
     let setup = load_setup(&args.robot, &model, args.model.is_some())?;
-    let meas = read_measurements(&args.data, &setup.arm)?;
+    let meas = parse_measurements(&name, &bytes, &setup.arm)?;
     let prepared = prepare(&meas, &model, &setup.arm, args.register)?;
     if let Some(v) = args.noise {
         if !(v.is_finite() && v > 0.0) {
@@ -466,7 +483,11 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
         if setup.own_geometry.is_some() {
             // The effects were fitted on the robot's own geometry.
             m.robot.name = setup.arm.name.clone();
-            m.robot.opw = setup.arm.nominal;
+            m.robot.opw = setup.arm.nominal.opw().copied();
+            m.robot.urdf = match setup.arm.nominal.opw() {
+                Some(_) => None,
+                None => Some(super::model::urdf_reference(&setup.arm.source, path)),
+            };
         }
         crate::cli::output::write_atomic(path, m.to_toml()?.as_bytes(), None)?;
         status!("wrote {}", path.display());

@@ -16,9 +16,15 @@ use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::robot::{urdf, Robot};
 use std::path::Path;
 
-/// The chain setup when this diagnosis is the general chain's: the arm has
-/// no OPW form, or `--chain` asks for it. `None`: the OPW diagnosis.
-pub fn chain_setup(args: &DiagnoseArgs) -> Result<Option<(ChainSetup, Robot)>> {
+/// The chain setup when this diagnosis is the general chain's geometric
+/// calibration: `--chain`, `--point` or `--holdout` ask for it, or the arm
+/// has no OPW form and nothing asks for the effects (no temperatures in
+/// the data, no model given or to save). `None`: the effect diagnosis.
+pub fn chain_setup(
+    args: &DiagnoseArgs,
+    name: &str,
+    bytes: &[u8],
+) -> Result<Option<(ChainSetup, Robot)>> {
     let general_only = args.point.is_some() || args.holdout.is_some();
     let Some(p) = &args.robot else {
         if args.chain || general_only {
@@ -36,6 +42,15 @@ pub fn chain_setup(args: &DiagnoseArgs) -> Result<Option<(ChainSetup, Robot)>> {
                 p.display()
             )));
         }
+        return Ok(None);
+    }
+    let effects_asked = args.model.is_some()
+        || args.save_model.is_some()
+        || args.plot.is_some()
+        || args.noise.is_some();
+    if !args.chain && !general_only && (effects_asked || has_temps(name, bytes, &robot)?) {
+        // Temperatures to explain, or a model to fit: the effect diagnosis,
+        // which runs on any serial chain.
         return Ok(None);
     }
     for (given, flag) in [
@@ -80,10 +95,23 @@ pub fn chain_setup(args: &DiagnoseArgs) -> Result<Option<(ChainSetup, Robot)>> {
 
 fn read_data(path: &Path, robot: &Robot) -> Result<ChainData> {
     let (name, bytes) = read_input(path)?;
-    let limits = robot
+    parse_data(&name, &bytes, robot)
+}
+
+fn limits_deg(robot: &Robot) -> [(f64, f64); 6] {
+    robot
         .limits
-        .map(|(lo, hi)| (lo.to_degrees(), hi.to_degrees()));
-    let meas = Measurements::parse(&name, &bytes, &limits)?;
+        .map(|(lo, hi)| (lo.to_degrees(), hi.to_degrees()))
+}
+
+/// Whether the data carry motor temperatures (its warnings are printed by
+/// the diagnosis that reads it).
+fn has_temps(name: &str, bytes: &[u8], robot: &Robot) -> Result<bool> {
+    Ok(Measurements::parse(name, bytes, &limits_deg(robot))?.has_temps())
+}
+
+fn parse_data(name: &str, bytes: &[u8], robot: &Robot) -> Result<ChainData> {
+    let meas = Measurements::parse(name, bytes, &limits_deg(robot))?;
     for w in &meas.warnings {
         warning!("{w}");
     }
@@ -108,8 +136,14 @@ fn read_data(path: &Path, robot: &Robot) -> Result<ChainData> {
     })
 }
 
-pub fn run(args: &DiagnoseArgs, setup: ChainSetup, robot: &Robot) -> Result<Status> {
-    let data = read_data(&args.data, robot)?;
+pub fn run(
+    args: &DiagnoseArgs,
+    setup: ChainSetup,
+    robot: &Robot,
+    name: &str,
+    bytes: &[u8],
+) -> Result<Status> {
+    let data = parse_data(name, bytes, robot)?;
     let holdout = match &args.holdout {
         Some(p) => Some(read_data(p, robot)?),
         None => None,

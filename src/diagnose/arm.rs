@@ -16,11 +16,12 @@
 
 use super::instrument::instrument;
 use crate::error::{Error, ErrorKind, Result};
-use crate::model::Base;
 use crate::model::Model;
+use crate::model::{Base, Geometry};
 use crate::robot::ik::{controller_angles, serial_angles};
 use crate::robot::{Joints, Opw, Robot, OPW_OFFSET_Q3};
 use nalgebra::{Isometry3, UnitQuaternion};
+use std::sync::Arc;
 
 /// Joint and flange-frame map from a robot to the diagnosis chain.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,7 +101,7 @@ impl ArmMap {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Arm {
     pub name: String,
-    pub nominal: Opw,
+    pub nominal: Geometry,
     pub map: ArmMap,
     /// Degrees, inclusive.
     pub limits_deg: [(f64, f64); 6],
@@ -111,8 +112,19 @@ pub struct Arm {
 impl Arm {
     /// The arm of a robot (from a URDF): its OPW lengths are the nominal
     /// geometry.
+    /// An arm without that shape is its URDF chain, in the URDF's own
+    /// joint convention (the map is the identity).
     pub fn of_robot(robot: &Robot, source: &str) -> Result<Arm> {
-        let (nominal, map) = ArmMap::of_robot(robot)?;
+        let (nominal, map) = match robot.opw {
+            Ok(_) => {
+                let (geom, map) = ArmMap::of_robot(robot)?;
+                (Geometry::Opw(geom), map)
+            }
+            Err(_) => (
+                Geometry::Chain(Arc::new(robot.chain.clone())),
+                ArmMap::default(),
+            ),
+        };
         Ok(Arm {
             name: robot.name.clone(),
             nominal,
@@ -124,31 +136,50 @@ impl Arm {
         })
     }
 
-    /// The IRB 140 of a model file (its `[robot]` geometry), in ABB's
-    /// convention.
-    pub fn of_model(model: &Model) -> Arm {
-        Arm {
+    /// The arm of a model file: its `[robot]` OPW geometry, in ABB's
+    /// convention with the IRB 140's limits, or the URDF it names.
+    pub fn of_model(model: &Model) -> Result<Arm> {
+        if let (Some(robot), Some(path)) = (model.robot_urdf()?, model.urdf_path()) {
+            return Arm::of_robot(&robot, &path.display().to_string());
+        }
+        let nominal = model
+            .robot
+            .opw
+            .ok_or_else(|| Error::input("model: [robot] has no geometry"))?;
+        Ok(Arm {
             name: model.robot.name.clone(),
-            nominal: model.robot.opw,
+            nominal: Geometry::Opw(nominal),
             map: ArmMap::default(),
             limits_deg: *super::measurements::IRB140_LIMITS_DEG,
             source: "model".into(),
-        }
+        })
     }
 
     /// The base model: this arm's nominal geometry with the model's
     /// thermal expansion.
     pub fn base(&self, model: &Model) -> Base {
         Base {
-            nominal: self.nominal,
+            nominal: self.nominal.clone(),
             thermal: model.thermal.clone(),
         }
     }
 
-    /// Wrist-centre reach from axis 1, mm (a1 + c2 + the forearm).
+    /// Wrist-centre reach from axis 1, mm (a1 + c2 + the forearm), and the
+    /// height of axis 2 (c1).
+    fn reach_and_shoulder(&self) -> (f64, f64) {
+        match &self.nominal {
+            Geometry::Opw(o) => (o.a1 + o.c2 + o.a2.hypot(o.c3), o.c1),
+            Geometry::Chain(c) => {
+                let shoulder = c.joint_frames(&[0.0; 6])[1].translation.vector;
+                let [lower, upper] = self.nominal.arm_lengths();
+                (shoulder.xy().norm() + lower + upper, shoulder.z)
+            }
+        }
+    }
+
+    /// Wrist-centre reach from axis 1, mm.
     pub fn reach(&self) -> f64 {
-        let o = &self.nominal;
-        o.a1 + o.c2 + o.a2.hypot(o.c3)
+        self.reach_and_shoulder().0
     }
 
     /// The ISO 9283 cube for this arm, scaled to its reach R by the
@@ -157,13 +188,9 @@ impl Arm {
     /// (R = 810 mm) that is (486, 0, 449.2) mm and 283.5 mm.
     pub fn iso_cube(&self) -> Result<IsoCube> {
         let shape = &instrument()?.iso_cube;
-        let r = self.reach();
+        let (r, shoulder) = self.reach_and_shoulder();
         Ok(IsoCube {
-            centre: [
-                shape.forward * r,
-                0.0,
-                self.nominal.c1 + shape.above_shoulder * r,
-            ],
+            centre: [shape.forward * r, 0.0, shoulder + shape.above_shoulder * r],
             side: shape.side * r,
         })
     }
@@ -205,7 +232,10 @@ mod tests {
 
     #[test]
     fn irb140_iso_cube_is_the_scaled_one() {
-        let cube = Arm::of_model(&Model::default()).iso_cube().unwrap();
+        let cube = Arm::of_model(&Model::default())
+            .unwrap()
+            .iso_cube()
+            .unwrap();
         let expect = [486.0, 0.0, 449.2];
         for (a, b) in cube.centre.iter().zip(expect) {
             assert!((a - b).abs() < 1e-9, "{:?}", cube.centre);

@@ -3,7 +3,7 @@
 //! one joint's angle (a harmonic of that angle: gear or encoder errors).
 
 use super::fit::Problem;
-use crate::model::chain::{fk_chain, Perturbation};
+use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -286,7 +286,7 @@ pub fn locate(
     }
 
     // Workspace regions: reach and height split at their medians.
-    let nominal = problem.base.nominal;
+    let nominal = &problem.base.nominal;
     let flange: Vec<Vector3<f64>> = rows
         .iter()
         .take(n)
@@ -433,16 +433,19 @@ fn follow_joint(problem: &Problem, gaps: &[Vector3<f64>]) -> Option<JointFollow>
         let mut w = Vec::new();
         let mut qk = Vec::new();
         for (r, g) in rows.iter().zip(gaps) {
-            let opw = problem.base.thermal.expand(&problem.base.nominal, &r.temps);
+            let scales = problem.base.thermal.scales(&r.temps);
             let h = 1e-6;
             let mut q1 = r.q;
             q1[k] += h;
-            let p0 = fk_chain(&opw, &r.q, &Perturbation::default())
-                .translation
-                .vector;
-            let p1 = fk_chain(&opw, &q1, &Perturbation::default())
-                .translation
-                .vector;
+            let fk = |q: &Joints| {
+                problem
+                    .base
+                    .nominal
+                    .fk_scaled(q, &scales)
+                    .translation
+                    .vector
+            };
+            let (p0, p1) = (fk(&r.q), fk(&q1));
             let jk = (p1 - p0) / h;
             let n2 = jk.norm_squared();
             if n2 < 1.0 {

@@ -85,7 +85,7 @@ impl From<RegisterFailure> for Error {
 /// `register`, bring measured points from the instrument's frame into the
 /// robot base frame.
 pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Prepared> {
-    prepare_arm(meas, model, &Arm::of_model(model), register)
+    prepare_arm(meas, model, &Arm::of_model(model)?, register)
 }
 
 /// [`prepare`] for any OPW-shaped arm: its nominal geometry replaces the

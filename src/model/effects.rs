@@ -518,6 +518,17 @@ fn parse_defaults(file: &str, text: &str) -> Result<Vec<Vec<ParamInfo>>> {
     Ok(all)
 }
 
+/// Parameters of `geometry-offset` that are OPW lengths (c1, a1, c2, c3,
+/// c4, a2, b): a general chain has none (its joint origins take their
+/// role), so they are never fitted there.
+pub const GEOMETRY_OPW_LENGTHS: [usize; 7] = [0, 1, 2, 3, 4, 11, 12];
+
+/// Whether parameter `idx` of `kind` has a meaning on an arm given as a
+/// general chain (`false`: an OPW length, held at zero there).
+pub fn applies_to_chain(kind: EffectKind, idx: usize) -> bool {
+    kind != EffectKind::GeometryOffset || !GEOMETRY_OPW_LENGTHS.contains(&idx)
+}
+
 /// Parameters of `geometry-offset` after the lengths and zeros: an error
 /// of every joint origin and the measured point, what a full kinematic
 /// calibration identifies. Fitted only from enough poses
@@ -636,7 +647,9 @@ mod tests {
             .map(Effect::zero)
             .collect();
         let a = predict(&base, &effects, &row);
-        let b = base.thermal.expand(&base.nominal, &row.temps).fk(&row.q);
+        let b = base
+            .nominal
+            .fk_scaled(&row.q, &base.thermal.scales(&row.temps));
         assert_relative_eq!(a.translation.vector, b.translation.vector, epsilon = 1e-9);
     }
 

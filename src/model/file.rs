@@ -25,16 +25,16 @@
 
 use super::effects::{Effect, EffectKind};
 use super::expansion::ThermalExpansion;
-use super::perturb::Base;
+use super::perturb::{Base, Geometry};
 use crate::error::{Error, ErrorKind, Location, Result};
-use crate::robot::Opw;
+use crate::robot::{Opw, Robot};
 use crate::thermal::{
     default_profile, FittedProfile, HeatingProfile, HeatingRecord, ModelKind, RecordedProfile,
 };
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -54,7 +54,13 @@ pub struct Model {
 #[serde(deny_unknown_fields)]
 pub struct RobotSection {
     pub name: String,
-    pub opw: Opw,
+    /// The OPW lengths of an ABB arm (ABB's joint convention).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub opw: Option<Opw>,
+    /// Or the URDF of any serial arm (a path; relative to the model
+    /// file's folder), whose chain and joint convention the effects use.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urdf: Option<String>,
 }
 
 /// Where motor temperatures come from when the data do not carry them.
@@ -214,13 +220,25 @@ impl Model {
     }
 
     fn validate(&self) -> Result<()> {
-        let o = &self.robot.opw;
+        let o = match (&self.robot.opw, &self.robot.urdf) {
+            (Some(o), None) => o,
+            (None, Some(_)) => return self.validate_thermal(),
+            _ => {
+                return Err(Error::input(
+                    "model: [robot] needs either its OPW lengths ([robot.opw]) or `urdf = \"FILE\"`, not both",
+                ))
+            }
+        };
         let lengths = [o.c1, o.a1, o.c2, o.c3, o.c4, o.a2, o.b];
         if lengths.iter().any(|v| !v.is_finite()) || o.c2 <= 0.0 || o.c3 <= 0.0 {
             return Err(Error::input(
                 "model: robot lengths must be finite, c2 and c3 positive",
             ));
         }
+        self.validate_thermal()
+    }
+
+    fn validate_thermal(&self) -> Result<()> {
         let th = &self.thermal;
         for link in [&th.base, &th.lower_arm, &th.upper_arm, &th.wrist] {
             if link.motors.is_empty() || link.motors.iter().any(|&m| !(1..=6).contains(&m)) {
@@ -245,10 +263,37 @@ impl Model {
         self.effects.iter().map(EffectEntry::to_effect).collect()
     }
 
-    pub fn base(&self) -> Base {
-        Base {
-            nominal: self.robot.opw,
+    /// The base model: the robot's nominal geometry (its URDF loaded when
+    /// the model names one) and the thermal expansion.
+    pub fn base(&self) -> Result<Base> {
+        let nominal = match (&self.robot.opw, self.robot_urdf()?) {
+            (Some(o), _) => Geometry::Opw(*o),
+            (None, Some(robot)) => Geometry::Chain(Arc::new(robot.chain)),
+            (None, None) => return Err(Error::input("model: [robot] has no geometry")),
+        };
+        Ok(Base {
+            nominal,
             thermal: self.thermal.clone(),
+        })
+    }
+
+    /// The path of the URDF the model's `[robot]` names, resolved against
+    /// the model file's folder.
+    pub fn urdf_path(&self) -> Option<PathBuf> {
+        let rel = self.robot.urdf.as_ref()?;
+        Some(match &self.dir {
+            Some(dir) if Path::new(rel).is_relative() => dir.join(rel),
+            _ => PathBuf::from(rel),
+        })
+    }
+
+    /// The robot of the URDF the model names (`None` for an OPW model).
+    pub fn robot_urdf(&self) -> Result<Option<Robot>> {
+        match self.urdf_path() {
+            Some(p) => Robot::from_urdf_file(&p)
+                .map(Some)
+                .map_err(|e| e.with_note("the URDF named by the model's [robot] urdf")),
+            None => Ok(None),
         }
     }
 
@@ -299,7 +344,7 @@ mod tests {
         let q = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6];
         let m = Model::default();
         let base = predict(
-            &m.base(),
+            &m.base().unwrap(),
             &m.effects().unwrap(),
             &RowState {
                 q,
@@ -329,9 +374,9 @@ mod tests {
             a2: 0.0,
             b: 0.0,
         };
-        assert_eq!(m.robot.opw, spec);
+        assert_eq!(m.robot.opw, Some(spec));
         // The same numbers as the embedded URDF's chain, bit for bit.
-        assert_eq!(m.robot.opw, crate::robot::irb140_opw());
+        assert_eq!(m.robot.opw, Some(crate::robot::irb140_opw()));
         // irb140.md, "Materials" and "Base thermal-expansion model".
         let th = &m.thermal;
         assert_eq!(th.t_ref, 7.0);

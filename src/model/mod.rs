@@ -15,11 +15,14 @@ pub mod chain;
 pub mod effects;
 pub mod expansion;
 pub mod file;
+pub mod general;
 pub mod perturb;
 pub mod warm;
 
 pub use effects::{Effect, EffectKind};
 pub use expansion::{LinkThermal, ThermalExpansion};
 pub use file::{EffectEntry, HeatingSection, Model, RobotSection};
-pub use perturb::{lag_taus, perturbation, predict, Base, LinkLags, RowState};
+pub use perturb::{
+    fk_perturbed, lag_taus, perturbation, predict, Base, Geometry, LinkLags, RowState, Warm,
+};
 pub use warm::{Moment, State, States, WarmRobot};

@@ -4,25 +4,82 @@
 use super::chain::Perturbation;
 use super::effects::{Effect, EffectKind};
 use super::expansion::ThermalExpansion;
-use crate::robot::{Joints, Opw};
+use super::general::{fk_general, gravity_levers, link_lengths};
+use crate::robot::chain::Chain;
+use crate::robot::{Joints, LinkScales, Opw};
 use crate::thermal::{Lagged, MotorTemps, TempHistory};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use std::sync::Arc;
+
+/// The nominal geometry of the arm: OPW lengths (the ABB arms, in ABB's
+/// joint convention) or any serial chain read from a URDF (in the URDF's
+/// own joint convention).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Geometry {
+    Opw(Opw),
+    Chain(Arc<Chain>),
+}
+
+impl Geometry {
+    /// Flange pose of the cold, nominal arm.
+    pub fn fk(&self, q: &Joints) -> Isometry3<f64> {
+        match self {
+            Geometry::Opw(o) => o.fk(q),
+            Geometry::Chain(c) => c.fk(q),
+        }
+    }
+
+    /// Flange pose of the arm with its links scaled (base, lower arm,
+    /// upper arm, wrist) and nothing else.
+    pub fn fk_scaled(&self, q: &Joints, scales: &LinkScales) -> Isometry3<f64> {
+        match self {
+            Geometry::Opw(o) => {
+                super::chain::fk_chain(&o.scaled(scales), q, &Perturbation::default())
+            }
+            Geometry::Chain(c) => c.fk_scaled(q, scales),
+        }
+    }
+
+    /// The OPW lengths, when the arm is written by them.
+    pub fn opw(&self) -> Option<&Opw> {
+        match self {
+            Geometry::Opw(o) => Some(o),
+            Geometry::Chain(_) => None,
+        }
+    }
+
+    /// Lengths of the lower and upper arm, mm (what bending curves).
+    pub fn arm_lengths(&self) -> [f64; 2] {
+        match self {
+            Geometry::Opw(o) => [o.c2, o.c3],
+            Geometry::Chain(c) => link_lengths(c),
+        }
+    }
+}
 
 /// The simulation the diagnosis starts from: nominal geometry and the base
 /// thermal-expansion model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Base {
-    pub nominal: Opw,
+    pub nominal: Geometry,
     pub thermal: ThermalExpansion,
 }
 
 impl Default for Base {
     fn default() -> Self {
         Base {
-            nominal: crate::robot::irb140_opw(),
+            nominal: Geometry::Opw(crate::robot::irb140_opw()),
             thermal: ThermalExpansion::default(),
         }
     }
+}
+
+/// The warm geometry of a row before the effects' perturbation: the OPW
+/// lengths expanded, or a general chain's link factors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Warm {
+    Opw(Opw),
+    Scales(LinkScales),
 }
 
 /// What the effects of one row depend on.
@@ -38,9 +95,9 @@ pub struct RowState {
 }
 
 /// The expanded base geometry of a row and the perturbation of `effects`.
-pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Perturbation) {
+pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Warm, Perturbation) {
     let th = &base.thermal;
-    let opw = th.expand(&base.nominal, &row.temps);
+    let [l_lower, l_upper] = base.nominal.arm_lengths();
     let mut pert = Perturbation::default();
     let motor_rise = th.link_temps(&row.temps).map(|t| t - th.t_ref);
     // The structure's temperature: the motors' unless a lag is modelled.
@@ -67,8 +124,8 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
             EffectKind::ThermalLag => thermal_lengths = true,
             EffectKind::ArmBending => {
                 // κ = (tip rotation per K)·ΔT / L.
-                pert.kappa_lower += e.get(0) * 1e-6 * struct_rise[1] / base.nominal.c2.max(1e-9);
-                pert.kappa_upper += e.get(1) * 1e-6 * struct_rise[2] / base.nominal.c3.max(1e-9);
+                pert.kappa_lower += e.get(0) * 1e-6 * struct_rise[1] / l_lower.max(1e-9);
+                pert.kappa_upper += e.get(1) * 1e-6 * struct_rise[2] / l_upper.max(1e-9);
             }
             EffectKind::JointOffsetDrift => {
                 for i in 0..6 {
@@ -88,12 +145,19 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
             EffectKind::GravitySag => {
                 // Gravity torques of a two-link arm in its vertical plane are
                 // combinations of the two lever arms, whatever the masses.
-                let lower_lever = row.q[1].sin();
-                let upper_lever = (row.q[1] + row.q[2]).cos();
-                pert.dq[1] += 1e-6 * (e.get(0) * lower_lever + e.get(1) * upper_lever);
-                pert.dq[2] += 1e-6 * e.get(2) * upper_lever;
+                let [lower, upper2, upper3] = match &base.nominal {
+                    Geometry::Opw(_) => {
+                        let upper = (row.q[1] + row.q[2]).cos();
+                        [row.q[1].sin(), upper, upper]
+                    }
+                    Geometry::Chain(c) => gravity_levers(c, &row.q),
+                };
+                pert.dq[1] += 1e-6 * (e.get(0) * lower + e.get(1) * upper2);
+                pert.dq[2] += 1e-6 * e.get(2) * upper3;
             }
             EffectKind::GeometryOffset => {
+                // The OPW lengths: a general chain's joint origins take
+                // their role (and they are never fitted there).
                 for i in 0..5 {
                     pert.dlen[i] += e.get(i);
                 }
@@ -131,9 +195,9 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
             }
         }
     }
+    let mut scales = th.scales(&row.temps);
     if thermal_lengths {
         // Structure expansion replaces the base model's motor-driven one.
-        let nominal = &base.nominal;
         // The effective coefficients of the model in use: an
         // expansion-scale factor is relative to them, K0 included.
         let alpha = [
@@ -145,19 +209,43 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Opw, Pe
         .map(|a| a * th.k0);
         let extra =
             |link: usize| alpha[link] * (scale[link] * struct_rise[link] - motor_rise[link]);
-        pert.dlen[0] += nominal.c1 * extra(0);
-        pert.dlen[1] += nominal.a1 * extra(0);
-        pert.dlen[2] += nominal.c2 * extra(1);
-        pert.dlen[3] += nominal.c3 * extra(2);
-        pert.dlen[4] += nominal.c4 * extra(3);
+        match &base.nominal {
+            Geometry::Opw(nominal) => {
+                pert.dlen[0] += nominal.c1 * extra(0);
+                pert.dlen[1] += nominal.a1 * extra(0);
+                pert.dlen[2] += nominal.c2 * extra(1);
+                pert.dlen[3] += nominal.c3 * extra(2);
+                pert.dlen[4] += nominal.c4 * extra(3);
+            }
+            Geometry::Chain(_) => {
+                for (link, s) in scales.iter_mut().enumerate() {
+                    *s += extra(link);
+                }
+            }
+        }
     }
-    (opw, pert)
+    let warm = match &base.nominal {
+        Geometry::Opw(nominal) => Warm::Opw(nominal.scaled(&scales)),
+        Geometry::Chain(_) => Warm::Scales(scales),
+    };
+    (warm, pert)
+}
+
+/// Flange pose of a row's perturbed chain.
+pub fn fk_perturbed(base: &Base, warm: &Warm, q: &Joints, pert: &Perturbation) -> Isometry3<f64> {
+    match (warm, &base.nominal) {
+        (Warm::Opw(opw), _) => super::chain::fk_chain(opw, q, pert),
+        (Warm::Scales(s), Geometry::Chain(c)) => fk_general(c, s, q, pert),
+        // A warm state of the other kind than the base (never built by
+        // `perturbation`): the OPW lengths scaled by the factors.
+        (Warm::Scales(s), Geometry::Opw(o)) => super::chain::fk_chain(&o.scaled(s), q, pert),
+    }
 }
 
 /// Flange pose of a row with `effects` added to the base model.
 pub fn predict(base: &Base, effects: &[Effect], row: &RowState) -> Isometry3<f64> {
-    let (opw, pert) = perturbation(base, effects, row);
-    super::chain::fk_chain(&opw, &row.q, &pert)
+    let (warm, pert) = perturbation(base, effects, row);
+    fk_perturbed(base, &warm, &row.q, &pert)
 }
 
 /// The thermal-lag time constants (base, lower arm, upper arm, wrist) of a

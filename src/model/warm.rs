@@ -5,12 +5,13 @@
 
 use super::effects::{Effect, EffectKind};
 use super::file::Model;
-use super::perturb::{lag_taus, predict, Base, LinkLags, RowState};
+use super::perturb::{lag_taus, predict, Base, Geometry, LinkLags, RowState};
 use crate::error::{Error, ErrorKind, Result};
 use crate::robot::conf::RobConf;
 use crate::robot::{Joints, Robot};
 use crate::thermal::{HeatingProfile, MotorTemps, TempHistory};
 use nalgebra::{Isometry3, Matrix6, Vector6};
+use std::sync::Arc;
 
 /// When the robot is at a target: a minute of the warm-up, or the
 /// thermally stable state after it.
@@ -75,12 +76,13 @@ impl WarmRobot {
             None => None,
         };
         Ok(WarmRobot {
+            // The arm the controller drives is the one that warms: its
+            // own geometry, in its own joint convention.
             base: Base {
-                nominal: robot
-                    .opw
-                    .as_ref()
-                    .map(|a| a.geom)
-                    .unwrap_or(model.robot.opw),
+                nominal: match &robot.opw {
+                    Ok(a) => Geometry::Opw(a.geom),
+                    Err(_) => Geometry::Chain(Arc::new(robot.chain.clone())),
+                },
                 thermal: model.thermal.clone(),
             },
             nominal: robot,

@@ -34,7 +34,9 @@ impl Segment {
         }
     }
 
-    fn index(self) -> usize {
+    /// Position in the four link factors (base, lower arm, upper arm,
+    /// wrist).
+    pub fn index(self) -> usize {
         self as usize
     }
 }

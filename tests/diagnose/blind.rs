@@ -156,7 +156,7 @@ fn cyclic_gear_error_is_unexplained_and_located_on_its_axis() {
         remeasure(&mut meas, seed, |_, t, q| {
             let mut p = Perturbation::default();
             p.dq[axis - 1] = amp * (harmonic * q[axis - 1] + 0.3).sin();
-            let opw = base.thermal.expand(&base.nominal, &warm(t));
+            let opw = base.thermal.expand(base.nominal.opw().unwrap(), &warm(t));
             fk_chain(&opw, q, &p).translation.vector
         });
         let d = run(&meas);
@@ -183,7 +183,7 @@ fn sudden_base_jump_is_unexplained_and_located_in_time() {
     remeasure(&mut meas, 21, |_, t, q| {
         let p = base
             .thermal
-            .expand(&base.nominal, &warm(t))
+            .expand(base.nominal.opw().unwrap(), &warm(t))
             .fk(q)
             .translation
             .vector;
@@ -301,7 +301,7 @@ fn other_parameterisations_are_still_recognised() {
             ),
             ..Perturbation::default()
         };
-        fk_chain(&th.expand(&base.nominal, &warm(t)), q, &p)
+        fk_chain(&th.expand(base.nominal.opw().unwrap(), &warm(t)), q, &p)
             .translation
             .vector
     });
@@ -327,11 +327,11 @@ fn other_parameterisations_are_still_recognised() {
         let rise = th.link_temps(&temps)[1] - th.t_ref;
         let theta = 40e-6 * rise;
         let p = Perturbation {
-            kappa_lower: 4.0 / 3.0 * theta / base.nominal.c2,
+            kappa_lower: 4.0 / 3.0 * theta / base.nominal.opw().unwrap().c2,
             dq: [0.0, -theta / 3.0, 0.0, 0.0, 0.0, 0.0],
             ..Perturbation::default()
         };
-        let opw = th.expand(&base.nominal, &temps);
+        let opw = th.expand(base.nominal.opw().unwrap(), &temps);
         fk_chain(&opw, q, &p).translation.vector
     });
     let d = run(&meas);
@@ -355,7 +355,7 @@ fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
     let base = Base::default();
     remeasure(&mut meas, seed, |_, t, q| {
         let temps = warm(t);
-        let (opw, mut p) = rapidtherm::model::perturbation(
+        let (warm, mut p) = rapidtherm::model::perturbation(
             &base,
             std::slice::from_ref(&bending),
             &RowState {
@@ -365,7 +365,9 @@ fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
             },
         );
         p.dq[1] += 0.12e-3 * (2.0 * q[1] + 0.5).sin();
-        fk_chain(&opw, q, &p).translation.vector
+        rapidtherm::model::fk_perturbed(&base, &warm, q, &p)
+            .translation
+            .vector
     });
     let d = run(&meas);
     assert_eq!(
@@ -409,7 +411,7 @@ fn without_repeated_poses_only_structure_is_unexplained() {
             if gear {
                 p.dq[2] = 0.4e-3 * (3.0 * r.joints[2]).sin();
             }
-            let cold = base.thermal.expand(&base.nominal, &[7.0; 6]);
+            let cold = base.thermal.expand(base.nominal.opw().unwrap(), &[7.0; 6]);
             r.position = fk_chain(&cold, &r.joints, &p).translation.vector
                 + Vector3::new(n.sample(&mut rng), n.sample(&mut rng), n.sample(&mut rng));
         }

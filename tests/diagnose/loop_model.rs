@@ -89,7 +89,7 @@ fn corrections_with_the_diagnosed_model_land_closer() {
         let (mut base_sq, mut diag_sq, mut none_sq, mut n) = (0.0, 0.0, 0.0, 0.0);
         for (i, (_, qg)) in goals.iter().enumerate() {
             let t = [30.0, 90.0, 180.0][i % 3];
-            let goal = base_model.robot.opw.fk(qg);
+            let goal = base_model.robot.opw.unwrap().fk(qg);
             let real = |q: &Joints| {
                 let row = RowState {
                     q: *q,

@@ -41,7 +41,10 @@ fn iso_cube_points_lie_on_the_diagonal_plane_at_ten_percent_from_the_corners() {
 #[test]
 fn irb140_iso_cube_is_reachable() {
     let robot = Robot::irb140();
-    let cube = Arm::of_model(&Model::default()).iso_cube().unwrap();
+    let cube = Arm::of_model(&Model::default())
+        .unwrap()
+        .iso_cube()
+        .unwrap();
     let poses = iso_cube_poses(&robot, &cube).unwrap();
     assert_eq!(poses.len(), 5);
     let f = robot.fk(&poses[0].1);

@@ -109,8 +109,8 @@ fn chain_matches_robot_fk_on_irb140_irb120_and_a_reversed_arm() {
     chain_is_robot_fk(&rev);
     // Same lengths as the IRB 120 (only the joint conventions differ).
     let (a, b) = (
-        Arm::of_robot(&rev, "t").unwrap().nominal,
-        Arm::of_robot(&r120, "t").unwrap().nominal,
+        *Arm::of_robot(&rev, "t").unwrap().nominal.opw().unwrap(),
+        *Arm::of_robot(&r120, "t").unwrap().nominal.opw().unwrap(),
     );
     let la = [a.a1, a.a2, a.b, a.c1, a.c2, a.c3, a.c4];
     let lb = [b.a1, b.a2, b.b, b.c1, b.c2, b.c3, b.c4];

@@ -405,7 +405,7 @@ fn parallel_arm_axis_3_keeps_the_upper_arm_level() {
     for _ in 0..200 {
         let q = rng.joints_within(&robot);
         let chain = fk_chain(
-            &diag.nominal,
+            diag.nominal.opw().unwrap(),
             &diag.map.to_chain(&q),
             &Perturbation::default(),
         );

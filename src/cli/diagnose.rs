@@ -456,7 +456,12 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     if let Some((setup, robot)) = super::diagnose_chain::chain_setup(&args, &name, &bytes)? {
         return super::diagnose_chain::run(&args, setup, &robot, &name, &bytes);
     }
-    let model = load_model(&args.model)?;
+    let mut model = load_model(&args.model)?;
+    if let Some((point, _)) = super::diagnose_chain::measured_point(&args)? {
+        // Where the instrument measured: the diagnosis starts from it, and
+        // a saved model keeps it for `gap`.
+        model.robot.point_mm = Some(point.into());
+    }
     let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = parse_measurements(&name, &bytes, &setup.arm)?;
     let prepared = prepare(&meas, &model, &setup.arm, args.register)?;

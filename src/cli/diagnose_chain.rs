@@ -17,7 +17,7 @@ use rapidtherm::robot::{urdf, Robot};
 use std::path::Path;
 
 /// The chain setup when this diagnosis is the general chain's geometric
-/// calibration: `--chain`, `--point` or `--holdout` ask for it, or the arm
+/// calibration: `--chain` or `--holdout` ask for it, or the arm
 /// has no OPW form and nothing asks for the effects (no temperatures in
 /// the data, no model given or to save). `None`: the effect diagnosis.
 pub fn chain_setup(
@@ -25,11 +25,11 @@ pub fn chain_setup(
     name: &str,
     bytes: &[u8],
 ) -> Result<Option<(ChainSetup, Robot)>> {
-    let general_only = args.point.is_some() || args.holdout.is_some();
+    let general_only = args.holdout.is_some();
     let Some(p) = &args.robot else {
-        if args.chain || general_only {
+        if args.chain || general_only || args.point.is_some() {
             return Err(Error::usage(
-                "--chain, --point and --holdout need --robot FILE.urdf (the general chain's diagnosis)",
+                "--chain, --point and --holdout need --robot FILE.urdf",
             ));
         }
         return Ok(None);
@@ -38,7 +38,7 @@ pub fn chain_setup(
     if robot.opw.is_ok() && !args.chain {
         if general_only {
             return Err(Error::usage(format!(
-                "--point and --holdout are the general chain's: {} has the OPW form, add --chain",
+                "--holdout is the general chain's calibration: {} has the OPW form, add --chain",
                 p.display()
             )));
         }
@@ -66,22 +66,8 @@ pub fn chain_setup(
             )));
         }
     }
-    let (point, point_name) = match &args.point {
-        None => (nalgebra::Vector3::zeros(), "tool0".to_string()),
-        Some(link) => {
-            if !super::arms::is_file(p) {
-                return Err(Error::usage(format!(
-                    "--point {link} names a URDF link: give --robot as a URDF file"
-                )));
-            }
-            let (name, bytes) = read_input(p)?;
-            let text = String::from_utf8_lossy(&bytes);
-            let arm = urdf::parse(&name, &text)?;
-            let iso = urdf::link_in_tip(&name, &text, &arm, link)
-                .map_err(|e| Error::usage(format!("--point {link}: {}", e.message)))?;
-            (iso.translation.vector, link.clone())
-        }
-    };
+    let (point, point_name) = measured_point(args)?
+        .unwrap_or_else(|| (nalgebra::Vector3::zeros(), "tool0".to_string()));
     Ok(Some((
         ChainSetup {
             robot: robot.name.clone(),
@@ -91,6 +77,27 @@ pub fn chain_setup(
         },
         robot,
     )))
+}
+
+/// The URDF link `--point` names, in tool0 (mm), with its name.
+pub fn measured_point(args: &DiagnoseArgs) -> Result<Option<(nalgebra::Vector3<f64>, String)>> {
+    let Some(link) = &args.point else {
+        return Ok(None);
+    };
+    let p = match &args.robot {
+        Some(p) if super::arms::is_file(p) => p,
+        _ => {
+            return Err(Error::usage(format!(
+                "--point {link} names a URDF link: give --robot as a URDF file"
+            )))
+        }
+    };
+    let (name, bytes) = read_input(p)?;
+    let text = String::from_utf8_lossy(&bytes);
+    let arm = urdf::parse(&name, &text)?;
+    let iso = urdf::link_in_tip(&name, &text, &arm, link)
+        .map_err(|e| Error::usage(format!("--point {link}: {}", e.message)))?;
+    Ok(Some((iso.translation.vector, link.clone())))
 }
 
 fn read_data(path: &Path, robot: &Robot) -> Result<ChainData> {

@@ -156,11 +156,13 @@ impl Arm {
     }
 
     /// The base model: this arm's nominal geometry with the model's
-    /// thermal expansion.
+    /// thermal expansion and measured point (given in tool0, turned into
+    /// the chain's flange frame).
     pub fn base(&self, model: &Model) -> Base {
         Base {
             nominal: self.nominal.clone(),
             thermal: model.thermal.clone(),
+            point: self.map.tip * nalgebra::Vector3::from(model.point()),
         }
     }
 

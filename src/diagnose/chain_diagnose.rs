@@ -5,10 +5,10 @@
 //! on held-out poses (cross-validation, and a separate file when given),
 //! and where what is left lies ([`super::chain_residual`]).
 //!
-//! Thermal effects on a general chain are not modelled yet: with
-//! temperatures in the data the report says they were not tried; without
-//! them (time only is an order, not a warm-up) no thermal effect can be
-//! named at all.
+//! This is the geometric calibration only. Thermal effects on a general
+//! chain are the effect diagnosis's ([`super::pipeline`], on
+//! [`crate::model::Geometry::Chain`]); without temperatures in the data
+//! (time only an order, not a warm-up) no thermal effect can be named.
 
 use super::chain_calib::{self, Dropped, Group, Nominal, Param, Sample, N_RAW};
 use super::chain_residual::{remainder, Remainder, ResidualRow};
@@ -232,7 +232,7 @@ pub fn diagnose_chain(
         named.push("geometry-offset".to_string());
     }
     let thermal = if data.has_temps {
-        "The data have temperatures, but thermal effects on a general chain are not modelled yet: none was tried, none is named."
+        "The data have temperatures, but this is the geometric calibration only: no thermal effect was tried here (the effect diagnosis tries every effect on this chain)."
     } else {
         "The data have no temperatures (time is only an order): no thermal effect can be named."
     }

@@ -61,6 +61,12 @@ pub struct RobotSection {
     /// file's folder), whose chain and joint convention the effects use.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub urdf: Option<String>,
+    /// The point the measurements were taken at (a tracker's reflector),
+    /// in tool0, mm: what `diagnose --point` named or fitted. Only the
+    /// diagnosis and `gap` use it; `correct` moves tool0 and the program's
+    /// tools.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point_mm: Option<[f64; 3]>,
 }
 
 /// Where motor temperatures come from when the data do not carry them.
@@ -248,6 +254,9 @@ impl Model {
                 return Err(Error::input("model: alpha must be finite"));
             }
         }
+        if !self.point().iter().all(|v| v.is_finite()) {
+            return Err(Error::input("model: [robot] point_mm must be finite"));
+        }
         if !(th.k0.is_finite() && th.k0 >= 0.0) {
             return Err(Error::input("model: k0 must be a finite factor ≥ 0"));
         }
@@ -274,7 +283,13 @@ impl Model {
         Ok(Base {
             nominal,
             thermal: self.thermal.clone(),
+            point: self.point().into(),
         })
+    }
+
+    /// The measured point in tool0, mm (zero when the model names none).
+    pub fn point(&self) -> [f64; 3] {
+        self.robot.point_mm.unwrap_or([0.0; 3])
     }
 
     /// The path of the URDF the model's `[robot]` names, resolved against

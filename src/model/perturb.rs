@@ -63,6 +63,9 @@ impl Geometry {
 pub struct Base {
     pub nominal: Geometry,
     pub thermal: ThermalExpansion,
+    /// The measured point (a tracker's reflector) in the chain's flange
+    /// frame, mm; zero measures the flange itself.
+    pub point: Vector3<f64>,
 }
 
 impl Default for Base {
@@ -70,6 +73,7 @@ impl Default for Base {
         Base {
             nominal: Geometry::Opw(crate::robot::irb140_opw()),
             thermal: ThermalExpansion::default(),
+            point: Vector3::zeros(),
         }
     }
 }
@@ -98,7 +102,10 @@ pub struct RowState {
 pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Warm, Perturbation) {
     let th = &base.thermal;
     let [l_lower, l_upper] = base.nominal.arm_lengths();
-    let mut pert = Perturbation::default();
+    let mut pert = Perturbation {
+        point: base.point,
+        ..Perturbation::default()
+    };
     let motor_rise = th.link_temps(&row.temps).map(|t| t - th.t_ref);
     // The structure's temperature: the motors' unless a lag is modelled.
     let has_lag = effects.iter().any(|e| e.kind == EffectKind::ThermalLag);

@@ -84,6 +84,9 @@ impl WarmRobot {
                     Err(_) => Geometry::Chain(Arc::new(robot.chain.clone())),
                 },
                 thermal: model.thermal.clone(),
+                // The instrument's point, not the robot's: `correct` moves
+                // tool0 and the program's tools.
+                point: nalgebra::Vector3::zeros(),
             },
             nominal: robot,
             effects,

@@ -8,6 +8,7 @@ mod blind;
 mod chain;
 mod cli;
 mod fit;
+mod general;
 mod loop_model;
 mod loop_program;
 mod nuisance;

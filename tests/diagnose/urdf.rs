@@ -149,7 +149,7 @@ fn embedded_irb140_urdf_gives_the_same_gap_as_the_default() {
 
 /// Simulate `effect` on `robot`, diagnose with the same robot: the verdict
 /// names the effect and the fitted parameter is close to the truth.
-fn finds_effect_on(robot: &Robot, effect: &str, param: &str, truth: f64) {
+pub fn finds_effect_on(robot: &Robot, effect: &str, param: &str, truth: f64) {
     let arm = Arm::of_robot(robot, "test").unwrap();
     let model = Model::default();
     let spec = SimSpec {

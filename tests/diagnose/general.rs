@@ -1,0 +1,79 @@
+//! Every effect on a general serial chain (`rapidtherm::model::general`):
+//! on the IRB 140's own chain the same numbers as its OPW form, and on a
+//! UR5 (`../shared/real/ur5/ur5.urdf`, no OPW form) effects simulated on
+//! it are diagnosed with it.
+
+use super::urdf::finds_effect_on;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rapidtherm::model::{predict, Base, Effect, EffectKind, Geometry, RowState};
+use rapidtherm::robot::Robot;
+use std::path::Path;
+use std::sync::Arc;
+
+fn ur5() -> Robot {
+    Robot::from_urdf_file(Path::new("../shared/real/ur5/ur5.urdf")).unwrap()
+}
+
+#[test]
+fn irb140_as_a_chain_predicts_what_its_opw_form_does() {
+    let opw = Base::default();
+    let chain = Base {
+        nominal: Geometry::Chain(Arc::new(Robot::irb140().chain)),
+        ..Base::default()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    // Every effect but the geometric calibration's, whose joint-origin
+    // errors are written in each form's own joint frames; at magnitudes
+    // far above the defaults so that a misplaced term shows.
+    let kinds: Vec<EffectKind> = EffectKind::ALL
+        .into_iter()
+        .filter(|k| *k != EffectKind::GeometryOffset)
+        .collect();
+    for kind in kinds.iter().copied().map(Some).chain([None]) {
+        let effects: Vec<Effect> = match kind {
+            Some(k) => vec![scaled_defaults(k, 5.0)],
+            None => kinds.iter().map(|&k| scaled_defaults(k, -3.0)).collect(),
+        };
+        for _ in 0..50 {
+            let q = std::array::from_fn(|_| rng.random_range(-2.5..2.5));
+            let temps = std::array::from_fn(|_| rng.random_range(7.0..45.0));
+            let lagged = Some(std::array::from_fn(|_| {
+                std::array::from_fn(|_| rng.random_range(7.0..45.0))
+            }));
+            let row = RowState { q, temps, lagged };
+            let (a, b) = (predict(&opw, &effects, &row), predict(&chain, &effects, &row));
+            let dp = (a.translation.vector - b.translation.vector).norm();
+            let dr = a.rotation.angle_to(&b.rotation);
+            assert!(dp < 1e-9 && dr < 1e-12, "{kind:?}: {dp} mm, {dr} rad");
+        }
+    }
+}
+
+fn scaled_defaults(kind: EffectKind, factor: f64) -> Effect {
+    let mut e = Effect::with_defaults(kind);
+    if kind != EffectKind::ThermalLag {
+        for p in &mut e.params {
+            *p *= factor;
+        }
+    }
+    e
+}
+
+#[test]
+fn thermal_effects_simulated_on_a_ur5_are_diagnosed_with_its_urdf() {
+    let r = ur5();
+    assert!(r.opw.is_err(), "the UR5 must be an arm without the OPW form");
+    finds_effect_on(
+        &r,
+        "joint-offset-drift:c2_urad_per_k=20,c3_urad_per_k=-15",
+        "joint-offset-drift.c2_urad_per_k",
+        20.0,
+    );
+    finds_effect_on(
+        &r,
+        "arm-bending:lower_urad_per_k=40,upper_urad_per_k=-30",
+        "arm-bending.lower_urad_per_k",
+        40.0,
+    );
+}

@@ -66,8 +66,8 @@ pub fn chain_setup(
             )));
         }
     }
-    let (point, point_name) = measured_point(args)?
-        .unwrap_or_else(|| (nalgebra::Vector3::zeros(), "tool0".to_string()));
+    let (point, point_name) =
+        measured_point(args)?.unwrap_or_else(|| (nalgebra::Vector3::zeros(), "tool0".to_string()));
     Ok(Some((
         ChainSetup {
             robot: robot.name.clone(),

@@ -10,7 +10,7 @@
 //! a statistical stopping rule.
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::model::effects::{applies_to_chain, FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
+use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
 use crate::model::{predict, Base, Effect, EffectKind, LinkLags, RowState};
 use crate::robot::Joints;
 use crate::thermal::MotorTemps;
@@ -350,14 +350,13 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         .filter_map(|&i| problem.rows.get(i))
         .map(|r| r.pose)
         .collect();
-    let chain = problem.base.nominal.opw().is_none();
     let allowed: Vec<usize> = (0..m)
         .filter(|&p| {
             let (kind, idx) = layout[p];
             (kind != EffectKind::GeometryOffset
                 || idx < GEOMETRY_ORIGINS_FROM
                 || poses.len() >= FULL_GEOMETRY_POSES)
-                && (!chain || applies_to_chain(kind, idx))
+                && problem.base.nominal.has_param(kind, idx)
         })
         .collect();
     let free: Vec<usize> = {

@@ -13,7 +13,7 @@ use super::verdict::{
     Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
 };
 use crate::error::{Error, Result};
-use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_OPW_LENGTHS, GEOMETRY_ORIGINS_FROM};
+use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
 use crate::model::{EffectEntry, EffectKind, Model};
 
 /// Options of a diagnosis.
@@ -106,7 +106,6 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let where_ = locate::locate(problem, &gaps_before, &prepared.pose_names, noise.rms_mm);
     let noise_assumed = noise.source == NoiseSource::Default;
     let n_poses = problem.rows.iter().map(|r| r.pose + 1).max().unwrap_or(0);
-    let chain = problem.base.nominal.opw().is_none();
 
     let ctx = Ctx {
         problem,
@@ -166,7 +165,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             // not listed, rather than listed as unidentifiable.
             let listed = |p: &ParamOut| {
                 (n_poses >= FULL_GEOMETRY_POSES || !is_origin_param(&p.name))
-                    && (!chain || !is_opw_length(&p.name))
+                    && has_place(&problem.base.nominal, &p.name)
             };
             candidates.push(CandidateOut {
                 part,
@@ -508,13 +507,19 @@ fn two_stages(
     ))
 }
 
-/// Whether `name` (`effect.param`) is one of geometry-offset's OPW lengths,
-/// which a general chain does not have.
-fn is_opw_length(name: &str) -> bool {
-    name.strip_prefix("geometry-offset.").is_some_and(|p| {
-        let params = EffectKind::GeometryOffset.params();
-        GEOMETRY_OPW_LENGTHS.iter().any(|&i| params[i].name == p)
-    })
+/// Whether the parameter `name` (`effect.param`) has a place on the arm
+/// ([`crate::model::Geometry::has_param`]): one without is not listed.
+fn has_place(geometry: &crate::model::Geometry, name: &str) -> bool {
+    let Some((effect, param)) = name.split_once('.') else {
+        return true;
+    };
+    let Some(kind) = EffectKind::from_name(effect) else {
+        return true;
+    };
+    kind.params()
+        .iter()
+        .position(|p| p.name == param)
+        .is_none_or(|i| geometry.has_param(kind, i))
 }
 
 /// Whether `name` (`effect.param`) is one of geometry-offset's joint-origin

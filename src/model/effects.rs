@@ -523,12 +523,6 @@ fn parse_defaults(file: &str, text: &str) -> Result<Vec<Vec<ParamInfo>>> {
 /// role), so they are never fitted there.
 pub const GEOMETRY_OPW_LENGTHS: [usize; 7] = [0, 1, 2, 3, 4, 11, 12];
 
-/// Whether parameter `idx` of `kind` has a meaning on an arm given as a
-/// general chain (`false`: an OPW length, held at zero there).
-pub fn applies_to_chain(kind: EffectKind, idx: usize) -> bool {
-    kind != EffectKind::GeometryOffset || !GEOMETRY_OPW_LENGTHS.contains(&idx)
-}
-
 /// Parameters of `geometry-offset` after the lengths and zeros: an error
 /// of every joint origin and the measured point, what a full kinematic
 /// calibration identifies. Fitted only from enough poses

@@ -14,10 +14,14 @@
 //!   of motion) moves the link's end sideways by κL²/2 and turns everything
 //!   beyond it by κL about that end, L being the link's length across the
 //!   axis.
-//! - Gravity sag: the torque levers of the lower arm's end about axis 2 and
-//!   of the wrist point about axes 2 and 3, in the nominal arm, with
-//!   gravity along −z of the base frame (a floor-mounted robot), each over
-//!   its link's length so that the parameters keep the OPW arm's units.
+//! - Gravity sag, with gravity along −z of the base frame (a floor-mounted
+//!   robot), in the nominal arm. Where the URDF gives the links' masses,
+//!   axes 2 and 3 twist by a compliance times their gravity torque, the
+//!   torque over that of all the masses beyond the axis held at the arm's
+//!   length horizontally (so the parameter is the twist at that torque);
+//!   the second parameter has no place then. Otherwise a proxy: the
+//!   levers of the lower arm's end about axis 2 and of the wrist point
+//!   about axes 2 and 3, each over its link's length, as on the OPW arm.
 //!
 //! On the IRB 140's chain this is exactly the OPW chain for every effect
 //! but the geometric calibration's (whose joint-origin errors are written
@@ -100,25 +104,45 @@ pub fn fk_general(
     t * scaled(&chain.tip, scales[Segment::Wrist.index()]) * Translation3::from(p.point)
 }
 
-/// Gravity levers of the nominal arm at `q`, over the link lengths:
-/// (lower arm's end about axis 2, wrist point about axis 2, wrist point
-/// about axis 3). On an OPW arm in ABB's convention: sin q2, and
-/// cos(q2 + q3) twice.
+/// Gravity levers of the nominal arm at `q`, multiplying the three
+/// parameters of `gravity-sag` (axis 2, axis 2, axis 3). Without masses:
+/// the lower arm's end about axis 2, the wrist point about axis 2 and
+/// about axis 3, over the link lengths (on an OPW arm in ABB's convention:
+/// sin q2, and cos(q2 + q3) twice). With masses: the gravity torques of
+/// axes 2 and 3 over their reference torques, and zero for the second.
 pub fn gravity_levers(chain: &Chain, q: &Joints) -> [f64; 3] {
     let f = chain.joint_frames(q);
     let [l_lower, l_upper] = link_lengths(chain);
     let qs = serial_angles(q, chain.coupling);
+    let axis = |k: usize| f[k].rotation * chain.joints[k].axis.into_inner();
+    // Torque of a unit weight at p about axis k: a · ((p − o) × −z).
+    let lever = |p: &Vector3<f64>, k: usize| {
+        axis(k).dot(&(p - f[k].translation.vector).cross(&-Vector3::z()))
+    };
+    if !chain.masses.is_empty() {
+        let turned: [Isometry3<f64>; 6] = std::array::from_fn(|k| {
+            f[k] * UnitQuaternion::from_axis_angle(&chain.joints[k].axis, qs[k])
+        });
+        let torque = |k: usize, reach: f64| {
+            let (mut tau, mut mass) = (0.0, 0.0);
+            for m in chain.masses.iter().filter(|m| m.joint >= k) {
+                tau +=
+                    m.mass_kg * lever(&(turned[m.joint] * nalgebra::Point3::from(m.com)).coords, k);
+                mass += m.mass_kg;
+            }
+            if mass > 0.0 && reach > 0.0 {
+                tau / (mass * reach)
+            } else {
+                0.0
+            }
+        };
+        return [torque(1, l_lower + l_upper), 0.0, torque(2, l_upper)];
+    }
     // The wrist point with axis 4 at zero, as the upper arm's length is
     // taken: axis 4 turns about the upper arm and does not move it.
     let frame3 = f[2] * UnitQuaternion::from_axis_angle(&chain.joints[2].axis, qs[2]);
     let wrist = frame3 * chain.joints[3].origin * chain.joints[4].origin;
     let (elbow, wrist) = (f[2].translation.vector, wrist.translation.vector);
-    let lever = |p: &Vector3<f64>, k: usize| {
-        let o = f[k].translation.vector;
-        let a = f[k].rotation * chain.joints[k].axis.into_inner();
-        // Torque of a unit weight at p about the axis: a · ((p − o) × −z).
-        a.dot(&(p - o).cross(&-Vector3::z()))
-    };
     let per = |v: f64, l: f64| if l > 0.0 { v / l } else { 0.0 };
     [
         per(lever(&elbow, 1), l_lower),

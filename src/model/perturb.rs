@@ -48,6 +48,21 @@ impl Geometry {
         }
     }
 
+    /// Whether parameter `idx` of `kind` has a place on this arm: a general
+    /// chain has no OPW lengths (its joint origins take their role), and
+    /// with the links' masses gravity sag has two compliances, not three
+    /// levers. Parameters without a place are held at zero, never fitted.
+    pub fn has_param(&self, kind: EffectKind, idx: usize) -> bool {
+        match self {
+            Geometry::Opw(_) => true,
+            Geometry::Chain(c) => match kind {
+                EffectKind::GeometryOffset => !super::effects::GEOMETRY_OPW_LENGTHS.contains(&idx),
+                EffectKind::GravitySag => c.masses.is_empty() || idx != 1,
+                _ => true,
+            },
+        }
+    }
+
     /// Lengths of the lower and upper arm, mm (what bending curves).
     pub fn arm_lengths(&self) -> [f64; 2] {
         match self {

@@ -50,6 +50,17 @@ pub struct ChainJoint {
     pub axis: Unit<Vector3<f64>>,
 }
 
+/// A mass the arm carries (a URDF link's inertial): on which joint, and
+/// where its centre of mass is in that joint's frame after its rotation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkMass {
+    /// 0-based joint whose rotation moves it.
+    pub joint: usize,
+    pub mass_kg: f64,
+    /// mm.
+    pub com: Vector3<f64>,
+}
+
 /// A serial chain of six revolute joints from the base frame to the flange.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chain {
@@ -61,6 +72,9 @@ pub struct Chain {
     /// axis 3 is measured against the horizontal. The joint angles this
     /// chain takes are the controller's.
     pub coupling: f64,
+    /// The moving links' masses, where the URDF gives inertials (empty
+    /// otherwise): what gravity twists the joints with.
+    pub masses: Vec<LinkMass>,
 }
 
 fn scaled(iso: &Isometry3<f64>, s: f64) -> Isometry3<f64> {
@@ -96,6 +110,7 @@ impl Chain {
                 UnitQuaternion::from_axis_angle(&ey, FRAC_PI_2),
             ),
             coupling,
+            masses: Vec::new(),
         }
     }
 

@@ -2,7 +2,7 @@
 //! and collision geometry are ignored: no `package://` lookups, no ROS.
 //! URDF lengths are metres; the chain is built in millimetres.
 
-use super::chain::{Chain, ChainJoint};
+use super::chain::{Chain, ChainJoint, LinkMass};
 use super::ik::Limits;
 use crate::error::{Error, ErrorKind, Result};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
@@ -163,12 +163,43 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
     if !finite {
         return Err(bad("a joint origin is not finite".into()));
     }
+    // Every link with a mass that one of the arm's joints moves (a branch
+    // off the arm, or the base, is not the arm's load).
+    let mut masses = Vec::new();
+    for link in &robot.links {
+        let m = link.inertial.mass.value;
+        if !(m.is_finite() && m > 0.0) {
+            continue;
+        }
+        let Some(p) = path_to(&link.name) else {
+            continue;
+        };
+        let Some(last) = p.iter().rposition(|&i| movable(&robot.joints[i])) else {
+            continue;
+        };
+        let name = &robot.joints[p[last]].name;
+        let Some(k) = joints.iter().position(|j| &j.name == name) else {
+            continue;
+        };
+        let com = p[last + 1..].iter().fold(Isometry3::identity(), |t, &i| {
+            t * pose_of(&robot.joints[i].origin)
+        }) * pose_of(&link.inertial.origin);
+        let com = com.translation.vector;
+        if com.iter().all(|v| v.is_finite()) {
+            masses.push(LinkMass {
+                joint: k,
+                mass_kg: m,
+                com,
+            });
+        }
+    }
     Ok(UrdfArm {
         name: robot.name.clone(),
         chain: Chain {
             joints,
             tip: pending,
             coupling: 0.0,
+            masses,
         },
         limits: std::array::from_fn(|i| limits[i]),
         max_speed_deg_s: std::array::from_fn(|i| speeds[i]),

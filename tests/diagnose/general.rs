@@ -42,7 +42,10 @@ fn irb140_as_a_chain_predicts_what_its_opw_form_does() {
                 std::array::from_fn(|_| rng.random_range(7.0..45.0))
             }));
             let row = RowState { q, temps, lagged };
-            let (a, b) = (predict(&opw, &effects, &row), predict(&chain, &effects, &row));
+            let (a, b) = (
+                predict(&opw, &effects, &row),
+                predict(&chain, &effects, &row),
+            );
             let dp = (a.translation.vector - b.translation.vector).norm();
             let dr = a.rotation.angle_to(&b.rotation);
             assert!(dp < 1e-9 && dr < 1e-12, "{kind:?}: {dp} mm, {dr} rad");
@@ -63,7 +66,10 @@ fn scaled_defaults(kind: EffectKind, factor: f64) -> Effect {
 #[test]
 fn thermal_effects_simulated_on_a_ur5_are_diagnosed_with_its_urdf() {
     let r = ur5();
-    assert!(r.opw.is_err(), "the UR5 must be an arm without the OPW form");
+    assert!(
+        r.opw.is_err(),
+        "the UR5 must be an arm without the OPW form"
+    );
     finds_effect_on(
         &r,
         "joint-offset-drift:c2_urad_per_k=20,c3_urad_per_k=-15",
@@ -76,4 +82,62 @@ fn thermal_effects_simulated_on_a_ur5_are_diagnosed_with_its_urdf() {
         "arm-bending.lower_urad_per_k",
         40.0,
     );
+}
+
+/// The IRB 140's URDF with masses on the lower arm, the upper arm, the
+/// wrist and a tool hung on tool0.
+fn irb140_with_masses() -> Robot {
+    let inertial = |xyz: &str, kg: f64| {
+        format!(
+            r#"<inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{kg}"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>"#
+        )
+    };
+    let text = rapidtherm::robot::urdf::IRB140_URDF
+        .replace(
+            r#"<link name="link_2"/>"#,
+            &format!(
+                r#"<link name="link_2">{}</link>"#,
+                inertial("0 0 0.18", 10.0)
+            ),
+        )
+        .replace(
+            r#"<link name="link_3"/>"#,
+            &format!(r#"<link name="link_3">{}</link>"#, inertial("0.2 0 0", 6.0)),
+        )
+        .replace(
+            r#"<link name="link_6"/>"#,
+            &format!(r#"<link name="link_6">{}</link>"#, inertial("0 0 0", 2.0)),
+        )
+        .replace(
+            r#"<link name="tool0"/>"#,
+            &format!(r#"<link name="tool0">{}</link>"#, inertial("0 0 0.1", 1.0)),
+        );
+    Robot::from_urdf_str("irb140_masses.urdf", &text).unwrap()
+}
+
+#[test]
+fn gravity_torques_come_from_the_urdf_inertials() {
+    let chain = irb140_with_masses().chain;
+    assert_eq!(chain.masses.len(), 4);
+    // At zero the lower arm stands over axis 2 (no lever); the upper arm's
+    // mass is 200 mm out, the wrist's 445 mm, the tool's 545 mm (tool0's z
+    // points forward), all measured from axes 2 and 3 alike.
+    let tau = 6.0 * 200.0 + 2.0 * 445.0 + 1.0 * 545.0;
+    let expect = [tau / (19.0 * 740.0), 0.0, tau / (9.0 * 380.0)];
+    for q1 in [0.0, 1.3, -2.2] {
+        let l = rapidtherm::model::general::gravity_levers(&chain, &[q1, 0.0, 0.0, 0.7, 0.0, 0.4]);
+        for (a, b) in l.iter().zip(expect) {
+            assert!((a - b).abs() < 1e-12, "{l:?} vs {expect:?}");
+        }
+    }
+    // Arm straight up: no torque on either axis.
+    let up = [0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0];
+    let l = rapidtherm::model::general::gravity_levers(&chain, &up);
+    assert!(l.iter().all(|v| v.abs() < 1e-9), "{l:?}");
+    // With masses, sag has two compliances: its second lever has no place.
+    let g = Geometry::Chain(Arc::new(chain));
+    assert!(!g.has_param(EffectKind::GravitySag, 1));
+    assert!(g.has_param(EffectKind::GravitySag, 2));
+    assert!(!g.has_param(EffectKind::GeometryOffset, 0));
+    assert!(g.has_param(EffectKind::GeometryOffset, 5));
 }

@@ -6,7 +6,7 @@ use super::fit::Problem;
 use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct TimeBin {
@@ -497,6 +497,10 @@ fn follow_joint(problem: &Problem, gaps: &[Vector3<f64>]) -> Option<JointFollow>
     best
 }
 
+/// Fewest poses measured both before and after a step for it to be a step
+/// in time rather than between poses.
+const MIN_POSES_ACROSS_STEP: usize = 3;
+
 /// A sudden step in the gap over time (on top of a smooth quadratic trend):
 /// per-time mean gap vectors, the split that best fits a step.
 fn find_step(problem: &Problem, gaps: &[Vector3<f64>], noise_rms: f64) -> Option<Step> {
@@ -555,6 +559,22 @@ fn find_step(problem: &Problem, gaps: &[Vector3<f64>], noise_rms: f64) -> Option
         }
     }
     let (rss_step, split, d) = best?;
+    // A change over time shows only on poses measured on both sides of it:
+    // where each pose is measured once (a sweep), the order of the poses
+    // is the order of time, and a step between two regions of the
+    // workspace would be called a step in time.
+    let cut = series[split].0;
+    let (mut before, mut after) = (BTreeSet::new(), BTreeSet::new());
+    for r in &problem.rows {
+        if r.time_min < cut {
+            before.insert(r.pose);
+        } else {
+            after.insert(r.pose);
+        }
+    }
+    if before.intersection(&after).count() < MIN_POSES_ACROSS_STEP {
+        return None;
+    }
     let rows_per_time = (gaps.len() as f64 / tn as f64).max(1.0);
     // Noise of a per-time mean, per axis.
     let sd_noise = noise_rms / 3f64.sqrt() / rows_per_time.sqrt();

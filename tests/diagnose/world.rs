@@ -72,9 +72,19 @@ impl Effect {
     }
 }
 
+/// Which robot the world holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Arm {
+    Irb140,
+    /// A UR5 (`world_ur5.rs`): no OPW form, the diagnosis works on its
+    /// URDF chain.
+    Ur5,
+}
+
 /// What makes a data set: the effects, the nuisance, and its form.
 #[derive(Debug, Clone)]
 pub struct SetSpec {
+    pub arm: Arm,
     pub effects: Vec<Effect>,
     pub seed: u64,
     pub poses: usize,
@@ -94,6 +104,7 @@ pub struct SetSpec {
 impl SetSpec {
     pub fn new(effects: Vec<Effect>, seed: u64) -> SetSpec {
         SetSpec {
+            arm: Arm::Irb140,
             effects,
             seed,
             poses: 15,
@@ -115,43 +126,45 @@ pub struct DataSet {
 }
 
 /// The real robot's fixed departures from nominal.
-struct Geometry {
+pub(super) struct Geometry {
     /// A small transform after each joint's rotation.
-    origin: [Isometry3<f64>; 6],
+    pub(super) origin: [Isometry3<f64>; 6],
     /// Zero offsets, rad.
-    zero: [f64; 6],
+    pub(super) zero: [f64; 6],
     /// Reflector position in the last frame (x along the flange normal).
-    reflector: Vector3<f64>,
+    pub(super) reflector: Vector3<f64>,
     /// Robot base in the tracker's frame.
-    tracker: Isometry3<f64>,
+    pub(super) tracker: Isometry3<f64>,
 }
 
-fn rx(a: f64) -> UnitQuaternion<f64> {
+pub(super) fn rx(a: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::from_axis_angle(&Vector3::x_axis(), a)
 }
-fn ry(a: f64) -> UnitQuaternion<f64> {
+pub(super) fn ry(a: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::from_axis_angle(&Vector3::y_axis(), a)
 }
-fn rz(a: f64) -> UnitQuaternion<f64> {
+pub(super) fn rz(a: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::from_axis_angle(&Vector3::z_axis(), a)
 }
-fn rot(r: UnitQuaternion<f64>) -> Isometry3<f64> {
+pub(super) fn rot(r: UnitQuaternion<f64>) -> Isometry3<f64> {
     Isometry3::from_parts(Translation3::identity(), r)
 }
-fn tr(x: f64, y: f64, z: f64) -> Isometry3<f64> {
+pub(super) fn tr(x: f64, y: f64, z: f64) -> Isometry3<f64> {
     Isometry3::translation(x, y, z)
 }
 
 /// Everything a pose's position depends on at one moment.
-struct State {
+pub(super) struct State {
     /// Link lengths as they are (expanded): c1, a1, c2, c3, c4.
     len: [f64; 5],
+    /// Each link's length factor (base, lower arm, upper arm, wrist).
+    pub(super) grow: [f64; 4],
     /// Extra joint angles, rad.
-    dq: [f64; 6],
+    pub(super) dq: [f64; 6],
     /// Curvature tip rotations of the lower and upper arm, rad.
-    bend: [f64; 2],
+    pub(super) bend: [f64; 2],
     /// Where the base really is.
-    base: Isometry3<f64>,
+    pub(super) base: Isometry3<f64>,
 }
 
 /// The position of the reflector in the tracker frame. Written from the
@@ -322,7 +335,12 @@ pub fn generate(spec: &SetSpec) -> DataSet {
         tracker,
     };
     let heat = Heat::new(&mut rng);
-    let poses: Vec<[f64; 6]> = (0..spec.poses).map(|_| random_pose(&mut rng)).collect();
+    let poses: Vec<[f64; 6]> = (0..spec.poses)
+        .map(|_| match spec.arm {
+            Arm::Irb140 => random_pose(&mut rng),
+            Arm::Ur5 => super::world_ur5::random_pose(&mut rng),
+        })
+        .collect();
     let lag_tau = spec.effects.iter().find_map(|e| match e {
         Effect::ThermalLag(t) => Some(*t),
         _ => None,
@@ -353,6 +371,7 @@ pub fn generate(spec: &SetSpec) -> DataSet {
             let mut scale = [1.0; 4];
             let mut state = State {
                 len: [C1, A1, C2, C3, C4],
+                grow: [1.0; 4],
                 dq: [0.0; 6],
                 bend: [0.0; 2],
                 base: Isometry3::identity(),
@@ -380,6 +399,9 @@ pub fn generate(spec: &SetSpec) -> DataSet {
                             )),
                         ) * state.base;
                     }
+                    Effect::GravitySag(_) if spec.arm != Arm::Irb140 => {
+                        panic!("the world's gravity torques are the IRB 140's")
+                    }
                     Effect::GravitySag(c) => {
                         let tq = gravity_torque(&q);
                         state.dq[1] += c[0] * tq[0];
@@ -399,15 +421,14 @@ pub fn generate(spec: &SetSpec) -> DataSet {
                     }
                 }
             }
-            let grow = |l: f64, link: usize| l * (1.0 + K0 * ALPHA * scale[link] * structure[link]);
-            state.len = [
-                grow(C1, 0),
-                grow(A1, 0),
-                grow(C2, 1),
-                grow(C3, 2),
-                grow(C4, 3),
-            ];
-            let p = position(&geometry, &state, &q);
+            state.grow =
+                std::array::from_fn(|link| 1.0 + K0 * ALPHA * scale[link] * structure[link]);
+            let g = state.grow;
+            state.len = [C1 * g[0], A1 * g[0], C2 * g[1], C3 * g[2], C4 * g[3]];
+            let p = match spec.arm {
+                Arm::Irb140 => position(&geometry, &state, &q),
+                Arm::Ur5 => super::world_ur5::position(&geometry, &state, &q),
+            };
             let p = p + Vector3::new(
                 noise.sample(&mut rng),
                 noise.sample(&mut rng),
@@ -437,19 +458,32 @@ pub fn generate(spec: &SetSpec) -> DataSet {
 /// The nominal flange position (no error, no warmth, base frame): the
 /// check values of `irb140.md` pin this chain to the ABB convention.
 pub fn nominal_flange(q: &[f64; 6]) -> Vector3<f64> {
-    let g = Geometry {
-        origin: [Isometry3::identity(); 6],
-        zero: [0.0; 6],
-        reflector: Vector3::zeros(),
-        tracker: Isometry3::identity(),
-    };
-    let s = State {
-        len: [C1, A1, C2, C3, C4],
-        dq: [0.0; 6],
-        bend: [0.0; 2],
-        base: Isometry3::identity(),
-    };
-    position(&g, &s, q)
+    position(&Geometry::exact(), &State::cold(), q)
+}
+
+impl Geometry {
+    /// No error, measured at the flange, in the base frame.
+    pub(super) fn exact() -> Geometry {
+        Geometry {
+            origin: [Isometry3::identity(); 6],
+            zero: [0.0; 6],
+            reflector: Vector3::zeros(),
+            tracker: Isometry3::identity(),
+        }
+    }
+}
+
+impl State {
+    /// The cold, nominal arm.
+    pub(super) fn cold() -> State {
+        State {
+            len: [C1, A1, C2, C3, C4],
+            grow: [1.0; 4],
+            dq: [0.0; 6],
+            bend: [0.0; 2],
+            base: Isometry3::identity(),
+        }
+    }
 }
 
 #[test]

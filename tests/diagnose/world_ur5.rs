@@ -12,6 +12,7 @@ use rand_chacha::ChaCha8Rng;
 
 /// The URDF writes a quarter turn as 1.570796327 (π/2 to 10 digits): its
 /// own chain, 1e-7 mm from an exact quarter turn, is the one copied.
+#[allow(clippy::approx_constant)] // the URDF's own digits, on purpose
 const URDF_HALF_TURN: f64 = 1.570796327;
 
 /// The reflector's position in the tracker frame.

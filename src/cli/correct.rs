@@ -283,8 +283,8 @@ struct Run {
 }
 
 /// The arm of a task, refused when the thermal defaults would be guessed.
-pub(super) fn checked_arm(args: &CorrectArgs, task: &Task) -> Result<tasks::Arm> {
-    let arm = tasks::arm_for(task, &args.robot)?;
+pub(super) fn checked_arm(args: &CorrectArgs, task: &Task, model: &Model) -> Result<tasks::Arm> {
+    let arm = tasks::arm_for_model(task, &args.robot, model)?;
     if args.model.is_none() && !arm.is_irb140 && !args.irb140_thermal {
         let whose = match &task.name {
             Some(n) => format!("task {n}: "),
@@ -359,7 +359,7 @@ pub(super) fn warm_run(
 }
 
 fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
-    let arm = checked_arm(args, &task)?;
+    let arm = checked_arm(args, &task, model)?;
     let (inputs, program) = tasks::read(&task)?;
     let when = when_of(args, &program, &arm.robot, tasks::base_frame(&task)?)?;
     let (arm_name, warm, options) = warm_run(args, model, &task, arm, when)?;

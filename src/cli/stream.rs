@@ -58,7 +58,7 @@ pub fn correct(
         return Ok(None);
     };
     // Anything refused here is refused again, and said, by the whole path.
-    let Ok(arm) = checked_arm(args, task) else {
+    let Ok(arm) = checked_arm(args, task, model) else {
         return Ok(None);
     };
     let Ok(when) = moment(at, "--at").map(When::At) else {

@@ -87,10 +87,9 @@ pub struct Arm {
     pub provenance: String,
 }
 
-/// The arm of `task`: the `--robot` given for it (`T_ROB2=SPEC`), else the
-/// `--robot` given for all, else the robot type the backup's MOC.cfg
-/// names, else the embedded IRB 140.
-pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
+/// The `--robot` given for all tasks and the one given for `task`
+/// (`T_ROB2=SPEC`).
+fn specs_for<'a>(task: &Task, specs: &'a [String]) -> (Option<&'a str>, Option<&'a str>) {
     let mut general = None;
     let mut own = None;
     for s in specs {
@@ -107,6 +106,68 @@ pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
             _ => general = Some(s.as_str()),
         }
     }
+    (general, own)
+}
+
+/// The arm of `task` under a model file. A model fitted on a URDF arm
+/// names it: that arm where nothing else says which arm the task moves,
+/// else the arm said, which must be the same (the effects are written on
+/// that arm's joints: on another, they would move targets wrongly).
+pub fn arm_for_model(
+    task: &Task,
+    specs: &[String],
+    model: &rapidtherm::model::Model,
+) -> Result<Arm> {
+    let Some(urdf) = model.urdf_path() else {
+        return arm_for(task, specs);
+    };
+    let (general, own) = specs_for(task, specs);
+    if general.is_none() && own.is_none() && task.robot_type.is_none() {
+        let mut arm = arm_of_spec(&urdf.display().to_string())?;
+        arm.provenance = format!("{}, named by the model file's [robot] urdf", arm.provenance);
+        info!(
+            "task {}: arm {} ({}), {}",
+            task.label(),
+            arm.robot.name,
+            arm.label,
+            arm.provenance
+        );
+        return Ok(arm);
+    }
+    let arm = arm_for(task, specs)?;
+    let fitted = Robot::from_urdf_file(&urdf)?;
+    if !same_chain(&arm.robot, &fitted) {
+        return Err(Error::usage(format!(
+            "task {}: the model was fitted on {} ({}), whose joints its effects are written on; the task moves {}",
+            task.label(),
+            fitted.name,
+            urdf.display(),
+            arm.robot.name
+        ))
+        .with_note("give a model diagnosed on this arm, or leave out --robot to use the model's"));
+    }
+    Ok(arm)
+}
+
+/// Whether two arms have the same chain (joint origins and axes within
+/// 1e-6 mm and rad, the same tool0), whatever their names.
+fn same_chain(a: &Robot, b: &Robot) -> bool {
+    let close = |x: &nalgebra::Isometry3<f64>, y: &nalgebra::Isometry3<f64>| {
+        (x.translation.vector - y.translation.vector).norm() < 1e-6
+            && x.rotation.angle_to(&y.rotation) < 1e-6
+    };
+    a.chain.coupling == b.chain.coupling
+        && close(&a.chain.tip, &b.chain.tip)
+        && a.chain.joints.iter().zip(&b.chain.joints).all(|(x, y)| {
+            close(&x.origin, &y.origin) && (x.axis.into_inner() - y.axis.into_inner()).norm() < 1e-6
+        })
+}
+
+/// The arm of `task`: the `--robot` given for it (`T_ROB2=SPEC`), else the
+/// `--robot` given for all, else the robot type the backup's MOC.cfg
+/// names, else the embedded IRB 140.
+pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
+    let (general, own) = specs_for(task, specs);
     let (mut arm, chosen_by) = match own.or(general) {
         Some(spec) if own.is_some() => (arm_of_spec(spec)?, format!("--robot {}={spec}", task.label())),
         Some(spec) => (arm_of_spec(spec)?, format!("--robot {spec}")),

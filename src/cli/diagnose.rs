@@ -159,9 +159,10 @@ fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result
         message: format!("--robot {}: {}", p.display(), e.message),
         ..e
     })?;
-    if model_file && model.robot.opw.as_ref() != arm.nominal.opw() {
+    // A model naming a URDF is replaced whole: its chain is not compared.
+    if model_file && (model.robot.opw.as_ref() != arm.nominal.opw() || model.robot.urdf.is_some()) {
         note!(
-            "the lengths of {} replace the model's [robot] geometry ({})",
+            "the geometry of {} replaces the model's [robot] geometry ({})",
             p.display(),
             model.robot.name
         );

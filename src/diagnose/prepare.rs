@@ -88,9 +88,10 @@ pub fn prepare(meas: &Measurements, model: &Model, register: bool) -> Result<Pre
     prepare_arm(meas, model, &Arm::of_model(model)?, register)
 }
 
-/// [`prepare`] for any OPW-shaped arm: its nominal geometry replaces the
-/// model's, and the rows' joints and orientations are mapped to the
-/// diagnosis chain's convention ([`super::arm::ArmMap`]).
+/// [`prepare`] for any arm: its nominal geometry (OPW lengths or its URDF
+/// chain) replaces the model's, and on an OPW arm the rows' joints and
+/// orientations are mapped to the diagnosis chain's convention
+/// ([`super::arm::ArmMap`]; the identity on a URDF chain).
 pub fn prepare_arm(
     meas: &Measurements,
     model: &Model,

@@ -141,3 +141,77 @@ fn gravity_torques_come_from_the_urdf_inertials() {
     assert!(!g.has_param(EffectKind::GeometryOffset, 0));
     assert!(g.has_param(EffectKind::GeometryOffset, 5));
 }
+
+/// The loop on an arm without the OPW form: simulated on a UR5, diagnosed
+/// on its URDF, the diagnosed model's corrections (the warm robot's
+/// joints for a cold target, as `correct` computes them, through the UR5's
+/// numeric IK) put the simulated real robot on poses it was not diagnosed
+/// on far closer than the uncorrected joints do.
+#[test]
+fn a_model_diagnosed_on_a_ur5_corrects_the_ur5() {
+    use rapidtherm::diagnose::arm::Arm;
+    use rapidtherm::diagnose::simulate::{random_poses, simulate_arm, SimSpec};
+    use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare_arm, Options};
+    use rapidtherm::model::{Model, Moment, WarmRobot};
+
+    let robot = ur5();
+    let arm = Arm::of_robot(&robot, "ur5.urdf").unwrap();
+    let model = Model::default();
+    let truth = vec![
+        Effect::parse_spec("joint-offset-drift:c2_urad_per_k=30,c3_urad_per_k=-25").unwrap(),
+        Effect::parse_spec("expansion-scale:dk_lower=1.5,dk_upper=1.5").unwrap(),
+    ];
+    let spec = SimSpec {
+        base: arm.base(&model),
+        poses: random_poses(12, &arm.limits_deg, 9),
+        times: (0..=18).map(|i| 10.0 * f64::from(i)).collect(),
+        effects: truth.clone(),
+        noise_mm: 0.01,
+        orientation: false,
+        measured_temps: false,
+        seed: 9,
+    };
+    let profile = model.profile().unwrap();
+    let meas = simulate_arm(&spec, &arm.map, profile.as_ref()).unwrap();
+    let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
+    let d = diagnose(&prepared, &Options::default()).unwrap();
+    let fitted = diagnosed_model(&model, &d);
+    let t = 120.0;
+    let warm = WarmRobot::new(robot.clone(), &fitted, t).unwrap();
+    let state = warm.state(Moment::Minute(t)).unwrap();
+    let temps = profile.temps_at(t).unwrap();
+    let real = |q: &[f64; 6]| {
+        predict(
+            &spec.base,
+            &truth,
+            &RowState {
+                q: *q,
+                temps,
+                lagged: None,
+            },
+        )
+        .translation
+        .vector
+    };
+    let (mut cold_sq, mut corrected_sq, mut n) = (0.0, 0.0, 0);
+    for (_, q) in random_poses(20, &arm.limits_deg, 77) {
+        let goal = robot.fk(&q);
+        let conf = robot.conf_of(&q);
+        let Ok(qc) = warm.joints_for(&goal, &conf, &state) else {
+            continue; // at a singularity: `correct` reports it, never guesses
+        };
+        cold_sq += (real(&q) - goal.translation.vector).norm_squared();
+        corrected_sq += (real(&qc) - goal.translation.vector).norm_squared();
+        n += 1;
+    }
+    assert!(n >= 15, "only {n} of 20 poses corrected");
+    let (cold, corrected) = (
+        (cold_sq / n as f64).sqrt(),
+        (corrected_sq / n as f64).sqrt(),
+    );
+    assert!(
+        corrected < 0.2 * cold,
+        "warm error {cold:.4} mm uncorrected, {corrected:.4} mm corrected ({:?})",
+        d.verdict.labels()
+    );
+}

@@ -16,15 +16,17 @@
 //! (axis 1 first). The starting points are fixed, so the same pose and
 //! robconf always give the same answer.
 //!
-//! The search runs in two rounds. The first starts from the quadrant
-//! middles of axes 1, 4 and 6, axis 5 at ±90° by the requested sign, and a
-//! 3 × 3 grid over axes 2 and 3, keeping the starts whose wrist centre
-//! lies on the requested sides of axis 1 and of the lower arm (cfx): on a
-//! regular pose one of them lands on the requested solution. Only when
-//! none does, the second round starts from every quarter turn of axis 1,
-//! both wrist flips and the whole grid, to find every solution (the error
-//! lists their configurations). A start that comes near a solution
-//! already found is stopped there.
+//! The search runs in rounds, each only when the ones before found no
+//! solution with the robconf. The first starts from the quadrant middles
+//! of axes 1, 4 and 6, axis 5 at 90° of the requested sign (and of the
+//! other sign where a turn of it has the requested one within the
+//! limits), and a 3 × 3 grid over axes 2 and 3, taking the starts whose
+//! wrist centre lies on the requested sides of axis 1 and of the lower
+//! arm (cfx): on a regular pose one of them lands on the requested
+//! solution. The second takes the rest of that grid. The third starts
+//! from every quarter turn of axis 1, both wrist flips and the whole grid,
+//! to find every solution (the error lists their configurations). A start
+//! that comes near a solution already found is stopped there.
 
 use super::arm::Robot;
 use super::chain::{Axis, Chain};
@@ -74,18 +76,21 @@ impl Robot {
         let mut search = Search::new(&self.chain, scales, pose)?;
         let reference = reference(conf);
         if let Some(bits) = CfxBits::from_cfx(conf.cfx) {
-            let first = search.first_round(&self.limits, &reference, bits);
-            search.run(&first);
-            if let Some(q) = search.pick(&self.limits, conf, &reference) {
-                return Ok(q);
-            }
-            let second: Vec<Joints> = second_round(&self.limits, &reference)
-                .into_iter()
-                .filter(|s| !first.contains(s))
-                .collect();
-            search.run(&second);
-            if let Some(q) = search.pick(&self.limits, conf, &reference) {
-                return Ok(q);
+            let (likely, rest) = search.first_round(&self.limits, &reference, bits);
+            let mut rounds = [likely, rest, Vec::new()];
+            for i in 0..rounds.len() {
+                if i == 2 {
+                    // Built only when needed: most poses end above.
+                    let [likely, rest, _] = &rounds;
+                    rounds[2] = second_round(&self.limits, &reference)
+                        .into_iter()
+                        .filter(|s| !likely.contains(s) && !rest.contains(s))
+                        .collect();
+                }
+                search.run(&rounds[i]);
+                if let Some(q) = search.pick(&self.limits, conf, &reference) {
+                    return Ok(q);
+                }
             }
         }
         let have = search.reachable_confs(&self.limits);
@@ -407,7 +412,12 @@ impl<'a> Search<'a> {
     }
 
     /// The first round's starts (module documentation).
-    fn first_round(&self, limits: &Limits, reference: &Joints, bits: CfxBits) -> Vec<Joints> {
+    fn first_round(
+        &self,
+        limits: &Limits,
+        reference: &Joints,
+        bits: CfxBits,
+    ) -> (Vec<Joints>, Vec<Joints>) {
         let sign = if bits.axis5_negative { -1.0 } else { 1.0 };
         // Axis 5 at 90° of the requested sign; and of the other sign too
         // where a turn of it has the requested sign within the limits (an
@@ -419,7 +429,7 @@ impl<'a> Search<'a> {
         } else {
             &[1.0]
         };
-        let mut out = Vec::with_capacity(18);
+        let (mut likely, mut rest) = (Vec::with_capacity(18), Vec::with_capacity(18));
         for flip in flips {
             for q2 in grid(limits[1]) {
                 for q3 in grid(limits[2]) {
@@ -430,12 +440,14 @@ impl<'a> Search<'a> {
                         g.behind_axis1 == bits.behind_axis1
                             && g.behind_lower_arm == bits.behind_lower_arm
                     }) {
-                        out.push(s);
+                        likely.push(s);
+                    } else {
+                        rest.push(s);
                     }
                 }
             }
         }
-        out
+        (likely, rest)
     }
 
     /// Run every start.
@@ -506,7 +518,7 @@ impl<'a> Search<'a> {
             let a = jac.tr_mul(&jac);
             let g = jac.tr_mul(&e);
             if mu.is_nan() {
-                mu = 1e-3 * (0..6).map(|k| a[(k, k)]).fold(0.0, f64::max);
+                mu = 1e-4 * (0..6).map(|k| a[(k, k)]).fold(0.0, f64::max);
             }
             let mut improved = false;
             // Raise the damping until a step lowers the error.
@@ -528,7 +540,7 @@ impl<'a> Search<'a> {
                 let cost2 = e2.norm_squared();
                 if cost2 < cost {
                     (q, e, jac, cost) = (next, e2, jac2, cost2);
-                    mu /= 3.0;
+                    mu /= 5.0;
                     improved = true;
                     break;
                 }

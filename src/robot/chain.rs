@@ -125,7 +125,7 @@ impl Chain {
     /// Flange pose with each segment's translations scaled (base, lower
     /// arm, upper arm, wrist).
     pub fn fk_scaled(&self, q: &Joints, scale: &[f64; 4]) -> Isometry3<f64> {
-        self.frames_scaled(q, scale).1
+        self.walk(q, scale, |_, _| {})
     }
 
     /// Frames of the six joints (before their own rotation) and of the
@@ -136,15 +136,28 @@ impl Chain {
         q: &Joints,
         scale: &[f64; 4],
     ) -> ([Isometry3<f64>; 6], Isometry3<f64>) {
-        let q = serial_angles(q, self.coupling);
         let mut out = [Isometry3::identity(); 6];
+        let flange = self.walk(q, scale, |i, t| out[i] = *t);
+        (out, flange)
+    }
+
+    /// The flange pose, showing `frame` each joint's frame on the way
+    /// (FK, which shows nothing, pays nothing for it).
+    #[inline]
+    fn walk(
+        &self,
+        q: &Joints,
+        scale: &[f64; 4],
+        mut frame: impl FnMut(usize, &Isometry3<f64>),
+    ) -> Isometry3<f64> {
+        let q = serial_angles(q, self.coupling);
         let mut t = Isometry3::identity();
         for (i, j) in self.joints.iter().enumerate() {
             t *= scaled(&j.origin, scale[Segment::of_joint(i).index()]);
-            out[i] = t;
+            frame(i, &t);
             t *= UnitQuaternion::from_axis_angle(&j.axis, q[i]);
         }
-        (out, t * scaled(&self.tip, scale[Segment::Wrist.index()]))
+        t * scaled(&self.tip, scale[Segment::Wrist.index()])
     }
 
     /// Frames of the six joints (before their own rotation) at `q`.

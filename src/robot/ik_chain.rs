@@ -6,15 +6,18 @@
 //!
 //! Each converged point is a physical solution (every angle modulo 2π).
 //! The robconf picks its turns: axes 1, 4 and 6 the one in their
-//! quadrant, axis 5 the one of the requested sign; axes 2 and 3, which
-//! the robconf leaves open, the one nearest 0. When several physical
-//! solutions have the robconf (possible without a spherical wrist, and
-//! for turns of axes 2 and 3 on an arm whose limits allow them), the
-//! answer is the one nearest (Euclidean, in joint space) to the reference
-//! point: the middles of the requested quadrants for axes 1, 4 and 6, and
-//! 0 for axes 2, 3 and 5; an exact tie goes to the smaller joint vector
-//! (axis 1 first). The starting points are fixed, so the same pose and
-//! robconf always give the same answer.
+//! quadrant, axis 5 the one of the requested sign (but a turn within
+//! [`CONF_TOLERANCE`] of 0 stays there: at the wrist singularity its sign
+//! is rounding); axes 2 and 3, which the robconf leaves open, the one
+//! nearest 0. When several physical solutions have the robconf (possible
+//! without a spherical wrist, and for turns of axes 2 and 3 on an arm
+//! whose limits allow them), the answer is the one nearest (Euclidean, in
+//! joint space) to the reference point: the middles of the requested
+//! quadrants for axes 1, 4 and 6, and 0 for axes 2, 3 and 5; an exact tie
+//! goes to the smaller joint vector (axis 1 first). When none has it
+//! exactly, the closest within [`CONF_TOLERANCE`] is taken, as the closed
+//! form does. The starting points are fixed, so the same pose and robconf
+//! always give the same answer.
 //!
 //! The search runs in rounds, each only when the ones before found no
 //! solution with the robconf. The first starts from the quadrant middles
@@ -30,8 +33,11 @@
 
 use super::arm::Robot;
 use super::chain::{Axis, Chain};
-use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
-use super::ik::{wrap, Dropped, IkFailure, Limits, Solution, Solutions, Violation, LIMIT_EPS};
+use super::conf::{quadrant, quadrant_distance, quadrant_range, CfxBits, RobConf};
+use super::ik::{
+    wrap, Dropped, IkFailure, Limits, Solution, Solutions, Violation, CONF_TOLERANCE, LIMIT_EPS,
+    MAX_SOLUTIONS,
+};
 use super::{Joints, LinkScales};
 use crate::error::{Error, ErrorKind, Result};
 use nalgebra::{Isometry3, Matrix6, UnitQuaternion, Vector3, Vector6};
@@ -62,6 +68,9 @@ const MERGE_RAD: f64 = 0.01;
 /// is given up.
 const STALL_FACTOR: f64 = 0.25;
 const STALL_STEPS: usize = 10;
+/// Below this weighted squared error (about 1e-6 mm or rad) a step tries
+/// Newton's step from the Jacobian first.
+const NEWTON_COST: f64 = 1e-12;
 
 impl Robot {
     /// [`Robot::ik_conf`] for an arm without the OPW form (see the module
@@ -88,9 +97,15 @@ impl Robot {
                         .collect();
                 }
                 search.run(&rounds[i]);
-                if let Some(q) = search.pick(&self.limits, conf, &reference) {
+                if let Some(q) = search.pick(&self.limits, conf, &reference, false) {
                     return Ok(q);
                 }
+            }
+            // As the closed form: a joint a little outside its quadrant,
+            // or axis 5 a little on the other side of 0, when nothing has
+            // the robconf exactly.
+            if let Some(q) = search.pick(&self.limits, conf, &reference, true) {
+                return Ok(q);
             }
         }
         let have = search.reachable_confs(&self.limits);
@@ -130,31 +145,33 @@ impl Robot {
             .iter()
             .map(|(_, s)| std::array::from_fn(|j| turns(s[j], self.limits[j])))
             .collect();
-        for ((_, s), t) in physical.iter().zip(&turns) {
+        // The sides of axis 1 and the lower arm are the same in every turn.
+        let with_conf = |arm: &RobConf, q: Joints| {
+            let cfx = (arm.cfx & 6) | i32::from(q[4] < 0.0);
+            let conf = RobConf::new(quadrant(q[0]), quadrant(q[3]), quadrant(q[5]), cfx);
+            Solution { q, conf }
+        };
+        for ((arm, s), t) in physical.iter().zip(&turns) {
             if t.iter().any(Vec::is_empty) {
                 if let Some(violation) = first_violation(s, t, &self.limits) {
                     out.push_dropped(Dropped {
                         q: *s,
-                        conf: search.conf(s),
+                        conf: *arm,
                         violation,
                     });
                 }
                 continue;
             }
-            let q = std::array::from_fn(|j| nearest(&t[j], 0.0));
-            out.push(Solution {
-                q,
-                conf: search.conf(&q),
-            });
+            out.push(with_conf(arm, std::array::from_fn(|j| nearest(&t[j], 0.0))));
         }
-        for t in turns.iter().filter(|t| t.iter().all(|v| !v.is_empty())) {
+        for ((arm, _), t) in physical.iter().zip(&turns) {
+            if t.iter().any(Vec::is_empty) {
+                continue;
+            }
             let near: Joints = std::array::from_fn(|j| nearest(&t[j], 0.0));
             for_each_combination(t, |q| {
-                if *q != near {
-                    out.push(Solution {
-                        q: *q,
-                        conf: search.conf(q),
-                    });
+                if *q != near && out.len() < MAX_SOLUTIONS {
+                    out.push(with_conf(arm, *q));
                 }
             });
         }
@@ -492,12 +509,15 @@ impl<'a> Search<'a> {
 
     /// Levenberg–Marquardt from `start`: the joints reaching the pose, or
     /// None when it does not converge or comes near a solution already
-    /// found.
+    /// found. The damping is λ·|e|² (Yamashita and Fukushima): it vanishes
+    /// with the error, so the last steps are Gauss–Newton steps and
+    /// converge fast even near a singularity, where the Jacobian's
+    /// smallest singular value is tiny (a wrist at 1e-9 rad from it).
     fn descend(&self, start: Joints) -> Option<Joints> {
         let mut q = start;
         let (mut e, mut jac) = self.linearise(&q);
         let mut cost = e.norm_squared();
-        let mut mu = f64::NAN;
+        let mut lambda = 1e-2;
         let mut checkpoint = cost;
         for step in 1..=MAX_STEPS {
             if step % STALL_STEPS == 0 {
@@ -517,18 +537,33 @@ impl<'a> Search<'a> {
             }
             let a = jac.tr_mul(&jac);
             let g = jac.tr_mul(&e);
-            if mu.is_nan() {
-                mu = 1e-4 * (0..6).map(|k| a[(k, k)]).fold(0.0, f64::max);
-            }
+            // Keeps the factorisation defined where A is singular.
+            let floor = 1e-20 * (0..6).map(|k| a[(k, k)]).fold(0.0, f64::max);
             let mut improved = false;
+            // Close to a solution, the Newton step from J itself first: the
+            // normal equations square J's condition, and near a
+            // singularity that loses the step's small directions.
+            let newton = if cost < NEWTON_COST {
+                jac.lu().solve(&e)
+            } else {
+                None
+            };
             // Raise the damping until a step lowers the error.
-            for _ in 0..12 {
-                let mut m = a;
-                for k in 0..6 {
-                    m[(k, k)] += mu;
-                }
-                let Some(mut dq) = m.cholesky().map(|c| c.solve(&g)) else {
-                    mu = mu.max(1e-12) * 4.0;
+            for attempt in 0..13 {
+                let step = match (attempt, newton) {
+                    (0, Some(dq)) => Some(dq),
+                    (0, None) => continue,
+                    _ => {
+                        let mut m = a;
+                        let mu = (lambda * cost).max(floor);
+                        for k in 0..6 {
+                            m[(k, k)] += mu;
+                        }
+                        m.cholesky().map(|c| c.solve(&g))
+                    }
+                };
+                let Some(mut dq) = step else {
+                    lambda *= 100.0;
                     continue;
                 };
                 let big = dq.amax();
@@ -540,11 +575,11 @@ impl<'a> Search<'a> {
                 let cost2 = e2.norm_squared();
                 if cost2 < cost {
                     (q, e, jac, cost) = (next, e2, jac2, cost2);
-                    mu /= 5.0;
+                    lambda = (lambda / 5.0).max(1e-9);
                     improved = true;
                     break;
                 }
-                mu = mu.max(1e-12) * 4.0;
+                lambda *= 4.0;
             }
             if !improved {
                 break;
@@ -555,10 +590,26 @@ impl<'a> Search<'a> {
     }
 
     /// The joints with robconf `want` (module documentation: the turns,
-    /// and the pick among several).
-    fn pick(&self, limits: &Limits, want: &RobConf, reference: &Joints) -> Option<Joints> {
+    /// and the pick among several); with `near`, the closest within
+    /// [`CONF_TOLERANCE`] when none has it exactly.
+    fn pick(
+        &self,
+        limits: &Limits,
+        want: &RobConf,
+        reference: &Joints,
+        near: bool,
+    ) -> Option<Joints> {
         let bits = CfxBits::from_cfx(want.cfx)?;
-        let mut best: Option<(f64, Joints)> = None;
+        let quadrants = [
+            Some(want.cf1),
+            None,
+            None,
+            Some(want.cf4),
+            None,
+            Some(want.cf6),
+        ];
+        // (mismatch, distance from the reference, joints)
+        let mut best: Option<(f64, f64, Joints)> = None;
         for s in &self.found {
             let got = CfxBits::from_cfx(self.conf(s).cfx)?;
             if got.behind_axis1 != bits.behind_axis1
@@ -567,35 +618,61 @@ impl<'a> Search<'a> {
                 continue;
             }
             let mut q = [0.0; 6];
-            let mut ok = true;
+            let mut mismatch = 0.0f64;
             for j in 0..6 {
-                let fits = |v: f64| match j {
-                    0 => quadrant(v) == want.cf1,
-                    3 => quadrant(v) == want.cf4,
-                    4 => (v < 0.0) == bits.axis5_negative,
-                    5 => quadrant(v) == want.cf6,
-                    _ => true,
+                let t = turns(s[j], limits[j]);
+                // How far a turn is from the requested quadrant or sign.
+                let off = |v: f64| match quadrants[j] {
+                    Some(cf) => quadrant_distance(v, cf),
+                    None if j == 4 && (v < 0.0) != bits.axis5_negative => v.abs(),
+                    None => 0.0,
                 };
-                let t: Vec<f64> = turns(s[j], limits[j])
-                    .into_iter()
-                    .filter(|v| fits(*v))
-                    .collect();
-                q[j] = nearest(&t, reference[j]);
-                ok &= !t.is_empty();
+                // Axis 5 within the tolerance of 0 stays there rather than
+                // turn by 360° for its sign: at the wrist singularity the
+                // sign is rounding.
+                let zero = t.iter().copied().filter(|v| v.abs() <= CONF_TOLERANCE);
+                let pick = if j == 4 {
+                    zero.min_by(|a, b| a.abs().total_cmp(&b.abs()))
+                } else {
+                    None
+                };
+                let v = pick.or_else(|| {
+                    t.iter().copied().min_by(|a, b| {
+                        off(*a).total_cmp(&off(*b)).then(
+                            (a - reference[j])
+                                .abs()
+                                .total_cmp(&(b - reference[j]).abs()),
+                        )
+                    })
+                });
+                let Some(v) = v else {
+                    mismatch = f64::INFINITY;
+                    break;
+                };
+                q[j] = v;
+                mismatch = mismatch.max(off(v));
             }
-            if !ok || self.conf(&q) != *want {
+            let exact = mismatch == 0.0 && self.conf(&q) == *want;
+            if !(exact || near && mismatch <= CONF_TOLERANCE) {
                 continue;
             }
+            let mismatch = if exact {
+                0.0
+            } else {
+                mismatch.max(f64::MIN_POSITIVE)
+            };
             let d: f64 = q.iter().zip(reference).map(|(a, b)| (a - b).powi(2)).sum();
             let better = match &best {
                 None => true,
-                Some((bd, bq)) => d < *bd || (d == *bd && lexical(&q, bq).is_lt()),
+                Some((bm, bd, bq)) => (mismatch, d)
+                    .partial_cmp(&(*bm, *bd))
+                    .is_some_and(|o| o.is_lt() || o.is_eq() && lexical(&q, bq).is_lt()),
             };
             if better {
-                best = Some((d, q));
+                best = Some((mismatch, d, q));
             }
         }
-        best.map(|(_, q)| q)
+        best.map(|(_, _, q)| q)
     }
 
     /// The robconfs of every solution found with every turn within the

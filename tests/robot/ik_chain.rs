@@ -189,6 +189,41 @@ fn axes_2_and_3_take_the_turn_nearest_zero() {
     }
 }
 
+/// At and near the wrist singularity (axis 5 at 0) the answer still
+/// reaches the pose with axis 5 near 0 (not turned to 360° for its sign)
+/// and the robconf, or a near match within the closed form's 0.5°.
+#[test]
+fn wrist_singularity() {
+    let ur5 = ur5();
+    let irb = irb140_numeric();
+    let cases: [(&Robot, &[f64]); 2] = [
+        (&ur5, &[0.0, 1e-12, 1e-6]),
+        (&irb, &[0.0, 1e-12, 1e-9, -1e-9, 1e-6]),
+    ];
+    for (robot, q5s) in cases {
+        for &q5 in q5s {
+            let q = [0.3, -0.8, 0.6, 0.4, q5, 0.5];
+            let conf = robot.conf_of(&q);
+            let pose = robot.fk(&q);
+            let got = robot
+                .ik_conf(&pose, &conf)
+                .unwrap_or_else(|e| panic!("{}: q5 {q5:e}: {e}", robot.name));
+            let (d, r) = gap(&robot.fk(&got), &pose);
+            assert!(
+                d <= 1e-9 && r <= 1e-12,
+                "{}: q5 {q5:e}: {d:e} {r:e}",
+                robot.name
+            );
+            assert!(got[4].abs() < 1e-6, "{}: q5 {q5:e}: {got:?}", robot.name);
+            let back = robot.conf_of(&got);
+            assert_eq!(
+                (back.cf1, back.cf4, back.cf6),
+                (conf.cf1, conf.cf4, conf.cf6)
+            );
+        }
+    }
+}
+
 /// The strongest check: where the closed form exists, the numeric IK
 /// finds its answer (to 1e-9 rad), for the taught robconf and for
 /// another one (the same answer or an error of the same kind), cold and

@@ -91,7 +91,7 @@ impl Robot {
                 if i == 2 {
                     // Built only when needed: most poses end above.
                     let [likely, rest, _] = &rounds;
-                    rounds[2] = second_round(&self.limits, &reference)
+                    rounds[2] = full_round(&self.limits, &reference)
                         .into_iter()
                         .filter(|s| !likely.contains(s) && !rest.contains(s))
                         .collect();
@@ -132,7 +132,7 @@ impl Robot {
         check_finite(pose, scales)?;
         let mut search = Search::new(&self.chain, scales, pose)?;
         let reference = [0.0; 6];
-        search.run(&second_round(&self.limits, &reference));
+        search.run(&full_round(&self.limits, &reference));
         let mut physical: Vec<(RobConf, Joints)> =
             search.found.iter().map(|s| (search.conf(s), *s)).collect();
         physical.sort_by(|a, b| {
@@ -260,10 +260,10 @@ fn grid(limits: (f64, f64)) -> [f64; 3] {
     std::array::from_fn(|k| lo + (hi - lo) * (k as f64 + 0.5) / 3.0)
 }
 
-/// The second round's starts: axis 1 at its reference and every quarter
+/// The full search's starts: axis 1 at its reference and every quarter
 /// turn from it, axis 4 at its reference and the wrist flip, axis 5 at
 /// ±90°, axes 2 and 3 over their grids.
-fn second_round(limits: &Limits, reference: &Joints) -> Vec<Joints> {
+fn full_round(limits: &Limits, reference: &Joints) -> Vec<Joints> {
     let mut out = Vec::with_capacity(144);
     for k1 in [0.0, 1.0, 2.0, -1.0] {
         for q2 in grid(limits[1]) {

@@ -428,7 +428,8 @@ impl<'a> Search<'a> {
         conf_of_axes(q, &self.chain.axes_scaled(q, &self.scale).0)
     }
 
-    /// The first round's starts (module documentation).
+    /// The first two rounds' starts (module documentation): those whose wrist
+    /// centre is on the requested sides, and the rest of the grid.
     fn first_round(
         &self,
         limits: &Limits,

@@ -7,6 +7,7 @@ use super::chain::Chain;
 use super::conf::{CfxBits, RobConf};
 use super::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions, Violation, LIMIT_EPS};
+use super::ik_chain::conf_of_axes;
 use super::urdf::{self, IRB140_URDF};
 use super::{Joints, LinkScales, Opw};
 use crate::error::{Error, ErrorKind, Result};
@@ -18,7 +19,8 @@ use std::sync::OnceLock;
 pub struct Robot {
     pub name: String,
     pub chain: Chain,
-    /// The OPW form of the chain, or why it has none (then IK is refused).
+    /// The OPW form of the chain, or why it has none (then IK is numeric:
+    /// `ik_chain`).
     pub opw: std::result::Result<OpwArm, String>,
     /// rad, inclusive.
     pub limits: Limits,
@@ -161,6 +163,9 @@ impl Robot {
     }
 
     fn solve(&self, pose: &Isometry3<f64>, scales: Option<&LinkScales>) -> Result<Solutions> {
+        if self.opw.is_err() {
+            return self.chain_solve(pose, scales);
+        }
         let arm = self.checked_arm(pose, scales)?;
         // Filled where it is returned from (a 4 kB buffer; see OpwArm::solve).
         let mut out = Ok(Solutions::default());
@@ -173,7 +178,8 @@ impl Robot {
     }
 
     /// The solution with robconf `conf` (exactly, or within
-    /// [`super::ik::CONF_TOLERANCE`] of its quadrants).
+    /// [`super::ik::CONF_TOLERANCE`] of its quadrants; exactly on an arm
+    /// without the OPW form, whose IK is numeric).
     pub fn ik_conf(&self, pose: &Isometry3<f64>, conf: &RobConf) -> Result<Joints> {
         self.solve_conf(pose, conf, None)
     }
@@ -198,6 +204,9 @@ impl Robot {
             return Err(Error::input(format!(
                 "robconf {conf}: cfx must be 0..7 for this robot family"
             )));
+        }
+        if self.opw.is_err() {
+            return self.chain_solve_conf(pose, conf, scales);
         }
         let arm = self.checked_arm(pose, scales)?;
         if let Some(s) = arm.solve_conf_exact(pose, &self.limits, conf) {
@@ -237,7 +246,7 @@ impl Robot {
         self.opw_arm(scales)
     }
 
-    fn failure(&self, f: IkFailure) -> Error {
+    pub(super) fn failure(&self, f: IkFailure) -> Error {
         match f {
             IkFailure::OutOfReach(r) if !(r.front.is_finite() && r.back.is_finite()) => {
                 Error::new(
@@ -312,22 +321,7 @@ impl Robot {
     /// robconf of an arm without OPW form, from its chain: wrist centre =
     /// the joint-5 origin, forward = axis 2 × axis 1 (as on the IRB 140).
     fn chain_conf_of(&self, q: &Joints) -> RobConf {
-        let ax = self.chain.axes(q);
-        let (p1, d1) = ax[0];
-        let (p2, d2) = ax[1];
-        let (p3, _) = ax[2];
-        let w = ax[4].0;
-        let forward = d2.cross(&d1);
-        let lower = p3 - p2;
-        let normal = d2.cross(&lower);
-        RobConf::from_parts(
-            q,
-            CfxBits {
-                behind_axis1: (w - p1).dot(&forward) < 0.0,
-                behind_lower_arm: (w - p2).dot(&normal) < 0.0,
-                axis5_negative: q[4] < 0.0,
-            },
-        )
+        conf_of_axes(q, &self.chain.axes(q))
     }
 }
 

@@ -61,6 +61,9 @@ pub struct LinkMass {
     pub com: Vector3<f64>,
 }
 
+/// A joint axis in the base frame: a point on it and its direction.
+pub type Axis = (Vector3<f64>, Vector3<f64>);
+
 /// A serial chain of six revolute joints from the base frame to the flange.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chain {
@@ -122,37 +125,62 @@ impl Chain {
     /// Flange pose with each segment's translations scaled (base, lower
     /// arm, upper arm, wrist).
     pub fn fk_scaled(&self, q: &Joints, scale: &[f64; 4]) -> Isometry3<f64> {
+        self.walk(q, scale, |_, _| {})
+    }
+
+    /// Frames of the six joints (before their own rotation) and of the
+    /// flange at `q`, each segment's translations scaled: one pass for
+    /// the pose and its Jacobian (the numeric IK's step).
+    pub fn frames_scaled(
+        &self,
+        q: &Joints,
+        scale: &[f64; 4],
+    ) -> ([Isometry3<f64>; 6], Isometry3<f64>) {
+        let mut out = [Isometry3::identity(); 6];
+        let flange = self.walk(q, scale, |i, t| out[i] = *t);
+        (out, flange)
+    }
+
+    /// The flange pose, showing `frame` each joint's frame on the way
+    /// (FK, which shows nothing, pays nothing for it).
+    #[inline]
+    fn walk(
+        &self,
+        q: &Joints,
+        scale: &[f64; 4],
+        mut frame: impl FnMut(usize, &Isometry3<f64>),
+    ) -> Isometry3<f64> {
         let q = serial_angles(q, self.coupling);
         let mut t = Isometry3::identity();
         for (i, j) in self.joints.iter().enumerate() {
-            let s = scale[Segment::of_joint(i).index()];
-            t = t * scaled(&j.origin, s) * UnitQuaternion::from_axis_angle(&j.axis, q[i]);
+            t *= scaled(&j.origin, scale[Segment::of_joint(i).index()]);
+            frame(i, &t);
+            t *= UnitQuaternion::from_axis_angle(&j.axis, q[i]);
         }
         t * scaled(&self.tip, scale[Segment::Wrist.index()])
     }
 
     /// Frames of the six joints (before their own rotation) at `q`.
     pub fn joint_frames(&self, q: &Joints) -> [Isometry3<f64>; 6] {
-        let q = serial_angles(q, self.coupling);
-        let mut out = [Isometry3::identity(); 6];
-        let mut t = Isometry3::identity();
-        for (i, j) in self.joints.iter().enumerate() {
-            t *= j.origin;
-            out[i] = t;
-            t *= UnitQuaternion::from_axis_angle(&j.axis, q[i]);
-        }
-        out
+        self.frames_scaled(q, &[1.0; 4]).0
     }
 
     /// Point on and direction of each joint axis in the base frame at `q`.
-    pub fn axes(&self, q: &Joints) -> [(Vector3<f64>, Vector3<f64>); 6] {
-        let f = self.joint_frames(q);
-        std::array::from_fn(|i| {
+    pub fn axes(&self, q: &Joints) -> [Axis; 6] {
+        self.axes_scaled(q, &[1.0; 4]).0
+    }
+
+    /// [`Chain::axes`] of the chain with its segments scaled, and its
+    /// flange pose.
+    pub fn axes_scaled(&self, q: &Joints, scale: &[f64; 4]) -> ([Axis; 6], Isometry3<f64>) {
+        let (f, flange) = self.frames_scaled(q, scale);
+        let axes = std::array::from_fn(|i| {
             (
                 f[i].translation.vector,
                 f[i].rotation * self.joints[i].axis.into_inner(),
             )
-        })
+        });
+        (axes, flange)
     }
 
     /// The OPW parameters, joint signs and offsets of this chain, or what

@@ -463,10 +463,17 @@ impl Solutions {
         self.len = 0;
         self.dropped = [None; 8];
     }
-    fn push(&mut self, s: Solution) {
+    pub(super) fn push(&mut self, s: Solution) {
         if let Some(slot) = self.items.get_mut(self.len) {
             *slot = s;
             self.len += 1;
+        }
+    }
+    /// Record a branch left out (the numeric IK's; the closed form fills
+    /// the slot of its branch).
+    pub(super) fn push_dropped(&mut self, d: Dropped) {
+        if let Some(slot) = self.dropped.iter_mut().find(|s| s.is_none()) {
+            *slot = Some(d);
         }
     }
 }

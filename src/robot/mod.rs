@@ -1,5 +1,6 @@
 //! The robot's geometry: a six-axis serial arm (any URDF chain; closed-form
-//! IK where it has an offset shoulder and a spherical wrist, the OPW form),
+//! IK where it has an offset shoulder and a spherical wrist, the OPW form,
+//! numeric IK elsewhere),
 //! robconf, and the tool and work-object frames RAPID targets are written
 //! in. A warm arm is the same arm with its segments scaled
 //! ([`LinkScales`]); what scales them is the `model`'s business.
@@ -20,6 +21,8 @@
 //! - `ik`: the closed-form OPW solution, turns, limits, singularities.
 //! - `ik_conf`: IK for one robconf, the requested branch computed directly
 //!   (the enumeration of `ik` as its fallback and reference).
+//! - `ik_chain`: numeric IK (and robconf) for the arms without the OPW
+//!   form.
 //! - `conf`: robconf (confdata) and the cfx table.
 //! - `frames`: tooldata / wobjdata, robtarget ↔ flange.
 //! - `euler`: a rotation as RobotStudio's Euler ZYX angles (RX, RY, RZ).
@@ -31,6 +34,7 @@ pub mod conf;
 pub mod euler;
 pub mod frames;
 pub mod ik;
+mod ik_chain;
 mod ik_conf;
 mod lanes;
 pub mod urdf;

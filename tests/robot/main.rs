@@ -7,6 +7,7 @@ mod rng;
 mod arms;
 mod crosscheck;
 mod frames;
+mod ik_chain;
 mod ik_conf;
 mod kinematics;
 mod robustness;

@@ -209,6 +209,12 @@ fn a_model_diagnosed_on_a_ur5_corrects_the_ur5() {
         (cold_sq / n as f64).sqrt(),
         (corrected_sq / n as f64).sqrt(),
     );
+    if std::env::var_os("DIAG_VERBOSE").is_some() {
+        eprintln!(
+            "UR5 loop: {n} poses, {cold:.4} mm uncorrected, {corrected:.4} mm corrected, verdict {:?}",
+            d.verdict.labels()
+        );
+    }
     assert!(
         corrected < 0.2 * cold,
         "warm error {cold:.4} mm uncorrected, {corrected:.4} mm corrected ({:?})",

@@ -97,7 +97,10 @@ pub fn measured_point(args: &DiagnoseArgs) -> Result<Option<(nalgebra::Vector3<f
     let arm = urdf::parse(&name, &text)?;
     let iso = urdf::link_in_tip(&name, &text, &arm, link)
         .map_err(|e| Error::usage(format!("--point {link}: {}", e.message)))?;
-    Ok(Some((iso.translation.vector, link.clone())))
+    // To the nanometre: metres composed through the URDF's joints leave
+    // binary dust (0.0899999999999892) that a model file would keep.
+    let point = iso.translation.vector.map(|v| (v * 1e6).round() / 1e6);
+    Ok(Some((point, link.clone())))
 }
 
 fn read_data(path: &Path, robot: &Robot) -> Result<ChainData> {

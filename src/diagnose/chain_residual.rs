@@ -4,7 +4,7 @@
 //! part of the gap's mean square a small least-squares model explains.
 
 use super::gap::{gap_stats, GapStats};
-use super::locate::{direction_words, split_at_median, Region};
+use super::locate::{principal_words, split_at_median, Region};
 use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
@@ -104,7 +104,11 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
         gap.axis_rms_mm[0],
         gap.axis_rms_mm[1],
         gap.axis_rms_mm[2],
-        direction_words(&dominant),
+        principal_words(
+            &dominant,
+            &(mean / gaps.len().max(1) as f64),
+            (eig.eigenvalues[imax] / gaps.len().max(1) as f64).max(0.0).sqrt()
+        ),
         100.0 * dominant_share,
         if dominant_share < 0.5 {
             " (no single direction)"

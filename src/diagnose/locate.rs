@@ -127,6 +127,19 @@ fn rms(v: &[Vector3<f64>]) -> f64 {
 }
 
 /// Describe a unit direction in words: `+z`, or components.
+/// A principal direction of gaps in words: signed (`+y`) when their mean
+/// runs along it by a fifth of their RMS along it or more, else as the line
+/// it is (`±y`): an eigenvector's sign is arbitrary, and a sign the data
+/// do not give would flip with the last digit of any input.
+pub fn principal_words(d: &Vector3<f64>, mean: &Vector3<f64>, rms_along: f64) -> String {
+    let along = d.dot(mean);
+    if along.abs() >= 0.2 * rms_along && along != 0.0 {
+        return direction_words(&(d * along.signum()));
+    }
+    let d = d * d[d.iamax()].signum();
+    format!("±{}", direction_words(&d).trim_start_matches('+'))
+}
+
 pub fn direction_words(d: &Vector3<f64>) -> String {
     let names = ["x", "y", "z"];
     let (i, v) = d.iter().copied().enumerate().fold((0, 0.0), |a, (i, v)| {
@@ -247,7 +260,7 @@ pub fn locate(
     if share > 0.6 && total > 1.5 * noise_rms {
         words.push(format!(
             "Mostly along {} ({:.0} % of it).",
-            direction_words(&dominant),
+            principal_words(&dominant, &mean, (lmax / nf).max(0.0).sqrt()),
             share * 100.0
         ));
     }

@@ -59,7 +59,9 @@ impl OpwArm {
         let r = rot.matrix();
         let p = pose.translation.vector;
         let theta1_hint = self.signs[0] * q1_hint + self.offsets[0];
-        let (arms, _, singular) = self.geom.arm_angles(r, &p, theta1_hint);
+        let (arms, _, singular) = self
+            .geom
+            .arm_angles(r, &p, theta1_hint, Some(bits.behind_axis1));
         let mut near = Near::default();
         for arm in arms.iter().filter(|a| a.valid()) {
             // Both branches of an arm solution share its cfx arm bits.
@@ -142,26 +144,33 @@ impl OpwArm {
 /// fastest, so its first exact match is the first such turn of every axis.
 #[inline]
 fn exact_turns(q: &Joints, limits: &Limits, want: &RobConf, q5_negative: bool) -> Option<Joints> {
-    let mut out = [0.0; 6];
-    for j in 0..6 {
-        let (lo, hi) = limits[j];
-        let fits = |v: f64| match j {
-            0 => quadrant(v) == want.cf1,
-            3 => quadrant(v) == want.cf4,
-            4 => (v < 0.0) == q5_negative,
-            5 => quadrant(v) == want.cf6,
-            _ => true,
-        };
-        out[j] = (-2..=2).find_map(|k| {
-            let v = q[j] + TAU * f64::from(k);
-            if !(v >= lo - LIMIT_EPS && v <= hi + LIMIT_EPS) {
-                return None;
+    // One call per axis with its own test, each inlined: a closure
+    // matching on the axis inside the loop was a twentieth of a streamed
+    // correction's time.
+    Some([
+        first_turn(q[0], limits[0], |v| quadrant(v) == want.cf1)?,
+        first_turn(q[1], limits[1], |_| true)?,
+        first_turn(q[2], limits[2], |_| true)?,
+        first_turn(q[3], limits[3], |v| quadrant(v) == want.cf4)?,
+        first_turn(q[4], limits[4], |v| (v < 0.0) == q5_negative)?,
+        first_turn(q[5], limits[5], |v| quadrant(v) == want.cf6)?,
+    ])
+}
+
+/// The first of `v + 2πk` (k = −2..2) within `(lo, hi)` (give or take
+/// [`LIMIT_EPS`], clamped onto them) that `fits`.
+#[inline(always)]
+fn first_turn(v: f64, (lo, hi): (f64, f64), fits: impl Fn(f64) -> bool) -> Option<f64> {
+    for k in -2..=2 {
+        let t = v + TAU * f64::from(k);
+        if t >= lo - LIMIT_EPS && t <= hi + LIMIT_EPS {
+            let t = t.clamp(lo, hi);
+            if fits(t) {
+                return Some(t);
             }
-            let v = v.clamp(lo, hi);
-            fits(v).then_some(v)
-        })?;
+        }
     }
-    Some(out)
+    None
 }
 
 /// The nearest of the near matches (no exact one) over the branches seen so

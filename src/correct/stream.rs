@@ -13,7 +13,7 @@
 //! declines.
 
 use super::outcome::Summary;
-use super::solve::{corrected_in, Meant, Run};
+use super::solve::{corrected_numbers, Meant, Run};
 use super::{evaluate, marker, Findings, Options, Outcome, When};
 use crate::error::{Error, Result};
 use crate::model::{Moment, State, WarmRobot};
@@ -21,6 +21,7 @@ use crate::rapid::fastmove::{reread, Skeleton};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Origin, Pos, Program, Target, TargetKind};
 use crate::resolve::target_pose;
+use crate::robot::{ToolData, WobjData};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
@@ -220,16 +221,28 @@ fn correct_chunk(
     let run = Run::new(program, warm, options).ok()?;
     let module: Arc<str> = Arc::from("");
     let mut out = Vec::with_capacity(cuts.len());
+    // The frames of the last move, by the bytes of their names: a CAM
+    // program names the same pair a million times, and each lookup
+    // lower-cased the names into new strings.
+    let mut last: Option<(&[u8], Option<&[u8]>, &ToolData, &WobjData)> = None;
     for cut in cuts {
         let m = reread(src, cut.start)?;
-        let name = |r: &Range<usize>| std::str::from_utf8(&src[r.clone()]).ok();
-        let tool_name = name(&m.tool)?;
-        let wobj_name = match &m.wobj {
-            Some(w) => name(w)?,
-            None => "wobj0",
+        let tool_bytes = &src[m.tool.clone()];
+        let wobj_bytes = m.wobj.clone().map(|w| &src[w]);
+        let (tool, wobj) = match last {
+            Some((t, w, tool, wobj)) if t == tool_bytes && w == wobj_bytes => (tool, wobj),
+            _ => {
+                let tool = run
+                    .frames
+                    .tool(Some(std::str::from_utf8(tool_bytes).ok()?))?;
+                let wobj = match wobj_bytes {
+                    Some(w) => run.frames.wobj(Some(std::str::from_utf8(w).ok()?))?,
+                    None => run.frames.wobj(Some("wobj0"))?,
+                };
+                last = Some((tool_bytes, wobj_bytes, tool, wobj));
+                (tool, wobj)
+            }
         };
-        let tool = run.frames.tool(Some(tool_name))?;
-        let wobj = run.frames.wobj(Some(wobj_name))?;
         for (at, value) in m.targets {
             let target = Target {
                 id: String::new(),
@@ -261,20 +274,11 @@ fn correct_chunk(
                 moment,
                 state: *state,
             };
-            let c = corrected_in(
-                &run,
-                src,
-                &target,
-                &meant,
-                (tool, wobj),
-                [tool_name, wobj_name],
-                None,
-            )
-            .ok()?;
+            let c = corrected_numbers(&run, src, &target, &meant, (tool, wobj), None).ok()?;
             out.push(Fast {
                 at,
-                norm: c.correction_norm_mm,
-                drift: c.drift_norm_mm,
+                norm: (c.exact.translation.vector - pose.translation.vector).norm(),
+                drift: c.drift.norm(),
                 edits: c.edits,
             });
         }

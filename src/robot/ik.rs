@@ -5,7 +5,7 @@
 //! (except for the error of a pose whose every solution violates a limit).
 
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
-use super::lanes::{sin_cos2, sin_cos4};
+use super::lanes::sin_cos6;
 use super::{Joints, Opw};
 use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -92,9 +92,14 @@ impl Opw {
         // full angles for the position come from them (six sin/cos pairs,
         // in lanes).
         let t23 = t[1] + t[2];
-        let ([sh1, sh23, sh4, sh5], [ch1, ch23, ch4, ch5]) =
-            sin_cos4([0.5 * t[0], 0.5 * t23, 0.5 * t[3], 0.5 * t[4]]);
-        let ([s2, sh6], [c2, ch6]) = sin_cos2([t[1], 0.5 * t[5]]);
+        let ([sh1, sh23, sh4, sh5, s2, sh6], [ch1, ch23, ch4, ch5, c2, ch6]) = sin_cos6([
+            0.5 * t[0],
+            0.5 * t23,
+            0.5 * t[3],
+            0.5 * t[4],
+            t[1],
+            0.5 * t[5],
+        ]);
         let (s1, c1) = (2.0 * sh1 * ch1, ch1 * ch1 - sh1 * sh1);
         let (s23, c23) = (2.0 * sh23 * ch23, ch23 * ch23 - sh23 * sh23);
         // k·sin(θ2+θ3+ψ3) = c3·sin θ23 + a2·cos θ23 (no atan2, no sqrt).

@@ -54,7 +54,7 @@ pub fn correct_streamed(
     src: &[u8],
     warm: &WarmRobot,
     options: &Options,
-    out: &mut dyn Write,
+    out: &mut (dyn Write + Send),
 ) -> Result<Option<Streamed>> {
     let When::At(moment) = options.when else {
         return Ok(None);
@@ -91,8 +91,8 @@ pub fn correct_streamed(
     let cuts = &skeleton.cuts;
     // The bytes before the first cut move here; from there on each chunk
     // of moves is written, with the skeleton's edits among them, by the
-    // thread that corrects it, up to the next chunk's first move: this
-    // thread only puts the chunks' bytes in order.
+    // thread that corrects it, up to the next chunk's first move: what is
+    // left is putting the chunks' bytes out in order, a batch behind.
     let first = cuts.first().map_or(src.len(), |c| c.start);
     let head = fixed.partition_point(|x| x.span.start < first);
     let mut splice = Splice { src, at: 0, out };
@@ -100,39 +100,45 @@ pub fn correct_streamed(
         splice.edit(x)?;
     }
     splice.write(first)?;
+    // Each batch is put out while the next is corrected: the writing
+    // (a tenth of a gigabyte through this thread) keeps no core waiting.
+    let mut ready: Vec<Result<Option<Done>>> = Vec::new();
     for lo in (0..cuts.len()).step_by(BATCH) {
         let hi = (lo + BATCH).min(cuts.len());
         let chunks: Vec<Range<usize>> = (lo..hi)
             .step_by(CHUNK)
             .map(|k| k..(k + CHUNK).min(hi))
             .collect();
-        let done: Vec<Result<Option<Done>>> = chunks
-            .into_par_iter()
-            .map(|k| {
-                let Some(fast) = correct_chunk(
-                    program,
-                    warm,
-                    options,
-                    src,
-                    &cuts[k.clone()],
-                    (moment, &state),
-                ) else {
-                    return Ok(None);
-                };
-                let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
-                write_chunk(src, cuts[k.start].start..to, &fixed, fast).map(Some)
-            })
-            .collect();
-        for d in done {
-            let Some(d) = d? else {
-                return Ok(None);
-            };
-            for (at, norm, drift, rewritten) in d.rows {
-                tally.add(at, norm, drift, rewritten);
-            }
-            changed |= d.changed;
-            splice.out.write_all(&d.bytes).map_err(write_error)?;
+        let previous = std::mem::take(&mut ready);
+        let (done, put) = rayon::join(
+            || {
+                chunks
+                    .into_par_iter()
+                    .map(|k| {
+                        let Some(fast) = correct_chunk(
+                            program,
+                            warm,
+                            options,
+                            src,
+                            &cuts[k.clone()],
+                            (moment, &state),
+                        ) else {
+                            return Ok(None);
+                        };
+                        let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
+                        write_chunk(src, cuts[k.start].start..to, &fixed, fast).map(Some)
+                    })
+                    .collect::<Vec<_>>()
+            },
+            || put_out(&mut *splice.out, previous, &mut tally, &mut changed),
+        );
+        if !put? {
+            return Ok(None);
         }
+        ready = done;
+    }
+    if !put_out(&mut *splice.out, ready, &mut tally, &mut changed)? {
+        return Ok(None);
     }
     splice.out.flush().map_err(write_error)?;
     let summary = tally.summary(&findings);
@@ -140,6 +146,27 @@ pub fn correct_streamed(
     outcome.corrections.clear();
     outcome.summary = summary;
     Ok(Some(Streamed { outcome, changed }))
+}
+
+/// Put a batch's corrected chunks out in file order, counting their
+/// targets; `false`: one of them declined.
+fn put_out(
+    out: &mut (dyn Write + Send),
+    done: Vec<Result<Option<Done>>>,
+    tally: &mut Tally,
+    changed: &mut bool,
+) -> Result<bool> {
+    for d in done {
+        let Some(d) = d? else {
+            return Ok(false);
+        };
+        for (at, norm, drift, rewritten) in d.rows {
+            tally.add(at, norm, drift, rewritten);
+        }
+        *changed |= d.changed;
+        out.write_all(&d.bytes).map_err(write_error)?;
+    }
+    Ok(true)
 }
 
 /// A chunk of moves corrected and written: the file's bytes of its span
@@ -377,7 +404,7 @@ impl Tally {
 struct Splice<'a> {
     src: &'a [u8],
     at: usize,
-    out: &'a mut dyn Write,
+    out: &'a mut (dyn Write + Send),
 }
 
 impl Splice<'_> {

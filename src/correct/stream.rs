@@ -235,6 +235,9 @@ struct Fast {
     edits: Vec<Edit>,
 }
 
+/// The names of a move's tool and work object as written, and their data.
+type LastFrames<'a> = (&'a [u8], Option<&'a [u8]>, &'a ToolData, &'a WobjData);
+
 /// Correct the moves of `cuts`; `None` when one of them needs the whole
 /// path (an unknown tool, an unreachable target, a note).
 fn correct_chunk(
@@ -251,7 +254,7 @@ fn correct_chunk(
     // The frames of the last move, by the bytes of their names: a CAM
     // program names the same pair a million times, and each lookup
     // lower-cased the names into new strings.
-    let mut last: Option<(&[u8], Option<&[u8]>, &ToolData, &WobjData)> = None;
+    let mut last: Option<LastFrames> = None;
     for cut in cuts {
         let m = reread(src, cut.start)?;
         let tool_bytes = &src[m.tool.clone()];

@@ -21,7 +21,8 @@ use crate::rapid::fastmove::{reread, Skeleton};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Origin, Pos, Program, Target, TargetKind};
 use crate::resolve::target_pose;
-use crate::robot::{ToolData, WobjData};
+use crate::robot::{RobConf, ToolData, WobjData};
+use nalgebra::Isometry3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
@@ -83,23 +84,37 @@ pub fn correct_streamed(
         .map(moved)
         .collect();
     let mut changed = !fixed.is_empty();
-    let basis = options.when.basis();
-    let m = marker::for_run(&basis, &options.model_label, options.split_shared, src);
-    fixed.extend(marker::insert(program, 0, &m).map(|e| moved(&e)));
     fixed.sort_by_key(|e| (e.span.start, e.span.end));
     let mut tally = Tally::of_skeleton(program, skeleton, &findings);
     let cuts = &skeleton.cuts;
-    // The bytes before the first cut move here; from there on each chunk
-    // of moves is written, with the skeleton's edits among them, by the
-    // thread that corrects it, up to the next chunk's first move: what is
-    // left is putting the chunks' bytes out in order, a batch behind.
+    // The bytes before the first cut move here, with the marker, whose
+    // fingerprint of the file (a tenth of a second for a tenth of a
+    // gigabyte) is taken while the first batch is corrected; from there
+    // on each chunk of moves is written, with the skeleton's edits among
+    // them, by the thread that corrects it, up to the next chunk's first
+    // move: what is left is putting the chunks' bytes out in order, a
+    // batch behind.
     let first = cuts.first().map_or(src.len(), |c| c.start);
     let head = fixed.partition_point(|x| x.span.start < first);
     let mut splice = Splice { src, at: 0, out };
-    for x in &fixed[..head] {
-        splice.edit(x)?;
-    }
-    splice.write(first)?;
+    let put_head = |splice: &mut Splice| -> Result<bool> {
+        let basis = options.when.basis();
+        let m = marker::for_run(&basis, &options.model_label, options.split_shared, src);
+        let mark = marker::insert(program, 0, &m).map(|e| moved(&e));
+        // The marker goes into the module's header, before every routine
+        // and so before every cut move: anywhere else the whole path
+        // writes it.
+        if mark.as_ref().is_some_and(|e| e.span.start >= first) {
+            return Ok(false);
+        }
+        let mut edits: Vec<&Edit> = fixed[..head].iter().chain(&mark).collect();
+        edits.sort_by_key(|e| (e.span.start, e.span.end));
+        for x in edits {
+            splice.edit(x)?;
+        }
+        splice.write(first)?;
+        Ok(true)
+    };
     // Each batch is put out while the next is corrected: the writing
     // (a tenth of a gigabyte through this thread) keeps no core waiting.
     let mut ready: Vec<Result<Option<Done>>> = Vec::new();
@@ -130,12 +145,18 @@ pub fn correct_streamed(
                     })
                     .collect::<Vec<_>>()
             },
-            || put_out(&mut *splice.out, previous, &mut tally, &mut changed),
+            || match lo {
+                0 => put_head(&mut splice),
+                _ => put_out(&mut *splice.out, previous, &mut tally, &mut changed),
+            },
         );
         if !put? {
             return Ok(None);
         }
         ready = done;
+    }
+    if cuts.is_empty() && !put_head(&mut splice)? {
+        return Ok(None);
     }
     if !put_out(&mut *splice.out, ready, &mut tally, &mut changed)? {
         return Ok(None);
@@ -249,8 +270,37 @@ fn correct_chunk(
     (moment, state): (Moment, &State),
 ) -> Option<Vec<Fast>> {
     let run = Run::new(program, warm, options).ok()?;
-    let module: Arc<str> = Arc::from("");
     let mut out = Vec::with_capacity(cuts.len());
+    // One target and one meaning, their numbers replaced move by move.
+    let mut target = Target {
+        id: String::new(),
+        kind: TargetKind::Inline,
+        origin: Origin {
+            file: 0,
+            module: Arc::from(""),
+            routine: None,
+            pos: Pos {
+                offset: 0,
+                line: 0,
+                col: 0,
+            },
+        },
+        name: None,
+        storage: None,
+        value: None,
+        instruction: None,
+        tool: None,
+        wobj: None,
+        derived: None,
+    };
+    let mut meant = Meant {
+        pose: Isometry3::identity(),
+        conf: RobConf::default(),
+        evaluated: None,
+        moments: vec![moment],
+        moment,
+        state: *state,
+    };
     // The frames of the last move, by the bytes of their names: a CAM
     // program names the same pair a million times, and each lookup
     // lower-cased the names into new strings.
@@ -274,36 +324,11 @@ fn correct_chunk(
             }
         };
         for (at, value) in m.targets {
-            let target = Target {
-                id: String::new(),
-                kind: TargetKind::Inline,
-                origin: Origin {
-                    file: 0,
-                    module: module.clone(),
-                    routine: None,
-                    pos: Pos {
-                        offset: at,
-                        line: 0,
-                        col: 0,
-                    },
-                },
-                name: None,
-                storage: None,
-                value: Some(value),
-                instruction: None,
-                tool: None,
-                wobj: None,
-                derived: None,
-            };
+            target.origin.pos.offset = at;
+            target.value = Some(value);
             let (pose, conf) = target_pose(program, &target).ok()??;
-            let meant = Meant {
-                pose,
-                conf,
-                evaluated: None,
-                moments: vec![moment],
-                moment,
-                state: *state,
-            };
+            meant.pose = pose;
+            meant.conf = conf;
             let c = corrected_numbers(&run, src, &target, &meant, (tool, wobj), None).ok()?;
             out.push(Fast {
                 at,

@@ -284,7 +284,8 @@ fn format_like_plain(old: &[u8], value: f64, resolution: f64) -> Option<String> 
     } else {
         0.0
     };
-    let mut s = String::new();
+    // Room for a corrected coordinate's digits: no growing on the way.
+    let mut s = String::with_capacity(24);
     for d in frac.len()..=17 {
         s.clear();
         let back = fixed(&mut s, value, d)?;

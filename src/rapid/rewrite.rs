@@ -204,9 +204,12 @@ pub fn format_like(old: &str, value: f64, resolution: f64) -> String {
     if !value.is_finite() {
         return old.to_string();
     }
-    if let Some(out) = format_like_plain(old.as_bytes(), value, resolution) {
-        return out;
-    }
+    format_like_plain(old.as_bytes(), value, resolution)
+        .unwrap_or_else(|| format_like_general(old, value, resolution))
+}
+
+/// [`format_like`] for any literal (`value` finite).
+fn format_like_general(old: &str, value: f64, resolution: f64) -> String {
     if old.trim().parse::<f64>().ok() == Some(value) {
         return old.to_string();
     }
@@ -489,6 +492,50 @@ impl Program {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The plain path writes what the general one writes, to the byte:
+    /// literals of every number of decimals, values near them, at their
+    /// rounding ties, far from them, negative zeros.
+    #[test]
+    fn plain_decimals_are_formatted_as_the_general_path_formats_them() {
+        let mut state = 5u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut plain = 0;
+        for i in 0..200_000 {
+            let decimals = i % 8;
+            let old_value = (next() - 0.5) * 2000.0;
+            let old = format!("{old_value:.decimals$}");
+            let value = match i % 5 {
+                0 => old.parse::<f64>().unwrap_or(0.0),
+                1 => old_value + (next() - 0.5) * 1e-3,
+                2 => (old_value * 1000.0).round() / 1000.0 + 0.0005,
+                3 => -(next() * 1e-4),
+                _ => (next() - 0.5) * 2000.0,
+            };
+            for resolution in [0.001, 0.000_001, 0.0] {
+                let general = format_like_general(&old, value, resolution);
+                if let Some(fast) = format_like_plain(old.as_bytes(), value, resolution) {
+                    plain += 1;
+                    assert_eq!(fast, general, "{old} {value:e} {resolution}");
+                }
+            }
+        }
+        for (old, value) in [
+            ("-0.000", 0.0),
+            ("0.000", -0.0),
+            ("-0.000", -1e-9),
+            ("1.", 1.5),
+        ] {
+            let fast = format_like_plain(old.as_bytes(), value, 0.001);
+            assert!(fast.is_none_or(|f| f == format_like_general(old, value, 0.001)));
+        }
+        assert!(plain > 400_000, "{plain}");
+    }
 
     #[test]
     fn fixed_writes_what_the_standard_formatting_writes() {

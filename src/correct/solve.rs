@@ -262,6 +262,89 @@ pub(super) fn corrected_in(
     [tool_name, wobj_name]: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
+    let Numbers {
+        exact,
+        drift,
+        range,
+        turn,
+        new_rot,
+        edits,
+    } = corrected_numbers(run, src, target, meant, (tool, wobj), exact)?;
+    let Meant {
+        pose,
+        evaluated,
+        moment,
+        state,
+        ..
+    } = meant;
+    let original: Vec<f64> = match (&target.value, evaluated) {
+        (Some(value), _) => value
+            .trans_values()
+            .iter()
+            .chain(&value.rot_values())
+            .copied()
+            .collect(),
+        (None, Some(e)) => e.trans.iter().chain(&e.rot).copied().collect(),
+        (None, None) => Vec::new(),
+    };
+    let new_trans = exact.translation.vector;
+    let correction = new_trans - pose.translation.vector;
+    let location = run.program.location(&target.origin);
+    Ok(Correction {
+        id: target.id.clone(),
+        kind: super::outcome::kind_of(target).to_string(),
+        file: location.file,
+        line: target.origin.pos.line,
+        col: target.origin.pos.col,
+        time_min: minute_of(*moment),
+        temps_c: state.temps,
+        tool: Some(tool_name.to_string()),
+        wobj: Some(wobj_name.to_string()),
+        frame: Frame::WobjObject,
+        drift_mm: drift.into(),
+        drift_norm_mm: drift.norm(),
+        drift_range_mm: range,
+        correction_mm: correction.into(),
+        correction_norm_mm: correction.norm(),
+        dangle_deg: turn.to_degrees(),
+        original,
+        corrected: new_trans.iter().chain(&new_rot).copied().collect(),
+        rewritten: !edits.is_empty(),
+        exact: Some(exact),
+        world_mm: in_world(run, pose, tool, wobj),
+        order: (target.origin.file, target.origin.pos.offset),
+        edits,
+        file_index: target.origin.file,
+    })
+}
+
+/// The numbers of one target's correction, without its report row: what
+/// a streamed run of a million targets keeps of each.
+pub(super) struct Numbers {
+    /// The corrected target.
+    pub exact: Isometry3<f64>,
+    /// Where the uncorrected target puts the warm robot, less where it is
+    /// meant (mm), at the moment corrected for; its norm's range over
+    /// the target's moments.
+    pub drift: Vector3<f64>,
+    pub range: (f64, f64),
+    /// How far the orientation turns (rad), and the quaternion written.
+    pub turn: f64,
+    pub new_rot: [f64; 4],
+    pub edits: Vec<Edit>,
+}
+
+/// The solve of [`corrected_in`], or `exact` where it is already known,
+/// the drift over the target's moments, and the edits writing the new
+/// numbers over the literal.
+pub(super) fn corrected_numbers(
+    run: &Run,
+    src: &[u8],
+    target: &Target,
+    meant: &Meant,
+    (tool, wobj): (&ToolData, &WobjData),
+    exact: Option<Isometry3<f64>>,
+) -> Result<Numbers> {
     let Run {
         program,
         warm,
@@ -303,49 +386,18 @@ pub(super) fn corrected_in(
     let turned =
         (turn > ORIENTATION_CHANGE_RAD).then(|| quaternion_like(&exact.rotation, &written_rot));
     let new_rot = turned.unwrap_or(written_rot);
-    let (edits, original): (Vec<Edit>, Vec<f64>) = match (&target.value, evaluated) {
-        (Some(value), _) => (
-            robtarget_edits(src, value, new_trans.into(), turned, None),
-            value
-                .trans_values()
-                .iter()
-                .chain(&value.rot_values())
-                .copied()
-                .collect(),
-        ),
-        (None, Some(e)) => (
-            e.edits(src, new_trans.into(), turned),
-            e.trans.iter().chain(&e.rot).copied().collect(),
-        ),
-        (None, None) => (Vec::new(), Vec::new()),
+    let edits = match (&target.value, evaluated) {
+        (Some(value), _) => robtarget_edits(src, value, new_trans.into(), turned, None),
+        (None, Some(e)) => e.edits(src, new_trans.into(), turned),
+        (None, None) => Vec::new(),
     };
-    let correction = new_trans - pose.translation.vector;
-    let location = program.location(&target.origin);
-    Ok(Correction {
-        id: target.id.clone(),
-        kind: super::outcome::kind_of(target).to_string(),
-        file: location.file,
-        line: target.origin.pos.line,
-        col: target.origin.pos.col,
-        time_min: minute_of(*moment),
-        temps_c: state.temps,
-        tool: Some(tool_name.to_string()),
-        wobj: Some(wobj_name.to_string()),
-        frame: Frame::WobjObject,
-        drift_mm: drift.into(),
-        drift_norm_mm: drift.norm(),
-        drift_range_mm: range,
-        correction_mm: correction.into(),
-        correction_norm_mm: correction.norm(),
-        dangle_deg: turn.to_degrees(),
-        original,
-        corrected: new_trans.iter().chain(&new_rot).copied().collect(),
-        rewritten: !edits.is_empty(),
-        exact: Some(exact),
-        world_mm: in_world(run, pose, tool, wobj),
-        order: (target.origin.file, target.origin.pos.offset),
+    Ok(Numbers {
+        exact,
+        drift,
+        range,
+        turn,
+        new_rot,
         edits,
-        file_index: target.origin.file,
     })
 }
 

@@ -13,7 +13,7 @@
 //! declines.
 
 use super::outcome::Summary;
-use super::solve::{corrected_in, Meant, Run};
+use super::solve::{corrected_numbers, Meant, Run};
 use super::{evaluate, marker, Findings, Options, Outcome, When};
 use crate::error::{Error, Result};
 use crate::model::{Moment, State, WarmRobot};
@@ -21,6 +21,8 @@ use crate::rapid::fastmove::{reread, Skeleton};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Origin, Pos, Program, Target, TargetKind};
 use crate::resolve::target_pose;
+use crate::robot::{RobConf, ToolData, WobjData};
+use nalgebra::Isometry3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
@@ -53,7 +55,7 @@ pub fn correct_streamed(
     src: &[u8],
     warm: &WarmRobot,
     options: &Options,
-    out: &mut dyn Write,
+    out: &mut (dyn Write + Send),
 ) -> Result<Option<Streamed>> {
     let When::At(moment) = options.when else {
         return Ok(None);
@@ -82,56 +84,82 @@ pub fn correct_streamed(
         .map(moved)
         .collect();
     let mut changed = !fixed.is_empty();
-    let basis = options.when.basis();
-    let m = marker::for_run(&basis, &options.model_label, options.split_shared, src);
-    fixed.extend(marker::insert(program, 0, &m).map(|e| moved(&e)));
     fixed.sort_by_key(|e| (e.span.start, e.span.end));
     let mut tally = Tally::of_skeleton(program, skeleton, &findings);
     let cuts = &skeleton.cuts;
-    // The bytes before the first cut move here; from there on each chunk
-    // of moves is written, with the skeleton's edits among them, by the
-    // thread that corrects it, up to the next chunk's first move: this
-    // thread only puts the chunks' bytes in order.
+    // The bytes before the first cut move here, with the marker, whose
+    // fingerprint of the file (a tenth of a second for a tenth of a
+    // gigabyte) is taken while the first batch is corrected; from there
+    // on each chunk of moves is written, with the skeleton's edits among
+    // them, by the thread that corrects it, up to the next chunk's first
+    // move: what is left is putting the chunks' bytes out in order, a
+    // batch behind.
     let first = cuts.first().map_or(src.len(), |c| c.start);
     let head = fixed.partition_point(|x| x.span.start < first);
     let mut splice = Splice { src, at: 0, out };
-    for x in &fixed[..head] {
-        splice.edit(x)?;
-    }
-    splice.write(first)?;
+    let put_head = |splice: &mut Splice| -> Result<bool> {
+        let basis = options.when.basis();
+        let m = marker::for_run(&basis, &options.model_label, options.split_shared, src);
+        let mark = marker::insert(program, 0, &m).map(|e| moved(&e));
+        // The marker goes into the module's header, before every routine
+        // and so before every cut move: anywhere else the whole path
+        // writes it.
+        if mark.as_ref().is_some_and(|e| e.span.start >= first) {
+            return Ok(false);
+        }
+        let mut edits: Vec<&Edit> = fixed[..head].iter().chain(&mark).collect();
+        edits.sort_by_key(|e| (e.span.start, e.span.end));
+        for x in edits {
+            splice.edit(x)?;
+        }
+        splice.write(first)?;
+        Ok(true)
+    };
+    // Each batch is put out while the next is corrected: the writing
+    // (a tenth of a gigabyte through this thread) keeps no core waiting.
+    let mut ready: Vec<Result<Option<Done>>> = Vec::new();
     for lo in (0..cuts.len()).step_by(BATCH) {
         let hi = (lo + BATCH).min(cuts.len());
         let chunks: Vec<Range<usize>> = (lo..hi)
             .step_by(CHUNK)
             .map(|k| k..(k + CHUNK).min(hi))
             .collect();
-        let done: Vec<Result<Option<Done>>> = chunks
-            .into_par_iter()
-            .map(|k| {
-                let Some(fast) = correct_chunk(
-                    program,
-                    warm,
-                    options,
-                    src,
-                    &cuts[k.clone()],
-                    (moment, &state),
-                ) else {
-                    return Ok(None);
-                };
-                let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
-                write_chunk(src, cuts[k.start].start..to, &fixed, fast).map(Some)
-            })
-            .collect();
-        for d in done {
-            let Some(d) = d? else {
-                return Ok(None);
-            };
-            for (at, norm, drift, rewritten) in d.rows {
-                tally.add(at, norm, drift, rewritten);
-            }
-            changed |= d.changed;
-            splice.out.write_all(&d.bytes).map_err(write_error)?;
+        let previous = std::mem::take(&mut ready);
+        let (done, put) = rayon::join(
+            || {
+                chunks
+                    .into_par_iter()
+                    .map(|k| {
+                        let Some(fast) = correct_chunk(
+                            program,
+                            warm,
+                            options,
+                            src,
+                            &cuts[k.clone()],
+                            (moment, &state),
+                        ) else {
+                            return Ok(None);
+                        };
+                        let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
+                        write_chunk(src, cuts[k.start].start..to, &fixed, fast).map(Some)
+                    })
+                    .collect::<Vec<_>>()
+            },
+            || match lo {
+                0 => put_head(&mut splice),
+                _ => put_out(&mut *splice.out, previous, &mut tally, &mut changed),
+            },
+        );
+        if !put? {
+            return Ok(None);
         }
+        ready = done;
+    }
+    if cuts.is_empty() && !put_head(&mut splice)? {
+        return Ok(None);
+    }
+    if !put_out(&mut *splice.out, ready, &mut tally, &mut changed)? {
+        return Ok(None);
     }
     splice.out.flush().map_err(write_error)?;
     let summary = tally.summary(&findings);
@@ -139,6 +167,27 @@ pub fn correct_streamed(
     outcome.corrections.clear();
     outcome.summary = summary;
     Ok(Some(Streamed { outcome, changed }))
+}
+
+/// Put a batch's corrected chunks out in file order, counting their
+/// targets; `false`: one of them declined.
+fn put_out(
+    out: &mut (dyn Write + Send),
+    done: Vec<Result<Option<Done>>>,
+    tally: &mut Tally,
+    changed: &mut bool,
+) -> Result<bool> {
+    for d in done {
+        let Some(d) = d? else {
+            return Ok(false);
+        };
+        for (at, norm, drift, rewritten) in d.rows {
+            tally.add(at, norm, drift, rewritten);
+        }
+        *changed |= d.changed;
+        out.write_all(&d.bytes).map_err(write_error)?;
+    }
+    Ok(true)
 }
 
 /// A chunk of moves corrected and written: the file's bytes of its span
@@ -207,6 +256,9 @@ struct Fast {
     edits: Vec<Edit>,
 }
 
+/// The names of a move's tool and work object as written, and their data.
+type LastFrames<'a> = (&'a [u8], Option<&'a [u8]>, &'a ToolData, &'a WobjData);
+
 /// Correct the moves of `cuts`; `None` when one of them needs the whole
 /// path (an unknown tool, an unreachable target, a note).
 fn correct_chunk(
@@ -218,63 +270,70 @@ fn correct_chunk(
     (moment, state): (Moment, &State),
 ) -> Option<Vec<Fast>> {
     let run = Run::new(program, warm, options).ok()?;
-    let module: Arc<str> = Arc::from("");
     let mut out = Vec::with_capacity(cuts.len());
+    // One target and one meaning, their numbers replaced move by move.
+    let mut target = Target {
+        id: String::new(),
+        kind: TargetKind::Inline,
+        origin: Origin {
+            file: 0,
+            module: Arc::from(""),
+            routine: None,
+            pos: Pos {
+                offset: 0,
+                line: 0,
+                col: 0,
+            },
+        },
+        name: None,
+        storage: None,
+        value: None,
+        instruction: None,
+        tool: None,
+        wobj: None,
+        derived: None,
+    };
+    let mut meant = Meant {
+        pose: Isometry3::identity(),
+        conf: RobConf::default(),
+        evaluated: None,
+        moments: vec![moment],
+        moment,
+        state: *state,
+    };
+    // The frames of the last move, by the bytes of their names: a CAM
+    // program names the same pair a million times, and each lookup
+    // lower-cased the names into new strings.
+    let mut last: Option<LastFrames> = None;
     for cut in cuts {
         let m = reread(src, cut.start)?;
-        let name = |r: &Range<usize>| std::str::from_utf8(&src[r.clone()]).ok();
-        let tool_name = name(&m.tool)?;
-        let wobj_name = match &m.wobj {
-            Some(w) => name(w)?,
-            None => "wobj0",
+        let tool_bytes = &src[m.tool.clone()];
+        let wobj_bytes = m.wobj.clone().map(|w| &src[w]);
+        let (tool, wobj) = match last {
+            Some((t, w, tool, wobj)) if t == tool_bytes && w == wobj_bytes => (tool, wobj),
+            _ => {
+                let tool = run
+                    .frames
+                    .tool(Some(std::str::from_utf8(tool_bytes).ok()?))?;
+                let wobj = match wobj_bytes {
+                    Some(w) => run.frames.wobj(Some(std::str::from_utf8(w).ok()?))?,
+                    None => run.frames.wobj(Some("wobj0"))?,
+                };
+                last = Some((tool_bytes, wobj_bytes, tool, wobj));
+                (tool, wobj)
+            }
         };
-        let tool = run.frames.tool(Some(tool_name))?;
-        let wobj = run.frames.wobj(Some(wobj_name))?;
         for (at, value) in m.targets {
-            let target = Target {
-                id: String::new(),
-                kind: TargetKind::Inline,
-                origin: Origin {
-                    file: 0,
-                    module: module.clone(),
-                    routine: None,
-                    pos: Pos {
-                        offset: at,
-                        line: 0,
-                        col: 0,
-                    },
-                },
-                name: None,
-                storage: None,
-                value: Some(value),
-                instruction: None,
-                tool: None,
-                wobj: None,
-                derived: None,
-            };
+            target.origin.pos.offset = at;
+            target.value = Some(value);
             let (pose, conf) = target_pose(program, &target).ok()??;
-            let meant = Meant {
-                pose,
-                conf,
-                evaluated: None,
-                moments: vec![moment],
-                moment,
-                state: *state,
-            };
-            let c = corrected_in(
-                &run,
-                src,
-                &target,
-                &meant,
-                (tool, wobj),
-                [tool_name, wobj_name],
-                None,
-            )
-            .ok()?;
+            meant.pose = pose;
+            meant.conf = conf;
+            let c = corrected_numbers(&run, src, &target, &meant, (tool, wobj), None).ok()?;
             out.push(Fast {
                 at,
-                norm: c.correction_norm_mm,
-                drift: c.drift_norm_mm,
+                norm: (c.exact.translation.vector - pose.translation.vector).norm(),
+                drift: c.drift.norm(),
                 edits: c.edits,
             });
         }
@@ -373,7 +432,7 @@ impl Tally {
 struct Splice<'a> {
     src: &'a [u8],
     at: usize,
-    out: &'a mut dyn Write,
+    out: &'a mut (dyn Write + Send),
 }
 
 impl Splice<'_> {

@@ -192,7 +192,7 @@ impl Cursor<'_> {
 /// path where it holds (at most 2^53 in the digits, a power of ten up to
 /// 10^22: one correctly rounded operation on exact operands gives the
 /// correctly rounded value), the standard parser otherwise.
-fn decimal_value(text: &[u8]) -> Option<f64> {
+pub(super) fn decimal_value(text: &[u8]) -> Option<f64> {
     const POW10: [f64; 23] = [
         1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
         1e17, 1e18, 1e19, 1e20, 1e21, 1e22,

@@ -204,6 +204,12 @@ pub fn format_like(old: &str, value: f64, resolution: f64) -> String {
     if !value.is_finite() {
         return old.to_string();
     }
+    format_like_plain(old.as_bytes(), value, resolution)
+        .unwrap_or_else(|| format_like_general(old, value, resolution))
+}
+
+/// [`format_like`] for any literal (`value` finite).
+fn format_like_general(old: &str, value: f64, resolution: f64) -> String {
     if old.trim().parse::<f64>().ok() == Some(value) {
         return old.to_string();
     }
@@ -255,6 +261,45 @@ pub fn format_like(old: &str, value: f64, resolution: f64) -> String {
     } else {
         out
     }
+}
+
+/// [`format_like`] for what CAM programs write, `-150.000`: digits, a
+/// point and decimals, perhaps a minus, nothing else. The same text
+/// without the general path's parsing of the old literal by the standard
+/// library and its copies; `None` for any other literal or value (the
+/// general path then decides).
+fn format_like_plain(old: &[u8], value: f64, resolution: f64) -> Option<String> {
+    let digits = old.strip_prefix(b"-").unwrap_or(old);
+    let point = digits.iter().position(|&b| b == b'.')?;
+    let (int, frac) = (&digits[..point], &digits[point + 1..]);
+    let is_digits = |d: &[u8]| !d.is_empty() && d.iter().all(u8::is_ascii_digit);
+    if !is_digits(int) || !is_digits(frac) {
+        return None;
+    }
+    // The old literal's value, as `str::parse` reads it.
+    let was = super::fastmove::decimal_value(digits)?;
+    let was = if digits.len() < old.len() { -was } else { was };
+    if was == value {
+        return String::from_utf8(old.to_vec()).ok();
+    }
+    let tol = if resolution > 0.0 {
+        resolution / 2.0
+    } else {
+        0.0
+    };
+    // Room for a corrected coordinate's digits: no growing on the way.
+    let mut s = String::with_capacity(24);
+    for d in frac.len()..=17 {
+        s.clear();
+        let back = fixed(&mut s, value, d)?;
+        if (back - value).abs() <= tol || d >= 17 {
+            if is_negative_zero(&s) {
+                s.remove(0);
+            }
+            return Some(s);
+        }
+    }
+    None
 }
 
 fn is_negative_zero(s: &str) -> bool {
@@ -332,12 +377,29 @@ fn fixed(buf: &mut String, v: f64, d: usize) -> Option<f64> {
     if negative {
         buf.push('-');
     }
-    let _ = write!(buf, "{}", q / p);
+    // The digits by hand: the formatting machinery was a tenth of a
+    // streamed correction.
+    push_digits(buf, q / p, 1);
     if d > 0 {
-        let _ = write!(buf, ".{:0d$}", q % p);
+        buf.push('.');
+        push_digits(buf, q % p, d);
     }
     let back = q as f64 / p as f64;
     Some(if negative { -back } else { back })
+}
+
+/// `n` in decimal, zero-padded to at least `width` digits (`{:0width$}`).
+fn push_digits(buf: &mut String, mut n: u64, width: usize) {
+    let mut digits = [b'0'; 20];
+    let mut i = digits.len();
+    while n > 0 || digits.len() - i < width.max(1) {
+        i -= 1;
+        digits[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+    }
+    for &c in &digits[i..] {
+        buf.push(char::from(c));
+    }
 }
 
 fn render_plain(s: &str, point: bool, bare_point: bool) -> String {
@@ -430,6 +492,50 @@ impl Program {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The plain path writes what the general one writes, to the byte:
+    /// literals of every number of decimals, values near them, at their
+    /// rounding ties, far from them, negative zeros.
+    #[test]
+    fn plain_decimals_are_formatted_as_the_general_path_formats_them() {
+        let mut state = 5u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut plain = 0;
+        for i in 0..200_000 {
+            let decimals = i % 8;
+            let old_value = (next() - 0.5) * 2000.0;
+            let old = format!("{old_value:.decimals$}");
+            let value = match i % 5 {
+                0 => old.parse::<f64>().unwrap_or(0.0),
+                1 => old_value + (next() - 0.5) * 1e-3,
+                2 => (old_value * 1000.0).round() / 1000.0 + 0.0005,
+                3 => -(next() * 1e-4),
+                _ => (next() - 0.5) * 2000.0,
+            };
+            for resolution in [0.001, 0.000_001, 0.0] {
+                let general = format_like_general(&old, value, resolution);
+                if let Some(fast) = format_like_plain(old.as_bytes(), value, resolution) {
+                    plain += 1;
+                    assert_eq!(fast, general, "{old} {value:e} {resolution}");
+                }
+            }
+        }
+        for (old, value) in [
+            ("-0.000", 0.0),
+            ("0.000", -0.0),
+            ("-0.000", -1e-9),
+            ("1.", 1.5),
+        ] {
+            let fast = format_like_plain(old.as_bytes(), value, 0.001);
+            assert!(fast.is_none_or(|f| f == format_like_general(old, value, 0.001)));
+        }
+        assert!(plain > 400_000, "{plain}");
+    }
 
     #[test]
     fn fixed_writes_what_the_standard_formatting_writes() {

@@ -209,11 +209,11 @@ impl Robot {
             return self.chain_solve_conf(pose, conf, scales);
         }
         let arm = self.checked_arm(pose, scales)?;
-        if let Some(s) = arm.solve_conf_exact(pose, &self.limits, conf) {
+        if let Some(s) = arm.solve_conf_direct(pose, &self.limits, conf) {
             return Ok(s.q);
         }
-        // Everything else (near matches, the shoulder singularity, errors
-        // and their list of configurations) as the enumeration decides it.
+        // Everything else (the shoulder singularity, errors and their list
+        // of configurations) as the enumeration decides it.
         let (found, sols) = arm
             .solve_conf_by_enumeration(pose, &self.limits, conf)
             .map_err(|f| self.failure(f))?;

@@ -5,7 +5,7 @@
 //! (except for the error of a pose whose every solution violates a limit).
 
 use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
-use super::lanes::{sin_cos2, sin_cos4};
+use super::lanes::sin_cos6;
 use super::{Joints, Opw};
 use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -92,9 +92,14 @@ impl Opw {
         // full angles for the position come from them (six sin/cos pairs,
         // in lanes).
         let t23 = t[1] + t[2];
-        let ([sh1, sh23, sh4, sh5], [ch1, ch23, ch4, ch5]) =
-            sin_cos4([0.5 * t[0], 0.5 * t23, 0.5 * t[3], 0.5 * t[4]]);
-        let ([s2, sh6], [c2, ch6]) = sin_cos2([t[1], 0.5 * t[5]]);
+        let ([sh1, sh23, sh4, sh5, s2, sh6], [ch1, ch23, ch4, ch5, c2, ch6]) = sin_cos6([
+            0.5 * t[0],
+            0.5 * t23,
+            0.5 * t[3],
+            0.5 * t[4],
+            t[1],
+            0.5 * t[5],
+        ]);
         let (s1, c1) = (2.0 * sh1 * ch1, ch1 * ch1 - sh1 * sh1);
         let (s23, c23) = (2.0 * sh23 * ch23, ch23 * ch23 - sh23 * sh23);
         // k·sin(θ2+θ3+ψ3) = c3·sin θ23 + a2·cos θ23 (no atan2, no sqrt).
@@ -125,7 +130,7 @@ impl Opw {
     /// All eight OPW solutions for a flange pose (rotation `r`, position
     /// `p`, mm). `theta1_hint` is used for θ1 at the shoulder singularity.
     pub fn ik_theta(&self, r: &Matrix3<f64>, p: &Vector3<f64>, theta1_hint: f64) -> Branches {
-        let (arms, reach, shoulder_singular) = self.arm_angles(r, p, theta1_hint);
+        let (arms, reach, shoulder_singular) = self.arm_angles(r, p, theta1_hint, None);
         let mut out = Branches {
             theta: [[0.0; 6]; 8],
             valid: [false; 8],
@@ -166,12 +171,15 @@ impl Opw {
     /// The four arm solutions (θ1, θ2, θ3, before the wrist) in the order
     /// of [`Branches`], the reach, and whether the wrist centre is on
     /// axis 1. Split from the wrist so that a search for one robconf
-    /// solves the wrist of its own arm only.
+    /// solves the wrist of its own arm only; with `behind_axis1`, only the
+    /// arm solutions on that side of axis 1 (as [`cfx_bits`] reads it) are
+    /// solved, the others are left invalid (the same numbers either way).
     pub(super) fn arm_angles(
         &self,
         r: &Matrix3<f64>,
         p: &Vector3<f64>,
         theta1_hint: f64,
+        behind_axis1: Option<bool>,
     ) -> ([ArmAngles; 4], Reach, bool) {
         let zc = r.column(2);
         let c = p - self.c4 * zc;
@@ -192,46 +200,53 @@ impl Opw {
             cy.atan2(cx)
         };
         let off = atan2_of_offset(self.b, nx1 + self.a1);
-        let t1_i = base - off;
-        let t1_ii = base + off - PI;
-        let tmp1 = nx1.atan2(czp);
-        let tmp2 = (nx1 + 2.0 * self.a1).atan2(czp);
         let c2sq = self.c2 * self.c2;
-        let arg2a = (s1_2 + c2sq - k2) / (2.0 * s1 * self.c2);
-        let arg3a = (s1_2 - c2sq - k2) / (2.0 * self.c2 * k);
-        let arg2b = (s2_2 + c2sq - k2) / (2.0 * s2 * self.c2);
-        let arg3b = (s2_2 - c2sq - k2) / (2.0 * self.c2 * k);
-        let front_ok = in_acos_domain(arg2a) && in_acos_domain(arg3a);
-        let back_ok = in_acos_domain(arg2b) && in_acos_domain(arg3b);
-        // The triangle's angles by atan2 with Heron's area: acos loses
-        // half the digits near full stretch and full fold.
-        let (a2a, a3a, sidea) = self.triangle(s1, s1_2, k2, k);
-        let (a2b, a3b, sideb) = self.triangle(s2, s2_2, k2, k);
         let psi3 = atan2_of_offset(self.a2, self.c3);
         // The front arms face the wrist centre (forward = its lateral
         // distance from axis 1), the back arms turn away from it; elbow
-        // sign decides the side of the lower arm.
-        let arm = |t1: f64, t2: f64, t3: f64, ok: bool, forward: f64, side: f64| ArmAngles {
-            t1,
-            t2,
-            t3,
-            ok,
-            forward,
-            side,
+        // sign decides the side of the lower arm. `tmp`: the angle of the
+        // line from axis 2 to the wrist centre, signed for the side.
+        let arms_of = |t1: f64, s: f64, s_2: f64, tmp: f64, forward: f64| {
+            let arg2 = (s_2 + c2sq - k2) / (2.0 * s * self.c2);
+            let arg3 = (s_2 - c2sq - k2) / (2.0 * self.c2 * k);
+            let ok = in_acos_domain(arg2) && in_acos_domain(arg3);
+            // The triangle's angles by atan2 with Heron's area: acos
+            // loses half the digits near full stretch and full fold.
+            let (a2, a3, side) = self.triangle(s, s_2, k2, k);
+            let arm = |t2: f64, t3: f64, side: f64| ArmAngles {
+                t1,
+                t2,
+                t3,
+                ok,
+                forward,
+                side,
+            };
+            [
+                arm(-a2 + tmp, a3 - psi3, side),
+                arm(a2 + tmp, -a3 - psi3, -side),
+            ]
         };
-        let arms = [
-            arm(t1_i, -a2a + tmp1, a3a - psi3, front_ok, lateral, sidea),
-            arm(t1_i, a2a + tmp1, -a3a - psi3, front_ok, lateral, -sidea),
-            arm(t1_ii, -a2b - tmp2, a3b - psi3, back_ok, -lateral, sideb),
-            arm(t1_ii, a2b - tmp2, -a3b - psi3, back_ok, -lateral, -sideb),
-        ];
+        let wanted = |forward: f64| {
+            behind_axis1.is_none_or(|b| cfx_bits(forward, 0.0, 0.0).behind_axis1 == b)
+        };
+        let [a, b] = if wanted(lateral) {
+            arms_of(base - off, s1, s1_2, nx1.atan2(czp), lateral)
+        } else {
+            [ArmAngles::NONE; 2]
+        };
+        let [c, d] = if wanted(-lateral) {
+            let tmp2 = (nx1 + 2.0 * self.a1).atan2(czp);
+            arms_of(base + off - PI, s2, s2_2, -tmp2, -lateral)
+        } else {
+            [ArmAngles::NONE; 2]
+        };
         let reach = Reach {
             front: s1,
             back: s2,
             min: (self.c2 - k).abs(),
             max: self.c2 + k,
         };
-        (arms, reach, shoulder_singular)
+        ([a, b, c, d], reach, shoulder_singular)
     }
 
     /// The wrist of one arm solution: the wrist and its flip, each with its
@@ -320,6 +335,16 @@ pub(super) struct ArmAngles {
 }
 
 impl ArmAngles {
+    /// An arm solution not solved for.
+    const NONE: ArmAngles = ArmAngles {
+        t1: f64::NAN,
+        t2: f64::NAN,
+        t3: f64::NAN,
+        ok: false,
+        forward: f64::NAN,
+        side: f64::NAN,
+    };
+
     pub(super) fn valid(&self) -> bool {
         self.ok && self.t1.is_finite() && self.t2.is_finite() && self.t3.is_finite()
     }

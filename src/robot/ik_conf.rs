@@ -1,13 +1,17 @@
 //! IK for one robconf, the main job's call: the solution of the requested
-//! arm branch and quadrants, computed directly, with the enumeration of
-//! every solution ([`OpwArm::solve_conf_by_enumeration`]) as the fallback
-//! that decides everything the direct path does not (near matches within
-//! [`super::ik::CONF_TOLERANCE`], the shoulder singularity's search,
-//! errors) and as the reference the direct path is tested against
-//! (`tests/robot/ik_conf.rs`).
+//! arm branch and quadrants, or the nearest within
+//! [`super::ik::CONF_TOLERANCE`] (a target taught on a quadrant boundary,
+//! its axis a rounding error outside), computed directly, with the
+//! enumeration of every solution ([`OpwArm::solve_conf_by_enumeration`])
+//! as the fallback that decides everything the direct path does not (the
+//! shoulder singularity's search, errors) and as the reference the direct
+//! path is tested against (`tests/robot/ik_conf.rs`).
 
-use super::conf::{quadrant, quadrant_range, CfxBits, RobConf};
-use super::ik::{cfx_bits, pick_conf, IkFailure, Limits, OpwArm, Solution, Solutions, LIMIT_EPS};
+use super::conf::{quadrant, quadrant_distance, quadrant_range, CfxBits, RobConf};
+use super::ik::{
+    cfx_bits, pick_conf, ArmAngles, IkFailure, Limits, OpwArm, Solution, Solutions, CONF_TOLERANCE,
+    LIMIT_EPS, MAX_SOLUTIONS,
+};
 use super::Joints;
 use nalgebra::Isometry3;
 use std::f64::consts::TAU;
@@ -23,23 +27,24 @@ impl OpwArm {
         limits: &Limits,
         want: &RobConf,
     ) -> Result<Option<Solution>, IkFailure> {
-        if let Some(s) = self.solve_conf_exact(pose, limits, want) {
+        if let Some(s) = self.solve_conf_direct(pose, limits, want) {
             return Ok(Some(s));
         }
         Ok(self.solve_conf_by_enumeration(pose, limits, want)?.0)
     }
 
-    /// The first solution, in the order of the enumeration, with exactly
-    /// robconf `want`: the arm solutions whose wrist centre is on the
-    /// requested sides of axis 1 and the lower arm, their wrist and its
-    /// flip, and for each axis the first turn (of the enumeration's −2..2)
-    /// within the limits that lands in the requested quadrant (axes 1, 4,
-    /// 6) or sign (axis 5). None when no solution has it exactly; the
-    /// enumeration then decides (a near match, the other points of cf1's
-    /// quadrant at the shoulder singularity, or the error), so this never
-    /// answers differently from it.
+    /// What the enumeration picks, computed from the arm branches with the
+    /// requested cfx arm bits alone: the first solution with exactly
+    /// robconf `want` (the first turn of each axis within the limits that
+    /// lands in the requested quadrant, axes 1, 4, 6, or sign, axis 5);
+    /// without one, the nearest within [`super::ik::CONF_TOLERANCE`]
+    /// (the first of equals in the enumeration's order). None where the
+    /// enumeration must decide: no solution near enough, the shoulder
+    /// singularity (its search over cf1's quadrant), more near matches
+    /// than its buffer holds, errors. So this never answers differently
+    /// from [`OpwArm::solve_conf_by_enumeration`].
     #[doc(hidden)]
-    pub fn solve_conf_exact(
+    pub fn solve_conf_direct(
         &self,
         pose: &Isometry3<f64>,
         limits: &Limits,
@@ -54,7 +59,10 @@ impl OpwArm {
         let r = rot.matrix();
         let p = pose.translation.vector;
         let theta1_hint = self.signs[0] * q1_hint + self.offsets[0];
-        let (arms, _, _) = self.geom.arm_angles(r, &p, theta1_hint);
+        let (arms, _, singular) = self
+            .geom
+            .arm_angles(r, &p, theta1_hint, Some(bits.behind_axis1));
+        let mut near = Near::default();
         for arm in arms.iter().filter(|a| a.valid()) {
             // Both branches of an arm solution share its cfx arm bits.
             let arm_bits = cfx_bits(arm.forward, arm.side, 0.0);
@@ -69,9 +77,12 @@ impl OpwArm {
                 if let Some(q) = exact_turns(&q, limits, want, bits.axis5_negative) {
                     return Some(Solution { q, conf: *want });
                 }
+                if !singular {
+                    near.consider(&q, limits, want, bits.axis5_negative, arm);
+                }
             }
         }
-        None
+        near.best.filter(|_| near.kept <= MAX_SOLUTIONS)
     }
 
     /// The enumerate-and-pick search: every solution near `want` (all
@@ -133,24 +144,113 @@ impl OpwArm {
 /// fastest, so its first exact match is the first such turn of every axis.
 #[inline]
 fn exact_turns(q: &Joints, limits: &Limits, want: &RobConf, q5_negative: bool) -> Option<Joints> {
-    let mut out = [0.0; 6];
-    for j in 0..6 {
-        let (lo, hi) = limits[j];
-        let fits = |v: f64| match j {
-            0 => quadrant(v) == want.cf1,
-            3 => quadrant(v) == want.cf4,
-            4 => (v < 0.0) == q5_negative,
-            5 => quadrant(v) == want.cf6,
-            _ => true,
-        };
-        out[j] = (-2..=2).find_map(|k| {
-            let v = q[j] + TAU * f64::from(k);
-            if !(v >= lo - LIMIT_EPS && v <= hi + LIMIT_EPS) {
-                return None;
+    // One call per axis with its own test, each inlined: a closure
+    // matching on the axis inside the loop was a twentieth of a streamed
+    // correction's time.
+    Some([
+        first_turn(q[0], limits[0], |v| quadrant(v) == want.cf1)?,
+        first_turn(q[1], limits[1], |_| true)?,
+        first_turn(q[2], limits[2], |_| true)?,
+        first_turn(q[3], limits[3], |v| quadrant(v) == want.cf4)?,
+        first_turn(q[4], limits[4], |v| (v < 0.0) == q5_negative)?,
+        first_turn(q[5], limits[5], |v| quadrant(v) == want.cf6)?,
+    ])
+}
+
+/// The first of `v + 2πk` (k = −2..2) within `(lo, hi)` (give or take
+/// [`LIMIT_EPS`], clamped onto them) that `fits`.
+#[inline(always)]
+fn first_turn(v: f64, (lo, hi): (f64, f64), fits: impl Fn(f64) -> bool) -> Option<f64> {
+    for k in -2..=2 {
+        let t = v + TAU * f64::from(k);
+        if t >= lo - LIMIT_EPS && t <= hi + LIMIT_EPS {
+            let t = t.clamp(lo, hi);
+            if fits(t) {
+                return Some(t);
             }
-            let v = v.clamp(lo, hi);
-            fits(v).then_some(v)
-        })?;
+        }
     }
-    Some(out)
+    None
+}
+
+/// The nearest of the near matches (no exact one) over the branches seen so
+/// far, as [`pick_conf`] finds it among the enumeration's solutions: the
+/// mismatch of a combination of turns is the largest of its axes'
+/// (quadrant distance of axes 1, 4, 6; |q5| on the wrong side of 0), so
+/// the least over a branch's combinations is the largest of each axis's
+/// least, and the first combination in the enumeration's order to reach
+/// it takes the first turn of each axis within it. `kept`: how many
+/// solutions the enumeration keeps (its buffer drops those beyond
+/// [`MAX_SOLUTIONS`]).
+#[derive(Default)]
+struct Near {
+    best: Option<Solution>,
+    best_d: f64,
+    kept: usize,
+}
+
+impl Near {
+    fn consider(
+        &mut self,
+        q: &Joints,
+        limits: &Limits,
+        want: &RobConf,
+        q5_negative: bool,
+        arm: &ArmAngles,
+    ) {
+        let mismatch = |j: usize, v: f64| match j {
+            0 => quadrant_distance(v, want.cf1),
+            3 => quadrant_distance(v, want.cf4),
+            4 if (v < 0.0) != q5_negative => v.abs(),
+            5 => quadrant_distance(v, want.cf6),
+            _ => 0.0,
+        };
+        // Each axis's turns within the limits (clamped onto them), in the
+        // enumeration's order, and their mismatches.
+        let mut turns = [[(0.0f64, 0.0f64); 5]; 6];
+        let mut counts = [0usize; 6];
+        let mut least = 0.0f64;
+        let mut kept = 1usize;
+        for j in 0..6 {
+            let (lo, hi) = limits[j];
+            let mut axis_least = f64::INFINITY;
+            let mut within = 0;
+            for k in -2..=2 {
+                let v = q[j] + TAU * f64::from(k);
+                if v >= lo - LIMIT_EPS && v <= hi + LIMIT_EPS {
+                    let v = v.clamp(lo, hi);
+                    let d = mismatch(j, v);
+                    turns[j][counts[j]] = (v, d);
+                    counts[j] += 1;
+                    axis_least = axis_least.min(d);
+                    within += usize::from(d <= CONF_TOLERANCE);
+                }
+            }
+            if counts[j] == 0 {
+                // Outside the limits in every turn: the enumeration keeps
+                // nothing of this branch.
+                return;
+            }
+            least = least.max(axis_least);
+            kept *= within;
+        }
+        self.kept += kept;
+        // As conf_mismatch: never 0 for a near match.
+        let d = least.max(f64::MIN_POSITIVE);
+        if d > CONF_TOLERANCE || self.best.is_some_and(|_| d >= self.best_d) {
+            return;
+        }
+        let mut out = [0.0; 6];
+        for j in 0..6 {
+            out[j] = turns[j][..counts[j]]
+                .iter()
+                .find(|t| t.1 <= least)
+                .map_or(f64::NAN, |t| t.0);
+        }
+        self.best = Some(Solution {
+            q: out,
+            conf: RobConf::from_parts(&out, cfx_bits(arm.forward, arm.side, out[4])),
+        });
+        self.best_d = d;
+    }
 }

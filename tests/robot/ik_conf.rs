@@ -1,15 +1,18 @@
 //! IK for one robconf: the direct path (`OpwArm::solve_conf`, what
 //! `Robot::ik_conf` calls) gives exactly what enumerating every solution
 //! and picking the robconf gives (`OpwArm::solve_conf_by_enumeration`):
-//! the same joints, the same `None`, the same failure, on random poses and
-//! robconfs of the IRB 140, the IRB 2600-12/1.65 and the parallel-arm IRB
-//! 2400-10, cold and warm, at the wrist singularity and on quadrant
-//! boundaries; and `wrap` and `quadrant`, which skip libm calls, against
-//! their formulas to the bit.
+//! the same joints to the bit, the same `None`, the same failure, on
+//! random poses and robconfs of the IRB 140, the IRB 2600-12/1.65 and the
+//! parallel-arm IRB 2400-10, cold and warm, at the wrist and shoulder
+//! singularities and on quadrant boundaries (exactly on them, a rounding
+//! error off, within and just beyond the tolerance of a near match); and
+//! `wrap` and `quadrant`, which skip libm calls, against their formulas to
+//! the bit.
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use proptest::prelude::*;
-use rapidtherm::robot::ik::OpwArm;
+use rapidtherm::robot::ik::{IkFailure, OpwArm, CONF_TOLERANCE};
+use rapidtherm::robot::Solution;
 use rapidtherm::robot::{Joints, RobConf, Robot};
 use std::f64::consts::FRAC_PI_2;
 use std::sync::OnceLock;
@@ -25,29 +28,29 @@ fn robots() -> &'static [Robot; 3] {
     })
 }
 
-/// The direct path and the enumeration agree on `pose` and `want`; returns
-/// whether the direct path alone answered (an exact match).
+/// The direct path and the enumeration agree on `pose` and `want`, to the
+/// bit; returns whether the direct path alone answered (an exact or a
+/// near match).
 fn agree(arm: &OpwArm, robot: &Robot, pose: &Isometry3<f64>, want: &RobConf) -> bool {
     let fast = arm.solve_conf(pose, &robot.limits, want);
     let slow = arm
         .solve_conf_by_enumeration(pose, &robot.limits, want)
         .map(|(found, _)| found);
-    match (&fast, &slow) {
-        (Ok(Some(f)), Ok(Some(s))) => {
-            assert_eq!(f.conf, s.conf, "{}: {want} at {pose:?}", robot.name);
-            for i in 0..6 {
-                assert!(
-                    (f.q[i] - s.q[i]).abs() <= 1e-12,
-                    "{}: {want} at {pose:?}: {:?} vs {:?}",
-                    robot.name,
-                    f.q,
-                    s.q
-                );
-            }
-        }
-        _ => assert_eq!(fast, slow, "{}: {want} at {pose:?}", robot.name),
+    let bits = |r: &Result<Option<Solution>, IkFailure>| {
+        r.clone()
+            .map(|s| s.map(|s| (s.q.map(f64::to_bits), s.conf)))
+    };
+    assert_eq!(
+        bits(&fast),
+        bits(&slow),
+        "{}: {want} at {pose:?}: {fast:?} vs {slow:?}",
+        robot.name
+    );
+    let direct = arm.solve_conf_direct(pose, &robot.limits, want);
+    if let Some(d) = direct {
+        assert_eq!(fast, Ok(Some(d)), "{}: {want} at {pose:?}", robot.name);
     }
-    arm.solve_conf_exact(pose, &robot.limits, want).is_some()
+    direct.is_some()
 }
 
 /// Joints from unit numbers: within the limits, or (`wide`) anywhere in
@@ -113,6 +116,131 @@ proptest! {
             agree(&arm, robot, &p, &RobConf::new(own.cf1, own.cf4, own.cf6, cfx));
         }
     }
+}
+
+/// Offsets from a quadrant boundary (axes 1, 4, 6) or from 0 (axis 5):
+/// on it, a rounding error off, within and just beyond the tolerance of a
+/// near match.
+const OFF_BOUNDARY: [f64; 14] = [
+    0.0,
+    1e-16,
+    -1e-16,
+    1e-12,
+    -1e-12,
+    1e-9,
+    -1e-9,
+    1e-4,
+    -1e-4,
+    CONF_TOLERANCE * (1.0 - 1e-6),
+    -CONF_TOLERANCE * (1.0 - 1e-6),
+    CONF_TOLERANCE * (1.0 + 1e-6),
+    -CONF_TOLERANCE * (1.0 + 1e-6),
+    0.3,
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    /// Near matches: taught joints on or next to a quadrant boundary, the
+    /// robconf of the quadrant on either side (what a target written on
+    /// the boundary holds after a rounding error), cold and warm, the pose
+    /// as taught and moved a little.
+    #[test]
+    fn near_matches_equal_enumerate_and_pick(
+        which in 0usize..3,
+        u in proptest::array::uniform6(0.0f64..1.0),
+        off in proptest::array::uniform4(0usize..OFF_BOUNDARY.len()),
+        shift in proptest::array::uniform3(-1i32..=1),
+        flip5 in proptest::bool::ANY,
+        nudge in proptest::array::uniform3(-0.05f64..0.05),
+        warm in proptest::bool::weighted(0.5),
+    ) {
+        let robot = &robots()[which];
+        let mut q = joints(robot, &u, false);
+        for (k, &axis) in [0usize, 3, 5].iter().enumerate() {
+            q[axis] = (q[axis] / FRAC_PI_2).round() * FRAC_PI_2 + OFF_BOUNDARY[off[k]];
+        }
+        q[4] = OFF_BOUNDARY[off[3]];
+        let scales = [1.0 + 3e-4, 1.0 + 2e-4, 1.0 + 4e-4, 1.0 + 1e-4];
+        let arm = robot
+            .opw_arm(warm.then_some(&scales))
+            .expect("these arms have OPW form");
+        let pose = robot.fk(&q);
+        let moved = Isometry3::from_parts(
+            (pose.translation.vector + Vector3::new(nudge[0], nudge[1], nudge[2])).into(),
+            pose.rotation,
+        );
+        let own = robot.conf_of(&q);
+        let cfx = if flip5 { own.cfx ^ 1 } else { own.cfx };
+        let near = RobConf::new(own.cf1 + shift[0], own.cf4 + shift[1], own.cf6 + shift[2], cfx);
+        for p in [pose, moved] {
+            agree(&arm, robot, &p, &own);
+            agree(&arm, robot, &p, &near);
+        }
+    }
+
+    /// The shoulder singularity: the wrist centre on axis 1 or a hair
+    /// off it, where the enumeration searches cf1's quadrant.
+    #[test]
+    fn shoulder_singular_poses_equal_enumerate_and_pick(
+        u in proptest::array::uniform6(0.0f64..1.0),
+        off in 0usize..4,
+        height in 0.3f64..0.9,
+        other in (-2i32..2, -2i32..2, -2i32..2, 0i32..8),
+    ) {
+        // The IRB 140 and the IRB 2600 (b = 0: axis 1 passes through the
+        // arm plane).
+        for robot in &robots()[..2] {
+            let arm = robot.opw_arm(None).expect("OPW form");
+            let q = joints(robot, &u, false);
+            let rotation = robot.fk(&q).rotation;
+            let z = (rotation * arm.tip.inverse()) * Vector3::z();
+            let g = arm.geom;
+            let centre = Vector3::new(
+                [0.0, 1e-12, 1e-9, 1e-6][off],
+                0.0,
+                g.c1 + height * (g.c2 + g.c3),
+            );
+            let pose = Isometry3::from_parts((centre + g.c4 * z).into(), rotation);
+            let (cf1, cf4, cf6, cfx) = other;
+            agree(&arm, robot, &pose, &RobConf::new(cf1, cf4, cf6, cfx));
+            agree(&arm, robot, &pose, &robot.conf_of(&q));
+        }
+    }
+}
+
+/// The targets of `cargo bench --bench correct` (a tool pointing straight
+/// down: axis 4 lands a rounding error below 0 in half of them, outside
+/// their written cf4 = 0) are answered by the direct path, as the
+/// enumeration answers them.
+#[test]
+fn targets_a_rounding_error_off_their_quadrant_are_answered_directly() {
+    use rapidtherm::robot::frames::flange_of_target;
+    use rapidtherm::robot::{ToolData, WobjData};
+    let robot = &robots()[0];
+    let arm = robot.opw_arm(None).expect("OPW form");
+    let tool = ToolData {
+        tframe: Isometry3::translation(0.0, 0.0, 150.0),
+        ..ToolData::tool0()
+    };
+    let wobj = WobjData::wobj0();
+    let mut near = 0;
+    for i in 0..2000 {
+        let (u, v) = (f64::from(i % 50) / 50.0, f64::from(i / 50) / 40.0);
+        let y = -150.0 + 300.0 * v;
+        let target = Isometry3::from_parts(
+            Vector3::new(420.0 + 80.0 * u, y, 250.0 + 20.0 * (u * 7.0).sin()).into(),
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(0.0, 0.0, 1.0, 0.0)),
+        );
+        let cf = if y >= 0.0 { 0 } else { -1 };
+        let want = RobConf::new(cf, 0, cf, 0);
+        let flange = flange_of_target(&target, &tool, &wobj).expect("a plain tool");
+        assert!(agree(&arm, robot, &flange, &want), "{want} at {flange:?}");
+        let q = robot.ik_conf(&flange, &want).expect("reachable");
+        near += usize::from(robot.conf_of(&q) != want);
+    }
+    // The near matches are there, and answered directly.
+    assert!(near > 0);
 }
 
 /// The direct path does answer: taught joints away from boundaries are

@@ -427,14 +427,17 @@ pub struct Solution {
     pub conf: RobConf,
 }
 
-/// All IK solutions of a pose, in a fixed-size buffer (no allocation),
-/// and the arm branches left out because a joint is outside its limits in
-/// every turn ([`Solutions::dropped`]).
-#[derive(Clone, Copy)]
+/// All IK solutions of a pose (at most [`MAX_SOLUTIONS`]), and the arm
+/// branches left out because a joint is outside its limits in every turn
+/// ([`Solutions::dropped`]). The solutions live on the heap: a 4 kB
+/// buffer in the struct was cleared and copied on every call, a tenth of
+/// IK's time, where one small allocation is not.
+#[derive(Clone)]
 pub struct Solutions {
-    items: [Solution; MAX_SOLUTIONS],
+    items: Vec<Solution>,
     len: usize,
-    dropped: [Option<Dropped>; 8],
+    /// In branch order; empty (no allocation) in the common case.
+    dropped: Vec<Dropped>,
 }
 
 /// An arm branch of a pose that no turn of its axes brings within the
@@ -450,12 +453,9 @@ pub struct Dropped {
 impl Default for Solutions {
     fn default() -> Self {
         Solutions {
-            items: [Solution {
-                q: [0.0; 6],
-                conf: RobConf::default(),
-            }; MAX_SOLUTIONS],
+            items: Vec::with_capacity(16),
             len: 0,
-            dropped: [None; 8],
+            dropped: Vec::new(),
         }
     }
 }
@@ -482,23 +482,25 @@ impl Solutions {
     /// The arm branches left out: a joint outside its limits in every turn
     /// (set by a search for all solutions, not by one for a robconf).
     pub fn dropped(&self) -> impl Iterator<Item = &Dropped> {
-        self.dropped.iter().flatten()
+        self.dropped.iter()
     }
     pub(super) fn clear(&mut self) {
+        self.items.clear();
         self.len = 0;
-        self.dropped = [None; 8];
+        self.dropped.clear();
     }
     pub(super) fn push(&mut self, s: Solution) {
-        if let Some(slot) = self.items.get_mut(self.len) {
-            *slot = s;
+        if self.len < MAX_SOLUTIONS {
+            self.items.push(s);
             self.len += 1;
         }
     }
     /// Record a branch left out (the numeric IK's; the closed form fills
     /// the slot of its branch).
     pub(super) fn push_dropped(&mut self, d: Dropped) {
-        if let Some(slot) = self.dropped.iter_mut().find(|s| s.is_none()) {
-            *slot = Some(d);
+        // One per arm branch at most, as the closed form has eight.
+        if self.dropped.len() < 8 {
+            self.dropped.push(d);
         }
     }
 }
@@ -639,7 +641,7 @@ impl OpwArm {
             } else {
                 *violation = first_violation(&q, limits);
                 if let (Some(v), None) = (*violation, keep) {
-                    out.dropped[i] = Some(Dropped {
+                    out.push_dropped(Dropped {
                         q,
                         conf: conf(&q),
                         violation: v,

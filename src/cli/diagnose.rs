@@ -140,11 +140,18 @@ struct Setup {
 
 fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result<Setup> {
     let Some(p) = path else {
-        // A model fitted on a URDF arm names it: that arm, not the IRB 140.
-        let robot = model.robot_urdf()?.unwrap_or_else(Robot::irb140);
+        // A model fitted on a URDF arm names it: that arm (read once),
+        // not the IRB 140.
+        let (robot, arm) = match (model.robot_urdf()?, model.urdf_path()) {
+            (Some(robot), Some(path)) => {
+                let arm = Arm::of_robot(&robot, &path.display().to_string())?;
+                (robot, arm)
+            }
+            _ => (Robot::irb140(), Arm::of_model(model)?),
+        };
         return Ok(Setup {
             robot,
-            arm: Arm::of_model(model)?,
+            arm,
             own_geometry: None,
         });
     };

@@ -125,13 +125,7 @@ pub fn arm_for_model(
     if general.is_none() && own.is_none() && task.robot_type.is_none() {
         let mut arm = arm_of_spec(&urdf.display().to_string())?;
         arm.provenance = format!("{}, named by the model file's [robot] urdf", arm.provenance);
-        info!(
-            "task {}: arm {} ({}), {}",
-            task.label(),
-            arm.robot.name,
-            arm.label,
-            arm.provenance
-        );
+        say_arm(task, &arm);
         return Ok(arm);
     }
     let arm = arm_for(task, specs)?;
@@ -183,6 +177,12 @@ pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
         },
     };
     arm.provenance = format!("{}, chosen by {chosen_by}", arm.provenance);
+    say_arm(task, &arm);
+    Ok(arm)
+}
+
+/// Which arm a task moves and why, for `-v`.
+fn say_arm(task: &Task, arm: &Arm) {
     info!(
         "task {}: arm {} ({}), {}",
         task.label(),
@@ -190,7 +190,6 @@ pub fn arm_for(task: &Task, specs: &[String]) -> Result<Arm> {
         arm.label,
         arm.provenance
     );
-    Ok(arm)
 }
 
 /// The embedded IRB 140, the arm the thermal defaults were measured on.

@@ -12,7 +12,7 @@ use super::Options;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{Moment, State, States, WarmRobot};
 use crate::rapid::constants::{Constants, Site};
-use crate::rapid::rewrite::{robtarget_edits, Edit};
+use crate::rapid::rewrite::robtarget_edits;
 use crate::rapid::{Expr, FunctionCall, Program, Storage, Target, TargetKind};
 use crate::resolve::dataflow::{runtime_writes, Write};
 use crate::resolve::{frames_of, target_pose, usages, Frames, Through, Usage};
@@ -267,9 +267,9 @@ pub(super) fn corrected_in(
         drift,
         range,
         turn,
+        turned,
         new_rot,
-        edits,
-    } = corrected_numbers(run, src, target, meant, (tool, wobj), exact)?;
+    } = corrected_numbers(run, target, meant, (tool, wobj), exact)?;
     let Meant {
         pose,
         evaluated,
@@ -277,6 +277,12 @@ pub(super) fn corrected_in(
         state,
         ..
     } = meant;
+    let new_trans = exact.translation.vector;
+    let edits = match (&target.value, evaluated) {
+        (Some(value), _) => robtarget_edits(src, value, new_trans.into(), turned, None),
+        (None, Some(e)) => e.edits(src, new_trans.into(), turned),
+        (None, None) => Vec::new(),
+    };
     let original: Vec<f64> = match (&target.value, evaluated) {
         (Some(value), _) => value
             .trans_values()
@@ -287,7 +293,6 @@ pub(super) fn corrected_in(
         (None, Some(e)) => e.trans.iter().chain(&e.rot).copied().collect(),
         (None, None) => Vec::new(),
     };
-    let new_trans = exact.translation.vector;
     let correction = new_trans - pose.translation.vector;
     let location = run.program.location(&target.origin);
     Ok(Correction {
@@ -318,8 +323,8 @@ pub(super) fn corrected_in(
     })
 }
 
-/// The numbers of one target's correction, without its report row: what
-/// a streamed run of a million targets keeps of each.
+/// The numbers of one target's correction, without its report row or
+/// its edits: what a streamed run of a million targets keeps of each.
 pub(super) struct Numbers {
     /// The corrected target.
     pub exact: Isometry3<f64>,
@@ -328,18 +333,18 @@ pub(super) struct Numbers {
     /// the target's moments.
     pub drift: Vector3<f64>,
     pub range: (f64, f64),
-    /// How far the orientation turns (rad), and the quaternion written.
+    /// How far the orientation turns (rad); the quaternion to write over
+    /// the literal's where it turns, and the one the target then has.
     pub turn: f64,
+    pub turned: Option<[f64; 4]>,
     pub new_rot: [f64; 4],
-    pub edits: Vec<Edit>,
 }
 
 /// The solve of [`corrected_in`], or `exact` where it is already known,
-/// the drift over the target's moments, and the edits writing the new
-/// numbers over the literal.
+/// the drift over the target's moments, and what is to be written over
+/// the literal (the position of `exact`, and `turned`).
 pub(super) fn corrected_numbers(
     run: &Run,
-    src: &[u8],
     target: &Target,
     meant: &Meant,
     (tool, wobj): (&ToolData, &WobjData),
@@ -374,7 +379,6 @@ pub(super) fn corrected_numbers(
             range = (range.0.min(d), range.1.max(d));
         }
     }
-    let new_trans = exact.translation.vector;
     let turn = pose.rotation.angle_to(&exact.rotation);
     let written_rot = match (&target.value, evaluated) {
         (Some(v), _) => v.rot_values(),
@@ -386,18 +390,13 @@ pub(super) fn corrected_numbers(
     let turned =
         (turn > ORIENTATION_CHANGE_RAD).then(|| quaternion_like(&exact.rotation, &written_rot));
     let new_rot = turned.unwrap_or(written_rot);
-    let edits = match (&target.value, evaluated) {
-        (Some(value), _) => robtarget_edits(src, value, new_trans.into(), turned, None),
-        (None, Some(e)) => e.edits(src, new_trans.into(), turned),
-        (None, None) => Vec::new(),
-    };
     Ok(Numbers {
         exact,
         drift,
         range,
         turn,
+        turned,
         new_rot,
-        edits,
     })
 }
 
@@ -496,7 +495,12 @@ fn solve(
     let corrected_flange = warm.nominal.fk(&q_warm);
     let exact = target_of_flange(&corrected_flange, tool, wobj)?;
     // The controller must pick back the warm joints from the corrected
-    // target and the unchanged robconf.
+    // target and the unchanged robconf: certain without solving away from
+    // every boundary (a third of the solving of a million targets), else
+    // solved.
+    if warm.nominal.picks_back(&q_warm, &conf) {
+        return Ok(Solution { exact, q_nominal });
+    }
     let picked = warm
         .nominal
         .ik_conf(&corrected_flange, &conf)

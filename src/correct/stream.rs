@@ -17,8 +17,8 @@ use super::solve::{corrected_numbers, Meant, Run};
 use super::{evaluate, marker, Findings, Options, Outcome, When};
 use crate::error::{Error, Result};
 use crate::model::{Moment, State, WarmRobot};
-use crate::rapid::fastmove::{reread, Skeleton};
-use crate::rapid::rewrite::Edit;
+use crate::rapid::fastmove::Skeleton;
+use crate::rapid::rewrite::{robtarget_changes, Edit};
 use crate::rapid::{Origin, Pos, Program, Target, TargetKind};
 use crate::resolve::target_pose;
 use crate::robot::{RobConf, ToolData, WobjData};
@@ -130,18 +130,14 @@ pub fn correct_streamed(
                 chunks
                     .into_par_iter()
                     .map(|k| {
-                        let Some(fast) = correct_chunk(
-                            program,
-                            warm,
-                            options,
-                            src,
-                            &cuts[k.clone()],
-                            (moment, &state),
-                        ) else {
-                            return Ok(None);
-                        };
                         let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
-                        write_chunk(src, cuts[k.start].start..to, &fixed, fast).map(Some)
+                        correct_chunk(
+                            (program, warm, options),
+                            (src, skeleton, &fixed),
+                            k.clone(),
+                            cuts[k.start].start..to,
+                            (moment, &state),
+                        )
                     })
                     .collect::<Vec<_>>()
             },
@@ -198,42 +194,6 @@ struct Done {
     changed: bool,
 }
 
-/// The bytes of `span` (from a chunk's first move to the next chunk's)
-/// with the chunk's corrections `fast` and the skeleton's edits `fixed`
-/// that fall in it, in file order.
-fn write_chunk(src: &[u8], span: Range<usize>, fixed: &[Edit], fast: Vec<Fast>) -> Result<Done> {
-    let lo = fixed.partition_point(|x| x.span.start < span.start);
-    let hi = fixed.partition_point(|x| x.span.start < span.end);
-    let mut fixed = fixed[lo..hi].iter().peekable();
-    let mut bytes = Vec::with_capacity(span.len() + span.len() / 8);
-    let mut rows = Vec::with_capacity(fast.len());
-    let mut changed = false;
-    let mut splice = Splice {
-        src,
-        at: span.start,
-        out: &mut bytes,
-    };
-    for f in fast {
-        rows.push((f.at, f.norm, f.drift, !f.edits.is_empty()));
-        for e in &f.edits {
-            while let Some(x) = fixed.next_if(|x| x.span.start < e.span.start) {
-                splice.edit(x)?;
-            }
-            changed = true;
-            splice.edit(e)?;
-        }
-    }
-    for x in fixed {
-        splice.edit(x)?;
-    }
-    splice.write(span.end)?;
-    Ok(Done {
-        bytes,
-        rows,
-        changed,
-    })
-}
-
 /// Whether the skeleton's reports read as the whole program's would: the
 /// skeleton numbers its inline literals without the cut ones, so a
 /// report naming one (`main#3`) or a note is left to the whole path.
@@ -247,30 +207,35 @@ fn said_alike(f: &Findings) -> bool {
         && !f.splits.iter().any(|s| inline(&s.id))
 }
 
-/// One cut target corrected: where its literal starts, its numbers, and
-/// the edits writing them.
-struct Fast {
-    at: usize,
-    norm: f64,
-    drift: f64,
-    edits: Vec<Edit>,
-}
-
 /// The names of a move's tool and work object as written, and their data.
 type LastFrames<'a> = (&'a [u8], Option<&'a [u8]>, &'a ToolData, &'a WobjData);
 
-/// Correct the moves of `cuts`; `None` when one of them needs the whole
-/// path (an unknown tool, an unreachable target, a note).
+/// Correct the cut moves `cuts` of `src` and write the bytes of `span`
+/// (from the chunk's first move to the next chunk's) with their new
+/// numbers and the skeleton's edits `fixed` that fall in it, in file
+/// order; `Ok(None)` when one of the moves needs the whole path (an
+/// unknown tool, an unreachable target, a note).
 fn correct_chunk(
-    program: &Program,
-    warm: &WarmRobot,
-    options: &Options,
-    src: &[u8],
-    cuts: &[Range<usize>],
+    (program, warm, options): (&Program, &WarmRobot, &Options),
+    (src, skeleton, fixed): (&[u8], &Skeleton, &[Edit]),
+    cuts: Range<usize>,
+    span: Range<usize>,
     (moment, state): (Moment, &State),
-) -> Option<Vec<Fast>> {
-    let run = Run::new(program, warm, options).ok()?;
-    let mut out = Vec::with_capacity(cuts.len());
+) -> Result<Option<Done>> {
+    let Ok(run) = Run::new(program, warm, options) else {
+        return Ok(None);
+    };
+    let lo = fixed.partition_point(|x| x.span.start < span.start);
+    let hi = fixed.partition_point(|x| x.span.start < span.end);
+    let mut fixed = fixed[lo..hi].iter().peekable();
+    let mut bytes = Vec::with_capacity(span.len() + span.len() / 8);
+    let mut rows = Vec::with_capacity(cuts.len());
+    let mut changed = false;
+    let mut splice = Splice {
+        src,
+        at: span.start,
+        out: &mut bytes,
+    };
     // One target and one meaning, their numbers replaced move by move.
     let mut target = Target {
         id: String::new(),
@@ -305,41 +270,88 @@ fn correct_chunk(
     // program names the same pair a million times, and each lookup
     // lower-cased the names into new strings.
     let mut last: Option<LastFrames> = None;
-    for cut in cuts {
-        let m = reread(src, cut.start)?;
+    // Where a number's new text is formatted (three million of them).
+    let mut text = String::with_capacity(24);
+    for k in cuts {
+        let Some(m) = skeleton.reread(src, k) else {
+            return Ok(None);
+        };
         let tool_bytes = &src[m.tool.clone()];
         let wobj_bytes = m.wobj.clone().map(|w| &src[w]);
         let (tool, wobj) = match last {
             Some((t, w, tool, wobj)) if t == tool_bytes && w == wobj_bytes => (tool, wobj),
             _ => {
-                let tool = run
-                    .frames
-                    .tool(Some(std::str::from_utf8(tool_bytes).ok()?))?;
-                let wobj = match wobj_bytes {
-                    Some(w) => run.frames.wobj(Some(std::str::from_utf8(w).ok()?))?,
-                    None => run.frames.wobj(Some("wobj0"))?,
+                let Some(frames) = frames_named(&run, tool_bytes, wobj_bytes) else {
+                    return Ok(None);
                 };
-                last = Some((tool_bytes, wobj_bytes, tool, wobj));
-                (tool, wobj)
+                last = Some((tool_bytes, wobj_bytes, frames.0, frames.1));
+                frames
             }
         };
         for (at, value) in m.targets {
             target.origin.pos.offset = at;
             target.value = Some(value);
-            let (pose, conf) = target_pose(program, &target).ok()??;
+            let Ok(Some((pose, conf))) = target_pose(program, &target) else {
+                return Ok(None);
+            };
             meant.pose = pose;
             meant.conf = conf;
-            let c = corrected_numbers(&run, src, &target, &meant, (tool, wobj), None).ok()?;
-            out.push(Fast {
-                at,
-                norm: (c.exact.translation.vector - pose.translation.vector).norm(),
-                drift: c.drift.norm(),
-                edits: c.edits,
+            let Ok(c) = corrected_numbers(&run, &target, &meant, (tool, wobj), None) else {
+                return Ok(None);
+            };
+            let Some(value) = &target.value else {
+                return Ok(None);
+            };
+            // The numbers that change, written as they come, with the
+            // skeleton's edits before them: the same text as the whole
+            // path's edits ([`robtarget_edits`] makes them this way).
+            let mut rewritten = false;
+            let mut written = Ok(());
+            let new = (c.exact.translation.vector.into(), c.turned, None);
+            robtarget_changes(src, value, new, &mut text, &mut |at, new| {
+                rewritten = true;
+                if written.is_ok() {
+                    written = (|| {
+                        while let Some(x) = fixed.next_if(|x| x.span.start < at.start) {
+                            splice.edit(x)?;
+                        }
+                        splice.put(at, new)
+                    })();
+                }
             });
+            written?;
+            changed |= rewritten;
+            let norm = (c.exact.translation.vector - pose.translation.vector).norm();
+            rows.push((at, norm, c.drift.norm(), rewritten));
         }
     }
-    let quiet = run.notes.borrow().is_empty();
-    quiet.then_some(out)
+    for x in fixed {
+        splice.edit(x)?;
+    }
+    splice.write(span.end)?;
+    if !run.notes.borrow().is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(Done {
+        bytes,
+        rows,
+        changed,
+    }))
+}
+
+/// A move's tool and work object by their names as written (`wobj0`
+/// where none is).
+fn frames_named<'r>(
+    run: &'r Run,
+    tool: &[u8],
+    wobj: Option<&[u8]>,
+) -> Option<(&'r ToolData, &'r WobjData)> {
+    let tool = run.frames.tool(Some(std::str::from_utf8(tool).ok()?))?;
+    let wobj = match wobj {
+        Some(w) => run.frames.wobj(Some(std::str::from_utf8(w).ok()?))?,
+        None => run.frames.wobj(Some("wobj0"))?,
+    };
+    Some((tool, wobj))
 }
 
 /// The summary's numbers, gathered in the order the whole path sums them
@@ -447,6 +459,20 @@ impl Splice<'_> {
         self.write(e.span.start)?;
         self.out.write_all(&e.new).map_err(write_error)?;
         self.at = e.span.end;
+        Ok(())
+    }
+
+    /// A number's new text over `span` of the file.
+    fn put(&mut self, span: Range<usize>, new: &[u8]) -> Result<()> {
+        if span.start < self.at || span.end > self.src.len() {
+            return Err(Error::input(format!(
+                "internal: a streamed number at byte {} does not fit the file",
+                span.start
+            )));
+        }
+        self.write(span.start)?;
+        self.out.write_all(new).map_err(write_error)?;
+        self.at = span.end;
         Ok(())
     }
 

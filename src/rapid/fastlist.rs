@@ -11,7 +11,7 @@
 //! this cannot be worked out for sure, [`Listing::new`] declines and the
 //! whole parse lists the file.
 
-use super::fastmove::{reread, Skeleton};
+use super::fastmove::Skeleton;
 use super::parse::{column, line_starts, name_space, qualified};
 use super::{Origin, Pos, Program, Target, TargetKind};
 use std::collections::{HashMap, HashSet};
@@ -229,8 +229,7 @@ impl CutReader<'_, '_> {
     /// values (a number beyond `f64`): the whole parse has its say then.
     pub fn read(&mut self, k: usize, each: &mut dyn FnMut(&Target)) -> Option<()> {
         let l = self.listing;
-        let cut = l.skeleton.cuts.get(k)?;
-        let m = reread(l.src, cut.start)?;
+        let m = l.skeleton.reread(l.src, k)?;
         let (p, first) = *l.cuts.get(k)?;
         let place = &l.places[p as usize];
         let t = &mut self.target;
@@ -255,7 +254,7 @@ impl CutReader<'_, '_> {
         let line = l
             .lines
             .partition_point(|&s| s <= l.skeleton.place_of_cut(k));
-        let line_start = l.src[..cut.start]
+        let line_start = l.src[..m.span.start]
             .iter()
             .rposition(|&b| b == b'\n')
             .map_or(0, |i| i + 1);

@@ -86,7 +86,10 @@ impl Cursor<'_> {
     }
 
     /// A decimal literal, with a sign written against it (the parser folds
-    /// such a sign into the literal): `-150.000`, `9E9`, `.5`, `1.`.
+    /// such a sign into the literal): `-150.000`, `9E9`, `.5`, `1.`. Its
+    /// value is read on the same pass as its form (17 numbers a target, a
+    /// million targets): Clinger's fast path where it holds, as
+    /// [`decimal_value`], else the standard parser.
     fn number(&mut self) -> Option<Number> {
         self.blank();
         let s = self.s;
@@ -104,33 +107,56 @@ impl Cursor<'_> {
             _ => false,
         };
         let digits_from = p;
-        let digits = |mut p: usize| {
-            while s.get(p).is_some_and(u8::is_ascii_digit) {
+        // The digits as one integer while it stays below 2^53, and how many
+        // of them follow the point.
+        let mut m = 0u64;
+        let mut exact = true;
+        let mut digits = |mut p: usize| {
+            while let Some(&c) = s.get(p).filter(|c| c.is_ascii_digit()) {
+                exact &= m < (1 << 53) / 10;
+                m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
                 p += 1;
             }
             p
         };
         let int_end = digits(p);
         p = int_end;
+        let mut frac = 0;
         if s.get(p) == Some(&b'.') {
             let frac_end = digits(p + 1);
             if int_end == digits_from && frac_end == p + 1 {
                 return None;
             }
+            frac = frac_end - (p + 1);
             p = frac_end;
         } else if int_end == digits_from {
             return None;
         }
+        let mut exp = 0i32;
         if matches!(s.get(p), Some(b'e' | b'E')) {
             let mut q = p + 1;
+            let minus = s.get(q) == Some(&b'-');
             if matches!(s.get(q), Some(b'+' | b'-')) {
                 q += 1;
             }
-            let exp_end = digits(q);
-            if exp_end == q {
+            let from = q;
+            while s.get(q).is_some_and(u8::is_ascii_digit) {
+                q += 1;
+            }
+            if q == from {
                 return None;
             }
-            p = exp_end;
+            if q - from > 4 {
+                exact = false;
+            } else {
+                for &d in &s[from..q] {
+                    exp = exp * 10 + i32::from(d - b'0');
+                }
+            }
+            if minus {
+                exp = -exp;
+            }
+            p = q;
         }
         if s.get(p).is_some_and(|&b| is_ident_char(b) || b == b'.') {
             return None;
@@ -139,7 +165,13 @@ impl Cursor<'_> {
             self.p = p;
             return Some(Number::new(0.0, start..p));
         }
-        let v = decimal_value(&s[digits_from..p])?;
+        let v = match exact.then(|| clinger(m, exp - frac as i32)).flatten() {
+            Some(v) => v,
+            None => std::str::from_utf8(&s[digits_from..p])
+                .ok()?
+                .parse::<f64>()
+                .ok()?,
+        };
         if !v.is_finite() {
             return None;
         }
@@ -193,10 +225,6 @@ impl Cursor<'_> {
 /// 10^22: one correctly rounded operation on exact operands gives the
 /// correctly rounded value), the standard parser otherwise.
 pub(super) fn decimal_value(text: &[u8]) -> Option<f64> {
-    const POW10: [f64; 23] = [
-        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
-    ];
     let slow = || std::str::from_utf8(text).ok()?.parse::<f64>().ok();
     let (mut m, mut frac, mut point) = (0u64, 0i32, false);
     let mut i = 0;
@@ -231,15 +259,19 @@ pub(super) fn decimal_value(text: &[u8]) -> Option<f64> {
             exp = -exp;
         }
     }
-    let e = exp - frac;
-    match usize::try_from(e.unsigned_abs())
-        .ok()
-        .and_then(|k| POW10.get(k))
-    {
-        Some(p) if e >= 0 => Some(m as f64 * p),
-        Some(p) => Some(m as f64 / p),
-        None => slow(),
-    }
+    clinger(m, exp - frac).or_else(slow)
+}
+
+/// `m · 10^e` correctly rounded, where one operation on exact operands
+/// gives it (m below 2^53, |e| at most 22); `None` elsewhere.
+#[inline]
+fn clinger(m: u64, e: i32) -> Option<f64> {
+    const POW10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
+    let p = POW10.get(usize::try_from(e.unsigned_abs()).ok()?)?;
+    Some(if e >= 0 { m as f64 * p } else { m as f64 / p })
 }
 
 /// How many robtarget literals lead the positional arguments of a move
@@ -261,25 +293,32 @@ fn leading_targets(name: &str) -> Option<usize> {
 /// The move that starts at `at` of `src`, when it is one this recogniser
 /// reads; `None` otherwise (the pest grammar then reads it).
 pub fn recognise(src: &[u8], at: usize) -> Option<FastMove> {
-    read_move(src, at, true, true)
+    read_move(src, at, Pass::Values)
 }
 
-/// [`recognise`] for a move [`skeleton`] cut out of `src` at `at`: its
-/// names were checked then.
-pub fn reread(src: &[u8], at: usize) -> Option<FastMove> {
-    read_move(src, at, true, false)
+/// How [`read_move`] reads: on the cut pass, the form alone, each name
+/// checked; again, a cut move's values, knowing what the cut pass found.
+#[derive(Clone, Copy)]
+enum Pass {
+    Form,
+    Values,
+    /// A move cut with this many literals: its names were checked then.
+    Again(usize),
 }
 
-fn read_move(src: &[u8], at: usize, values: bool, names: bool) -> Option<FastMove> {
+fn read_move(src: &[u8], at: usize, pass: Pass) -> Option<FastMove> {
     let mut c = Cursor {
         s: src,
         p: at,
-        values,
-        names,
+        values: !matches!(pass, Pass::Form),
+        names: !matches!(pass, Pass::Again(_)),
     };
     // Motion instructions are no reserved words: their signature says.
     let instruction = c.name_as(false)?;
-    let k = leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?;
+    let k = match pass {
+        Pass::Again(k) => k,
+        _ => leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?,
+    };
     if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
         return None;
     }
@@ -343,6 +382,14 @@ impl Skeleton {
         at + self.cut_before.get(k).copied().unwrap_or(0)
     }
 
+    /// Cut move `k` read again from `src`, the file it was cut from, with
+    /// its values ([`recognise`]'s answer, without the checks the cut
+    /// made).
+    pub fn reread(&self, src: &[u8], k: usize) -> Option<FastMove> {
+        let at = self.cuts.get(k)?.start;
+        read_move(src, at, Pass::Again(usize::from(*self.literals.get(k)?)))
+    }
+
     /// Where cut `k` was in the skeleton: the offset of the byte after it
     /// (on the same line as the cut move).
     pub fn place_of_cut(&self, k: usize) -> usize {
@@ -372,7 +419,7 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
             let m = match next.peek() {
                 Some(f) if f.0.start == at => Some((*f).clone()),
                 // A statement after another on its line.
-                _ => read_move(src, at, false, true)
+                _ => read_move(src, at, Pass::Form)
                     .filter(|m| rest_is_blank(src, m.span.end))
                     .map(|m| (m.span, m.targets.len() as u8)),
             };
@@ -459,7 +506,7 @@ fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
                     at += 1;
                 }
                 if let Some(m) =
-                    read_move(src, at, false, true).filter(|m| rest_is_blank(src, m.span.end))
+                    read_move(src, at, Pass::Form).filter(|m| rest_is_blank(src, m.span.end))
                 {
                     out.push((m.span, m.targets.len() as u8));
                 }
@@ -476,4 +523,83 @@ fn rest_is_blank(src: &[u8], mut p: usize) -> bool {
         p += 1;
     }
     matches!(src.get(p), None | Some(b'\r' | b'\n' | b'!'))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Option<f64> {
+        let mut c = Cursor {
+            s: text.as_bytes(),
+            p: 0,
+            values: true,
+            names: true,
+        };
+        let n = c.number()?;
+        (c.p == text.len()).then_some(n.value)
+    }
+
+    /// The value read with the form is `str::parse`'s, to the bit: every
+    /// form RAPID writes, mantissas past 2^53, exponents past 10^22 and
+    /// past four digits, and what is no number.
+    #[test]
+    fn numbers_read_as_the_standard_parser_reads_them() {
+        let mut state = 11u64;
+        let mut next = |k: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % k
+        };
+        let mut checked = 0;
+        for _ in 0..300_000 {
+            let digits = |n: u64, next: &mut dyn FnMut(u64) -> u64| {
+                (0..n)
+                    .map(|_| char::from(b'0' + next(10) as u8))
+                    .collect::<String>()
+            };
+            let sign = ["", "-", "+"][next(3) as usize];
+            let int = digits(next(19), &mut next);
+            let frac = match next(3) {
+                0 => String::new(),
+                1 => ".".to_string(),
+                _ => format!(".{}", digits(next(19), &mut next)),
+            };
+            let exp_digits = digits(next(6), &mut next);
+            let exp = match next(4) {
+                0 => format!(
+                    "{}{}{exp_digits}",
+                    ["E", "e"][next(2) as usize],
+                    ["", "+", "-"][next(3) as usize]
+                ),
+                _ => String::new(),
+            };
+            let text = format!("{sign}{int}{frac}{exp}");
+            let mantissa = !int.is_empty() || frac.len() > 1;
+            let exponent = exp.is_empty() || !exp_digits.is_empty();
+            let got = read(&text);
+            if mantissa && exponent {
+                let want = text.parse::<f64>().ok().filter(|v| v.is_finite());
+                assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{text}");
+                checked += usize::from(got.is_some());
+            } else {
+                assert_eq!(got, None, "{text}");
+            }
+        }
+        assert!(checked > 100_000);
+        for (text, want) in [
+            ("9E9", 9e9),
+            ("9E+09", 9e9),
+            (".5", 0.5),
+            ("1.", 1.0),
+            ("-0", -0.0),
+        ] {
+            assert_eq!(
+                read(text).map(f64::to_bits),
+                Some(f64::to_bits(want)),
+                "{text}"
+            );
+        }
+    }
 }

@@ -118,31 +118,60 @@ pub fn robtarget_edits(
     rot: Option<[f64; 4]>,
     robconf: Option<[i32; 4]>,
 ) -> Vec<Edit> {
-    let mut out: Vec<Edit> = value
-        .trans
-        .iter()
-        .zip(trans)
-        .filter_map(|(n, v)| changed_edit(src, n, v, POSITION_RESOLUTION))
-        .collect();
+    let mut out = Vec::new();
+    let mut buf = String::new();
+    robtarget_changes(
+        src,
+        value,
+        (trans, rot, robconf),
+        &mut buf,
+        &mut |span, new| {
+            out.push(Edit {
+                expected_old: src[span.clone()].to_vec(),
+                span,
+                new: new.to_vec(),
+            });
+        },
+    );
+    out
+}
+
+/// The changes [`robtarget_edits`] makes, in order, handed to `each` as
+/// the span of a number and its new text (formatted in `buf`): a
+/// streamed run writes them straight out, without an edit's copies.
+pub fn robtarget_changes(
+    src: &[u8],
+    value: &RobTargetValue,
+    (trans, rot, robconf): ([f64; 3], Option<[f64; 4]>, Option<[i32; 4]>),
+    buf: &mut String,
+    each: &mut dyn FnMut(Range<usize>, &[u8]),
+) {
+    let mut change = |n: &Number, v: f64, resolution: f64| {
+        if (v - n.value).abs() <= resolution / 2.0 {
+            return;
+        }
+        let Some(old) = src.get(n.span()) else { return };
+        let Ok(old_text) = std::str::from_utf8(old) else {
+            return;
+        };
+        format_like_into(buf, old_text, v, resolution);
+        if buf.as_bytes() != old {
+            each(n.span(), buf.as_bytes());
+        }
+    };
+    for (n, v) in value.trans.iter().zip(trans) {
+        change(n, v, POSITION_RESOLUTION);
+    }
     if let Some(rot) = rot {
-        out.extend(
-            value
-                .rot
-                .iter()
-                .zip(rot)
-                .filter_map(|(n, v)| changed_edit(src, n, v, QUATERNION_RESOLUTION)),
-        );
+        for (n, v) in value.rot.iter().zip(rot) {
+            change(n, v, QUATERNION_RESOLUTION);
+        }
     }
     if let Some(cf) = robconf {
-        out.extend(
-            value
-                .robconf
-                .iter()
-                .zip(cf)
-                .filter_map(|(n, v)| changed_edit(src, n, f64::from(v), 1.0)),
-        );
+        for (n, v) in value.robconf.iter().zip(cf) {
+            change(n, f64::from(v), 1.0);
+        }
     }
-    out
 }
 
 /// Edits writing new axis angles (degrees) over a jointtarget literal.
@@ -201,11 +230,20 @@ fn style_of(old: &str) -> Style {
 /// give the same text. If `old` already denotes `value` exactly, it is
 /// returned unchanged.
 pub fn format_like(old: &str, value: f64, resolution: f64) -> String {
+    let mut out = String::new();
+    format_like_into(&mut out, old, value, resolution);
+    out
+}
+
+/// [`format_like`] into `out` (cleared first).
+pub fn format_like_into(out: &mut String, old: &str, value: f64, resolution: f64) {
+    out.clear();
     if !value.is_finite() {
-        return old.to_string();
+        out.push_str(old);
+    } else if format_like_plain_into(out, old.as_bytes(), value, resolution).is_none() {
+        out.clear();
+        out.push_str(&format_like_general(old, value, resolution));
     }
-    format_like_plain(old.as_bytes(), value, resolution)
-        .unwrap_or_else(|| format_like_general(old, value, resolution))
 }
 
 /// [`format_like`] for any literal (`value` finite).
@@ -268,7 +306,14 @@ fn format_like_general(old: &str, value: f64, resolution: f64) -> String {
 /// without the general path's parsing of the old literal by the standard
 /// library and its copies; `None` for any other literal or value (the
 /// general path then decides).
+#[cfg(test)]
 fn format_like_plain(old: &[u8], value: f64, resolution: f64) -> Option<String> {
+    let mut s = String::new();
+    format_like_plain_into(&mut s, old, value, resolution).map(|()| s)
+}
+
+/// [`format_like_plain`] into `s` (empty); on `None`, `s` holds anything.
+fn format_like_plain_into(s: &mut String, old: &[u8], value: f64, resolution: f64) -> Option<()> {
     let digits = old.strip_prefix(b"-").unwrap_or(old);
     let point = digits.iter().position(|&b| b == b'.')?;
     let (int, frac) = (&digits[..point], &digits[point + 1..]);
@@ -280,23 +325,22 @@ fn format_like_plain(old: &[u8], value: f64, resolution: f64) -> Option<String> 
     let was = super::fastmove::decimal_value(digits)?;
     let was = if digits.len() < old.len() { -was } else { was };
     if was == value {
-        return String::from_utf8(old.to_vec()).ok();
+        s.push_str(std::str::from_utf8(old).ok()?);
+        return Some(());
     }
     let tol = if resolution > 0.0 {
         resolution / 2.0
     } else {
         0.0
     };
-    // Room for a corrected coordinate's digits: no growing on the way.
-    let mut s = String::with_capacity(24);
     for d in frac.len()..=17 {
         s.clear();
-        let back = fixed(&mut s, value, d)?;
+        let back = fixed(s, value, d)?;
         if (back - value).abs() <= tol || d >= 17 {
-            if is_negative_zero(&s) {
+            if is_negative_zero(s) {
                 s.remove(0);
             }
-            return Some(s);
+            return Some(());
         }
     }
     None

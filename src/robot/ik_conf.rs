@@ -136,6 +136,70 @@ impl OpwArm {
     }
 }
 
+/// Clearances under which [`OpwArm::picks_back`] answers without solving:
+/// a thousand times and more what a round trip through FK and IK loses
+/// (1e-12 mm, 1e-13 rad), and small enough that a taught target almost
+/// never comes as near to a boundary.
+const CLEAR_RAD: f64 = 1e-7;
+const CLEAR_MM: f64 = 1e-2;
+/// |sin θ5| below which the wrist is left to the solve: the split of q4
+/// and q6 loses digits as 1/sin θ5.
+const CLEAR_WRIST: f64 = 1e-3;
+/// How far from a quadrant boundary an axis counts as on it: far below
+/// [`CONF_TOLERANCE`], far above a round trip's error.
+const ON_BOUNDARY_RAD: f64 = 1e-10;
+
+impl OpwArm {
+    /// Whether [`OpwArm::solve_conf`] of this arm's own flange pose of `q`
+    /// with robconf `want` certainly gives `q` back (to well below 1e-9
+    /// rad), told without solving: `q` has robconf `want` exactly, and lies
+    /// clear of everything that could make the pick go elsewhere (the
+    /// quadrant boundaries of axes 1, 4 and 6, axis 5's sign and the wrist
+    /// singularity, the shoulder and elbow singularities where two arm
+    /// branches meet, the joint limits and another turn of an axis within
+    /// them). `false` says nothing: solve to know. The main job checks
+    /// every corrected target this way before solving it again
+    /// (`tests/robot/ik_conf.rs` holds `true` to the solve).
+    pub fn picks_back(&self, q: &Joints, limits: &Limits, want: &RobConf) -> bool {
+        use std::f64::consts::PI;
+        let Some(bits) = CfxBits::from_cfx(want.cfx) else {
+            return false;
+        };
+        let t = self.theta_of(q);
+        let (forward, side) = self.geom.cfx_geometry(&t);
+        if forward.abs() < CLEAR_MM || side.abs() < CLEAR_MM || t[4].sin().abs() < CLEAR_WRIST {
+            return false;
+        }
+        if cfx_bits(forward, side, q[4]) != bits || q[4].abs() < CLEAR_RAD {
+            return false;
+        }
+        // Clear inside the wanted quadrant, or a rounding error from one of
+        // its boundaries (a target taught with the axis at 0°): either side
+        // of it, the solve answers with this branch (an exact or a near
+        // match), as no other branch has the same arm bits and axis 5's
+        // sign.
+        let fits = |v: f64, cf: i32| {
+            let (lo, hi) = quadrant_range(cf);
+            (v > lo + CLEAR_RAD && v < hi - CLEAR_RAD)
+                || (v - lo).abs() <= ON_BOUNDARY_RAD
+                || (v - hi).abs() <= ON_BOUNDARY_RAD
+        };
+        if !(fits(q[0], want.cf1) && fits(q[3], want.cf4) && fits(q[5], want.cf6)) {
+            return false;
+        }
+        q.iter()
+            .zip(limits)
+            .enumerate()
+            .all(|(j, (&v, &(lo, hi)))| {
+                // The solve finds an axis within ±2 turns of its wrapped angle;
+                // axes 2, 3 and 5 take their first turn within the limits
+                // (axes 1, 4 and 6 their first in the quadrant, which is q's).
+                let first_turn = matches!(j, 0 | 3 | 5) || v - TAU < lo - LIMIT_EPS - CLEAR_RAD;
+                v.abs() < 4.9 * PI && v > lo + CLEAR_RAD && v < hi - CLEAR_RAD && first_turn
+            })
+    }
+}
+
 /// The turn of each axis the enumeration would give first for an exact
 /// match: the first of q + 2πk (k = −2..2) within the limits (clamped onto
 /// them, as the enumeration does) that is in the requested quadrant (axes

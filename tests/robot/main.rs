@@ -10,5 +10,6 @@ mod frames;
 mod ik_chain;
 mod ik_conf;
 mod kinematics;
+mod picks_back;
 mod robustness;
 mod urdf;

@@ -8,7 +8,7 @@ use super::file::Model;
 use super::perturb::{lag_taus, predict, Base, Geometry, LinkLags, RowState};
 use crate::error::{Error, ErrorKind, Result};
 use crate::robot::conf::RobConf;
-use crate::robot::{Joints, Robot};
+use crate::robot::{Joints, LinkScales, Robot};
 use crate::thermal::{HeatingProfile, MotorTemps, TempHistory};
 use nalgebra::{Isometry3, Matrix6, Vector6};
 use std::sync::Arc;
@@ -37,6 +37,9 @@ pub struct State {
     /// Motor temperatures through each link's thermal lag (base, lower
     /// arm, upper arm, wrist), when the model has one.
     pub lagged: Option<[MotorTemps; 4]>,
+    /// Each link's length over its cold length by the base model at
+    /// `temps`: worked out once per moment, not twice per target.
+    pub scales: LinkScales,
 }
 
 /// The nominal (controller) robot and the warm model.
@@ -129,9 +132,7 @@ impl WarmRobot {
     /// Where the warm robot's flange is at joints `q`.
     pub fn flange(&self, q: &Joints, state: &State) -> Isometry3<f64> {
         if self.is_pure_expansion() {
-            return self
-                .nominal
-                .fk_scaled(q, &self.base.thermal.scales(&state.temps));
+            return self.nominal.fk_scaled(q, &state.scales);
         }
         predict(
             &self.base,
@@ -153,9 +154,7 @@ impl WarmRobot {
         conf: &RobConf,
         state: &State,
     ) -> Result<Joints> {
-        let mut q =
-            self.nominal
-                .ik_conf_scaled(flange, conf, &self.base.thermal.scales(&state.temps))?;
+        let mut q = self.nominal.ik_conf_scaled(flange, conf, &state.scales)?;
         if self.is_pure_expansion() {
             return Ok(q);
         }
@@ -218,12 +217,17 @@ impl States<'_> {
                 Ok(State {
                     temps,
                     lagged: self.lags.as_ref().map(|_| [temps; 4]),
+                    scales: self.warm.base.thermal.scales(&temps),
                 })
             }
-            Moment::Minute(t) => Ok(State {
-                temps: self.warm.profile.temps_at(t)?,
-                lagged: self.lags.as_ref().map(|lags| lags.at(t)),
-            }),
+            Moment::Minute(t) => {
+                let temps = self.warm.profile.temps_at(t)?;
+                Ok(State {
+                    temps,
+                    lagged: self.lags.as_ref().map(|lags| lags.at(t)),
+                    scales: self.warm.base.thermal.scales(&temps),
+                })
+            }
         }
     }
 }

@@ -21,8 +21,11 @@ pub struct FastMove {
     pub span: Range<usize>,
     pub instruction: Range<usize>,
     /// Each robtarget literal (CirPoint before ToPoint): where its `[`
-    /// is, and its numbers.
+    /// is, and its numbers (none kept on the cut pass, which reads their
+    /// form alone).
     pub targets: Vec<(usize, RobTargetValue)>,
+    /// How many robtarget literals the move holds.
+    pub literals: usize,
     pub tool: Range<usize>,
     pub wobj: Option<Range<usize>>,
 }
@@ -32,18 +35,33 @@ pub struct FastMove {
 /// read, and checked finite, when corrected); reading a cut move again
 /// does not look its names up among the reserved words (the cut pass
 /// did).
-struct Cursor<'a> {
+struct Cursor<'a, 'm> {
     s: &'a [u8],
     p: usize,
     values: bool,
     names: bool,
+    seen: &'m mut Seen<'a>,
 }
+
+/// What a pass has looked up already: names that are no reserved word,
+/// and the last instruction's number of literals. A CAM program repeats
+/// them on a million lines, and looking each up again was a quarter of
+/// the cut pass.
+#[derive(Default)]
+struct Seen<'a> {
+    names: Vec<&'a [u8]>,
+    instruction: Option<(&'a [u8], usize)>,
+}
+
+/// How many names [`Seen`] keeps: the speed, zone, tool and work object
+/// of a few kinds of move.
+const SEEN_NAMES: usize = 16;
 
 fn is_ident_char(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_' || b >= 0x80
 }
 
-impl Cursor<'_> {
+impl Cursor<'_, '_> {
     fn blank(&mut self) {
         while matches!(self.s.get(self.p), Some(b' ' | b'\t')) {
             self.p += 1;
@@ -75,10 +93,13 @@ impl Cursor<'_> {
             }
             e += 1;
         }
-        if check {
-            let word = std::str::from_utf8(&self.s[start..e]).ok()?;
-            if super::parse::is_reserved_word(word) {
+        let word = &self.s[start..e];
+        if check && !self.seen.names.contains(&word) {
+            if super::parse::is_reserved_word(std::str::from_utf8(word).ok()?) {
                 return None;
+            }
+            if self.seen.names.len() < SEEN_NAMES {
+                self.seen.names.push(word);
             }
         }
         self.p = e;
@@ -293,7 +314,7 @@ fn leading_targets(name: &str) -> Option<usize> {
 /// The move that starts at `at` of `src`, when it is one this recogniser
 /// reads; `None` otherwise (the pest grammar then reads it).
 pub fn recognise(src: &[u8], at: usize) -> Option<FastMove> {
-    read_move(src, at, Pass::Values)
+    read_move(src, at, Pass::Values, &mut Seen::default())
 }
 
 /// How [`read_move`] reads: on the cut pass, the form alone, each name
@@ -306,28 +327,39 @@ enum Pass {
     Again(usize),
 }
 
-fn read_move(src: &[u8], at: usize, pass: Pass) -> Option<FastMove> {
+fn read_move<'a>(src: &'a [u8], at: usize, pass: Pass, seen: &mut Seen<'a>) -> Option<FastMove> {
     let mut c = Cursor {
         s: src,
         p: at,
         values: !matches!(pass, Pass::Form),
         names: !matches!(pass, Pass::Again(_)),
+        seen,
     };
     // Motion instructions are no reserved words: their signature says.
     let instruction = c.name_as(false)?;
-    let k = match pass {
-        Pass::Again(k) => k,
-        _ => leading_targets(std::str::from_utf8(&src[instruction.clone()]).ok()?)?,
+    let word = &src[instruction.clone()];
+    let k = match (pass, c.seen.instruction) {
+        (Pass::Again(k), _) => k,
+        (_, Some((w, k))) if w == word => k,
+        _ => {
+            let k = leading_targets(std::str::from_utf8(word).ok()?)?;
+            c.seen.instruction = Some((word, k));
+            k
+        }
     };
     if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
         return None;
     }
-    let mut targets = Vec::with_capacity(k);
+    let keep = !matches!(pass, Pass::Form);
+    let mut targets = Vec::with_capacity(if keep { k } else { 0 });
     for i in 0..k {
         if i > 0 {
             c.byte(b',')?;
         }
-        targets.push(c.robtarget()?);
+        let target = c.robtarget()?;
+        if keep {
+            targets.push(target);
+        }
     }
     c.byte(b',')?;
     c.name()?;
@@ -354,6 +386,7 @@ fn read_move(src: &[u8], at: usize, pass: Pass) -> Option<FastMove> {
         span: at..c.p,
         instruction,
         targets,
+        literals: k,
         tool,
         wobj,
     })
@@ -387,7 +420,8 @@ impl Skeleton {
     /// made).
     pub fn reread(&self, src: &[u8], k: usize) -> Option<FastMove> {
         let at = self.cuts.get(k)?.start;
-        read_move(src, at, Pass::Again(usize::from(*self.literals.get(k)?)))
+        let k = usize::from(*self.literals.get(k)?);
+        read_move(src, at, Pass::Again(k), &mut Seen::default())
     }
 
     /// Where cut `k` was in the skeleton: the offset of the byte after it
@@ -419,9 +453,9 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
             let m = match next.peek() {
                 Some(f) if f.0.start == at => Some((*f).clone()),
                 // A statement after another on its line.
-                _ => read_move(src, at, Pass::Form)
+                _ => read_move(src, at, Pass::Form, &mut Seen::default())
                     .filter(|m| rest_is_blank(src, m.span.end))
-                    .map(|m| (m.span, m.targets.len() as u8)),
+                    .map(|m| (m.span, m.literals as u8)),
             };
             if let Some((span, n)) = m {
                 cuts.push(span.clone());
@@ -495,6 +529,7 @@ fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
         .par_windows(2)
         .flat_map_iter(|w| {
             let mut out = Vec::new();
+            let mut seen = Seen::default();
             let mut line = w[0];
             while line < w[1] {
                 let end = src[line..w[1]]
@@ -505,10 +540,10 @@ fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
                 while matches!(src.get(at), Some(b' ' | b'\t')) {
                     at += 1;
                 }
-                if let Some(m) =
-                    read_move(src, at, Pass::Form).filter(|m| rest_is_blank(src, m.span.end))
+                if let Some(m) = read_move(src, at, Pass::Form, &mut seen)
+                    .filter(|m| rest_is_blank(src, m.span.end))
                 {
-                    out.push((m.span, m.targets.len() as u8));
+                    out.push((m.span, m.literals as u8));
                 }
                 line = end;
             }
@@ -530,11 +565,13 @@ mod tests {
     use super::*;
 
     fn read(text: &str) -> Option<f64> {
+        let mut seen = Seen::default();
         let mut c = Cursor {
             s: text.as_bytes(),
             p: 0,
             values: true,
             names: true,
+            seen: &mut seen,
         };
         let n = c.number()?;
         (c.p == text.len()).then_some(n.value)

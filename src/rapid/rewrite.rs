@@ -154,7 +154,14 @@ pub fn robtarget_changes(
         let Ok(old_text) = std::str::from_utf8(old) else {
             return;
         };
-        format_like_into(buf, old_text, v, resolution);
+        // The literal's value is known, and known not to be `v`.
+        buf.clear();
+        if !v.is_finite() {
+            buf.push_str(old_text);
+        } else if format_like_plain_into(buf, old, v, resolution, Some(n.value)).is_none() {
+            buf.clear();
+            buf.push_str(&format_like_general(old_text, v, resolution));
+        }
         if buf.as_bytes() != old {
             each(n.span(), buf.as_bytes());
         }
@@ -240,7 +247,7 @@ pub fn format_like_into(out: &mut String, old: &str, value: f64, resolution: f64
     out.clear();
     if !value.is_finite() {
         out.push_str(old);
-    } else if format_like_plain_into(out, old.as_bytes(), value, resolution).is_none() {
+    } else if format_like_plain_into(out, old.as_bytes(), value, resolution, None).is_none() {
         out.clear();
         out.push_str(&format_like_general(old, value, resolution));
     }
@@ -309,11 +316,19 @@ fn format_like_general(old: &str, value: f64, resolution: f64) -> String {
 #[cfg(test)]
 fn format_like_plain(old: &[u8], value: f64, resolution: f64) -> Option<String> {
     let mut s = String::new();
-    format_like_plain_into(&mut s, old, value, resolution).map(|()| s)
+    format_like_plain_into(&mut s, old, value, resolution, None).map(|()| s)
 }
 
 /// [`format_like_plain`] into `s` (empty); on `None`, `s` holds anything.
-fn format_like_plain_into(s: &mut String, old: &[u8], value: f64, resolution: f64) -> Option<()> {
+/// `was`: the old literal's value where the caller has it (as the parser
+/// read it, which is what `str::parse` reads).
+fn format_like_plain_into(
+    s: &mut String,
+    old: &[u8],
+    value: f64,
+    resolution: f64,
+    was: Option<f64>,
+) -> Option<()> {
     let digits = old.strip_prefix(b"-").unwrap_or(old);
     let point = digits.iter().position(|&b| b == b'.')?;
     let (int, frac) = (&digits[..point], &digits[point + 1..]);
@@ -322,8 +337,17 @@ fn format_like_plain_into(s: &mut String, old: &[u8], value: f64, resolution: f6
         return None;
     }
     // The old literal's value, as `str::parse` reads it.
-    let was = super::fastmove::decimal_value(digits)?;
-    let was = if digits.len() < old.len() { -was } else { was };
+    let was = match was {
+        Some(w) => w,
+        None => {
+            let w = super::fastmove::decimal_value(digits)?;
+            if digits.len() < old.len() {
+                -w
+            } else {
+                w
+            }
+        }
+    };
     if was == value {
         s.push_str(std::str::from_utf8(old).ok()?);
         return Some(());

@@ -151,14 +151,15 @@ pub fn robtarget_changes(
             return;
         }
         let Some(old) = src.get(n.span()) else { return };
-        let Ok(old_text) = std::str::from_utf8(old) else {
-            return;
-        };
         // The literal's value is known, and known not to be `v`.
         buf.clear();
         if !v.is_finite() {
-            buf.push_str(old_text);
-        } else if format_like_plain_into(buf, old, v, resolution, Some(n.value)).is_none() {
+            return;
+        }
+        if format_like_plain_into(buf, old, v, resolution, Some(n.value)).is_none() {
+            let Ok(old_text) = std::str::from_utf8(old) else {
+                return;
+            };
             buf.clear();
             buf.push_str(&format_like_general(old_text, v, resolution));
         }
@@ -445,29 +446,29 @@ fn fixed(buf: &mut String, v: f64, d: usize) -> Option<f64> {
     if negative {
         buf.push('-');
     }
-    // The digits by hand: the formatting machinery was a tenth of a
-    // streamed correction.
-    push_digits(buf, q / p, 1);
-    if d > 0 {
-        buf.push('.');
-        push_digits(buf, q % p, d);
-    }
-    let back = q as f64 / p as f64;
-    Some(if negative { -back } else { back })
-}
-
-/// `n` in decimal, zero-padded to at least `width` digits (`{:0width$}`).
-fn push_digits(buf: &mut String, mut n: u64, width: usize) {
-    let mut digits = [b'0'; 20];
+    // The digits by hand (the formatting machinery was a tenth of a
+    // streamed correction): all of q's, at least d + 1, and the point d
+    // from the end, without dividing by 10^d.
+    let mut digits = [b'0'; 24];
     let mut i = digits.len();
-    while n > 0 || digits.len() - i < width.max(1) {
+    let mut n = q;
+    while n > 0 || digits.len() - i <= d {
         i -= 1;
         digits[i] = b'0' + (n % 10) as u8;
         n /= 10;
     }
-    for &c in &digits[i..] {
+    let point = digits.len() - d;
+    for &c in &digits[i..point] {
         buf.push(char::from(c));
     }
+    if d > 0 {
+        buf.push('.');
+        for &c in &digits[point..] {
+            buf.push(char::from(c));
+        }
+    }
+    let back = q as f64 / p as f64;
+    Some(if negative { -back } else { back })
 }
 
 fn render_plain(s: &str, point: bool, bare_point: bool) -> String {

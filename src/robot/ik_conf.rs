@@ -290,9 +290,10 @@ impl Near {
                     within += usize::from(d <= CONF_TOLERANCE);
                 }
             }
-            if counts[j] == 0 {
-                // Outside the limits in every turn: the enumeration keeps
-                // nothing of this branch.
+            if counts[j] == 0 || within == 0 {
+                // Outside the limits in every turn, or no turn near the
+                // wanted quadrant: the enumeration keeps nothing of this
+                // branch (the flipped wrist of a near match ends here).
                 return;
             }
             least = least.max(axis_least);

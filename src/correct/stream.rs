@@ -311,12 +311,7 @@ fn correct_chunk(
             robtarget_changes(src, value, new, &mut text, &mut |at, new| {
                 rewritten = true;
                 if written.is_ok() {
-                    written = (|| {
-                        while let Some(x) = fixed.next_if(|x| x.span.start < at.start) {
-                            splice.edit(x)?;
-                        }
-                        splice.put(at, new)
-                    })();
+                    written = splice.put_after(&mut fixed, at, new);
                 }
             });
             written?;
@@ -460,6 +455,20 @@ impl Splice<'_> {
         self.out.write_all(&e.new).map_err(write_error)?;
         self.at = e.span.end;
         Ok(())
+    }
+
+    /// A number's new text over `span` of the file, after the edits of
+    /// `fixed` that come before it.
+    fn put_after<'e>(
+        &mut self,
+        fixed: &mut std::iter::Peekable<impl Iterator<Item = &'e Edit>>,
+        span: Range<usize>,
+        new: &[u8],
+    ) -> Result<()> {
+        while let Some(x) = fixed.next_if(|x| x.span.start < span.start) {
+            self.edit(x)?;
+        }
+        self.put(span, new)
     }
 
     /// A number's new text over `span` of the file.

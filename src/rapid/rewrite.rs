@@ -99,13 +99,29 @@ pub fn number_edit(src: &[u8], num: &Number, value: f64, resolution: f64) -> Opt
 pub const JOINT_RESOLUTION: f64 = 0.000_01;
 
 /// The edit for `num` when `value` differs from it by more than half of
-/// `resolution`: a smaller change is below what the written digits mean,
-/// and keeping the old text keeps an unchanged number byte-identical.
+/// `resolution` (see [`changed_text`]).
 fn changed_edit(src: &[u8], num: &Number, value: f64, resolution: f64) -> Option<Edit> {
+    let mut new = String::new();
+    changed_text(src, num, value, resolution, &mut new).then(|| Edit {
+        span: num.span(),
+        expected_old: src[num.span()].to_vec(),
+        new: new.into_bytes(),
+    })
+}
+
+/// Whether `value` changes the literal `num` of `src`, its new text then
+/// in `buf`: it must differ by more than half of `resolution` (a smaller
+/// change is below what the written digits mean, and keeping the old text
+/// keeps an unchanged number byte-identical), and its text from the old.
+fn changed_text(src: &[u8], num: &Number, value: f64, resolution: f64, buf: &mut String) -> bool {
     if (value - num.value).abs() <= resolution / 2.0 {
-        return None;
+        return false;
     }
-    number_edit(src, num, value, resolution)
+    let Some(old) = src.get(num.span()) else {
+        return false;
+    };
+    // The literal's value is the parser's: no need to read it again.
+    format_like_to(buf, old, value, resolution, Some(num.value)).is_some() && buf.as_bytes() != old
 }
 
 /// Edits writing a new position, and (optionally) orientation and robconf,
@@ -147,23 +163,7 @@ pub fn robtarget_changes(
     each: &mut dyn FnMut(Range<usize>, &[u8]),
 ) {
     let mut change = |n: &Number, v: f64, resolution: f64| {
-        if (v - n.value).abs() <= resolution / 2.0 {
-            return;
-        }
-        let Some(old) = src.get(n.span()) else { return };
-        // The literal's value is known, and known not to be `v`.
-        buf.clear();
-        if !v.is_finite() {
-            return;
-        }
-        if format_like_plain_into(buf, old, v, resolution, Some(n.value)).is_none() {
-            let Ok(old_text) = std::str::from_utf8(old) else {
-                return;
-            };
-            buf.clear();
-            buf.push_str(&format_like_general(old_text, v, resolution));
-        }
-        if buf.as_bytes() != old {
+        if changed_text(src, n, v, resolution, buf) {
             each(n.span(), buf.as_bytes());
         }
     };
@@ -239,19 +239,29 @@ fn style_of(old: &str) -> Style {
 /// returned unchanged.
 pub fn format_like(old: &str, value: f64, resolution: f64) -> String {
     let mut out = String::new();
-    format_like_into(&mut out, old, value, resolution);
+    format_like_to(&mut out, old.as_bytes(), value, resolution, None);
     out
 }
 
-/// [`format_like`] into `out` (cleared first).
-pub fn format_like_into(out: &mut String, old: &str, value: f64, resolution: f64) {
+/// [`format_like`] into `out` (cleared first), `was` the old literal's
+/// value where the caller has it; `None` for an old text that is no
+/// UTF-8 (never a number the parser read).
+fn format_like_to(
+    out: &mut String,
+    old: &[u8],
+    value: f64,
+    resolution: f64,
+    was: Option<f64>,
+) -> Option<()> {
     out.clear();
     if !value.is_finite() {
-        out.push_str(old);
-    } else if format_like_plain_into(out, old.as_bytes(), value, resolution, None).is_none() {
+        out.push_str(std::str::from_utf8(old).ok()?);
+    } else if format_like_plain_into(out, old, value, resolution, was).is_none() {
+        let text = std::str::from_utf8(old).ok()?;
         out.clear();
-        out.push_str(&format_like_general(old, value, resolution));
+        out.push_str(&format_like_general(text, value, resolution));
     }
+    Some(())
 }
 
 /// [`format_like`] for any literal (`value` finite).

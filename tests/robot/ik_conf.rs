@@ -215,26 +215,10 @@ proptest! {
 /// enumeration answers them.
 #[test]
 fn targets_a_rounding_error_off_their_quadrant_are_answered_directly() {
-    use rapidtherm::robot::frames::flange_of_target;
-    use rapidtherm::robot::{ToolData, WobjData};
     let robot = &robots()[0];
     let arm = robot.opw_arm(None).expect("OPW form");
-    let tool = ToolData {
-        tframe: Isometry3::translation(0.0, 0.0, 150.0),
-        ..ToolData::tool0()
-    };
-    let wobj = WobjData::wobj0();
     let mut near = 0;
-    for i in 0..2000 {
-        let (u, v) = (f64::from(i % 50) / 50.0, f64::from(i / 50) / 40.0);
-        let y = -150.0 + 300.0 * v;
-        let target = Isometry3::from_parts(
-            Vector3::new(420.0 + 80.0 * u, y, 250.0 + 20.0 * (u * 7.0).sin()).into(),
-            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(0.0, 0.0, 1.0, 0.0)),
-        );
-        let cf = if y >= 0.0 { 0 } else { -1 };
-        let want = RobConf::new(cf, 0, cf, 0);
-        let flange = flange_of_target(&target, &tool, &wobj).expect("a plain tool");
+    for (flange, want) in crate::straight_down::flanges() {
         assert!(agree(&arm, robot, &flange, &want), "{want} at {flange:?}");
         let q = robot.ik_conf(&flange, &want).expect("reachable");
         near += usize::from(robot.conf_of(&q) != want);

@@ -12,4 +12,5 @@ mod ik_conf;
 mod kinematics;
 mod picks_back;
 mod robustness;
+mod straight_down;
 mod urdf;

@@ -8,7 +8,6 @@
 //! away from every boundary, the benchmark's targets (axis 4 at 0).
 
 use crate::rng::Rng;
-use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use rapidtherm::robot::ik::CONF_TOLERANCE;
 use rapidtherm::robot::{Joints, RobConf, Robot};
 use std::f64::consts::FRAC_PI_2;
@@ -184,24 +183,8 @@ fn where_it_says_yes_solving_gives_the_joints_back() {
 /// says so without solving.
 #[test]
 fn a_tool_pointing_straight_down_is_picked_back_without_solving() {
-    use rapidtherm::robot::frames::flange_of_target;
-    use rapidtherm::robot::{ToolData, WobjData};
     let robot = Robot::irb140();
-    let tool = ToolData {
-        tframe: Isometry3::translation(0.0, 0.0, 150.0),
-        ..ToolData::tool0()
-    };
-    let wobj = WobjData::wobj0();
-    for i in 0..2000 {
-        let (u, v) = (f64::from(i % 50) / 50.0, f64::from(i / 50) / 40.0);
-        let y = -150.0 + 300.0 * v;
-        let target = Isometry3::from_parts(
-            Vector3::new(420.0 + 80.0 * u, y, 250.0 + 20.0 * (u * 7.0).sin()).into(),
-            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(0.0, 0.0, 1.0, 0.0)),
-        );
-        let cf = if y >= 0.0 { 0 } else { -1 };
-        let want = RobConf::new(cf, 0, cf, 0);
-        let flange = flange_of_target(&target, &tool, &wobj).expect("a plain tool");
+    for (flange, want) in crate::straight_down::flanges() {
         let q = robot.ik_conf(&flange, &want).expect("reachable");
         assert!(robot.picks_back(&q, &want), "{want} at {q:?}");
         assert!(solved_back(&robot, &q, &want));

@@ -189,11 +189,9 @@ impl Robot {
     /// ([`OpwArm::picks_back`]); `false` on an arm without the OPW form,
     /// and wherever it is not certain: solve to know.
     pub fn picks_back(&self, q: &Joints, conf: &RobConf) -> bool {
-        CfxBits::from_cfx(conf.cfx).is_some()
-            && self
-                .opw
-                .as_ref()
-                .is_ok_and(|arm| arm.picks_back(q, &self.limits, conf))
+        self.opw
+            .as_ref()
+            .is_ok_and(|arm| arm.picks_back(q, &self.limits, conf))
     }
 
     /// [`Robot::ik_conf`] on the arm with its segments scaled.

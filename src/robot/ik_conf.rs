@@ -152,14 +152,15 @@ const ON_BOUNDARY_RAD: f64 = 1e-10;
 impl OpwArm {
     /// Whether [`OpwArm::solve_conf`] of this arm's own flange pose of `q`
     /// with robconf `want` certainly gives `q` back (to well below 1e-9
-    /// rad), told without solving: `q` has robconf `want` exactly, and lies
-    /// clear of everything that could make the pick go elsewhere (the
+    /// rad), told without solving: `q` has robconf `want` (axes 1, 4 and 6
+    /// in its quadrants, or a rounding error off one of their boundaries),
+    /// and lies clear of everything that could make the pick go elsewhere (the
     /// quadrant boundaries of axes 1, 4 and 6, axis 5's sign and the wrist
     /// singularity, the shoulder and elbow singularities where two arm
     /// branches meet, the joint limits and another turn of an axis within
     /// them). `false` says nothing: solve to know. The main job checks
     /// every corrected target this way before solving it again
-    /// (`tests/robot/ik_conf.rs` holds `true` to the solve).
+    /// (`tests/robot/picks_back.rs` holds `true` to the solve).
     pub fn picks_back(&self, q: &Joints, limits: &Limits, want: &RobConf) -> bool {
         use std::f64::consts::PI;
         let Some(bits) = CfxBits::from_cfx(want.cfx) else {

@@ -26,8 +26,13 @@ pub struct FastMove {
     pub targets: Vec<(usize, RobTargetValue)>,
     /// How many robtarget literals the move holds.
     pub literals: usize,
+    pub speed: Range<usize>,
+    pub zone: Range<usize>,
     pub tool: Range<usize>,
+    /// The work object's name, and the argument's name as written
+    /// (`WObj`, `wobj`).
     pub wobj: Option<Range<usize>>,
+    pub wobj_word: Option<Range<usize>>,
 }
 
 /// Reads one token at a time over one line: blanks are spaces and tabs.
@@ -362,15 +367,16 @@ fn read_move<'a>(src: &'a [u8], at: usize, pass: Pass, seen: &mut Seen<'a>) -> O
         }
     }
     c.byte(b',')?;
-    c.name()?;
+    let speed = c.name()?;
     c.byte(b',')?;
-    c.name()?;
+    let zone = c.name()?;
     c.byte(b',')?;
     let tool = c.name()?;
     let mut wobj = None;
+    let mut wobj_word = None;
     if c.byte(b'\\').is_some() {
         let word = c.name_as(false)?;
-        if !src[word].eq_ignore_ascii_case(b"WObj") {
+        if !src[word.clone()].eq_ignore_ascii_case(b"WObj") {
             return None;
         }
         c.byte(b':')?;
@@ -380,6 +386,7 @@ fn read_move<'a>(src: &'a [u8], at: usize, pass: Pass, seen: &mut Seen<'a>) -> O
         }
         c.p += 1;
         wobj = Some(c.name()?);
+        wobj_word = Some(word);
     }
     c.byte(b';')?;
     Some(FastMove {
@@ -387,8 +394,11 @@ fn read_move<'a>(src: &'a [u8], at: usize, pass: Pass, seen: &mut Seen<'a>) -> O
         instruction,
         targets,
         literals: k,
+        speed,
+        zone,
         tool,
         wobj,
+        wobj_word,
     })
 }
 

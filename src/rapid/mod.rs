@@ -57,7 +57,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
-pub use parse::{parse, parse_files};
+pub use parse::{parse, parse_files, parse_skeleton};
 
 /// One number literal of the source: its value and where its text is.
 /// The span includes a sign written directly before the digits. (Offsets

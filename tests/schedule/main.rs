@@ -4,3 +4,4 @@
 mod cli;
 mod estimate;
 mod props;
+mod skeleton;

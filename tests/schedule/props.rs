@@ -57,7 +57,9 @@ fn leaf() -> impl Strategy<Value = String> {
     ]
 }
 
-fn body() -> impl Strategy<Value = String> {
+/// A statement of a routine body: a move, a wait, a call, or a block of
+/// them (FOR, IF, WHILE, TEST), nested.
+pub(super) fn body() -> impl Strategy<Value = String> {
     leaf().prop_recursive(3, 24, 4, |inner| {
         let list = prop::collection::vec(inner, 0..4).prop_map(|v| v.join("\n"));
         prop_oneof![
@@ -75,13 +77,13 @@ fn body() -> impl Strategy<Value = String> {
     })
 }
 
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
-
-    #[test]
-    fn any_program_schedules_or_errors_cleanly(main in prop::collection::vec(body(), 1..5), start in 0.0..500.0f64) {
-        let src = format!(
-            "MODULE P
+/// A module whose `main` runs `main` (statements of [`body`]), with the
+/// data they name and a procedure `Sub` that calls `main` back; a move
+/// in `Sub`'s error handler and a routine variable, which the walk does
+/// not run but the program lists.
+pub(super) fn program(main: &[String]) -> String {
+    format!(
+        "MODULE P
   CONST robtarget pA := [[500,0,400],[0,0,1,0],[0,0,0,0],{EAX}];
   CONST robtarget arr{{2}} := [[[500,0,400],[0,0,1,0],[0,0,0,0],{EAX}],[[500,50,400],[0,0,1,0],[0,0,0,0],{EAX}]];
   CONST speeddata vOdd := [-5, 0, 0, 0];
@@ -94,13 +96,25 @@ proptest! {
     lbl:
   ENDPROC
   PROC Sub()
+    VAR num k;
     main;
     WaitTime 0.5;
+  ERROR
+    MoveL [[500,20,400],[0,0,1,0],[0,0,0,0],{EAX}], v100, fine, tool0;
+    RETRY;
   ENDPROC
 ENDMODULE
 ",
-            main.join("\n")
-        );
+        main.join("\n")
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn any_program_schedules_or_errors_cleanly(main in prop::collection::vec(body(), 1..5), start in 0.0..500.0f64) {
+        let src = program(&main);
         // The generator writes valid RAPID; the reader is tested elsewhere.
         let program = rapid::parse("p.mod", src.as_bytes()).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         let opts = EstimateOptions { start_min: start, cycles: 2, ..EstimateOptions::default() };

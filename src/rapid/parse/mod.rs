@@ -20,6 +20,7 @@ use pest::Parser as _;
 use std::collections::{HashMap, HashSet};
 
 mod calls;
+mod cuts;
 mod declarations;
 mod expressions;
 mod messages;
@@ -90,6 +91,35 @@ pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
         seen.insert(m.name.to_lowercase(), i);
     }
     b.finish(inputs, &lines)?;
+    Ok(b.prog)
+}
+
+/// The program of `src` read as its skeleton `skeleton` (see
+/// [`fastmove`](super::fastmove)): the program [`parse`] makes of `src`,
+/// every statement, target and identifier alike, without the grammar
+/// reading the cut moves. Two things differ, and make it a program to
+/// walk, not to rewrite: the offsets of what the skeleton kept are the
+/// skeleton's (a cut move's targets are at its place there, their numbers
+/// at the file's offsets), and its source is the skeleton. Lines and
+/// columns are the file's throughout.
+pub fn parse_skeleton(
+    file_name: &str,
+    skeleton: &super::fastmove::Skeleton,
+    src: &[u8],
+) -> Result<Program> {
+    let bytes: &[u8] = &skeleton.bytes;
+    let mut b = Builder::default();
+    b.prog.files.push(file_name.to_string());
+    b.prog.sources.push(Arc::from(bytes));
+    let line_starts = line_starts(bytes);
+    let mut p = FileParser::new(0, file_name, bytes, &line_starts, &mut b);
+    p.cuts = Some(cuts::CutFeed {
+        skeleton,
+        file: src,
+        next: 0,
+    });
+    p.run()?;
+    b.finish(&[(file_name, bytes)], &[line_starts])?;
     Ok(b.prog)
 }
 
@@ -170,6 +200,9 @@ struct FileParser<'a, 'b> {
     joint_k: usize,
     call_targets: Vec<usize>,
     call_joints: Vec<usize>,
+    /// The moves cut out of the file, where the bytes parsed are its
+    /// skeleton ([`parse_skeleton`]).
+    cuts: Option<cuts::CutFeed<'a>>,
 }
 
 /// Pest's view of a piece: ASCII as is, every other byte as U+007F, so
@@ -215,6 +248,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
             joint_k: 0,
             call_targets: Vec::new(),
             call_joints: Vec::new(),
+            cuts: None,
         }
     }
 

@@ -7,7 +7,11 @@ impl FileParser<'_, '_> {
     pub(super) fn statements(&mut self, depth: usize) -> Result<Vec<Statement>> {
         let mut out = Vec::new();
         loop {
-            let Some(p) = self.peek()? else {
+            let next = self.peek()?;
+            // The moves cut out before the next piece were statements of
+            // this list (see `cuts`).
+            self.put_cuts_back(next.map_or(self.src.len(), |p| p.start), &mut out)?;
+            let Some(p) = next else {
                 return Ok(out);
             };
             use PieceKind as K;

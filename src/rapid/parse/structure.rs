@@ -11,7 +11,7 @@ impl FileParser<'_, '_> {
                 if modules == 0 {
                     return Err(self.err(self.src.len(), "expected MODULE, found end of file"));
                 }
-                return Ok(());
+                return self.all_cuts_back();
             };
             match p.kind {
                 PieceKind::Header if modules == 0 => {
@@ -212,6 +212,12 @@ impl FileParser<'_, '_> {
         while let Some(p) = self.peek()? {
             if p.kind != PieceKind::Simple || !is_decl_word(&upper_word(self.src, &p)) {
                 break;
+            }
+            if self.cut_before(p.start) {
+                return Err(self.err(
+                    p.start,
+                    "data declarations must come before the first statement of a routine",
+                ));
             }
             self.next()?;
             let d = self.data_decl(&p)?;

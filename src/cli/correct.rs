@@ -756,27 +756,44 @@ pub(super) fn reason_words(reason: Reason, kind: &str, detail: &str) -> String {
     }
 }
 
-/// When the targets are reached, from --at, --schedule or --start.
+/// When the targets are reached, from --at, --schedule or --start; the
+/// estimate's notes are said.
 fn when_of(
     args: &CorrectArgs,
     program: &rapid::Program,
     robot: &Robot,
     base_frame: Option<nalgebra::Isometry3<f64>>,
 ) -> Result<When> {
+    let (when, notes) = when_and_notes(args, program, robot, base_frame)?;
+    for note in &notes {
+        note!("{note}");
+    }
+    Ok(when)
+}
+
+/// When the targets are reached, from --at, --schedule or --start, and
+/// the notes of the estimate (none for the others), not yet said.
+pub(super) fn when_and_notes(
+    args: &CorrectArgs,
+    program: &rapid::Program,
+    robot: &Robot,
+    base_frame: Option<nalgebra::Isometry3<f64>>,
+) -> Result<(When, Vec<String>)> {
     let default = args
         .default_time
         .as_deref()
         .map(|t| moment(t, "--default-time"))
         .transpose()?;
     Ok(match (&args.when.at, &args.when.schedule, args.when.start) {
-        (Some(at), _, _) => When::At(moment(at, "--at")?),
+        (Some(at), _, _) => (When::At(moment(at, "--at")?), Vec::new()),
         (None, Some(path), _) => {
             let (name, bytes) = read_input(path)?;
-            When::Schedule {
+            let when = When::Schedule {
                 schedule: Schedule::read(&name, &bytes)?,
                 joints: None,
                 default,
-            }
+            };
+            (when, Vec::new())
         }
         (None, None, Some(start)) => {
             if !(start.is_finite() && start >= 0.0) {
@@ -792,14 +809,12 @@ fn when_of(
                     base_frame,
                 },
             )?;
-            for note in &estimate.notes {
-                note!("{note}");
-            }
-            When::Schedule {
+            let when = When::Schedule {
                 schedule: estimate.schedule,
                 joints: Some(estimate.joint_schedule),
                 default,
-            }
+            };
+            (when, estimate.notes)
         }
         (None, None, None) => {
             return Err(Error::usage(

@@ -4,11 +4,13 @@
 //! `docs/streaming.md`). Any other run, and any program the fast path
 //! declines, takes the whole-program path unchanged.
 
-use super::correct::{checked_arm, moment, note_still, summary_text, warm_run, CorrectArgs};
+use super::correct::{
+    checked_arm, moment, note_still, summary_text, warm_run, when_and_notes, CorrectArgs,
+};
 use super::messages::{self, note};
 use super::{output, Status};
 use rapidtherm::correct::stream::correct_streamed;
-use rapidtherm::correct::When;
+use rapidtherm::correct::{CutTimes, When};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
@@ -25,7 +27,7 @@ pub fn correct(
     motion: &[Task],
     still: &[Task],
 ) -> Result<Option<Status>> {
-    let (Some(out), Some(at)) = (&args.output, &args.when.at) else {
+    let Some(out) = &args.output else {
         return Ok(None);
     };
     // The pictures need every target's correction, which a streamed run
@@ -62,11 +64,44 @@ pub fn correct(
     let Ok(arm) = checked_arm(args, task, model) else {
         return Ok(None);
     };
-    let Ok(when) = moment(at, "--at").map(When::At) else {
-        return Ok(None);
+    // A schedule names the whole program's targets: the program is read
+    // whole from the skeleton for it (and the estimate walked), then let
+    // go; each cut target keeps its moment.
+    let (when, notes, whole) = match &args.when.at {
+        Some(at) => {
+            let Ok(when) = moment(at, "--at").map(When::At) else {
+                return Ok(None);
+            };
+            (when, Vec::new(), None)
+        }
+        None => {
+            let started = std::time::Instant::now();
+            let Ok(whole) = rapid::parse_skeleton(&name, &skeleton, src) else {
+                return Ok(None);
+            };
+            messages::took("reading the whole program from the skeleton", started);
+            let started = std::time::Instant::now();
+            let Ok(base) = super::tasks::base_frame(task) else {
+                return Ok(None);
+            };
+            let Ok((when, notes)) = when_and_notes(args, &whole, &arm.robot, base) else {
+                return Ok(None);
+            };
+            messages::took("timing the program", started);
+            (when, notes, Some(whole))
+        }
     };
     let Ok((_, warm, options)) = warm_run(args, model, task, arm, when) else {
         return Ok(None);
+    };
+    let times = match whole {
+        Some(whole) => {
+            let Some(t) = CutTimes::new(&whole, &program, &skeleton, &options) else {
+                return Ok(None);
+            };
+            Some(t)
+        }
+        None => None,
     };
     let started = std::time::Instant::now();
     let streamed = output::write_atomic_with(out, None, |file| {
@@ -78,8 +113,8 @@ pub fn correct(
                 syncing: None,
             },
         );
-        let Some(s) = correct_streamed(&program, &skeleton, src, &warm, &options, &mut sink)?
-        else {
+        let run = (&options, times.as_ref());
+        let Some(s) = correct_streamed(&program, &skeleton, src, &warm, run, &mut sink)? else {
             return Ok(None);
         };
         drop(sink);
@@ -96,6 +131,9 @@ pub fn correct(
         return Ok(None);
     };
     messages::took("correcting and writing", started);
+    for note in &notes {
+        note!("{note}");
+    }
     for note in &task.notes {
         note!("{note}");
     }

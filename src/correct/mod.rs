@@ -39,6 +39,7 @@ mod progress;
 mod shared;
 mod solve;
 pub mod stream;
+mod stream_times;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
@@ -56,6 +57,7 @@ use moments::check_schedule_names;
 use outcome::{derived_report, summarise};
 use progress::Progress;
 use solve::{correct_robtarget, Run, Solved};
+pub use stream_times::CutTimes;
 use std::collections::HashMap;
 
 /// When the targets are reached.

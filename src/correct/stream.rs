@@ -14,7 +14,7 @@
 
 use super::outcome::Summary;
 use super::solve::{corrected_numbers, Meant, Run};
-use super::{evaluate, marker, Findings, Options, Outcome, When};
+use super::{evaluate, marker, CutTimes, Findings, Options, Outcome, When};
 use crate::error::{Error, Result};
 use crate::model::{Moment, State, WarmRobot};
 use crate::rapid::fastmove::Skeleton;
@@ -47,23 +47,33 @@ pub struct Streamed {
 
 /// Correct the file `src`, read as `skeleton` (its kept bytes parsed as
 /// `program`) and its cut moves, writing the corrected file to `out` as
-/// it goes. `Ok(None)`: the fast path declines (see the module doc);
-/// what it wrote is to be thrown away.
+/// it goes. Where `options` time the targets by a schedule, `times` are
+/// its moments for the skeleton's targets and the cut ones
+/// ([`CutTimes`]); at one moment they are not needed. `Ok(None)`: the
+/// fast path declines (see the module doc); what it wrote is to be
+/// thrown away.
 pub fn correct_streamed(
     program: &Program,
     skeleton: &Skeleton,
     src: &[u8],
     warm: &WarmRobot,
-    options: &Options,
+    (options, times): (&Options, Option<&CutTimes>),
     out: &mut (dyn Write + Send),
 ) -> Result<Option<Streamed>> {
-    let When::At(moment) = options.when else {
-        return Ok(None);
+    // The skeleton's targets are corrected for the schedule by their own
+    // identifiers; the cut ones each for its moment.
+    let (skeleton_options, moment, moments) = match (&options.when, times) {
+        (When::At(m), _) => (options, *m, None),
+        (When::Schedule { .. }, Some(t)) => (&t.options, Moment::Steady, Some(&t.moments[..])),
+        (When::Schedule { .. }, None) => return Ok(None),
     };
-    if program.files.len() != 1 || marker::find(program).is_some() {
+    if program.files.len() != 1
+        || marker::find(program).is_some()
+        || statements_before_declarations(program, skeleton)
+    {
         return Ok(None);
     }
-    let Ok(findings) = evaluate(program, warm, options, &mut |_, _| {}) else {
+    let Ok(findings) = evaluate(program, warm, skeleton_options, &mut |_, _| {}) else {
         return Ok(None);
     };
     let Ok(state) = warm.states().at(moment) else {
@@ -118,25 +128,32 @@ pub fn correct_streamed(
     // Each batch is put out while the next is corrected: the writing
     // (a tenth of a gigabyte through this thread) keeps no core waiting.
     let mut ready: Vec<Result<Option<Done>>> = Vec::new();
+    // The number of the first literal of the next chunk.
+    let mut literal = 0;
     for lo in (0..cuts.len()).step_by(BATCH) {
         let hi = (lo + BATCH).min(cuts.len());
-        let chunks: Vec<Range<usize>> = (lo..hi)
+        let chunks: Vec<(Range<usize>, usize)> = (lo..hi)
             .step_by(CHUNK)
-            .map(|k| k..(k + CHUNK).min(hi))
+            .map(|k| {
+                let k = k..(k + CHUNK).min(hi);
+                let first = literal;
+                literal += skeleton.literals[k.clone()].iter().map(|&n| usize::from(n)).sum::<usize>();
+                (k, first)
+            })
             .collect();
         let previous = std::mem::take(&mut ready);
         let (done, put) = rayon::join(
             || {
                 chunks
                     .into_par_iter()
-                    .map(|k| {
+                    .map(|(k, first)| {
                         let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
                         correct_chunk(
-                            (program, warm, options),
+                            (program, warm, skeleton_options),
                             (src, skeleton, &fixed),
                             k.clone(),
                             cuts[k.start].start..to,
-                            (moment, &state),
+                            (moment, &state, moments.map(|m| &m[first.min(m.len())..])),
                         )
                     })
                     .collect::<Vec<_>>()
@@ -163,6 +180,24 @@ pub fn correct_streamed(
     outcome.corrections.clear();
     outcome.summary = summary;
     Ok(Some(Streamed { outcome, changed }))
+}
+
+/// Whether a cut move comes before one of its routine's declarations:
+/// the grammar refuses the file (a routine's data come before its first
+/// statement), the skeleton alone would not.
+fn statements_before_declarations(program: &Program, skeleton: &Skeleton) -> bool {
+    let cuts = skeleton.cuts.len();
+    program
+        .modules
+        .iter()
+        .flat_map(|m| &m.routines)
+        .any(|r| {
+            let Some(last) = r.data.iter().map(|d| d.pos.offset).max() else {
+                return false;
+            };
+            let first = skeleton.first_cut_from(r.pos.offset);
+            first < cuts && skeleton.place_of_cut(first) < last
+        })
 }
 
 /// Put a batch's corrected chunks out in file order, counting their
@@ -214,13 +249,15 @@ type LastFrames<'a> = (&'a [u8], Option<&'a [u8]>, &'a ToolData, &'a WobjData);
 /// (from the chunk's first move to the next chunk's) with their new
 /// numbers and the skeleton's edits `fixed` that fall in it, in file
 /// order; `Ok(None)` when one of the moves needs the whole path (an
-/// unknown tool, an unreachable target, a note).
+/// unknown tool, an unreachable target, a note). Its targets are
+/// corrected for `moment` (whose state is `state`), or each for its own
+/// of `moments` (the chunk's literals' on).
 fn correct_chunk(
     (program, warm, options): (&Program, &WarmRobot, &Options),
     (src, skeleton, fixed): (&[u8], &Skeleton, &[Edit]),
     cuts: Range<usize>,
     span: Range<usize>,
-    (moment, state): (Moment, &State),
+    (moment, state, moments): (Moment, &State, Option<&[Moment]>),
 ) -> Result<Option<Done>> {
     let Ok(run) = Run::new(program, warm, options) else {
         return Ok(None);
@@ -289,6 +326,21 @@ fn correct_chunk(
             }
         };
         for (at, value) in m.targets {
+            if let Some(moments) = moments {
+                let Some(&m) = moments.get(rows.len()) else {
+                    return Ok(None);
+                };
+                // Consecutive moves share no moment, but a target visited
+                // by a loop's turns may: its state is worked out once.
+                if m != meant.moment {
+                    let Ok(s) = run.states.at(m) else {
+                        return Ok(None);
+                    };
+                    meant.state = s;
+                    meant.moment = m;
+                    meant.moments[0] = m;
+                }
+            }
             target.origin.pos.offset = at;
             target.value = Some(value);
             let Ok(Some((pose, conf))) = target_pose(program, &target) else {

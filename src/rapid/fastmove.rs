@@ -439,6 +439,16 @@ impl Skeleton {
     pub fn place_of_cut(&self, k: usize) -> usize {
         self.starts.get(k).copied().unwrap_or(self.bytes.len())
     }
+
+    /// The first cut whose place is at or after `at` of the skeleton.
+    pub fn first_cut_from(&self, at: usize) -> usize {
+        self.starts.partition_point(|&s| s < at)
+    }
+
+    /// Whether a cut was at `at` of the skeleton (its [`place_of_cut`](Self::place_of_cut)).
+    pub fn is_place_of_cut(&self, at: usize) -> bool {
+        self.starts.binary_search(&at).is_ok()
+    }
 }
 
 /// Cut the moves [`recognise`] reads out of `src`, where it is safe to:

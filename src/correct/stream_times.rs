@@ -1,0 +1,113 @@
+//! When the targets of a streamed run are reached where that is a schedule
+//! (`--start`, `--schedule`): the schedule names targets as the whole
+//! program does, the streamed run reads the skeleton's targets and the cut
+//! moves' literals apart. This is the first of the two passes: the whole
+//! program read from the skeleton ([`parse_skeleton`]) lists every target
+//! with its identifier; each cut literal's moment is looked up and kept
+//! (a number per target, in file order), and the schedule is given the
+//! skeleton's identifiers for the skeleton's own targets (its inline
+//! literals are numbered without the cut ones).
+//!
+//! [`parse_skeleton`]: crate::rapid::parse_skeleton
+
+use super::moments::{check_schedule_names, moments_in, pick};
+use super::{Options, When};
+use crate::model::Moment;
+use crate::rapid::fastmove::Skeleton;
+use crate::rapid::{Program, TargetKind};
+use crate::schedule::Schedule;
+
+/// The moments of a streamed run's targets; see the module doc.
+pub struct CutTimes {
+    /// The run's options for the skeleton: its schedule keyed by the
+    /// skeleton's identifiers.
+    pub(super) options: Options,
+    /// Each cut literal's moment, in file order.
+    pub(super) moments: Vec<Moment>,
+}
+
+impl CutTimes {
+    /// The moments of the targets of `whole` (the file read from its
+    /// skeleton `skeleton`, whose kept bytes parsed as `program`) under
+    /// `options`' schedule. `None` where the whole path has something to
+    /// say (a target the schedule does not time and no default, a name
+    /// the schedule has and the program not) or the two readings do not
+    /// line up: the caller then leaves the run to the whole path, which
+    /// says it.
+    pub fn new(
+        whole: &Program,
+        program: &Program,
+        skeleton: &Skeleton,
+        options: &Options,
+    ) -> Option<CutTimes> {
+        let When::Schedule {
+            schedule,
+            joints,
+            default,
+        } = &options.when
+        else {
+            return None;
+        };
+        check_schedule_names(whole, schedule).ok()?;
+        if let Some(j) = joints {
+            check_schedule_names(whole, j).ok()?;
+        }
+        let mut kept = program.targets().iter();
+        let mut rekeyed = Schedule::new();
+        let literals: usize = skeleton.literals.iter().map(|&n| usize::from(n)).sum();
+        let mut moments = Vec::with_capacity(literals);
+        for t in whole.targets() {
+            if t.kind == TargetKind::Inline && skeleton.is_place_of_cut(t.origin.pos.offset) {
+                let times = moments_in(&options.when, &t.id, false).ok()?;
+                moments.push(pick(&times, options.visit));
+                continue;
+            }
+            // The skeleton's target at the same place: its identifier is
+            // the skeleton's own.
+            let k = kept.next()?;
+            if k.kind != t.kind || k.origin.pos.offset != t.origin.pos.offset {
+                return None;
+            }
+            for &m in schedule.times(&t.id).unwrap_or(&[]) {
+                rekeyed.visit(&k.id, m);
+            }
+        }
+        if kept.next().is_some() || moments.len() != literals {
+            return None;
+        }
+        // Jointtargets keep their identifiers (no cut move holds one);
+        // their times are kept apart from the robtargets', whose keys
+        // changed.
+        if whole.jointtargets().len() != program.jointtargets().len()
+            || whole
+                .jointtargets()
+                .iter()
+                .zip(program.jointtargets())
+                .any(|(a, b)| a.id != b.id)
+        {
+            return None;
+        }
+        let from = joints.as_ref().unwrap_or(schedule);
+        let mut joint_times = Schedule::new();
+        for j in program.jointtargets() {
+            for &m in from.times(&j.id).unwrap_or(&[]) {
+                joint_times.visit(&j.id, m);
+            }
+        }
+        Some(CutTimes {
+            options: Options {
+                when: When::Schedule {
+                    schedule: rekeyed,
+                    joints: Some(joint_times),
+                    default: *default,
+                },
+                visit: options.visit,
+                expand_expressions: options.expand_expressions,
+                model_label: options.model_label.clone(),
+                base_frame: options.base_frame,
+                split_shared: options.split_shared,
+            },
+            moments,
+        })
+    }
+}

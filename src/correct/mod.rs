@@ -57,8 +57,8 @@ use moments::check_schedule_names;
 use outcome::{derived_report, summarise};
 use progress::Progress;
 use solve::{correct_robtarget, Run, Solved};
-pub use stream_times::CutTimes;
 use std::collections::HashMap;
+pub use stream_times::CutTimes;
 
 /// When the targets are reached.
 #[derive(Debug, Clone, PartialEq)]

@@ -137,7 +137,10 @@ pub fn correct_streamed(
             .map(|k| {
                 let k = k..(k + CHUNK).min(hi);
                 let first = literal;
-                literal += skeleton.literals[k.clone()].iter().map(|&n| usize::from(n)).sum::<usize>();
+                literal += skeleton.literals[k.clone()]
+                    .iter()
+                    .map(|&n| usize::from(n))
+                    .sum::<usize>();
                 (k, first)
             })
             .collect();
@@ -187,17 +190,13 @@ pub fn correct_streamed(
 /// statement), the skeleton alone would not.
 fn statements_before_declarations(program: &Program, skeleton: &Skeleton) -> bool {
     let cuts = skeleton.cuts.len();
-    program
-        .modules
-        .iter()
-        .flat_map(|m| &m.routines)
-        .any(|r| {
-            let Some(last) = r.data.iter().map(|d| d.pos.offset).max() else {
-                return false;
-            };
-            let first = skeleton.first_cut_from(r.pos.offset);
-            first < cuts && skeleton.place_of_cut(first) < last
-        })
+    program.modules.iter().flat_map(|m| &m.routines).any(|r| {
+        let Some(last) = r.data.iter().map(|d| d.pos.offset).max() else {
+            return false;
+        };
+        let first = skeleton.first_cut_from(r.pos.offset);
+        first < cuts && skeleton.place_of_cut(first) < last
+    })
 }
 
 /// Put a batch's corrected chunks out in file order, counting their

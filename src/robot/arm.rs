@@ -194,6 +194,18 @@ impl Robot {
             .is_ok_and(|arm| arm.picks_back(q, &self.limits, conf))
     }
 
+    /// Whether `pose` is reached with robconf `conf`, told by the closed
+    /// form's direct path alone (a third of [`Robot::ik`]'s cost): `true`
+    /// means [`Robot::ik`] has a solution; `false` means only that this
+    /// did not find one (an arm without the OPW form, the shoulder
+    /// singularity, another robconf): ask [`Robot::ik`].
+    pub fn reaches_with(&self, pose: &Isometry3<f64>, conf: &RobConf) -> bool {
+        CfxBits::from_cfx(conf.cfx).is_some()
+            && self
+                .checked_arm(pose, None)
+                .is_ok_and(|arm| arm.solve_conf_direct(pose, &self.limits, conf).is_some())
+    }
+
     /// [`Robot::ik_conf`] on the arm with its segments scaled.
     pub fn ik_conf_scaled(
         &self,

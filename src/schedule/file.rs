@@ -4,7 +4,7 @@
 
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Result};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// Which of a target's several visits its correction is computed for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -26,14 +26,39 @@ impl Visit {
     }
 }
 
+/// An identifier in lower case, copied only where it is not (a program's
+/// inline identifiers, `main#1234`, mostly are: a schedule of a million
+/// visits made a million copies).
+fn lower(id: &str) -> std::borrow::Cow<'_, str> {
+    if id.bytes().any(|b| b.is_ascii_uppercase()) {
+        std::borrow::Cow::Owned(id.to_ascii_lowercase())
+    } else {
+        std::borrow::Cow::Borrowed(id)
+    }
+}
+
 /// When each target is reached: every visit of every target, in minutes.
 /// Keys are target identifiers as written (lookups ignore case, as RAPID
 /// does).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Clone, Default, PartialEq)]
 pub struct Schedule {
-    visits: BTreeMap<String, Vec<f64>>,
+    /// By lower-case identifier (hashed: a schedule of a million targets
+    /// spent most of its time comparing identifiers in a sorted map).
+    visits: HashMap<String, Vec<f64>>,
     /// Identifiers in first-visit order, for stable output.
     order: Vec<String>,
+}
+
+/// As the sorted map the visits were kept in: a corrected file's marker
+/// records a schedule by a fingerprint of this text.
+impl std::fmt::Debug for Schedule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sorted: BTreeMap<&String, &Vec<f64>> = self.visits.iter().collect();
+        f.debug_struct("Schedule")
+            .field("visits", &sorted)
+            .field("order", &self.order)
+            .finish()
+    }
 }
 
 impl Schedule {
@@ -43,19 +68,18 @@ impl Schedule {
 
     /// Record one visit of `target` at `time_min`.
     pub fn visit(&mut self, target: &str, time_min: f64) {
-        let key = target.to_ascii_lowercase();
-        let entry = self.visits.entry(key).or_default();
-        if entry.is_empty() {
-            self.order.push(target.to_string());
+        let key = lower(target);
+        if let Some(entry) = self.visits.get_mut(&*key) {
+            entry.push(time_min);
+            return;
         }
-        entry.push(time_min);
+        self.visits.insert(key.into_owned(), vec![time_min]);
+        self.order.push(target.to_string());
     }
 
     /// All visit times of a target, in the order recorded.
     pub fn times(&self, target: &str) -> Option<&[f64]> {
-        self.visits
-            .get(&target.to_ascii_lowercase())
-            .map(Vec::as_slice)
+        self.visits.get(&*lower(target)).map(Vec::as_slice)
     }
 
     /// Target identifiers in the order they were first visited.

@@ -69,7 +69,7 @@ pub fn correct_streamed(
     };
     if program.files.len() != 1
         || marker::find(program).is_some()
-        || statements_before_declarations(program, skeleton)
+        || skeleton.cuts_before_declarations(program)
     {
         return Ok(None);
     }
@@ -183,20 +183,6 @@ pub fn correct_streamed(
     outcome.corrections.clear();
     outcome.summary = summary;
     Ok(Some(Streamed { outcome, changed }))
-}
-
-/// Whether a cut move comes before one of its routine's declarations:
-/// the grammar refuses the file (a routine's data come before its first
-/// statement), the skeleton alone would not.
-fn statements_before_declarations(program: &Program, skeleton: &Skeleton) -> bool {
-    let cuts = skeleton.cuts.len();
-    program.modules.iter().flat_map(|m| &m.routines).any(|r| {
-        let Some(last) = r.data.iter().map(|d| d.pos.offset).max() else {
-            return false;
-        };
-        let first = skeleton.first_cut_from(r.pos.offset);
-        first < cuts && skeleton.place_of_cut(first) < last
-    })
 }
 
 /// Put a batch's corrected chunks out in file order, counting their

@@ -56,7 +56,10 @@ impl<'a> Listing<'a> {
     /// The listing of `src`, read as `skeleton` whose kept bytes parsed as
     /// `program`; `None` where it could differ from the whole parse's.
     pub fn new(program: &Program, skeleton: &'a Skeleton, src: &'a [u8]) -> Option<Listing<'a>> {
-        if program.files.len() != 1 || skeleton.literals.len() != skeleton.cuts.len() {
+        if program.files.len() != 1
+            || skeleton.literals.len() != skeleton.cuts.len()
+            || skeleton.cuts_before_declarations(program)
+        {
             return None;
         }
         // Every routine by where it starts in the file, and its place.

@@ -440,6 +440,20 @@ impl Skeleton {
         self.starts.get(k).copied().unwrap_or(self.bytes.len())
     }
 
+    /// Whether a cut move came before one of its routine's declarations
+    /// (the skeleton's kept bytes parsed as `program`): the grammar
+    /// refuses the file (a routine's data come before its first
+    /// statement), the skeleton alone would not.
+    pub fn cuts_before_declarations(&self, program: &super::Program) -> bool {
+        program.modules.iter().flat_map(|m| &m.routines).any(|r| {
+            let Some(last) = r.data.iter().map(|d| d.pos.offset).max() else {
+                return false;
+            };
+            let first = self.first_cut_from(r.pos.offset);
+            first < self.cuts.len() && self.place_of_cut(first) < last
+        })
+    }
+
     /// The first cut whose place is at or after `at` of the skeleton.
     pub fn first_cut_from(&self, at: usize) -> usize {
         self.starts.partition_point(|&s| s < at)

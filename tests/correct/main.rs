@@ -10,4 +10,5 @@ mod plot;
 mod samples;
 mod shared;
 mod streaming;
+mod streaming_schedule;
 mod trust;

@@ -8,16 +8,16 @@
 
 use proptest::prelude::*;
 use rapidtherm::correct::stream::correct_streamed;
-use rapidtherm::correct::{correct, Options, When};
+use rapidtherm::correct::{correct, CutTimes, Options, When};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid::fastlist::{Entry, Listing};
-use rapidtherm::rapid::fastmove::{recognise, skeleton};
+use rapidtherm::rapid::fastmove::{recognise, skeleton, Skeleton};
 use rapidtherm::rapid::{self, TargetKind};
 use rapidtherm::robot::Robot;
 use std::sync::OnceLock;
 
-fn warm() -> &'static WarmRobot {
+pub(super) fn warm() -> &'static WarmRobot {
     static WARM: OnceLock<WarmRobot> = OnceLock::new();
     WARM.get_or_init(|| WarmRobot::new(Robot::irb140(), &Model::default(), 120.0).unwrap())
 }
@@ -28,7 +28,7 @@ fn options() -> Options {
 
 /// One statement of a generated routine body.
 #[derive(Debug, Clone)]
-enum Stmt {
+pub(super) enum Stmt {
     /// An inline move: instruction, point index, number style, work
     /// object, what follows on the line.
     Inline(&'static str, u32, u8, bool, &'static str),
@@ -68,7 +68,7 @@ fn literal(i: u32, style: u8) -> String {
     }
 }
 
-fn stmt() -> impl Strategy<Value = Stmt> {
+pub(super) fn stmt() -> impl Strategy<Value = Stmt> {
     prop_oneof![
         8 => (
             prop::sample::select(vec!["MoveL", "MoveJ", "movel", "MoveC"]),
@@ -94,7 +94,12 @@ fn program(bodies: &[Vec<Stmt>], eol: &str, latin1: bool) -> Vec<u8> {
 /// [`program`], the routines of every module named `main` where
 /// `one_name` (their inline targets' identifiers then name the module:
 /// `M0:main#3`).
-fn program_with(bodies: &[Vec<Stmt>], eol: &str, latin1: bool, one_name: bool) -> Vec<u8> {
+pub(super) fn program_with(
+    bodies: &[Vec<Stmt>],
+    eol: &str,
+    latin1: bool,
+    one_name: bool,
+) -> Vec<u8> {
     let mut s = String::new();
     for (m, body) in bodies.iter().enumerate() {
         let routine = if one_name {
@@ -174,8 +179,22 @@ fn same_as_whole(src: &[u8]) -> bool {
         );
         return false;
     };
+    streamed_as_whole(src, (&skel, &program), (&options(), None), whole)
+}
+
+/// Whether `correct_streamed` of `src` (read as `skel`, whose kept bytes
+/// parsed as `program`) for `options` (and the schedule's `times`)
+/// writes the bytes and says the summary of `whole`, the whole path's
+/// outcome; `false` when it declined. It never corrects what the whole
+/// path refuses.
+pub(super) fn streamed_as_whole(
+    src: &[u8],
+    (skel, program): (&Skeleton, &rapid::Program),
+    (options, times): (&Options, Option<&CutTimes>),
+    whole: rapidtherm::error::Result<rapidtherm::correct::Outcome>,
+) -> bool {
     let mut written = Vec::new();
-    let streamed = correct_streamed(&program, &skel, src, warm(), &options(), &mut written)
+    let streamed = correct_streamed(program, skel, src, warm(), (options, times), &mut written)
         .expect("writes to memory");
     let Some(streamed) = streamed else {
         return false;
@@ -219,6 +238,19 @@ fn a_refused_program_is_declined_and_left_to_the_whole_path() {
         Stmt::Inline("MoveL", 2, 0, false, ""),
     ];
     assert!(!same_as_whole(&program(&[body], "\n", false)));
+}
+
+#[test]
+fn a_declaration_after_a_cut_move_is_left_to_the_whole_path() {
+    // The grammar refuses a routine's data after its first statement; cut
+    // out, the move leaves the skeleton a routine the grammar takes.
+    let src = b"MODULE m\nPROC main()\n  MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v100,z1,tool0;\n  VAR num k;\n  WaitTime 1;\nENDPROC\nENDMODULE\n";
+    assert!(rapid::parse("p.mod", src).is_err());
+    let skel = skeleton(src);
+    assert_eq!(skel.cuts.len(), 1);
+    assert!(rapid::parse("p.mod", &skel.bytes).is_ok());
+    assert!(!same_as_whole(src));
+    assert!(!listed_as_whole(src));
 }
 
 proptest! {

@@ -1,0 +1,112 @@
+//! The streamed main job timed by a schedule (`--start`, `--schedule`):
+//! the whole program read from the skeleton (`rapid::parse_skeleton`) is
+//! estimated as the whole parse is, and the streamed run (`CutTimes`,
+//! each cut target corrected for its own moment) writes the bytes and
+//! says the summary of the whole-program path, on the generated programs
+//! of `streaming`: an estimated schedule as `--start` makes it, and a
+//! user's file that times every other target, the rest at a default.
+
+use super::streaming::{program_with, stmt, streamed_as_whole, warm, Stmt};
+use proptest::prelude::*;
+use rapidtherm::correct::{correct, CutTimes, Options, When};
+use rapidtherm::model::warm::Moment;
+use rapidtherm::rapid::fastmove::skeleton;
+use rapidtherm::rapid::{self, Program};
+use rapidtherm::robot::Robot;
+use rapidtherm::schedule::{estimate, EstimateOptions, Schedule};
+
+/// When the targets of `program` are reached: its estimate from minute 20
+/// (two cycles of the first module's routine; the second module's targets
+/// are not reached and take the default), or, `partial`, a file of every
+/// other robtarget's visits and no jointtargets', the rest at the
+/// default. `None` where the estimate is refused.
+fn when_of(program: &Program, partial: bool) -> Option<When> {
+    let opts = EstimateOptions {
+        entry: "main0".to_string(),
+        start_min: 20.0,
+        cycles: 2,
+        base_frame: None,
+    };
+    let est = estimate(program, &Robot::irb140(), &opts).ok()?;
+    let default = Some(Moment::Minute(45.0));
+    if !partial {
+        return Some(When::Schedule {
+            schedule: est.schedule,
+            joints: Some(est.joint_schedule),
+            default,
+        });
+    }
+    let mut file = Schedule::new();
+    for id in est.schedule.targets().iter().step_by(2) {
+        for &t in est.schedule.times(id).unwrap_or(&[]) {
+            file.visit(id, t);
+        }
+    }
+    Some(When::Schedule {
+        schedule: file,
+        joints: None,
+        default,
+    })
+}
+
+/// Whether the streamed run timed as [`when_of`] says wrote what the
+/// whole path writes; `false` when either declined or the estimate was
+/// refused.
+fn scheduled_as_whole(src: &[u8], partial: bool) -> bool {
+    let Ok(whole_program) = rapid::parse("p.mod", src) else {
+        return false;
+    };
+    let Some(when) = when_of(&whole_program, partial) else {
+        return false;
+    };
+    let options = Options::new(when);
+    let whole = correct(&whole_program, warm(), &options, &mut |_, _| {});
+    let skel = skeleton(src);
+    let program = rapid::parse("p.mod", &skel.bytes).expect("the skeleton parses");
+    let read = rapid::parse_skeleton("p.mod", &skel, src).expect("the skeleton reads whole");
+    // The first pass: the program read from the skeleton is timed as the
+    // whole parse is.
+    assert_eq!(when_of(&read, partial), Some(options.when.clone()));
+    let Some(times) = CutTimes::new(&read, &program, &skel, &options) else {
+        return false;
+    };
+    streamed_as_whole(src, (&skel, &program), (&options, Some(&times)), whole)
+}
+
+#[test]
+fn a_cam_program_streams_timed_by_its_schedule() {
+    let body: Vec<Stmt> = (0..300)
+        .map(|i| {
+            Stmt::Inline(
+                ["MoveL", "MoveJ", "MoveC"][(i % 3) as usize],
+                i,
+                (i % 4) as u8,
+                i % 5 == 0,
+                "",
+            )
+        })
+        .chain([Stmt::Named(0), Stmt::Named(3), Stmt::ConfOff])
+        .collect();
+    let second = vec![Stmt::Named(1), Stmt::Inline("MoveL", 5, 0, false, "")];
+    for partial in [false, true] {
+        let src = program_with(&[body.clone(), second.clone()], "\r\n", true, false);
+        assert!(
+            scheduled_as_whole(&src, partial),
+            "the fast path declined a CAM program (partial schedule: {partial})"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    #[test]
+    fn streamed_and_whole_write_the_same_bytes_by_a_schedule(
+        bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
+        crlf in any::<bool>(),
+        partial in any::<bool>(),
+    ) {
+        let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, false, false);
+        scheduled_as_whole(&src, partial);
+    }
+}

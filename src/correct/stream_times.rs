@@ -16,6 +16,7 @@ use crate::model::Moment;
 use crate::rapid::fastmove::Skeleton;
 use crate::rapid::{Program, TargetKind};
 use crate::schedule::Schedule;
+use std::collections::HashSet;
 
 /// The moments of a streamed run's targets; see the module doc.
 pub struct CutTimes {
@@ -48,16 +49,35 @@ impl CutTimes {
         else {
             return None;
         };
-        check_schedule_names(whole, schedule).ok()?;
         if let Some(j) = joints {
             check_schedule_names(whole, j).ok()?;
         }
+        // Every name of the schedule must be a target's: counted as the
+        // targets are looked up (a set of a million names was a tenth of
+        // the run). A robtarget and a jointtarget may share a name.
+        let joint_ids: HashSet<String> = match joints {
+            Some(_) => HashSet::new(),
+            None => whole
+                .jointtargets()
+                .iter()
+                .map(|j| j.id.to_ascii_lowercase())
+                .collect(),
+        };
+        let mut named = 0;
+        let mut count = |id: &str| {
+            if schedule.times(id).is_some()
+                && (joint_ids.is_empty() || !joint_ids.contains(&id.to_ascii_lowercase()))
+            {
+                named += 1;
+            }
+        };
         let mut kept = program.targets().iter();
         let mut rekeyed = Schedule::new();
         let literals: usize = skeleton.literals.iter().map(|&n| usize::from(n)).sum();
         let mut moments = Vec::with_capacity(literals);
         for t in whole.targets() {
             if t.kind == TargetKind::Inline && skeleton.is_place_of_cut(t.origin.pos.offset) {
+                count(&t.id);
                 let times = moments_in(&options.when, &t.id, false).ok()?;
                 moments.push(pick(&times, options.visit));
                 continue;
@@ -68,11 +88,19 @@ impl CutTimes {
             if k.kind != t.kind || k.origin.pos.offset != t.origin.pos.offset {
                 return None;
             }
+            count(&t.id);
             for &m in schedule.times(&t.id).unwrap_or(&[]) {
                 rekeyed.visit(&k.id, m);
             }
         }
-        if kept.next().is_some() || moments.len() != literals {
+        let joint_named = joint_ids
+            .iter()
+            .filter(|id| schedule.times(id).is_some())
+            .count();
+        if kept.next().is_some()
+            || moments.len() != literals
+            || named + joint_named != schedule.targets().len()
+        {
             return None;
         }
         // Jointtargets keep their identifiers (no cut move holds one);

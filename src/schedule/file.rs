@@ -4,7 +4,7 @@
 
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Result};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 /// Which of a target's several visits its correction is computed for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -44,7 +44,7 @@ fn lower(id: &str) -> std::borrow::Cow<'_, str> {
 pub struct Schedule {
     /// By lower-case identifier (hashed: a schedule of a million targets
     /// spent most of its time comparing identifiers in a sorted map).
-    visits: HashMap<String, Vec<f64>>,
+    visits: foldhash::HashMap<String, Vec<f64>>,
     /// Identifiers in first-visit order, for stable output.
     order: Vec<String>,
 }

@@ -160,7 +160,7 @@ pub(super) fn column(prefix: &[u8]) -> u32 {
 #[derive(Default)]
 struct Builder {
     prog: Program,
-    names: HashMap<String, Arc<str>>,
+    names: foldhash::HashMap<String, Arc<str>>,
     /// Per routine (lower-case "module\0routine"): literals counted so far.
     inline_counts: HashMap<String, usize>,
 }

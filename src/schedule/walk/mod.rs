@@ -26,6 +26,9 @@ use crate::robot::{Joints, RobConf, Robot, ToolData, WobjData};
 use nalgebra::{Isometry3, Vector3};
 use std::collections::{HashMap, HashSet};
 
+/// Maps looked up at every statement of a walk (names: a fast hash).
+type FastMap<K, V> = foldhash::HashMap<K, V>;
+
 /// A robtarget value met in the walk.
 #[derive(Debug, Clone)]
 pub(super) struct Rob {
@@ -95,14 +98,14 @@ pub(super) struct Walker<'p> {
     pub(super) robot: &'p Robot,
     pub(super) frames: Frames,
     /// Non-inline robtarget ids (lower case) → index.
-    pub(super) target_ids: HashMap<String, usize>,
-    pub(super) joint_ids: HashMap<String, usize>,
+    pub(super) target_ids: FastMap<String, usize>,
+    pub(super) joint_ids: FastMap<String, usize>,
     /// (file, byte offset) of a derived expression → its target.
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
-    pub(super) decls: HashMap<String, Vec<(usize, &'p DataDecl)>>,
+    pub(super) decls: FastMap<String, Vec<(usize, &'p DataDecl)>>,
     /// Procedures and functions by lower-case name: (module, routine).
-    pub(super) routines: HashMap<String, Vec<(usize, &'p Routine)>>,
+    pub(super) routines: FastMap<String, Vec<(usize, &'p Routine)>>,
     /// Robtarget variables assigned during the walk (module data).
     pub(super) globals: HashMap<String, Value>,
     /// Routines being walked (by identity: two modules may each have a
@@ -125,7 +128,7 @@ pub(super) struct Walker<'p> {
     /// Places (`file:line:col`) of the targets in `errors`.
     pub(super) failed: HashSet<String>,
     /// Flange poses (bits) known to be reachable: one IK per pose.
-    pub(super) reachable: HashSet<[u64; 7]>,
+    pub(super) reachable: foldhash::HashSet<[u64; 7]>,
     pub(super) noted: HashSet<String>,
     pub(super) evaluating: HashSet<String>,
 }
@@ -136,7 +139,7 @@ impl<'p> Walker<'p> {
         robot: &'p Robot,
         base_frame: Option<&nalgebra::Isometry3<f64>>,
     ) -> Result<Walker<'p>> {
-        let mut target_ids = HashMap::new();
+        let mut target_ids = FastMap::default();
         let mut derived_at = HashMap::new();
         for (i, t) in program.targets().iter().enumerate() {
             if t.kind == TargetKind::Derived {
@@ -154,8 +157,8 @@ impl<'p> Walker<'p> {
             .filter(|(_, j)| j.kind != TargetKind::Inline)
             .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
             .collect();
-        let mut decls: HashMap<String, Vec<(usize, &DataDecl)>> = HashMap::new();
-        let mut routines: HashMap<String, Vec<(usize, &Routine)>> = HashMap::new();
+        let mut decls: FastMap<String, Vec<(usize, &DataDecl)>> = FastMap::default();
+        let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
         for (mi, m) in program.modules.iter().enumerate() {
             for d in &m.data {
                 decls
@@ -201,7 +204,7 @@ impl<'p> Walker<'p> {
             noted: HashSet::new(),
             errors: Errors::default(),
             failed: HashSet::new(),
-            reachable: HashSet::new(),
+            reachable: foldhash::HashSet::default(),
             evaluating: HashSet::new(),
         })
     }

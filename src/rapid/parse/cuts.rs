@@ -9,7 +9,8 @@
 //! whatever block it was.
 
 use super::*;
-use crate::rapid::fastmove::Skeleton;
+use crate::rapid::fastmove::{FastMove, Skeleton};
+use std::fmt::Write as _;
 
 /// The cut moves of the file being parsed, in file order.
 pub(super) struct CutFeed<'a> {
@@ -18,6 +19,62 @@ pub(super) struct CutFeed<'a> {
     pub(super) file: &'a [u8],
     /// The next move to put back.
     pub(super) next: usize,
+    /// Names met in the cut moves, interned: a CAM program repeats its
+    /// instruction, speed, zone, tool and work object a million times.
+    pub(super) names: Vec<(&'a [u8], Arc<str>)>,
+    /// Moves read ahead, on every core, and where they start.
+    pub(super) ahead: std::collections::VecDeque<Option<FastMove>>,
+}
+
+/// Names [`CutFeed`] keeps.
+const NAMES: usize = 16;
+/// Moves read ahead at once.
+const AHEAD: usize = 4096;
+
+impl<'a> CutFeed<'a> {
+    /// The cuts of `skeleton`, cut from `file`.
+    pub(super) fn new(skeleton: &'a Skeleton, file: &'a [u8]) -> CutFeed<'a> {
+        CutFeed {
+            skeleton,
+            file,
+            next: 0,
+            names: Vec::new(),
+            ahead: std::collections::VecDeque::new(),
+        }
+    }
+
+    /// Cut move `k` (the next) read again with its values; the moves
+    /// after it are read ahead in parallel, a batch at a time.
+    fn read(&mut self, k: usize) -> Option<FastMove> {
+        if self.ahead.is_empty() {
+            use rayon::prelude::*;
+            let (skeleton, file) = (self.skeleton, self.file);
+            let end = (k + AHEAD).min(skeleton.cuts.len());
+            let read: Vec<Option<FastMove>> = (k..end)
+                .into_par_iter()
+                .map(|k| skeleton.reread(file, k))
+                .collect();
+            self.ahead.extend(read);
+        }
+        self.ahead.pop_front().flatten()
+    }
+}
+
+impl FileParser<'_, '_> {
+    /// The name at `r` of the file the moves were cut from, interned.
+    fn cut_name(&mut self, r: &Range<usize>) -> Option<Arc<str>> {
+        let feed = self.cuts.as_ref()?;
+        let bytes = feed.file.get(r.clone())?;
+        if let Some((_, a)) = feed.names.iter().find(|(b, _)| *b == bytes) {
+            return Some(a.clone());
+        }
+        let a = self.b.intern(std::str::from_utf8(bytes).ok()?);
+        let feed = self.cuts.as_mut()?;
+        if feed.names.len() < NAMES {
+            feed.names.push((bytes, a.clone()));
+        }
+        Some(a)
+    }
 }
 
 impl FileParser<'_, '_> {
@@ -43,32 +100,30 @@ impl FileParser<'_, '_> {
         let Some(feed) = self.cuts.as_mut() else {
             return Err(self.err(0, "internal: no cut moves"));
         };
-        let (skeleton, file, k) = (feed.skeleton, feed.file, feed.next);
+        let (skeleton, k) = (feed.skeleton, feed.next);
         feed.next += 1;
+        let m = feed.read(k);
         let place = skeleton.place_of_cut(k);
         let internal = |s: &Self| s.err(place, "internal: a cut move does not read again");
-        let Some(m) = skeleton.reread(file, k) else {
+        let Some(m) = m else {
             return Err(internal(self));
         };
         let cut_at = skeleton.cuts[k].start;
-        let text = |r: &Range<usize>| std::str::from_utf8(&file[r.clone()]).ok();
         let (Some(name), Some(speed), Some(zone), Some(tool)) = (
-            text(&m.instruction),
-            text(&m.speed),
-            text(&m.zone),
-            text(&m.tool),
+            self.cut_name(&m.instruction),
+            self.cut_name(&m.speed),
+            self.cut_name(&m.zone),
+            self.cut_name(&m.tool),
         ) else {
             return Err(internal(self));
         };
         let wobj = match (&m.wobj_word, &m.wobj) {
-            (Some(word), Some(w)) => match (text(word), text(w)) {
-                (Some(word), Some(w)) => Some((self.b.intern(word), self.b.intern(w))),
+            (Some(word), Some(w)) => match (self.cut_name(word), self.cut_name(w)) {
+                (Some(word), Some(w)) => Some((word, w)),
                 _ => return Err(internal(self)),
             },
             _ => None,
         };
-        let name = self.b.intern(name);
-        let tool = self.b.intern(tool);
         // The cut move was the last statement of its line: the skeleton
         // keeps everything before it there, so its line and column are
         // the file's.
@@ -78,12 +133,9 @@ impl FileParser<'_, '_> {
         let mut targets = Vec::with_capacity(m.targets.len());
         for (at, value) in m.targets {
             self.inline_k += 1;
-            let mut t = self.new_target(
-                format!("{routine}#{}", self.inline_k),
-                TargetKind::Inline,
-                place,
-                Some(value),
-            );
+            let mut id = String::with_capacity(routine.len() + 8);
+            let _ = write!(id, "{routine}#{}", self.inline_k);
+            let mut t = self.new_target(id, TargetKind::Inline, place, Some(value));
             // Names and numbers are ASCII: bytes are columns.
             t.origin.pos.col += (at - cut_at) as u32;
             t.instruction = Some(name.clone());
@@ -98,7 +150,6 @@ impl FileParser<'_, '_> {
             });
         }
         for n in [speed, zone] {
-            let n = self.b.intern(n);
             args.push(Arg {
                 optional: false,
                 name: None,

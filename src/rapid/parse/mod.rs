@@ -113,11 +113,7 @@ pub fn parse_skeleton(
     b.prog.sources.push(Arc::from(bytes));
     let line_starts = line_starts(bytes);
     let mut p = FileParser::new(0, file_name, bytes, &line_starts, &mut b);
-    p.cuts = Some(cuts::CutFeed {
-        skeleton,
-        file: src,
-        next: 0,
-    });
+    p.cuts = Some(cuts::CutFeed::new(skeleton, src));
     p.run()?;
     b.finish(&[(file_name, bytes)], &[line_starts])?;
     Ok(b.prog)

@@ -40,6 +40,19 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
     }
 }
 
+/// The moment a robtarget is corrected for: [`pick`] of [`moments_of`],
+/// without making the list of its visits (a streamed run asks for a
+/// million targets).
+pub(super) fn picked_moment(when: &When, id: &str, visit: Visit) -> Result<Moment> {
+    if let When::Schedule { schedule, .. } = when {
+        if let Some(times) = schedule.times(id) {
+            return Ok(Moment::Minute(visit.pick(times)));
+        }
+    }
+    // One moment (`--at`, or the default), or the error.
+    moments_of(when, id).map(|m| pick(&m, visit))
+}
+
 pub(super) fn pick(moments: &[Moment], visit: Visit) -> Moment {
     let minutes: Vec<f64> = moments
         .iter()

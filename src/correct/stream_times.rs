@@ -10,7 +10,7 @@
 //!
 //! [`parse_skeleton`]: crate::rapid::parse_skeleton
 
-use super::moments::{check_schedule_names, moments_in, pick};
+use super::moments::picked_moment;
 use super::{Options, When};
 use crate::model::Moment;
 use crate::rapid::fastmove::Skeleton;
@@ -49,8 +49,21 @@ impl CutTimes {
         else {
             return None;
         };
+        // The estimate's jointtargets are the program's (a name of it the
+        // program has as a robtarget only is left to the whole path).
         if let Some(j) = joints {
-            check_schedule_names(whole, j).ok()?;
+            let ids: HashSet<String> = whole
+                .jointtargets()
+                .iter()
+                .map(|j| j.id.to_ascii_lowercase())
+                .collect();
+            if !j
+                .targets()
+                .iter()
+                .all(|id| ids.contains(&id.to_ascii_lowercase()))
+            {
+                return None;
+            }
         }
         // Every name of the schedule must be a target's: counted as the
         // targets are looked up (a set of a million names was a tenth of
@@ -64,22 +77,28 @@ impl CutTimes {
                 .collect(),
         };
         let mut named = 0;
-        let mut count = |id: &str| {
-            if schedule.times(id).is_some()
-                && (joint_ids.is_empty() || !joint_ids.contains(&id.to_ascii_lowercase()))
-            {
+        let mut count = |id: &str, timed: bool| {
+            if timed && (joint_ids.is_empty() || !joint_ids.contains(&id.to_ascii_lowercase())) {
                 named += 1;
             }
         };
+        // The next cut, by its place (targets come in file order).
+        let mut cut = 0;
         let mut kept = program.targets().iter();
         let mut rekeyed = Schedule::new();
         let literals: usize = skeleton.literals.iter().map(|&n| usize::from(n)).sum();
         let mut moments = Vec::with_capacity(literals);
         for t in whole.targets() {
-            if t.kind == TargetKind::Inline && skeleton.is_place_of_cut(t.origin.pos.offset) {
-                count(&t.id);
-                let times = moments_in(&options.when, &t.id, false).ok()?;
-                moments.push(pick(&times, options.visit));
+            let at = t.origin.pos.offset;
+            while cut < skeleton.cuts.len() && skeleton.place_of_cut(cut) < at {
+                cut += 1;
+            }
+            if t.kind == TargetKind::Inline
+                && cut < skeleton.cuts.len()
+                && skeleton.place_of_cut(cut) == at
+            {
+                count(&t.id, schedule.times(&t.id).is_some());
+                moments.push(picked_moment(&options.when, &t.id, options.visit).ok()?);
                 continue;
             }
             // The skeleton's target at the same place: its identifier is
@@ -88,7 +107,7 @@ impl CutTimes {
             if k.kind != t.kind || k.origin.pos.offset != t.origin.pos.offset {
                 return None;
             }
-            count(&t.id);
+            count(&t.id, schedule.times(&t.id).is_some());
             for &m in schedule.times(&t.id).unwrap_or(&[]) {
                 rekeyed.visit(&k.id, m);
             }

@@ -458,11 +458,6 @@ impl Skeleton {
     pub fn first_cut_from(&self, at: usize) -> usize {
         self.starts.partition_point(|&s| s < at)
     }
-
-    /// Whether a cut was at `at` of the skeleton (its [`place_of_cut`](Self::place_of_cut)).
-    pub fn is_place_of_cut(&self, at: usize) -> bool {
-        self.starts.binary_search(&at).is_ok()
-    }
 }
 
 /// Cut the moves [`recognise`] reads out of `src`, where it is safe to:

@@ -114,6 +114,10 @@ pub fn parse_skeleton(
     let line_starts = line_starts(bytes);
     let mut p = FileParser::new(0, file_name, bytes, &line_starts, &mut b);
     p.cuts = Some(cuts::CutFeed::new(skeleton, src));
+    // The cut literals are most of the targets: room for them at once
+    // (a list of a million grown by doubling was copied twenty times).
+    let literals: usize = skeleton.literals.iter().map(|&n| usize::from(n)).sum();
+    p.b.prog.targets.reserve(literals);
     p.run()?;
     b.finish(&[(file_name, bytes)], &[line_starts])?;
     Ok(b.prog)

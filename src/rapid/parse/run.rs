@@ -151,10 +151,12 @@ impl Builder {
 /// for `main#3` / `main@2`, else the declared name (`arr` for `arr{2}`,
 /// `w` for `w{3}.pos`).
 pub(in crate::rapid) fn name_space(id: &str) -> String {
-    id.split(['#', '@', '{', '.'])
-        .next()
-        .unwrap_or("")
-        .to_lowercase()
+    name_space_as_written(id).to_lowercase()
+}
+
+/// [`name_space`] as the identifier writes it.
+fn name_space_as_written(id: &str) -> &str {
+    id.split(['#', '@', '{', '.']).next().unwrap_or("")
 }
 
 /// Whether an expression contains a robtarget-shaped literal.
@@ -179,12 +181,27 @@ fn decl_offset(e: &Expr) -> Option<usize> {
 /// more than one module of the run.
 fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
     let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
+    // Identifiers in a row mostly share their name space and module (a
+    // routine's literals, a million in a CAM program): each pair is
+    // entered once, not copied twice per identifier.
+    let mut last: Option<(Arc<str>, String)> = None;
     for it in items.iter_mut() {
         let (m, id) = f(it);
+        let space = name_space_as_written(id);
+        if last
+            .as_ref()
+            .is_some_and(|(lm, ls)| Arc::ptr_eq(lm, m) && ls == space)
+        {
+            continue;
+        }
         modules_of
-            .entry(name_space(id))
+            .entry(space.to_lowercase())
             .or_default()
             .insert(m.to_lowercase());
+        last = Some((m.clone(), space.to_string()));
+    }
+    if modules_of.values().all(|s| s.len() < 2) {
+        return;
     }
     for it in items.iter_mut() {
         let (m, id) = f(it);

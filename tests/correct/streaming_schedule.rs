@@ -110,3 +110,66 @@ proptest! {
         scheduled_as_whole(&src, partial);
     }
 }
+
+/// `rapidtherm correct` on the CAM sample written to a file (streamed)
+/// and to standard output (the whole-program path): the same bytes, the
+/// same exit and the same messages (the estimate's notes, the summary),
+/// for one moment, an estimate and a schedule file that times every
+/// other target (the rest at a default).
+#[test]
+fn the_binary_streams_a_scheduled_run_as_it_corrects_it_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+    std::fs::copy(sample, dir.path().join("cam.mod")).unwrap();
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap()
+    };
+    let estimate = run(&["schedule", "cam.mod", "--start", "10"]);
+    let csv = String::from_utf8(estimate.stdout).unwrap();
+    let every_other: String = csv
+        .lines()
+        .enumerate()
+        .filter(|(i, _)| i % 2 == 0)
+        .map(|(_, l)| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.path().join("half.csv"), every_other).unwrap();
+    for when in [
+        &["--at", "120"][..],
+        &["--start", "0"],
+        &["--start", "45", "--cycles", "3", "--visit", "last"],
+        &["--schedule", "half.csv", "--default-time", "200"],
+    ] {
+        let args = |out: &str| -> Vec<String> {
+            ["correct", "cam.mod", "-vv", "-o", out]
+                .iter()
+                .chain(when)
+                .map(|s| s.to_string())
+                .collect()
+        };
+        let streamed = run(&args("out.mod")
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>());
+        let whole = run(&args("-").iter().map(String::as_str).collect::<Vec<_>>());
+        let said = |o: &std::process::Output| -> Vec<String> {
+            String::from_utf8_lossy(&o.stderr)
+                .lines()
+                .filter(|l| !l.starts_with("info:"))
+                .map(str::to_string)
+                .collect()
+        };
+        let streamed_said = String::from_utf8_lossy(&streamed.stderr).into_owned();
+        assert!(
+            streamed_said.contains("info: correcting and writing"),
+            "{when:?} was not streamed:\n{streamed_said}"
+        );
+        assert_eq!(streamed.status.code(), whole.status.code(), "{when:?}");
+        assert_eq!(said(&streamed), said(&whole), "{when:?}");
+        let written = std::fs::read(dir.path().join("out.mod")).unwrap();
+        assert!(written == whole.stdout, "{when:?}: the files differ");
+    }
+}

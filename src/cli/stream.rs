@@ -97,14 +97,13 @@ pub fn correct(
     let times = match whole {
         Some(whole) => {
             let started = std::time::Instant::now();
-            let times = CutTimes::new(&whole, &program, &skeleton, &options);
-            // Freeing a program of a million targets takes a tenth of a
-            // second: another thread does it while the targets are
-            // corrected.
-            std::thread::spawn(move || drop(whole));
-            let Some(t) = times else {
+            let Some(t) = CutTimes::new(&whole, &program, &skeleton, &options) else {
                 return Ok(None);
             };
+            // Freeing a program of a million targets takes a tenth of a
+            // second of a core the correction needs; the run ends with
+            // the correction, and its memory was at its peak already.
+            std::mem::forget(whole);
             messages::took("each target's moment", started);
             Some(t)
         }

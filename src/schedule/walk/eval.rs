@@ -285,8 +285,8 @@ impl<'p> Walker<'p> {
             "crobt" => {
                 let tool = optional("Tool").and_then(|a| a.value.as_ref());
                 let wobj = optional("WObj").and_then(|a| a.value.as_ref());
-                let (tool, wobj) = self.frame_names(tool, wobj, frame, 0)?;
-                Ok(match target_of_flange(&self.arm.flange, &tool, &wobj) {
+                let frames = self.frame_names(tool, wobj, frame, 0)?;
+                Ok(match target_of_flange(&self.arm.flange, &frames.0, &frames.1) {
                     Ok(pose) => Value::Rob(Box::new(Rob {
                         pose,
                         conf: self.arm.conf,

@@ -25,6 +25,7 @@ use crate::robot::frames::{flange_of_target, target_of_flange};
 use crate::robot::{Joints, RobConf, Robot, ToolData, WobjData};
 use nalgebra::{Isometry3, Vector3};
 use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
 
 /// Maps looked up at every statement of a walk (names: a fast hash).
 type FastMap<K, V> = foldhash::HashMap<K, V>;
@@ -131,6 +132,36 @@ pub(super) struct Walker<'p> {
     pub(super) reachable: foldhash::HashSet<[u64; 7]>,
     pub(super) noted: HashSet<String>,
     pub(super) evaluating: HashSet<String>,
+    /// The last move's speed and frames by their names, reused by the
+    /// next move naming them alike where no variable can shadow a name
+    /// (see [`Walker::static_names`]): a CAM program names the same ones
+    /// a million times.
+    pub(super) last_speed: Option<(NamesAt, SpeedData)>,
+    pub(super) last_frames: Option<(NamesAt, std::rc::Rc<(ToolData, WobjData)>)>,
+}
+
+/// Names as written, in a module and routine.
+#[derive(PartialEq)]
+pub(super) struct NamesAt {
+    module: usize,
+    routine: Option<*const Routine>,
+    names: [Option<Arc<str>>; 2],
+}
+
+impl NamesAt {
+    /// The names of `exprs` where each is a plain name or absent.
+    pub(super) fn of(frame: &Frame, exprs: [Option<&Expr>; 2]) -> Option<NamesAt> {
+        let name = |e: Option<&Expr>| match e {
+            None => Some(None),
+            Some(Expr::Name(n)) => Some(Some(n.clone())),
+            Some(_) => None,
+        };
+        Some(NamesAt {
+            module: frame.module,
+            routine: frame.routine.map(std::ptr::from_ref),
+            names: [name(exprs[0])?, name(exprs[1])?],
+        })
+    }
 }
 
 impl<'p> Walker<'p> {
@@ -206,7 +237,16 @@ impl<'p> Walker<'p> {
             failed: HashSet::new(),
             reachable: foldhash::HashSet::default(),
             evaluating: HashSet::new(),
+            last_speed: None,
+            last_frames: None,
         })
+    }
+
+    /// Whether plain names resolve to the program's declarations alone:
+    /// no routine parameter or variable and no data assigned in the walk
+    /// (which could shadow or change them) are in play.
+    pub(super) fn static_names(&self, frame: &Frame) -> bool {
+        frame.vars.is_empty() && self.globals.is_empty()
     }
 
     pub(super) fn note(&mut self, frame: &Frame, line: u32, msg: impl Into<String>) {

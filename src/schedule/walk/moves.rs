@@ -2,6 +2,7 @@
 //! move, its goal on the nominal robot, and the time it takes.
 
 use super::*;
+use std::rc::Rc;
 
 impl<'p> Walker<'p> {
     pub(super) fn speed_of(
@@ -10,6 +11,12 @@ impl<'p> Walker<'p> {
         frame: &mut Frame<'p>,
         line: u32,
     ) -> Result<SpeedData> {
+        let at = NamesAt::of(frame, [expr, None]).filter(|_| self.static_names(frame));
+        if let Some((last, speed)) = &self.last_speed {
+            if at.as_ref() == Some(last) {
+                return Ok(*speed);
+            }
+        }
         let v = match expr {
             Some(e) => self.eval(e, frame)?,
             None => Value::Unknown,
@@ -31,7 +38,14 @@ impl<'p> Walker<'p> {
             _ => None,
         };
         match found {
-            Some(s) => Ok(s),
+            Some(s) => {
+                // Found without a note: the next move naming it alike
+                // finds the same.
+                if let Some(at) = at {
+                    self.last_speed = Some((at, s));
+                }
+                Ok(s)
+            }
             None => {
                 let what = match &v {
                     Value::Ref(name) => format!("speeddata `{name}` is not in the program"),
@@ -74,7 +88,13 @@ impl<'p> Walker<'p> {
         wobj: Option<&Expr>,
         frame: &mut Frame<'p>,
         line: u32,
-    ) -> Result<(ToolData, WobjData)> {
+    ) -> Result<Rc<(ToolData, WobjData)>> {
+        let at = NamesAt::of(frame, [tool, wobj]).filter(|_| self.static_names(frame));
+        if let Some((last, frames)) = &self.last_frames {
+            if at.as_ref() == Some(last) {
+                return Ok(frames.clone());
+            }
+        }
         let name_of =
             |w: &mut Self, e: Option<&Expr>, frame: &mut Frame<'p>| -> Result<Option<String>> {
                 Ok(match e {
@@ -87,9 +107,11 @@ impl<'p> Walker<'p> {
             };
         let t = name_of(self, tool, frame)?;
         let o = name_of(self, wobj, frame)?;
+        let mut noted = false;
         let tool = match self.frames.tool(t.as_deref()) {
             Some(t) => t.clone(),
             None => {
+                noted = true;
                 self.note(
                     frame,
                     line,
@@ -104,6 +126,7 @@ impl<'p> Walker<'p> {
         let wobj = match self.frames.wobj(o.as_deref()) {
             Some(w) => w.clone(),
             None => {
+                noted = true;
                 self.note(
                     frame,
                     line,
@@ -115,7 +138,13 @@ impl<'p> Walker<'p> {
                 WobjData::wobj0()
             }
         };
-        Ok((tool, wobj))
+        let frames = Rc::new((tool, wobj));
+        // Found without a note: the next move naming them alike finds the
+        // same.
+        if let (Some(at), false) = (at, noted) {
+            self.last_frames = Some((at, frames.clone()));
+        }
+        Ok(frames)
     }
 
     pub(super) fn exec_move(
@@ -158,7 +187,8 @@ impl<'p> Walker<'p> {
             },
             None => None,
         };
-        let (tool, wobj) = self.frame_names(m.tool, m.wobj, frame, line)?;
+        let frames = self.frame_names(m.tool, m.wobj, frame, line)?;
+        let (tool, wobj) = (&frames.0, &frames.1);
         let to = match m.to {
             Some(e) => self.eval(e, frame)?,
             None => Value::Unknown,

@@ -127,8 +127,9 @@ impl When {
                 joints,
                 default,
             } => {
-                let text = format!("{schedule:?}{joints:?}{default:?}");
-                format!("schedule {}", marker::fingerprint(text.as_bytes()))
+                let print =
+                    marker::fingerprint_of(|w| write!(w, "{schedule:?}{joints:?}{default:?}"));
+                format!("schedule {print}")
             }
         }
     }

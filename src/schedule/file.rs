@@ -4,7 +4,6 @@
 
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Result};
-use std::collections::BTreeMap;
 
 /// Which of a target's several visits its correction is computed for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -53,9 +52,17 @@ pub struct Schedule {
 /// records a schedule by a fingerprint of this text.
 impl std::fmt::Debug for Schedule {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let sorted: BTreeMap<&String, &Vec<f64>> = self.visits.iter().collect();
+        /// The visits in key order, written as a map.
+        struct Sorted<'a>(Vec<(&'a String, &'a Vec<f64>)>);
+        impl std::fmt::Debug for Sorted<'_> {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.debug_map().entries(self.0.iter().copied()).finish()
+            }
+        }
+        let mut sorted: Vec<_> = self.visits.iter().collect();
+        sorted.sort_unstable_by(|a, b| a.0.cmp(b.0));
         f.debug_struct("Schedule")
-            .field("visits", &sorted)
+            .field("visits", &Sorted(sorted))
             .field("order", &self.order)
             .finish()
     }
@@ -75,6 +82,12 @@ impl Schedule {
         }
         self.visits.insert(key.into_owned(), vec![time_min]);
         self.order.push(target.to_string());
+    }
+
+    /// Room for `n` more targets.
+    pub(crate) fn reserve(&mut self, n: usize) {
+        self.visits.reserve(n);
+        self.order.reserve(n);
     }
 
     /// All visit times of a target, in the order recorded.

@@ -286,16 +286,18 @@ impl<'p> Walker<'p> {
                 let tool = optional("Tool").and_then(|a| a.value.as_ref());
                 let wobj = optional("WObj").and_then(|a| a.value.as_ref());
                 let frames = self.frame_names(tool, wobj, frame, 0)?;
-                Ok(match target_of_flange(&self.arm.flange, &frames.0, &frames.1) {
-                    Ok(pose) => Value::Rob(Box::new(Rob {
-                        pose,
-                        conf: self.arm.conf,
-                        id: None,
-                        derived,
-                        bases: Vec::new(),
-                    })),
-                    Err(_) => Value::Unknown,
-                })
+                Ok(
+                    match target_of_flange(&self.arm.flange, &frames.0, &frames.1) {
+                        Ok(pose) => Value::Rob(Box::new(Rob {
+                            pose,
+                            conf: self.arm.conf,
+                            id: None,
+                            derived,
+                            bases: Vec::new(),
+                        })),
+                        Err(_) => Value::Unknown,
+                    },
+                )
             }
             "cjointt" => Ok(match self.current_joints() {
                 Some(q) => Value::Joint(Box::new((q, None))),

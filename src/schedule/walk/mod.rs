@@ -228,7 +228,13 @@ impl<'p> Walker<'p> {
                 conf: robot.conf_of(&zero),
             },
             velset: (1.0, f64::INFINITY),
-            schedule: Schedule::new(),
+            // Every robtarget is mostly reached: room for each at once
+            // (a million grown by doubling were rehashed twenty times).
+            schedule: {
+                let mut s = Schedule::new();
+                s.reserve(program.targets().len());
+                s
+            },
             joint_schedule: Schedule::new(),
             base_visits: Vec::new(),
             notes: Vec::new(),

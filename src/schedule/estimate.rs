@@ -118,15 +118,29 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         )));
     }
     let (module, routine) = find_entry(program, &opts.entry)?;
-    let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
     let start_s = opts.start_min * 60.0;
-    w.clock = start_s;
-    w.robot_free = start_s;
-    for _ in 0..opts.cycles {
-        let flow = w.call_routine(module, routine, Vec::new(), 0)?;
-        if matches!(flow, Flow::Exit) {
-            break;
+    let walk = |defer: bool| -> Result<Walker> {
+        let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
+        if defer {
+            w.deferred = Some(Vec::new());
         }
+        w.clock = start_s;
+        w.robot_free = start_s;
+        for _ in 0..opts.cycles {
+            let flow = w.call_routine(module, routine, Vec::new(), 0)?;
+            if matches!(flow, Flow::Exit) {
+                break;
+            }
+        }
+        Ok(w)
+    };
+    // Whether each target can be reached is asked of the arm after the
+    // walk, on every core; should one not be, the walk is taken again
+    // asking at each move, which finds it (and every other) in its place
+    // and does not time its move, as the controller would not run it.
+    let mut w = walk(true)?;
+    if !w.deferred.take().is_some_and(|d| all_reachable(robot, &d)) {
+        w = walk(false)?;
     }
     let errors = std::mem::take(&mut w.errors);
     if let Some(e) = errors.into_error(|n| {
@@ -156,6 +170,18 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         joint_schedule: w.joint_schedule,
         duration_min: (end_s - start_s) / 60.0,
         notes: w.notes,
+    })
+}
+
+/// Whether the arm reaches each flange pose (in the robconf of its
+/// target, else in any).
+fn all_reachable(
+    robot: &Robot,
+    poses: &[(nalgebra::Isometry3<f64>, crate::robot::RobConf)],
+) -> bool {
+    use rayon::prelude::*;
+    poses.par_iter().all(|(flange, conf)| {
+        robot.reaches_with(flange, conf) || robot.ik(flange).is_ok_and(|s| !s.is_empty())
     })
 }
 

@@ -3,6 +3,9 @@
 //! outside the joint limits would be timed as NaN or nonsense. Each such
 //! target is recorded once ([`Walker::errors`]) and its move skipped, so
 //! that the walk finds them all and the estimate lists them together.
+//! Reach is the costly question (an IK per pose): a first walk defers it
+//! ([`Walker::deferred`]) to be asked on every core after, and only when
+//! a pose is out of reach is the walk taken again asking at each move.
 
 use super::*;
 use crate::robot::describe_violation;
@@ -59,6 +62,10 @@ impl<'p> Walker<'p> {
             [v.x, v.y, v.z, r.w, r.x, r.y, r.z].map(f64::to_bits)
         };
         if self.reachable.contains(&key) {
+            return true;
+        }
+        if let Some(poses) = &mut self.deferred {
+            poses.push((*flange, rob.conf));
             return true;
         }
         // Most targets are reached with their own robconf: found so, a

@@ -138,6 +138,9 @@ pub(super) struct Walker<'p> {
     /// a million times.
     pub(super) last_speed: Option<(NamesAt, SpeedData)>,
     pub(super) last_frames: Option<(NamesAt, std::rc::Rc<(ToolData, WobjData)>)>,
+    /// Flange poses whose reach is asked after the walk, and the robconf
+    /// of their targets; `None`: asked at each move.
+    pub(super) deferred: Option<Vec<(Isometry3<f64>, RobConf)>>,
 }
 
 /// Names as written, in a module and routine.
@@ -245,6 +248,7 @@ impl<'p> Walker<'p> {
             evaluating: HashSet::new(),
             last_speed: None,
             last_frames: None,
+            deferred: None,
         })
     }
 

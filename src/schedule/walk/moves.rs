@@ -193,7 +193,7 @@ impl<'p> Walker<'p> {
             Some(e) => self.eval(e, frame)?,
             None => Value::Unknown,
         };
-        let from = target_of_flange(&self.arm.flange, &tool, &wobj);
+        let from = target_of_flange(&self.arm.flange, tool, wobj);
         let max_speed = self.robot.max_speed_deg_s.map(|v| v * ov);
         match (kind, to) {
             (MotionKind::AbsJoint, Value::Joint(j)) => {
@@ -219,7 +219,7 @@ impl<'p> Walker<'p> {
                 }
                 let q_from = self.current_joints();
                 let flange = self.robot.fk(&q);
-                let tcp = match (&from, target_of_flange(&flange, &tool, &wobj)) {
+                let tcp = match (&from, target_of_flange(&flange, tool, wobj)) {
                     (Ok(a), Ok(b)) => (b.translation.vector - a.translation.vector).norm(),
                     _ => 0.0,
                 };
@@ -253,7 +253,7 @@ impl<'p> Walker<'p> {
                 return Ok(());
             }
             (_, Value::Rob(rob)) => {
-                let flange = match flange_of_target(&rob.pose, &tool, &wobj) {
+                let flange = match flange_of_target(&rob.pose, tool, wobj) {
                     Ok(f) => f,
                     Err(e) => {
                         self.note(
@@ -294,7 +294,7 @@ impl<'p> Walker<'p> {
                         };
                         let angle = from.rotation.angle_to(&rob.pose.rotation).to_degrees();
                         if let Value::Rob(c) = &cir {
-                            let via = flange_of_target(&c.pose, &tool, &wobj);
+                            let via = flange_of_target(&c.pose, tool, wobj);
                             if via.is_ok_and(|v| !self.check_rob(c, &v, call, frame, s)) {
                                 return Ok(());
                             }

@@ -22,8 +22,11 @@ pub(super) struct CutFeed<'a> {
     /// Names met in the cut moves, interned: a CAM program repeats its
     /// instruction, speed, zone, tool and work object a million times.
     pub(super) names: Vec<(&'a [u8], Arc<str>)>,
-    /// Moves read ahead, on every core, and where they start.
+    /// Moves read ahead, on every core.
     pub(super) ahead: std::collections::VecDeque<Option<FastMove>>,
+    /// The line of the last move put back (lines of the skeleton are
+    /// counted on from it: the moves come in order).
+    line: usize,
 }
 
 /// Names [`CutFeed`] keeps.
@@ -40,6 +43,7 @@ impl<'a> CutFeed<'a> {
             next: 0,
             names: Vec::new(),
             ahead: std::collections::VecDeque::new(),
+            line: 0,
         }
     }
 
@@ -61,6 +65,25 @@ impl<'a> CutFeed<'a> {
 }
 
 impl FileParser<'_, '_> {
+    /// [`pos`](Self::pos) of `place`, a cut move's, found from the last
+    /// one's line on (not searched for among a million lines).
+    fn cut_pos(&mut self, place: usize) -> Pos {
+        let lines = self.lines;
+        let Some(feed) = self.cuts.as_mut() else {
+            return self.pos(place);
+        };
+        while feed.line < lines.len() && lines[feed.line] <= place {
+            feed.line += 1;
+        }
+        let line = feed.line.max(1);
+        let start = lines.get(line - 1).copied().unwrap_or(0).min(place);
+        Pos {
+            offset: place,
+            line: line as u32,
+            col: column(&self.src[start..place]),
+        }
+    }
+
     /// The name at `r` of the file the moves were cut from, interned.
     fn cut_name(&mut self, r: &Range<usize>) -> Option<Arc<str>> {
         let feed = self.cuts.as_ref()?;
@@ -127,7 +150,7 @@ impl FileParser<'_, '_> {
         // The cut move was the last statement of its line: the skeleton
         // keeps everything before it there, so its line and column are
         // the file's.
-        let pos = self.pos(place);
+        let pos = self.cut_pos(place);
         let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
         let mut args = Vec::with_capacity(m.targets.len() + 4);
         let mut targets = Vec::with_capacity(m.targets.len());
@@ -135,12 +158,27 @@ impl FileParser<'_, '_> {
             self.inline_k += 1;
             let mut id = String::with_capacity(routine.len() + 8);
             let _ = write!(id, "{routine}#{}", self.inline_k);
-            let mut t = self.new_target(id, TargetKind::Inline, place, Some(value));
-            // Names and numbers are ASCII: bytes are columns.
-            t.origin.pos.col += (at - cut_at) as u32;
-            t.instruction = Some(name.clone());
-            t.tool = Some(tool.clone());
-            t.wobj = wobj.as_ref().map(|w| w.1.clone());
+            let t = Target {
+                id,
+                kind: TargetKind::Inline,
+                origin: Origin {
+                    file: self.file,
+                    module: self.module.clone(),
+                    routine: self.routine.clone(),
+                    // Names and numbers are ASCII: bytes are columns.
+                    pos: Pos {
+                        col: pos.col + (at - cut_at) as u32,
+                        ..pos
+                    },
+                },
+                name: None,
+                storage: None,
+                value: Some(value),
+                instruction: Some(name.clone()),
+                tool: Some(tool.clone()),
+                wobj: wobj.as_ref().map(|w| w.1.clone()),
+                derived: None,
+            };
             let i = self.push_target(t);
             targets.push(i);
             args.push(Arg {

@@ -449,8 +449,17 @@ impl VisitMut for DerivedWalk<'_> {
     }
 
     fn visit_call_mut(&mut self, c: &mut Call) {
-        let (t, _) = call_tool_wobj(&c.name, &c.args, self.tools);
-        // Literals whose instruction's tool is only known now.
+        // Literals whose instruction's tool is only known now (most know
+        // it: a CAM program's million moves are not asked again).
+        let targets = &self.b.prog.targets;
+        let untooled = c
+            .targets
+            .iter()
+            .any(|&i| targets.get(i).is_some_and(|x| x.tool.is_none()));
+        let t = match untooled {
+            true => call_tool_wobj(&c.name, &c.args, self.tools).0,
+            false => None,
+        };
         if let Some(t) = t {
             let t = self.b.intern(&t);
             for &i in &c.targets {

@@ -1,8 +1,10 @@
-//! `correct FILE --at MIN -o OUT` on a program of millions of moves: the
-//! file memory-mapped, its moves cut out by the fast recogniser, the rest
-//! parsed whole, the corrected file written as it is produced (see
-//! `docs/streaming.md`). Any other run, and any program the fast path
-//! declines, takes the whole-program path unchanged.
+//! `correct FILE -o OUT` (`--at`, `--start` or `--schedule`) on a program
+//! of millions of moves: the file memory-mapped, its moves cut out by the
+//! fast recogniser, the rest parsed whole, the corrected file written as
+//! it is produced (see `docs/streaming.md`); with a schedule, the whole
+//! program read from the skeleton first, to time each target. Any other
+//! run, and any program the fast path declines, takes the whole-program
+//! path unchanged.
 
 use super::correct::{
     checked_arm, moment, note_still, summary_text, warm_run, when_and_notes, CorrectArgs,
@@ -100,15 +102,12 @@ pub fn correct(
             let Some(t) = CutTimes::new(&whole, &program, &skeleton, &options) else {
                 return Ok(None);
             };
-            // Freeing a program of a million targets takes a tenth of a
-            // second of a core the correction needs; the run ends with
-            // the correction, and its memory was at its peak already.
-            std::mem::forget(whole);
             messages::took("each target's moment", started);
-            Some(t)
+            Some((t, whole))
         }
         None => None,
     };
+    let (times, whole) = times.unzip();
     let started = std::time::Instant::now();
     let streamed = output::write_atomic_with(out, None, |file| {
         let mut sink = std::io::BufWriter::with_capacity(
@@ -137,6 +136,10 @@ pub fn correct(
         return Ok(None);
     };
     messages::took("correcting and writing", started);
+    // Freeing the whole reading of a million targets takes a tenth of a
+    // second; the run ends here, and its memory was at its peak already.
+    // (Declined, it is freed before the whole-program path runs.)
+    std::mem::forget(whole);
     for note in &notes {
         note!("{note}");
     }

@@ -14,16 +14,16 @@ use std::fmt::Write as _;
 
 /// The cut moves of the file being parsed, in file order.
 pub(super) struct CutFeed<'a> {
-    pub(super) skeleton: &'a Skeleton,
+    skeleton: &'a Skeleton,
     /// The file the moves were cut from.
-    pub(super) file: &'a [u8],
+    file: &'a [u8],
     /// The next move to put back.
-    pub(super) next: usize,
+    next: usize,
     /// Names met in the cut moves, interned: a CAM program repeats its
     /// instruction, speed, zone, tool and work object a million times.
-    pub(super) names: Vec<(&'a [u8], Arc<str>)>,
+    names: Vec<(&'a [u8], Arc<str>)>,
     /// Moves read ahead, on every core.
-    pub(super) ahead: std::collections::VecDeque<Option<FastMove>>,
+    ahead: std::collections::VecDeque<Option<FastMove>>,
     /// The line of the last move put back (lines of the skeleton are
     /// counted on from it: the moves come in order).
     line: usize,

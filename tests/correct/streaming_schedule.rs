@@ -16,13 +16,13 @@ use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, EstimateOptions, Schedule};
 
 /// When the targets of `program` are reached: its estimate from minute 20
-/// (two cycles of the first module's routine; the second module's targets
-/// are not reached and take the default), or, `partial`, a file of every
-/// other robtarget's visits and no jointtargets', the rest at the
-/// default. `None` where the estimate is refused.
-fn when_of(program: &Program, partial: bool) -> Option<When> {
+/// (two cycles of the first module's routine, `entry`; the second
+/// module's targets are not reached and take the default), or, `partial`,
+/// a file of every other robtarget's visits and no jointtargets', the
+/// rest at the default. `None` where the estimate is refused.
+fn when_of(program: &Program, entry: &str, partial: bool) -> Option<When> {
     let opts = EstimateOptions {
-        entry: "main0".to_string(),
+        entry: entry.to_string(),
         start_min: 20.0,
         cycles: 2,
         base_frame: None,
@@ -52,11 +52,11 @@ fn when_of(program: &Program, partial: bool) -> Option<When> {
 /// Whether the streamed run timed as [`when_of`] says wrote what the
 /// whole path writes; `false` when either declined or the estimate was
 /// refused.
-fn scheduled_as_whole(src: &[u8], partial: bool) -> bool {
+fn scheduled_as_whole(src: &[u8], entry: &str, partial: bool) -> bool {
     let Ok(whole_program) = rapid::parse("p.mod", src) else {
         return false;
     };
-    let Some(when) = when_of(&whole_program, partial) else {
+    let Some(when) = when_of(&whole_program, entry, partial) else {
         return false;
     };
     let options = Options::new(when);
@@ -66,7 +66,7 @@ fn scheduled_as_whole(src: &[u8], partial: bool) -> bool {
     let read = rapid::parse_skeleton("p.mod", &skel, src).expect("the skeleton reads whole");
     // The first pass: the program read from the skeleton is timed as the
     // whole parse is.
-    assert_eq!(when_of(&read, partial), Some(options.when.clone()));
+    assert_eq!(when_of(&read, entry, partial), Some(options.when.clone()));
     let Some(times) = CutTimes::new(&read, &program, &skel, &options) else {
         return false;
     };
@@ -88,11 +88,14 @@ fn a_cam_program_streams_timed_by_its_schedule() {
         .chain([Stmt::Named(0), Stmt::Named(3), Stmt::ConfOff])
         .collect();
     let second = vec![Stmt::Named(1), Stmt::Inline("MoveL", 5, 0, false, "")];
-    for partial in [false, true] {
-        let src = program_with(&[body.clone(), second.clone()], "\r\n", true, false);
+    for (partial, one_name) in [(false, false), (true, false), (false, true), (true, true)] {
+        // With one routine name in both modules, identifiers name their
+        // module (`M1:main#3`).
+        let src = program_with(&[body.clone(), second.clone()], "\r\n", true, one_name);
+        let entry = if one_name { "main" } else { "main0" };
         assert!(
-            scheduled_as_whole(&src, partial),
-            "the fast path declined a CAM program (partial schedule: {partial})"
+            scheduled_as_whole(&src, entry, partial),
+            "the fast path declined a CAM program (partial schedule: {partial}, one name: {one_name})"
         );
     }
 }
@@ -105,9 +108,12 @@ proptest! {
         bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
         crlf in any::<bool>(),
         partial in any::<bool>(),
+        one_name in any::<bool>(),
     ) {
-        let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, false, false);
-        scheduled_as_whole(&src, partial);
+        // With one routine name in every module, identifiers name their
+        // module (`M1:main#3`).
+        let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, false, one_name);
+        scheduled_as_whole(&src, if one_name { "main" } else { "main0" }, partial);
     }
 }
 

@@ -4,7 +4,8 @@
 //! whole as ever) and the moves themselves, read again where they were,
 //! corrected a batch at a time on every core by the same solve, and
 //! written out in order as they come: memory holds a batch, not the
-//! program.
+//! program. Timed by a schedule, each cut target is corrected for its own
+//! moment, worked out beforehand ([`CutTimes`], the first of two passes).
 //!
 //! Whatever the fast path could not say exactly as the whole-program path
 //! does (an error with its place, a target left alone, a note, a program

@@ -102,6 +102,63 @@ fn a_program_of_blocks_reads_the_same_from_its_skeleton() {
 }
 
 #[test]
+fn moves_of_every_kind_of_routine_and_handler_read_the_same() {
+    let mv = |x: u32| {
+        format!(
+            "MoveL [[{x},0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tool0;"
+        )
+    };
+    let src = format!(
+        "MODULE m
+  VAR num nVar;
+  PROC main()
+    VAR num k;
+    {a}
+  lbl:
+    {b}
+    IF nVar = 1 GOTO lbl2;
+    IF TRUE {c}
+    {d}
+  lbl2:
+    f;
+    Sub;
+  BACKWARD
+    {e}
+  ERROR
+    {f}
+    RETRY;
+  UNDO
+    {g}
+  ENDPROC
+  PROC Sub()
+    {h}
+  ENDPROC
+  TRAP tr
+    {i}
+  ENDTRAP
+  FUNC num f()
+    {j}
+    RETURN 1;
+  ENDFUNC
+ENDMODULE
+",
+        a = mv(450),
+        b = mv(451),
+        c = mv(452),
+        d = mv(453),
+        e = mv(454),
+        f = mv(455),
+        g = mv(456),
+        h = mv(457),
+        i = mv(458),
+        j = mv(459),
+    );
+    let cut = same_both_ways(src.as_bytes(), 5.0).unwrap();
+    // Every move but the one of the one-line IF.
+    assert_eq!(cut, 9);
+}
+
+#[test]
 fn a_declaration_after_a_cut_move_is_refused_as_the_grammar_refuses_it() {
     let src = b"MODULE m\nPROC main()\n  MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v100,z1,tool0;\n  VAR num k;\nENDPROC\nENDMODULE\n";
     let whole = rapid::parse("m.mod", src).unwrap_err();

@@ -33,8 +33,10 @@ pub fn correct(
         return Ok(None);
     };
     // The pictures need every target's correction, which a streamed run
-    // does not keep: with --plot the whole path runs, and draws them.
-    if args.plot.is_some() {
+    // does not keep: with --plot the whole path runs, and draws them. A
+    // schedule on standard input can be read once only, and the whole
+    // path must have it should the streamed run decline.
+    if args.plot.is_some() || args.when.schedule.as_deref() == Some(Path::new("-")) {
         return Ok(None);
     }
     let [task] = motion else {

@@ -179,3 +179,56 @@ fn the_binary_streams_a_scheduled_run_as_it_corrects_it_whole() {
         assert!(written == whole.stdout, "{when:?}: the files differ");
     }
 }
+
+/// A schedule on standard input is read once: the run takes the
+/// whole-program path (the streamed one, should it decline, would leave
+/// the whole path nothing to read) and writes what the file gives.
+#[test]
+fn a_schedule_on_standard_input_is_read_once() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+    std::fs::copy(sample, dir.path().join("cam.mod")).unwrap();
+    let bin = env!("CARGO_BIN_EXE_rapidtherm");
+    let run = |args: &[&str], stdin: &[u8]| {
+        let mut child = std::process::Command::new(bin)
+            .args(args)
+            .current_dir(dir.path())
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(stdin).unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let csv = run(&["schedule", "cam.mod", "--start", "10"], b"").stdout;
+    std::fs::write(dir.path().join("s.csv"), &csv).unwrap();
+    let piped = run(
+        &[
+            "correct",
+            "cam.mod",
+            "--schedule",
+            "-",
+            "-o",
+            "a.mod",
+            "-vv",
+        ],
+        &csv,
+    );
+    let said = String::from_utf8_lossy(&piped.stderr);
+    assert!(piped.status.success(), "{said}");
+    assert!(!said.contains("correcting and writing"), "{said}");
+    let by_file = run(
+        &["correct", "cam.mod", "--schedule", "s.csv", "-o", "b.mod"],
+        b"",
+    );
+    assert!(by_file.status.success());
+    let a = std::fs::read(dir.path().join("a.mod")).unwrap();
+    let b = std::fs::read(dir.path().join("b.mod")).unwrap();
+    // The marker names the schedule by its times, not by its file.
+    assert!(
+        a == b,
+        "a schedule piped and the same schedule by file differ"
+    );
+}

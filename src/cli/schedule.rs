@@ -1,9 +1,10 @@
 //! `rapidtherm schedule FILE...`: when each target of a program is
 //! reached, estimated by walking its entry routine (CSV on stdout, the
 //! choices made on stderr).
-use super::messages::{note, status};
+use super::messages::{self, note, status};
 use super::{write_output, Status};
 use rapidtherm::error::{Error, Result};
+use rapidtherm::rapid::{self, task::Task};
 use rapidtherm::schedule::{estimate, EstimateOptions};
 use std::path::PathBuf;
 
@@ -40,7 +41,13 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         return Err(Error::usage("--cycles must be at least 1"));
     }
     let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
-    let (_, program) = super::tasks::read(&task)?;
+    let (program, fast) = match read_from_skeleton(&task) {
+        Some(p) => {
+            super::tasks::announce(&task);
+            (p, true)
+        }
+        None => (super::tasks::read(&task)?.1, false),
+    };
     let robot = super::tasks::arm_for(&task, args.robot.as_slice())?.robot;
     let opts = EstimateOptions {
         entry: args.entry,
@@ -48,7 +55,16 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         cycles: args.cycles,
         base_frame: super::tasks::base_frame(&task)?,
     };
-    let est = estimate(&program, &robot, &opts)?;
+    let est = match estimate(&program, &robot, &opts) {
+        Ok(est) => est,
+        // An error names places and lines of the file: the grammar's
+        // reading has them as the file writes them.
+        Err(_) if fast => {
+            drop(program);
+            estimate(&super::read_program(&task.modules)?.1, &robot, &opts)?
+        }
+        Err(e) => return Err(e),
+    };
     write_output(&args.output, est.to_csv().as_bytes())?;
     for n in &est.notes {
         note!("{n}");
@@ -62,4 +78,28 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         opts.start_min + est.duration_min
     );
     Ok(Status::Success)
+}
+
+/// The program of a task of one file given by name, read from its
+/// skeleton (the moves the fast recogniser reads cut out, put back by the
+/// assembly: `rapid::parse_skeleton`): the program the grammar makes of
+/// it, a CAM program's at a tenth of the cost. `None` where it does not
+/// apply or has something to say (the grammar's reading then says it).
+fn read_from_skeleton(task: &Task) -> Option<rapid::Program> {
+    let [path] = task.modules.as_slice() else {
+        return None;
+    };
+    if task.name.is_some() || !super::stream::is_plain_file(path) {
+        return None;
+    }
+    let map = super::stream::map_file(path).ok()?;
+    let started = std::time::Instant::now();
+    let skeleton = rapid::fastmove::skeleton(&map);
+    if skeleton.cuts.is_empty() {
+        return None;
+    }
+    let name = path.display().to_string();
+    let program = rapid::parse_skeleton(&name, &skeleton, &map).ok()?;
+    messages::took("reading the program from its skeleton", started);
+    program.warnings.is_empty().then_some(program)
 }

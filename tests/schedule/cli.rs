@@ -58,3 +58,48 @@ fn nothing_written_on_error() {
     let stderr = String::from_utf8_lossy(&status.stderr);
     assert!(stderr.contains("rBead"), "{stderr}");
 }
+
+/// `schedule FILE` reads a program of moves the fast recogniser knows
+/// from its skeleton (`rapid::parse_skeleton`); from standard input the
+/// grammar reads it whole. Both say the same: the CSV, the notes, the
+/// errors (an unreachable target's, told by the grammar's reading) and
+/// the exit code, on every sample.
+#[test]
+fn a_file_schedules_as_standard_input_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let far = dir.path().join("far.mod");
+    std::fs::write(
+        &far,
+        "MODULE far\n  PROC main()\n    MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tool0;\n    MoveL [[5000,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tool0;\n  ENDPROC\nENDMODULE\n",
+    )
+    .unwrap();
+    let samples = concat!(env!("CARGO_MANIFEST_DIR"), "/samples");
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(samples)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "mod"))
+        .collect();
+    files.sort();
+    files.push(far);
+    for f in &files {
+        let by_name = rapidtherm()
+            .args(["schedule", "--start", "30", "--cycles", "2"])
+            .arg(f)
+            .output()
+            .unwrap();
+        let piped = rapidtherm()
+            .args(["schedule", "--start", "30", "--cycles", "2", "-"])
+            .stdin(std::fs::File::open(f).unwrap())
+            .output()
+            .unwrap();
+        let name = f.display().to_string();
+        let said =
+            |o: &std::process::Output| String::from_utf8_lossy(&o.stderr).replace("<stdin>", &name);
+        assert_eq!(by_name.status.code(), piped.status.code(), "{name}");
+        assert_eq!(said(&by_name), said(&piped), "{name}");
+        assert!(
+            by_name.stdout == piped.stdout,
+            "{name}: the schedules differ"
+        );
+    }
+}

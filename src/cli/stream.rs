@@ -69,8 +69,9 @@ pub fn correct(
         return Ok(None);
     };
     // A schedule names the whole program's targets: the program is read
-    // whole from the skeleton for it (and the estimate walked), then let
-    // go; each cut target keeps its moment.
+    // whole from the skeleton for it (and the estimate walked), and kept
+    // with each cut target's moment: the correction reads the cut
+    // literals from it.
     let (when, notes, whole) = match &args.when.at {
         Some(at) => {
             let Ok(when) = moment(at, "--at").map(When::At) else {
@@ -101,15 +102,14 @@ pub fn correct(
     let times = match whole {
         Some(whole) => {
             let started = std::time::Instant::now();
-            let Some(t) = CutTimes::new(&whole, &program, &skeleton, &options) else {
+            let Some(t) = CutTimes::new(whole, &program, &skeleton, &options) else {
                 return Ok(None);
             };
             messages::took("each target's moment", started);
-            Some((t, whole))
+            Some(t)
         }
         None => None,
     };
-    let (times, whole) = times.unzip();
     let started = std::time::Instant::now();
     let streamed = output::write_atomic_with(out, None, |file| {
         let mut sink = std::io::BufWriter::with_capacity(
@@ -139,9 +139,11 @@ pub fn correct(
     };
     messages::took("correcting and writing", started);
     // Freeing the whole reading of a million targets takes a tenth of a
-    // second; the run ends here, and its memory was at its peak already.
-    // (Declined, it is freed before the whole-program path runs.)
-    std::mem::forget(whole);
+    // second, and the schedules kept with it (a map and a moment per
+    // target) a few hundredths more; the run ends here, and its memory was
+    // at its peak already. (Declined, they are freed before the
+    // whole-program path runs.)
+    std::mem::forget((times, options));
     for note in &notes {
         note!("{note}");
     }

@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::model::{Moment, State, WarmRobot};
 use crate::rapid::fastmove::Skeleton;
 use crate::rapid::rewrite::{robtarget_changes, Edit};
-use crate::rapid::{Origin, Pos, Program, Target, TargetKind};
+use crate::rapid::{Origin, Pos, Program, RobTargetValue, Target, TargetKind};
 use crate::resolve::target_pose;
 use crate::robot::{RobConf, ToolData, WobjData};
 use nalgebra::Isometry3;
@@ -65,7 +65,7 @@ pub fn correct_streamed(
     // identifiers; the cut ones each for its moment.
     let (skeleton_options, moment, moments) = match (&options.when, times) {
         (When::At(m), _) => (options, *m, None),
-        (When::Schedule { .. }, Some(t)) => (&t.options, Moment::Steady, Some(&t.moments[..])),
+        (When::Schedule { .. }, Some(t)) => (&t.options, Moment::Steady, Some(t)),
         (When::Schedule { .. }, None) => return Ok(None),
     };
     if program.files.len() != 1
@@ -133,7 +133,7 @@ pub fn correct_streamed(
     let mut literal = 0;
     for lo in (0..cuts.len()).step_by(BATCH) {
         let hi = (lo + BATCH).min(cuts.len());
-        let chunks: Vec<(Range<usize>, usize)> = (lo..hi)
+        let chunks: Vec<(Range<usize>, Range<usize>)> = (lo..hi)
             .step_by(CHUNK)
             .map(|k| {
                 let k = k..(k + CHUNK).min(hi);
@@ -142,7 +142,7 @@ pub fn correct_streamed(
                     .iter()
                     .map(|&n| usize::from(n))
                     .sum::<usize>();
-                (k, first)
+                (k, first..literal)
             })
             .collect();
         let previous = std::mem::take(&mut ready);
@@ -150,14 +150,18 @@ pub fn correct_streamed(
             || {
                 chunks
                     .into_par_iter()
-                    .map(|(k, first)| {
+                    .map(|(k, own)| {
                         let to = cuts.get(k.end).map_or(src.len(), |c| c.start);
                         correct_chunk(
                             (program, warm, skeleton_options),
                             (src, skeleton, &fixed),
                             k.clone(),
                             cuts[k.start].start..to,
-                            (moment, &state, moments.map(|m| &m[first.min(m.len())..])),
+                            (
+                                moment,
+                                &state,
+                                moments.map(|t| (&t.whole, t.literals.get(own))),
+                            ),
                         )
                     })
                     .collect::<Vec<_>>()
@@ -228,22 +232,28 @@ fn said_alike(f: &Findings) -> bool {
         && !f.splits.iter().any(|s| inline(&s.id))
 }
 
+/// The whole program of a scheduled run's first pass, and a chunk's cut
+/// literals (each's moment and target there); none at one moment.
+type CutLiterals<'a> = Option<(&'a Program, Option<&'a [(Moment, usize)]>)>;
+
 /// The names of a move's tool and work object as written, and their data.
-type LastFrames<'a> = (&'a [u8], Option<&'a [u8]>, &'a ToolData, &'a WobjData);
+type LastFrames<'a> = (Vec<u8>, Option<Vec<u8>>, &'a ToolData, &'a WobjData);
 
 /// Correct the cut moves `cuts` of `src` and write the bytes of `span`
 /// (from the chunk's first move to the next chunk's) with their new
 /// numbers and the skeleton's edits `fixed` that fall in it, in file
 /// order; `Ok(None)` when one of the moves needs the whole path (an
 /// unknown tool, an unreachable target, a note). Its targets are
-/// corrected for `moment` (whose state is `state`), or each for its own
-/// of `moments` (the chunk's literals' on).
+/// corrected for `moment` (whose state is `state`), read again from
+/// `src`; or, given the whole program the first pass read and the
+/// chunk's `literals` (each's moment and target there), each for its own
+/// moment from its target (no literals: the passes disagree on them).
 fn correct_chunk(
     (program, warm, options): (&Program, &WarmRobot, &Options),
     (src, skeleton, fixed): (&[u8], &Skeleton, &[Edit]),
     cuts: Range<usize>,
     span: Range<usize>,
-    (moment, state, moments): (Moment, &State, Option<&[Moment]>),
+    (moment, state, literals): (Moment, &State, CutLiterals),
 ) -> Result<Option<Done>> {
     let Ok(run) = Run::new(program, warm, options) else {
         return Ok(None);
@@ -289,73 +299,108 @@ fn correct_chunk(
         moment,
         state: *state,
     };
-    // The frames of the last move, by the bytes of their names: a CAM
-    // program names the same pair a million times, and each lookup
-    // lower-cased the names into new strings.
-    let mut last: Option<LastFrames> = None;
     // Where a number's new text is formatted (three million of them).
     let mut text = String::with_capacity(24);
-    for k in cuts {
-        let Some(m) = skeleton.reread(src, k) else {
+    // One target at `at` (a file offset in its literal, for the summary's
+    // order), for its own moment where it has one; `None`: declined.
+    let mut correct_one = |at: usize,
+                           value: RobTargetValue,
+                           frames: (&ToolData, &WobjData),
+                           own: Option<Moment>|
+     -> Result<Option<()>> {
+        // Consecutive moves share no moment, but a target visited by a
+        // loop's turns may: its state is worked out once.
+        if let Some(m) = own.filter(|&m| m != meant.moment) {
+            let Ok(s) = run.states.at(m) else {
+                return Ok(None);
+            };
+            meant.state = s;
+            meant.moment = m;
+            meant.moments[0] = m;
+        }
+        target.origin.pos.offset = at;
+        target.value = Some(value);
+        let Ok(Some((pose, conf))) = target_pose(program, &target) else {
             return Ok(None);
         };
-        let tool_bytes = &src[m.tool.clone()];
-        let wobj_bytes = m.wobj.clone().map(|w| &src[w]);
-        let (tool, wobj) = match last {
-            Some((t, w, tool, wobj)) if t == tool_bytes && w == wobj_bytes => (tool, wobj),
-            _ => {
-                let Some(frames) = frames_named(&run, tool_bytes, wobj_bytes) else {
-                    return Ok(None);
-                };
-                last = Some((tool_bytes, wobj_bytes, frames.0, frames.1));
-                frames
-            }
+        meant.pose = pose;
+        meant.conf = conf;
+        let Ok(c) = corrected_numbers(&run, &target, &meant, frames, None) else {
+            return Ok(None);
         };
-        for (at, value) in m.targets {
-            if let Some(moments) = moments {
-                let Some(&m) = moments.get(rows.len()) else {
+        let Some(value) = &target.value else {
+            return Ok(None);
+        };
+        // The numbers that change, written as they come, with the
+        // skeleton's edits before them: the same text as the whole path's
+        // edits ([`robtarget_edits`] makes them this way).
+        let mut rewritten = false;
+        let mut written = Ok(());
+        let new = (c.exact.translation.vector.into(), c.turned, None);
+        robtarget_changes(src, value, new, &mut text, &mut |at, new| {
+            rewritten = true;
+            if written.is_ok() {
+                written = splice.put_after(&mut fixed, at, new);
+            }
+        });
+        written?;
+        changed |= rewritten;
+        let norm = (c.exact.translation.vector - pose.translation.vector).norm();
+        rows.push((at, norm, c.drift.norm(), rewritten));
+        Ok(Some(()))
+    };
+    // The frames of the last move, by their names: a CAM program names the
+    // same pair a million times, and each lookup lower-cased the names
+    // into new strings.
+    let mut last: Option<LastFrames> = None;
+    let mut frames_of = |tool: &'_ [u8], wobj: Option<&'_ [u8]>| match &last {
+        Some((t, w, tool_data, wobj_data)) if t == tool && w.as_deref() == wobj => {
+            Some((*tool_data, *wobj_data))
+        }
+        _ => {
+            let frames = frames_named(&run, tool, wobj)?;
+            last = Some((tool.to_vec(), wobj.map(<[u8]>::to_vec), frames.0, frames.1));
+            Some(frames)
+        }
+    };
+    match literals {
+        None => {
+            for k in cuts {
+                let Some(m) = skeleton.reread(src, k) else {
                     return Ok(None);
                 };
-                // Consecutive moves share no moment, but a target visited
-                // by a loop's turns may: its state is worked out once.
-                if m != meant.moment {
-                    let Ok(s) = run.states.at(m) else {
+                let tool = &src[m.tool.clone()];
+                let wobj = m.wobj.clone().map(|w| &src[w]);
+                let Some(frames) = frames_of(tool, wobj) else {
+                    return Ok(None);
+                };
+                for (at, value) in m.targets {
+                    if correct_one(at, value, frames, None)?.is_none() {
                         return Ok(None);
-                    };
-                    meant.state = s;
-                    meant.moment = m;
-                    meant.moments[0] = m;
+                    }
                 }
             }
-            target.origin.pos.offset = at;
-            target.value = Some(value);
-            let Ok(Some((pose, conf))) = target_pose(program, &target) else {
-                return Ok(None);
-            };
-            meant.pose = pose;
-            meant.conf = conf;
-            let Ok(c) = corrected_numbers(&run, &target, &meant, (tool, wobj), None) else {
-                return Ok(None);
-            };
-            let Some(value) = &target.value else {
-                return Ok(None);
-            };
-            // The numbers that change, written as they come, with the
-            // skeleton's edits before them: the same text as the whole
-            // path's edits ([`robtarget_edits`] makes them this way).
-            let mut rewritten = false;
-            let mut written = Ok(());
-            let new = (c.exact.translation.vector.into(), c.turned, None);
-            robtarget_changes(src, value, new, &mut text, &mut |at, new| {
-                rewritten = true;
-                if written.is_ok() {
-                    written = splice.put_after(&mut fixed, at, new);
+        }
+        Some((_, None)) => return Ok(None),
+        Some((whole, Some(literals))) => {
+            for &(moment, i) in literals {
+                let Some(t) = whole.targets().get(i) else {
+                    return Ok(None);
+                };
+                let (Some(value), Some(tool)) = (&t.value, &t.tool) else {
+                    return Ok(None);
+                };
+                let wobj = t.wobj.as_deref().map(str::as_bytes);
+                let Some(frames) = frames_of(tool.as_bytes(), wobj) else {
+                    return Ok(None);
+                };
+                // Its first number: where the literal is, as far as the
+                // summary's order goes (nothing else starts inside it).
+                let at = value.trans[0].span().start;
+                if correct_one(at, value.clone(), frames, Some(moment))?.is_none() {
+                    return Ok(None);
                 }
-            });
-            written?;
-            changed |= rewritten;
-            let norm = (c.exact.translation.vector - pose.translation.vector).norm();
-            rows.push((at, norm, c.drift.norm(), rewritten));
+            }
         }
     }
     for x in fixed {

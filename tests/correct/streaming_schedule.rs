@@ -67,7 +67,7 @@ fn scheduled_as_whole(src: &[u8], entry: &str, partial: bool) -> bool {
     // The first pass: the program read from the skeleton is timed as the
     // whole parse is.
     assert_eq!(when_of(&read, entry, partial), Some(options.when.clone()));
-    let Some(times) = CutTimes::new(&read, &program, &skel, &options) else {
+    let Some(times) = CutTimes::new(read, &program, &skel, &options) else {
         return false;
     };
     streamed_as_whole(src, (&skel, &program), (&options, Some(&times)), whole)

@@ -541,7 +541,7 @@ fn every_sample_schedules() {
 #[test]
 fn two_modules_follow_the_late_bound_call_into_the_local_main() {
     let est = estimate(&sample("two_modules.mod"), &Robot::irb140(), &main_opts()).unwrap();
-    let order: Vec<&str> = est.schedule.targets().iter().map(String::as_str).collect();
+    let order: Vec<&str> = est.schedule.targets().iter().map(|id| &**id).collect();
     assert_eq!(
         order,
         [

@@ -5,3 +5,4 @@ mod cli;
 mod estimate;
 mod props;
 mod skeleton;
+mod text;

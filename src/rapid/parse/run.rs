@@ -138,9 +138,15 @@ impl Builder {
         // Source order, and the AST's indices follow.
         let tmap = sort_by_origin(&mut self.prog.targets, |t| &t.origin);
         let jmap = sort_by_origin(&mut self.prog.jointtargets, |t| &t.origin);
-        let mut remap = Remap { t: &tmap, j: &jmap };
-        for m in &mut modules {
-            remap.visit_module_mut(m);
+        // Already in order (a program without records or derived targets
+        // written out of order): the tree's indices stand, and the walk
+        // through every statement is saved.
+        let identity = |map: &[usize]| map.iter().enumerate().all(|(i, &n)| i == n);
+        if !identity(&tmap) || !identity(&jmap) {
+            let mut remap = Remap { t: &tmap, j: &jmap };
+            for m in &mut modules {
+                remap.visit_module_mut(m);
+            }
         }
         self.prog.modules = modules;
         Ok(())

@@ -548,10 +548,7 @@ fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
             break;
         }
         let end = (last + PART).min(src.len());
-        let end = src[end..]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(src.len(), |i| end + i + 1);
+        let end = memchr::memchr(b'\n', &src[end..]).map_or(src.len(), |i| end + i + 1);
         bounds.push(end);
     }
     bounds
@@ -561,20 +558,19 @@ fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
             let mut seen = Seen::default();
             let mut line = w[0];
             while line < w[1] {
-                let end = src[line..w[1]]
-                    .iter()
-                    .position(|&b| b == b'\n')
-                    .map_or(w[1], |i| line + i + 1);
                 let mut at = line;
                 while matches!(src.get(at), Some(b' ' | b'\t')) {
                     at += 1;
                 }
-                if let Some(m) = read_move(src, at, Pass::Form, &mut seen)
-                    .filter(|m| rest_is_blank(src, m.span.end))
-                {
+                let m = read_move(src, at, Pass::Form, &mut seen)
+                    .filter(|m| rest_is_blank(src, m.span.end));
+                // The line's end is looked for after the move read on it
+                // (a move stays on its line), not over its bytes again.
+                let from = m.as_ref().map_or(line, |m| m.span.end);
+                line = memchr::memchr(b'\n', &src[from..w[1]]).map_or(w[1], |i| from + i + 1);
+                if let Some(m) = m {
                     out.push((m.span, m.literals as u8));
                 }
-                line = end;
             }
             out
         })

@@ -169,16 +169,36 @@ impl Call {
     /// The motion parts of this call, if it is a motion instruction.
     pub fn motion(&self) -> Option<Motion<'_>> {
         let sig = motion_signature(&self.name)?;
-        let pos: Vec<&Expr> = self.positional().collect();
-        let at = |a: Option<ArgAt>| a.and_then(|a| a.resolve(pos.len())).map(|i| pos[i]);
+        // The positional arguments without a list where a move has no
+        // more than eight (every motion instruction but a few): the walk
+        // asks this of a million moves.
+        let mut few: [Option<&Expr>; 8] = [None; 8];
+        let mut n = 0;
+        for (slot, e) in few.iter_mut().zip(self.positional()) {
+            *slot = Some(e);
+            n += 1;
+        }
+        let many: Vec<&Expr> = if n == few.len() {
+            self.positional().collect()
+        } else {
+            Vec::new()
+        };
+        let pos: &[Option<&Expr>] = &few[..n];
+        let n = n.max(many.len());
+        let arg = |i: usize| {
+            many.get(i)
+                .copied()
+                .or_else(|| pos.get(i).copied().flatten())
+        };
+        let at = |a: Option<ArgAt>| a.and_then(|a| a.resolve(n)).and_then(arg);
         let targets: &[usize] = if sig.robtargets.is_empty() {
             sig.jointtargets
         } else {
             sig.robtargets
         };
-        let to = targets.last().and_then(|&i| pos.get(i).copied());
+        let to = targets.last().and_then(|&i| arg(i));
         let via = (targets.len() > 1)
-            .then(|| targets.first().and_then(|&i| pos.get(i).copied()))
+            .then(|| targets.first().and_then(|&i| arg(i)))
             .flatten();
         let opt = |n: &str| self.optional(n).and_then(|a| a.value.as_ref());
         Some(Motion {

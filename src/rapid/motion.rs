@@ -169,9 +169,9 @@ impl Call {
     /// The motion parts of this call, if it is a motion instruction.
     pub fn motion(&self) -> Option<Motion<'_>> {
         let sig = motion_signature(&self.name)?;
-        // The positional arguments without a list where a move has no
-        // more than eight (every motion instruction but a few): the walk
-        // asks this of a million moves.
+        // The positional arguments without a list where a move has fewer
+        // than eight (every motion instruction but a few): the walk asks
+        // this of a million moves.
         let mut few: [Option<&Expr>; 8] = [None; 8];
         let mut n = 0;
         for (slot, e) in few.iter_mut().zip(self.positional()) {

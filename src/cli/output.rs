@@ -28,17 +28,27 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
     }
     write_atomic_with(path, backup, |f| {
         f.write_all(bytes).map_err(|e| Error::io(path, &e))?;
-        Ok(Some(()))
+        Ok(Filled::Written(()))
     })
     .map(|_| ())
 }
 
+/// What [`write_atomic_with`]'s `fill` made of the temporary file.
+pub enum Filled<T> {
+    /// The new contents: they replace `path`.
+    Written(T),
+    /// Nothing to change: `path` stays as it is (and gets no backup).
+    Unchanged(T),
+    /// Given up: `path` stays as it is, and the caller does otherwise.
+    Declined,
+}
+
 /// Write the regular file `path` atomically with what `fill` writes into
-/// its temporary file; `fill` returning `None` leaves `path` untouched.
+/// its temporary file; `None`: `fill` declined, and `path` is untouched.
 pub fn write_atomic_with<T>(
     path: &Path,
     backup: Option<&str>,
-    fill: impl FnOnce(&mut std::fs::File) -> Result<Option<T>>,
+    fill: impl FnOnce(&mut std::fs::File) -> Result<Filled<T>>,
 ) -> Result<Option<T>> {
     if let Ok(meta) = std::fs::metadata(path) {
         if !meta.is_file() {
@@ -80,8 +90,10 @@ pub fn write_atomic_with<T>(
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     let mut tmp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, &e))?;
-    let Some(done) = fill(tmp.as_file_mut())? else {
-        return Ok(None);
+    let done = match fill(tmp.as_file_mut())? {
+        Filled::Written(done) => done,
+        Filled::Unchanged(done) => return Ok(Some(done)),
+        Filled::Declined => return Ok(None),
     };
     tmp.as_file()
         .sync_all()

@@ -1,5 +1,6 @@
-//! `correct FILE -o OUT` (`--at`, `--start` or `--schedule`) on a program
-//! of millions of moves: the file memory-mapped, its moves cut out by the
+//! `correct FILE -o OUT` or `--in-place` (`--at`, `--start` or
+//! `--schedule`) on a program of millions of moves: the file
+//! memory-mapped, its moves cut out by the
 //! fast recogniser, the rest parsed whole, the corrected file written as
 //! it is produced (see `docs/streaming.md`); with a schedule, the whole
 //! program read from the skeleton first, to time each target. Any other
@@ -10,7 +11,8 @@ use super::correct::{
     checked_arm, moment, note_still, summary_text, warm_run, when_and_notes, CorrectArgs,
 };
 use super::messages::{self, note};
-use super::{output, Status};
+use super::output::{self, Filled};
+use super::Status;
 use rapidtherm::correct::stream::correct_streamed;
 use rapidtherm::correct::{CutTimes, When};
 use rapidtherm::error::{Error, Result};
@@ -29,9 +31,6 @@ pub fn correct(
     motion: &[Task],
     still: &[Task],
 ) -> Result<Option<Status>> {
-    let Some(out) = &args.output else {
-        return Ok(None);
-    };
     // The pictures need every target's correction, which a streamed run
     // does not keep: with --plot the whole path runs, and draws them. A
     // schedule on standard input can be read once only, and the whole
@@ -44,6 +43,14 @@ pub fn correct(
     };
     let [path] = task.modules.as_slice() else {
         return Ok(None);
+    };
+    // `--in-place` writes the file it reads: the new file is renamed over
+    // it when complete, while the old one stays mapped (on Unix, where a
+    // file renamed over keeps its readers' view).
+    let out = match (&args.output, args.in_place) {
+        (Some(out), _) => out,
+        (None, true) if cfg!(unix) => path,
+        _ => return Ok(None),
     };
     if task.name.is_some()
         || !is_plain_file(path)
@@ -111,7 +118,13 @@ pub fn correct(
         None => None,
     };
     let started = std::time::Instant::now();
-    let streamed = output::write_atomic_with(out, None, |file| {
+    let backup = args.backup.as_deref();
+    // A backup in the way is the whole path's to report, in its order (a
+    // file corrected already is said first).
+    if backup.is_some_and(|b| output::check_backup_free(&output::backup_path(out, b)).is_err()) {
+        return Ok(None);
+    }
+    let streamed = output::write_atomic_with(out, backup, |file| {
         let mut sink = std::io::BufWriter::with_capacity(
             1 << 20,
             Writeback {
@@ -122,17 +135,23 @@ pub fn correct(
         );
         let run = (&options, times.as_ref());
         let Some(s) = correct_streamed(&program, &skeleton, src, &warm, run, &mut sink)? else {
-            return Ok(None);
+            return Ok(Filled::Declined);
         };
         drop(sink);
-        if !s.changed {
-            // Nothing changes: the output is the file as it is.
-            file.set_len(0)
-                .and_then(|_| file.rewind())
-                .and_then(|_| file.write_all(src))
-                .map_err(|e| Error::io(out, &e))?;
+        if s.changed {
+            return Ok(Filled::Written(s));
         }
-        Ok(Some(s))
+        // Nothing changes: a file corrected in place stays as it is (and
+        // gets no backup), as on the whole-program path; the output is the
+        // file as it is.
+        if args.in_place {
+            return Ok(Filled::Unchanged(s));
+        }
+        file.set_len(0)
+            .and_then(|_| file.rewind())
+            .and_then(|_| file.write_all(src))
+            .map_err(|e| Error::io(out, &e))?;
+        Ok(Filled::Written(s))
     })?;
     let Some(streamed) = streamed else {
         return Ok(None);

@@ -232,3 +232,94 @@ fn a_schedule_on_standard_input_is_read_once() {
         "a schedule piped and the same schedule by file differ"
     );
 }
+
+/// `--in-place` streams too: the file becomes what the whole-program
+/// path writes (`-o -`), its backup the original, with the same exit and
+/// messages; a second run refuses as the whole path does; and a run that
+/// changes nothing leaves the file as it is, with no backup.
+#[test]
+fn in_place_streams_and_writes_what_the_whole_path_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+    let original = std::fs::read(sample).unwrap();
+    let run = |args: &[String]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap()
+    };
+    let said = |o: &std::process::Output| -> Vec<String> {
+        String::from_utf8_lossy(&o.stderr)
+            .lines()
+            .filter(|l| !l.starts_with("info:"))
+            .map(str::to_string)
+            .collect()
+    };
+    let streamed = |o: &std::process::Output| {
+        String::from_utf8_lossy(&o.stderr).contains("info: correcting and writing")
+    };
+    for when in [&["--at", "120"][..], &["--start", "0"]] {
+        std::fs::write(dir.path().join("cam.mod"), &original).unwrap();
+        let _ = std::fs::remove_file(dir.path().join("cam.mod.orig"));
+        let with = |more: &[&str]| -> Vec<String> {
+            ["correct", "cam.mod", "-vv"]
+                .iter()
+                .chain(more)
+                .chain(when)
+                .map(|s| s.to_string())
+                .collect()
+        };
+        let whole = run(&with(&["-o", "-"]));
+        let in_place = run(&with(&["--in-place", "--backup", ".orig"]));
+        assert!(streamed(&in_place), "{when:?} was not streamed");
+        assert_eq!(in_place.status.code(), whole.status.code(), "{when:?}");
+        assert_eq!(said(&in_place), said(&whole), "{when:?}");
+        let written = std::fs::read(dir.path().join("cam.mod")).unwrap();
+        assert!(written == whole.stdout, "{when:?}: the files differ");
+        let backup = std::fs::read(dir.path().join("cam.mod.orig")).unwrap();
+        assert!(
+            backup == original,
+            "{when:?}: the backup is not the original"
+        );
+        // Again, its backup there: the file is corrected already, which
+        // is said (for the same moment it is no error), and neither the
+        // file nor its backup changes.
+        let again = run(&with(&["--in-place", "--backup", ".orig"]));
+        let again_said = said(&again).join("\n");
+        assert!(again_said.contains("already corrected"), "{again_said}");
+        assert_eq!(
+            again.status.code(),
+            Some(if when[0] == "--at" { 0 } else { 2 })
+        );
+        assert!(std::fs::read(dir.path().join("cam.mod")).unwrap() == written);
+        assert!(std::fs::read(dir.path().join("cam.mod.orig")).unwrap() == original);
+    }
+    // Cold at minute 0: nothing changes, nothing is written.
+    std::fs::write(dir.path().join("cold.mod"), &original).unwrap();
+    let before = std::fs::metadata(dir.path().join("cold.mod"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let cold = run(&[
+        "correct",
+        "cold.mod",
+        "-vv",
+        "--at",
+        "0",
+        "--in-place",
+        "--backup",
+        ".orig",
+    ]
+    .map(String::from));
+    assert!(streamed(&cold), "the cold run was not streamed");
+    assert_eq!(cold.status.code(), Some(0));
+    assert!(std::fs::read(dir.path().join("cold.mod")).unwrap() == original);
+    let after = std::fs::metadata(dir.path().join("cold.mod"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert_eq!(before, after, "an unchanged file was written");
+    assert!(!dir.path().join("cold.mod.orig").exists());
+}

@@ -42,12 +42,16 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
 
 /// The moment a robtarget is corrected for: [`pick`] of [`moments_of`],
 /// without making the list of its visits (a streamed run asks for a
-/// million targets).
-pub(super) fn picked_moment(when: &When, id: &str, visit: Visit) -> Result<Moment> {
-    if let When::Schedule { schedule, .. } = when {
-        if let Some(times) = schedule.times(id) {
-            return Ok(Moment::Minute(visit.pick(times)));
-        }
+/// million targets). `times`: its times in `when`'s schedule, looked up
+/// by the caller (who needs them too).
+pub(super) fn picked_moment(
+    when: &When,
+    id: &str,
+    times: Option<&[f64]>,
+    visit: Visit,
+) -> Result<Moment> {
+    if let (When::Schedule { .. }, Some(times)) = (when, times) {
+        return Ok(Moment::Minute(visit.pick(times)));
     }
     // One moment (`--at`, or the default), or the error.
     moments_of(when, id).map(|m| pick(&m, visit))

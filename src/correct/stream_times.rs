@@ -105,10 +105,7 @@ impl CutTimes {
             {
                 let times = schedule.times(&t.id);
                 count(&t.id, times.is_some());
-                let moment = match times {
-                    Some(times) => Moment::Minute(options.visit.pick(times)),
-                    None => picked_moment(&options.when, &t.id, options.visit).ok()?,
-                };
+                let moment = picked_moment(&options.when, &t.id, times, options.visit).ok()?;
                 cut_literals.push((moment, i));
                 continue;
             }

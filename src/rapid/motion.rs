@@ -169,27 +169,11 @@ impl Call {
     /// The motion parts of this call, if it is a motion instruction.
     pub fn motion(&self) -> Option<Motion<'_>> {
         let sig = motion_signature(&self.name)?;
-        // The positional arguments without a list where a move has fewer
-        // than eight (every motion instruction but a few): the walk asks
-        // this of a million moves.
-        let mut few: [Option<&Expr>; 8] = [None; 8];
-        let mut n = 0;
-        for (slot, e) in few.iter_mut().zip(self.positional()) {
-            *slot = Some(e);
-            n += 1;
-        }
-        let many: Vec<&Expr> = if n == few.len() {
-            self.positional().collect()
-        } else {
-            Vec::new()
-        };
-        let pos: &[Option<&Expr>] = &few[..n];
-        let n = n.max(many.len());
-        let arg = |i: usize| {
-            many.get(i)
-                .copied()
-                .or_else(|| pos.get(i).copied().flatten())
-        };
+        // An argument is looked up by its place among the call's few, not
+        // gathered into a list first: the walk asks a million moves for
+        // their motion.
+        let n = self.positional().count();
+        let arg = |i: usize| self.positional().nth(i);
         let at = |a: Option<ArgAt>| a.and_then(|a| a.resolve(n)).and_then(arg);
         let targets: &[usize] = if sig.robtargets.is_empty() {
             sig.jointtargets

@@ -3,19 +3,12 @@
 //! task, tools in `user.sys`, a run-time placeholder, a 20,000-element
 //! robtarget array, conditional arguments, `1THEN`, `MODULE 1_T_ROB2`).
 
+use super::rapidtherm;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn sample() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("samples/backup_multimove")
-}
-
-fn rapidtherm(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
 }
 
 fn copy_tree(from: &Path, to: &Path) {

@@ -1,21 +1,14 @@
 //! File handling of `rapidtherm correct`: atomic writes, backups, nothing
 //! written on error, standard input and output.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use super::rapidtherm;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
 
 fn data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/cmd/correct_data")
         .join(name)
-}
-
-fn rapidtherm(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
 }
 
 #[test]

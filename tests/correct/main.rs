@@ -12,3 +12,15 @@ mod shared;
 mod streaming;
 mod streaming_schedule;
 mod trust;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// The binary run with `args` in `dir`.
+fn rapidtherm<S: AsRef<std::ffi::OsStr>>(args: &[S], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}

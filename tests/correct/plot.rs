@@ -5,6 +5,7 @@
 //! time axis the schedule's; and on the command line, nothing written to
 //! the folder when the run fails.
 
+use super::rapidtherm;
 use quick_xml::events::Event;
 use rapidtherm::correct::plot::{pictures, scale_colour, Picture, FILES};
 use rapidtherm::correct::{correct, Options, Outcome, When};
@@ -12,8 +13,7 @@ use rapidtherm::model::{Model, Moment, WarmRobot};
 use rapidtherm::rapid;
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::Schedule;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
 
 /// p1, p2 in wobj0 and p3 in a work object 100 mm along x: in the world
 /// p1 (400, 0), p2 (500, 0), p3 (400, 100), all at z 500. pE is written
@@ -272,14 +272,6 @@ fn an_outcome_without_targets_still_draws() {
         assert!(dots(&p.svg).is_empty());
         assert!(p.svg.contains("no target corrected"), "{}", p.name);
     }
-}
-
-fn rapidtherm(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
 }
 
 fn sample(name: &str) -> PathBuf {

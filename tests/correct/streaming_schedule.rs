@@ -6,6 +6,7 @@
 //! of `streaming`: an estimated schedule as `--start` makes it, and a
 //! user's file that times every other target, the rest at a default.
 
+use super::rapidtherm;
 use super::streaming::{program_with, stmt, streamed_as_whole, warm, Stmt};
 use proptest::prelude::*;
 use rapidtherm::correct::{correct, CutTimes, Options, When};
@@ -14,6 +15,7 @@ use rapidtherm::rapid::fastmove::skeleton;
 use rapidtherm::rapid::{self, Program};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, EstimateOptions, Schedule};
+use std::process::Output;
 
 /// When the targets of `program` are reached: its estimate from minute 20
 /// (two cycles of the first module's routine, `entry`; the second
@@ -117,6 +119,20 @@ proptest! {
     }
 }
 
+/// What a run said on standard error, less the `-vv` timings.
+fn said(o: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&o.stderr)
+        .lines()
+        .filter(|l| !l.starts_with("info:"))
+        .map(str::to_string)
+        .collect()
+}
+
+/// Whether a `-vv` run took the streamed path.
+fn was_streamed(o: &Output) -> bool {
+    String::from_utf8_lossy(&o.stderr).contains("info: correcting and writing")
+}
+
 /// `rapidtherm correct` on the CAM sample written to a file (streamed)
 /// and to standard output (the whole-program path): the same bytes, the
 /// same exit and the same messages (the estimate's notes, the summary),
@@ -127,13 +143,7 @@ fn the_binary_streams_a_scheduled_run_as_it_corrects_it_whole() {
     let dir = tempfile::tempdir().unwrap();
     let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
     std::fs::copy(sample, dir.path().join("cam.mod")).unwrap();
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-            .args(args)
-            .current_dir(dir.path())
-            .output()
-            .unwrap()
-    };
+    let run = |args: &[&str]| rapidtherm(args, dir.path());
     let estimate = run(&["schedule", "cam.mod", "--start", "10"]);
     let csv = String::from_utf8(estimate.stdout).unwrap();
     let every_other: String = csv
@@ -161,17 +171,10 @@ fn the_binary_streams_a_scheduled_run_as_it_corrects_it_whole() {
             .map(String::as_str)
             .collect::<Vec<_>>());
         let whole = run(&args("-").iter().map(String::as_str).collect::<Vec<_>>());
-        let said = |o: &std::process::Output| -> Vec<String> {
-            String::from_utf8_lossy(&o.stderr)
-                .lines()
-                .filter(|l| !l.starts_with("info:"))
-                .map(str::to_string)
-                .collect()
-        };
-        let streamed_said = String::from_utf8_lossy(&streamed.stderr).into_owned();
         assert!(
-            streamed_said.contains("info: correcting and writing"),
-            "{when:?} was not streamed:\n{streamed_said}"
+            was_streamed(&streamed),
+            "{when:?} was not streamed:\n{}",
+            String::from_utf8_lossy(&streamed.stderr)
         );
         assert_eq!(streamed.status.code(), whole.status.code(), "{when:?}");
         assert_eq!(said(&streamed), said(&whole), "{when:?}");
@@ -235,30 +238,15 @@ fn a_schedule_on_standard_input_is_read_once() {
 
 /// `--in-place` streams too: the file becomes what the whole-program
 /// path writes (`-o -`), its backup the original, with the same exit and
-/// messages; a second run refuses as the whole path does; and a run that
-/// changes nothing leaves the file as it is, with no backup.
+/// messages; a second run says the file is corrected already and changes
+/// neither it nor its backup; and a run that changes nothing leaves the
+/// file as it is, with no backup.
 #[test]
 fn in_place_streams_and_writes_what_the_whole_path_writes() {
     let dir = tempfile::tempdir().unwrap();
     let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
     let original = std::fs::read(sample).unwrap();
-    let run = |args: &[String]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-            .args(args)
-            .current_dir(dir.path())
-            .output()
-            .unwrap()
-    };
-    let said = |o: &std::process::Output| -> Vec<String> {
-        String::from_utf8_lossy(&o.stderr)
-            .lines()
-            .filter(|l| !l.starts_with("info:"))
-            .map(str::to_string)
-            .collect()
-    };
-    let streamed = |o: &std::process::Output| {
-        String::from_utf8_lossy(&o.stderr).contains("info: correcting and writing")
-    };
+    let run = |args: &[String]| rapidtherm(args, dir.path());
     for when in [&["--at", "120"][..], &["--start", "0"]] {
         std::fs::write(dir.path().join("cam.mod"), &original).unwrap();
         let _ = std::fs::remove_file(dir.path().join("cam.mod.orig"));
@@ -272,7 +260,7 @@ fn in_place_streams_and_writes_what_the_whole_path_writes() {
         };
         let whole = run(&with(&["-o", "-"]));
         let in_place = run(&with(&["--in-place", "--backup", ".orig"]));
-        assert!(streamed(&in_place), "{when:?} was not streamed");
+        assert!(was_streamed(&in_place), "{when:?} was not streamed");
         assert_eq!(in_place.status.code(), whole.status.code(), "{when:?}");
         assert_eq!(said(&in_place), said(&whole), "{when:?}");
         let written = std::fs::read(dir.path().join("cam.mod")).unwrap();
@@ -313,7 +301,7 @@ fn in_place_streams_and_writes_what_the_whole_path_writes() {
         ".orig",
     ]
     .map(String::from));
-    assert!(streamed(&cold), "the cold run was not streamed");
+    assert!(was_streamed(&cold), "the cold run was not streamed");
     assert_eq!(cold.status.code(), Some(0));
     assert!(std::fs::read(dir.path().join("cold.mod")).unwrap() == original);
     let after = std::fs::metadata(dir.path().join("cold.mod"))

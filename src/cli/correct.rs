@@ -308,6 +308,19 @@ pub(super) fn warm_run(
     arm: tasks::Arm,
     when: When,
 ) -> Result<(String, WarmRobot, Options)> {
+    warm_run_until(args, model, task, arm, when, 0.0)
+}
+
+/// [`warm_run`] where targets `when` does not hold are reached too, the
+/// last at minute `later` (a streamed estimate's cut literals).
+pub(super) fn warm_run_until(
+    args: &CorrectArgs,
+    model: &Model,
+    task: &Task,
+    arm: tasks::Arm,
+    when: When,
+    later: f64,
+) -> Result<(String, WarmRobot, Options)> {
     let horizon = match &when {
         When::At(Moment::Minute(t)) => *t,
         When::At(Moment::Steady) => 0.0,
@@ -322,6 +335,7 @@ pub(super) fn warm_run(
                 .flatten()
                 .copied()
                 .fold(0.0, f64::max);
+            let latest = latest.max(later);
             match default {
                 Some(Moment::Minute(t)) => latest.max(*t),
                 _ => latest,
@@ -779,11 +793,7 @@ pub(super) fn when_and_notes(
     robot: &Robot,
     base_frame: Option<nalgebra::Isometry3<f64>>,
 ) -> Result<(When, Vec<String>)> {
-    let default = args
-        .default_time
-        .as_deref()
-        .map(|t| moment(t, "--default-time"))
-        .transpose()?;
+    let default = default_moment(args)?;
     Ok(match (&args.when.at, &args.when.schedule, args.when.start) {
         (Some(at), _, _) => (When::At(moment(at, "--at")?), Vec::new()),
         (None, Some(path), _) => {
@@ -799,16 +809,8 @@ pub(super) fn when_and_notes(
             if !(start.is_finite() && start >= 0.0) {
                 return Err(Error::usage("--start: a minute since the cold start (≥ 0)"));
             }
-            let estimate = schedule::estimate(
-                program,
-                robot,
-                &EstimateOptions {
-                    entry: args.entry.clone(),
-                    start_min: start,
-                    cycles: args.cycles,
-                    base_frame,
-                },
-            )?;
+            let estimate =
+                schedule::estimate(program, robot, &estimate_options(args, start, base_frame))?;
             let when = When::Schedule {
                 schedule: estimate.schedule,
                 joints: Some(estimate.joint_schedule),
@@ -822,6 +824,28 @@ pub(super) fn when_and_notes(
             ))
         }
     })
+}
+
+/// `--default-time`, read.
+pub(super) fn default_moment(args: &CorrectArgs) -> Result<Option<Moment>> {
+    args.default_time
+        .as_deref()
+        .map(|t| moment(t, "--default-time"))
+        .transpose()
+}
+
+/// The walk of `--start start`.
+pub(super) fn estimate_options(
+    args: &CorrectArgs,
+    start: f64,
+    base_frame: Option<nalgebra::Isometry3<f64>>,
+) -> EstimateOptions {
+    EstimateOptions {
+        entry: args.entry.clone(),
+        start_min: start,
+        cycles: args.cycles,
+        base_frame,
+    }
 }
 
 fn progress_bar(total: usize) -> Option<indicatif::ProgressBar> {

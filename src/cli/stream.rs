@@ -8,7 +8,8 @@
 //! path unchanged.
 
 use super::correct::{
-    checked_arm, moment, note_still, summary_text, warm_run, when_and_notes, CorrectArgs,
+    checked_arm, default_moment, estimate_options, moment, note_still, summary_text,
+    warm_run_until, when_and_notes, CorrectArgs,
 };
 use super::messages::{self, note};
 use super::output::{self, Filled};
@@ -19,6 +20,8 @@ use rapidtherm::error::{Error, Result};
 use rapidtherm::model::Model;
 use rapidtherm::rapid;
 use rapidtherm::rapid::task::Task;
+use rapidtherm::rapid::Program;
+use rapidtherm::schedule::{self, CutEstimate, CutVisits};
 use std::io::{Seek, Write};
 use std::path::Path;
 use std::thread::JoinHandle;
@@ -76,40 +79,82 @@ pub fn correct(
         return Ok(None);
     };
     // A schedule names the whole program's targets: the program is read
-    // whole from the skeleton for it (and the estimate walked), and kept
-    // with each cut target's moment: the correction reads the cut
-    // literals from it.
-    let (when, notes, whole) = match &args.when.at {
-        Some(at) => {
+    // whole from the skeleton for it. An estimate reads it in runs of cut
+    // moves, which its walk reads from the file. Either gives each cut
+    // literal's moment, kept for the correction.
+    let (when, notes, first, later) = match (&args.when.at, &args.when.schedule, args.when.start) {
+        (Some(at), _, _) => {
             let Ok(when) = moment(at, "--at").map(When::At) else {
                 return Ok(None);
             };
-            (when, Vec::new(), None)
+            (when, Vec::new(), None, 0.0)
         }
-        None => {
+        (None, None, Some(start)) => {
+            let started = std::time::Instant::now();
+            let Ok(whole) = rapid::parse_skeleton_runs(&name, &skeleton, src) else {
+                return Ok(None);
+            };
+            messages::took("reading the skeleton's statements", started);
+            let started = std::time::Instant::now();
+            let (Ok(base), Ok(default)) = (super::tasks::base_frame(task), default_moment(args))
+            else {
+                return Ok(None);
+            };
+            let opts = estimate_options(args, start, base);
+            let cut = (&skeleton, src);
+            let Ok(Some(walked)) = schedule::estimate_cuts(&whole, cut, &arm.robot, &opts) else {
+                return Ok(None);
+            };
+            messages::took("timing the program", started);
+            let CutEstimate { estimate, literals } = walked;
+            let when = When::Schedule {
+                schedule: estimate.schedule,
+                joints: Some(estimate.joint_schedule),
+                default,
+            };
+            let later = literals.latest();
+            (
+                when,
+                estimate.notes,
+                Some(First::Walked(whole, literals)),
+                later,
+            )
+        }
+        _ => {
             let started = std::time::Instant::now();
             let Ok(whole) = rapid::parse_skeleton(&name, &skeleton, src) else {
                 return Ok(None);
             };
             messages::took("reading the whole program from the skeleton", started);
-            let started = std::time::Instant::now();
             let Ok(base) = super::tasks::base_frame(task) else {
                 return Ok(None);
             };
             let Ok((when, notes)) = when_and_notes(args, &whole, &arm.robot, base) else {
                 return Ok(None);
             };
-            messages::took("timing the program", started);
-            (when, notes, Some(whole))
+            (when, notes, Some(First::Read(whole)), 0.0)
         }
     };
-    let Ok((_, warm, options)) = warm_run(args, model, task, arm, when) else {
+    let Ok((_, warm, options)) = warm_run_until(args, model, task, arm, when, later) else {
         return Ok(None);
     };
-    let times = match whole {
-        Some(whole) => {
+    let times = match first {
+        Some(first) => {
             let started = std::time::Instant::now();
-            let Some(t) = CutTimes::new(whole, &program, &skeleton, &options) else {
+            let t = match first {
+                First::Read(whole) => {
+                    let t = CutTimes::new(&whole, &program, &skeleton, &options);
+                    // Not needed again; freeing the reading of a million
+                    // targets takes a tenth of a second, and the run's
+                    // memory was at its peak already.
+                    std::mem::forget(whole);
+                    t
+                }
+                First::Walked(whole, literals) => {
+                    CutTimes::of_estimate(literals, &whole, &program, &options)
+                }
+            };
+            let Some(t) = t else {
                 return Ok(None);
             };
             messages::took("each target's moment", started);
@@ -175,6 +220,14 @@ pub fn correct(
     note_still(still);
     messages::lines(&summary_text(&streamed.outcome));
     Ok(Some(Status::Success))
+}
+
+/// What the first pass of a scheduled run read: the whole program from
+/// the skeleton (for a schedule file), or the skeleton in runs and its
+/// estimate's cut literals.
+enum First {
+    Read(Program),
+    Walked(Program, CutVisits),
 }
 
 /// A file by name, not standard input, a folder or a device.

@@ -126,13 +126,20 @@ impl When {
                 schedule,
                 joints,
                 default,
-            } => {
-                let print =
-                    marker::fingerprint_of(|w| write!(w, "{schedule:?}{joints:?}{default:?}"));
-                format!("schedule {print}")
-            }
+            } => schedule_basis(schedule, joints, default),
         }
     }
+}
+
+/// [`When::basis`] of a schedule: `schedule` is its robtargets' visits
+/// (as their `Debug` text), `joints` and `default` the rest.
+pub(crate) fn schedule_basis(
+    schedule: &dyn std::fmt::Debug,
+    joints: &Option<Schedule>,
+    default: &Option<Moment>,
+) -> String {
+    let print = marker::fingerprint_of(|w| write!(w, "{schedule:?}{joints:?}{default:?}"));
+    format!("schedule {print}")
 }
 
 /// Correct every target of `program` (which keeps the bytes it was parsed

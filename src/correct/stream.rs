@@ -109,7 +109,10 @@ pub fn correct_streamed(
     let head = fixed.partition_point(|x| x.span.start < first);
     let mut splice = Splice { src, at: 0, out };
     let put_head = |splice: &mut Splice| -> Result<bool> {
-        let basis = options.when.basis();
+        let basis = match moments {
+            Some(t) => t.basis(options),
+            None => options.when.basis(),
+        };
         let m = marker::for_run(&basis, &options.model_label, options.split_shared, src);
         let mark = marker::insert(program, 0, &m).map(|e| moved(&e));
         // The marker goes into the module's header, before every routine
@@ -157,11 +160,7 @@ pub fn correct_streamed(
                             (src, skeleton, &fixed),
                             k.clone(),
                             cuts[k.start].start..to,
-                            (
-                                moment,
-                                &state,
-                                moments.map(|t| (&t.whole, t.literals.get(own))),
-                            ),
+                            (moment, &state, moments.map(|t| t.moments.get(own))),
                         )
                     })
                     .collect::<Vec<_>>()
@@ -232,9 +231,9 @@ fn said_alike(f: &Findings) -> bool {
         && !f.splits.iter().any(|s| inline(&s.id))
 }
 
-/// The whole program of a scheduled run's first pass, and a chunk's cut
-/// literals (each's moment and target there); none at one moment.
-type CutLiterals<'a> = Option<(&'a Program, Option<&'a [(Moment, usize)]>)>;
+/// A chunk's cut literals' moments in a scheduled run (`Some(None)`: the
+/// passes disagree on them); none at one moment.
+type CutLiterals<'a> = Option<Option<&'a [Moment]>>;
 
 /// The names of a move's tool and work object as written, and their data.
 type LastFrames<'a> = (Vec<u8>, Option<Vec<u8>>, &'a ToolData, &'a WobjData);
@@ -247,7 +246,7 @@ type LastFrames<'a> = (Vec<u8>, Option<Vec<u8>>, &'a ToolData, &'a WobjData);
 /// corrected for `moment` (whose state is `state`), read again from
 /// `src`; or, given the whole program the first pass read and the
 /// chunk's `literals` (each's moment and target there), each for its own
-/// moment from its target (no literals: the passes disagree on them).
+/// moment (no literals: the passes disagree on them).
 fn correct_chunk(
     (program, warm, options): (&Program, &WarmRobot, &Options),
     (src, skeleton, fixed): (&[u8], &Skeleton, &[Edit]),
@@ -363,43 +362,28 @@ fn correct_chunk(
             Some(frames)
         }
     };
-    match literals {
-        None => {
-            for k in cuts {
-                let Some(m) = skeleton.reread(src, k) else {
-                    return Ok(None);
-                };
-                let tool = &src[m.tool.clone()];
-                let wobj = m.wobj.clone().map(|w| &src[w]);
-                let Some(frames) = frames_of(tool, wobj) else {
-                    return Ok(None);
-                };
-                for (at, value) in m.targets {
-                    if correct_one(at, value, frames, None)?.is_none() {
-                        return Ok(None);
-                    }
-                }
-            }
-        }
-        Some((_, None)) => return Ok(None),
-        Some((whole, Some(literals))) => {
-            for &(moment, i) in literals {
-                let Some(t) = whole.targets().get(i) else {
-                    return Ok(None);
-                };
-                let (Some(value), Some(tool)) = (&t.value, &t.tool) else {
-                    return Ok(None);
-                };
-                let wobj = t.wobj.as_deref().map(str::as_bytes);
-                let Some(frames) = frames_of(tool.as_bytes(), wobj) else {
-                    return Ok(None);
-                };
-                // Its first number: where the literal is, as far as the
-                // summary's order goes (nothing else starts inside it).
-                let at = value.trans[0].span().start;
-                if correct_one(at, value.clone(), frames, Some(moment))?.is_none() {
-                    return Ok(None);
-                }
+    let mut moments = match literals {
+        None => None,
+        Some(None) => return Ok(None),
+        Some(Some(m)) => Some(m.iter()),
+    };
+    for k in cuts {
+        let Some(m) = skeleton.reread(src, k) else {
+            return Ok(None);
+        };
+        let tool = &src[m.tool.clone()];
+        let wobj = m.wobj.clone().map(|w| &src[w]);
+        let Some(frames) = frames_of(tool, wobj) else {
+            return Ok(None);
+        };
+        for (at, value) in m.targets {
+            let own = match moments.as_mut().map(Iterator::next) {
+                None => None,
+                Some(Some(&m)) => Some(m),
+                Some(None) => return Ok(None),
+            };
+            if correct_one(at, value, frames, own)?.is_none() {
+                return Ok(None);
             }
         }
     }

@@ -1,21 +1,28 @@
 //! When the targets of a streamed run are reached where that is a schedule
 //! (`--start`, `--schedule`): the schedule names targets as the whole
 //! program does, the streamed run reads the skeleton's targets and the cut
-//! moves' literals apart. This is the first of the two passes: the whole
-//! program read from the skeleton ([`parse_skeleton`]) lists every target
-//! with its identifier; each cut literal's moment is looked up and kept
-//! (a number per target, in file order), and the schedule is given the
-//! skeleton's identifiers for the skeleton's own targets (its inline
-//! literals are numbered without the cut ones).
+//! moves' literals apart. This is the first of the two passes: each cut
+//! literal's moment is worked out and kept (a number per literal, in file
+//! order), and the schedule is given the skeleton's identifiers for the
+//! skeleton's own targets (its inline literals are numbered without the
+//! cut ones). A schedule file names every target: the whole program is
+//! read from the skeleton ([`parse_skeleton`]) to look each up
+//! ([`CutTimes::new`]). An estimate is walked on the skeleton with its cut
+//! moves in runs, read from the file as the walk meets them
+//! ([`estimate_cuts`]), and gives each literal's visits by its number
+//! ([`CutTimes::of_estimate`]).
 //!
 //! [`parse_skeleton`]: crate::rapid::parse_skeleton
+//! [`estimate_cuts`]: crate::schedule::estimate_cuts
 
 use super::moments::picked_moment;
-use super::{Options, When};
+use super::{schedule_basis, Options, When};
 use crate::model::Moment;
 use crate::rapid::fastmove::Skeleton;
 use crate::rapid::{Program, TargetKind};
-use crate::schedule::Schedule;
+#[cfg(doc)]
+use crate::schedule::CutEstimate;
+use crate::schedule::{CutVisits, Schedule};
 use std::collections::HashSet;
 
 /// The moments of a streamed run's targets; see the module doc.
@@ -23,13 +30,32 @@ pub struct CutTimes {
     /// The run's options for the skeleton: its schedule keyed by the
     /// skeleton's identifiers.
     pub(super) options: Options,
-    /// The whole program as the first pass read it: the second corrects
-    /// each cut literal from its target here rather than reading its
-    /// numbers again (a fifth of the work on every core).
-    pub(super) whole: Program,
-    /// Each cut literal, in file order: its moment, and its target's
-    /// index in `whole`.
-    pub(super) literals: Vec<(Moment, usize)>,
+    /// Each cut literal's moment, in file order.
+    pub(super) moments: Vec<Moment>,
+    /// An estimate's cut literals' visits, which its schedule does not
+    /// hold: the corrected file's marker records them with it.
+    pub(super) literals: Option<CutVisits>,
+}
+
+impl CutTimes {
+    /// What the corrected file's marker records of the run's schedule,
+    /// where `options` are the run's: its schedule's fingerprint, with the
+    /// cut literals' visits where the schedule does not hold them (taken
+    /// while the first moves are corrected: for a million targets, a
+    /// tenth of a second).
+    pub(super) fn basis(&self, options: &Options) -> String {
+        match (&self.literals, &options.when) {
+            (
+                Some(literals),
+                When::Schedule {
+                    schedule,
+                    joints,
+                    default,
+                },
+            ) => schedule_basis(&literals.whole(schedule), joints, default),
+            _ => options.when.basis(),
+        }
+    }
 }
 
 impl CutTimes {
@@ -39,10 +65,9 @@ impl CutTimes {
     /// say (a target the schedule does not time and no default, a name
     /// the schedule has and the program not) or the two readings do not
     /// line up: the caller then leaves the run to the whole path, which
-    /// says it. `whole` is kept: the second pass reads the cut literals
-    /// from it.
+    /// says it.
     pub fn new(
-        whole: Program,
+        whole: &Program,
         program: &Program,
         skeleton: &Skeleton,
         options: &Options,
@@ -50,7 +75,7 @@ impl CutTimes {
         let When::Schedule {
             schedule,
             joints,
-            default,
+            default: _,
         } = &options.when
         else {
             return None;
@@ -94,7 +119,7 @@ impl CutTimes {
         let mut rekeyed = Schedule::new();
         let literals: usize = skeleton.literals.iter().map(|&n| usize::from(n)).sum();
         let mut cut_literals = Vec::with_capacity(literals);
-        for (i, t) in whole.targets().iter().enumerate() {
+        for t in whole.targets() {
             let at = t.origin.pos.offset;
             while cut < skeleton.cuts.len() && skeleton.place_of_cut(cut) < at {
                 cut += 1;
@@ -106,7 +131,7 @@ impl CutTimes {
                 let times = schedule.times(&t.id);
                 count(&t.id, times.is_some());
                 let moment = picked_moment(&options.when, &t.id, times, options.visit).ok()?;
-                cut_literals.push((moment, i));
+                cut_literals.push(moment);
                 continue;
             }
             // The skeleton's target at the same place: its identifier is
@@ -131,40 +156,104 @@ impl CutTimes {
         {
             return None;
         }
-        // Jointtargets keep their identifiers (no cut move holds one);
-        // their times are kept apart from the robtargets', whose keys
-        // changed.
-        if whole.jointtargets().len() != program.jointtargets().len()
-            || whole
-                .jointtargets()
-                .iter()
-                .zip(program.jointtargets())
-                .any(|(a, b)| a.id != b.id)
-        {
-            return None;
-        }
-        let from = joints.as_ref().unwrap_or(schedule);
-        let mut joint_times = Schedule::new();
-        for j in program.jointtargets() {
-            for &m in from.times(&j.id).unwrap_or(&[]) {
-                joint_times.visit(&j.id, m);
-            }
-        }
         Some(CutTimes {
-            options: Options {
-                when: When::Schedule {
-                    schedule: rekeyed,
-                    joints: Some(joint_times),
-                    default: *default,
-                },
-                visit: options.visit,
-                expand_expressions: options.expand_expressions,
-                model_label: options.model_label.clone(),
-                base_frame: options.base_frame,
-                split_shared: options.split_shared,
-            },
-            whole,
-            literals: cut_literals,
+            options: skeleton_options(
+                options,
+                rekeyed,
+                joint_times(whole, program, joints.as_ref().unwrap_or(schedule))?,
+            ),
+            moments: cut_literals,
+            literals: None,
         })
     }
+
+    /// The moments of the targets of an estimate of the file read from
+    /// its skeleton in runs (`whole`), whose kept bytes parsed as
+    /// `program`: its cut `literals`' visits, and `options` the run's,
+    /// their schedule the estimate's (see [`CutEstimate`]). `None` where
+    /// a literal is not timed or the two readings do not line up (the
+    /// caller then leaves the run to the whole path).
+    pub fn of_estimate(
+        literals: CutVisits,
+        whole: &Program,
+        program: &Program,
+        options: &Options,
+    ) -> Option<CutTimes> {
+        let When::Schedule {
+            schedule,
+            joints,
+            default: _,
+        } = &options.when
+        else {
+            return None;
+        };
+        // A literal never reached takes the default, if there is one (the
+        // whole path names it where there is none).
+        let moments = (0..literals.len())
+            .map(|l| picked_moment(&options.when, "", literals.times(l), options.visit).ok())
+            .collect::<Option<Vec<Moment>>>()?;
+        // The whole program's reading in runs holds the skeleton's targets
+        // alone, under the whole program's identifiers.
+        if whole.targets().len() != program.targets().len() {
+            return None;
+        }
+        let mut rekeyed = Schedule::new();
+        for (t, k) in whole.targets().iter().zip(program.targets()) {
+            if k.kind != t.kind || k.origin.pos.offset != t.origin.pos.offset {
+                return None;
+            }
+            for &m in schedule.times(&t.id).unwrap_or(&[]) {
+                rekeyed.visit(&k.id, m);
+            }
+        }
+        let joints_from = joints.as_ref().unwrap_or(schedule);
+        Some(CutTimes {
+            options: skeleton_options(options, rekeyed, joint_times(whole, program, joints_from)?),
+            moments,
+            literals: Some(literals),
+        })
+    }
+}
+
+/// The run's `options` for the skeleton: its robtargets' schedule
+/// `rekeyed`, its jointtargets' `joints`.
+fn skeleton_options(options: &Options, rekeyed: Schedule, joints: Schedule) -> Options {
+    let default = match &options.when {
+        When::Schedule { default, .. } => *default,
+        When::At(_) => None,
+    };
+    Options {
+        when: When::Schedule {
+            schedule: rekeyed,
+            joints: Some(joints),
+            default,
+        },
+        visit: options.visit,
+        expand_expressions: options.expand_expressions,
+        model_label: options.model_label.clone(),
+        base_frame: options.base_frame,
+        split_shared: options.split_shared,
+    }
+}
+
+/// The jointtargets' times of `from` for the skeleton: they keep their
+/// identifiers (no cut move holds one), their times kept apart from the
+/// robtargets', whose keys changed. `None`: the two readings differ.
+fn joint_times(whole: &Program, program: &Program, from: &Schedule) -> Option<Schedule> {
+    if whole.jointtargets().len() != program.jointtargets().len()
+        || whole
+            .jointtargets()
+            .iter()
+            .zip(program.jointtargets())
+            .any(|(a, b)| a.id != b.id)
+    {
+        return None;
+    }
+    let mut times = Schedule::new();
+    for j in program.jointtargets() {
+        for &m in from.times(&j.id).unwrap_or(&[]) {
+            times.visit(&j.id, m);
+        }
+    }
+    Some(times)
 }

@@ -57,7 +57,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
-pub use parse::{parse, parse_files, parse_skeleton};
+pub use parse::{parse, parse_files, parse_skeleton, parse_skeleton_runs};
 
 /// One number literal of the source: its value and where its text is.
 /// The span includes a sign written directly before the digits. (Offsets
@@ -542,6 +542,18 @@ pub enum StatementKind {
     },
     /// `<SMT>` left by the pendant.
     Placeholder(String),
+    /// Moves a [`Skeleton`](fastmove::Skeleton) cut out of the file, not
+    /// read: its cuts `cuts`, one after another in this list, whose
+    /// robtarget literals are the routine's inline targets after its first
+    /// `inline`, their identifiers `{prefix}#{n}` (the routine's name, with
+    /// its module where identifiers are qualified: `M1:main`). Only in a
+    /// program read by [`parse_skeleton_runs`], for a walk that reads the
+    /// moves from the file itself.
+    CutMoves {
+        cuts: Range<usize>,
+        inline: usize,
+        prefix: Arc<str>,
+    },
 }
 
 /// A procedure call: `MoveL p10, v100, z10, tool0\WObj:=wobj1;`

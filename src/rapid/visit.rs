@@ -196,7 +196,8 @@ pub fn walk_statement<'a, V: Visit<'a> + ?Sized>(v: &mut V, s: &'a Statement) {
         | S::Exit
         | S::Retry
         | S::TryNext
-        | S::Placeholder(_) => {}
+        | S::Placeholder(_)
+        | S::CutMoves { .. } => {}
     }
 }
 
@@ -389,7 +390,8 @@ pub fn walk_statement_mut<V: VisitMut + ?Sized>(v: &mut V, s: &mut Statement) {
         | S::Exit
         | S::Retry
         | S::TryNext
-        | S::Placeholder(_) => {}
+        | S::Placeholder(_)
+        | S::CutMoves { .. } => {}
     }
 }
 

@@ -1,9 +1,11 @@
 //! The estimate: walk the program's entry routine from a start time and
 //! time each move, for when the user has no schedule of the real run.
 
+use super::walk::cuts::CutWalk;
 use super::walk::{Flow, Walker};
-use super::Schedule;
+use super::{CutVisits, Schedule};
 use crate::error::{Error, ErrorKind, Remedy, Result};
+use crate::rapid::fastmove::Skeleton;
 use crate::rapid::{Program, Routine, RoutineKind};
 use crate::robot::Robot;
 
@@ -111,27 +113,14 @@ pub(super) const FALLBACK_SPEED: &str = "v1000";
 /// the error lists every one (up to [`crate::error::MAX_RELATED`], each
 /// at its place) rather than timing any of them.
 pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Result<Estimate> {
-    if !opts.start_min.is_finite() || opts.start_min < 0.0 {
-        return Err(Error::usage(format!(
-            "start time {} min: must be a finite number of minutes since the cold start, not negative",
-            opts.start_min
-        )));
-    }
+    start_checked(opts)?;
     let (module, routine) = find_entry(program, &opts.entry)?;
-    let start_s = opts.start_min * 60.0;
     let walk = |defer: bool| -> Result<Walker> {
         let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
         if defer {
             w.deferred = Some(Vec::new());
         }
-        w.clock = start_s;
-        w.robot_free = start_s;
-        for _ in 0..opts.cycles {
-            let flow = w.call_routine(module, routine, Vec::new(), 0)?;
-            if matches!(flow, Flow::Exit) {
-                break;
-            }
-        }
+        walk_cycles(&mut w, (module, routine), opts)?;
         Ok(w)
     };
     // Whether each target can be reached is asked of the arm after the
@@ -151,6 +140,95 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
     }) {
         return Err(e);
     }
+    let mut estimate = finished(&mut w, opts)?;
+    clashes(&mut estimate, |_| false);
+    Ok(estimate)
+}
+
+/// The estimate of a program read from its skeleton with its cut moves
+/// left in runs ([`parse_skeleton_runs`]), those read from `src` as the
+/// walk meets them: the [`Estimate`] of the program's own targets (by
+/// the whole program's identifiers) and the cut literals' visits. Its
+/// schedule and `literals` together are [`estimate`]'s of the whole file.
+///
+/// [`parse_skeleton_runs`]: crate::rapid::parse_skeleton_runs
+#[derive(Debug, Clone, PartialEq)]
+pub struct CutEstimate {
+    pub estimate: Estimate,
+    pub literals: CutVisits,
+}
+
+/// [`estimate`] of the file `src` read as `skeleton` and parsed from it in
+/// runs (`program`). `Ok(None)` where the walk has something to say of a
+/// cut move (a note, a target it cannot time), a cut literal is never
+/// reached (a note), or the estimate is refused: the whole program's
+/// walk says it, in its place.
+///
+/// Whether the arm reaches each cut literal is not asked: the caller
+/// does (the streamed correction solves each in its robconf, and leaves
+/// the run to the whole path where one has no solution), where asking
+/// here too was a third of the walk.
+pub fn estimate_cuts(
+    program: &Program,
+    (skeleton, src): (&Skeleton, &[u8]),
+    robot: &Robot,
+    opts: &EstimateOptions,
+) -> Result<Option<CutEstimate>> {
+    start_checked(opts)?;
+    let entry = find_entry(program, &opts.entry)?;
+    let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
+    w.deferred = Some(Vec::new());
+    w.cuts = Some(CutWalk::new(skeleton, src));
+    let walked = walk_cycles(&mut w, entry, opts);
+    if w.cuts.as_ref().is_some_and(|c| c.declined) {
+        return Ok(None);
+    }
+    walked?;
+    if !w.errors.is_empty() || !w.deferred.take().is_some_and(|d| all_reachable(robot, &d)) {
+        return Ok(None);
+    }
+    let Ok(mut estimate) = finished(&mut w, opts) else {
+        return Ok(None);
+    };
+    let Some(cuts) = w.cuts.take() else {
+        return Ok(None);
+    };
+    let literals = cuts.visits;
+    clashes(&mut estimate, |id| literals.has_id(id));
+    Ok(Some(CutEstimate { estimate, literals }))
+}
+
+fn start_checked(opts: &EstimateOptions) -> Result<()> {
+    if !opts.start_min.is_finite() || opts.start_min < 0.0 {
+        return Err(Error::usage(format!(
+            "start time {} min: must be a finite number of minutes since the cold start, not negative",
+            opts.start_min
+        )));
+    }
+    Ok(())
+}
+
+/// The entry routine walked `opts.cycles` times from `opts.start_min`.
+fn walk_cycles<'p>(
+    w: &mut Walker<'p>,
+    (module, routine): (usize, &'p Routine),
+    opts: &EstimateOptions,
+) -> Result<()> {
+    let start_s = opts.start_min * 60.0;
+    w.clock = start_s;
+    w.robot_free = start_s;
+    for _ in 0..opts.cycles {
+        let flow = w.call_routine(module, routine, Vec::new(), 0)?;
+        if matches!(flow, Flow::Exit) {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// The estimate of a walk that found every target timed.
+fn finished(w: &mut Walker, opts: &EstimateOptions) -> Result<Estimate> {
+    let start_s = opts.start_min * 60.0;
     let end_s = w.clock.max(w.robot_free);
     if !end_s.is_finite() {
         return Err(Error::input(
@@ -158,19 +236,24 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         ));
     }
     w.finish();
-    for id in w.joint_schedule.targets() {
-        if w.schedule.times(id).is_some() {
-            w.notes.push(format!(
+    Ok(Estimate {
+        schedule: std::mem::take(&mut w.schedule),
+        joint_schedule: std::mem::take(&mut w.joint_schedule),
+        duration_min: (end_s - start_s) / 60.0,
+        notes: std::mem::take(&mut w.notes),
+    })
+}
+
+/// A note for each jointtarget whose identifier is a robtarget's: one
+/// `e`'s schedule holds, or one `also_robtarget` names.
+fn clashes(e: &mut Estimate, also_robtarget: impl Fn(&str) -> bool) {
+    for id in e.joint_schedule.targets() {
+        if e.schedule.times(id).is_some() || also_robtarget(id) {
+            e.notes.push(format!(
                 "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV lists the robtarget's visits only"
             ));
         }
     }
-    Ok(Estimate {
-        schedule: w.schedule,
-        joint_schedule: w.joint_schedule,
-        duration_min: (end_s - start_s) / 60.0,
-        notes: w.notes,
-    })
 }
 
 /// Whether the arm reaches each flange pose (in the robconf of its

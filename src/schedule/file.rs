@@ -30,7 +30,7 @@ impl Visit {
 /// An identifier in lower case, copied only where it is not (a program's
 /// inline identifiers, `main#1234`, mostly are: a schedule of a million
 /// visits made a million copies).
-fn lower(id: &str) -> Cow<'_, str> {
+pub(super) fn lower(id: &str) -> Cow<'_, str> {
     if id.bytes().any(|b| b.is_ascii_uppercase()) {
         Cow::Owned(id.to_ascii_lowercase())
     } else {
@@ -80,28 +80,37 @@ impl Times {
 /// records a schedule by a fingerprint of this text.
 impl std::fmt::Debug for Schedule {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        /// The visits in key order, written as a map.
-        struct Sorted<'a>(Vec<(&'a Arc<str>, &'a [f64])>);
-        impl std::fmt::Debug for Sorted<'_> {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.debug_map().entries(self.0.iter().copied()).finish()
-            }
-        }
-        // Sorted by their first 16 bytes as one number first: a program's
-        // identifiers share long prefixes (`main#1234`), and comparing
-        // them byte by byte was half of fingerprinting a schedule.
-        let mut keyed: Vec<_> = self
-            .visits
-            .iter()
-            .map(|(k, v)| (leading_bytes(k), k, v.as_slice()))
-            .collect();
-        keyed.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.cmp(b.1)));
-        let sorted = keyed.into_iter().map(|(_, k, v)| (k, v)).collect();
-        f.debug_struct("Schedule")
-            .field("visits", &Sorted(sorted))
-            .field("order", &self.order)
-            .finish()
+        fmt_visits(f, self.entries(), &self.order)
     }
+}
+
+/// A schedule's `Debug` text from its visits by lower-case identifier
+/// (in any order) and its identifiers in first-visit order.
+pub(super) fn fmt_visits(
+    f: &mut std::fmt::Formatter<'_>,
+    visits: Vec<(&str, &[f64])>,
+    order: &dyn std::fmt::Debug,
+) -> std::fmt::Result {
+    /// The visits in key order, written as a map.
+    struct Sorted<'a>(Vec<(&'a str, &'a [f64])>);
+    impl std::fmt::Debug for Sorted<'_> {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.debug_map().entries(self.0.iter().copied()).finish()
+        }
+    }
+    // Sorted by their first 16 bytes as one number first: a program's
+    // identifiers share long prefixes (`main#1234`), and comparing
+    // them byte by byte was half of fingerprinting a schedule.
+    let mut keyed: Vec<_> = visits
+        .into_iter()
+        .map(|(k, v)| (leading_bytes(k), k, v))
+        .collect();
+    keyed.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.cmp(b.1)));
+    let sorted = keyed.into_iter().map(|(_, k, v)| (k, v)).collect();
+    f.debug_struct("Schedule")
+        .field("visits", &Sorted(sorted))
+        .field("order", order)
+        .finish()
 }
 
 /// The first 16 bytes of `s` as a big-endian number, zeros after its end:
@@ -144,6 +153,14 @@ impl Schedule {
     /// All visit times of a target, in the order recorded.
     pub fn times(&self, target: &str) -> Option<&[f64]> {
         self.visits.get(&*lower(target)).map(Times::as_slice)
+    }
+
+    /// Every target's visits, by lower-case identifier, in no order.
+    pub(super) fn entries(&self) -> Vec<(&str, &[f64])> {
+        self.visits
+            .iter()
+            .map(|(k, v)| (&**k, v.as_slice()))
+            .collect()
     }
 
     /// Target identifiers in the order they were first visited.

@@ -5,6 +5,9 @@
 //! says the summary of the whole-program path, on the generated programs
 //! of `streaming`: an estimated schedule as `--start` makes it, and a
 //! user's file that times every other target, the rest at a default.
+//! `--start`'s own first pass, the skeleton read in runs of cut moves
+//! walked from the file (`schedule::estimate_cuts`), times them as the
+//! whole walk does, and the streamed run by it writes the same bytes.
 
 use super::rapidtherm;
 use super::streaming::{program_with, stmt, streamed_as_whole, warm, Stmt};
@@ -14,7 +17,7 @@ use rapidtherm::model::warm::Moment;
 use rapidtherm::rapid::fastmove::skeleton;
 use rapidtherm::rapid::{self, Program};
 use rapidtherm::robot::Robot;
-use rapidtherm::schedule::{estimate, EstimateOptions, Schedule};
+use rapidtherm::schedule::{estimate, estimate_cuts, EstimateOptions, Schedule};
 use std::process::Output;
 
 /// When the targets of `program` are reached: its estimate from minute 20
@@ -23,13 +26,7 @@ use std::process::Output;
 /// a file of every other robtarget's visits and no jointtargets', the
 /// rest at the default. `None` where the estimate is refused.
 fn when_of(program: &Program, entry: &str, partial: bool) -> Option<When> {
-    let opts = EstimateOptions {
-        entry: entry.to_string(),
-        start_min: 20.0,
-        cycles: 2,
-        base_frame: None,
-    };
-    let est = estimate(program, &Robot::irb140(), &opts).ok()?;
+    let est = estimate(program, &Robot::irb140(), &estimate_options(entry)).ok()?;
     let default = Some(Moment::Minute(45.0));
     if !partial {
         return Some(When::Schedule {
@@ -51,6 +48,86 @@ fn when_of(program: &Program, entry: &str, partial: bool) -> Option<When> {
     })
 }
 
+/// The walk of [`when_of`].
+fn estimate_options(entry: &str) -> EstimateOptions {
+    EstimateOptions {
+        entry: entry.to_string(),
+        start_min: 20.0,
+        cycles: 2,
+        base_frame: None,
+    }
+}
+
+/// `--start`'s first pass: the skeleton read in runs, its cut moves walked
+/// from the file. Where it does not decline, its schedule and cut
+/// literals' visits are the whole estimate's, its notes too, and the
+/// streamed run by them writes what the whole path writes (or declines,
+/// where a cut literal is out of reach: the walk leaves that to the
+/// correction). `Some(false)`: the streamed run declined; `None`: the
+/// walk did.
+fn estimated_in_runs_as_whole(src: &[u8], entry: &str) -> Option<bool> {
+    let whole_program = rapid::parse("p.mod", src).expect("generated programs parse");
+    let skel = skeleton(src);
+    let program = rapid::parse("p.mod", &skel.bytes).expect("the skeleton parses");
+    let runs = rapid::parse_skeleton_runs("p.mod", &skel, src).expect("the skeleton reads in runs");
+    let opts = estimate_options(entry);
+    let walked = estimate_cuts(&runs, (&skel, src), &Robot::irb140(), &opts).ok()??;
+    let Ok(est) = estimate(&whole_program, &Robot::irb140(), &opts) else {
+        // Refused for a target out of reach, which the walk of the runs
+        // does not ask of cut literals: the correction does, and declines.
+        let when = When::Schedule {
+            schedule: walked.estimate.schedule,
+            joints: Some(walked.estimate.joint_schedule),
+            default: None,
+        };
+        let options = Options::new(when);
+        let times = CutTimes::of_estimate(walked.literals, &runs, &program, &options)?;
+        let streamed = streamed_as_whole(
+            src,
+            (&skel, &program),
+            (&options, Some(&times)),
+            Err(rapidtherm::error::Error::input("refused")),
+        );
+        assert!(
+            !streamed,
+            "the fast path corrected a program the whole estimate refuses"
+        );
+        return Some(false);
+    };
+    assert_eq!(
+        format!("{:?}", walked.literals.whole(&walked.estimate.schedule)),
+        format!("{:?}", est.schedule),
+        "the walk of the runs timed the cut literals otherwise"
+    );
+    assert_eq!(walked.estimate.joint_schedule, est.joint_schedule);
+    assert_eq!(walked.estimate.notes, est.notes);
+    assert_eq!(walked.estimate.duration_min, est.duration_min);
+    let default = Some(Moment::Minute(45.0));
+    let whole = correct(
+        &whole_program,
+        warm(),
+        &Options::new(When::Schedule {
+            schedule: est.schedule,
+            joints: Some(est.joint_schedule),
+            default,
+        }),
+        &mut |_, _| {},
+    );
+    let options = Options::new(When::Schedule {
+        schedule: walked.estimate.schedule,
+        joints: Some(walked.estimate.joint_schedule),
+        default,
+    });
+    let times = CutTimes::of_estimate(walked.literals, &runs, &program, &options)
+        .expect("the readings line up");
+    Some(streamed_as_whole(
+        src,
+        (&skel, &program),
+        (&options, Some(&times)),
+        whole,
+    ))
+}
+
 /// Whether the streamed run timed as [`when_of`] says wrote what the
 /// whole path writes; `false` when either declined or the estimate was
 /// refused.
@@ -69,7 +146,7 @@ fn scheduled_as_whole(src: &[u8], entry: &str, partial: bool) -> bool {
     // The first pass: the program read from the skeleton is timed as the
     // whole parse is.
     assert_eq!(when_of(&read, entry, partial), Some(options.when.clone()));
-    let Some(times) = CutTimes::new(read, &program, &skel, &options) else {
+    let Some(times) = CutTimes::new(&read, &program, &skel, &options) else {
         return false;
     };
     streamed_as_whole(src, (&skel, &program), (&options, Some(&times)), whole)
@@ -99,6 +176,11 @@ fn a_cam_program_streams_timed_by_its_schedule() {
             scheduled_as_whole(&src, entry, partial),
             "the fast path declined a CAM program (partial schedule: {partial}, one name: {one_name})"
         );
+        assert_eq!(
+            estimated_in_runs_as_whole(&src, entry),
+            Some(true),
+            "the walk of the runs or its streamed run declined a CAM program (one name: {one_name})"
+        );
     }
 }
 
@@ -115,7 +197,9 @@ proptest! {
         // With one routine name in every module, identifiers name their
         // module (`M1:main#3`).
         let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, false, one_name);
-        scheduled_as_whole(&src, if one_name { "main" } else { "main0" }, partial);
+        let entry = if one_name { "main" } else { "main0" };
+        scheduled_as_whole(&src, entry, partial);
+        estimated_in_runs_as_whole(&src, entry);
     }
 }
 

@@ -6,7 +6,8 @@
 //! statements being assembled when the next piece is met (a statement, or
 //! the `ELSE`, `ENDIF`, `ERROR`, `ENDPROC` that closes the list) is the
 //! list the move was written in: the assembly's own descent places it, in
-//! whatever block it was.
+//! whatever block it was. For a walk, a run of them is put back unread,
+//! as one [`StatementKind::CutMoves`].
 
 use super::*;
 use crate::rapid::fastmove::{FastMove, Skeleton};
@@ -27,6 +28,9 @@ pub(super) struct CutFeed<'a> {
     /// The line of the last move put back (lines of the skeleton are
     /// counted on from it: the moves come in order).
     line: usize,
+    /// Whether the moves are put back as runs, unread
+    /// ([`StatementKind::CutMoves`]).
+    runs: bool,
 }
 
 /// Names [`CutFeed`] keeps.
@@ -36,8 +40,9 @@ const AHEAD: usize = 4096;
 
 impl<'a> CutFeed<'a> {
     /// The cuts of `skeleton`, cut from `file`.
-    pub(super) fn new(skeleton: &'a Skeleton, file: &'a [u8]) -> CutFeed<'a> {
+    pub(super) fn new(skeleton: &'a Skeleton, file: &'a [u8], runs: bool) -> CutFeed<'a> {
         CutFeed {
+            runs,
             skeleton,
             file,
             next: 0,
@@ -110,6 +115,36 @@ impl FileParser<'_, '_> {
 
     /// Every cut move before `limit`, as statements of `out`.
     pub(super) fn put_cuts_back(&mut self, limit: usize, out: &mut Vec<Statement>) -> Result<()> {
+        if let Some(feed) = self.cuts.as_mut().filter(|f| f.runs) {
+            let (skeleton, first) = (feed.skeleton, feed.next);
+            let mut end = first;
+            while end < skeleton.cuts.len() && skeleton.place_of_cut(end) < limit {
+                end += 1;
+            }
+            if end > first {
+                feed.next = end;
+                let literals: usize = skeleton.literals[first..end]
+                    .iter()
+                    .map(|&n| usize::from(n))
+                    .sum();
+                let pos = self.cut_pos(skeleton.place_of_cut(first));
+                let routine = self.routine.clone().unwrap_or_else(|| Arc::from(""));
+                let run = (self.module.clone(), routine.clone());
+                if self.b.cut_runs.last() != Some(&run) {
+                    self.b.cut_runs.push(run);
+                }
+                out.push(Statement {
+                    pos,
+                    kind: StatementKind::CutMoves {
+                        cuts: first..end,
+                        inline: self.inline_k,
+                        prefix: routine,
+                    },
+                });
+                self.inline_k += literals;
+            }
+            return Ok(());
+        }
         while self.cut_before(limit) {
             out.push(self.cut_statement()?);
         }

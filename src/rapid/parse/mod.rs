@@ -107,17 +107,43 @@ pub fn parse_skeleton(
     skeleton: &super::fastmove::Skeleton,
     src: &[u8],
 ) -> Result<Program> {
+    read_skeleton(file_name, skeleton, src, false)
+}
+
+/// The program of `src` read as its skeleton, each run of cut moves left
+/// unread as one [`StatementKind::CutMoves`]: every other statement,
+/// target and identifier is [`parse_skeleton`]'s (the skeleton's inline
+/// targets numbered after the cut ones), and the cut moves' targets are
+/// not among the program's. A walk that reads the moves from the file
+/// itself takes this one: reading a million moves into statements and
+/// targets was most of timing a CAM program.
+pub fn parse_skeleton_runs(
+    file_name: &str,
+    skeleton: &super::fastmove::Skeleton,
+    src: &[u8],
+) -> Result<Program> {
+    read_skeleton(file_name, skeleton, src, true)
+}
+
+fn read_skeleton(
+    file_name: &str,
+    skeleton: &super::fastmove::Skeleton,
+    src: &[u8],
+    runs: bool,
+) -> Result<Program> {
     let bytes: &[u8] = &skeleton.bytes;
     let mut b = Builder::default();
     b.prog.files.push(file_name.to_string());
     b.prog.sources.push(Arc::from(bytes));
     let line_starts = line_starts(bytes);
     let mut p = FileParser::new(0, file_name, bytes, &line_starts, &mut b);
-    p.cuts = Some(cuts::CutFeed::new(skeleton, src));
-    // The cut literals are most of the targets: room for them at once
-    // (a list of a million grown by doubling was copied twenty times).
-    let literals: usize = skeleton.literals.iter().map(|&n| usize::from(n)).sum();
-    p.b.prog.targets.reserve(literals);
+    p.cuts = Some(cuts::CutFeed::new(skeleton, src, runs));
+    if !runs {
+        // The cut literals are most of the targets: room for them at once
+        // (a list of a million grown by doubling was copied twenty times).
+        let literals: usize = skeleton.literals.iter().map(|&n| usize::from(n)).sum();
+        p.b.prog.targets.reserve(literals);
+    }
     p.run()?;
     b.finish(&[(file_name, bytes)], &[line_starts])?;
     Ok(b.prog)
@@ -163,6 +189,10 @@ struct Builder {
     names: foldhash::HashMap<String, Arc<str>>,
     /// Per routine (lower-case "module\0routine"): literals counted so far.
     inline_counts: HashMap<String, usize>,
+    /// The module and routine of each run of cut moves left unread
+    /// ([`parse_skeleton_runs`]): name spaces of targets the program does
+    /// not list.
+    cut_runs: Vec<(Arc<str>, Arc<str>)>,
 }
 
 impl Builder {

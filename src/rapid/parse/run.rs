@@ -129,11 +129,35 @@ impl Builder {
             }
         }
 
-        // Identifiers unique across modules.
-        qualify(&mut self.prog.targets, |t| (&t.origin.module, &mut t.id));
-        qualify(&mut self.prog.jointtargets, |t| {
-            (&t.origin.module, &mut t.id)
-        });
+        // Identifiers unique across modules (the cut moves' literals
+        // among them, where a run of them was left unread).
+        let spaces = qualify(
+            &mut self.prog.targets,
+            |t| (&t.origin.module, &mut t.id),
+            &self.cut_runs,
+        );
+        qualify(
+            &mut self.prog.jointtargets,
+            |t| (&t.origin.module, &mut t.id),
+            &[],
+        );
+        if self
+            .cut_runs
+            .iter()
+            .any(|(_, r)| spaces.contains(&r.to_lowercase()))
+        {
+            for m in &mut modules {
+                let module = m.name.clone();
+                for r in &mut m.routines {
+                    let mut q = QualifyRuns(
+                        spaces
+                            .contains(&r.name.to_lowercase())
+                            .then(|| Arc::from(qualified(&module, &r.name))),
+                    );
+                    q.visit_routine_mut(r);
+                }
+            }
+        }
 
         // Source order, and the AST's indices follow.
         let tmap = sort_by_origin(&mut self.prog.targets, |t| &t.origin);
@@ -183,10 +207,34 @@ fn decl_offset(e: &Expr) -> Option<usize> {
     }
 }
 
+/// The prefix of the identifiers of a routine's unread cut moves, where
+/// their name space is qualified.
+struct QualifyRuns(Option<Arc<str>>);
+
+impl crate::rapid::visit::VisitMut for QualifyRuns {
+    fn visit_statement_mut(&mut self, s: &mut Statement) {
+        if let (StatementKind::CutMoves { prefix, .. }, Some(q)) = (&mut s.kind, &self.0) {
+            *prefix = q.clone();
+        }
+        crate::rapid::visit::walk_statement_mut(self, s);
+    }
+}
+
 /// Qualify with the module every identifier whose name space occurs in
-/// more than one module of the run.
-fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
+/// more than one module of the run, counting the name spaces of `extra`
+/// (module, routine) too; the name spaces qualified, in lower case.
+fn qualify<T>(
+    items: &mut [T],
+    f: impl Fn(&mut T) -> (&Arc<str>, &mut String),
+    extra: &[(Arc<str>, Arc<str>)],
+) -> HashSet<String> {
     let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
+    for (m, r) in extra {
+        modules_of
+            .entry(r.to_lowercase())
+            .or_default()
+            .insert(m.to_lowercase());
+    }
     // Identifiers in a row mostly share their name space and module (a
     // routine's literals, a million in a CAM program): each pair is
     // entered once, not copied twice per identifier.
@@ -207,7 +255,7 @@ fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
         last = Some((m.clone(), space.to_string()));
     }
     if modules_of.values().all(|s| s.len() < 2) {
-        return;
+        return HashSet::new();
     }
     for it in items.iter_mut() {
         let (m, id) = f(it);
@@ -215,6 +263,11 @@ fn qualify<T>(items: &mut [T], f: impl Fn(&mut T) -> (&Arc<str>, &mut String)) {
             *id = qualified(m, id);
         }
     }
+    modules_of
+        .into_iter()
+        .filter(|(_, m)| m.len() > 1)
+        .map(|(space, _)| space)
+        .collect()
 }
 
 /// An identifier qualified with its module (`MainModule:main#3`).

@@ -56,6 +56,11 @@ impl<'p> Walker<'p> {
             self.fail_target(e);
             return false;
         }
+        // A cut move's literal is asked of by the streamed correction the
+        // walk is for (see `estimate_cuts`).
+        if rob.cut.is_some() {
+            return true;
+        }
         let key: [u64; 7] = {
             let v = flange.translation.vector;
             let r = flange.rotation.coords;

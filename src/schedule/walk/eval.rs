@@ -58,6 +58,7 @@ impl<'p> Walker<'p> {
                 id: Some(i),
                 derived: None,
                 bases: Vec::new(),
+                cut: None,
             })),
             None => Value::Unknown,
         })
@@ -280,6 +281,7 @@ impl<'p> Walker<'p> {
                     id: None,
                     derived,
                     bases,
+                    cut: None,
                 })))
             }
             "crobt" => {
@@ -294,6 +296,7 @@ impl<'p> Walker<'p> {
                             id: None,
                             derived,
                             bases: Vec::new(),
+                            cut: None,
                         })),
                         Err(_) => Value::Unknown,
                     },

@@ -6,6 +6,7 @@
 //! time ([`instant`]).
 
 mod check;
+pub(super) mod cuts;
 mod eval;
 mod instant;
 mod moves;
@@ -27,6 +28,9 @@ use nalgebra::{Isometry3, Vector3};
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
+/// Targets never reached that the walk's note names (the rest counted).
+const SHOWN_MISSED: usize = 8;
+
 /// Maps looked up at every statement of a walk (names: a fast hash).
 type FastMap<K, V> = foldhash::HashMap<K, V>;
 
@@ -42,6 +46,9 @@ pub(super) struct Rob {
     pub(super) derived: Option<usize>,
     /// Literal targets it was derived from.
     pub(super) bases: Vec<usize>,
+    /// The literal of a cut move it is (its number among the skeleton's
+    /// cut literals, in file order): see [`cuts`].
+    pub(super) cut: Option<usize>,
 }
 
 #[derive(Debug, Clone)]
@@ -141,6 +148,9 @@ pub(super) struct Walker<'p> {
     /// Flange poses whose reach is asked after the walk, and the robconf
     /// of their targets; `None`: asked at each move.
     pub(super) deferred: Option<Vec<(Isometry3<f64>, RobConf)>>,
+    /// The cut moves of a program read from its skeleton in runs
+    /// ([`cuts`]); `None`: the program has none.
+    pub(super) cuts: Option<cuts::CutWalk<'p>>,
 }
 
 /// Names as written, in a module and routine.
@@ -249,6 +259,7 @@ impl<'p> Walker<'p> {
             last_speed: None,
             last_frames: None,
             deferred: None,
+            cuts: None,
         })
     }
 
@@ -297,23 +308,33 @@ impl<'p> Walker<'p> {
                 self.schedule.visit(&target.id, t);
             }
         }
-        let missed: Vec<&str> = self
+        let mut missed: Vec<(usize, &str)> = self
             .program
             .targets()
             .iter()
             .filter(|t| t.value.is_some() && self.schedule.times(&t.id).is_none())
-            .map(|t| t.id.as_str())
+            .map(|t| (t.origin.pos.offset, t.id.as_str()))
             .collect();
-        if !missed.is_empty() {
-            let shown: Vec<&str> = missed.iter().take(8).copied().collect();
-            let more = if missed.len() > shown.len() {
-                format!(", ... ({} in all)", missed.len())
+        let mut count = missed.len();
+        // The cut moves' literals never visited, among them in file order.
+        let cut = self
+            .cuts
+            .as_ref()
+            .map(|c| c.missed(self.program, SHOWN_MISSED));
+        if let Some((cut, n)) = &cut {
+            count += n;
+            missed.extend(cut.iter().map(|(at, id)| (*at, id.as_str())));
+            missed.sort_by_key(|m| m.0);
+        }
+        if count > 0 {
+            let shown: Vec<&str> = missed.iter().take(SHOWN_MISSED).map(|m| m.1).collect();
+            let more = if count > shown.len() {
+                format!(", ... ({count} in all)")
             } else {
                 String::new()
             };
             self.notes.push(format!(
-                "{} robtarget(s) never reached from the entry routine: {}{more}",
-                missed.len(),
+                "{count} robtarget(s) never reached from the entry routine: {}{more}",
                 shown.join(", ")
             ));
         }
@@ -593,6 +614,11 @@ impl<'p> Walker<'p> {
             | StatementKind::TryNext
             | StatementKind::Connect { .. }
             | StatementKind::Placeholder(_) => Ok(Flow::Normal),
+            StatementKind::CutMoves {
+                cuts,
+                inline,
+                prefix,
+            } => self.exec_cut_moves(cuts.clone(), (*inline, prefix), s, frame),
         }
     }
 

@@ -4,6 +4,25 @@
 use super::*;
 use std::rc::Rc;
 
+/// How a move goes: its kind, speed (`\\V` and VelSet applied), `\\T`,
+/// `\\Conc`, tool and work object, and the axes' top speeds (VelSet
+/// applied).
+#[derive(Clone, Copy)]
+pub(super) struct Goal<'a> {
+    pub(super) kind: MotionKind,
+    pub(super) speed: SpeedData,
+    pub(super) t_override: Option<f64>,
+    pub(super) conc: bool,
+    pub(super) frames: &'a (ToolData, WobjData),
+    pub(super) max_speed: [f64; 6],
+}
+
+/// A MoveC's CirPoint: as written, or read already.
+pub(super) enum Via<'e> {
+    Expr(&'e Expr),
+    Known(Rob),
+}
+
 impl<'p> Walker<'p> {
     pub(super) fn speed_of(
         &mut self,
@@ -147,6 +166,37 @@ impl<'p> Walker<'p> {
         Ok(frames)
     }
 
+    /// A move's speed from its speeddata, `\\V` and `\\T` as written,
+    /// VelSet applied: the speed, and the time `\\T` sets.
+    pub(super) fn move_speed(
+        &mut self,
+        [speed_data, v, t]: [Option<&Expr>; 3],
+        frame: &mut Frame<'p>,
+        line: u32,
+    ) -> Result<(SpeedData, Option<f64>)> {
+        let mut speed = self.speed_of(speed_data, frame, line)?;
+        if let Some(v) = v {
+            match self.eval(v, frame)?.num() {
+                Some(v) => speed.v_tcp = v,
+                None => self.note(frame, line, "\\V: value known only at run time, ignored"),
+            }
+        }
+        let (ov, vmax) = self.velset;
+        speed.v_tcp = (speed.v_tcp * ov).min(vmax);
+        speed.v_ori *= ov;
+        let t_override = match t {
+            Some(t) => match self.eval(t, frame)?.num() {
+                Some(t) => Some(t / ov),
+                None => {
+                    self.note(frame, line, "\\T: value known only at run time, ignored");
+                    None
+                }
+            },
+            None => None,
+        };
+        Ok((speed, t_override))
+    }
+
     pub(super) fn exec_move(
         &mut self,
         call: &'p Call,
@@ -167,26 +217,8 @@ impl<'p> Walker<'p> {
             );
             return Ok(());
         }
-        let mut speed = self.speed_of(m.speed, frame, line)?;
-        if let Some(v) = m.v {
-            match self.eval(v, frame)?.num() {
-                Some(v) => speed.v_tcp = v,
-                None => self.note(frame, line, "\\V: value known only at run time, ignored"),
-            }
-        }
-        let (ov, vmax) = self.velset;
-        speed.v_tcp = (speed.v_tcp * ov).min(vmax);
-        speed.v_ori *= ov;
-        let t_override = match m.t {
-            Some(t) => match self.eval(t, frame)?.num() {
-                Some(t) => Some(t / ov),
-                None => {
-                    self.note(frame, line, "\\T: value known only at run time, ignored");
-                    None
-                }
-            },
-            None => None,
-        };
+        let (speed, t_override) = self.move_speed([m.speed, m.v, m.t], frame, line)?;
+        let ov = self.velset.0;
         let frames = self.frame_names(m.tool, m.wobj, frame, line)?;
         let (tool, wobj) = (&frames.0, &frames.1);
         let to = match m.to {
@@ -253,89 +285,15 @@ impl<'p> Walker<'p> {
                 return Ok(());
             }
             (_, Value::Rob(rob)) => {
-                let flange = match flange_of_target(&rob.pose, tool, wobj) {
-                    Ok(f) => f,
-                    Err(e) => {
-                        self.note(
-                            frame,
-                            line,
-                            format!("{}: {}; taken as 0 s", call.name, e.message),
-                        );
-                        self.visit(&rob, self.robot_free);
-                        return Ok(());
-                    }
+                let goal = Goal {
+                    kind,
+                    speed,
+                    t_override,
+                    conc: m.conc,
+                    frames: &frames,
+                    max_speed,
                 };
-                if !self.check_rob(&rob, &flange, call, frame, s) {
-                    return Ok(());
-                }
-                let from = from.unwrap_or(rob.pose);
-                let mut via_info = None;
-                let secs = match kind {
-                    MotionKind::Joint => {
-                        let q = match self.joint_goal(&flange, &rob, &max_speed, call, frame, s) {
-                            Ok(q) => q,
-                            Err(e) => {
-                                self.fail_target(e);
-                                return Ok(());
-                            }
-                        };
-                        let tcp = (rob.pose.translation.vector - from.translation.vector).norm();
-                        let secs = match self.current_joints() {
-                            Some(qf) => joint_move_seconds(&qf, &q, &max_speed, tcp, &speed),
-                            None => seconds_for(tcp, speed.v_tcp),
-                        };
-                        self.arm.joints = Some(q);
-                        secs
-                    }
-                    MotionKind::Circular => {
-                        let cir = match m.via {
-                            Some(e) => self.eval(e, frame)?,
-                            None => Value::Unknown,
-                        };
-                        let angle = from.rotation.angle_to(&rob.pose.rotation).to_degrees();
-                        if let Value::Rob(c) = &cir {
-                            let via = flange_of_target(&c.pose, tool, wobj);
-                            if via.is_ok_and(|v| !self.check_rob(c, &v, call, frame, s)) {
-                                return Ok(());
-                            }
-                        }
-                        let (len, frac, cir) = match cir {
-                            Value::Rob(c) => {
-                                let (len, to_via) = arc_length(
-                                    &from.translation.vector,
-                                    &c.pose.translation.vector,
-                                    &rob.pose.translation.vector,
-                                );
-                                (len, if len > 0.0 { to_via / len } else { 0.5 }, Some(c))
-                            }
-                            _ => {
-                                self.note(frame, line, format!("{}: CirPoint known only at run time, timed along the chord", call.name));
-                                (
-                                    (rob.pose.translation.vector - from.translation.vector).norm(),
-                                    0.5,
-                                    None,
-                                )
-                            }
-                        };
-                        via_info = cir.map(|c| (frac, c));
-                        self.arm.joints = None;
-                        seconds_for(len, speed.v_tcp).max(seconds_for(angle, speed.v_ori))
-                    }
-                    _ => {
-                        self.arm.joints = None;
-                        linear_move_seconds(&from, &rob.pose, &speed)
-                    }
-                };
-                self.arm.flange = flange;
-                self.arm.conf = rob.conf;
-                let secs = t_override.unwrap_or(secs);
-                let start = self.clock.max(self.robot_free);
-                self.advance(secs, m.conc);
-                if let Some((frac, c)) = via_info {
-                    self.visit(&c, start + secs * frac);
-                }
-                self.visit(&rob, self.robot_free);
-                return Ok(());
+                return self.move_to_rob(&goal, *rob, m.via.map(Via::Expr), call, frame, s);
             }
             _ => {}
         }
@@ -348,6 +306,121 @@ impl<'p> Walker<'p> {
             ),
         );
         self.arm.joints = None;
+        Ok(())
+    }
+
+    /// A move to a robtarget (`goal` says how), timed and its targets'
+    /// visits recorded: the walk's own moves and cut ones alike.
+    pub(super) fn move_to_rob(
+        &mut self,
+        goal: &Goal,
+        rob: Rob,
+        via: Option<Via>,
+        call: &Call,
+        frame: &mut Frame<'p>,
+        s: &Statement,
+    ) -> Result<()> {
+        let line = s.pos.line;
+        let Goal {
+            kind,
+            speed,
+            t_override,
+            conc,
+            frames,
+            max_speed,
+        } = *goal;
+        let (tool, wobj) = (&frames.0, &frames.1);
+        let from = target_of_flange(&self.arm.flange, tool, wobj);
+        let flange = match flange_of_target(&rob.pose, tool, wobj) {
+            Ok(f) => f,
+            Err(e) => {
+                self.note(
+                    frame,
+                    line,
+                    format!("{}: {}; taken as 0 s", call.name, e.message),
+                );
+                self.visit(&rob, self.robot_free);
+                return Ok(());
+            }
+        };
+        if !self.check_rob(&rob, &flange, call, frame, s) {
+            return Ok(());
+        }
+        let from = from.unwrap_or(rob.pose);
+        let mut via_info = None;
+        let secs = match kind {
+            MotionKind::Joint => {
+                let q = match self.joint_goal(&flange, &rob, &max_speed, call, frame, s) {
+                    Ok(q) => q,
+                    Err(e) => {
+                        self.fail_target(e);
+                        return Ok(());
+                    }
+                };
+                let tcp = (rob.pose.translation.vector - from.translation.vector).norm();
+                let secs = match self.current_joints() {
+                    Some(qf) => joint_move_seconds(&qf, &q, &max_speed, tcp, &speed),
+                    None => seconds_for(tcp, speed.v_tcp),
+                };
+                self.arm.joints = Some(q);
+                secs
+            }
+            MotionKind::Circular => {
+                let cir = match via {
+                    Some(Via::Expr(e)) => self.eval(e, frame)?,
+                    Some(Via::Known(c)) => Value::Rob(Box::new(c)),
+                    None => Value::Unknown,
+                };
+                let angle = from.rotation.angle_to(&rob.pose.rotation).to_degrees();
+                if let Value::Rob(c) = &cir {
+                    let via = flange_of_target(&c.pose, tool, wobj);
+                    if via.is_ok_and(|v| !self.check_rob(c, &v, call, frame, s)) {
+                        return Ok(());
+                    }
+                }
+                let (len, frac, cir) = match cir {
+                    Value::Rob(c) => {
+                        let (len, to_via) = arc_length(
+                            &from.translation.vector,
+                            &c.pose.translation.vector,
+                            &rob.pose.translation.vector,
+                        );
+                        (len, if len > 0.0 { to_via / len } else { 0.5 }, Some(c))
+                    }
+                    _ => {
+                        self.note(
+                            frame,
+                            line,
+                            format!(
+                                "{}: CirPoint known only at run time, timed along the chord",
+                                call.name
+                            ),
+                        );
+                        (
+                            (rob.pose.translation.vector - from.translation.vector).norm(),
+                            0.5,
+                            None,
+                        )
+                    }
+                };
+                via_info = cir.map(|c| (frac, c));
+                self.arm.joints = None;
+                seconds_for(len, speed.v_tcp).max(seconds_for(angle, speed.v_ori))
+            }
+            _ => {
+                self.arm.joints = None;
+                linear_move_seconds(&from, &rob.pose, &speed)
+            }
+        };
+        self.arm.flange = flange;
+        self.arm.conf = rob.conf;
+        let secs = t_override.unwrap_or(secs);
+        let start = self.clock.max(self.robot_free);
+        self.advance(secs, conc);
+        if let Some((frac, c)) = via_info {
+            self.visit(&c, start + secs * frac);
+        }
+        self.visit(&rob, self.robot_free);
         Ok(())
     }
 
@@ -471,6 +544,10 @@ impl<'p> Walker<'p> {
 
     pub(super) fn visit(&mut self, rob: &Rob, at_s: f64) {
         let t = at_s / 60.0;
+        if let (Some(literal), Some(cw)) = (rob.cut, self.cuts.as_mut()) {
+            cw.visit(literal, t, self.schedule.targets().len());
+            return;
+        }
         let targets = self.program.targets();
         if let Some(target) = rob.id.and_then(|i| targets.get(i)) {
             self.schedule.visit(&target.id, t);

@@ -1,0 +1,162 @@
+//! The visits of a streamed run's cut literals: the targets of the moves a
+//! skeleton cut out, kept by their number among the cut literals (in file
+//! order) rather than by identifier (a million identifiers made and hashed
+//! were a third of timing a CAM program). Each literal's identifier (its
+//! routine's `main#1234`) is made only where one is asked for.
+
+use super::file::{fmt_visits, lower, Schedule};
+use std::fmt;
+use std::sync::Arc;
+
+/// Every visit of every cut literal, and where each was first visited
+/// among the walk's other targets.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CutVisits {
+    /// Each literal's first visit (minutes); NaN: not visited.
+    first: Vec<f64>,
+    /// Every visit of a literal visited more than once.
+    more: foldhash::HashMap<usize, Vec<f64>>,
+    /// Each visited literal's prefix (an index into `prefixes`: its
+    /// routine, qualified or not) and inline number: its identifier.
+    names: Vec<(u32, u32)>,
+    prefixes: Vec<Arc<str>>,
+    /// Literals in first-visit order, each with the number of the walk's
+    /// other targets first visited before it.
+    order: Vec<(usize, usize)>,
+}
+
+impl CutVisits {
+    /// No visit yet of `literals` literals.
+    pub(crate) fn new(literals: usize) -> CutVisits {
+        CutVisits {
+            first: vec![f64::NAN; literals],
+            names: vec![(0, 0); literals],
+            ..CutVisits::default()
+        }
+    }
+
+    /// A visit of `literal`, identified `{prefix}#{inline}`, at
+    /// `time_min`, after `before` other targets were first visited.
+    pub(crate) fn visit(
+        &mut self,
+        literal: usize,
+        (prefix, inline): (&Arc<str>, usize),
+        time_min: f64,
+        before: usize,
+    ) {
+        let Some(first) = self.first.get_mut(literal) else {
+            return;
+        };
+        if !first.is_nan() {
+            let all = self.more.entry(literal).or_insert_with(|| vec![*first]);
+            all.push(time_min);
+            return;
+        }
+        *first = time_min;
+        let r = match self.prefixes.iter().rposition(|p| Arc::ptr_eq(p, prefix)) {
+            Some(r) => r,
+            None => {
+                self.prefixes.push(prefix.clone());
+                self.prefixes.len() - 1
+            }
+        };
+        self.names[literal] = (r as u32, inline as u32);
+        self.order.push((before, literal));
+    }
+
+    /// Every visit of `literal`, in the order made; `None`: never visited.
+    pub fn times(&self, literal: usize) -> Option<&[f64]> {
+        if let Some(all) = self.more.get(&literal) {
+            return Some(all);
+        }
+        self.first
+            .get(literal)
+            .filter(|t| !t.is_nan())
+            .map(std::slice::from_ref)
+    }
+
+    /// How many literals there are.
+    pub fn len(&self) -> usize {
+        self.first.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.first.is_empty()
+    }
+
+    /// Whether every literal was visited.
+    pub fn all_visited(&self) -> bool {
+        self.order.len() == self.first.len()
+    }
+
+    /// The latest visit, in minutes (0 without one).
+    pub fn latest(&self) -> f64 {
+        let firsts = self.first.iter().filter(|t| !t.is_nan());
+        firsts
+            .chain(self.more.values().flatten())
+            .copied()
+            .fold(0.0, f64::max)
+    }
+
+    /// A visited literal's identifier, as written (`main#1234`).
+    fn id(&self, literal: usize) -> String {
+        let (r, n) = self.names[literal];
+        format!("{}#{n}", self.prefixes[r as usize])
+    }
+
+    /// Whether `id` is a visited literal's identifier (case ignored).
+    pub fn has_id(&self, id: &str) -> bool {
+        let Some((prefix, n)) = id.rsplit_once('#') else {
+            return false;
+        };
+        let Ok(n) = n.parse::<u32>() else {
+            return false;
+        };
+        self.order.iter().any(|&(_, l)| {
+            let (r, k) = self.names[l];
+            k == n && self.prefixes[r as usize].eq_ignore_ascii_case(prefix)
+        })
+    }
+
+    /// The schedule a walk of the whole program makes, where `own` has
+    /// the walk's other targets: as its `Debug` text, which a corrected
+    /// file's marker fingerprints.
+    pub fn whole<'a>(&'a self, own: &'a Schedule) -> impl fmt::Debug + 'a {
+        Whole { cut: self, own }
+    }
+}
+
+struct Whole<'a> {
+    cut: &'a CutVisits,
+    own: &'a Schedule,
+}
+
+impl fmt::Debug for Whole<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let ids: Vec<(String, usize)> = self
+            .cut
+            .order
+            .iter()
+            .map(|&(_, l)| (self.cut.id(l), l))
+            .collect();
+        let keys: Vec<String> = ids.iter().map(|(id, _)| lower(id).into_owned()).collect();
+        let mut entries = self.own.entries();
+        entries.extend(
+            keys.iter()
+                .zip(&ids)
+                .map(|(key, (_, l))| (key.as_str(), self.cut.times(*l).unwrap_or(&[]))),
+        );
+        // The first visits of both, in the walk's order.
+        let own = self.own.targets();
+        let mut order: Vec<&str> = Vec::with_capacity(own.len() + ids.len());
+        let mut cut = self.cut.order.iter().zip(&ids).peekable();
+        for (j, id) in own.iter().enumerate() {
+            while let Some((_, (id, _))) = cut.next_if(|((before, _), _)| *before <= j) {
+                order.push(id);
+            }
+            order.push(id);
+        }
+        order.extend(cut.map(|(_, (id, _))| id.as_str()));
+        fmt_visits(f, entries, &order)
+    }
+}

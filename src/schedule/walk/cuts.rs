@@ -1,0 +1,258 @@
+//! Moves a skeleton cut out of the file, walked where the program read by
+//! [`parse_skeleton_runs`](crate::rapid::parse_skeleton_runs) has left
+//! each run of them ([`StatementKind::CutMoves`]): read from the file a
+//! batch at a time on every core, timed one by one as any move (the same
+//! [`Walker::move_to_rob`]), each literal's visits kept by its number
+//! ([`CutVisits`]). Whatever the walk would say of one of them (a note,
+//! a target it cannot time) it says only of the whole program, read
+//! statement by statement: the walk of the runs declines, and its caller
+//! then walks that.
+
+use super::moves::{Goal, Via};
+use super::*;
+use crate::rapid::fastmove::{FastMove, Skeleton};
+use crate::resolve::robconf_of;
+use crate::robot::frames::pose_from_rapid;
+use crate::schedule::CutVisits;
+use rayon::prelude::*;
+use std::ops::Range;
+
+/// Moves read from the file at once (on every core), then timed in order.
+const BATCH: usize = 4096;
+
+/// The cut moves of a walk, and what it found of them.
+pub(crate) struct CutWalk<'p> {
+    skeleton: &'p Skeleton,
+    src: &'p [u8],
+    /// The number of each cut's first literal (and of all, last).
+    first_literal: Vec<usize>,
+    pub(crate) visits: CutVisits,
+    /// A cut move needed what only the whole program's walk says.
+    pub(crate) declined: bool,
+    /// The run being walked: its identifiers' prefix, the routine's
+    /// inline literals before it, and the number of its first literal.
+    run: (Arc<str>, usize, usize),
+    /// Names met in the moves, as the walk's expressions.
+    names: Vec<(&'p [u8], Arc<str>)>,
+}
+
+impl<'p> CutWalk<'p> {
+    /// The moves `skeleton` cut out of `src`.
+    pub(crate) fn new(skeleton: &'p Skeleton, src: &'p [u8]) -> CutWalk<'p> {
+        let mut first_literal = Vec::with_capacity(skeleton.literals.len() + 1);
+        let mut n = 0;
+        first_literal.push(0);
+        for &k in &skeleton.literals {
+            n += usize::from(k);
+            first_literal.push(n);
+        }
+        CutWalk {
+            skeleton,
+            src,
+            first_literal,
+            visits: CutVisits::new(n),
+            declined: false,
+            run: (Arc::from(""), 0, 0),
+            names: Vec::new(),
+        }
+    }
+
+    /// A visit of `literal` at `time_min`, after `before` other targets.
+    pub(super) fn visit(&mut self, literal: usize, time_min: f64, before: usize) {
+        let (routine, inline, first) = &self.run;
+        let number = inline + (literal - first) + 1;
+        self.visits
+            .visit(literal, (routine, number), time_min, before);
+    }
+
+    /// The name at `r` of the file, as an expression.
+    fn name(&mut self, r: &Range<usize>) -> Option<Expr> {
+        let bytes = self.src.get(r.clone())?;
+        if let Some((_, a)) = self.names.iter().find(|(b, _)| *b == bytes) {
+            return Some(Expr::Name(a.clone()));
+        }
+        let a: Arc<str> = Arc::from(std::str::from_utf8(bytes).ok()?);
+        self.names.push((bytes, a.clone()));
+        Some(Expr::Name(a))
+    }
+}
+
+/// Each run of cut moves of a program: its cuts, the inline literals of
+/// its routine before it, its identifiers' prefix.
+struct Runs<'a>(Vec<(Range<usize>, usize, &'a Arc<str>)>);
+
+impl<'a> rapid::visit::Visit<'a> for Runs<'a> {
+    fn visit_statement(&mut self, s: &'a Statement) {
+        if let StatementKind::CutMoves {
+            cuts,
+            inline,
+            prefix,
+        } = &s.kind
+        {
+            self.0.push((cuts.clone(), *inline, prefix));
+        }
+        rapid::visit::walk_statement(self, s);
+    }
+}
+
+impl CutWalk<'_> {
+    /// The cut literals never visited, in file order: each one's place
+    /// in the skeleton (that of its move) and identifier, made for the
+    /// first `shown` only; and how many there are.
+    pub(super) fn missed(&self, program: &Program, shown: usize) -> (Vec<(usize, String)>, usize) {
+        let mut runs = Runs(Vec::new());
+        rapid::visit::walk_program(&mut runs, program);
+        runs.0.sort_by_key(|r| r.0.start);
+        let (mut listed, mut count) = (Vec::new(), 0);
+        for (cuts, inline, prefix) in runs.0 {
+            let first = self.first_literal[cuts.start];
+            for k in cuts {
+                for l in self.first_literal[k]..self.first_literal[k + 1] {
+                    if self.visits.times(l).is_some() {
+                        continue;
+                    }
+                    count += 1;
+                    if listed.len() < shown {
+                        let id = format!("{prefix}#{}", inline + (l - first) + 1);
+                        listed.push((self.skeleton.place_of_cut(k), id));
+                    }
+                }
+            }
+        }
+        (listed, count)
+    }
+}
+
+/// The error a declined walk stops with (never shown: its caller walks
+/// the whole program instead).
+fn declined() -> Error {
+    Error::input("internal: a cut move is left to the whole program's walk")
+}
+
+impl<'p> Walker<'p> {
+    /// The run `cuts` of a routine's cut moves, after its first `inline`
+    /// literals, their identifiers' `prefix`; `s` is the run's statement.
+    pub(super) fn exec_cut_moves(
+        &mut self,
+        cuts: Range<usize>,
+        (inline, prefix): (usize, &Arc<str>),
+        s: &Statement,
+        frame: &mut Frame<'p>,
+    ) -> Result<Flow> {
+        // Only a first walk, which asks of reach after it, walks the moves
+        // itself: a second one is to find each failing target in its place.
+        let (Some(cw), Some(_)) = (self.cuts.as_mut(), &self.deferred) else {
+            return self.decline();
+        };
+        cw.run = (prefix.clone(), inline, cw.first_literal[cuts.start]);
+        let (skeleton, src) = (cw.skeleton, cw.src);
+        for lo in cuts.clone().step_by(BATCH) {
+            let hi = (lo + BATCH).min(cuts.end);
+            let moves: Vec<Option<FastMove>> = (lo..hi)
+                .into_par_iter()
+                .map(|k| skeleton.reread(src, k))
+                .collect();
+            for (k, m) in (lo..hi).zip(moves) {
+                self.count_step(frame, s)?;
+                let notes = self.notes.len();
+                let timed = match m {
+                    Some(m) => self.cut_move(k, m, s, frame)?,
+                    None => false,
+                };
+                if !timed || self.notes.len() != notes || !self.errors.is_empty() {
+                    return self.decline();
+                }
+            }
+        }
+        Ok(Flow::Normal)
+    }
+
+    fn decline(&mut self) -> Result<Flow> {
+        if let Some(cw) = self.cuts.as_mut() {
+            cw.declined = true;
+        }
+        Err(declined())
+    }
+
+    /// Cut move `k`, read as `m`, timed as the walk times the statement
+    /// it is; `false`: it is left to the whole program's walk.
+    fn cut_move(
+        &mut self,
+        k: usize,
+        m: FastMove,
+        s: &Statement,
+        frame: &mut Frame<'p>,
+    ) -> Result<bool> {
+        let Some(cw) = self.cuts.as_mut() else {
+            return Ok(false);
+        };
+        let first = cw.first_literal[k];
+        let (Some(Expr::Name(name)), Some(speed), Some(tool)) =
+            (cw.name(&m.instruction), cw.name(&m.speed), cw.name(&m.tool))
+        else {
+            return Ok(false);
+        };
+        let wobj = match &m.wobj {
+            Some(w) => match cw.name(w) {
+                Some(w) => Some(w),
+                None => return Ok(false),
+            },
+            None => None,
+        };
+        let kind = match rapid::motion_signature(&name).map(|sig| sig.kind) {
+            Some(k @ (MotionKind::Linear | MotionKind::Joint | MotionKind::Circular)) => k,
+            _ => return Ok(false),
+        };
+        let mut robs = Vec::with_capacity(2);
+        for (j, (_, value)) in m.targets.iter().enumerate() {
+            let (Ok(pose), Ok(conf)) = (
+                pose_from_rapid(value.trans_values(), value.rot_values()),
+                robconf_of(value.robconf_values()),
+            ) else {
+                return Ok(false);
+            };
+            robs.push(Rob {
+                pose,
+                conf,
+                id: None,
+                derived: None,
+                bases: Vec::new(),
+                cut: Some(first + j),
+            });
+        }
+        let (to, via) = match (kind, robs.len()) {
+            (MotionKind::Circular, 2) => {
+                let to = robs.pop();
+                (to, robs.pop().map(Via::Known))
+            }
+            (MotionKind::Linear | MotionKind::Joint, 1) => (robs.pop(), None),
+            _ => return Ok(false),
+        };
+        let Some(to) = to else {
+            return Ok(false);
+        };
+        // As the statement the whole program makes of the move would be
+        // walked (its line is the run's: any note declines).
+        let line = s.pos.line;
+        let (speed, t_override) = self.move_speed([Some(&speed), None, None], frame, line)?;
+        let frames = self.frame_names(Some(&tool), wobj.as_ref(), frame, line)?;
+        let ov = self.velset.0;
+        let goal = Goal {
+            kind,
+            speed,
+            t_override,
+            conc: false,
+            frames: &frames,
+            max_speed: self.robot.max_speed_deg_s.map(|v| v * ov),
+        };
+        let call = Call {
+            name,
+            late_bound: false,
+            args: Vec::new(),
+            targets: Vec::new(),
+            jointtargets: Vec::new(),
+        };
+        self.move_to_rob(&goal, to, via, &call, frame, s)?;
+        Ok(true)
+    }
+}

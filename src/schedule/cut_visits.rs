@@ -139,12 +139,12 @@ impl fmt::Debug for Whole<'_> {
             .iter()
             .map(|&(_, l)| (self.cut.id(l), l))
             .collect();
-        let keys: Vec<String> = ids.iter().map(|(id, _)| lower(id).into_owned()).collect();
+        let keys: Vec<_> = ids.iter().map(|(id, _)| lower(id)).collect();
         let mut entries = self.own.entries();
         entries.extend(
             keys.iter()
                 .zip(&ids)
-                .map(|(key, (_, l))| (key.as_str(), self.cut.times(*l).unwrap_or(&[]))),
+                .map(|(key, (_, l))| (&**key, self.cut.times(*l).unwrap_or(&[]))),
         );
         // The first visits of both, in the walk's order.
         let own = self.own.targets();

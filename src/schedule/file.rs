@@ -80,7 +80,8 @@ impl Times {
 /// records a schedule by a fingerprint of this text.
 impl std::fmt::Debug for Schedule {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        fmt_visits(f, self.entries(), &self.order)
+        let order: Vec<&str> = self.order.iter().map(|id| &**id).collect();
+        fmt_visits(f, self.entries(), &order)
     }
 }
 
@@ -89,15 +90,9 @@ impl std::fmt::Debug for Schedule {
 pub(super) fn fmt_visits(
     f: &mut std::fmt::Formatter<'_>,
     visits: Vec<(&str, &[f64])>,
-    order: &dyn std::fmt::Debug,
+    order: &[&str],
 ) -> std::fmt::Result {
-    /// The visits in key order, written as a map.
-    struct Sorted<'a>(Vec<(&'a str, &'a [f64])>);
-    impl std::fmt::Debug for Sorted<'_> {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            f.debug_map().entries(self.0.iter().copied()).finish()
-        }
-    }
+    use std::fmt::Write;
     // Sorted by their first 16 bytes as one number first: a program's
     // identifiers share long prefixes (`main#1234`), and comparing
     // them byte by byte was half of fingerprinting a schedule.
@@ -106,12 +101,61 @@ pub(super) fn fmt_visits(
         .map(|(k, v)| (leading_bytes(k), k, v))
         .collect();
     keyed.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.cmp(b.1)));
-    let sorted = keyed.into_iter().map(|(_, k, v)| (k, v)).collect();
-    f.debug_struct("Schedule")
-        .field("visits", &Sorted(sorted))
-        .field("order", order)
-        .finish()
+    if f.alternate() {
+        /// The visits in key order, written as a map.
+        struct Sorted<'a>(Vec<(&'a str, &'a [f64])>);
+        impl std::fmt::Debug for Sorted<'_> {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.debug_map().entries(self.0.iter().copied()).finish()
+            }
+        }
+        let sorted = keyed.into_iter().map(|(_, k, v)| (k, v)).collect();
+        return f
+            .debug_struct("Schedule")
+            .field("visits", &Sorted(sorted))
+            .field("order", &order)
+            .finish();
+    }
+    // The text the builders write (`Schedule { visits: {"a": [1.0]},
+    // order: ["A"] }`), put together here and passed on a page at a
+    // time: through the builders, a million targets' pieces were a
+    // hundred million calls, most of fingerprinting a schedule.
+    let mut page = String::with_capacity(PAGE + 256);
+    page.push_str("Schedule { visits: {");
+    for (i, (_, k, v)) in keyed.iter().enumerate() {
+        if i > 0 {
+            page.push_str(", ");
+        }
+        write!(page, "{k:?}: [")?;
+        for (j, t) in v.iter().enumerate() {
+            if j > 0 {
+                page.push_str(", ");
+            }
+            write!(page, "{t:?}")?;
+        }
+        page.push(']');
+        if page.len() >= PAGE {
+            f.write_str(&page)?;
+            page.clear();
+        }
+    }
+    page.push_str("}, order: [");
+    for (i, id) in order.iter().enumerate() {
+        if i > 0 {
+            page.push_str(", ");
+        }
+        write!(page, "{id:?}")?;
+        if page.len() >= PAGE {
+            f.write_str(&page)?;
+            page.clear();
+        }
+    }
+    page.push_str("] }");
+    f.write_str(&page)
 }
+
+/// Bytes of a schedule's `Debug` text passed on at once.
+const PAGE: usize = 1 << 15;
 
 /// The first 16 bytes of `s` as a big-endian number, zeros after its end:
 /// two strings whose numbers differ are in the order of their numbers

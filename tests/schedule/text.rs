@@ -7,8 +7,8 @@ use proptest::prelude::*;
 use rapidtherm::schedule::Schedule;
 use std::collections::BTreeMap;
 
-/// The text as the sorted map wrote it.
-fn as_the_sorted_map(visits: &[(String, f64)]) -> String {
+/// The text as the sorted map wrote it (`pretty`: with `{:#?}`).
+fn as_the_sorted_map_in(visits: &[(String, f64)], pretty: bool) -> String {
     #[derive(Debug)]
     struct Schedule {
         #[allow(dead_code)] // read by Debug
@@ -27,7 +27,15 @@ fn as_the_sorted_map(visits: &[(String, f64)]) -> String {
         }
         s.visits.entry(key).or_default().push(*t);
     }
-    format!("{s:?}")
+    if pretty {
+        format!("{s:#?}")
+    } else {
+        format!("{s:?}")
+    }
+}
+
+fn as_the_sorted_map(visits: &[(String, f64)]) -> String {
+    as_the_sorted_map_in(visits, false)
 }
 
 /// Identifiers as programs have them: long shared prefixes (past 16
@@ -61,6 +69,8 @@ proptest! {
             s.visit(id, *t);
         }
         prop_assert_eq!(format!("{s:?}"), as_the_sorted_map(&visits));
+        // Written by hand for speed, the plain text; pretty, as ever.
+        prop_assert_eq!(format!("{s:#?}"), as_the_sorted_map_in(&visits, true));
     }
 }
 

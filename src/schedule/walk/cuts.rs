@@ -13,7 +13,9 @@ use super::*;
 use crate::rapid::fastmove::{FastMove, Skeleton};
 use crate::resolve::robconf_of;
 use crate::robot::frames::pose_from_rapid;
+use crate::robot::{RobConf, ToolData, WobjData};
 use crate::schedule::CutVisits;
+use nalgebra::Isometry3;
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -129,6 +131,58 @@ fn declined() -> Error {
     Error::input("internal: a cut move is left to the whole program's walk")
 }
 
+/// A cut move as the walk needs it, read on any core: where its names
+/// are, and each literal's pose and robconf (CirPoint before ToPoint);
+/// `None` where a literal has none (the whole walk says why).
+struct Read {
+    instruction: Range<usize>,
+    speed: Range<usize>,
+    tool: Range<usize>,
+    wobj: Option<Range<usize>>,
+    literals: [Option<(Isometry3<f64>, RobConf)>; 2],
+}
+
+impl Read {
+    fn of(m: FastMove) -> Option<Read> {
+        let mut literals = [None, None];
+        for (slot, (_, value)) in literals.iter_mut().zip(&m.targets) {
+            let pose = pose_from_rapid(value.trans_values(), value.rot_values()).ok()?;
+            let conf = robconf_of(value.robconf_values()).ok()?;
+            *slot = Some((pose, conf));
+        }
+        (m.targets.len() <= 2).then_some(Read {
+            instruction: m.instruction,
+            speed: m.speed,
+            tool: m.tool,
+            wobj: m.wobj,
+            literals,
+        })
+    }
+
+    /// The move's names as written: instruction, speed, tool, work object.
+    fn names<'s>(&self, src: &'s [u8]) -> [Option<&'s [u8]>; 4] {
+        [
+            src.get(self.instruction.clone()),
+            src.get(self.speed.clone()),
+            src.get(self.tool.clone()),
+            self.wobj.clone().and_then(|w| src.get(w)),
+        ]
+    }
+}
+
+/// How the moves of a run naming the same instruction, speed, tool and
+/// work object go: worked out once per run (nothing between two cut moves
+/// changes what the names stand for).
+struct Setup<'s> {
+    names: [Option<&'s [u8]>; 4],
+    call: Call,
+    kind: MotionKind,
+    speed: SpeedData,
+    t_override: Option<f64>,
+    frames: std::rc::Rc<(ToolData, WobjData)>,
+    max_speed: [f64; 6],
+}
+
 impl<'p> Walker<'p> {
     /// The run `cuts` of a routine's cut moves, after its first `inline`
     /// literals, their identifiers' `prefix`; `s` is the run's statement.
@@ -146,17 +200,18 @@ impl<'p> Walker<'p> {
         };
         cw.run = (prefix.clone(), inline, cw.first_literal[cuts.start]);
         let (skeleton, src) = (cw.skeleton, cw.src);
+        let mut setup: Option<Setup> = None;
         for lo in cuts.clone().step_by(BATCH) {
             let hi = (lo + BATCH).min(cuts.end);
-            let moves: Vec<Option<FastMove>> = (lo..hi)
+            let moves: Vec<Option<Read>> = (lo..hi)
                 .into_par_iter()
-                .map(|k| skeleton.reread(src, k))
+                .map(|k| skeleton.reread(src, k).and_then(Read::of))
                 .collect();
             for (k, m) in (lo..hi).zip(moves) {
                 self.count_step(frame, s)?;
                 let notes = self.notes.len();
                 let timed = match m {
-                    Some(m) => self.cut_move(k, m, s, frame)?,
+                    Some(m) => self.cut_move(k, &m, &mut setup, s, frame)?,
                     None => false,
                 };
                 if !timed || self.notes.len() != notes || !self.errors.is_empty() {
@@ -174,85 +229,110 @@ impl<'p> Walker<'p> {
         Err(declined())
     }
 
-    /// Cut move `k`, read as `m`, timed as the walk times the statement
-    /// it is; `false`: it is left to the whole program's walk.
-    fn cut_move(
+    /// How a move naming `names` goes, as the walk works it out for the
+    /// statement the whole program makes of the move (its line is the
+    /// run's: any note declines); `None`: not a move the walk of the runs
+    /// times.
+    fn setup<'s>(
         &mut self,
-        k: usize,
-        m: FastMove,
+        names: [Option<&'s [u8]>; 4],
+        m: &Read,
         s: &Statement,
         frame: &mut Frame<'p>,
-    ) -> Result<bool> {
+    ) -> Result<Option<Setup<'s>>> {
         let Some(cw) = self.cuts.as_mut() else {
-            return Ok(false);
+            return Ok(None);
         };
-        let first = cw.first_literal[k];
         let (Some(Expr::Name(name)), Some(speed), Some(tool)) =
             (cw.name(&m.instruction), cw.name(&m.speed), cw.name(&m.tool))
         else {
-            return Ok(false);
+            return Ok(None);
         };
         let wobj = match &m.wobj {
             Some(w) => match cw.name(w) {
                 Some(w) => Some(w),
-                None => return Ok(false),
+                None => return Ok(None),
             },
             None => None,
         };
         let kind = match rapid::motion_signature(&name).map(|sig| sig.kind) {
             Some(k @ (MotionKind::Linear | MotionKind::Joint | MotionKind::Circular)) => k,
-            _ => return Ok(false),
+            _ => return Ok(None),
         };
-        let mut robs = Vec::with_capacity(2);
-        for (j, (_, value)) in m.targets.iter().enumerate() {
-            let (Ok(pose), Ok(conf)) = (
-                pose_from_rapid(value.trans_values(), value.rot_values()),
-                robconf_of(value.robconf_values()),
-            ) else {
+        let line = s.pos.line;
+        let (speed, t_override) = self.move_speed([Some(&speed), None, None], frame, line)?;
+        let frames = self.frame_names(Some(&tool), wobj.as_ref(), frame, line)?;
+        let ov = self.velset.0;
+        Ok(Some(Setup {
+            names,
+            call: Call {
+                name,
+                late_bound: false,
+                args: Vec::new(),
+                targets: Vec::new(),
+                jointtargets: Vec::new(),
+            },
+            kind,
+            speed,
+            t_override,
+            frames,
+            max_speed: self.robot.max_speed_deg_s.map(|v| v * ov),
+        }))
+    }
+
+    /// Cut move `k`, read as `m`, timed as the walk times the statement
+    /// it is (`setup`: how the run's last move went); `false`: it is left
+    /// to the whole program's walk.
+    fn cut_move<'s>(
+        &mut self,
+        k: usize,
+        m: &Read,
+        setup: &mut Option<Setup<'s>>,
+        s: &Statement,
+        frame: &mut Frame<'p>,
+    ) -> Result<bool>
+    where
+        'p: 's,
+    {
+        let Some(cw) = self.cuts.as_ref() else {
+            return Ok(false);
+        };
+        let (first, src) = (cw.first_literal[k], cw.src);
+        let names = m.names(src);
+        if setup.as_ref().is_none_or(|u| u.names != names) {
+            let notes = self.notes.len();
+            *setup = self.setup(names, m, s, frame)?;
+            if self.notes.len() != notes {
                 return Ok(false);
-            };
-            robs.push(Rob {
+            }
+        }
+        let Some(u) = setup.as_ref() else {
+            return Ok(false);
+        };
+        let rob = |j: usize| {
+            m.literals[j].map(|(pose, conf)| Rob {
                 pose,
                 conf,
                 id: None,
                 derived: None,
                 bases: Vec::new(),
                 cut: Some(first + j),
-            });
-        }
-        let (to, via) = match (kind, robs.len()) {
-            (MotionKind::Circular, 2) => {
-                let to = robs.pop();
-                (to, robs.pop().map(Via::Known))
-            }
-            (MotionKind::Linear | MotionKind::Joint, 1) => (robs.pop(), None),
+            })
+        };
+        let (to, via) = match (u.kind, rob(0), rob(1)) {
+            (MotionKind::Circular, Some(via), Some(to)) => (to, Some(Via::Known(via))),
+            (MotionKind::Linear | MotionKind::Joint, Some(to), None) => (to, None),
             _ => return Ok(false),
         };
-        let Some(to) = to else {
-            return Ok(false);
-        };
-        // As the statement the whole program makes of the move would be
-        // walked (its line is the run's: any note declines).
-        let line = s.pos.line;
-        let (speed, t_override) = self.move_speed([Some(&speed), None, None], frame, line)?;
-        let frames = self.frame_names(Some(&tool), wobj.as_ref(), frame, line)?;
-        let ov = self.velset.0;
         let goal = Goal {
-            kind,
-            speed,
-            t_override,
+            kind: u.kind,
+            speed: u.speed,
+            t_override: u.t_override,
             conc: false,
-            frames: &frames,
-            max_speed: self.robot.max_speed_deg_s.map(|v| v * ov),
+            frames: &u.frames,
+            max_speed: u.max_speed,
         };
-        let call = Call {
-            name,
-            late_bound: false,
-            args: Vec::new(),
-            targets: Vec::new(),
-            jointtargets: Vec::new(),
-        };
-        self.move_to_rob(&goal, to, via, &call, frame, s)?;
+        self.move_to_rob(&goal, to, via, &u.call, frame, s)?;
         Ok(true)
     }
 }

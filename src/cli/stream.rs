@@ -65,7 +65,13 @@ pub fn correct(
     let map = map_file(path)?;
     let src: &[u8] = &map;
     let started = std::time::Instant::now();
-    let skeleton = rapid::fastmove::skeleton(src);
+    // An estimate walks the cut moves: their numbers are kept as they are
+    // cut, not read a second time.
+    let estimated = args.when.at.is_none() && args.when.schedule.is_none();
+    let skeleton = match estimated {
+        true => rapid::fastmove::skeleton_with_poses(src),
+        false => rapid::fastmove::skeleton(src),
+    };
     messages::took("cutting the moves out", started);
     if skeleton.cuts.is_empty() {
         return Ok(None);

@@ -46,6 +46,9 @@ struct Cursor<'a, 'm> {
     values: bool,
     names: bool,
     seen: &'m mut Seen<'a>,
+    /// Where each literal's position, orientation and robconf go, on a
+    /// pass that keeps no literal ([`Pass::Numbers`]).
+    numbers: Option<&'m mut Vec<[f64; 11]>>,
 }
 
 /// What a pass has looked up already: names that are no reserved word,
@@ -230,8 +233,21 @@ impl Cursor<'_, '_> {
         let rot = self.numbers::<4>()?;
         self.byte(b',')?;
         let robconf = self.numbers::<4>()?;
+        if let Some(out) = &mut self.numbers {
+            let mut n = [0.0; 11];
+            for (slot, x) in n.iter_mut().zip(trans.iter().chain(&rot).chain(&robconf)) {
+                *slot = x.value;
+            }
+            out.push(n);
+        }
         self.byte(b',')?;
-        let extax = self.numbers::<6>()?;
+        // Kept as numbers, the external axes' values are not needed: their
+        // form is checked, as on the cut pass.
+        let values = self.values;
+        self.values = values && self.numbers.is_none();
+        let extax = self.numbers::<6>();
+        self.values = values;
+        let extax = extax?;
         self.byte(b']')?;
         Some((
             start,
@@ -328,18 +344,42 @@ pub fn recognise(src: &[u8], at: usize) -> Option<FastMove> {
 enum Pass {
     Form,
     Values,
+    /// Values kept as numbers only (the cursor's sink), no literal.
+    Numbers,
     /// A move cut with this many literals: its names were checked then.
     Again(usize),
 }
 
 fn read_move<'a>(src: &'a [u8], at: usize, pass: Pass, seen: &mut Seen<'a>) -> Option<FastMove> {
+    read_move_into(src, at, pass, seen, None)
+}
+
+/// [`read_move`], the numbers of a [`Pass::Numbers`] put in `numbers`
+/// (left as they were where the move is not read).
+fn read_move_into<'a>(
+    src: &'a [u8],
+    at: usize,
+    pass: Pass,
+    seen: &mut Seen<'a>,
+    numbers: Option<&mut Vec<[f64; 11]>>,
+) -> Option<FastMove> {
+    let before = numbers.as_ref().map(|n| n.len());
     let mut c = Cursor {
         s: src,
         p: at,
         values: !matches!(pass, Pass::Form),
         names: !matches!(pass, Pass::Again(_)),
         seen,
+        numbers,
     };
+    let m = read_with(&mut c, src, at, pass);
+    if let (None, Some(out), Some(n)) = (&m, c.numbers, before) {
+        out.truncate(n);
+    }
+    m
+}
+
+fn read_with<'a>(c: &mut Cursor<'a, '_>, src: &'a [u8], at: usize, pass: Pass) -> Option<FastMove> {
     // Motion instructions are no reserved words: their signature says.
     let instruction = c.name_as(false)?;
     let word = &src[instruction.clone()];
@@ -355,7 +395,7 @@ fn read_move<'a>(src: &'a [u8], at: usize, pass: Pass, seen: &mut Seen<'a>) -> O
     if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
         return None;
     }
-    let keep = !matches!(pass, Pass::Form);
+    let keep = !matches!(pass, Pass::Form | Pass::Numbers);
     let mut targets = Vec::with_capacity(if keep { k } else { 0 });
     for i in 0..k {
         if i > 0 {
@@ -411,6 +451,8 @@ pub struct Skeleton {
     pub cuts: Vec<Range<usize>>,
     /// How many robtarget literals each cut move holds (two for MoveC).
     pub literals: Vec<u8>,
+    /// The cut moves' numbers, where asked for ([`skeleton_with_poses`]).
+    pub poses: Option<CutPoses>,
     /// Where each cut is in the skeleton, and the bytes cut out before
     /// cut k (k = 0..=cuts.len()).
     starts: Vec<usize>,
@@ -460,31 +502,93 @@ impl Skeleton {
     }
 }
 
+/// What a walk of the cut moves needs of them, read as they are cut (a
+/// second reading of a million moves was most of a walk).
+#[derive(Debug, Default)]
+pub struct CutPoses {
+    /// Literals' position, orientation and robconf numbers, in pieces
+    /// as they were read (on every core: gathered into one, they were
+    /// copied to fresh memory, a third of the cut).
+    pub numbers: Vec<Vec<[f64; 11]>>,
+    /// Each cut move's first literal's numbers in `numbers` (piece,
+    /// index), and its instruction's end and speed's start from its
+    /// start: the bytes before the one and from the other on say what
+    /// the move is, apart from its literals.
+    pub moves: Vec<((u32, u32), u32, u32)>,
+}
+
+impl CutPoses {
+    /// The numbers of cut move `k`'s `n` literals.
+    pub fn numbers_of(&self, k: usize, n: usize) -> Option<&[[f64; 11]]> {
+        let &((piece, first), _, _) = self.moves.get(k)?;
+        let first = first as usize;
+        self.numbers.get(piece as usize)?.get(first..first + n)
+    }
+}
+
+/// [`skeleton`], with the numbers a walk of the cut moves needs.
+pub fn skeleton_with_poses(src: &[u8]) -> Skeleton {
+    cut(src, true)
+}
+
 /// Cut the moves [`recognise`] reads out of `src`, where it is safe to:
 /// inside a routine, and with nothing but blanks or a comment after the
 /// move on its line (so that no statement the skeleton keeps moves to
 /// another column). A file the scanner refuses is returned whole: the
 /// parser then reports why.
 pub fn skeleton(src: &[u8]) -> Skeleton {
+    cut(src, false)
+}
+
+fn cut(src: &[u8], poses: bool) -> Skeleton {
     let mut scanner = Scanner::new(src);
     if src.starts_with(&[0xEF, 0xBB, 0xBF]) {
         scanner.skip_to(3);
     }
     let mut cuts = Vec::new();
     let mut literals = Vec::new();
+    let mut kept = poses.then(CutPoses::default);
     let mut in_routine = false;
-    let found = moves_at_line_starts(src);
-    let mut next = found.iter().peekable();
+    let Found {
+        moves: found,
+        shapes,
+        numbers: mut pieces,
+    } = moves_at_line_starts(src, poses);
+    // Moves read here, after another statement on their line.
+    let mut numbers = Vec::new();
+    let here = pieces.len() as u32;
+    let mut next = found.iter().enumerate().peekable();
     loop {
         if in_routine {
             let at = scanner.next_start();
-            while next.next_if(|f| f.0.start < at).is_some() {}
+            while next.next_if(|f| f.1 .0.start < at).is_some() {}
             let m = match next.peek() {
-                Some(f) if f.0.start == at => Some((*f).clone()),
+                Some(&(i, f)) if f.0.start == at => {
+                    if let (Some(kept), Some(&shape)) = (&mut kept, shapes.get(i)) {
+                        kept.moves.push(shape);
+                    }
+                    Some(f.clone())
+                }
                 // A statement after another on its line.
-                _ => read_move(src, at, Pass::Form, &mut Seen::default())
-                    .filter(|m| rest_is_blank(src, m.span.end))
-                    .map(|m| (m.span, m.literals as u8)),
+                _ => {
+                    let first = numbers.len();
+                    let (pass, sink) = match poses {
+                        true => (Pass::Numbers, Some(&mut numbers)),
+                        false => (Pass::Form, None),
+                    };
+                    let m = read_move_into(src, at, pass, &mut Seen::default(), sink)
+                        .filter(|m| rest_is_blank(src, m.span.end));
+                    numbers.truncate(match &m {
+                        Some(_) => numbers.len(),
+                        None => first,
+                    });
+                    m.map(|m| {
+                        if let Some(kept) = &mut kept {
+                            kept.moves.push(shape_of(&m, (here, first as u32)));
+                        }
+                        (m.span, m.literals as u8)
+                    })
+                }
             };
             if let Some((span, n)) = m {
                 cuts.push(span.clone());
@@ -505,6 +609,7 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
             Err(_) => {
                 cuts.clear();
                 literals.clear();
+                kept = kept.map(|_| CutPoses::default());
                 break;
             }
         }
@@ -528,9 +633,39 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
         bytes,
         cuts,
         literals,
+        poses: kept.map(|k| {
+            pieces.push(numbers);
+            CutPoses {
+                numbers: pieces,
+                ..k
+            }
+        }),
         starts,
         cut_before,
     }
+}
+
+/// A move's first literal's numbers' index and its shape (see
+/// [`CutPoses::moves`]).
+fn shape_of(m: &FastMove, first: (u32, u32)) -> ((u32, u32), u32, u32) {
+    let at = |p: usize| (p - m.span.start) as u32;
+    (first, at(m.instruction.end), at(m.speed.start))
+}
+
+/// One part's moves, shapes and numbers, as [`Found`] holds them.
+type Part = (
+    Vec<(Range<usize>, u8)>,
+    Vec<((u32, u32), u32, u32)>,
+    Vec<[f64; 11]>,
+);
+
+/// The moves found at line starts, and where asked, each one's shape
+/// (see [`CutPoses::moves`]) and its literals' numbers, a piece a part.
+#[derive(Default)]
+struct Found {
+    moves: Vec<(Range<usize>, u8)>,
+    shapes: Vec<((u32, u32), u32, u32)>,
+    numbers: Vec<Vec<[f64; 11]>>,
 }
 
 /// The moves [`skeleton`] would cut that start a line (after blanks),
@@ -539,7 +674,7 @@ pub fn skeleton(src: &[u8]) -> Skeleton {
 /// span and the number of literals of each, in file order. Whether one
 /// is cut is still the scan's to say (it must be a statement of a
 /// routine).
-fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
+fn moves_at_line_starts(src: &[u8], poses: bool) -> Found {
     use rayon::prelude::*;
     const PART: usize = 1 << 20;
     let mut bounds = vec![0];
@@ -551,10 +686,14 @@ fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
         let end = memchr::memchr(b'\n', &src[end..]).map_or(src.len(), |i| end + i + 1);
         bounds.push(end);
     }
-    bounds
+    let parts: Vec<Part> = bounds
         .par_windows(2)
-        .flat_map_iter(|w| {
-            let mut out = Vec::new();
+        .map(|w| {
+            let (mut moves, mut shapes) = (Vec::new(), Vec::new());
+            // Room for a literal every hundred bytes (a CAM line is
+            // longer): grown by doubling, the numbers were copied over
+            // and over.
+            let mut numbers = Vec::with_capacity(if poses { (w[1] - w[0]) / 100 } else { 0 });
             let mut seen = Seen::default();
             let mut line = w[0];
             while line < w[1] {
@@ -562,19 +701,47 @@ fn moves_at_line_starts(src: &[u8]) -> Vec<(Range<usize>, u8)> {
                 while matches!(src.get(at), Some(b' ' | b'\t')) {
                     at += 1;
                 }
-                let m = read_move(src, at, Pass::Form, &mut seen)
+                let first = numbers.len();
+                let (pass, sink) = match poses {
+                    true => (Pass::Numbers, Some(&mut numbers)),
+                    false => (Pass::Form, None),
+                };
+                let m = read_move_into(src, at, pass, &mut seen, sink)
                     .filter(|m| rest_is_blank(src, m.span.end));
-                // The line's end is looked for after the move read on it
-                // (a move stays on its line), not over its bytes again.
+                // The line's end is looked for after the move read on
+                // it (a move stays on its line), not over its bytes
+                // again.
                 let from = m.as_ref().map_or(line, |m| m.span.end);
                 line = memchr::memchr(b'\n', &src[from..w[1]]).map_or(w[1], |i| from + i + 1);
-                if let Some(m) = m {
-                    out.push((m.span, m.literals as u8));
+                match m {
+                    Some(m) => {
+                        if poses {
+                            shapes.push(shape_of(&m, (0, first as u32)));
+                        }
+                        moves.push((m.span, m.literals as u8));
+                    }
+                    None => numbers.truncate(first),
                 }
             }
-            out
+            (moves, shapes, numbers)
         })
-        .collect()
+        .collect();
+    let mut all = Found {
+        moves: Vec::with_capacity(parts.iter().map(|p| p.0.len()).sum()),
+        ..Found::default()
+    };
+    for (piece, (moves, shapes, numbers)) in parts.into_iter().enumerate() {
+        all.moves.extend(moves);
+        all.shapes.extend(
+            shapes
+                .into_iter()
+                .map(|((_, first), a, b)| ((piece as u32, first), a, b)),
+        );
+        if poses {
+            all.numbers.push(numbers);
+        }
+    }
+    all
 }
 
 /// Nothing but blanks, then a line end, a comment or the end of the file.
@@ -597,6 +764,7 @@ mod tests {
             values: true,
             names: true,
             seen: &mut seen,
+            numbers: None,
         };
         let n = c.number()?;
         (c.p == text.len()).then_some(n.value)

@@ -14,7 +14,7 @@ use super::streaming::{program_with, stmt, streamed_as_whole, warm, Stmt};
 use proptest::prelude::*;
 use rapidtherm::correct::{correct, CutTimes, Options, When};
 use rapidtherm::model::warm::Moment;
-use rapidtherm::rapid::fastmove::skeleton;
+use rapidtherm::rapid::fastmove::{skeleton, skeleton_with_poses};
 use rapidtherm::rapid::{self, Program};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, estimate_cuts, EstimateOptions, Schedule};
@@ -67,7 +67,23 @@ fn estimate_options(entry: &str) -> EstimateOptions {
 /// walk did.
 fn estimated_in_runs_as_whole(src: &[u8], entry: &str) -> Option<bool> {
     let whole_program = rapid::parse("p.mod", src).expect("generated programs parse");
-    let skel = skeleton(src);
+    // Cut as `--start` cuts, keeping the numbers of the cut literals:
+    // each move's numbers are those it reads again with.
+    let skel = skeleton_with_poses(src);
+    let poses = skel.poses.as_ref().expect("asked for");
+    for k in 0..skel.cuts.len() {
+        let m = skel.reread(src, k).expect("a cut move reads again");
+        let kept = poses.numbers_of(k, m.targets.len()).expect("kept");
+        for ((_, v), n) in m.targets.iter().zip(kept) {
+            let read: Vec<f64> = v
+                .trans_values()
+                .into_iter()
+                .chain(v.rot_values())
+                .chain(v.robconf_values())
+                .collect();
+            assert_eq!(&read[..], &n[..]);
+        }
+    }
     let program = rapid::parse("p.mod", &skel.bytes).expect("the skeleton parses");
     let runs = rapid::parse_skeleton_runs("p.mod", &skel, src).expect("the skeleton reads in runs");
     let opts = estimate_options(entry);

@@ -10,7 +10,7 @@
 
 use super::moves::{Goal, Via};
 use super::*;
-use crate::rapid::fastmove::{FastMove, Skeleton};
+use crate::rapid::fastmove::Skeleton;
 use crate::resolve::robconf_of;
 use crate::robot::frames::pose_from_rapid;
 use crate::robot::{RobConf, ToolData, WobjData};
@@ -131,50 +131,76 @@ fn declined() -> Error {
     Error::input("internal: a cut move is left to the whole program's walk")
 }
 
-/// A cut move as the walk needs it, read on any core: where its names
-/// are, and each literal's pose and robconf (CirPoint before ToPoint);
-/// `None` where a literal has none (the whole walk says why).
+/// A cut move as the walk needs it, read on any core: what says how it
+/// goes (its instruction, and its speed to its end), and each literal's
+/// pose and robconf (CirPoint before ToPoint); `None` where a literal has
+/// none (the whole walk says why).
 struct Read {
     instruction: Range<usize>,
-    speed: Range<usize>,
-    tool: Range<usize>,
-    wobj: Option<Range<usize>>,
+    tail: Range<usize>,
     literals: [Option<(Isometry3<f64>, RobConf)>; 2],
 }
 
 impl Read {
-    fn of(m: FastMove) -> Option<Read> {
+    /// Move `k`, from the numbers the cut pass kept, or else read again.
+    fn of(skeleton: &Skeleton, src: &[u8], k: usize) -> Option<Read> {
+        let Some(poses) = &skeleton.poses else {
+            let m = skeleton.reread(src, k)?;
+            let numbers: Vec<[f64; 11]> = m.targets.iter().map(|(_, v)| numbers_of(v)).collect();
+            return Read::new(m.instruction, m.speed.start..m.span.end, &numbers);
+        };
+        let cut = skeleton.cuts.get(k)?;
+        let &(_, a, b) = poses.moves.get(k)?;
+        let numbers = poses.numbers_of(k, usize::from(*skeleton.literals.get(k)?))?;
+        let at = |d: u32| cut.start + d as usize;
+        Read::new(cut.start..at(a), at(b)..cut.end, numbers)
+    }
+
+    fn new(instruction: Range<usize>, tail: Range<usize>, numbers: &[[f64; 11]]) -> Option<Read> {
         let mut literals = [None, None];
-        for (slot, (_, value)) in literals.iter_mut().zip(&m.targets) {
-            let pose = pose_from_rapid(value.trans_values(), value.rot_values()).ok()?;
-            let conf = robconf_of(value.robconf_values()).ok()?;
+        if numbers.len() > literals.len() {
+            return None;
+        }
+        for (slot, n) in literals.iter_mut().zip(numbers) {
+            let pose = pose_from_rapid([n[0], n[1], n[2]], [n[3], n[4], n[5], n[6]]).ok()?;
+            let conf = robconf_of([n[7], n[8], n[9], n[10]]).ok()?;
             *slot = Some((pose, conf));
         }
-        (m.targets.len() <= 2).then_some(Read {
-            instruction: m.instruction,
-            speed: m.speed,
-            tool: m.tool,
-            wobj: m.wobj,
+        Some(Read {
+            instruction,
+            tail,
             literals,
         })
     }
 
-    /// The move's names as written: instruction, speed, tool, work object.
-    fn names<'s>(&self, src: &'s [u8]) -> [Option<&'s [u8]>; 4] {
+    /// The bytes that say how the move goes.
+    fn key<'s>(&self, src: &'s [u8]) -> [Option<&'s [u8]>; 2] {
         [
             src.get(self.instruction.clone()),
-            src.get(self.speed.clone()),
-            src.get(self.tool.clone()),
-            self.wobj.clone().and_then(|w| src.get(w)),
+            src.get(self.tail.clone()),
         ]
     }
 }
 
-/// How the moves of a run naming the same instruction, speed, tool and
-/// work object go: worked out once per run (nothing between two cut moves
-/// changes what the names stand for).
+/// A literal's position, orientation and robconf numbers.
+fn numbers_of(v: &crate::rapid::RobTargetValue) -> [f64; 11] {
+    let mut n = [0.0; 11];
+    let all = v
+        .trans_values()
+        .into_iter()
+        .chain(v.rot_values())
+        .chain(v.robconf_values());
+    for (slot, x) in n.iter_mut().zip(all) {
+        *slot = x;
+    }
+    n
+}
+
+/// How the moves of a run written alike (instruction, speed, zone, tool,
+/// work object) go: worked out once per run (nothing between two cut
+/// moves changes what the names stand for).
 struct Setup<'s> {
-    names: [Option<&'s [u8]>; 4],
+    key: [Option<&'s [u8]>; 2],
     call: Call,
     kind: MotionKind,
     speed: SpeedData,
@@ -201,25 +227,42 @@ impl<'p> Walker<'p> {
         cw.run = (prefix.clone(), inline, cw.first_literal[cuts.start]);
         let (skeleton, src) = (cw.skeleton, cw.src);
         let mut setup: Option<Setup> = None;
-        for lo in cuts.clone().step_by(BATCH) {
-            let hi = (lo + BATCH).min(cuts.end);
-            let moves: Vec<Option<Read>> = (lo..hi)
+        let end = cuts.end;
+        let read = move |lo: usize| -> Vec<Option<Read>> {
+            (lo..(lo + BATCH).min(end))
                 .into_par_iter()
-                .map(|k| skeleton.reread(src, k).and_then(Read::of))
-                .collect();
-            for (k, m) in (lo..hi).zip(moves) {
-                self.count_step(frame, s)?;
-                let notes = self.notes.len();
-                let timed = match m {
-                    Some(m) => self.cut_move(k, &m, &mut setup, s, frame)?,
-                    None => false,
-                };
-                if !timed || self.notes.len() != notes || !self.errors.is_empty() {
-                    return self.decline();
+                .map(|k| Read::of(skeleton, src, k))
+                .collect()
+        };
+        // Each batch is timed here while the next is read on another
+        // thread: timing is one move after another, reading is not.
+        std::thread::scope(|scope| {
+            let mut lo = cuts.start;
+            let mut moves = read(lo);
+            while lo < end {
+                let hi = (lo + BATCH).min(end);
+                let read = &read;
+                let ahead = (hi < end).then(|| scope.spawn(move || read(hi)));
+                for (k, m) in (lo..hi).zip(moves) {
+                    self.count_step(frame, s)?;
+                    let notes = self.notes.len();
+                    let timed = match m {
+                        Some(m) => self.cut_move(k, &m, &mut setup, s, frame)?,
+                        None => false,
+                    };
+                    if !timed || self.notes.len() != notes || !self.errors.is_empty() {
+                        return self.decline();
+                    }
                 }
+                moves = match ahead.map(|h| h.join()) {
+                    Some(Ok(next)) => next,
+                    Some(Err(_)) => return self.decline(),
+                    None => Vec::new(),
+                };
+                lo = hi;
             }
-        }
-        Ok(Flow::Normal)
+            Ok(Flow::Normal)
+        })
     }
 
     fn decline(&mut self) -> Result<Flow> {
@@ -229,18 +272,21 @@ impl<'p> Walker<'p> {
         Err(declined())
     }
 
-    /// How a move naming `names` goes, as the walk works it out for the
-    /// statement the whole program makes of the move (its line is the
+    /// How cut move `k`, written `key`, goes, as the walk works it out for
+    /// the statement the whole program makes of the move (its line is the
     /// run's: any note declines); `None`: not a move the walk of the runs
     /// times.
     fn setup<'s>(
         &mut self,
-        names: [Option<&'s [u8]>; 4],
-        m: &Read,
+        key: [Option<&'s [u8]>; 2],
+        k: usize,
         s: &Statement,
         frame: &mut Frame<'p>,
     ) -> Result<Option<Setup<'s>>> {
         let Some(cw) = self.cuts.as_mut() else {
+            return Ok(None);
+        };
+        let Some(m) = cw.skeleton.reread(cw.src, k) else {
             return Ok(None);
         };
         let (Some(Expr::Name(name)), Some(speed), Some(tool)) =
@@ -264,7 +310,7 @@ impl<'p> Walker<'p> {
         let frames = self.frame_names(Some(&tool), wobj.as_ref(), frame, line)?;
         let ov = self.velset.0;
         Ok(Some(Setup {
-            names,
+            key,
             call: Call {
                 name,
                 late_bound: false,
@@ -298,10 +344,10 @@ impl<'p> Walker<'p> {
             return Ok(false);
         };
         let (first, src) = (cw.first_literal[k], cw.src);
-        let names = m.names(src);
-        if setup.as_ref().is_none_or(|u| u.names != names) {
+        let key = m.key(src);
+        if setup.as_ref().is_none_or(|u| u.key != key) {
             let notes = self.notes.len();
-            *setup = self.setup(names, m, s, frame)?;
+            *setup = self.setup(key, k, s, frame)?;
             if self.notes.len() != notes {
                 return Ok(false);
             }

@@ -77,9 +77,21 @@ pub fn correct(
         return Ok(None);
     }
     let name = path.display().to_string();
-    let Ok(program) = rapid::parse(&name, &skeleton.bytes) else {
+    // An estimate reads the skeleton twice: as it is, for the correction,
+    // and with its runs of cut moves, for the walk (both on a program of
+    // moves and other statements mixed).
+    let started = std::time::Instant::now();
+    let (program, runs) = match estimated {
+        true => rayon::join(
+            || rapid::parse(&name, &skeleton.bytes),
+            || Some(rapid::parse_skeleton_runs(&name, &skeleton, src)),
+        ),
+        false => (rapid::parse(&name, &skeleton.bytes), None),
+    };
+    let Ok(program) = program else {
         return Ok(None);
     };
+    messages::took("reading the skeleton", started);
     // Anything refused here is refused again, and said, by the whole path.
     let Ok(arm) = checked_arm(args, task, model) else {
         return Ok(None);
@@ -96,11 +108,9 @@ pub fn correct(
             (when, Vec::new(), None, 0.0)
         }
         (None, None, Some(start)) => {
-            let started = std::time::Instant::now();
-            let Ok(whole) = rapid::parse_skeleton_runs(&name, &skeleton, src) else {
+            let Some(Ok(whole)) = runs else {
                 return Ok(None);
             };
-            messages::took("reading the skeleton's statements", started);
             let started = std::time::Instant::now();
             let (Ok(base), Ok(default)) = (super::tasks::base_frame(task), default_moment(args))
             else {

@@ -9,6 +9,8 @@
 //!
 //! [`skeleton`] cuts the recognised moves out of a file: what is left is
 //! parsed whole, the moves are read again one by one where they were.
+//! [`skeleton_with_poses`] also keeps each cut literal's position,
+//! orientation and robconf as it cuts, for a walk of the moves.
 
 use super::scan::{PieceKind, Scanner};
 use super::{motion_signature, ArgAt, MotionKind, Number, RobTargetValue};

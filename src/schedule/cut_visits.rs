@@ -84,11 +84,6 @@ impl CutVisits {
         self.first.is_empty()
     }
 
-    /// Whether every literal was visited.
-    pub fn all_visited(&self) -> bool {
-        self.order.len() == self.first.len()
-    }
-
     /// The latest visit, in minutes (0 without one).
     pub fn latest(&self) -> f64 {
         let firsts = self.first.iter().filter(|t| !t.is_nan());
@@ -104,18 +99,26 @@ impl CutVisits {
         format!("{}#{n}", self.prefixes[r as usize])
     }
 
-    /// Whether `id` is a visited literal's identifier (case ignored).
-    pub fn has_id(&self, id: &str) -> bool {
-        let Some((prefix, n)) = id.rsplit_once('#') else {
-            return false;
-        };
-        let Ok(n) = n.parse::<u32>() else {
-            return false;
-        };
-        self.order.iter().any(|&(_, l)| {
-            let (r, k) = self.names[l];
-            k == n && self.prefixes[r as usize].eq_ignore_ascii_case(prefix)
-        })
+    /// Whether an identifier is a visited literal's (case ignored): a
+    /// lookup made once, for many identifiers (a scan of every literal
+    /// for each made a program of many inline jointtargets quadratic).
+    pub fn ids(&self) -> impl Fn(&str) -> bool + '_ {
+        let named: foldhash::HashSet<(u32, u32)> =
+            self.order.iter().map(|&(_, l)| self.names[l]).collect();
+        move |id: &str| {
+            let Some((prefix, n)) = id.rsplit_once('#') else {
+                return false;
+            };
+            let Ok(n) = n.parse::<u32>() else {
+                return false;
+            };
+            // A prefix may be held more than once (one per run).
+            self.prefixes
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.eq_ignore_ascii_case(prefix))
+                .any(|(r, _)| named.contains(&(r as u32, n)))
+        }
     }
 
     /// The schedule a walk of the whole program makes, where `own` has

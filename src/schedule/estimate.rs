@@ -159,10 +159,14 @@ pub struct CutEstimate {
 }
 
 /// [`estimate`] of the file `src` read as `skeleton` and parsed from it in
-/// runs (`program`). `Ok(None)` where the walk has something to say of a
-/// cut move (a note, a target it cannot time), a cut literal is never
-/// reached (a note), or the estimate is refused: the whole program's
-/// walk says it, in its place.
+/// runs (`program`), its notes the whole walk's (cut literals never
+/// reached are named among the rest). `Ok(None)` where the walk has
+/// something to say of a cut move itself (a note, a target it cannot
+/// time) or the estimate is refused: the whole program's walk says it,
+/// in its place. Its cut moves' numbers are the ones the cut pass kept
+/// where it kept them ([`skeleton_with_poses`]), else read again.
+///
+/// [`skeleton_with_poses`]: crate::rapid::fastmove::skeleton_with_poses
 ///
 /// Whether the arm reaches each cut literal is not asked: the caller
 /// does (the streamed correction solves each in its robconf, and leaves
@@ -194,7 +198,18 @@ pub fn estimate_cuts(
         return Ok(None);
     };
     let literals = cuts.visits;
-    clashes(&mut estimate, |id| literals.has_id(id));
+    // Only an inline jointtarget's identifier (`main#1`) can be a cut
+    // literal's.
+    if estimate
+        .joint_schedule
+        .targets()
+        .iter()
+        .any(|id| id.contains('#'))
+    {
+        clashes(&mut estimate, literals.ids());
+    } else {
+        clashes(&mut estimate, |_| false);
+    }
     Ok(Some(CutEstimate { estimate, literals }))
 }
 

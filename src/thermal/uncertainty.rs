@@ -51,7 +51,7 @@ const PROFILE_CHI2: f64 = 6.0;
 /// The range of temperatures at minute `at` that the recording `t`, `y`
 /// cannot rule out, together with the fitted `curve`'s own forecast: that
 /// of every one- and two-time-constant curve (terms rising the way the recording does)
-/// whose residuals stay within [`PROFILE_CHI2`] noise variances of the
+/// whose residuals stay within `PROFILE_CHI2` noise variances of the
 /// best such curve's, each widened by its amplitudes' standard errors. Inside the recording it is as narrow as the noise; far beyond a
 /// short one it is wide. `None` when the recording has too few points to
 /// estimate the noise.

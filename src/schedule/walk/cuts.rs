@@ -228,13 +228,21 @@ impl<'p> Walker<'p> {
         let (skeleton, src) = (cw.skeleton, cw.src);
         let mut setup: Option<Setup> = None;
         let end = cuts.end;
+        // Moves whose numbers the cut pass kept take a few nanoseconds
+        // each: read in turn (on every core, a run of a few moves between
+        // two statements cost more to share out than to read).
+        let kept = skeleton.poses.is_some();
         let read = move |lo: usize| -> Vec<Option<Read>> {
-            (lo..(lo + BATCH).min(end))
-                .into_par_iter()
-                .map(|k| Read::of(skeleton, src, k))
-                .collect()
+            let batch = lo..(lo + BATCH).min(end);
+            match kept {
+                true => batch.map(|k| Read::of(skeleton, src, k)).collect(),
+                false => batch
+                    .into_par_iter()
+                    .map(|k| Read::of(skeleton, src, k))
+                    .collect(),
+            }
         };
-        // Each batch is timed here while the next is read on another
+        // Each batch is timed here while the next is read again on another
         // thread: timing is one move after another, reading is not.
         std::thread::scope(|scope| {
             let mut lo = cuts.start;
@@ -242,7 +250,7 @@ impl<'p> Walker<'p> {
             while lo < end {
                 let hi = (lo + BATCH).min(end);
                 let read = &read;
-                let ahead = (hi < end).then(|| scope.spawn(move || read(hi)));
+                let ahead = (hi < end && !kept).then(|| scope.spawn(move || read(hi)));
                 for (k, m) in (lo..hi).zip(moves) {
                     self.count_step(frame, s)?;
                     let notes = self.notes.len();
@@ -257,6 +265,7 @@ impl<'p> Walker<'p> {
                 moves = match ahead.map(|h| h.join()) {
                     Some(Ok(next)) => next,
                     Some(Err(_)) => return self.decline(),
+                    None if hi < end => read(hi),
                     None => Vec::new(),
                 };
                 lo = hi;

@@ -5,7 +5,8 @@ use super::messages::{self, note, status};
 use super::{write_output, Status};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::{self, task::Task};
-use rapidtherm::schedule::{estimate, EstimateOptions};
+use rapidtherm::robot::Robot;
+use rapidtherm::schedule::{self, estimate, CutEstimate, Estimate, EstimateOptions};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -41,19 +42,26 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         return Err(Error::usage("--cycles must be at least 1"));
     }
     let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
+    let robot = super::tasks::arm_for(&task, args.robot.as_slice())?.robot;
+    let opts = EstimateOptions {
+        entry: args.entry.clone(),
+        start_min: args.start,
+        cycles: args.cycles,
+        base_frame: super::tasks::base_frame(&task)?,
+    };
+    if let Some(walked) = walked_in_runs(&task, &robot, &opts) {
+        super::tasks::announce(&task);
+        let (csv, targets, visits) = walked.to_csv();
+        write_output(&args.output, csv.as_bytes())?;
+        let est = &walked.estimate;
+        return Ok(said(est, (targets, visits), &opts));
+    }
     let (program, fast) = match read_from_skeleton(&task) {
         Some(p) => {
             super::tasks::announce(&task);
             (p, true)
         }
         None => (super::tasks::read(&task)?.1, false),
-    };
-    let robot = super::tasks::arm_for(&task, args.robot.as_slice())?.robot;
-    let opts = EstimateOptions {
-        entry: args.entry,
-        start_min: args.start,
-        cycles: args.cycles,
-        base_frame: super::tasks::base_frame(&task)?,
     };
     let est = match estimate(&program, &robot, &opts) {
         Ok(est) => est,
@@ -66,18 +74,55 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         Err(e) => return Err(e),
     };
     write_output(&args.output, est.to_csv().as_bytes())?;
+    let counts = (
+        est.schedule.targets().len() + est.joint_schedule.targets().len(),
+        est.schedule.visit_count() + est.joint_schedule.visit_count(),
+    );
+    Ok(said(&est, counts, &opts))
+}
+
+/// The estimate's notes and summary (`counts`: its targets and visits).
+fn said(est: &Estimate, (targets, visits): (usize, usize), opts: &EstimateOptions) -> Status {
     for n in &est.notes {
         note!("{n}");
     }
     status!(
-        "{} target(s), {} visit(s), {:.2} min from minute {} to {:.2}",
-        est.schedule.targets().len() + est.joint_schedule.targets().len(),
-        est.schedule.visit_count() + est.joint_schedule.visit_count(),
+        "{targets} target(s), {visits} visit(s), {:.2} min from minute {} to {:.2}",
         est.duration_min,
         opts.start_min,
         opts.start_min + est.duration_min
     );
-    Ok(Status::Success)
+    Status::Success
+}
+
+/// The estimate of a task of one file given by name, walked on its
+/// skeleton with the cut moves in runs (as `correct --start` walks it):
+/// `None` where it does not apply or the walk declines (the program's
+/// reading from its skeleton, or the grammar's, then says it).
+fn walked_in_runs(task: &Task, robot: &Robot, opts: &EstimateOptions) -> Option<CutEstimate> {
+    let [path] = task.modules.as_slice() else {
+        return None;
+    };
+    if task.name.is_some() || !super::stream::is_plain_file(path) {
+        return None;
+    }
+    let map = super::stream::map_file(path).ok()?;
+    let started = std::time::Instant::now();
+    let skeleton = rapid::fastmove::skeleton_with_poses(&map);
+    if skeleton.cuts.is_empty() {
+        return None;
+    }
+    let name = path.display().to_string();
+    let program = rapid::parse_skeleton_runs(&name, &skeleton, &map).ok()?;
+    if !program.warnings.is_empty() {
+        return None;
+    }
+    // Nothing after the walk asks whether the arm reaches each target:
+    // the walk does.
+    let cut = (&skeleton, &map[..]);
+    let walked = schedule::estimate_cuts(&program, cut, robot, opts, true).ok()??;
+    messages::took("walking the program's skeleton", started);
+    Some(walked)
 }
 
 /// The program of a task of one file given by name, read from its

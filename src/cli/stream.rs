@@ -118,7 +118,8 @@ pub fn correct(
             };
             let opts = estimate_options(args, start, base);
             let cut = (&skeleton, src);
-            let Ok(Some(walked)) = schedule::estimate_cuts(&whole, cut, &arm.robot, &opts) else {
+            let Ok(Some(walked)) = schedule::estimate_cuts(&whole, cut, &arm.robot, &opts, false)
+            else {
                 return Ok(None);
             };
             messages::took("timing the program", started);

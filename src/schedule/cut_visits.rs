@@ -5,6 +5,7 @@
 //! routine's `main#1234`) is made only where one is asked for.
 
 use super::file::{fmt_visits, lower, Schedule};
+use std::borrow::Cow;
 use std::fmt;
 use std::sync::Arc;
 
@@ -121,6 +122,28 @@ impl CutVisits {
         }
     }
 
+    /// Every target the whole program's walk reaches, where `own` has
+    /// the walk's other targets, in first-visit order: its identifier as
+    /// written and its visits.
+    pub fn in_order<'a>(&'a self, own: &'a Schedule) -> Vec<(Cow<'a, str>, &'a [f64])> {
+        let targets = own.targets();
+        let mut all = Vec::with_capacity(targets.len() + self.order.len());
+        let mut cut = self.order.iter().peekable();
+        let put_cut = |all: &mut Vec<(Cow<'a, str>, &'a [f64])>, l: usize| {
+            all.push((Cow::Owned(self.id(l)), self.times(l).unwrap_or(&[])));
+        };
+        for (j, id) in targets.iter().enumerate() {
+            while let Some(&(_, l)) = cut.next_if(|(before, _)| *before <= j) {
+                put_cut(&mut all, l);
+            }
+            all.push((Cow::Borrowed(&**id), own.times(id).unwrap_or(&[])));
+        }
+        for &(_, l) in cut {
+            put_cut(&mut all, l);
+        }
+        all
+    }
+
     /// The schedule a walk of the whole program makes, where `own` has
     /// the walk's other targets: as its `Debug` text, which a corrected
     /// file's marker fingerprints.
@@ -136,30 +159,14 @@ struct Whole<'a> {
 
 impl fmt::Debug for Whole<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let ids: Vec<(String, usize)> = self
-            .cut
-            .order
+        let all = self.cut.in_order(self.own);
+        let keys: Vec<Cow<str>> = all.iter().map(|(id, _)| lower(id)).collect();
+        let entries = keys
             .iter()
-            .map(|&(_, l)| (self.cut.id(l), l))
+            .zip(&all)
+            .map(|(k, (_, t))| (&**k, *t))
             .collect();
-        let keys: Vec<_> = ids.iter().map(|(id, _)| lower(id)).collect();
-        let mut entries = self.own.entries();
-        entries.extend(
-            keys.iter()
-                .zip(&ids)
-                .map(|(key, (_, l))| (&**key, self.cut.times(*l).unwrap_or(&[]))),
-        );
-        // The first visits of both, in the walk's order.
-        let own = self.own.targets();
-        let mut order: Vec<&str> = Vec::with_capacity(own.len() + ids.len());
-        let mut cut = self.cut.order.iter().zip(&ids).peekable();
-        for (j, id) in own.iter().enumerate() {
-            while let Some((_, (id, _))) = cut.next_if(|((before, _), _)| *before <= j) {
-                order.push(id);
-            }
-            order.push(id);
-        }
-        order.extend(cut.map(|(_, (id, _))| id.as_str()));
+        let order: Vec<&str> = all.iter().map(|(id, _)| &**id).collect();
         fmt_visits(f, entries, &order)
     }
 }

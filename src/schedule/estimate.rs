@@ -1,6 +1,7 @@
 //! The estimate: walk the program's entry routine from a start time and
 //! time each move, for when the user has no schedule of the real run.
 
+use super::file::csv_of;
 use super::walk::cuts::CutWalk;
 use super::walk::{Flow, Walker};
 use super::{CutVisits, Schedule};
@@ -158,6 +159,34 @@ pub struct CutEstimate {
     pub literals: CutVisits,
 }
 
+impl CutEstimate {
+    /// [`Estimate::to_csv`] of the whole file, and how many targets and
+    /// visits the whole estimate holds (robtargets and jointtargets, a
+    /// jointtarget of a robtarget's identifier among them).
+    pub fn to_csv(&self) -> (String, usize, usize) {
+        let Estimate {
+            schedule,
+            joint_schedule: joints,
+            ..
+        } = &self.estimate;
+        let all = self.literals.in_order(schedule);
+        let cut_id = self.literals.ids();
+        let mut rows: Vec<(f64, usize, &str)> = Vec::new();
+        for (i, (id, times)) in all.iter().enumerate() {
+            rows.extend(times.iter().map(|&t| (t, i, &**id)));
+        }
+        let visits = rows.len() + joints.visit_count();
+        for (j, id) in joints.targets().iter().enumerate() {
+            if schedule.times(id).is_some() || cut_id(id) {
+                continue;
+            }
+            let times = joints.times(id).unwrap_or(&[]);
+            rows.extend(times.iter().map(|&t| (t, all.len() + j, &**id)));
+        }
+        (csv_of(rows), all.len() + joints.targets().len(), visits)
+    }
+}
+
 /// [`estimate`] of the file `src` read as `skeleton` and parsed from it in
 /// runs (`program`), its notes the whole walk's (cut literals never
 /// reached are named among the rest). `Ok(None)` where the walk has
@@ -168,21 +197,23 @@ pub struct CutEstimate {
 ///
 /// [`skeleton_with_poses`]: crate::rapid::fastmove::skeleton_with_poses
 ///
-/// Whether the arm reaches each cut literal is not asked: the caller
-/// does (the streamed correction solves each in its robconf, and leaves
-/// the run to the whole path where one has no solution), where asking
-/// here too was a third of the walk.
+/// Whether the arm reaches each cut literal is asked where `ask_reach`
+/// (an unreachable one declines the walk); else the caller asks it (the
+/// streamed correction solves each in its robconf, and leaves the run to
+/// the whole path where one has no solution), where asking here too was
+/// a third of the walk.
 pub fn estimate_cuts(
     program: &Program,
     (skeleton, src): (&Skeleton, &[u8]),
     robot: &Robot,
     opts: &EstimateOptions,
+    ask_reach: bool,
 ) -> Result<Option<CutEstimate>> {
     start_checked(opts)?;
     let entry = find_entry(program, &opts.entry)?;
     let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
     w.deferred = Some(Vec::new());
-    w.cuts = Some(CutWalk::new(skeleton, src));
+    w.cuts = Some(CutWalk::new(skeleton, src, ask_reach));
     let walked = walk_cycles(&mut w, entry, opts);
     if w.cuts.as_ref().is_some_and(|c| c.declined) {
         return Ok(None);

@@ -256,14 +256,20 @@ impl Schedule {
                 rows.extend(times.iter().map(|&t| (t, i, &**name)));
             }
         }
-        rows.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut out = String::from("target,time_min\n");
-        for (t, _, name) in rows {
-            out.push_str(&csv_field(name));
-            out.push_str(&format!(",{t:.4}\n"));
-        }
-        out
+        csv_of(rows)
     }
+}
+
+/// The `target,time_min` file of visits (minutes, the target's place in
+/// first-visit order, its identifier), in time order.
+pub(super) fn csv_of(mut rows: Vec<(f64, usize, &str)>) -> String {
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut out = String::from("target,time_min\n");
+    for (t, _, name) in rows {
+        out.push_str(&csv_field(name));
+        out.push_str(&format!(",{t:.4}\n"));
+    }
+    out
 }
 
 /// A CSV field, quoted where it holds a comma or a quote (`pGrid{2,1}`).

@@ -87,7 +87,7 @@ fn estimated_in_runs_as_whole(src: &[u8], entry: &str) -> Option<bool> {
     let program = rapid::parse("p.mod", &skel.bytes).expect("the skeleton parses");
     let runs = rapid::parse_skeleton_runs("p.mod", &skel, src).expect("the skeleton reads in runs");
     let opts = estimate_options(entry);
-    let walked = estimate_cuts(&runs, (&skel, src), &Robot::irb140(), &opts).ok()??;
+    let walked = estimate_cuts(&runs, (&skel, src), &Robot::irb140(), &opts, false).ok()??;
     let Ok(est) = estimate(&whole_program, &Robot::irb140(), &opts) else {
         // Refused for a target out of reach, which the walk of the runs
         // does not ask of cut literals: the correction does, and declines.

@@ -31,6 +31,9 @@ pub(crate) struct CutWalk<'p> {
     pub(crate) visits: CutVisits,
     /// A cut move needed what only the whole program's walk says.
     pub(crate) declined: bool,
+    /// Whether the arm's reach of the cut literals is asked (else the
+    /// walk's caller asks it).
+    pub(super) ask_reach: bool,
     /// The run being walked: its identifiers' prefix, the routine's
     /// inline literals before it, and the number of its first literal.
     run: (Arc<str>, usize, usize),
@@ -39,8 +42,9 @@ pub(crate) struct CutWalk<'p> {
 }
 
 impl<'p> CutWalk<'p> {
-    /// The moves `skeleton` cut out of `src`.
-    pub(crate) fn new(skeleton: &'p Skeleton, src: &'p [u8]) -> CutWalk<'p> {
+    /// The moves `skeleton` cut out of `src`, their reach asked where
+    /// `ask_reach`.
+    pub(crate) fn new(skeleton: &'p Skeleton, src: &'p [u8], ask_reach: bool) -> CutWalk<'p> {
         let mut first_literal = Vec::with_capacity(skeleton.literals.len() + 1);
         let mut n = 0;
         first_literal.push(0);
@@ -54,6 +58,7 @@ impl<'p> CutWalk<'p> {
             first_literal,
             visits: CutVisits::new(n),
             declined: false,
+            ask_reach,
             run: (Arc::from(""), 0, 0),
             names: Vec::new(),
         }

@@ -116,6 +116,16 @@ fn estimated_in_runs_as_whole(src: &[u8], entry: &str) -> Option<bool> {
         "the walk of the runs timed the cut literals otherwise"
     );
     assert_eq!(walked.estimate.joint_schedule, est.joint_schedule);
+    // `schedule FILE`'s CSV and counts, made from the walk of the runs.
+    let (csv, targets, visits) = walked.to_csv();
+    assert_eq!(csv, est.to_csv());
+    assert_eq!(
+        (targets, visits),
+        (
+            est.schedule.targets().len() + est.joint_schedule.targets().len(),
+            est.schedule.visit_count() + est.joint_schedule.visit_count()
+        )
+    );
     assert_eq!(walked.estimate.notes, est.notes);
     assert_eq!(walked.estimate.duration_min, est.duration_min);
     let default = Some(Moment::Minute(45.0));

@@ -1,7 +1,8 @@
 //! Moves a skeleton cut out of the file, walked where the program read by
 //! [`parse_skeleton_runs`](crate::rapid::parse_skeleton_runs) has left
-//! each run of them ([`StatementKind::CutMoves`]): read from the file a
-//! batch at a time on every core, timed one by one as any move (the same
+//! each run of them ([`StatementKind::CutMoves`]): taken from the numbers
+//! the cut pass kept (else read again from the file a batch at a time on
+//! every core), timed one by one as any move (the same
 //! [`Walker::move_to_rob`]), each literal's visits kept by its number
 //! ([`CutVisits`]). Whatever the walk would say of one of them (a note,
 //! a target it cannot time) it says only of the whole program, read
@@ -21,6 +22,9 @@ use std::ops::Range;
 
 /// Moves read from the file at once (on every core), then timed in order.
 const BATCH: usize = 4096;
+/// Names [`CutWalk`] keeps: the instruction, speed, tool and work object
+/// of a few kinds of move.
+const NAMES: usize = 16;
 
 /// The cut moves of a walk, and what it found of them.
 pub(crate) struct CutWalk<'p> {
@@ -79,7 +83,10 @@ impl<'p> CutWalk<'p> {
             return Some(Expr::Name(a.clone()));
         }
         let a: Arc<str> = Arc::from(std::str::from_utf8(bytes).ok()?);
-        self.names.push((bytes, a.clone()));
+        // A few kept: a program of a thousand tools would search them all.
+        if self.names.len() < NAMES {
+            self.names.push((bytes, a.clone()));
+        }
         Some(Expr::Name(a))
     }
 }

@@ -42,27 +42,37 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         return Err(Error::usage("--cycles must be at least 1"));
     }
     let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
-    let robot = super::tasks::arm_for(&task, args.robot.as_slice())?.robot;
-    let opts = EstimateOptions {
+    // A file given by name is cut once: walked with its cut moves in runs,
+    // else read whole from its skeleton. The arm's and the base's errors
+    // are said after the program's, as ever.
+    let cut = cut_file(&task);
+    let arm = super::tasks::arm_for(&task, args.robot.as_slice());
+    let base = super::tasks::base_frame(&task);
+    let opts = |base_frame| EstimateOptions {
         entry: args.entry.clone(),
         start_min: args.start,
         cycles: args.cycles,
-        base_frame: super::tasks::base_frame(&task)?,
+        base_frame,
     };
-    if let Some(walked) = walked_in_runs(&task, &robot, &opts) {
-        super::tasks::announce(&task);
-        let (csv, targets, visits) = walked.to_csv();
-        write_output(&args.output, csv.as_bytes())?;
-        let est = &walked.estimate;
-        return Ok(said(est, (targets, visits), &opts));
+    if let (Some(cut), Ok(arm), Ok(base)) = (&cut, &arm, &base) {
+        let opts = opts(*base);
+        if let Some(walked) = walked_in_runs(cut, &arm.robot, &opts) {
+            super::tasks::announce(&task);
+            let (csv, targets, visits) = walked.to_csv();
+            write_output(&args.output, csv.as_bytes())?;
+            return Ok(said(&walked.estimate, (targets, visits), &opts));
+        }
     }
-    let (program, fast) = match read_from_skeleton(&task) {
+    let (program, fast) = match cut.as_ref().and_then(read_from_skeleton) {
         Some(p) => {
             super::tasks::announce(&task);
             (p, true)
         }
         None => (super::tasks::read(&task)?.1, false),
     };
+    drop(cut);
+    let robot = arm?.robot;
+    let opts = opts(base?);
     let est = match estimate(&program, &robot, &opts) {
         Ok(est) => est,
         // An error names places and lines of the file: the grammar's
@@ -95,11 +105,16 @@ fn said(est: &Estimate, (targets, visits): (usize, usize), opts: &EstimateOption
     Status::Success
 }
 
-/// The estimate of a task of one file given by name, walked on its
-/// skeleton with the cut moves in runs (as `correct --start` walks it):
-/// `None` where it does not apply or the walk declines (the program's
-/// reading from its skeleton, or the grammar's, then says it).
-fn walked_in_runs(task: &Task, robot: &Robot, opts: &EstimateOptions) -> Option<CutEstimate> {
+/// A task of one file given by name, memory-mapped and cut by the fast
+/// recogniser (its cut literals' numbers kept for a walk).
+struct Cut {
+    name: String,
+    map: memmap2::Mmap,
+    skeleton: rapid::fastmove::Skeleton,
+}
+
+/// `None` where the task is not one plain file or nothing was cut.
+fn cut_file(task: &Task) -> Option<Cut> {
     let [path] = task.modules.as_slice() else {
         return None;
     };
@@ -109,42 +124,40 @@ fn walked_in_runs(task: &Task, robot: &Robot, opts: &EstimateOptions) -> Option<
     let map = super::stream::map_file(path).ok()?;
     let started = std::time::Instant::now();
     let skeleton = rapid::fastmove::skeleton_with_poses(&map);
-    if skeleton.cuts.is_empty() {
-        return None;
-    }
-    let name = path.display().to_string();
-    let program = rapid::parse_skeleton_runs(&name, &skeleton, &map).ok()?;
+    messages::took("cutting the moves out", started);
+    (!skeleton.cuts.is_empty()).then(|| Cut {
+        name: path.display().to_string(),
+        map,
+        skeleton,
+    })
+}
+
+/// The estimate of a cut file, walked on its skeleton with the cut moves
+/// in runs (as `correct --start` walks it): `None` where the walk
+/// declines (the program's reading from its skeleton, or the grammar's,
+/// then says it).
+fn walked_in_runs(cut: &Cut, robot: &Robot, opts: &EstimateOptions) -> Option<CutEstimate> {
+    let started = std::time::Instant::now();
+    let program = rapid::parse_skeleton_runs(&cut.name, &cut.skeleton, &cut.map).ok()?;
     if !program.warnings.is_empty() {
         return None;
     }
     // Nothing after the walk asks whether the arm reaches each target:
     // the walk does.
-    let cut = (&skeleton, &map[..]);
-    let walked = schedule::estimate_cuts(&program, cut, robot, opts, true).ok()??;
+    let file = (&cut.skeleton, &cut.map[..]);
+    let walked = schedule::estimate_cuts(&program, file, robot, opts, true).ok()??;
     messages::took("walking the program's skeleton", started);
     Some(walked)
 }
 
-/// The program of a task of one file given by name, read from its
-/// skeleton (the moves the fast recogniser reads cut out, put back by the
-/// assembly: `rapid::parse_skeleton`): the program the grammar makes of
-/// it, a CAM program's at a tenth of the cost. `None` where it does not
-/// apply or has something to say (the grammar's reading then says it).
-fn read_from_skeleton(task: &Task) -> Option<rapid::Program> {
-    let [path] = task.modules.as_slice() else {
-        return None;
-    };
-    if task.name.is_some() || !super::stream::is_plain_file(path) {
-        return None;
-    }
-    let map = super::stream::map_file(path).ok()?;
+/// The program of a cut file, read from its skeleton (the moves the fast
+/// recogniser reads put back by the assembly: `rapid::parse_skeleton`):
+/// the program the grammar makes of it, a CAM program's at a tenth of the
+/// cost. `None` where it has something to say (the grammar's reading
+/// then says it).
+fn read_from_skeleton(cut: &Cut) -> Option<rapid::Program> {
     let started = std::time::Instant::now();
-    let skeleton = rapid::fastmove::skeleton(&map);
-    if skeleton.cuts.is_empty() {
-        return None;
-    }
-    let name = path.display().to_string();
-    let program = rapid::parse_skeleton(&name, &skeleton, &map).ok()?;
+    let program = rapid::parse_skeleton(&cut.name, &cut.skeleton, &cut.map).ok()?;
     messages::took("reading the program from its skeleton", started);
     program.warnings.is_empty().then_some(program)
 }

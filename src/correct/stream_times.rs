@@ -72,14 +72,7 @@ impl CutTimes {
         skeleton: &Skeleton,
         options: &Options,
     ) -> Option<CutTimes> {
-        let When::Schedule {
-            schedule,
-            joints,
-            default: _,
-        } = &options.when
-        else {
-            return None;
-        };
+        let (schedule, joints, _) = schedules(options)?;
         // The estimate's jointtargets are the program's (a name of it the
         // program has as a robtarget only is left to the whole path).
         if let Some(j) = joints {
@@ -157,11 +150,7 @@ impl CutTimes {
             return None;
         }
         Some(CutTimes {
-            options: skeleton_options(
-                options,
-                rekeyed,
-                joint_times(whole, program, joints.as_ref().unwrap_or(schedule))?,
-            ),
+            options: skeleton_options(options, rekeyed, whole, program)?,
             moments: cut_literals,
             literals: None,
         })
@@ -179,14 +168,7 @@ impl CutTimes {
         program: &Program,
         options: &Options,
     ) -> Option<CutTimes> {
-        let When::Schedule {
-            schedule,
-            joints,
-            default: _,
-        } = &options.when
-        else {
-            return None;
-        };
+        let (schedule, _, _) = schedules(options)?;
         // A literal never reached takes the default, if there is one (the
         // whole path names it where there is none).
         let moments = (0..literals.len())
@@ -206,23 +188,42 @@ impl CutTimes {
                 rekeyed.visit(&k.id, m);
             }
         }
-        let joints_from = joints.as_ref().unwrap_or(schedule);
         Some(CutTimes {
-            options: skeleton_options(options, rekeyed, joint_times(whole, program, joints_from)?),
+            options: skeleton_options(options, rekeyed, whole, program)?,
             moments,
             literals: Some(literals),
         })
     }
 }
 
-/// The run's `options` for the skeleton: its robtargets' schedule
-/// `rekeyed`, its jointtargets' `joints`.
-fn skeleton_options(options: &Options, rekeyed: Schedule, joints: Schedule) -> Options {
-    let default = match &options.when {
-        When::Schedule { default, .. } => *default,
+/// The robtargets' schedule of `options`, the jointtargets' where kept
+/// apart, and the default moment; `None` at one moment.
+type Schedules<'a> = (&'a Schedule, &'a Option<Schedule>, Option<Moment>);
+
+fn schedules(options: &Options) -> Option<Schedules<'_>> {
+    match &options.when {
+        When::Schedule {
+            schedule,
+            joints,
+            default,
+        } => Some((schedule, joints, *default)),
         When::At(_) => None,
-    };
-    Options {
+    }
+}
+
+/// The run's `options` for the skeleton (its kept bytes parsed as
+/// `program`, the file read from it as `whole`): its robtargets' schedule
+/// `rekeyed`, its jointtargets' times as the run's; `None` where the two
+/// readings' jointtargets differ.
+fn skeleton_options(
+    options: &Options,
+    rekeyed: Schedule,
+    whole: &Program,
+    program: &Program,
+) -> Option<Options> {
+    let (schedule, joints, default) = schedules(options)?;
+    let joints = joint_times(whole, program, joints.as_ref().unwrap_or(schedule))?;
+    Some(Options {
         when: When::Schedule {
             schedule: rekeyed,
             joints: Some(joints),
@@ -233,7 +234,7 @@ fn skeleton_options(options: &Options, rekeyed: Schedule, joints: Schedule) -> O
         model_label: options.model_label.clone(),
         base_frame: options.base_frame,
         split_shared: options.split_shared,
-    }
+    })
 }
 
 /// The jointtargets' times of `from` for the skeleton: they keep their

@@ -102,10 +102,11 @@ impl CutVisits {
 
     /// Whether an identifier is a visited literal's (case ignored): a
     /// lookup made once, for many identifiers (a scan of every literal
-    /// for each made a program of many inline jointtargets quadratic).
+    /// for each made a program of many inline jointtargets quadratic),
+    /// and only when an identifier of an inline target (`main#1`) is
+    /// asked.
     pub fn ids(&self) -> impl Fn(&str) -> bool + '_ {
-        let named: foldhash::HashSet<(u32, u32)> =
-            self.order.iter().map(|&(_, l)| self.names[l]).collect();
+        let named = std::cell::OnceCell::new();
         move |id: &str| {
             let Some((prefix, n)) = id.rsplit_once('#') else {
                 return false;
@@ -113,6 +114,8 @@ impl CutVisits {
             let Ok(n) = n.parse::<u32>() else {
                 return false;
             };
+            let named: &foldhash::HashSet<(u32, u32)> =
+                named.get_or_init(|| self.order.iter().map(|&(_, l)| self.names[l]).collect());
             // A prefix may be held more than once (one per run).
             self.prefixes
                 .iter()

@@ -229,18 +229,7 @@ pub fn estimate_cuts(
         return Ok(None);
     };
     let literals = cuts.visits;
-    // Only an inline jointtarget's identifier (`main#1`) can be a cut
-    // literal's.
-    if estimate
-        .joint_schedule
-        .targets()
-        .iter()
-        .any(|id| id.contains('#'))
-    {
-        clashes(&mut estimate, literals.ids());
-    } else {
-        clashes(&mut estimate, |_| false);
-    }
+    clashes(&mut estimate, literals.ids());
     Ok(Some(CutEstimate { estimate, literals }))
 }
 

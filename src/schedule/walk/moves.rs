@@ -4,8 +4,8 @@
 use super::*;
 use std::rc::Rc;
 
-/// How a move goes: its kind, speed (`\\V` and VelSet applied), `\\T`,
-/// `\\Conc`, tool and work object, and the axes' top speeds (VelSet
+/// How a move goes: its kind, speed (`\V` and VelSet applied), `\T`,
+/// `\Conc`, tool and work object, and the axes' top speeds (VelSet
 /// applied).
 #[derive(Clone, Copy)]
 pub(super) struct Goal<'a> {
@@ -166,8 +166,8 @@ impl<'p> Walker<'p> {
         Ok(frames)
     }
 
-    /// A move's speed from its speeddata, `\\V` and `\\T` as written,
-    /// VelSet applied: the speed, and the time `\\T` sets.
+    /// A move's speed from its speeddata, `\V` and `\T` as written,
+    /// VelSet applied: the speed, and the time `\T` sets.
     pub(super) fn move_speed(
         &mut self,
         [speed_data, v, t]: [Option<&Expr>; 3],

@@ -1,4 +1,4 @@
-//! The CSV dialect of `shared/spec/formats.md`, shared by every data file the
+//! The CSV dialect of `docs/formats.md`, shared by every data file the
 //! tool reads (heating records, schedules, measurements): one header row,
 //! columns matched by name in any order, `#` comment lines, blank lines
 //! ignored, every bad value reported with file, line and column.
@@ -98,7 +98,7 @@ impl CsvTable {
         })
     }
 
-    /// Header names not in `known`: the spec says to ignore them with a
+    /// Header names not in `known`: docs/formats.md says to ignore them with a
     /// warning, which the caller shows.
     pub fn unknown_columns(&self, known: &[&str]) -> Vec<String> {
         self.header

@@ -250,3 +250,117 @@ fn the_cli_speaks_on_stderr_only_through_its_messages_module() {
         wrong.join("\n")
     );
 }
+
+/// Every file of the repository that is not a build product: what a
+/// clone holds (`.git`, `target/` and the fuzzer's own folders skipped).
+fn repository_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let name = entry.file_name();
+        if path.is_dir() {
+            if ![".git", "target", "corpus", "artifacts", "coverage"]
+                .iter()
+                .any(|skip| name == *skip)
+            {
+                repository_files(&path, out);
+            }
+        } else {
+            out.push(path);
+        }
+    }
+}
+
+/// `path` with `.` and `..` taken out, lexically; `None` when it climbs
+/// above its start.
+fn normalise(path: &Path) -> Option<PathBuf> {
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                if !out.pop() {
+                    return None;
+                }
+            }
+            other => out.push(other.as_os_str()),
+        }
+    }
+    Some(out)
+}
+
+/// The repository stands alone: no file it ships (source, tests, data,
+/// docs, README, CI) names the reference folder that sat beside it while
+/// the project was built, or a relative path that climbs out of the
+/// repository. A relative path is taken from the file's own folder and
+/// from the repository's root (where the tests run); it is wrong only when
+/// both leave the repository.
+#[test]
+fn no_file_points_outside_the_repository() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    repository_files(root, &mut files);
+    files.sort();
+    // Written in two pieces so that this file does not name it either.
+    let reference = concat!("shared", "/");
+    let machine = concat!("/work", "/");
+    let is_path = |c: char| c.is_ascii_alphanumeric() || "_-./~".contains(c);
+    let mut wrong = Vec::new();
+    for file in &files {
+        let Ok(bytes) = std::fs::read(file) else {
+            continue;
+        };
+        let text = String::from_utf8_lossy(&bytes);
+        let rel = file.strip_prefix(root).unwrap();
+        let dir = rel.parent().unwrap_or(Path::new(""));
+        for (n, line) in text.lines().enumerate() {
+            if line.contains(reference) {
+                wrong.push(format!(
+                    "{}:{}: names {reference}: {}",
+                    rel.display(),
+                    n + 1,
+                    line.trim()
+                ));
+            }
+            if line.contains(machine) {
+                wrong.push(format!(
+                    "{}:{}: an absolute path of this machine: {}",
+                    rel.display(),
+                    n + 1,
+                    line.trim()
+                ));
+            }
+            let mut from = 0;
+            while let Some(i) = line[from..].find("../") {
+                let at = from + i;
+                let start = line[..at]
+                    .char_indices()
+                    .rev()
+                    .take_while(|(_, c)| is_path(*c))
+                    .last()
+                    .map_or(at, |(j, _)| j);
+                let end = line[at..]
+                    .char_indices()
+                    .find(|(_, c)| !is_path(*c))
+                    .map_or(line.len(), |(j, _)| at + j);
+                let token = &line[start..end];
+                let inside = |base: &Path| normalise(&base.join(token)).is_some();
+                if token.starts_with('/') || (!inside(dir) && !inside(Path::new(""))) {
+                    wrong.push(format!(
+                        "{}:{}: `{token}` leaves the repository",
+                        rel.display(),
+                        n + 1
+                    ));
+                }
+                from = end.max(at + 3);
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "the repository must stand alone (a user's clone has nothing beside it):\n{}",
+        wrong.join("\n")
+    );
+}

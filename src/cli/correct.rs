@@ -189,7 +189,7 @@ pub(super) fn moment(text: &str, what: &str) -> Result<Moment> {
 }
 
 /// `--model`: a model file, or an embedded model by name (`default`, the
-/// calibrated one; `base`, the spec's unscaled base model) when no file of
+/// calibrated one; `base`, docs/model.md's unscaled base model) when no file of
 /// that name exists.
 pub fn load_model(path: Option<&Path>) -> Result<Model> {
     match path {

@@ -1,4 +1,4 @@
-//! The measurements CSV of `shared/spec/formats.md`: joints, measured flange
+//! The measurements CSV of `docs/formats.md`: joints, measured flange
 //! position (and optionally orientation, motor temperatures, ambient, pose
 //! label), read with the shared CSV dialect and written back by `simulate`.
 
@@ -261,8 +261,8 @@ mod tests {
 
     #[test]
     fn irb140_limits_are_the_urdfs_in_whole_degrees() {
-        // irb140.md's limits, exactly: the URDF's radians come back as the
-        // degrees the spec writes.
+        // docs/model.md's limits, exactly: the URDF's radians come back as the
+        // degrees docs/model.md writes.
         assert_eq!(
             *IRB140_LIMITS_DEG,
             [

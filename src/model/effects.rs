@@ -1,4 +1,4 @@
-//! The effect library of `shared/spec/effects.md`: each physical departure
+//! The effect library of `docs/model.md` ("The effect library"): each physical departure
 //! from the base model, its parameters (units documented per parameter) and
 //! how it perturbs the kinematic chain of a row.
 //!
@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 
-/// The effects the diagnosis knows, by their names in `effects.md`.
+/// The effects the diagnosis knows, by their names in `docs/model.md`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum EffectKind {

@@ -1,4 +1,4 @@
-//! The base thermal-expansion model of `shared/spec/irb140.md`: each link's
+//! The base thermal-expansion model of `docs/model.md`: each link's
 //! lengths grow with α·(T_link − T_ref), the link temperature being the
 //! mean of the motors that heat it.
 
@@ -28,8 +28,8 @@ pub struct ThermalExpansion {
     /// K0: one factor on every link's expansion, L(T) = L·(1 + K0·α·ΔT).
     /// The castings run cooler than the motor surfaces whose temperatures
     /// drive the model; the embedded default calibrates K0 to the FEA
-    /// (`shared/spec/irb140.md`, "Calibrated default"). 1 (the base model
-    /// of the spec, unscaled) when a file does not say.
+    /// (`docs/model.md`, "Calibrated default"). 1 (the base model
+    /// of docs/model.md, unscaled) when a file does not say.
     #[serde(default = "unscaled")]
     pub k0: f64,
     /// Base link: c1 and a1.
@@ -48,7 +48,7 @@ fn unscaled() -> f64 {
 
 impl Default for ThermalExpansion {
     /// The thermal section of the embedded default model
-    /// (`data/irb140/model.toml`): the table of `irb140.md`, T_ref 7 °C,
+    /// (`data/irb140/model.toml`): the table of `docs/model.md`, T_ref 7 °C,
     /// A380 everywhere.
     fn default() -> Self {
         super::file::default_model().thermal.clone()

@@ -100,7 +100,7 @@ impl Default for HeatingSection {
     }
 }
 
-/// One effect: its name (`effects.md`) and parameters by name, in the units
+/// One effect: its name (`docs/model.md`) and parameters by name, in the units
 /// the effect library documents.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -114,7 +114,7 @@ pub struct EffectEntry {
 }
 
 /// The embedded default model: the nominal IRB 140 with the base thermal
-/// model of `irb140.md`, in the model-file format (`data/irb140/model.toml`).
+/// model of `docs/model.md`, in the model-file format (`data/irb140/model.toml`).
 pub const DEFAULT_MODEL_TOML: &str = include_str!("../../data/irb140/model.toml");
 
 /// The embedded default model, parsed once per process. A unit test parses
@@ -128,7 +128,7 @@ pub(crate) fn default_model() -> &'static Model {
 }
 
 impl Default for Model {
-    /// The nominal IRB 140 with the calibrated default of `irb140.md`
+    /// The nominal IRB 140 with the calibrated default of `docs/model.md`
     /// (`data/irb140/model.toml`: the base thermal model, every link's
     /// expansion scaled by K0).
     fn default() -> Self {
@@ -138,7 +138,7 @@ impl Default for Model {
 
 impl Model {
     /// The embedded models by name: `default` (calibrated, K0 of the data
-    /// file) and `base` (the spec's base model, K0 = 1, unscaled).
+    /// file) and `base` (docs/model.md's base model, K0 = 1, unscaled).
     pub fn named(name: &str) -> Option<Model> {
         match name.to_ascii_lowercase().as_str() {
             "default" => Some(Model::default()),
@@ -379,7 +379,7 @@ mod tests {
         assert_eq!(&m, default_model());
         assert_eq!(m, Model::default());
         assert_eq!(m.robot.name, "IRB 140");
-        // irb140.md, "Geometry" (mm).
+        // docs/model.md, "Geometry" (mm).
         let spec = Opw {
             c1: 352.0,
             a1: 70.0,
@@ -392,7 +392,7 @@ mod tests {
         assert_eq!(m.robot.opw, Some(spec));
         // The same numbers as the embedded URDF's chain, bit for bit.
         assert_eq!(m.robot.opw, Some(crate::robot::irb140_opw()));
-        // irb140.md, "Materials" and "Base thermal-expansion model".
+        // docs/model.md, "Materials" and "Base thermal-expansion model".
         let th = &m.thermal;
         assert_eq!(th.t_ref, 7.0);
         for (link, motors) in [

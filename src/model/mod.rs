@@ -4,7 +4,7 @@
 //!
 //! Owns: the model file ([`mod@file`], its embedded default), the base
 //! thermal expansion ([`expansion`]), the effect library of
-//! `shared/spec/effects.md` ([`effects`]), the perturbed kinematic chain
+//! `docs/model.md` ("The effect library") ([`effects`]), the perturbed kinematic chain
 //! ([`chain`], [`perturb`]) and [`warm::WarmRobot`].
 //!
 //! May import: `robot` (geometry), `thermal` (temperatures over time) and

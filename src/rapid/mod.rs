@@ -19,7 +19,7 @@
 //!
 //! # Target identifiers
 //!
-//! As `shared/spec/formats.md` defines them, plus what it leaves open:
+//! As `docs/formats.md` defines them, plus what it leaves open:
 //!
 //! | where the robtarget is written | kind | identifier |
 //! |---|---|---|

@@ -28,7 +28,7 @@ pub struct Robot {
 }
 
 /// The embedded IRB 140, parsed once per process. Tests parse the embedded
-/// file and check it against the spec (`tests/robot/kinematics.rs`), so the
+/// file and check it against docs/model.md (`tests/robot/kinematics.rs`), so the
 /// `expect` cannot fire on a tested build.
 fn irb140_ref() -> &'static Robot {
     static IRB140_ROBOT: OnceLock<Robot> = OnceLock::new();

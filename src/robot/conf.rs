@@ -4,7 +4,7 @@
 //! cf1, cf4, cf6 are the quadrants of axes 1, 4 and 6, `floor(q / 90°)`.
 //! cfx, for the six-axis arms with eight arm/wrist solutions (the IRB 140
 //! family and every arm of the catalogue, `data/arms/`), is `4a + 2b + c`
-//! (RAPID reference manual, confdata; `shared/spec/irb140.md`):
+//! (RAPID reference manual, confdata; `docs/model.md`):
 //!
 //! | cfx | wrist centre vs axis 1 (a) | wrist centre vs lower arm (b) | axis 5 (c) |
 //! |-----|----------------------------|-------------------------------|------------|

@@ -9,7 +9,7 @@ use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 
 /// The IRB 140 (`data/irb140/irb140.urdf`), written for this project from
-/// `shared/spec/irb140.md` and the ABB product specification.
+/// `docs/model.md` and the ABB product specification.
 pub const IRB140_URDF: &str = include_str!("../../data/irb140/irb140.urdf");
 
 /// What a URDF gives the robot model.

@@ -1,5 +1,5 @@
 //! The schedule: every visit of every target, read from and written to
-//! the `target,time_min` CSV file of `shared/spec/formats.md`, and which
+//! the `target,time_min` CSV file of `docs/formats.md`, and which
 //! visit a correction is for.
 
 use crate::csv_table::CsvTable;

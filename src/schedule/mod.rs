@@ -2,7 +2,7 @@
 //! file (`--schedule`), or an estimate from the program itself (walking
 //! the entry routine and timing each move). Times are minutes since the
 //! robot's cold start; target identifiers are those of
-//! `shared/spec/formats.md`.
+//! `docs/formats.md`.
 //!
 //! - [`SpeedData`], [`predefined_speed`], [`linear_move_seconds`],
 //!   [`joint_move_seconds`]: timing one move.

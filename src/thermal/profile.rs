@@ -231,7 +231,7 @@ mod tests {
         let h = parse_default_heating("heating.toml", DEFAULT_HEATING_TOML).unwrap();
         assert_eq!(&h, default_heating());
         assert_eq!(h.kind, ModelKind::TwoTau);
-        // The cold start of the reference recording (reference.md), the
+        // The cold start of the reference recording (docs/model.md), the
         // default model's T_ref.
         assert_eq!(h.t0_c, 7.0);
         assert_eq!(h.params[0][0], 0.6268076010648681);

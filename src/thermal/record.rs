@@ -1,4 +1,4 @@
-//! Heating records (`time_min,t1_c,...,t6_c[,ambient_c]`, formats.md) and
+//! Heating records (`time_min,t1_c,...,t6_c[,ambient_c]`, docs/formats.md) and
 //! the profile that interpolates them: measured temperatures of the actual
 //! run, used directly instead of a model.
 

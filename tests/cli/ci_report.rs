@@ -2,8 +2,11 @@
 //! --check` and `diff --fail-above`): every GitHub line parses as a
 //! workflow command and says what it should, file names and messages
 //! escaped; every JUnit report is valid under `tests/junit/junit.xsd`
-//! (checked by xmllint, which must be installed: `.ci/run` installs it)
-//! and its counts add up.
+//! (read and applied by `tests/junit/xsd.rs`: no system tool needed) and
+//! its counts add up.
+
+#[path = "../junit/xsd.rs"]
+mod xsd;
 
 use quick_xml::events::Event;
 use quick_xml::Reader;
@@ -251,25 +254,12 @@ fn github_diff_names_the_file_a_target_is_in() {
     assert!(c[0].data.contains("all within the gate"), "{}", c[0].data);
 }
 
-/// Validate with xmllint against our schema; a missing xmllint fails.
-fn xmllint(xml: &str, schema: &str) -> Result<(), String> {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("report.xml");
-    std::fs::write(&file, xml).unwrap();
-    let out = Command::new("xmllint")
-        .args(["--noout", "--schema", schema])
-        .arg(&file)
-        .output()
-        .unwrap_or_else(|e| {
-            panic!(
-                "xmllint cannot run ({e}): install it (Debian: apt-get install libxml2-utils; .ci/run does)"
-            )
-        });
-    if out.status.success() {
-        Ok(())
-    } else {
-        Err(String::from_utf8_lossy(&out.stderr).into_owned())
-    }
+/// Validate against our schema, read from the schema file itself.
+fn validate(xml: &str) -> Result<(), String> {
+    let text = std::fs::read_to_string(SCHEMA).unwrap();
+    xsd::Schema::parse(&text)
+        .unwrap_or_else(|e| panic!("{SCHEMA}: {e}"))
+        .validate(xml)
 }
 
 const SCHEMA: &str = "tests/junit/junit.xsd";
@@ -414,7 +404,7 @@ fn junit_reports_are_valid_and_add_up() {
         args.extend(["--format", "junit"]);
         let r = run(&args);
         assert_eq!(r.code, *code, "{args:?}\n{}", r.stdout);
-        if let Err(e) = xmllint(&r.stdout, SCHEMA) {
+        if let Err(e) = validate(&r.stdout) {
             panic!("{args:?}: not valid under {SCHEMA}:\n{e}\n{}", r.stdout);
         }
         let counts = counts(&r.stdout);
@@ -441,10 +431,51 @@ fn the_schema_bites() {
         "--format",
         "junit",
     ]);
-    assert!(xmllint(&r.stdout, SCHEMA).is_ok());
+    assert!(validate(&r.stdout).is_ok());
     // A failure that does not say why, and a suite without its counts.
     let broken = r.stdout.replacen(" type=\"moves\"", "", 1);
-    assert!(xmllint(&broken, SCHEMA).is_err());
+    assert!(validate(&broken).is_err());
     let broken = r.stdout.replacen(" skipped=\"0\"", "", 1);
-    assert!(xmllint(&broken, SCHEMA).is_err());
+    assert!(validate(&broken).is_err());
+    // What xmllint would also refuse: a count that is not a number, an
+    // attribute the schema does not declare, an empty name, an element
+    // it does not know, and children out of order.
+    for (from, to) in [
+        (" failures=\"", " failures=\"x"),
+        ("<testsuites ", "<testsuites color=\"red\" "),
+        ("<testcase name=\"", "<testcase name=\"\" was=\""),
+        ("<testcase ", "<bogus/><testcase "),
+    ] {
+        assert!(r.stdout.contains(from), "{from}");
+        let broken = r.stdout.replacen(from, to, 1);
+        assert!(validate(&broken).is_err(), "accepted with {to}:\n{broken}");
+    }
+    let props = r
+        .stdout
+        .find("<properties>")
+        .expect("a suite has properties");
+    let props_end = r.stdout.find("</properties>").unwrap() + "</properties>".len();
+    let mut moved = r.stdout.clone();
+    let block = moved[props..props_end].to_string();
+    moved.replace_range(props..props_end, "");
+    let at = moved.rfind("</testsuite>").unwrap();
+    moved.insert_str(at, &block);
+    assert!(validate(&moved).is_err(), "properties after the test cases");
+}
+
+/// The validator reads the schema it is given, and refuses a construct it
+/// does not implement rather than skip it.
+#[test]
+fn the_validator_reads_only_what_it_understands() {
+    let schema = std::fs::read_to_string(SCHEMA).unwrap();
+    assert!(xsd::Schema::parse(&schema).is_ok());
+    let grown = schema.replacen(
+        "<xs:minLength value=\"1\"/>",
+        "<xs:minLength value=\"1\"/><xs:pattern value=\"[a-z]+\"/>",
+        1,
+    );
+    let e = xsd::Schema::parse(&grown)
+        .err()
+        .expect("xs:pattern refused");
+    assert!(e.contains("xs:pattern"), "{e}");
 }

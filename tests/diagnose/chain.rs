@@ -1,5 +1,5 @@
 //! The diagnosis of a general serial chain on real laser-tracker data of a
-//! UR5 (`../shared/real/ur5/`).
+//! UR5 (`tests/data/ur5/`).
 
 use rapidtherm::diagnose::chain_calib::{self, Nominal, Sample};
 use rapidtherm::diagnose::chain_diagnose::{diagnose_chain, ChainData, ChainOptions, ChainSetup};
@@ -7,7 +7,7 @@ use rapidtherm::diagnose::measurements::Measurements;
 use rapidtherm::robot::urdf;
 use std::path::Path;
 
-const UR5: &str = "../shared/real/ur5";
+const UR5: &str = "tests/data/ur5";
 
 fn samples(file: &str, limits: &[(f64, f64); 6]) -> Vec<Sample> {
     let path = Path::new(UR5).join(file);

@@ -1,6 +1,6 @@
 //! Every effect on a general serial chain (`rapidtherm::model::general`):
 //! on the IRB 140's own chain the same numbers as its OPW form, and on a
-//! UR5 (`../shared/real/ur5/ur5.urdf`, no OPW form) effects simulated on
+//! UR5 (`tests/data/ur5/ur5.urdf`, no OPW form) effects simulated on
 //! it are diagnosed with it.
 
 use super::urdf::finds_effect_on;
@@ -12,7 +12,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 fn ur5() -> Robot {
-    Robot::from_urdf_file(Path::new("../shared/real/ur5/ur5.urdf")).unwrap()
+    Robot::from_urdf_file(Path::new("tests/data/ur5/ur5.urdf")).unwrap()
 }
 
 #[test]

@@ -16,7 +16,7 @@ use rapidtherm::robot::Robot;
 use std::path::Path;
 
 fn run(csv: &str) -> Diagnosis {
-    let robot = Robot::from_urdf_file(Path::new("../shared/real/ur5/ur5.urdf")).unwrap();
+    let robot = Robot::from_urdf_file(Path::new("tests/data/ur5/ur5.urdf")).unwrap();
     let arm = DiagArm::of_robot(&robot, "ur5.urdf").unwrap();
     let meas = Measurements::parse("ur5_blind.csv", csv.as_bytes(), &arm.limits_deg).unwrap();
     let prepared = prepare_arm(&meas, &Model::default(), &arm, true).unwrap();

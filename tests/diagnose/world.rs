@@ -1,5 +1,5 @@
 //! A blind generator of laser-tracker data of a warming IRB 140, written
-//! from the specification (`shared/spec/irb140.md`, `effects.md`) and
+//! from the specification (`docs/model.md`, `docs/model.md`) and
 //! physics, independently of the diagnosis: its own kinematic chain, its own
 //! parameterisation of every effect, and the nuisance of real measurements
 //! (a tracker metres away at any heading, the arm's own geometric error, a
@@ -16,19 +16,19 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use rapidtherm::thermal::{default_profile, HeatingProfile};
 
-/// IRB 140 lengths, mm (`irb140.md`, "Geometry").
+/// IRB 140 lengths, mm (`docs/model.md`, "Geometry").
 const C1: f64 = 352.0;
 const A1: f64 = 70.0;
 const C2: f64 = 360.0;
 const C3: f64 = 380.0;
 const C4: f64 = 65.0;
 /// A380 expansion coefficient and the calibrated default's scale
-/// (`irb140.md`, "Materials", "Calibrated default").
+/// (`docs/model.md`, "Materials", "Calibrated default").
 const ALPHA: f64 = 21.8e-6;
 const K0: f64 = 0.33699;
 /// Reference temperature of the taught targets, °C.
 const T_REF: f64 = 7.0;
-/// Table-1 maxima (`reference.md`), °C.
+/// Table-1 maxima (`docs/model.md`), °C.
 const T_MAX: [f64; 6] = [18.837, 21.596, 18.849, 21.665, 27.537, 30.705];
 
 /// One physical departure of the real robot from the model in use.
@@ -230,7 +230,7 @@ impl Heat {
     }
 }
 
-/// Link temperature rises above the reference (`irb140.md`: base T1, lower
+/// Link temperature rises above the reference (`docs/model.md`: base T1, lower
 /// (T2+T3)/2, upper (T4+T5+T6)/3, wrist (T5+T6)/2).
 fn link_rise(t: &[f64; 6]) -> [f64; 4] {
     [
@@ -456,7 +456,7 @@ pub fn generate(spec: &SetSpec) -> DataSet {
 }
 
 /// The nominal flange position (no error, no warmth, base frame): the
-/// check values of `irb140.md` pin this chain to the ABB convention.
+/// check values of `docs/model.md` pin this chain to the ABB convention.
 pub fn nominal_flange(q: &[f64; 6]) -> Vector3<f64> {
     position(&Geometry::exact(), &State::cold(), q)
 }

@@ -1,6 +1,6 @@
 //! The blind generator's UR5 (`world.rs` with [`super::world::Arm::Ur5`]):
 //! its chain written here from the joint origins of
-//! `shared/real/ur5/ur5.urdf` (numbers copied, not parsed by the library),
+//! `tests/data/ur5/ur5.urdf` (numbers copied, not parsed by the library),
 //! each origin growing with its link's temperature as the model's premise
 //! says (joints 1–2 base, 3 lower arm, 4–5 upper arm, 6 and the flange
 //! wrist), a bent link turning what follows about its end.
@@ -74,10 +74,9 @@ pub(super) fn random_pose(rng: &mut ChaCha8Rng) -> [f64; 6] {
 
 #[test]
 fn the_ur5_worlds_chain_is_the_urdf_chain() {
-    let robot = rapidtherm::robot::Robot::from_urdf_file(std::path::Path::new(
-        "../shared/real/ur5/ur5.urdf",
-    ))
-    .unwrap();
+    let robot =
+        rapidtherm::robot::Robot::from_urdf_file(std::path::Path::new("tests/data/ur5/ur5.urdf"))
+            .unwrap();
     let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(3);
     for _ in 0..20 {
         let q = random_pose(&mut rng);

@@ -1,6 +1,6 @@
 //! Generated modules (declarations, arrays, inline moves, Latin-1 comments
 //! and names, CRLF/LF mixes, every number spelling): each round-trips
-//! byte for byte, every robtarget is found under the identifier the spec
+//! byte for byte, every robtarget is found under the identifier docs/formats.md
 //! gives it with the numbers written, and editing one number changes only
 //! that number's bytes.
 

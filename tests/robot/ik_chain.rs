@@ -1,5 +1,5 @@
 //! Numeric IK for arms without the OPW form (`src/robot/ik_chain.rs`):
-//! the UR5 (`../shared/real/ur5/ur5.urdf`) and an arm with an offset wrist
+//! the UR5 (`tests/data/ur5/ur5.urdf`) and an arm with an offset wrist
 //! round-trip random joints through FK and robconf IK to 1e-9 mm and
 //! 1e-12 rad; the IRB 140 solved numerically (its OPW form withheld)
 //! gives the closed form's answers; the warm arm; the errors.
@@ -13,11 +13,11 @@ use std::f64::consts::{PI, TAU};
 use std::path::Path;
 use std::time::Instant;
 
-const UR5: &str = "../shared/real/ur5/ur5.urdf";
+const UR5: &str = "tests/data/ur5/ur5.urdf";
 const WARM: LinkScales = [1.0002, 1.0003, 0.9998, 1.0004];
 
 fn ur5() -> Robot {
-    Robot::from_urdf_file(Path::new(UR5)).expect("the shared UR5 URDF")
+    Robot::from_urdf_file(Path::new(UR5)).expect("the UR5 URDF of tests/data/ur5")
 }
 
 /// An IRB 140-sized arm whose wrist axes do not meet: axis 5 sits 60 mm

@@ -1,4 +1,4 @@
-//! The IRB 140 model: check poses of the spec, embedded URDF vs the spec's
+//! The IRB 140 model: check poses of docs/model.md, embedded URDF vs docs/model.md's
 //! numbers, IK round trips, robconf, singularities, unreachable targets,
 //! and the thermal drift at the calibration pose.
 
@@ -72,7 +72,7 @@ fn check_poses_through_every_model() {
     }
 }
 
-/// The IRB 140 of `shared/spec/irb140.md` ("Geometry"), mm: the reference
+/// The IRB 140 of `docs/model.md` ("Geometry"), mm: the reference
 /// the embedded URDF is checked against (the model itself is data).
 const SPEC_OPW: Opw = Opw {
     c1: 352.0,
@@ -89,7 +89,7 @@ fn embedded_urdf_is_the_spec_arm() {
     let urdf = Robot::from_urdf_str("irb140.urdf", rapidtherm::robot::urdf::IRB140_URDF).unwrap();
     assert_eq!(urdf, Robot::irb140());
     assert_eq!(urdf.name, "abb_irb140");
-    // Joint limits of the spec, degrees.
+    // Joint limits of docs/model.md, degrees.
     let limits = [
         (-180.0, 180.0),
         (-90.0, 110.0),
@@ -113,7 +113,7 @@ fn embedded_urdf_is_the_spec_arm() {
         );
         assert_relative_eq!(urdf.max_speed_deg_s[i], speeds[i], epsilon = 1e-9);
     }
-    // The OPW form: the spec's lengths, bit for bit (the diagnosis's base
+    // The OPW form: docs/model.md's lengths, bit for bit (the diagnosis's base
     // model and the default model file use them), ABB's joint conventions.
     let a = urdf.opw.clone().unwrap();
     assert_eq!(a.geom, SPEC_OPW);
@@ -123,7 +123,7 @@ fn embedded_urdf_is_the_spec_arm() {
     assert_eq!(a.signs, b.signs);
     assert_eq!(a.offsets, b.offsets);
     assert!(a.tip.angle_to(&b.tip) < 1e-12);
-    // The URDF chain and the spec's OPW arm agree everywhere, cold and warm.
+    // The URDF chain and docs/model.md's OPW arm agree everywhere, cold and warm.
     let mut rng = Rng(7);
     let warm = [20.0, 25.0, 30.0, 35.0, 40.0, 45.0];
     for _ in 0..500 {
@@ -387,7 +387,7 @@ fn warm_ik_inverts_warm_fk() {
 }
 
 /// Flange drift at the calibration pose with the table-1 maxima and T_ref
-/// 7 °C, computed by hand from the spec's table:
+/// 7 °C, computed by hand from docs/model.md's table:
 /// base 18.837 → ΔT 11.837; lower (21.596+18.849)/2 = 20.2225 → 13.2225;
 /// upper (21.665+27.537+30.705)/3 = 26.635667 → 19.635667;
 /// wrist (27.537+30.705)/2 = 29.121 → 22.121. With α = 21.8e-6/K:
@@ -416,8 +416,8 @@ fn calibration_pose_drift_with_table1_temperatures() {
 
 /// The calibrated default (`data/irb140/model.toml`, K0 = 0.33699) moves
 /// the flange 0.097 mm at the calibration pose with the table-1
-/// temperatures: the FEA's number (`shared/spec/irb140.md`, "Calibrated
-/// default"), and `--model base` keeps the spec's unscaled 0.2878 mm.
+/// temperatures: the FEA's number (`docs/model.md`, "Calibrated
+/// default"), and `--model base` keeps docs/model.md's unscaled 0.2878 mm.
 #[test]
 fn the_calibrated_default_drifts_as_the_fea_says() {
     let robot = Robot::irb140();

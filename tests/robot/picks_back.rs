@@ -194,8 +194,8 @@ fn a_tool_pointing_straight_down_is_picked_back_without_solving() {
 /// An arm without the OPW form is always solved.
 #[test]
 fn a_chain_arm_is_always_solved() {
-    let ur5 = Robot::from_urdf_file(std::path::Path::new("../shared/real/ur5/ur5.urdf"))
-        .expect("the shared UR5 URDF");
+    let ur5 = Robot::from_urdf_file(std::path::Path::new("tests/data/ur5/ur5.urdf"))
+        .expect("the UR5 URDF of tests/data/ur5");
     let q = [0.3, -1.0, 1.2, -0.5, 0.8, 0.2];
     assert!(!ur5.picks_back(&q, &ur5.conf_of(&q)));
 }

@@ -1,4 +1,4 @@
-//! The reference sample against the paper (Cristoiu and Ivan, reference.md):
+//! The reference sample against the paper (Cristoiu and Ivan, docs/model.md):
 //! the printed regression rows, held-out prediction, out-of-window refusal,
 //! and the embedded default profile.
 
@@ -123,7 +123,7 @@ fn papers_cubic_is_refused_at_300_and_400_min() {
     let paper =
         PolyCurve::from_coefficients(0.0, 168.0, &[7.769163, 0.247369, -0.001969, 0.000005])
             .unwrap();
-    // reference.md: the printed cubic passes 39 °C at 300 min, 111 °C at 400.
+    // docs/model.md: the printed cubic passes 39 °C at 300 min, 111 °C at 400.
     assert!((39.0..40.0).contains(&paper.eval(300.0)));
     assert!((111.0..112.0).contains(&paper.eval(400.0)));
     let curve = Curve::Poly(paper);

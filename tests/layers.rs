@@ -12,13 +12,17 @@ use std::path::{Path, PathBuf};
 /// reached; the jobs. `src/lib.rs` and the code map in docs/development.md say the same.
 const ALLOWED: &[(&str, &[&str])] = &[
     ("error", &[]),
+    ("input", &["error"]),
     ("csv_table", &["error"]),
     ("report", &["error"]),
     ("plot", &["error"]),
-    ("rapid", &["error"]),
-    ("robot", &["error", "csv_table"]),
+    ("rapid", &["error", "input"]),
+    ("robot", &["error", "input", "csv_table"]),
     ("thermal", &["error", "csv_table", "report", "plot"]),
-    ("model", &["error", "csv_table", "robot", "thermal"]),
+    (
+        "model",
+        &["error", "input", "csv_table", "robot", "thermal"],
+    ),
     ("resolve", &["error", "rapid", "robot"]),
     (
         "schedule",

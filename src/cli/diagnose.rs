@@ -329,6 +329,18 @@ impl<'a> WithWords<'a> {
 }
 
 pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
+    // Every output checked before anything is read or written.
+    let poses_file = ["joints:", "program:"]
+        .iter()
+        .find_map(|p| args.poses.strip_prefix(p))
+        .map(Path::new);
+    let inputs: Vec<&Path> = poses_file
+        .into_iter()
+        .chain(args.model.as_deref())
+        .chain(args.robot.as_deref())
+        .collect();
+    super::output::check_file("-o", &args.output)?;
+    super::output::refuse_inputs_as_outputs(&[("-o", &args.output)], &inputs)?;
     let model = load_model(&args.model)?;
     let mut effects = model.effects()?;
     for spec in &args.effects {
@@ -355,6 +367,12 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
 }
 
 pub fn run_gap(args: GapArgs) -> Result<Status> {
+    // A usage error before any file is read.
+    if let Some(limit) = args.fail_above {
+        if !(limit.is_finite() && limit >= 0.0) {
+            return Err(Error::usage("--fail-above must be a number of mm >= 0"));
+        }
+    }
     let model = load_model(&args.model)?;
     let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = read_measurements(&args.data, &setup.arm)?;
@@ -399,8 +417,11 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     };
     write_stdout(text.as_bytes())?;
     match args.fail_above {
-        Some(limit) if !(limit.is_finite() && limit >= 0.0) => {
-            Err(Error::usage("--fail-above must be a number of mm >= 0"))
+        // A gap that is not a number never passes the gate: nothing was
+        // shown to be within it.
+        Some(limit) if g.rms_mm.is_nan() => {
+            outcome!("gap is not a number: it is not within {limit} mm");
+            Ok(Status::Changes)
         }
         Some(limit) if g.rms_mm > limit => {
             outcome!("gap {:.4} mm RMS is above {limit} mm", g.rms_mm);
@@ -408,6 +429,29 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
         }
         _ => Ok(Status::Success),
     }
+}
+
+/// The outputs of a diagnosis, checked before anything is read or
+/// written: a model file that would replace an input, a plot folder that
+/// cannot be made.
+fn check_diagnose_outputs(args: &DiagnoseArgs) -> Result<()> {
+    if let Some(dir) = &args.plot {
+        super::output::check_folder("--plot", dir)?;
+    }
+    let Some(path) = &args.save_model else {
+        return Ok(());
+    };
+    super::output::check_file("--save-model", path)?;
+    let inputs: Vec<&Path> = [Some(args.data.as_path())]
+        .into_iter()
+        .chain([
+            args.model.as_deref(),
+            args.robot.as_deref(),
+            args.holdout.as_deref(),
+        ])
+        .flatten()
+        .collect();
+    super::output::refuse_inputs_as_outputs(&[("--save-model", path)], &inputs)
 }
 
 /// The robot's own nominal geometry (a URDF's or a catalogue arm's), which
@@ -458,6 +502,7 @@ fn registration_words(r: &diagnose::Registration) -> String {
 }
 
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
+    check_diagnose_outputs(&args)?;
     // Read once: standard input cannot be read twice, and the choice of
     // diagnosis looks at the data.
     let (name, bytes) = read_input(&args.data)?;

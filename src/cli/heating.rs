@@ -111,6 +111,10 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
 const STEADY_WARN_C: f64 = 1.0;
 
 fn run_fit(a: FitArgs) -> Result<Status> {
+    if let Some(plot) = &a.plot {
+        super::output::check_file("--plot", plot)?;
+        super::output::refuse_inputs_as_outputs(&[("--plot", plot)], &[&a.records])?;
+    }
     let models = parse_models(&a.model)?;
     let mut axes: Vec<usize> = Vec::new();
     for x in &a.axes {

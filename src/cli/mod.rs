@@ -32,7 +32,7 @@ mod tasks;
 
 use clap::{CommandFactory, Parser, Subcommand};
 use rapidtherm::error::{Error, Result};
-use std::io::{Read, Write};
+use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -148,13 +148,9 @@ pub fn main() -> ExitCode {
 /// use in messages and the bytes.
 pub fn read_input(path: &Path) -> Result<(String, Vec<u8>)> {
     if path == Path::new("-") {
-        let mut buf = Vec::new();
-        std::io::stdin()
-            .read_to_end(&mut buf)
-            .map_err(|e| Error::io(Path::new("<stdin>"), &e))?;
-        Ok(("<stdin>".to_string(), buf))
+        Ok(("<stdin>".to_string(), rapidtherm::input::read_stdin()?))
     } else {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+        let bytes = rapidtherm::input::read_path(path)?;
         Ok((path.display().to_string(), bytes))
     }
 }

@@ -72,6 +72,9 @@ pub fn write_atomic_with<T>(
         _ => Path::new("."),
     };
     let existing = std::fs::metadata(path).ok();
+    if let Some(meta) = &existing {
+        refuse_read_only(path, meta)?;
+    }
     let backup = match (backup, &existing) {
         (Some(suffix), Some(_)) => {
             let name = backup_path(path, suffix);
@@ -102,12 +105,139 @@ pub fn write_atomic_with<T>(
         std::fs::copy(path, &name).map_err(|e| Error::io(Path::new(&name), &e))?;
     }
     if let Some(meta) = existing {
+        keep_owner(tmp.as_file(), path, &meta)?;
         std::fs::set_permissions(tmp.path(), meta.permissions())
             .map_err(|e| Error::io(path, &e))?;
     }
     tmp.persist(path)
         .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {}", path.display(), e.error)))?;
     Ok(Some(done))
+}
+
+/// An output named by `flag` that is also an input of the same run: the
+/// run would destroy what it read. Checked before anything is written;
+/// `-` (standard input or output) is never a file here. An output that
+/// does not exist yet cannot be an input.
+pub fn refuse_inputs_as_outputs(outputs: &[(&str, &Path)], inputs: &[&Path]) -> Result<()> {
+    let dash = Path::new("-");
+    let mut errors = Vec::new();
+    for &(flag, out) in outputs {
+        if out == dash {
+            continue;
+        }
+        for &input in inputs {
+            if input == dash {
+                continue;
+            }
+            if same_file::is_same_file(out, input).unwrap_or(false) {
+                errors.push(Error::usage(format!(
+                    "{flag} {}: that is an input of this run ({}); writing it would destroy what was read: name another file",
+                    out.display(),
+                    input.display()
+                )));
+                break;
+            }
+        }
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// A folder the run will create (if missing) and write into: its nearest
+/// existing ancestor must be a folder. Checked before anything is
+/// written, so that a run does not write one output and then fail on
+/// another.
+pub fn check_folder(flag: &str, dir: &Path) -> Result<()> {
+    for ancestor in dir.ancestors() {
+        if ancestor.as_os_str().is_empty() {
+            break;
+        }
+        match std::fs::metadata(ancestor) {
+            Ok(meta) if meta.is_dir() => return Ok(()),
+            Ok(_) => {
+                return Err(Error::usage(format!(
+                    "{flag} {}: `{}` is a file, not a folder",
+                    dir.display(),
+                    ancestor.display()
+                )))
+            }
+            Err(_) => continue,
+        }
+    }
+    Ok(())
+}
+
+/// A file the run will write: its folder must exist, and the path must
+/// not be a folder. Checked before anything is written.
+pub fn check_file(flag: &str, path: &Path) -> Result<()> {
+    if path == Path::new("-") {
+        return Ok(());
+    }
+    if path.is_dir() {
+        return Err(Error::usage(format!(
+            "{flag} {}: is a folder, not a file",
+            path.display()
+        )));
+    }
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(Error::usage(format!(
+            "{flag} {}: the folder `{}` does not exist",
+            path.display(),
+            dir.display()
+        )));
+    }
+    Ok(())
+}
+
+/// A file nobody may write (no write permission bit), or that this user
+/// may not write, is not replaced: renaming over it would only need the
+/// folder's permission, and would undo the protection its owner chose.
+fn refuse_read_only(path: &Path, meta: &std::fs::Metadata) -> Result<()> {
+    let writable = !meta.permissions().readonly()
+        && std::fs::OpenOptions::new().write(true).open(path).is_ok();
+    if writable {
+        return Ok(());
+    }
+    Err(Error::new(
+        ErrorKind::Io,
+        format!(
+            "{}: the file is read-only, so it is not replaced; make it writable first (chmod u+w) if it should be",
+            path.display()
+        ),
+    ))
+}
+
+/// The new file takes the replaced one's owner and group. Where this user
+/// may not give them, the file is not replaced: it would change hands.
+#[cfg(unix)]
+fn keep_owner(tmp: &std::fs::File, path: &Path, meta: &std::fs::Metadata) -> Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let now = tmp.metadata().map_err(|e| Error::io(path, &e))?;
+    if now.uid() == meta.uid() && now.gid() == meta.gid() {
+        return Ok(());
+    }
+    std::os::unix::fs::fchown(tmp, Some(meta.uid()), Some(meta.gid())).map_err(|e| {
+        Error::new(
+            ErrorKind::Io,
+            format!(
+                "{}: belongs to user {} and group {}, which this user cannot give a new file ({e}); it is left as it is: run as its owner, or write elsewhere with -o",
+                path.display(),
+                meta.uid(),
+                meta.gid()
+            ),
+        )
+    })
+}
+
+#[cfg(not(unix))]
+fn keep_owner(_tmp: &std::fs::File, _path: &Path, _meta: &std::fs::Metadata) -> Result<()> {
+    Ok(())
 }
 
 /// `path` + `suffix`.

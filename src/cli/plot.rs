@@ -70,6 +70,7 @@ fn file_name(path: &str) -> &str {
 /// Write the pictures into `dir` (created if missing), each atomically.
 pub fn write(dir: Option<&Path>, drawn: &[(PathBuf, String)]) -> Result<()> {
     let Some(dir) = dir else { return Ok(()) };
+    super::output::check_folder("--plot", dir)?;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
     for (name, svg) in drawn {
         let path = dir.join(name);

@@ -41,6 +41,9 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     if args.cycles == 0 {
         return Err(Error::usage("--cycles must be at least 1"));
     }
+    super::output::check_file("-o", &args.output)?;
+    let inputs: Vec<&std::path::Path> = args.files.iter().map(|f| f.as_path()).collect();
+    super::output::refuse_inputs_as_outputs(&[("-o", &args.output)], &inputs)?;
     let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
     // A file given by name is cut once: walked with its cut moves in runs,
     // else read whole from its skeleton. The arm's and the base's errors

@@ -23,7 +23,8 @@
 //! effects), [`select`] (folds, candidate scores), [`locate`] (where a gap
 //! lies), [`pipeline`] (the diagnosis and its verdict), [`verdict`] (the
 //! result as data), [`prose`] (the result in sentences), [`instrument`]
-//! (noise levels and the ISO cube from `data/instrument.toml`), [`arm`],
+//! (noise levels and the ISO cube from `data/instrument.toml`), [`sanity`]
+//! (sets a diagnosis cannot mean anything on), [`arm`],
 //! [`measurements`], [`simulate`], [`plot`].
 
 pub mod arm;
@@ -41,6 +42,7 @@ pub mod pipeline;
 pub mod plot;
 pub mod prepare;
 pub mod prose;
+pub mod sanity;
 pub mod select;
 pub mod simulate;
 pub mod verdict;

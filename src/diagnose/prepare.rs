@@ -159,11 +159,13 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         zero_jacobians: None,
         centre_poses: false,
     };
-    Ok(Prepared {
+    let prepared = Prepared {
         problem,
         pose_names,
         registration: None,
-    })
+    };
+    super::sanity::check_spread(&prepared, &meas.file)?;
+    Ok(prepared)
 }
 
 /// Fit the instrument's frame and bring the measured points and

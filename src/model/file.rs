@@ -221,7 +221,7 @@ impl Model {
     }
 
     pub fn load(path: &Path) -> Result<Model> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+        let bytes = crate::input::read_path(path)?;
         let text = String::from_utf8(bytes)
             .map_err(|_| Error::input(format!("{}: model files must be UTF-8", path.display())))?;
         let mut model = Model::parse(&path.display().to_string(), &text)?;

@@ -6,5 +6,6 @@
 mod ci_report;
 mod conventions;
 mod hostile;
+mod outputs;
 mod pre_commit_hook;
 mod transcripts;

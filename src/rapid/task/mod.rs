@@ -142,7 +142,7 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<Task>> {
 
 /// The modules of a program file, found beside it.
 fn program_file(path: &Path) -> Result<Task> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+    let bytes = crate::input::read_path(path)?;
     let listed = pgf::modules(&path.display().to_string(), &bytes)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut modules = Vec::new();

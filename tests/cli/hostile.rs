@@ -33,7 +33,7 @@ fn read(rel: &str) -> Vec<u8> {
 }
 
 /// Every file under `dir`: its bytes' hash and its permissions.
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, (String, u32)> {
+pub(crate) fn snapshot(dir: &Path) -> BTreeMap<PathBuf, (String, u32)> {
     fn walk(dir: &Path, out: &mut BTreeMap<PathBuf, (String, u32)>) {
         for e in std::fs::read_dir(dir).unwrap().flatten() {
             let p = e.path();

@@ -4,6 +4,7 @@
 //! and nothing assumed: measurement sets a diagnosis cannot mean anything
 //! on (one point, metres, copied rows, one label on two poses) are refused.
 
+use super::hostile::snapshot;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -27,25 +28,6 @@ fn refused(out: &Output, words: &str) {
         "`{words}` not in: {}",
         stderr(out)
     );
-}
-
-/// The folder's files and their bytes, to show a run wrote nothing.
-fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut all: Vec<(String, Vec<u8>)> = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let name = p.strip_prefix(dir).unwrap().display().to_string();
-                all.push((name, std::fs::read(&p).unwrap()));
-            }
-        }
-    }
-    all.sort();
-    all
 }
 
 /// Simulated measurements of the IRB 140: 8 poses at 0, 60 and 120 min.

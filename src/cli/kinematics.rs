@@ -98,7 +98,10 @@ impl ModelArgs {
         let Some(t) = temps else { return Ok(None) };
         let thermal = match &self.thermal {
             Some(path) => {
-                let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+                let text =
+                    String::from_utf8(rapidtherm::input::read_path(path)?).map_err(|_| {
+                        Error::input(format!("{}: a thermal model must be UTF-8", path.display()))
+                    })?;
                 ThermalExpansion::from_toml(&path.display().to_string(), &text)?
             }
             None => ThermalExpansion::default(),

@@ -391,7 +391,7 @@ impl Model {
                 Some(dir) if Path::new(rec).is_relative() => dir.join(rec),
                 _ => PathBuf::from(rec),
             };
-            let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, &e))?;
+            let bytes = crate::input::read_path(&path)?;
             let record = HeatingRecord::parse(&path.display().to_string(), &bytes)?;
             return match &self.heating.fit {
                 // A recording of the actual run: interpolated, refused

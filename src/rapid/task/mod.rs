@@ -186,7 +186,7 @@ impl Backup {
         let mut text = |part: BackupPart| -> Result<Option<(PathBuf, String)>> {
             match find_ci(root, part.path()) {
                 Some(p) if p.is_file() => {
-                    let bytes = std::fs::read(&p).map_err(|e| Error::io(&p, &e))?;
+                    let bytes = crate::input::read_path(&p)?;
                     Ok(Some((p, crate::error::decode_lossless(&bytes))))
                 }
                 _ => {

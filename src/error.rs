@@ -51,6 +51,16 @@ pub enum Remedy {
     FitBeyondRecording,
     /// A name not in the catalogue of ABB arms: see the list.
     ListArms,
+    /// A task's arm is not known from the backup: name it for the task.
+    NameTheArm,
+    /// An arm whose thermal behaviour is unknown: give a model file of it,
+    /// or use the IRB 140's thermal defaults on its lengths.
+    ModelOfTheArm,
+    /// An arm said besides a model fitted on another: leave it to the
+    /// model.
+    ArmOfTheModel,
+    /// Tasks that would write one file differently: one at a time.
+    OneTaskAtATime,
 }
 
 impl Remedy {
@@ -68,6 +78,14 @@ impl Remedy {
                 "; fit a saturating model to predict beyond it, or hold the end values explicitly"
             }
             Remedy::ListArms => " (the catalogue lists every name)",
+            Remedy::NameTheArm => "; name the arm this task moves",
+            Remedy::ModelOfTheArm => {
+                "give a model file of this arm (its heating measured, or a heating recording in it), or use the IRB 140's thermal defaults on this arm's lengths"
+            }
+            Remedy::ArmOfTheModel => {
+                "give a model diagnosed on this arm, or leave the arm to the model"
+            }
+            Remedy::OneTaskAtATime => "",
         }
     }
 }

@@ -6,10 +6,11 @@
 //! Only a gate passes or fails: on anything else `--format github|junit`
 //! is refused (exit 2) before any work is done.
 
-use super::check_rule::CheckRule;
-use super::correct::{reason_words, shared_words};
+use super::ci_suite::{Case, Level, Suite};
+use super::correct_words::{reason_words, shared_words};
 use super::Format;
 use rapidtherm::compare::{Diff, Gate, GateFailure};
+use rapidtherm::correct::check::CheckRule;
 use rapidtherm::correct::{Outcome, Reason};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::Program;
@@ -463,43 +464,6 @@ fn located(
         title,
         message,
     }
-}
-
-/// How a case fares at the gate, and how a CI system shows it; from the
-/// best to the worst.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub(super) enum Level {
-    /// Passes; not annotated.
-    Pass,
-    /// Passes; worth a notice (a target nothing of the arm drifts in).
-    Notice,
-    /// Passes, but stays wrong on the warm robot: the user accepted it
-    /// (a warning; a skipped test in JUnit).
-    Skip,
-    /// Fails the gate.
-    Error,
-}
-
-/// One target (or use of one) at the gate.
-pub(super) struct Case {
-    /// The target's identifier.
-    pub name: String,
-    pub file: String,
-    /// 0: unknown.
-    pub line: u32,
-    pub col: u32,
-    pub level: Level,
-    /// Why it fails: the failure's type in JUnit.
-    pub kind: &'static str,
-    pub title: String,
-    pub message: String,
-}
-
-/// The cases of one file, or of one task of a backup.
-pub(super) struct Suite {
-    pub name: String,
-    pub properties: Vec<(String, String)>,
-    pub cases: Vec<Case>,
 }
 
 fn suite_for<'s>(

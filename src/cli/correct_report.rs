@@ -3,7 +3,7 @@
 //! numbers, then the targets left alone, derived, split or used with
 //! other frames.
 
-use super::correct::{reason_words, shared_words};
+use super::correct_words::{reason_words, shared_words};
 use super::Format;
 use rapidtherm::correct::{Frame, Outcome};
 use rapidtherm::error::{Error, Result};

@@ -3,6 +3,7 @@
 //! choices made on stderr).
 use super::messages::{self, note, status};
 use super::{write_output, Status};
+use rapidtherm::correct::job;
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::{self, task::Task};
 use rapidtherm::robot::Robot;
@@ -45,9 +46,13 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     // A file given by name is cut once: walked with its cut moves in runs,
     // else read whole from its skeleton. The arm's and the base's errors
     // are said after the program's, as ever.
+    let specs = super::arms::arm_specs(args.robot.as_slice())?;
     let cut = cut_file(&task);
-    let arm = super::tasks::arm_for(&task, args.robot.as_slice());
-    let base = super::tasks::base_frame(&task);
+    let arm = rapidtherm::resolve::arm::arm_for(&task, &specs);
+    if let Ok(arm) = &arm {
+        super::events::say_arm(&task.label(), arm);
+    }
+    let base = rapidtherm::resolve::arm::base_frame(&task);
     let opts = |base_frame| EstimateOptions {
         entry: args.entry.clone(),
         start_min: args.start,
@@ -57,7 +62,7 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     if let (Some(cut), Ok(arm), Ok(base)) = (&cut, &arm, &base) {
         let opts = opts(*base);
         if let Some(walked) = walked_in_runs(cut, &arm.robot, &opts) {
-            super::tasks::announce(&task);
+            announce(&task);
             let (csv, targets, visits) = walked.to_csv();
             write_output(&args.output, csv.as_bytes())?;
             return Ok(said(&walked.estimate, (targets, visits), &opts));
@@ -65,7 +70,7 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     }
     let (program, fast) = match cut.as_ref().and_then(read_from_skeleton) {
         Some(p) => {
-            super::tasks::announce(&task);
+            announce(&task);
             (p, true)
         }
         None => (super::tasks::read(&task)?.1, false),
@@ -89,6 +94,11 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         est.schedule.visit_count() + est.joint_schedule.visit_count(),
     );
     Ok(said(&est, counts, &opts))
+}
+
+/// What reading the task says (its notes, its files).
+fn announce(task: &Task) {
+    job::announce(task, &mut super::events::Said::default());
 }
 
 /// The estimate's notes and summary (`counts`: its targets and visits).
@@ -118,10 +128,10 @@ fn cut_file(task: &Task) -> Option<Cut> {
     let [path] = task.modules.as_slice() else {
         return None;
     };
-    if task.name.is_some() || !super::stream::is_plain_file(path) {
+    if task.name.is_some() || !job::is_plain_file(path) {
         return None;
     }
-    let map = super::stream::map_file(path).ok()?;
+    let map = job::map_file(path).ok()?;
     let started = std::time::Instant::now();
     let skeleton = rapid::fastmove::skeleton_with_poses(&map);
     messages::took("cutting the moves out", started);

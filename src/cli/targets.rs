@@ -1,7 +1,11 @@
 //! `rapidtherm targets FILE...`: every robtarget of RAPID programs.
+use super::messages;
 use super::Format;
-use super::{write_stdout, Status};
+use super::{stdout_written, write_stdout, Status};
+use rapidtherm::correct::job::{self, is_plain_file, map_file};
 use rapidtherm::error::Result;
+use rapidtherm::rapid::fastlist::{Entry, Listing};
+use rapidtherm::rapid::task::Task;
 use rapidtherm::rapid::{self, Number, Program, Target};
 use rapidtherm::report::{
     render_csv, render_table, shortest, shortest_of_literal, shortest_to_4_places, write_table,
@@ -10,6 +14,7 @@ use rapidtherm::report::{
 use rapidtherm::resolve::{self, Usage};
 use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::pose_from_rapid;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::io::Write;
@@ -52,7 +57,7 @@ fn num(buf: &mut String, x: &Number, src: &[u8]) {
 
 pub fn run(args: TargetsArgs) -> Result<Status> {
     let tasks = super::tasks::select(&args.files, &args.pick)?;
-    if let Some(status) = super::targets_fast::run(&args, &tasks)? {
+    if let Some(status) = run_fast(&args, &tasks)? {
         return Ok(status);
     }
     let refs: Vec<&rapidtherm::rapid::task::Task> = tasks.iter().collect();
@@ -572,4 +577,80 @@ fn joints(prog: &rapid::Program, format: Format) -> String {
             s
         }
     }
+}
+
+/// Targets one core lists at a time.
+const CHUNK: usize = 16_384;
+
+/// `targets FILE` on a program of millions of moves: the file
+/// memory-mapped, its moves cut out by the fast recogniser
+/// (`rapid::fastmove`), the rest parsed whole, the rows of the cut moves
+/// made on every core (`rapid::fastlist`) by the same code as the whole
+/// program's ([`Lister`]), and written in order. Any other run, and any
+/// file the fast path declines, takes the whole-program path, which
+/// prints the same bytes (see `docs/streaming.md`).
+///
+/// List the targets of `tasks` the fast way where it applies; `None`: it
+/// does not, and nothing was written or said.
+fn run_fast(args: &TargetsArgs, tasks: &[Task]) -> Result<Option<Status>> {
+    let [task] = tasks else {
+        return Ok(None);
+    };
+    let [path] = task.modules.as_slice() else {
+        return Ok(None);
+    };
+    if args.joints || task.name.is_some() || !is_plain_file(path) {
+        return Ok(None);
+    }
+    let started = std::time::Instant::now();
+    let map = map_file(path)?;
+    let src: &[u8] = &map;
+    let skeleton = rapid::fastmove::skeleton(src);
+    if skeleton.cuts.is_empty() {
+        return Ok(None);
+    }
+    // Whatever the skeleton's parse would say (an error, a warning) the
+    // whole path says with the whole file's lines.
+    let Ok(program) = rapid::parse(&path.display().to_string(), &skeleton.bytes) else {
+        return Ok(None);
+    };
+    if !program.warnings.is_empty() {
+        return Ok(None);
+    }
+    let Some(listing) = Listing::new(&program, &skeleton, src) else {
+        return Ok(None);
+    };
+    let uses = all_uses(&program);
+    let lister = Lister {
+        prog: &program,
+        several: false,
+        format: args.format,
+    };
+    let parts: Option<Vec<Sink>> = listing
+        .entries()
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut reader = listing.reader();
+            let mut sink = lister.sink();
+            for e in chunk {
+                match *e {
+                    Entry::Kept(i) => {
+                        lister.add(&mut sink, listing.kept(i), uses.get(&i), &skeleton.bytes)
+                    }
+                    Entry::Cut(k) => {
+                        reader.read(k, &mut |t| lister.add(&mut sink, t, None, src))?
+                    }
+                }
+            }
+            Some(sink)
+        })
+        .collect();
+    let Some(parts) = parts else {
+        return Ok(None);
+    };
+    job::announce(task, &mut super::events::Said::default());
+    messages::took("parsing", started);
+    let mut out = std::io::BufWriter::with_capacity(1 << 20, std::io::stdout().lock());
+    stdout_written(lister.finish(parts, &mut out).and_then(|_| out.flush()))?;
+    Ok(Some(Status::Success))
 }

@@ -14,9 +14,9 @@
 //! - Robot axes all `9E+09` (a positioner's jointtarget): nothing of the arm
 //!   to correct; left alone. External axes are never changed.
 
+use super::context::Run;
 use super::moments::{joint_moments_of, minute_of, pick};
 use super::outcome::{Correction, Frame, LeftAlone, Reason, Residual};
-use super::solve::Run;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::warm::pose_error;
 use crate::model::State;

@@ -49,11 +49,7 @@ pub struct Found {
     pub line: usize,
 }
 
-/// `sha256:` and the first 16 hex digits of the bytes' SHA-256: enough to
-/// tell files apart, short enough to read.
-pub fn fingerprint(bytes: &[u8]) -> String {
-    hex_of(&Sha256::digest(bytes))
-}
+pub use crate::digest::fingerprint;
 
 /// [`fingerprint`] of the text `show` writes, hashed as it is written (a
 /// schedule of a million visits writes tens of megabytes).

@@ -13,9 +13,11 @@
 //! which then says it: the fast path either writes the same bytes or
 //! declines.
 
+use super::context::Run;
 use super::outcome::Summary;
-use super::solve::{corrected_numbers, Meant, Run};
-use super::{evaluate, marker, CutTimes, Findings, Options, Outcome, When};
+use super::program::{evaluate, Findings};
+use super::solve::{corrected_numbers, Meant};
+use super::{marker, CutTimes, Options, Outcome, When};
 use crate::error::{Error, Result};
 use crate::model::{Moment, State, WarmRobot};
 use crate::rapid::fastmove::Skeleton;

@@ -16,7 +16,7 @@
 //! [`estimate_cuts`]: crate::schedule::estimate_cuts
 
 use super::moments::picked_moment;
-use super::{schedule_basis, Options, When};
+use super::options::{schedule_basis, Options, When};
 use crate::model::Moment;
 use crate::rapid::fastmove::Skeleton;
 use crate::rapid::{Program, TargetKind};

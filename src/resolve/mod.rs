@@ -15,6 +15,7 @@ use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
 use nalgebra::Isometry3;
 use std::collections::HashMap;
 
+pub mod arm;
 pub mod dataflow;
 
 /// The tools and work objects a program declares, by lower-case name, with

@@ -1,0 +1,61 @@
+//! Reading the inputs a command names (`-`: standard input) and writing
+//! data to standard output.
+
+use super::messages;
+use rapidtherm::error::{Error, Result};
+use std::io::{Read, Write};
+use std::path::Path;
+
+/// Read a whole input file, or standard input for `-`. Returns the name to
+/// use in messages and the bytes.
+pub fn read_input(path: &Path) -> Result<(String, Vec<u8>)> {
+    if path == Path::new("-") {
+        let mut buf = Vec::new();
+        std::io::stdin()
+            .read_to_end(&mut buf)
+            .map_err(|e| Error::io(Path::new("<stdin>"), &e))?;
+        Ok(("<stdin>".to_string(), buf))
+    } else {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+        Ok((path.display().to_string(), bytes))
+    }
+}
+
+/// Input files as read: the name used in messages and the bytes.
+pub type Inputs = Vec<(String, Vec<u8>)>;
+
+/// Read RAPID files (`-`: standard input) and parse them as one run; the
+/// reader's warnings go to stderr.
+pub fn read_program(files: &[std::path::PathBuf]) -> Result<(Inputs, rapidtherm::rapid::Program)> {
+    let mut inputs = Vec::new();
+    for f in files {
+        inputs.push(read_input(f)?);
+    }
+    let refs: Vec<(&str, &[u8])> = inputs
+        .iter()
+        .map(|(n, b)| (n.as_str(), b.as_slice()))
+        .collect();
+    let started = std::time::Instant::now();
+    let program = rapidtherm::rapid::parse_files(&refs)?;
+    messages::took("parsing", started);
+    for w in &program.warnings {
+        messages::warning_at(w);
+    }
+    Ok((inputs, program))
+}
+
+/// Write data to standard output (a closed pipe is not an error worth a
+/// panic: the reader has what it wanted).
+pub fn write_stdout(bytes: &[u8]) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    stdout_written(out.write_all(bytes).and_then(|_| out.flush()))
+}
+
+/// What writing to standard output came to, as [`write_stdout`] takes it.
+pub fn stdout_written(r: std::io::Result<()>) -> Result<()> {
+    match r {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(Error::io(Path::new("<stdout>"), &e)),
+    }
+}

@@ -23,7 +23,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("resolve", &["error", "digest", "rapid", "robot"]),
     (
         "schedule",
-        &["error", "csv_table", "rapid", "robot", "resolve"],
+        &["error", "digest", "csv_table", "rapid", "robot", "resolve"],
     ),
     (
         "correct",

@@ -214,7 +214,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
         let cold = rule.left_cold(l);
         counts[1] += usize::from(cold);
         let code = l.reason.code();
-        let words = reason_words(l.reason, &l.kind, &l.detail);
+        let words = reason_words(l.reason, l.kind, &l.detail);
         let (level, title, message) = if cold {
             (
                 Level::Error,

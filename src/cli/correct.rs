@@ -16,7 +16,7 @@ use super::{write_stdout, Status};
 use rapidtherm::correct::check::{counts, CheckRule, Finding, FindingStatus};
 use rapidtherm::correct::job::{self, moves_a_robot, Ran};
 use rapidtherm::correct::plan::{Action, CorrectPlan, Destination, ModelSource, TimeBasis};
-use rapidtherm::correct::{Outcome, Reason};
+use rapidtherm::correct::{Kind, Outcome, Reason};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::model::warm::Moment;
 use rapidtherm::model::Model;
@@ -478,7 +478,7 @@ fn per_task<T>(
 #[derive(Clone, serde::Serialize)]
 struct Row {
     id: String,
-    kind: String,
+    kind: Kind,
     file: String,
     line: u32,
     col: u32,
@@ -497,7 +497,7 @@ impl Row {
         match *f {
             Finding::Moves(c) => Row {
                 id: c.id.clone(),
-                kind: c.kind.clone(),
+                kind: c.kind,
                 file: c.file.clone(),
                 line: c.line,
                 col: c.col,
@@ -509,7 +509,7 @@ impl Row {
             },
             Finding::LeftAlone(l) => Row {
                 id: l.id.clone(),
-                kind: l.kind.clone(),
+                kind: l.kind,
                 file: l.file.clone(),
                 line: l.line,
                 col: l.col,
@@ -517,11 +517,11 @@ impl Row {
                 correction_mm: None,
                 residual_mm: None,
                 reason: Some(l.reason),
-                detail: reason_words(l.reason, &l.kind, &l.detail),
+                detail: reason_words(l.reason, l.kind, &l.detail),
             },
             Finding::OtherUse(u) => Row {
                 id: u.id.clone(),
-                kind: u.kind.clone(),
+                kind: u.kind,
                 file: u.file.clone(),
                 line: u.line,
                 col: u.col,
@@ -542,7 +542,7 @@ fn check_list(findings: &Vec<Row>, format: Format) -> Result<String> {
         .map(|f| {
             vec![
                 f.id.clone(),
-                f.kind.clone(),
+                f.kind.to_string(),
                 format!("{}:{}:{}", f.file, f.line, f.col),
                 f.status.code().to_string(),
                 f.correction_mm.map_or(String::new(), |c| mm(c, 4)),

@@ -3,7 +3,7 @@
 //! left alone (with the flag that changes it), where a use with other
 //! frames lands, and the run's summary.
 
-use rapidtherm::correct::{FramesUse, Outcome, Reason, SharedUse};
+use rapidtherm::correct::{FramesUse, Kind, Outcome, Reason, SharedUse};
 use rapidtherm::report::mm;
 
 /// A use with other frames in words: where, with what, how far off, and
@@ -36,9 +36,9 @@ pub fn shared_words(u: &SharedUse) -> String {
 
 /// A reason's words, with what the user can do where the CLI has a flag
 /// for it.
-pub fn reason_words(reason: Reason, kind: &str, detail: &str) -> String {
+pub fn reason_words(reason: Reason, kind: Kind, detail: &str) -> String {
     match reason {
-        Reason::Expression if kind != "jointtarget" => format!("{detail} (--expand-expressions)"),
+        Reason::Expression if kind.is_robtarget() => format!("{detail} (--expand-expressions)"),
         _ => detail.to_string(),
     }
 }
@@ -84,7 +84,7 @@ pub fn summary_text(outcome: &Outcome) -> String {
             l.line,
             l.col,
             l.reason.code(),
-            reason_words(l.reason, &l.kind, &l.detail)
+            reason_words(l.reason, l.kind, &l.detail)
         ));
     }
     for u in &outcome.shared {

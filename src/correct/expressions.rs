@@ -5,7 +5,7 @@
 //! to write numbers in their place, and then the position (and the
 //! orientation, if it turns) is written as a literal of numbers.
 
-use super::outcome::{leave, LeftAlone, Reason};
+use super::outcome::{leave, Kind, LeftAlone, Reason};
 use crate::error::Result;
 use crate::rapid::constants::{names_read, Constants, Site};
 use crate::rapid::rewrite::{format_like, Edit, POSITION_RESOLUTION, QUATERNION_RESOLUTION};
@@ -174,7 +174,7 @@ pub(super) fn jointtarget_expressions(program: &Program) -> Vec<LeftAlone> {
         let loc = Location::from_offset(&program.files[file], program.source(file), offset);
         out.push(LeftAlone {
             id,
-            kind: "jointtarget".to_string(),
+            kind: Kind::JointTarget,
             file: loc.file,
             line: loc.line as u32,
             col: loc.col as u32,

@@ -51,8 +51,8 @@ mod target;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
-    Correction, Derived, Frame, FramesUse, LeftAlone, Outcome, Reason, Residual, SharedUse, Split,
-    Summary,
+    Correction, Derived, Frame, FramesUse, Kind, LeftAlone, Outcome, Reason, Residual, SharedUse,
+    Split, Summary,
 };
 
 pub use options::{Options, When};

@@ -2,9 +2,9 @@
 //! what may be rewritten, the model's label for the marker, where the
 //! robot stands.
 
-use super::marker;
+use crate::digest::Encoder;
 use crate::model::Moment;
-use crate::schedule::{Schedule, Visit};
+use crate::schedule::{Schedule, Visit, SCHEDULE_ENCODING};
 
 /// When the targets are reached.
 #[derive(Debug, Clone, PartialEq)]
@@ -63,7 +63,8 @@ impl Options {
 
 impl When {
     /// The time basis in words, as the marker of a corrected file records
-    /// it: a schedule by the fingerprint of its times.
+    /// it: a schedule by the fingerprint of its byte encoding
+    /// ([`schedule_basis`]).
     pub fn basis(&self) -> String {
         match self {
             When::At(Moment::Minute(t)) => format!("minute {t}"),
@@ -72,18 +73,42 @@ impl When {
                 schedule,
                 joints,
                 default,
-            } => schedule_basis(schedule, joints, default),
+            } => schedule_basis(|e| schedule.encode(e), joints, default),
         }
     }
 }
 
-/// [`When::basis`] of a schedule: `schedule` is its robtargets' visits
-/// (as their `Debug` text), `joints` and `default` the rest.
+/// [`When::basis`] of a schedule, `schedule v1 sha256:…`: the
+/// fingerprint of the schedule's byte encoding, version 1 (tag
+/// [`SCHEDULE_ENCODING`] and a zero byte; the robtargets' visits as
+/// `robtargets` writes them, [`encode_visits`]; a byte 0 where the
+/// jointtargets' times are looked up among the robtargets', else 1 and
+/// their visits likewise; the default moment: a byte 0 for none, 1 and
+/// the minute's f64 bits, or 2 for the steady state). Documented in
+/// `docs/correct.md`; `tests/correct/marker.rs` pins it.
+///
+/// [`encode_visits`]: crate::schedule::encode_visits
 pub(crate) fn schedule_basis(
-    schedule: &dyn std::fmt::Debug,
+    robtargets: impl FnOnce(&mut Encoder),
     joints: &Option<Schedule>,
     default: &Option<Moment>,
 ) -> String {
-    let print = marker::fingerprint_of(|w| write!(w, "{schedule:?}{joints:?}{default:?}"));
-    format!("schedule {print}")
+    let mut e = Encoder::new(SCHEDULE_ENCODING);
+    robtargets(&mut e);
+    match joints {
+        None => e.u8(0),
+        Some(j) => {
+            e.u8(1);
+            j.encode(&mut e);
+        }
+    }
+    match default {
+        None => e.u8(0),
+        Some(Moment::Minute(t)) => {
+            e.u8(1);
+            e.f64(*t);
+        }
+        Some(Moment::Steady) => e.u8(2),
+    }
+    format!("schedule v1 {}", e.finish())
 }

@@ -252,30 +252,22 @@ fn already_corrected(program: &Program, found: &marker::Found, options: &Options
 
 /// Errors with one cause shown once: the targets refused for the same
 /// reason (`minute 200 is outside the recording`) are named in a note of
-/// the first, not repeated with their own carets.
+/// the first, not repeated with their own carets. Errors about a target
+/// are told apart by their kind and cause (their message, which does not
+/// name the target: see [`Subject`](crate::error::Subject)).
 fn same_cause(errors: Vec<Error>) -> Vec<Error> {
-    // "target p20: why" and "jointtarget j1: why" share "why".
-    fn cause(e: &Error) -> (&str, &str) {
-        match e.message.split_once(": ") {
-            Some((who, why)) if who.starts_with("target ") || who.starts_with("jointtarget ") => {
-                (who, why)
-            }
-            _ => ("", e.message.as_str()),
-        }
-    }
     // Grouped through a map: a program for another arm can have every one
     // of a million targets refused for the same cause.
     let mut out: Vec<(Error, Vec<String>, usize)> = Vec::new();
     let mut by_cause: HashMap<(ErrorKind, String), usize> = HashMap::new();
     for e in errors {
-        let (who, why) = cause(&e);
-        if !who.is_empty() {
-            let key = (e.kind, why.to_string());
+        if let Some(subject) = &e.subject {
+            let key = (e.kind, e.message.clone());
             if let Some(&i) = by_cause.get(&key) {
                 let (_, names, count) = &mut out[i];
                 *count += 1;
                 if names.len() < NAMED_PER_CAUSE {
-                    names.push(who.to_string());
+                    names.push(subject.to_string());
                 }
                 continue;
             }
@@ -326,12 +318,15 @@ mod tests {
 
     #[test]
     fn one_cause_is_shown_once_with_its_targets_counted() {
+        let about = |id: &str| crate::error::Subject::Target(id.to_string());
         let errors: Vec<Error> = (0..25)
-            .map(|i| Error::input(format!("target p{i}: unknown tool `t`")))
-            .chain([Error::input("target q: another cause")])
+            .map(|i| Error::input("unknown tool `t`").about(about(&format!("p{i}"))))
+            .chain([Error::input("another cause").about(about("q"))])
+            .chain([Error::input("unknown tool `t`")])
             .collect();
         let grouped = same_cause(errors);
-        assert_eq!(grouped.len(), 2);
+        // An error about no target is never grouped.
+        assert_eq!(grouped.len(), 3);
         assert_eq!(
             grouped[0].notes,
             ["the same for 24 more: target p1, target p2, target p3, target p4, target p5, target p6, target p7, target p8, target p9, target p10, ..."]

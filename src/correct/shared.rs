@@ -121,7 +121,7 @@ pub(super) fn other_pairs(
             };
             lines.push(SharedUse {
                 id: correction.id.clone(),
-                kind: correction.kind.clone(),
+                kind: correction.kind,
                 file: correction.file.clone(),
                 line: correction.line,
                 col: correction.col,
@@ -139,7 +139,7 @@ pub(super) fn other_pairs(
             let renames = renames(run, target, group)?;
             let names = [pair.tool_name(), pair.wobj_name()];
             let correction = corrected(run, target, meant, (&frames.0, &frames.1), names, None)
-                .map_err(|e| format!("it cannot be corrected for this pair: {}", e.message))?;
+                .map_err(|e| format!("it cannot be corrected for this pair: {}", e.headline()))?;
             Ok(Copy {
                 correction,
                 decl,

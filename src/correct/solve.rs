@@ -6,8 +6,8 @@ use super::context::Run;
 use super::edits::{quaternion_like, ORIENTATION_CHANGE_RAD};
 use super::expressions::Evaluated;
 use super::moments::minute_of;
-use super::outcome::{Correction, Frame};
-use crate::error::{Error, ErrorKind, Result};
+use super::outcome::{Correction, Frame, Kind};
+use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::model::{Moment, State, WarmRobot};
 use crate::rapid::rewrite::robtarget_edits;
 use crate::rapid::{Program, Target, TargetKind};
@@ -104,7 +104,7 @@ pub(super) fn corrected_in(
     let location = run.program.location(&target.origin);
     Ok(Correction {
         id: target.id.clone(),
-        kind: super::outcome::kind_of(target).to_string(),
+        kind: Kind::of(target),
         file: location.file,
         line: target.origin.pos.line,
         col: target.origin.pos.col,
@@ -361,6 +361,6 @@ pub(super) fn prefix(e: Error, context: &str) -> Error {
 }
 
 pub(super) fn at_target(program: &Program, target: &Target, e: Error) -> Error {
-    let message = format!("target {}: {}", target.id, e.message);
-    Error { message, ..e }.at(program.location(&target.origin))
+    e.about(Subject::Target(target.id.clone()))
+        .at(program.location(&target.origin))
 }

@@ -441,7 +441,7 @@ impl Tally {
         let mut pending: Vec<(usize, f64)> = f
             .corrections
             .iter()
-            .filter(|c| c.kind != "jointtarget")
+            .filter(|c| c.kind.is_robtarget())
             .map(|c| {
                 (
                     offsets.get(c.id.as_str()).copied().unwrap_or(usize::MAX),

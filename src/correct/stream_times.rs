@@ -52,7 +52,7 @@ impl CutTimes {
                     joints,
                     default,
                 },
-            ) => schedule_basis(&literals.whole(schedule), joints, default),
+            ) => schedule_basis(|e| literals.encode_whole(schedule, e), joints, default),
             _ => options.when.basis(),
         }
     }

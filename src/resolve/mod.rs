@@ -7,7 +7,7 @@
 //! `correct` and `diagnose` (programs as pose sets). May import `rapid`,
 //! `robot` and the shared `error`; never `model`, `schedule` or the jobs.
 
-use crate::error::{Error, ErrorKind, Result};
+use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::rapid::visit::{walk_statement, Visit};
 use crate::rapid::{self, Call, Expr, Program, Statement, StatementKind, Target, TargetKind};
 use crate::robot::conf::RobConf;
@@ -118,22 +118,16 @@ pub fn target_pose(
     let Some(v) = &target.value else {
         return Ok(None);
     };
-    let pose = pose_from_rapid(v.trans_values(), v.rot_values()).map_err(|e| {
-        located(
-            program,
-            &target.origin,
-            format!("target {}: {}", target.id, e.message),
-        )
-    })?;
+    let about = || Subject::Target(target.id.clone());
+    let pose = pose_from_rapid(v.trans_values(), v.rot_values())
+        .map_err(|e| located(program, &target.origin, e.message).about(about()))?;
     let conf = robconf_of(v.robconf_values()).map_err(|x| {
         located(
             program,
             &target.origin,
-            format!(
-                "target {}: robconf value {x} is not a whole number",
-                target.id
-            ),
+            format!("robconf value {x} is not a whole number"),
         )
+        .about(about())
     })?;
     Ok(Some((pose, conf)))
 }
@@ -573,21 +567,19 @@ pub fn frames_named(
             located(
                 program,
                 &target.origin,
-                format!(
-                    "target {}: unknown {what} `{name}` (no {data} of that name in the program)",
-                    target.id
-                ),
+                format!("unknown {what} `{name}` (no {data} of that name in the program)"),
             )
+            .about(Subject::Target(target.id.clone()))
             .with_note(ELSEWHERE)
         } else {
             located(
                 program,
                 &target.origin,
                 format!(
-                    "target {}: the {what} is `{name}`, which only the run decides (not a {data} declared by name); correcting it for another {what} would be silently wrong",
-                    target.id
+                    "the {what} is `{name}`, which only the run decides (not a {data} declared by name); correcting it for another {what} would be silently wrong"
                 ),
             )
+            .about(Subject::Target(target.id.clone()))
             .with_note("name the tooldata/wobjdata in the move instruction, or correct such targets by hand")
         }
     };
@@ -606,11 +598,9 @@ const ELSEWHERE: &str = "tools and work objects are often declared in a system m
 
 /// An error for a target whose frames cannot be modelled.
 pub fn unsupported(program: &Program, target: &Target, why: &str) -> Error {
-    Error::new(
-        ErrorKind::Unsupported,
-        format!("target {}: {why}", target.id),
-    )
-    .at(program.location(&target.origin))
+    Error::new(ErrorKind::Unsupported, why)
+        .about(Subject::Target(target.id.clone()))
+        .at(program.location(&target.origin))
 }
 
 #[cfg(test)]

@@ -4,9 +4,9 @@
 //! were a third of timing a CAM program). Each literal's identifier (its
 //! routine's `main#1234`) is made only where one is asked for.
 
-use super::file::{fmt_visits, lower, Schedule};
+use super::file::{encode_visits, Schedule};
+use crate::digest::Encoder;
 use std::borrow::Cow;
-use std::fmt;
 use std::sync::Arc;
 
 /// Every visit of every cut literal, and where each was first visited
@@ -148,28 +148,11 @@ impl CutVisits {
     }
 
     /// The schedule a walk of the whole program makes, where `own` has
-    /// the walk's other targets: as its `Debug` text, which a corrected
-    /// file's marker fingerprints.
-    pub fn whole<'a>(&'a self, own: &'a Schedule) -> impl fmt::Debug + 'a {
-        Whole { cut: self, own }
-    }
-}
-
-struct Whole<'a> {
-    cut: &'a CutVisits,
-    own: &'a Schedule,
-}
-
-impl fmt::Debug for Whole<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let all = self.cut.in_order(self.own);
-        let keys: Vec<Cow<str>> = all.iter().map(|(id, _)| lower(id)).collect();
-        let entries = keys
-            .iter()
-            .zip(&all)
-            .map(|(k, (_, t))| (&**k, *t))
-            .collect();
-        let order: Vec<&str> = all.iter().map(|(id, _)| &**id).collect();
-        fmt_visits(f, entries, &order)
+    /// the walk's other targets, in its byte encoding (which a corrected
+    /// file's marker fingerprints: the same as the whole walk's
+    /// [`Schedule::encode`]).
+    pub fn encode_whole(&self, own: &Schedule, e: &mut Encoder) {
+        let all = self.in_order(own);
+        encode_visits(e, all.len(), all.iter().map(|(id, t)| (&**id, *t)));
     }
 }

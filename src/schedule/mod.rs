@@ -27,7 +27,7 @@ mod walk;
 
 pub use cut_visits::CutVisits;
 pub use estimate::{estimate, estimate_cuts, CutEstimate, Estimate, EstimateOptions};
-pub use file::{Schedule, Visit};
+pub use file::{encode_visits, Schedule, Visit, SCHEDULE_ENCODING};
 pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, SpeedData};
 
 #[cfg(test)]

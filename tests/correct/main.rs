@@ -6,6 +6,7 @@ mod common;
 
 mod backup;
 mod cli;
+mod marker;
 mod plot;
 mod samples;
 mod shared;

@@ -16,7 +16,7 @@ mod stream;
 
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::load_model;
-pub use ran::Ran;
+pub use ran::{Inputs, Ran};
 pub use stream::{is_plain_file, map_file};
 
 use super::correct;
@@ -79,9 +79,6 @@ fn say_still(still: &[Task], host: &mut dyn Host) {
         host.event(Event::NotMotion { task: &t.label() });
     }
 }
-
-/// Files as read: the name each is known by in messages, and its bytes.
-pub type Inputs = Vec<(String, Vec<u8>)>;
 
 /// What reading a task says before it reads: its notes, and its files.
 pub fn announce(task: &Task, host: &mut dyn Host) {

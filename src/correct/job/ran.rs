@@ -3,13 +3,16 @@
 use crate::correct::Outcome;
 use crate::rapid::task::Task;
 
+/// Files as read: the name each is known by in messages, and its bytes.
+pub type Inputs = Vec<(String, Vec<u8>)>;
+
 /// One task corrected: its files as read (name and bytes; none where the
 /// run streamed them), the arm's name, and the outcome.
 #[derive(Debug)]
 pub struct Ran {
     pub task: Task,
     pub arm: String,
-    pub inputs: super::Inputs,
+    pub inputs: Inputs,
     pub outcome: Outcome,
 }
 

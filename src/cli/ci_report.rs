@@ -9,7 +9,7 @@
 use super::ci_suite::{Case, Level, Suite};
 use super::correct_words::{reason_words, shared_words};
 use super::Format;
-use rapidtherm::compare::{Diff, Gate, GateFailure};
+use rapidtherm::compare::{DataType, Diff, Gate, GateFailure};
 use rapidtherm::correct::check::CheckRule;
 use rapidtherm::correct::{Outcome, Reason};
 use rapidtherm::error::{Error, Result};
@@ -321,7 +321,7 @@ pub fn gate(
         let mut cases = Vec::new();
         for t in &p.diff.targets {
             let fails = moved.contains(t.id.as_str());
-            let (moved, title) = if t.kind == "jointtarget" {
+            let (moved, title) = if t.kind == DataType::Jointtarget {
                 let turned = format!("a joint turned {}°", mm(t.dangle, 6));
                 (turned.clone(), format!("{} {turned}", t.id))
             } else {
@@ -426,11 +426,16 @@ fn places(program: &Program) -> Places {
     let origins = program
         .targets()
         .iter()
-        .map(|t| (&t.id, &t.origin))
-        .chain(program.jointtargets().iter().map(|j| (&j.id, &j.origin)));
+        .map(|t| (t.id.clone(), t.origin.clone()))
+        .chain(
+            program
+                .jointtargets()
+                .iter()
+                .map(|j| (j.id.clone(), j.origin.clone())),
+        );
     let mut places = Places::new();
     for (id, origin) in origins {
-        let l = program.location(origin);
+        let l = program.location(&origin);
         // The first of a name, as `Program::target` finds it.
         places
             .entry(id.to_ascii_lowercase())

@@ -364,7 +364,7 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
             let mut text = Vec::new();
             for r in runs {
                 for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
-                    text.extend(unified_diff(name, before, after));
+                    text.extend(unified_diff(name, before.bytes(), after));
                 }
             }
             write_stdout(&text)?;

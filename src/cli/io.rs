@@ -1,7 +1,6 @@
 //! Reading the inputs a command names (`-`: standard input) and writing
 //! data to standard output.
 
-use super::messages;
 use rapidtherm::error::{Error, Result};
 use std::io::{Read, Write};
 use std::path::Path;
@@ -22,27 +21,7 @@ pub fn read_input(path: &Path) -> Result<(String, Vec<u8>)> {
 }
 
 /// Input files as read: the name used in messages and the bytes.
-pub type Inputs = Vec<(String, Vec<u8>)>;
-
-/// Read RAPID files (`-`: standard input) and parse them as one run; the
-/// reader's warnings go to stderr.
-pub fn read_program(files: &[std::path::PathBuf]) -> Result<(Inputs, rapidtherm::rapid::Program)> {
-    let mut inputs = Vec::new();
-    for f in files {
-        inputs.push(read_input(f)?);
-    }
-    let refs: Vec<(&str, &[u8])> = inputs
-        .iter()
-        .map(|(n, b)| (n.as_str(), b.as_slice()))
-        .collect();
-    let started = std::time::Instant::now();
-    let program = rapidtherm::rapid::parse_files(&refs)?;
-    messages::took("parsing", started);
-    for w in &program.warnings {
-        messages::warning_at(w);
-    }
-    Ok((inputs, program))
-}
+pub use rapidtherm::correct::job::Inputs;
 
 /// Write data to standard output (a closed pipe is not an error worth a
 /// panic: the reader has what it wanted).

@@ -33,7 +33,7 @@ mod targets;
 mod tasks;
 
 pub use format::{Format, Status};
-pub use io::{read_input, read_program, stdout_written, write_stdout, Inputs};
+pub use io::{read_input, write_stdout, Inputs};
 pub use output::write_output;
 
 use clap::{CommandFactory, Parser, Subcommand};

@@ -76,6 +76,22 @@ impl AtomicFile {
     /// with `backup`, the suffix of the copy the old one is kept as, which
     /// must be free.
     pub fn create(path: &Path, backup: Option<&str>) -> Result<AtomicFile> {
+        let f = AtomicFile::unchecked(path, backup)?;
+        f.check_backup()?;
+        Ok(f)
+    }
+
+    /// Whether the backup's name is free (a file that turns out not to
+    /// change needs none: [`FileSink`] asks once it knows).
+    pub fn check_backup(&self) -> Result<()> {
+        match &self.backup {
+            Some(name) => check_backup_free(name),
+            None => Ok(()),
+        }
+    }
+
+    /// [`AtomicFile::create`], the backup's name not checked yet.
+    fn unchecked(path: &Path, backup: Option<&str>) -> Result<AtomicFile> {
         if let Ok(meta) = std::fs::metadata(path) {
             if !meta.is_file() {
                 return Err(Error::new(
@@ -97,11 +113,7 @@ impl AtomicFile {
         };
         let existing = std::fs::metadata(&path).ok();
         let backup = match (backup, &existing) {
-            (Some(suffix), Some(_)) => {
-                let name = backup_path(&path, suffix);
-                check_backup_free(&name)?;
-                Some(name)
-            }
+            (Some(suffix), Some(_)) => Some(backup_path(&path, suffix)),
             _ => None,
         };
         let mut builder = tempfile::Builder::new();
@@ -231,7 +243,7 @@ impl rapidtherm::correct::job::Sink for FileSink {
             return Ok(Box::new(device));
         }
         Ok(Box::new(Pending {
-            file: AtomicFile::create(path, self.backup.as_deref())?,
+            file: AtomicFile::unchecked(path, self.backup.as_deref())?,
             ready: self.ready.clone(),
         }))
     }
@@ -258,8 +270,11 @@ impl rapidtherm::correct::job::Output for Pending {
     }
 
     fn finish(self: Box<Self>, changed: bool) -> Result<()> {
-        // A file that does not change stays as it is (and gets no backup).
+        // A file that does not change stays as it is (and gets no backup);
+        // one that does is put in place with the run's others, each
+        // backup's name checked first.
         if changed {
+            self.file.check_backup()?;
             if let Ok(mut r) = self.ready.lock() {
                 r.push(self.file);
             }

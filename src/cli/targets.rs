@@ -1,12 +1,8 @@
 //! `rapidtherm targets FILE...`: every robtarget of RAPID programs.
-use super::messages;
 use super::Format;
-use super::{stdout_written, write_stdout, Status};
-use rapidtherm::correct::job::{self, is_plain_file, map_file};
+use super::{write_stdout, Status};
 use rapidtherm::error::Result;
-use rapidtherm::rapid::fastlist::{Entry, Listing};
-use rapidtherm::rapid::task::Task;
-use rapidtherm::rapid::{self, Number, Program, Target};
+use rapidtherm::rapid::{Number, Program, Target};
 use rapidtherm::report::{
     render_csv, render_table, shortest, shortest_of_literal, shortest_to_4_places, write_table,
     Align, Rows,
@@ -15,7 +11,6 @@ use rapidtherm::resolve::{self, Usage};
 use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::pose_from_rapid;
 use rayon::prelude::*;
-use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::io::Write;
 use std::path::PathBuf;
@@ -57,9 +52,6 @@ fn num(buf: &mut String, x: &Number, src: &[u8]) {
 
 pub fn run(args: TargetsArgs) -> Result<Status> {
     let tasks = super::tasks::select(&args.files, &args.pick)?;
-    if let Some(status) = run_fast(&args, &tasks)? {
-        return Ok(status);
-    }
     let refs: Vec<&rapidtherm::rapid::task::Task> = tasks.iter().collect();
     let labels = super::tasks::labels(&refs);
     let mut texts = Vec::new();
@@ -121,28 +113,47 @@ fn listing(
         several: inputs.len() > 1,
         format: args.format,
     };
-    let uses = all_uses(prog);
-    let mut sink = lister.sink();
-    for (i, t) in prog.targets().iter().enumerate() {
-        lister.add(&mut sink, t, uses.get(&i), prog.source(t.origin.file));
-    }
+    // The moves that reach each target: those [`resolve::uses`] finds, and
+    // the moves naming declared derived targets (`CONST robtarget p20 :=
+    // Offs(p10, ...)`), which it gives to no target.
+    let uses = resolve::uses(prog);
+    let derived = resolve::declared_derived_usages(prog);
+    let all = prog.targets();
+    // The rows made a chunk of targets at a time on every core (a
+    // program's targets of a run made one at a time), put together in
+    // order.
+    let chunks = all.len().div_ceil(CHUNK);
+    let parts: Vec<Sink> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut slot = rapidtherm::rapid::targets::blank();
+            let mut sink = lister.sink();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(all.len()) {
+                let t: &Target = match all.one_by_one(i) {
+                    Some(t) => t,
+                    None if all.fill(i, &mut slot) => &slot,
+                    None => continue,
+                };
+                let own = uses.usages(i);
+                let u = match own.is_empty() {
+                    true => derived.get(&i),
+                    false => Some(&own),
+                };
+                lister.add(&mut sink, t, u, prog.source(t.origin.file));
+            }
+            sink
+        })
+        .collect();
     let mut out = Vec::new();
     // Writing to a Vec cannot fail.
-    let _ = lister.finish(vec![sink], &mut out);
+    let _ = lister.finish(parts, &mut out);
     Ok(String::from_utf8(out).unwrap_or_default())
 }
 
-/// The moves that reach each target: those [`resolve::usages`] finds, and
-/// the moves naming declared derived targets (`CONST robtarget p20 :=
-/// Offs(p10, ...)`), which it gives to no target.
-pub(super) fn all_uses(prog: &Program) -> HashMap<usize, Vec<Usage>> {
-    let mut uses = resolve::usages(prog);
-    uses.extend(resolve::declared_derived_usages(prog));
-    uses
-}
+/// Targets one core lists at a time.
+const CHUNK: usize = 16_384;
 
-/// Makes the rows of one program's listing; the whole program and the
-/// streamed file (`targets_fast`) share it, so both print the same bytes.
+/// Makes the rows of one program's listing, a chunk of targets at a time.
 pub(super) struct Lister<'p> {
     pub prog: &'p Program,
     /// Several files: the table's `at` names the file.
@@ -520,7 +531,7 @@ const LEGEND: &str = "frame: x_mm, y_mm, z_mm and q1..q4 are the TCP in the obje
 const LEGEND_PAIRS: &str = "several tools or work objects: the pairs in the order the program first uses them, tool and wobj lists matching place by place; `rapidtherm correct` corrects the target for the first\n";
 const LEGEND_UNUSED: &str = "-: no move instruction reaches the target\n";
 
-fn joints(prog: &rapid::Program, format: Format) -> String {
+fn joints(prog: &Program, format: Format) -> String {
     let header = [
         "target", "kind", "file", "line", "col", "j1", "j2", "j3", "j4", "j5", "j6", "tool", "wobj",
     ];
@@ -577,80 +588,4 @@ fn joints(prog: &rapid::Program, format: Format) -> String {
             s
         }
     }
-}
-
-/// Targets one core lists at a time.
-const CHUNK: usize = 16_384;
-
-/// `targets FILE` on a program of millions of moves: the file
-/// memory-mapped, its moves cut out by the fast recogniser
-/// (`rapid::fastmove`), the rest parsed whole, the rows of the cut moves
-/// made on every core (`rapid::fastlist`) by the same code as the whole
-/// program's ([`Lister`]), and written in order. Any other run, and any
-/// file the fast path declines, takes the whole-program path, which
-/// prints the same bytes (see `docs/streaming.md`).
-///
-/// List the targets of `tasks` the fast way where it applies; `None`: it
-/// does not, and nothing was written or said.
-fn run_fast(args: &TargetsArgs, tasks: &[Task]) -> Result<Option<Status>> {
-    let [task] = tasks else {
-        return Ok(None);
-    };
-    let [path] = task.modules.as_slice() else {
-        return Ok(None);
-    };
-    if args.joints || task.name.is_some() || !is_plain_file(path) {
-        return Ok(None);
-    }
-    let started = std::time::Instant::now();
-    let map = map_file(path)?;
-    let src: &[u8] = &map;
-    let skeleton = rapid::fastmove::skeleton(src);
-    if skeleton.cuts.is_empty() {
-        return Ok(None);
-    }
-    // Whatever the skeleton's parse would say (an error, a warning) the
-    // whole path says with the whole file's lines.
-    let Ok(program) = rapid::parse(&path.display().to_string(), &skeleton.bytes) else {
-        return Ok(None);
-    };
-    if !program.warnings.is_empty() {
-        return Ok(None);
-    }
-    let Some(listing) = Listing::new(&program, &skeleton, src) else {
-        return Ok(None);
-    };
-    let uses = all_uses(&program);
-    let lister = Lister {
-        prog: &program,
-        several: false,
-        format: args.format,
-    };
-    let parts: Option<Vec<Sink>> = listing
-        .entries()
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            let mut reader = listing.reader();
-            let mut sink = lister.sink();
-            for e in chunk {
-                match *e {
-                    Entry::Kept(i) => {
-                        lister.add(&mut sink, listing.kept(i), uses.get(&i), &skeleton.bytes)
-                    }
-                    Entry::Cut(k) => {
-                        reader.read(k, &mut |t| lister.add(&mut sink, t, None, src))?
-                    }
-                }
-            }
-            Some(sink)
-        })
-        .collect();
-    let Some(parts) = parts else {
-        return Ok(None);
-    };
-    job::announce(task, &mut super::events::Said::default());
-    messages::took("parsing", started);
-    let mut out = std::io::BufWriter::with_capacity(1 << 20, std::io::stdout().lock());
-    stdout_written(lister.finish(parts, &mut out).and_then(|_| out.flush()))?;
-    Ok(Some(Status::Success))
 }

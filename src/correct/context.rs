@@ -10,9 +10,9 @@ use crate::model::{States, WarmRobot};
 use crate::rapid::constants::{Constants, Site};
 use crate::rapid::{Expr, FunctionCall, Program, Target};
 use crate::resolve::dataflow::{runtime_writes, Write};
-use crate::resolve::{usages, Frames, Usage};
-use std::cell::{OnceCell, RefCell};
+use crate::resolve::{uses, Frames, Uses};
 use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
 
 /// What every target of a run shares: the program's frames and usages, the
 /// warm robot's states, the options.
@@ -22,7 +22,7 @@ pub(super) struct Run<'a> {
     pub states: States<'a>,
     pub options: &'a Options,
     pub frames: Frames,
-    pub uses: HashMap<usize, Vec<Usage>>,
+    pub uses: Uses<'a>,
     pub conf_off: bool,
     /// Robtarget and jointtarget variables the run writes, by lower-case
     /// name.
@@ -31,11 +31,13 @@ pub(super) struct Run<'a> {
     /// Every function call of the program by where it starts.
     pub calls: HashMap<usize, &'a FunctionCall>,
     pub expressions: Expressions<'a>,
-    /// Choices made on the way that the user should know about.
-    pub notes: RefCell<Vec<String>>,
+    /// Choices made on the way that the user should know about, each with
+    /// the place of the target it was made for (the targets are solved
+    /// on every core: said in the program's order).
+    pub notes: Mutex<Vec<((usize, usize), String)>>,
     /// Where names are declared and read, for splitting targets (built
     /// when first needed).
-    pub names: OnceCell<Names>,
+    pub names: OnceLock<Names>,
 }
 
 impl<'a> Run<'a> {
@@ -49,15 +51,35 @@ impl<'a> Run<'a> {
                 Some(base) => Frames::of_program(program)?.placed(base),
                 None => Frames::of_program(program)?,
             },
-            uses: usages(program),
+            uses: uses(program),
             conf_off: configuration_monitoring_off(program),
             writes: runtime_writes(program),
             constants: Constants::of(program),
             calls: calls_by_offset(program),
             expressions: Expressions::of(program),
-            notes: RefCell::new(Vec::new()),
-            names: OnceCell::new(),
+            notes: Mutex::new(Vec::new()),
+            names: OnceLock::new(),
         })
+    }
+
+    /// A choice made for the target at `place` (file, byte offset) that
+    /// the user should know about; said once.
+    pub fn note(&self, place: (usize, usize), text: String) {
+        if let Ok(mut notes) = self.notes.lock() {
+            if !notes.iter().any(|(_, n)| *n == text) {
+                notes.push((place, text));
+            }
+        }
+    }
+
+    /// The notes, in the program's order.
+    pub fn notes(&self) -> Vec<String> {
+        let mut notes = match self.notes.lock() {
+            Ok(n) => n.clone(),
+            Err(_) => Vec::new(),
+        };
+        notes.sort_by_key(|n| n.0);
+        notes.into_iter().map(|(_, n)| n).collect()
     }
 
     /// The value of a number in the program as written at `target`

@@ -51,8 +51,8 @@ impl<'p> Expressions<'p> {
         // is written with expressions (CAM programs hold none).
         if program
             .targets()
-            .iter()
-            .any(Target::written_with_expressions)
+            .one_by_one_all()
+            .any(|(_, t)| t.written_with_expressions())
         {
             found.visit_program(program);
         }

@@ -39,14 +39,14 @@ mod moments;
 mod names;
 mod options;
 mod outcome;
+mod pass;
 pub mod plan;
 pub mod plot;
 mod program;
 mod progress;
 mod shared;
 mod solve;
-pub mod stream;
-mod stream_times;
+mod splice;
 mod target;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
@@ -56,5 +56,4 @@ pub use outcome::{
 };
 
 pub use options::{Options, When};
-pub use program::correct;
-pub use stream_times::CutTimes;
+pub use program::{correct, correct_into, Corrected, Keep};

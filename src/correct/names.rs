@@ -4,7 +4,9 @@
 //! other reading.
 
 use crate::rapid::visit::{walk_call, walk_data_decl, walk_expr, walk_routine, Visit};
-use crate::rapid::{Call, DataDecl, Expr, Module, Program, Routine, Scope, Statement, Storage};
+use crate::rapid::{
+    Call, DataDecl, Expr, Module, Program, Routine, Scope, Statement, StatementKind, Storage,
+};
 use std::collections::HashMap;
 
 /// Where the program's names are declared and read, for the split: built
@@ -74,6 +76,27 @@ impl<'a> Visit<'a> for Collect<'_> {
     fn visit_module(&mut self, m: &'a Module) {
         self.file = m.file;
         self.routine.clear();
+        // The declarations the fast lane read (in runs).
+        let program = self.program;
+        for &r in &m.decl_runs {
+            for d in program.declarations(r) {
+                *self
+                    .names
+                    .declared
+                    .entry(d.name.to_ascii_lowercase())
+                    .or_default() += 1;
+                if let Some(Expr::Target(i)) = d.init {
+                    self.names.decl_of.insert(
+                        i,
+                        DeclAt {
+                            storage: d.storage,
+                            scope: d.scope,
+                            offset: d.pos.offset,
+                        },
+                    );
+                }
+            }
+        }
         crate::rapid::visit::walk_module(self, m);
     }
     fn visit_data_decl(&mut self, d: &'a DataDecl) {
@@ -109,6 +132,33 @@ impl<'a> Visit<'a> for Collect<'_> {
     fn visit_statement(&mut self, s: &'a Statement) {
         self.line = s.pos.line;
         self.offset = s.pos.offset;
+        // The moves the fast lane read (in runs): a target named, and the
+        // other names read, as the moves' calls give them.
+        if let StatementKind::Moves(r) = &s.kind {
+            let program = self.program;
+            for mv in program.moves(*r) {
+                self.line = mv.line();
+                self.offset = mv.offset();
+                if let Some(n) = mv.named() {
+                    *self
+                        .names
+                        .as_target
+                        .entry((n.to_ascii_lowercase(), self.file, self.offset))
+                        .or_default() += 1;
+                }
+                for name in [mv.speed(), mv.zone(), mv.tool(), mv.wobj()]
+                    .into_iter()
+                    .flatten()
+                {
+                    let here = self.where_();
+                    self.names
+                        .other
+                        .entry(name.to_ascii_lowercase())
+                        .or_insert(here);
+                }
+            }
+            return;
+        }
         crate::rapid::visit::walk_statement(self, s);
     }
     fn visit_call(&mut self, c: &'a Call) {
@@ -150,7 +200,11 @@ impl<'a> Visit<'a> for Collect<'_> {
             // target of its own; the names it reads are read here.
             Expr::Target(i) => {
                 let program = self.program;
-                if let Some(d) = program.targets().get(*i).and_then(|t| t.derived.as_ref()) {
+                if let Some(d) = program
+                    .targets()
+                    .one_by_one(*i)
+                    .and_then(|t| t.derived.as_ref())
+                {
                     let here = format!("{} {}", d.expr, self.where_());
                     for b in &d.bases {
                         self.names

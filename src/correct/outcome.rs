@@ -295,10 +295,10 @@ pub struct FramesUse {
 impl FramesUse {
     pub(super) fn of(u: &Usage, program: &Program) -> FramesUse {
         let through = match u.through {
-            Through::Derived(i) => program.targets()[i]
-                .derived
-                .as_ref()
-                .map(|d| d.expr.clone()),
+            Through::Derived(i) => program
+                .targets()
+                .get(i)
+                .and_then(|t| t.derived.as_ref().map(|d| d.expr.clone())),
             _ => None,
         };
         FramesUse {
@@ -371,44 +371,6 @@ pub struct Outcome {
     /// New contents, one per input file (same order).
     #[serde(skip)]
     pub outputs: Vec<Vec<u8>>,
-}
-
-pub(super) fn summarise(
-    corrections: &[Correction],
-    derived: &[Derived],
-    left_alone: &[LeftAlone],
-    (shared, splits): (&[SharedUse], &[Split]),
-) -> Summary {
-    let robtargets: Vec<&Correction> = corrections
-        .iter()
-        .filter(|c| c.kind.is_robtarget())
-        .collect();
-    let n = robtargets.len();
-    let sum_sq: f64 = robtargets
-        .iter()
-        .map(|c| c.correction_norm_mm.powi(2))
-        .sum();
-    Summary {
-        corrected: corrections.len(),
-        rewritten: corrections.iter().filter(|c| c.rewritten).count(),
-        max_mm: robtargets
-            .iter()
-            .map(|c| c.correction_norm_mm)
-            .fold(0.0, f64::max),
-        rms_mm: if n > 0 {
-            (sum_sq / n as f64).sqrt()
-        } else {
-            0.0
-        },
-        max_drift_mm: corrections
-            .iter()
-            .map(|c| c.drift_norm_mm)
-            .fold(0.0, f64::max),
-        derived: derived.len(),
-        left_alone: left_alone.len(),
-        shared: shared.len(),
-        split: splits.len(),
-    }
 }
 
 pub(super) fn derived_report(

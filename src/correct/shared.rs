@@ -82,12 +82,10 @@ pub(super) fn other_pairs(
     meant: &Meant,
     correction: &Correction,
 ) -> Result<Vec<OtherPair>> {
-    let Some(uses) = run.uses.get(&index) else {
-        return Ok(Vec::new());
-    };
-    if uses.iter().all(|u| u.same_frames(&uses[0])) {
+    if !run.uses.several_frames(index) {
         return Ok(Vec::new());
     }
+    let uses = &run.uses.usages(index);
     let groups = uses_by_frames(uses);
     let Some(exact) = correction.exact else {
         return Ok(Vec::new());
@@ -170,7 +168,8 @@ fn landed(
     let (cold, sent) = match u.through {
         Through::Direct => (meant.pose, *exact),
         Through::Derived(i) => {
-            let derived = &program.targets()[i];
+            let derived = program.targets().at(i);
+            let derived = &*derived;
             // Constants as seen where the expression is written, as the
             // derived target's own residual reads them.
             let eval = |e: &Expr| run.eval(derived, e);
@@ -273,10 +272,11 @@ fn splittable(
     }
     if let Some(u) = uses.iter().find(|u| u.through != Through::Direct) {
         let how = match u.through {
-            Through::Derived(i) => program.targets()[i]
-                .derived
-                .as_ref()
-                .map_or("a derived target".to_string(), |d| d.expr.clone()),
+            Through::Derived(i) => program
+                .targets()
+                .get(i)
+                .and_then(|t| t.derived.as_ref().map(|d| d.expr.clone()))
+                .unwrap_or_else(|| "a derived target".to_string()),
             _ => "a variable".to_string(),
         };
         return Err(format!(

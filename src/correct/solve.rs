@@ -9,9 +9,9 @@ use super::moments::minute_of;
 use super::outcome::{Correction, Frame, Kind};
 use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::model::{Moment, State, WarmRobot};
-use crate::rapid::rewrite::robtarget_edits;
+use crate::rapid::rewrite::{robtarget_edits, Edit};
 use crate::rapid::{Program, Target, TargetKind};
-use crate::resolve::{frames_of, target_pose};
+use crate::resolve::{frames_for, target_pose};
 use crate::robot::conf::{quadrant_distance, RobConf};
 use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use crate::robot::Joints;
@@ -42,10 +42,9 @@ pub(super) struct Meant<'e> {
 }
 
 /// The correction of a target for one tool and work object (`names`, as
-/// the report gives them): the solve,
-/// or `exact` where it is already known (a base placed by its derived
-/// uses), the drift over the target's moments, and the edits writing the
-/// new numbers over the literal.
+/// the report gives them): the solve, or `exact` where it is already
+/// known (a base placed by its derived uses), the drift over the target's
+/// moments, and the edits writing the new numbers over the literal.
 pub(super) fn corrected(
     run: &Run,
     target: &Target,
@@ -54,29 +53,50 @@ pub(super) fn corrected(
     names: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
+    let numbers = corrected_numbers(run, target, meant, frames, exact)?;
     let src = run.program.source(target.origin.file);
-    corrected_in(run, src, target, meant, frames, names, exact)
+    let edits = edits_of(src, target, meant, &numbers);
+    Ok(row(
+        run,
+        target,
+        meant,
+        frames,
+        names,
+        &numbers,
+        (!edits.is_empty(), edits),
+    ))
 }
 
-/// [`corrected`] for a target whose numbers lie in `src` (a streamed
-/// file the run's program was cut from).
-pub(super) fn corrected_in(
+/// The edits writing a target's corrected numbers over its literal (in
+/// `src`), each formatted like the number it replaces.
+pub(super) fn edits_of(src: &[u8], target: &Target, meant: &Meant, n: &Numbers) -> Vec<Edit> {
+    let new_trans = n.exact.translation.vector;
+    match (&target.value, meant.evaluated) {
+        (Some(value), _) => robtarget_edits(src, value, new_trans.into(), n.turned, None),
+        (None, Some(e)) => e.edits(src, new_trans.into(), n.turned),
+        (None, None) => Vec::new(),
+    }
+}
+
+/// A target's report row from its numbers: `rewritten` whether its text
+/// changed, with the edits that change it where the caller keeps them.
+pub(super) fn row(
     run: &Run,
-    src: &[u8],
     target: &Target,
     meant: &Meant,
     (tool, wobj): (&ToolData, &WobjData),
     [tool_name, wobj_name]: [&str; 2],
-    exact: Option<Isometry3<f64>>,
-) -> Result<Correction> {
+    numbers: &Numbers,
+    (rewritten, edits): (bool, Vec<Edit>),
+) -> Correction {
     let Numbers {
         exact,
         drift,
         range,
         turn,
-        turned,
         new_rot,
-    } = corrected_numbers(run, target, meant, (tool, wobj), exact)?;
+        ..
+    } = *numbers;
     let Meant {
         pose,
         evaluated,
@@ -85,11 +105,6 @@ pub(super) fn corrected_in(
         ..
     } = meant;
     let new_trans = exact.translation.vector;
-    let edits = match (&target.value, evaluated) {
-        (Some(value), _) => robtarget_edits(src, value, new_trans.into(), turned, None),
-        (None, Some(e)) => e.edits(src, new_trans.into(), turned),
-        (None, None) => Vec::new(),
-    };
     let original: Vec<f64> = match (&target.value, evaluated) {
         (Some(value), _) => value
             .trans_values()
@@ -102,7 +117,7 @@ pub(super) fn corrected_in(
     };
     let correction = new_trans - pose.translation.vector;
     let location = run.program.location(&target.origin);
-    Ok(Correction {
+    Correction {
         id: target.id.clone(),
         kind: Kind::of(target),
         file: location.file,
@@ -121,17 +136,18 @@ pub(super) fn corrected_in(
         dangle_deg: turn.to_degrees(),
         original,
         corrected: new_trans.iter().chain(&new_rot).copied().collect(),
-        rewritten: !edits.is_empty(),
+        rewritten,
         exact: Some(exact),
         world_mm: in_world(run, pose, tool, wobj),
         order: (target.origin.file, target.origin.pos.offset),
         edits,
         file_index: target.origin.file,
-    })
+    }
 }
 
 /// The numbers of one target's correction, without its report row or
-/// its edits: what a streamed run of a million targets keeps of each.
+/// its edits: what a run of a million targets keeps of each.
+#[derive(Clone, Copy)]
 pub(super) struct Numbers {
     /// The corrected target.
     pub exact: Isometry3<f64>,
@@ -147,7 +163,7 @@ pub(super) struct Numbers {
     pub new_rot: [f64; 4],
 }
 
-/// The solve of [`corrected_in`], or `exact` where it is already known,
+/// The solve of a target, or `exact` where it is already known,
 /// the drift over the target's moments, and what is to be written over
 /// the literal (the position of `exact`, and `turned`).
 pub(super) fn corrected_numbers(
@@ -234,8 +250,8 @@ fn in_world(
 /// where they do not say (no move names its work object, no numbers, a
 /// work object a mechanical unit moves).
 pub(super) fn written_in_world(run: &Run, index: usize, target: &Target) -> Option<[f64; 3]> {
-    let uses = run.uses.get(&index);
-    if uses.is_none() && target.kind != TargetKind::Inline {
+    let first = run.uses.first(index);
+    if first.is_none() && target.kind != TargetKind::Inline {
         return None;
     }
     let (pose, _) = match &target.value {
@@ -246,7 +262,8 @@ pub(super) fn written_in_world(run: &Run, index: usize, target: &Target) -> Opti
             .pose_conf()
             .ok()?,
     };
-    let (tool, wobj, _, _) = frames_of(run.program, &run.frames, index, uses).ok()?;
+    let first = first.map(|f| (f.tool(), f.wobj()));
+    let (tool, wobj, _, _) = frames_for(run.program, &run.frames, target, first).ok()?;
     in_world(run, &pose, &tool, &wobj)
 }
 
@@ -285,10 +302,7 @@ pub(super) fn solve(
                         "target {} (line {}): robconf {conf} matches no solution; configuration monitoring is off (ConfL/ConfJ \\Off), so it is corrected on the nearest configuration {nearest}",
                         target.id, target.origin.pos.line
                     );
-                    let mut notes = run.notes.borrow_mut();
-                    if !notes.contains(&note) {
-                        notes.push(note);
-                    }
+                    run.note((target.origin.file, target.origin.pos.offset), note);
                     (q, nearest)
                 }
                 None => return Err(at_target(program, target, prefix(e, "as written"))),

@@ -9,18 +9,70 @@ use super::expressions::Evaluated;
 use super::moments::{moments_of, pick};
 use super::outcome::{leave, Correction, LeftAlone, Reason};
 use super::shared::OtherPair;
-use super::solve::{at_target, corrected, solve, Meant};
+use super::solve::{at_target, corrected_numbers, edits_of, row, solve, Meant, Numbers};
 use crate::error::{Error, ErrorKind, Result};
+use crate::model::{Moment, State};
 use crate::rapid::{Expr, Storage, Target, TargetKind};
-use crate::resolve::{frames_of, target_pose, Through, Usage};
+use crate::resolve::{frames_for, target_pose, Through, Usage};
+use crate::robot::conf::RobConf;
 use crate::robot::frames::{flange_of_target, ToolData, WobjData};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
-/// What became of one robtarget: corrected (with its other tool and
-/// work object pairs, if any), or left alone.
+/// What became of one robtarget: solved (its numbers, for its first
+/// use's tool and work object), or left alone.
 pub(super) enum Solved {
-    Corrected(Box<Correction>, Vec<OtherPair>),
+    Corrected(Box<Found>),
     LeftAlone(LeftAlone),
+}
+
+/// A robtarget solved: what it means and when ([`Meant`]), its first
+/// pair's tool and work object, and its corrected numbers.
+pub(super) struct Found {
+    pub evaluated: Option<Evaluated>,
+    pub pose: Isometry3<f64>,
+    pub conf: RobConf,
+    pub moments: Vec<Moment>,
+    pub moment: Moment,
+    pub state: State,
+    pub frames: (ToolData, WobjData),
+    /// The tool's and work object's names as the report gives them.
+    pub names: [String; 2],
+    pub numbers: Numbers,
+    /// Where the program first moves to it (file, byte offset).
+    pub order: Option<(usize, usize)>,
+}
+
+impl Found {
+    pub fn meant(&self) -> Meant<'_> {
+        Meant {
+            pose: self.pose,
+            conf: self.conf,
+            evaluated: self.evaluated.as_ref(),
+            moments: self.moments.clone(),
+            moment: self.moment,
+            state: self.state,
+        }
+    }
+
+    /// Its report row, with the edits writing its numbers.
+    pub fn correction(&self, run: &Run, target: &Target) -> Correction {
+        let meant = self.meant();
+        let src = run.program.source(target.origin.file);
+        let edits = edits_of(src, target, &meant, &self.numbers);
+        let mut c = row(
+            run,
+            target,
+            &meant,
+            (&self.frames.0, &self.frames.1),
+            [&self.names[0], &self.names[1]],
+            &self.numbers,
+            (!edits.is_empty(), edits),
+        );
+        if let Some(order) = self.order {
+            c.order = order;
+        }
+        c
+    }
 }
 
 /// Why a robtarget is not corrected, when it is not: its value is decided
@@ -53,7 +105,7 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
             }
         }
     }
-    if target.kind != TargetKind::Inline && !run.uses.contains_key(&index) {
+    if target.kind != TargetKind::Inline && !run.uses.contains(index) {
         return Some(leave(
             program,
             target,
@@ -68,7 +120,7 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
 /// reach the flange pose it means, written back as the nominal pose of
 /// those joints in the target's own tool and work object. A target moved
 /// to with several tools or work objects is corrected for its first use's
-/// pair; its other pairs are returned for the report (or a split).
+/// pair ([`with_others`] says what its other pairs come to).
 pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Result<Solved> {
     let Run {
         program,
@@ -81,7 +133,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
     if let Some(left) = left_alone(run, index, target) {
         return Ok(Solved::LeftAlone(left));
     }
-    let target_uses = uses.get(&index);
+    let first = uses.first(index);
     let mut evaluated: Option<Evaluated> = None;
     let (pose, conf) = match &target.value {
         Some(_) => target_pose(program, target)?.ok_or_else(|| {
@@ -100,10 +152,11 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
             pc
         }
     };
-    let (tool, wobj, tool_name, wobj_name) = frames_of(program, frames, index, target_uses)?;
+    let (tool, wobj, tool_name, wobj_name) =
+        frames_for(program, frames, target, first.map(|f| (f.tool(), f.wobj())))?;
     let names = [
-        tool_name.as_deref().unwrap_or("tool0"),
-        wobj_name.as_deref().unwrap_or("wobj0"),
+        tool_name.unwrap_or_else(|| "tool0".to_string()),
+        wobj_name.unwrap_or_else(|| "wobj0".to_string()),
     ];
     if let Err(e) = flange_of_target(&pose, &tool, &wobj) {
         if e.kind == ErrorKind::Unsupported {
@@ -115,7 +168,7 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
             )));
         }
     }
-    let moments = moments_of(&options.when, &target.id)
+    let moments = moments_of(&options.when, index, &target.id)
         .map_err(|e| e.at(program.location(&target.origin)))?;
     let moment = pick(&moments, options.visit);
     let state = states
@@ -129,24 +182,48 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
         moment,
         state,
     };
-    // The uses the target is corrected for: those with its first use's
-    // tool and work object (copied only when some use has another pair:
-    // a CAM program has millions of targets with one use each).
-    let filtered: Vec<Usage>;
-    let first_pair = match target_uses {
-        Some(u) if u.iter().any(|x| !x.same_frames(&u[0])) => {
-            filtered = u.iter().filter(|x| x.same_frames(&u[0])).cloned().collect();
-            Some(&filtered)
+    // A base reached only through derived expressions (every use of its
+    // first pair a `Through::Derived`): its uses are looked at one by one
+    // (a CAM program has millions of targets with one direct use each).
+    let exact = match first {
+        Some(f) if matches!(f.through(), Through::Derived(_)) => {
+            let first_pair: Vec<Usage> = uses
+                .of(index)
+                .filter(|u| u.same_frames(&f))
+                .map(|u| u.to_usage())
+                .collect();
+            by_derived_uses(run, target, Some(&first_pair), &meant, (&tool, &wobj))?
         }
-        other => other,
+        _ => None,
     };
-    let exact = by_derived_uses(run, target, first_pair, &meant, (&tool, &wobj))?;
-    let mut correction = corrected(run, target, &meant, (&tool, &wobj), names, exact)?;
-    if let Some(first) = target_uses.and_then(|u| u.first()) {
-        correction.order = (first.file, first.offset);
-    }
-    let others = super::shared::other_pairs(run, index, target, &meant, &correction)?;
-    Ok(Solved::Corrected(Box::new(correction), others))
+    let numbers = corrected_numbers(run, target, &meant, (&tool, &wobj), exact)?;
+    let Meant { moments, .. } = meant;
+    Ok(Solved::Corrected(Box::new(Found {
+        evaluated,
+        pose,
+        conf,
+        moments,
+        moment,
+        state,
+        frames: (tool, wobj),
+        names,
+        numbers,
+        order: first.map(|f| (f.file(), f.offset())),
+    })))
+}
+
+/// The correction of a target moved to with several tools or work
+/// objects, and its other pairs (a line each for the report, and with a
+/// split asked for, the copies).
+pub(super) fn with_others(
+    run: &Run,
+    index: usize,
+    target: &Target,
+    found: &Found,
+) -> Result<(Correction, Vec<OtherPair>)> {
+    let correction = found.correction(run, target);
+    let others = super::shared::other_pairs(run, index, target, &found.meant(), &correction)?;
+    Ok((correction, others))
 }
 
 /// A base no move names, reached only through `Offs`/`RelTool` with
@@ -193,7 +270,8 @@ fn by_derived_uses(
             continue;
         }
         seen.push(i);
-        let derived = &run.program.targets()[i];
+        let derived = run.program.targets().at(i);
+        let derived = &*derived;
         let Some(call) = run.calls.get(&derived.origin.pos.offset) else {
             continue;
         };

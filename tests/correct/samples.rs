@@ -168,8 +168,10 @@ fn outside_numbers(name: &str, bytes: &[u8]) -> Vec<u8> {
         .targets()
         .iter()
         .filter(|t| t.kind != TargetKind::Derived)
-        .filter_map(|t| t.value.as_ref())
-        .flat_map(|v| v.numbers().map(|n| n.span()).collect::<Vec<_>>())
+        .flat_map(|t| match &t.value {
+            Some(v) => v.numbers().map(|n| n.span()).collect::<Vec<_>>(),
+            None => Vec::new(),
+        })
         .chain(
             program
                 .jointtargets()
@@ -274,7 +276,7 @@ fn offs_and_reltool_displace_in_work_object_and_tool_frames() {
     let src = b"MODULE m\n  CONST robtarget p:=[[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n    MoveL Offs(p, 10, -5, 20), v100, fine, tool0;\n    MoveL RelTool(p, 0, 0, 30 \\Rz:=90), v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
     let program = rapid::parse("m.mod", src).unwrap();
     let calls = calls_by_offset(&program);
-    let base = target_pose(&program, program.target("p").unwrap())
+    let base = target_pose(&program, &program.target("p").unwrap())
         .unwrap()
         .unwrap()
         .0;

@@ -4,5 +4,5 @@
 mod cli;
 mod encoding;
 mod estimate;
+mod lanes;
 mod props;
-mod skeleton;

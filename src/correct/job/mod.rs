@@ -12,23 +12,22 @@
 mod host;
 mod prepare;
 mod ran;
-mod stream;
 
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::load_model;
-pub use ran::{Inputs, Ran};
-pub use stream::{is_plain_file, map_file};
+pub use ran::{Inputs, Ran, Way};
 
-use super::correct;
 use super::plan::{Action, CorrectPlan, Destination};
+use super::{correct, correct_into, Keep, Outcome};
 use crate::error::{Error, Errors, Remedy, Result};
-use crate::model::Model;
+use crate::model::{Model, WarmRobot};
 use crate::rapid::task::Task;
-use crate::rapid::{self, Program};
+use crate::rapid::{self, ParseOptions, Program, Source};
 use crate::resolve::arm::base_frame;
 use host::took;
 use prepare::{checked_arm, warm_run, when_and_notes};
 use std::io::Write;
+use std::path::Path;
 
 /// Run `plan` on `tasks` (those that move no robot are said and left
 /// alone). With [`Action::Write`], the corrected files are written
@@ -42,14 +41,15 @@ pub fn run(
 ) -> Result<Vec<Ran>> {
     let model = load_model(&plan.model)?;
     let (motion, still): (Vec<Task>, Vec<Task>) = tasks.into_iter().partition(moves_a_robot);
-    if let Some(ran) = stream::correct(plan, &model, &motion, host, sink)? {
-        say_still(&still, host);
-        return Ok(vec![ran]);
-    }
+    // One task written to files is written as it is corrected (a program of
+    // a million targets is never held in memory); several tasks, or a run
+    // whose results are reported, are corrected in memory first.
+    let streamed = motion.len() == 1 && !plan.keep_rows && matches!(plan.action, Action::Write(_));
     let mut runs = Vec::new();
     let mut errors = Errors::default();
     for task in motion {
-        match correct_task(plan, &model, task, host) {
+        let to: Option<&mut dyn Sink> = if streamed { Some(&mut *sink) } else { None };
+        match correct_task(plan, &model, task, host, to) {
             Ok(run) => runs.push(run),
             Err(e) => errors.push(e),
         }
@@ -62,7 +62,7 @@ pub fn run(
         return Err(e);
     }
     say_still(&still, host);
-    if let Action::Write(to) = &plan.action {
+    if let (Action::Write(to), false) = (&plan.action, streamed) {
         write(to, &runs, sink)?;
     }
     Ok(runs)
@@ -92,19 +92,16 @@ pub fn announce(task: &Task, host: &mut dyn Host) {
 }
 
 /// Read a task's modules and parse them as one program; what reading says
-/// (the task's notes, its files, the reader's warnings) is told.
+/// (the task's notes, its files, the reader's warnings) is told. A file
+/// is mapped into memory, not copied.
 pub fn read_task(task: &Task, host: &mut dyn Host) -> Result<(Inputs, Program)> {
     announce(task, host);
     let mut inputs = Vec::new();
     for f in &task.modules {
-        inputs.push(prepare::read_named(f)?);
+        inputs.push(read_source(f)?);
     }
-    let refs: Vec<(&str, &[u8])> = inputs
-        .iter()
-        .map(|(n, b)| (n.as_str(), b.as_slice()))
-        .collect();
     let started = std::time::Instant::now();
-    let program = rapid::parse_files(&refs)?;
+    let program = rapid::parse_sources(inputs.clone(), ParseOptions::default())?;
     took(host, "parsing", started);
     for w in &program.warnings {
         host.event(Event::Warning(w));
@@ -112,8 +109,35 @@ pub fn read_task(task: &Task, host: &mut dyn Host) -> Result<(Inputs, Program)> 
     Ok((inputs, program))
 }
 
-/// One task corrected on the whole-program path.
-fn correct_task(plan: &CorrectPlan, model: &Model, task: Task, host: &mut dyn Host) -> Result<Ran> {
+/// A file's name in messages and its bytes: standard input for `-`, a
+/// regular file mapped into memory, anything else (a pipe) read.
+pub fn read_source(path: &Path) -> Result<(String, Source)> {
+    if path != Path::new("-") && std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return Ok((path.display().to_string(), Source::new(map_file(path)?)));
+    }
+    let (name, bytes) = prepare::read_named(path)?;
+    Ok((name, Source::new(bytes)))
+}
+
+/// The bytes of `path`, memory-mapped: a program of 100 MB is read as the
+/// work needs it, not copied first.
+pub fn map_file(path: &Path) -> Result<memmap2::Mmap> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
+    // SAFETY: the map is read while the program holds it; a program being
+    // rewritten by another process as it is read is outside what any
+    // reader can promise (a read into memory would read a mix too).
+    unsafe { memmap2::Mmap::map(&file) }.map_err(|e| Error::io(path, &e))
+}
+
+/// One task corrected: into `to`'s outputs as it goes where given (the
+/// plan writes files), else in memory.
+fn correct_task(
+    plan: &CorrectPlan,
+    model: &Model,
+    task: Task,
+    host: &mut dyn Host,
+    to: Option<&mut dyn Sink>,
+) -> Result<Ran> {
     let arm = checked_arm(plan, &task, model, host)?;
     let (inputs, program) = read_task(&task, host)?;
     let (when, notes) = when_and_notes(plan, &program, &arm.robot, base_frame(&task)?)?;
@@ -122,16 +146,84 @@ fn correct_task(plan: &CorrectPlan, model: &Model, task: Task, host: &mut dyn Ho
     }
     let (arm_name, warm, options) = warm_run(plan, model, &task, arm, (when, 0.0), host)?;
     let started = std::time::Instant::now();
-    let outcome = correct(&program, &warm, &options, &mut |done, total| {
-        host.event(Event::Progress { done, total })
-    })?;
-    took(host, &format!("task {}: correcting", task.label()), started);
+    let mut progress = |done, total| host.event(Event::Progress { done, total });
+    let (outcome, way) = match (to, &plan.action) {
+        (Some(sink), Action::Write(dest)) => {
+            let (outcome, changed) =
+                correct_streamed(&program, (&warm, &options), (dest, sink), &mut progress)?;
+            (outcome, Way::Streamed { changed })
+        }
+        _ => (
+            correct(&program, &warm, &options, &mut progress)?,
+            Way::InMemory,
+        ),
+    };
+    let what = match way {
+        Way::Streamed { .. } => "correcting and writing",
+        Way::InMemory => "correcting",
+    };
+    took(host, &format!("task {}: {what}", task.label()), started);
     Ok(Ran {
         task,
         arm: arm_name,
         inputs,
         outcome,
+        way,
     })
+}
+
+/// A program corrected straight into the sink's outputs: each file's (or
+/// the one destination's) corrected bytes written as they are made, kept
+/// where they change it. Unchanged, a file written in place stays as it
+/// is (and gets no backup); another destination gets its bytes as they
+/// are.
+fn correct_streamed(
+    program: &Program,
+    (warm, options): (&WarmRobot, &crate::correct::Options),
+    (dest, sink): (&Destination, &mut dyn Sink),
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(Outcome, Vec<bool>)> {
+    let names: Vec<String> = match dest {
+        Destination::File(out) => vec![out.display().to_string()],
+        Destination::Stdout => vec!["-".to_string()],
+        Destination::InPlace { .. } => program.files.clone(),
+    };
+    let in_place = matches!(dest, Destination::InPlace { .. });
+    let mut outputs = Vec::with_capacity(names.len());
+    for name in &names {
+        outputs.push(sink.create(name)?);
+    }
+    let corrected = {
+        let mut buffered: Vec<std::io::BufWriter<&mut Box<dyn Output>>> = outputs
+            .iter_mut()
+            .map(|o| std::io::BufWriter::with_capacity(1 << 20, o))
+            .collect();
+        let mut writers: Vec<&mut (dyn Write + Send)> = buffered
+            .iter_mut()
+            .map(|b| b as &mut (dyn Write + Send))
+            .collect();
+        let c = correct_into(
+            program,
+            warm,
+            options,
+            (&mut writers, Keep::Summary),
+            progress,
+        )?;
+        for b in &mut buffered {
+            b.flush().map_err(|e| Error::io(Path::new(&names[0]), &e))?;
+        }
+        c
+    };
+    for (f, mut out) in outputs.into_iter().enumerate() {
+        let changed = corrected.changed.get(f).copied().unwrap_or(false);
+        if !changed && !in_place {
+            out.restart()
+                .and_then(|_| out.write_all(program.source(f)))
+                .map_err(|e| Error::io(Path::new(&names[f]), &e))?;
+        }
+        out.finish(changed || !in_place)?;
+    }
+    Ok((corrected.outcome, corrected.changed))
 }
 
 /// Write the runs' corrected files where the plan says.
@@ -154,7 +246,7 @@ fn write(to: &Destination, runs: &[Ran], sink: &mut dyn Sink) -> Result<()> {
     }
     for r in runs {
         for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
-            if after == before {
+            if after.as_slice() == before.bytes() {
                 continue;
             }
             // One file read in two tasks (a shared module named twice)

@@ -4,6 +4,7 @@
 
 use super::messages::{self, info, note};
 use rapidtherm::correct::job::{Event, Host};
+use rapidtherm::rapid::LaneTally;
 use rapidtherm::resolve::arm::{Arm, ChosenBy};
 
 /// Says each event as the command line words it.
@@ -22,6 +23,7 @@ impl Host for Said {
             }
             Event::Arm { task, arm } => say_arm(task, arm),
             Event::Warning(w) => messages::warning_at(w),
+            Event::Lane { task, files, tally } => say_lane(task, files, tally),
             Event::ThermalModel {
                 task,
                 label,
@@ -71,6 +73,18 @@ impl Said {
             b.finish_and_clear();
             self.bar = None;
         }
+    }
+}
+
+/// The statements the parse's fast lane began and left to the grammar,
+/// one line per reason, for `-v` (a program that reads slowly says why).
+fn say_lane(task: &str, files: &[String], tally: &LaneTally) {
+    for (why, d) in &tally.declined {
+        let file = files.get(d.file).map_or("", String::as_str);
+        info!(
+            "task {task}: the fast lane left {} statement(s) to the grammar: {why} (first at {file}:{})",
+            d.count, d.line
+        );
     }
 }
 

@@ -59,6 +59,7 @@ pub mod task;
 mod values;
 pub mod visit;
 
+pub use lane::{Decline, Declined, Found, LaneTally, Part};
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
 pub use parse::{parse, parse_files, parse_sources, ParseOptions};
 pub use program::Program;

@@ -1,6 +1,7 @@
 //! A whole run read: its files' bytes, modules, and the robot data and
 //! targets collected from them.
 
+use super::lane::LaneTally;
 use super::runs::{moves_of, MoveRef, Runs};
 use super::source::Source;
 use super::syntax::{DataDecl, Module, Routine};
@@ -35,6 +36,9 @@ pub struct Program {
     /// What the reader could not fully account for (not errors): for
     /// example robtargets inside a RECORD type no file of the run defines.
     pub warnings: Vec<Warning>,
+    /// What the fast lane read, and what it began and left to the
+    /// grammar, by reason.
+    pub lane: LaneTally,
 }
 
 impl Program {

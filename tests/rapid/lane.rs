@@ -236,3 +236,93 @@ fn generated_declarations_read_the_same_with_the_lane() {
         "the lane read declarations in {took} of {ran} only"
     );
 }
+
+/// A statement the lane began and left to the grammar is counted with its
+/// typed reason and place (what `-v` says), and read as the grammar reads
+/// it; a statement it reads, or never began (an assignment, a MoveAbsJ),
+/// is no decline.
+#[test]
+fn a_declined_statement_is_counted_with_its_reason() {
+    use rapidtherm::rapid::{Decline, Found, Part};
+    let lit = "[[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]";
+    let cases: Vec<(String, Option<Decline>)> = vec![
+        (format!("MoveL {lit}, v100, z1, tG;"), None),
+        ("MoveL p1, v100, z1, tG\\WObj:=wT;".into(), None),
+        ("x := 1;".into(), None),
+        ("MoveAbsJ j1, v100, z1, tG;".into(), None),
+        (
+            "MoveL [[400+10,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tG;"
+                .into(),
+            Some(Decline::At(Part::Target, Found::Char(b'+'))),
+        ),
+        (
+            "MoveL [[nX,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tG;"
+                .into(),
+            Some(Decline::At(Part::Target, Found::Name)),
+        ),
+        (
+            "MoveL Offs(p1,0,0,10), v100, z1, tG;".into(),
+            Some(Decline::At(Part::Target, Found::Char(b'('))),
+        ),
+        (
+            "MoveL p1,\n      v100, z1, tG;".into(),
+            Some(Decline::At(Part::Speed, Found::LineBreak)),
+        ),
+        (
+            "MoveL p1, v100, z1, tG\\TLoad:=load0;".into(),
+            Some(Decline::OtherOptional),
+        ),
+        (
+            "MoveL p1, v100, z1, tG\\WObj:=wT\\TLoad:=load0;".into(),
+            Some(Decline::At(Part::End, Found::Char(b'\\'))),
+        ),
+        (
+            "MoveL\\Conc, p1, v100, z1, tG;".into(),
+            Some(Decline::At(Part::Instruction, Found::Char(b'\\'))),
+        ),
+    ];
+    for (statement, want) in cases {
+        let src = format!(
+            "MODULE m\n  CONST robtarget p1 := {lit};\n  CONST jointtarget j1 := [[0,0,0,0,30,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  CONST num nX := 400;\n  VAR num x := 0;\n  PROC main()\n    MoveJ p1, v100, z1, tG;\n    {statement}\n  ENDPROC\nENDMODULE\n"
+        );
+        same_both_ways(src.as_bytes()).unwrap_or_else(|e| panic!("{statement}: {e}"));
+        let p = read(src.as_bytes(), true).unwrap_or_else(|e| panic!("{statement}: {e}"));
+        let declined = declines(&p);
+        let want: Vec<(Decline, usize, u32)> = want.into_iter().map(|w| (w, 1, 8)).collect();
+        assert_eq!(declined, want, "{statement}");
+        // The declarations and the first move, and the statement where read.
+        let read_here = usize::from(p.lane.declined.is_empty() && statement.starts_with("MoveL"));
+        assert_eq!(p.lane.read, 3 + read_here, "{statement}");
+    }
+    // Declarations.
+    for (decl, want) in [
+        (
+            "CONST jointtarget jj{2} := [[[0,0,0,0,30,0],[9E9,9E9,9E9,9E9,9E9,9E9]],[[0,0,0,0,30,0],[9E9,9E9,9E9,9E9,9E9,9E9]]];",
+            Decline::JointtargetArray,
+        ),
+        (
+            "CONST robtarget pp{2,1} := [[[[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]],[[[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]]];",
+            Decline::At(Part::ArraySize, Found::Char(b',')),
+        ),
+        (
+            "CONST robtarget pq := [[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]] ! why\n ;",
+            Decline::At(Part::End, Found::Comment),
+        ),
+    ] {
+        let src = format!("MODULE m\n  {decl}\n  PROC main()\n  ENDPROC\nENDMODULE\n");
+        same_both_ways(src.as_bytes()).unwrap_or_else(|e| panic!("{decl}: {e}"));
+        let p = read(src.as_bytes(), true).unwrap();
+        let declined = declines(&p);
+        assert_eq!(declined, vec![(want, 1, 2)], "{decl}");
+    }
+}
+
+/// What a program's lane declined: each reason, how many, its first
+/// line.
+fn declines(p: &Program) -> Vec<(rapidtherm::rapid::Decline, usize, u32)> {
+    p.lane
+        .declined
+        .iter()
+        .map(|(why, d)| (*why, d.count, d.line))
+        .collect()
+}

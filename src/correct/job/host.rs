@@ -4,7 +4,7 @@
 //! prints nothing itself.
 
 use crate::error::Result;
-use crate::rapid::Warning;
+use crate::rapid::{LaneTally, Warning};
 use crate::resolve::arm::Arm;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -20,6 +20,13 @@ pub enum Event<'a> {
     Arm { task: &'a str, arm: &'a Arm },
     /// A remark of the reader on the input, at its place.
     Warning(&'a Warning),
+    /// What the parse's fast lane began to read and left to the grammar,
+    /// by reason (a program that reads slowly says why).
+    Lane {
+        task: &'a str,
+        files: &'a [String],
+        tally: &'a LaneTally,
+    },
     /// A choice the estimate or the correction made that the user should
     /// know about.
     Note(&'a str),

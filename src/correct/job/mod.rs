@@ -106,6 +106,11 @@ pub fn read_task(task: &Task, host: &mut dyn Host) -> Result<(Inputs, Program)> 
     for w in &program.warnings {
         host.event(Event::Warning(w));
     }
+    host.event(Event::Lane {
+        task: &task.label(),
+        files: &program.files,
+        tally: &program.lane,
+    });
     Ok((inputs, program))
 }
 

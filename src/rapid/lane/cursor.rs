@@ -4,6 +4,7 @@
 //! an expression, a byte above 0x7F) is not its to read: it gives up, and
 //! the grammar reads the statement.
 
+use super::decline::Found;
 use crate::rapid::{Number, RobTargetValue};
 
 /// Reads tokens from `p` on. Blanks are spaces and tabs, and line ends
@@ -31,11 +32,76 @@ pub(crate) struct Seen<'a> {
 /// of a few kinds of move.
 const SEEN_NAMES: usize = 16;
 
+/// Whether text ending in `before` (blanks skipped) ends with an
+/// operand: a sign after it is an operator, not a number's.
+fn after_operand(before: &[u8]) -> bool {
+    before
+        .iter()
+        .rev()
+        .find(|b| !matches!(b, b' ' | b'\t'))
+        .is_some_and(|&b| is_ident_char(b) || matches!(b, b'.' | b']' | b')'))
+}
+
 pub(crate) fn is_ident_char(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_' || b >= 0x80
 }
 
-impl<'a> Cursor<'a, '_> {
+impl<'a, 'm> Cursor<'a, 'm> {
+    /// A reader of a statement's form from `p` on (numbers' values not
+    /// read, line ends not blanks).
+    pub fn form(s: &'a [u8], p: usize, seen: &'m mut Seen<'a>) -> Self {
+        Cursor {
+            s,
+            p,
+            values: false,
+            lines: false,
+            seen,
+        }
+    }
+
+    /// What stands at the reader's place, blanks skipped: why it stopped
+    /// there (see [`Found`]).
+    pub fn found(&self) -> Found {
+        let s = self.s;
+        let mut p = self.p;
+        while matches!(s.get(p), Some(b' ' | b'\t')) {
+            p += 1;
+        }
+        let Some(&b) = s.get(p) else {
+            return Found::EndOfText;
+        };
+        match b {
+            b'!' => Found::Comment,
+            b'"' => Found::Text,
+            b'\r' | b'\n' => Found::LineBreak,
+            0x80.. => Found::NonAscii,
+            b'0'..=b'9' | b'.' => Found::Number,
+            // A sign starting a number (not an operator after an operand).
+            b'+' | b'-'
+                if s.get(p + 1)
+                    .is_some_and(|c| c.is_ascii_digit() || *c == b'.')
+                    && !after_operand(&s[..p]) =>
+            {
+                Found::Number
+            }
+            b if b.is_ascii_alphabetic() => {
+                let end = s[p..]
+                    .iter()
+                    .position(|&c| !is_ident_char(c))
+                    .map_or(s.len(), |e| p + e);
+                let word = &s[p..end];
+                if !word.is_ascii() {
+                    Found::NonAscii
+                } else if std::str::from_utf8(word).is_ok_and(crate::rapid::reserved::is_reserved) {
+                    Found::ReservedWord
+                } else {
+                    Found::Name
+                }
+            }
+            b => Found::Char(b),
+        }
+    }
+
     pub fn blank(&mut self) {
         while let Some(&b) = self.s.get(self.p) {
             match b {

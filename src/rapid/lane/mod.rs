@@ -3,10 +3,13 @@
 //! literals) read by hand, at the speed of the disk, into what the
 //! grammar would make of them. The parse asks it first at each statement
 //! and declaration; where it does not read one, the pest grammar does,
-//! and stays the authority on what is RAPID.
+//! and stays the authority on what is RAPID. A statement it began and
+//! left to the grammar is counted with its reason ([`Decline`]).
 
 mod cursor;
+mod decline;
 mod statement;
 
 pub(crate) use cursor::{decimal_value, Cursor, Seen};
+pub use decline::{Decline, Declined, Found, LaneTally, Part};
 pub(crate) use statement::{read_decl, read_move, LaneDecl, LaneMove, Value};

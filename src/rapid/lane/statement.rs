@@ -9,6 +9,7 @@
 //! grammar's.
 
 use super::cursor::{Cursor, Seen};
+use super::decline::{Decline, Part};
 use crate::rapid::{motion_signature, ArgAt, MotionKind, Scope, Storage};
 use std::ops::Range;
 
@@ -48,70 +49,101 @@ fn leading_targets(name: &str) -> Option<usize> {
 }
 
 /// The move starting at `at` of `src`, where the lane reads it (numbers'
-/// form checked, their values not read).
-pub(crate) fn read_move<'a>(src: &'a [u8], at: usize, seen: &mut Seen<'a>) -> Option<LaneMove> {
-    let mut c = Cursor {
-        s: src,
-        p: at,
-        values: false,
-        lines: false,
-        seen,
-    };
+/// form checked, their values not read): `Ok(None)` where the statement
+/// is no move the lane covers (another instruction, not a statement it
+/// knows), `Err` where it began to read a move and declined it.
+pub(crate) fn read_move<'a>(
+    src: &'a [u8],
+    at: usize,
+    seen: &mut Seen<'a>,
+) -> Result<Option<LaneMove>, Decline> {
+    let mut c = Cursor::form(src, at, seen);
     // Motion instructions are no reserved words: their signature says.
-    let instruction = c.name_as(false)?;
+    let Some(instruction) = c.name_as(false) else {
+        return Ok(None);
+    };
     let word = &src[instruction.clone()];
     let k = match c.seen.instruction {
-        Some((w, k)) if w == word => k?,
+        Some((w, k)) if w == word => k,
         _ => {
-            let k = leading_targets(std::str::from_utf8(word).ok()?);
+            let k = std::str::from_utf8(word).ok().and_then(leading_targets);
             c.seen.instruction = Some((word, k));
-            k?
+            k
         }
     };
+    let Some(k) = k else {
+        return Ok(None);
+    };
     if !matches!(src.get(c.p), Some(b' ' | b'\t')) {
-        return None;
+        return Err(Decline::At(Part::Instruction, c.found()));
     }
-    let mut literals = Vec::with_capacity(k);
-    let mut named = None;
-    c.blank();
-    if k == 1 && src.get(c.p) != Some(&b'[') {
-        // A plain name, then the speed's comma: anything more (an index,
-        // a component, a call) is the grammar's.
-        named = Some(c.name()?);
-    } else {
-        for i in 0..k {
-            if i > 0 {
-                c.byte(b',')?;
+    let mut part = Part::Target;
+    match move_arguments(&mut c, instruction, k, &mut part) {
+        Ok(Some(mv)) => Ok(Some(mv)),
+        Ok(None) => Err(Decline::At(part, c.found())),
+        Err(why) => Err(why),
+    }
+}
+
+/// A move's arguments after its instruction (`k` targets first), `part`
+/// kept at the one being read: `None` where the cursor stopped.
+fn move_arguments(
+    c: &mut Cursor<'_, '_>,
+    instruction: Range<usize>,
+    k: usize,
+    part: &mut Part,
+) -> Result<Option<LaneMove>, Decline> {
+    let read = |c: &mut Cursor<'_, '_>, part: &mut Part| -> Option<Result<LaneMove, Decline>> {
+        let mut literals = Vec::with_capacity(k);
+        let mut named = None;
+        c.blank();
+        if k == 1 && c.s.get(c.p) != Some(&b'[') {
+            // A plain name, then the speed's comma: anything more (an
+            // index, a component, a call) is the grammar's.
+            named = Some(c.name()?);
+        } else {
+            for i in 0..k {
+                if i > 0 {
+                    c.byte(b',')?;
+                }
+                literals.push(c.robtarget()?.0);
             }
-            literals.push(c.robtarget()?.0);
         }
-    }
-    c.byte(b',')?;
-    let speed = c.name()?;
-    c.byte(b',')?;
-    let zone = c.name()?;
-    c.byte(b',')?;
-    let tool = c.name()?;
-    let mut wobj = None;
-    if c.byte(b'\\').is_some() {
-        let word = c.name_as(false)?;
-        if !src[word.clone()].eq_ignore_ascii_case(b"WObj") {
-            return None;
+        c.byte(b',')?;
+        *part = Part::Speed;
+        let speed = c.name()?;
+        c.byte(b',')?;
+        *part = Part::Zone;
+        let zone = c.name()?;
+        c.byte(b',')?;
+        *part = Part::Tool;
+        let tool = c.name()?;
+        *part = Part::End;
+        let mut wobj = None;
+        if c.byte(b'\\').is_some() {
+            *part = Part::OptionalArgument;
+            let word = c.name_as(false)?;
+            if !c.s[word.clone()].eq_ignore_ascii_case(b"WObj") {
+                return Some(Err(Decline::OtherOptional));
+            }
+            c.assign()?;
+            *part = Part::WorkObject;
+            wobj = Some((word, c.name()?));
+            *part = Part::End;
         }
-        c.assign()?;
-        wobj = Some((word, c.name()?));
-    }
-    c.byte(b';')?;
-    Some(LaneMove {
-        end: c.p,
-        instruction,
-        literals,
-        named,
-        speed,
-        zone,
-        tool,
-        wobj,
-    })
+        c.byte(b';')?;
+        Some(Ok(LaneMove {
+            end: c.p,
+            instruction: instruction.clone(),
+            literals,
+            named,
+            speed,
+            zone,
+            tool,
+            wobj,
+        }))
+    };
+    read(c, part).transpose()
 }
 
 /// What a declaration the lane reads declares.
@@ -146,80 +178,105 @@ pub(crate) enum Value {
 /// The declaration starting at `at` of `src`, where the lane reads it:
 /// `[LOCAL|TASK] CONST|PERS|VAR robtarget|jointtarget NAME := literal;`
 /// or a robtarget array `NAME{size} := [literal, ...];` (its literals on
-/// as many lines as they like).
-pub(crate) fn read_decl<'a>(src: &'a [u8], at: usize, seen: &mut Seen<'a>) -> Option<LaneDecl> {
-    let mut c = Cursor {
-        s: src,
-        p: at,
-        values: false,
-        lines: false,
-        seen,
-    };
+/// as many lines as they like). `Ok(None)` where it is no declaration
+/// of a robtarget or jointtarget, `Err` where the lane began to read one
+/// and declined it.
+pub(crate) fn read_decl<'a>(
+    src: &'a [u8],
+    at: usize,
+    seen: &mut Seen<'a>,
+) -> Result<Option<LaneDecl>, Decline> {
+    let mut c = Cursor::form(src, at, seen);
     let scope = match c.keyword(&["LOCAL", "TASK"]) {
         Some(0) => Some(Scope::Local),
         Some(_) => Some(Scope::Task),
         None => None,
     };
-    let storage = match c.keyword(&["CONST", "PERS", "VAR"])? {
-        0 => Storage::Const,
-        1 => Storage::Pers,
-        _ => Storage::Var,
+    let storage = match c.keyword(&["CONST", "PERS", "VAR"]) {
+        Some(0) => Storage::Const,
+        Some(1) => Storage::Pers,
+        Some(_) => Storage::Var,
+        None => return Ok(None),
     };
-    let type_name = c.name_as(false)?;
+    let Some(type_name) = c.name_as(false) else {
+        return Ok(None);
+    };
     let joint = match &src[type_name.clone()] {
         t if t.eq_ignore_ascii_case(b"robtarget") => false,
         t if t.eq_ignore_ascii_case(b"jointtarget") => true,
-        _ => return None,
+        _ => return Ok(None),
     };
-    let name = c.name()?;
-    let value = if c.byte(b'{').is_some() {
-        if joint {
-            return None;
-        }
-        let size = c.count()?;
-        c.byte(b'}')?;
-        c.assign()?;
-        c.lines = true;
-        c.blank();
-        let open = c.p;
-        c.byte(b'[')?;
-        let mut elements = Vec::new();
-        loop {
-            elements.push(c.robtarget()?.0);
-            c.blank();
-            match c.s.get(c.p) {
-                Some(b',') => c.p += 1,
-                Some(b']') => break,
-                _ => return None,
+    let mut part = Part::Name;
+    match decl_rest(&mut c, (scope, storage, type_name, joint), &mut part) {
+        Ok(Some(d)) => Ok(Some(d)),
+        Ok(None) => Err(Decline::At(part, c.found())),
+        Err(why) => Err(why),
+    }
+}
+
+/// A declaration after its type, `part` kept at the one being read:
+/// `None` where the cursor stopped.
+fn decl_rest(
+    c: &mut Cursor<'_, '_>,
+    (scope, storage, type_name, joint): (Option<Scope>, Storage, Range<usize>, bool),
+    part: &mut Part,
+) -> Result<Option<LaneDecl>, Decline> {
+    let read = |c: &mut Cursor<'_, '_>, part: &mut Part| -> Option<Result<LaneDecl, Decline>> {
+        let name = c.name()?;
+        let value = if c.byte(b'{').is_some() {
+            if joint {
+                return Some(Err(Decline::JointtargetArray));
             }
-        }
-        let close = c.p;
-        c.p += 1;
-        Value::Array {
-            size,
-            open,
-            close,
-            elements,
-        }
-    } else {
-        c.assign()?;
-        c.blank();
-        let at = c.p;
-        if joint {
-            c.jointtarget()?;
+            *part = Part::ArraySize;
+            let size = c.count()?;
+            c.byte(b'}')?;
+            *part = Part::Value;
+            c.assign()?;
+            c.lines = true;
+            c.blank();
+            let open = c.p;
+            c.byte(b'[')?;
+            let mut elements = Vec::new();
+            loop {
+                elements.push(c.robtarget()?.0);
+                c.blank();
+                match c.s.get(c.p) {
+                    Some(b',') => c.p += 1,
+                    Some(b']') => break,
+                    _ => return None,
+                }
+            }
+            let close = c.p;
+            c.p += 1;
+            Value::Array {
+                size,
+                open,
+                close,
+                elements,
+            }
         } else {
-            c.robtarget()?;
-        }
-        Value::Literal(at)
+            *part = Part::Value;
+            c.assign()?;
+            c.blank();
+            let at = c.p;
+            if joint {
+                c.jointtarget()?;
+            } else {
+                c.robtarget()?;
+            }
+            Value::Literal(at)
+        };
+        *part = Part::End;
+        c.byte(b';')?;
+        Some(Ok(LaneDecl {
+            end: c.p,
+            scope,
+            storage,
+            type_name: type_name.clone(),
+            joint,
+            name,
+            value,
+        }))
     };
-    c.byte(b';')?;
-    Some(LaneDecl {
-        end: c.p,
-        scope,
-        storage,
-        type_name,
-        joint,
-        name,
-        value,
-    })
+    read(c, part).transpose()
 }

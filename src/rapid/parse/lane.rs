@@ -7,7 +7,7 @@
 //! holds it.
 
 use super::*;
-use crate::rapid::lane::{Cursor, Value};
+use crate::rapid::lane::{Cursor, Decline, Part, Value};
 use crate::rapid::runs::{ArrayRun, DeclItem, DeclRun, MoveItem, MoveRun, NONE};
 
 impl<'a> FileParser<'a, '_> {
@@ -33,15 +33,25 @@ impl<'a> FileParser<'a, '_> {
             Some(p) => p.start,
             None => self.scanner.next_start(),
         };
-        let Some(mv) = read_move(self.src, at, &mut self.seen) else {
-            return Ok(false);
-        };
-        let Some((item, literals)) = self.move_item(at, &mv) else {
-            return Ok(false);
-        };
+        // Statements are read in routines only; a run of moves belongs to
+        // one.
         let Some(routine) = self.routine.clone() else {
             return Ok(false);
         };
+        let line = self.line_of(at);
+        let read = read_move(self.src, at, &mut self.seen).and_then(|mv| match mv {
+            Some(mv) => Ok(Some((self.move_item(at, line, &mv)?, mv))),
+            None => Ok(None),
+        });
+        let ((item, literals), mv) = match read {
+            Ok(Some(read)) => read,
+            Ok(None) => return Ok(false),
+            Err(why) => {
+                self.b.prog.lane.decline(why, self.file, line);
+                return Ok(false);
+            }
+        };
+        self.b.prog.lane.read += 1;
         let joins = match out.last().map(|s| &s.kind) {
             Some(StatementKind::Moves(r)) => self
                 .b
@@ -79,18 +89,23 @@ impl<'a> FileParser<'a, '_> {
         Ok(true)
     }
 
-    /// A move the lane read, as a run holds it; `None` where it cannot
-    /// (a statement too long, too many names).
-    fn move_item(&mut self, at: usize, mv: &LaneMove) -> Option<(MoveItem, u8)> {
-        let rel = |x: usize| u16::try_from(x.checked_sub(at)?).ok();
+    /// A move the lane read, as a run holds it; why not where it cannot
+    /// (a statement too long, too many names, a file too large).
+    fn move_item(
+        &mut self,
+        at: usize,
+        line: u32,
+        mv: &LaneMove,
+    ) -> std::result::Result<(MoveItem, u8), Decline> {
         let (literals, parts) = match &mv.named {
-            Some(n) => (0, [rel(n.start)?, u16::try_from(n.len()).ok()?]),
+            Some(n) => (0, [offset(at, n.start)?, short(n.len())?]),
             None => {
                 let mut parts = [0u16; 2];
                 for (p, &l) in parts.iter_mut().zip(&mv.literals) {
-                    *p = rel(l)?;
+                    *p = offset(at, l)?;
                 }
-                (u8::try_from(mv.literals.len()).ok()?, parts)
+                // A move has one or two targets.
+                (mv.literals.len() as u8, parts)
             }
         };
         let mut names = [NONE; 6];
@@ -106,16 +121,16 @@ impl<'a> FileParser<'a, '_> {
         for (slot, r) in names.iter_mut().zip(ranges) {
             if let Some(r) = r {
                 let name = self.b.intern(self.ascii(&r));
-                *slot = self.b.run_name(&name)?;
+                *slot = self.b.run_name(&name).ok_or(Decline::TooManyNames)?;
             }
         }
         let item = MoveItem {
-            at: u32::try_from(at).ok()?,
-            line: self.line_of(at),
+            at: in_file(at)?,
+            line,
             names,
             parts,
         };
-        Some((item, literals))
+        Ok((item, literals))
     }
 
     /// The declaration the lane reads at the next piece's start of a
@@ -130,34 +145,55 @@ impl<'a> FileParser<'a, '_> {
             Some(p) => p.start,
             None => self.scanner.next_start(),
         };
-        let Some(d) = read_decl(self.src, at, &mut self.seen) else {
-            return Ok(false);
-        };
-        let read = match (&d.value, d.joint) {
-            (Value::Literal(lit), false) => self.declared_in_run(at, &d, *lit, m),
-            (Value::Literal(lit), true) => self.declared_joint_by_lane(at, &d, *lit, m),
-            (Value::Array { .. }, _) => self.declared_array(at, &d, m),
-        };
-        if read.is_some() {
-            self.peeked = None;
-            self.scanner.skip_to(d.end);
+        let line = self.line_of(at);
+        let read = read_decl(self.src, at, &mut self.seen).and_then(|d| {
+            let Some(d) = d else { return Ok(None) };
+            match (&d.value, d.joint) {
+                (Value::Literal(lit), false) => self.declared_in_run(at, line, &d, *lit, m),
+                (Value::Literal(lit), true) => self.declared_joint_by_lane(at, &d, *lit, m),
+                (
+                    Value::Array {
+                        size,
+                        open,
+                        close,
+                        elements,
+                    },
+                    _,
+                ) => self.declared_array(at, &d, (size, *open..*close + 1, elements), m),
+            }?;
+            Ok(Some(d.end))
+        });
+        match read {
+            Ok(Some(end)) => {
+                self.b.prog.lane.read += 1;
+                self.peeked = None;
+                self.scanner.skip_to(end);
+                Ok(true)
+            }
+            Ok(None) => Ok(false),
+            Err(why) => {
+                self.b.prog.lane.decline(why, self.file, line);
+                Ok(false)
+            }
         }
-        Ok(read.is_some())
     }
 
     fn declared_in_run(
         &mut self,
         at: usize,
+        line: u32,
         d: &LaneDecl,
         lit: usize,
         m: &mut Module,
-    ) -> Option<()> {
-        let rel = |x: usize| u16::try_from(x.checked_sub(at)?).ok();
+    ) -> std::result::Result<(), Decline> {
         let item = DeclItem {
-            at: u32::try_from(at).ok()?,
-            line: self.line_of(at),
-            name: (rel(d.name.start)?, u8::try_from(d.name.len()).ok()?),
-            literal: rel(lit)?,
+            at: in_file(at)?,
+            line,
+            name: (
+                offset(at, d.name.start)?,
+                u8::try_from(d.name.len()).map_err(|_| Decline::TooLong)?,
+            ),
+            literal: offset(at, lit)?,
             qualified: false,
         };
         let type_name = self.ascii(&d.type_name);
@@ -184,7 +220,7 @@ impl<'a> FileParser<'a, '_> {
                 self.open_decls = Some(r);
             }
         }
-        Some(())
+        Ok(())
     }
 
     fn declared_joint_by_lane(
@@ -193,7 +229,7 @@ impl<'a> FileParser<'a, '_> {
         d: &LaneDecl,
         lit: usize,
         m: &mut Module,
-    ) -> Option<()> {
+    ) -> std::result::Result<(), Decline> {
         let mut seen = Seen::default();
         let mut c = Cursor {
             s: self.src,
@@ -202,7 +238,10 @@ impl<'a> FileParser<'a, '_> {
             lines: false,
             seen: &mut seen,
         };
-        let (_, robax, extax) = c.jointtarget()?;
+        // Its numbers' values, read now (the form was checked).
+        let Some((_, robax, extax)) = c.jointtarget() else {
+            return Err(Decline::At(Part::Value, c.found()));
+        };
         let name = self.ascii(&d.name).to_string();
         let j = JointTarget {
             id: name.clone(),
@@ -226,22 +265,26 @@ impl<'a> FileParser<'a, '_> {
             init: Some(Expr::JointTarget(self.b.prog.jointtargets.len() - 1)),
             pos: self.pos(at),
         });
-        Some(())
+        Ok(())
     }
 
-    fn declared_array(&mut self, at: usize, d: &LaneDecl, m: &mut Module) -> Option<()> {
-        let Value::Array {
-            size,
-            open,
-            close,
-            elements,
-        } = &d.value
-        else {
-            return None;
-        };
+    /// An array the lane read: its size's value and text, its value's
+    /// span, each element's `[`.
+    fn declared_array(
+        &mut self,
+        at: usize,
+        d: &LaneDecl,
+        (size, span, elements): (
+            &(usize, std::ops::Range<usize>),
+            std::ops::Range<usize>,
+            &[usize],
+        ),
+        m: &mut Module,
+    ) -> std::result::Result<(), Decline> {
+        let open = span.start;
         let mut lines = Vec::with_capacity(elements.len());
-        let mut line = self.line_of(*open);
-        let mut from = *open;
+        let mut line = self.line_of(open);
+        let mut from = open;
         for &e in elements {
             line += memchr::memchr_iter(b'\n', &self.src[from..e]).count() as u32;
             from = e;
@@ -249,8 +292,8 @@ impl<'a> FileParser<'a, '_> {
         }
         let elements: Vec<u32> = elements
             .iter()
-            .map(|&e| u32::try_from(e).ok())
-            .collect::<Option<_>>()?;
+            .map(|&e| in_file(e))
+            .collect::<std::result::Result<_, _>>()?;
         let name = self.b.intern(self.ascii(&d.name));
         let r = self.b.prog.runs.arrays.len();
         self.b.prog.runs.arrays.push(ArrayRun {
@@ -263,7 +306,7 @@ impl<'a> FileParser<'a, '_> {
             base: 0,
             elements,
             lines,
-            span: *open..*close + 1,
+            span,
         });
         m.data.push(DataDecl {
             scope: d.scope,
@@ -277,6 +320,21 @@ impl<'a> FileParser<'a, '_> {
         // The array's targets lie between the declarations before it and
         // after: those are another run's.
         self.open_decls = None;
-        Some(())
+        Ok(())
     }
+}
+
+/// Where `x` is in a statement at `at`, as a run holds it (16 bits).
+fn offset(at: usize, x: usize) -> std::result::Result<u16, Decline> {
+    short(x.saturating_sub(at))
+}
+
+/// A length within a statement, as a run holds it (16 bits).
+fn short(n: usize) -> std::result::Result<u16, Decline> {
+    u16::try_from(n).map_err(|_| Decline::TooLong)
+}
+
+/// Where `x` is in its file, as a run holds it (32 bits).
+fn in_file(x: usize) -> std::result::Result<u32, Decline> {
+    u32::try_from(x).map_err(|_| Decline::FileTooLarge)
 }

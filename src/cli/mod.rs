@@ -16,6 +16,7 @@ mod correct;
 mod correct_report;
 mod correct_words;
 mod diagnose;
+mod diagnose_args;
 mod diagnose_chain;
 mod events;
 mod format;
@@ -76,7 +77,7 @@ enum Command {
     /// Make simulated measurements ("real" data) with chosen effects and noise.
     Simulate(diagnose::SimulateArgs),
     /// Diagnose the sim-to-real gap of measured positions.
-    Diagnose(diagnose::DiagnoseArgs),
+    Diagnose(diagnose_args::DiagnoseArgs),
     /// RMS and max gap of a model on measured data.
     Gap(diagnose::GapArgs),
     /// List the ABB arms `--robot` takes by name (payload, reach, where the numbers come from).

@@ -6,7 +6,6 @@ use crate::error::{Error, Remedy, Result};
 use crate::model::Moment;
 use crate::rapid::Program;
 use crate::schedule::{Schedule, Visit};
-use std::collections::HashSet;
 
 /// The moments robtarget `index` (identifier `id`) is reached.
 pub(super) fn moments_of(when: &When, index: usize, id: &str) -> Result<Vec<Moment>> {
@@ -68,17 +67,23 @@ pub(super) fn minute_of(m: Moment) -> Option<f64> {
 /// ignores case): a lookup per schedule entry in the list of targets made
 /// a schedule of every target quadratic.
 pub(super) fn check_schedule_names(program: &Program, schedule: &Schedule) -> Result<()> {
-    let ids: HashSet<String> = program
-        .targets()
-        .iter()
-        .map(|t| t.id.to_ascii_lowercase())
-        .chain(
-            program
-                .jointtargets()
-                .iter()
-                .map(|j| j.id.to_ascii_lowercase()),
-        )
-        .collect();
+    // Identifiers only: the targets' numbers are not read for this.
+    let targets = program.targets();
+    let mut ids: foldhash::HashSet<String> = foldhash::HashSet::default();
+    ids.reserve(targets.len() + program.jointtargets().len());
+    let mut id = String::new();
+    for i in 0..targets.len() {
+        if targets.id_into(i, &mut id).is_some() {
+            id.make_ascii_lowercase();
+            ids.insert(std::mem::take(&mut id));
+        }
+    }
+    ids.extend(
+        program
+            .jointtargets()
+            .iter()
+            .map(|j| j.id.to_ascii_lowercase()),
+    );
     for id in schedule.targets() {
         if !ids.contains(&id.to_ascii_lowercase()) {
             return Err(Error::input(format!(

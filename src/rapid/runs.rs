@@ -144,6 +144,12 @@ impl MoveRun {
         self.items.len() * usize::from(self.literals)
     }
 
+    /// The identifier of literal `k` into `id` (its numbers not read).
+    pub fn id_into(&self, k: usize, id: &mut String) {
+        id.clear();
+        let _ = write!(id, "{}#{}", self.prefix, self.first as usize + k + 1);
+    }
+
     /// Literal `k` of the run into `t`, as the grammar makes it (its
     /// allocations reused); `false` where the file no longer reads so.
     pub fn fill(&self, runs: &Runs, src: &[u8], k: usize, t: &mut Target) -> bool {
@@ -155,8 +161,7 @@ impl MoveRun {
         let Some(value) = literal_at(src, at, false) else {
             return false;
         };
-        t.id.clear();
-        let _ = write!(t.id, "{}#{}", self.prefix, self.first as usize + k + 1);
+        self.id_into(k, &mut t.id);
         t.kind = TargetKind::Inline;
         set_origin(
             &mut t.origin,
@@ -257,11 +262,7 @@ impl DeclRun {
         let Some(name) = self.name_of(src, item) else {
             return false;
         };
-        t.id.clear();
-        if item.qualified {
-            let _ = write!(t.id, "{}:", self.module);
-        }
-        t.id.push_str(name);
+        self.id_of(item, name, &mut t.id);
         t.kind = TargetKind::Declared;
         set_origin(
             &mut t.origin,
@@ -284,6 +285,29 @@ impl DeclRun {
         t.wobj = None;
         t.derived = None;
         true
+    }
+
+    /// The identifier of target `k` into `id` (its numbers not read);
+    /// `false` where the run has none.
+    pub fn id_into(&self, src: &[u8], k: usize, id: &mut String) -> bool {
+        let Some(item) = self.items.get(k) else {
+            return false;
+        };
+        let Some(name) = self.name_of(src, item) else {
+            return false;
+        };
+        self.id_of(item, name, id);
+        true
+    }
+
+    /// The identifier of an item declared `name`: the name, qualified
+    /// with the module where the run's identifiers are.
+    fn id_of(&self, item: &DeclItem, name: &str, id: &mut String) {
+        id.clear();
+        if item.qualified {
+            let _ = write!(id, "{}:", self.module);
+        }
+        id.push_str(name);
     }
 
     /// The declared name of an item.
@@ -309,6 +333,12 @@ impl DeclRun {
 }
 
 impl ArrayRun {
+    /// The identifier of element `k` into `id` (its numbers not read).
+    pub fn id_into(&self, k: usize, id: &mut String) {
+        id.clear();
+        let _ = write!(id, "{}{{{}}}", self.prefix, k + 1);
+    }
+
     /// Element `k` into `t`, as the grammar makes it.
     pub fn fill(&self, src: &[u8], k: usize, t: &mut Target) -> bool {
         let (Some(&at), Some(&line)) = (self.elements.get(k), self.lines.get(k)) else {
@@ -317,8 +347,7 @@ impl ArrayRun {
         let Some(value) = literal_at(src, at as usize, true) else {
             return false;
         };
-        t.id.clear();
-        let _ = write!(t.id, "{}{{{}}}", self.prefix, k + 1);
+        self.id_into(k, &mut t.id);
         t.kind = TargetKind::ArrayElement;
         set_origin(
             &mut t.origin,

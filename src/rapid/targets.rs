@@ -134,6 +134,36 @@ impl<'p> Targets<'p> {
         }
     }
 
+    /// The identifier of target `i` into `id`, and whether it has a value
+    /// (a target of a run always has its literal's), without reading its
+    /// numbers: a check of a million identifiers reads no million
+    /// literals. `None` where the program has no target `i`.
+    pub fn id_into(&self, i: usize, id: &mut String) -> Option<bool> {
+        let (held, k) = self.locate(i)?;
+        let runs: &Runs = self.runs;
+        match held {
+            Held::OneByOne(first) => {
+                let one = self.one_by_one.get(first + k)?;
+                id.clone_from(&one.id);
+                Some(one.value.is_some())
+            }
+            Held::Moves(r) => {
+                let run = runs.moves.get(r)?;
+                (k < run.targets()).then(|| run.id_into(k, id))?;
+                Some(true)
+            }
+            Held::Decls(r) => {
+                let run = runs.decls.get(r)?;
+                run.id_into(self.src(run.file), k, id).then_some(true)
+            }
+            Held::Array(r) => {
+                let run = runs.arrays.get(r)?;
+                (k < run.elements.len()).then(|| run.id_into(k, id))?;
+                Some(true)
+            }
+        }
+    }
+
     /// The targets held one by one, each with its number, in order.
     pub fn one_by_one_all(&self) -> impl Iterator<Item = (usize, &'p Target)> + 'p {
         let loose = self.one_by_one;

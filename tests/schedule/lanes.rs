@@ -80,7 +80,7 @@ fn same_both_ways(src: &[u8], start: f64) -> Result<usize, TestCaseError> {
 }
 
 #[test]
-fn a_program_of_blocks_reads_the_same_from_its_skeleton() {
+fn a_program_of_blocks_reads_the_same_with_the_lane() {
     let moves = |n: usize| -> String {
         (0..n)
             .map(|i| format!("    MoveL [[{},{},400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tool0;", 450 + i, i))

@@ -328,11 +328,14 @@ impl<'p> Walker<'p> {
         }
         let mut count = 0;
         let mut shown: Vec<String> = Vec::new();
-        for t in self.program.targets().iter() {
-            if t.value.is_some() && self.schedule.times(&t.id).is_none() {
+        // Identifiers only: the targets' numbers are not read for this.
+        let targets = self.program.targets();
+        let mut id = String::new();
+        for i in 0..targets.len() {
+            if targets.id_into(i, &mut id) == Some(true) && self.schedule.times(&id).is_none() {
                 count += 1;
                 if shown.len() < SHOWN_MISSED {
-                    shown.push(t.id.clone());
+                    shown.push(id.clone());
                 }
             }
         }

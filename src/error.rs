@@ -51,6 +51,16 @@ pub enum Remedy {
     FitBeyondRecording,
     /// A name not in the catalogue of ABB arms: see the list.
     ListArms,
+    /// A task's arm is not known from the backup: name it for the task.
+    NameTheArm,
+    /// An arm whose thermal behaviour is unknown: give a model file of it,
+    /// or use the IRB 140's thermal defaults on its lengths.
+    ModelOfTheArm,
+    /// An arm said besides a model fitted on another: leave it to the
+    /// model.
+    ArmOfTheModel,
+    /// Tasks that would write one file differently: one at a time.
+    OneTaskAtATime,
 }
 
 impl Remedy {
@@ -68,6 +78,14 @@ impl Remedy {
                 "; fit a saturating model to predict beyond it, or hold the end values explicitly"
             }
             Remedy::ListArms => " (the catalogue lists every name)",
+            Remedy::NameTheArm => "; name the arm this task moves",
+            Remedy::ModelOfTheArm => {
+                "give a model file of this arm (its heating measured, or a heating recording in it), or use the IRB 140's thermal defaults on this arm's lengths"
+            }
+            Remedy::ArmOfTheModel => {
+                "give a model diagnosed on this arm, or leave the arm to the model"
+            }
+            Remedy::OneTaskAtATime => "",
         }
     }
 }
@@ -115,6 +133,25 @@ pub fn decode_lossless(bytes: &[u8]) -> String {
     match std::str::from_utf8(bytes) {
         Ok(s) => s.to_string(),
         Err(_) => bytes.iter().map(|&b| b as char).collect(),
+    }
+}
+
+/// What an error is about, where it is one thing of the input: a target
+/// of the program by its identifier. Kept apart from the message (which
+/// says why), so that the errors of one cause about many targets are told
+/// apart by their cause, never by taking their text apart.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Subject {
+    Target(String),
+    JointTarget(String),
+}
+
+impl fmt::Display for Subject {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Subject::Target(id) => write!(f, "target {id}"),
+            Subject::JointTarget(id) => write!(f, "jointtarget {id}"),
+        }
     }
 }
 
@@ -183,7 +220,10 @@ fn shown_line(line: &str, col: usize) -> (String, String) {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Error {
     pub kind: ErrorKind,
+    /// Why it is an error (the cause), without what it is about.
     pub message: String,
+    /// What it is about, where it is a target: said before the message.
+    pub subject: Option<Box<Subject>>,
     pub location: Option<Box<Location>>,
     /// Extra lines shown after the caret (for example what was expected).
     pub notes: Vec<String>,
@@ -212,10 +252,25 @@ impl Error {
         Error {
             kind,
             message: message.into(),
+            subject: None,
             location: None,
             notes: Vec::new(),
             remedy: None,
             related: None,
+        }
+    }
+
+    /// The error is about `subject`.
+    pub fn about(mut self, subject: Subject) -> Error {
+        self.subject = Some(Box::new(subject));
+        self
+    }
+
+    /// What it is about and why, as one line: `target p20: unknown tool`.
+    pub fn headline(&self) -> String {
+        match &self.subject {
+            Some(s) => format!("{s}: {}", self.message),
+            None => self.message.clone(),
         }
     }
 
@@ -274,7 +329,7 @@ impl Error {
             _ => "",
         };
         let mut out = String::new();
-        let message = format!("{}{}", self.message, suffix(None));
+        let message = format!("{}{}", self.headline(), suffix(None));
         match &self.location {
             Some(loc) => {
                 out.push_str(&format!(
@@ -516,5 +571,20 @@ mod related_tests {
     #[test]
     fn error_stays_small() {
         assert!(std::mem::size_of::<Error>() < 128);
+    }
+}
+
+#[cfg(test)]
+mod subject_tests {
+    use super::*;
+
+    #[test]
+    fn an_error_about_a_target_says_it_before_its_cause() {
+        let e = Error::input("unknown tool `t`").about(Subject::Target("p20".to_string()));
+        assert_eq!(e.message, "unknown tool `t`");
+        assert_eq!(e.headline(), "target p20: unknown tool `t`");
+        assert_eq!(e.to_string(), "error: target p20: unknown tool `t`");
+        let j = Error::input("x").about(Subject::JointTarget("j1".to_string()));
+        assert_eq!(j.headline(), "jointtarget j1: x");
     }
 }

@@ -2,7 +2,7 @@
 //! any arm with `--chain`): argument checks and printing only; the work is
 //! `rapidtherm::diagnose::chain_diagnose`.
 
-use super::diagnose::{parameter_table, DiagnoseArgs};
+use super::diagnose_args::{parameter_table, DiagnoseArgs};
 use super::messages::warning;
 use super::Format;
 use super::{read_input, write_stdout, Status};

@@ -21,7 +21,9 @@ pub fn check_dir(dir: Option<&Path>) -> Result<()> {
             "--plot {}: not a folder (the pictures are written into a folder, created if missing)",
             dir.display()
         ))),
-        _ => Ok(()),
+        // To be made: its nearest existing folder must be one, checked
+        // before the run writes anything else.
+        _ => super::output::check_folder("--plot", dir),
     }
 }
 

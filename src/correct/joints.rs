@@ -14,10 +14,10 @@
 //! - Robot axes all `9E+09` (a positioner's jointtarget): nothing of the arm
 //!   to correct; left alone. External axes are never changed.
 
+use super::context::Run;
 use super::moments::{joint_moments_of, minute_of, pick};
-use super::outcome::{Correction, Frame, LeftAlone, Reason, Residual};
-use super::solve::Run;
-use crate::error::{Error, ErrorKind, Result};
+use super::outcome::{Correction, Frame, Kind, LeftAlone, Reason, Residual};
+use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::model::warm::pose_error;
 use crate::model::State;
 use crate::rapid::rewrite::jointtarget_edits;
@@ -56,13 +56,13 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
     } = run;
     let location = program.location(&jt.origin);
     let located = |e: Error| {
-        let msg = format!("jointtarget {}: {}", jt.id, e.message);
-        Error { message: msg, ..e }.at(location.clone())
+        e.about(Subject::JointTarget(jt.id.clone()))
+            .at(location.clone())
     };
     let leave = |reason: Reason, detail: String| {
         JointSolved::LeftAlone(LeftAlone {
             id: jt.id.clone(),
-            kind: "jointtarget".to_string(),
+            kind: Kind::JointTarget,
             file: location.file.clone(),
             line: jt.origin.pos.line,
             col: jt.origin.pos.col,
@@ -145,7 +145,7 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
     Ok(JointSolved::Corrected(
         Box::new(Correction {
             id: jt.id.clone(),
-            kind: "jointtarget".to_string(),
+            kind: Kind::JointTarget,
             file: location.file.clone(),
             line: jt.origin.pos.line,
             col: jt.origin.pos.col,

@@ -19,7 +19,6 @@
 use crate::error::{Error, Location};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::Program;
-use sha2::{Digest, Sha256};
 
 const PREFIX: &str = "! rapidtherm ";
 const CORRECTED: &str = " corrected: ";
@@ -49,44 +48,7 @@ pub struct Found {
     pub line: usize,
 }
 
-/// `sha256:` and the first 16 hex digits of the bytes' SHA-256: enough to
-/// tell files apart, short enough to read.
-pub fn fingerprint(bytes: &[u8]) -> String {
-    hex_of(&Sha256::digest(bytes))
-}
-
-/// [`fingerprint`] of the text `show` writes, hashed as it is written (a
-/// schedule of a million visits writes tens of megabytes).
-pub fn fingerprint_of(show: impl FnOnce(&mut dyn std::fmt::Write) -> std::fmt::Result) -> String {
-    struct Hashing {
-        sha: Sha256,
-        buf: Vec<u8>,
-    }
-    impl std::fmt::Write for Hashing {
-        fn write_str(&mut self, s: &str) -> std::fmt::Result {
-            // Debug writes a few bytes at a time: hashed a page at a time.
-            if self.buf.len() + s.len() > 8192 {
-                self.sha.update(&self.buf);
-                self.buf.clear();
-            }
-            self.buf.extend_from_slice(s.as_bytes());
-            Ok(())
-        }
-    }
-    let mut h = Hashing {
-        sha: Sha256::new(),
-        buf: Vec::with_capacity(8192),
-    };
-    // Writing into memory cannot fail, nor can Debug of plain data.
-    let _ = show(&mut h);
-    h.sha.update(&h.buf);
-    hex_of(&h.sha.finalize())
-}
-
-fn hex_of(digest: &[u8]) -> String {
-    let hex: String = digest.iter().take(8).map(|b| format!("{b:02x}")).collect();
-    format!("sha256:{hex}")
-}
+pub use crate::digest::fingerprint;
 
 impl Marker {
     /// The comment line (without indentation or line end).

@@ -120,6 +120,23 @@ fn a_plot_folder_under_a_file_is_named_and_nothing_is_written() {
     refused(&out, "the folder `no/such` does not exist");
     assert!(!d.join("plots").exists(), "the plots were written");
     assert_eq!(snapshot(d), before);
+    // A correction in place with such a plot folder leaves the program.
+    std::fs::write(d.join("x.mod"), PROGRAM).unwrap();
+    let before = snapshot(d);
+    let out = run(
+        d,
+        &[
+            "correct",
+            "x.mod",
+            "--at",
+            "120",
+            "--in-place",
+            "--plot",
+            "file/sub",
+        ],
+    );
+    refused(&out, "--plot file/sub: `file` is a file, not a folder");
+    assert_eq!(snapshot(d), before);
 }
 
 #[cfg(unix)]

@@ -6,11 +6,12 @@ mod common;
 
 mod backup;
 mod cli;
+mod lanes;
+mod marker;
 mod plot;
 mod samples;
 mod shared;
 mod streaming;
-mod streaming_schedule;
 mod trust;
 
 use std::path::Path;

@@ -85,7 +85,7 @@ fn expected_punctuation(rule: Rule, text: &str, at: usize) -> Vec<&'static str> 
         .into_iter()
         .filter(|t| {
             let probe = format!("{before}{t} {after}");
-            match RapidParser::parse(rule, &probe) {
+            match grammar::read(rule, &probe) {
                 Ok(_) => true,
                 Err(e) => error_offset(&e) >= at + t.len(),
             }

@@ -15,6 +15,9 @@ impl<'p> Walker<'p> {
             Expr::Str(s) => Value::Str(s.to_string()),
             Expr::Placeholder(_) => Value::Unknown,
             Expr::Target(i) => self.target_value(*i)?,
+            // An array's literals the fast lane read: each read when the
+            // walk reads an element (`arr{i}`).
+            Expr::Elements(_) => Value::Unknown,
             Expr::JointTarget(i) => self.joint_value(*i),
             Expr::Name(n) => self.name_value(n, frame)?,
             Expr::Index(_) | Expr::Component(_) => match self.path_of(e, frame)? {
@@ -51,14 +54,13 @@ impl<'p> Walker<'p> {
         let Some(t) = self.program.targets().get(i) else {
             return Ok(Value::Unknown);
         };
-        Ok(match target_pose(self.program, t)? {
+        Ok(match target_pose(self.program, &t)? {
             Some((pose, conf)) => Value::Rob(Box::new(Rob {
                 pose,
                 conf,
                 id: Some(i),
                 derived: None,
                 bases: Vec::new(),
-                cut: None,
             })),
             None => Value::Unknown,
         })
@@ -163,14 +165,12 @@ impl<'p> Walker<'p> {
         let decl = self.decls.get(&key).and_then(|list| {
             list.iter()
                 .find(|(m, _)| *m == frame.module)
-                .or_else(|| {
-                    list.iter()
-                        .find(|(_, d)| d.scope != Some(rapid::Scope::Local))
-                })
+                .or_else(|| list.iter().find(|(_, d)| !d.local()))
                 .copied()
         });
         match decl {
-            Some((m, d)) => self.decl_value(m, None, d),
+            Some((m, Decl::Tree(d))) => self.decl_value(m, None, d),
+            Some((_, Decl::Run { target, .. })) => self.target_value(target),
             None => Ok(Value::Ref(name.to_string())),
         }
     }
@@ -281,7 +281,6 @@ impl<'p> Walker<'p> {
                     id: None,
                     derived,
                     bases,
-                    cut: None,
                 })))
             }
             "crobt" => {
@@ -296,7 +295,6 @@ impl<'p> Walker<'p> {
                             id: None,
                             derived,
                             bases: Vec::new(),
-                            cut: None,
                         })),
                         Err(_) => Value::Unknown,
                     },
@@ -343,7 +341,10 @@ impl<'p> Walker<'p> {
                             l.iter()
                                 .find(|(m, _)| *m == frame.module)
                                 .or_else(|| l.first())
-                                .copied()
+                                .and_then(|&(m, d)| match d {
+                                    Decl::Tree(d) => Some((m, d)),
+                                    Decl::Run { .. } => None,
+                                })
                         })
                     });
                 let (Some((m, d)), Some(k)) = (decl, which) else {

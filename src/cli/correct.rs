@@ -78,7 +78,14 @@ impl From<AcceptArg> for Reason {
 pub struct WhenArgs {
     /// Every target at this minute since the cold start, or `steady` for
     /// the thermally stable state after warm-up.
-    #[arg(long, value_name = "MIN|steady", group = "when")]
+    // A negative minute is read as a value (and refused as a minute), not
+    // taken for a flag.
+    #[arg(
+        long,
+        value_name = "MIN|steady",
+        group = "when",
+        allow_hyphen_values = true
+    )]
     pub at: Option<String>,
     /// Times per target: a CSV `target,time_min` (`rapidtherm schedule`
     /// writes one).
@@ -86,7 +93,12 @@ pub struct WhenArgs {
     pub schedule: Option<PathBuf>,
     /// Estimate the times from the program itself, starting at this minute
     /// (walks --entry, follows calls and loops, times every move).
-    #[arg(long, value_name = "MIN", group = "when")]
+    #[arg(
+        long,
+        value_name = "MIN",
+        group = "when",
+        allow_negative_numbers = true
+    )]
     pub start: Option<f64>,
 }
 
@@ -221,8 +233,9 @@ fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
     if args.in_place && args.files.iter().any(|f| f == Path::new("-")) {
         return Err(Error::usage("--in-place cannot rewrite standard input"));
     }
-    if args.tolerance.is_nan() || args.tolerance < 0.0 {
-        return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
+    // An infinite tolerance would let every check pass.
+    if !(args.tolerance.is_finite() && args.tolerance >= 0.0) {
+        return Err(Error::usage("--tolerance must be a finite length ≥ 0 (mm)"));
     }
     ci_report::refuse_outside_check(args.format, args.check, args.diff)?;
     if args.output.is_some() && args.files.len() > 1 {

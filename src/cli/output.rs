@@ -244,7 +244,10 @@ impl rapidtherm::correct::job::Sink for FileSink {
             return Ok(Box::new(Stdout(Vec::new())));
         }
         if let Some(device) = Device::open(path)? {
-            return Ok(Box::new(device));
+            return Ok(Box::new(DeviceOutput {
+                device,
+                held: Vec::new(),
+            }));
         }
         Ok(Box::new(Pending {
             file: AtomicFile::unchecked(path, self.backup.as_deref())?,
@@ -287,13 +290,34 @@ impl rapidtherm::correct::job::Output for Pending {
     }
 }
 
-impl rapidtherm::correct::job::Output for Device {
+/// A device's output, held until the run ends: what was streamed may be
+/// taken back (a file that does not change is written as it was read),
+/// and a device cannot be rewound.
+struct DeviceOutput {
+    device: Device,
+    held: Vec<u8>,
+}
+
+impl Write for DeviceOutput {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.held.extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+impl rapidtherm::correct::job::Output for DeviceOutput {
     fn restart(&mut self) -> std::io::Result<()> {
-        Err(std::io::Error::other("a device cannot be written again"))
+        self.held.clear();
+        Ok(())
     }
     fn finish(mut self: Box<Self>, _: bool) -> Result<()> {
-        self.0
-            .flush()
+        let held = std::mem::take(&mut self.held);
+        self.device
+            .write_all(&held)
+            .and_then(|_| self.device.flush())
             .map_err(|e| Error::new(ErrorKind::Io, e.to_string()))
     }
 }

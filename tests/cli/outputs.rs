@@ -269,3 +269,22 @@ fn the_gap_gate_is_checked_before_reading_and_never_passed_by_nan() {
     let out = run(dir.path(), &["gap", "missing.csv", "--fail-above", "NaN"]);
     refused(&out, "--fail-above must be a number of mm >= 0");
 }
+
+#[cfg(unix)]
+#[test]
+fn a_device_takes_a_correction_whether_or_not_it_changes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("x.mod"), PROGRAM).unwrap();
+    // Unchanged at minute 0 and at the start of a schedule: the program is
+    // written as read, which a device cannot be rewound for.
+    for args in [
+        &["correct", "x.mod", "--at", "0", "-o", "/dev/null"][..],
+        &["correct", "x.mod", "--start", "0", "-o", "/dev/null"][..],
+        &["correct", "x.mod", "--at", "120", "-o", "/dev/null"][..],
+    ] {
+        let out = run(d, args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+    }
+    assert_eq!(std::fs::read(d.join("x.mod")).unwrap(), PROGRAM.as_bytes());
+}

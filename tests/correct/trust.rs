@@ -49,6 +49,7 @@ fn programs() -> Vec<(String, Vec<u8>)> {
                 "unknown",
                 "conf_wrong",
                 "several_errors",
+                "bad_speeds",
                 "_at60",
                 "_at120",
             ]

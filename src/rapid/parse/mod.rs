@@ -117,8 +117,38 @@ pub fn parse_sources(inputs: Vec<(String, Source)>, options: ParseOptions) -> Re
         }
         seen.insert(m.name.to_lowercase(), i);
     }
+    refuse_speeds(&b.prog, &refs)?;
     b.finish(&refs, &lines)?;
     Ok(b.prog)
+}
+
+/// A speeddata whose TCP or orientation speed is not a positive number:
+/// the controller stops on it, and a time estimate would divide by it.
+/// Every such speed is reported at its number.
+fn refuse_speeds(prog: &Program, refs: &[(&str, &[u8])]) -> Result<()> {
+    let mut errors = Vec::new();
+    for s in &prog.speeds {
+        for (what, n) in [("TCP speed", &s.v_tcp), ("orientation speed", &s.v_ori)] {
+            if n.value.is_finite() && n.value > 0.0 {
+                continue;
+            }
+            let (name, src) = refs.get(s.origin.file).copied().unwrap_or(("", &[]));
+            errors.push(
+                Error::new(
+                    ErrorKind::Syntax,
+                    format!(
+                        "speeddata {}: the {what} {} is not a speed (it must be greater than 0)",
+                        s.name, n.value
+                    ),
+                )
+                .at(Location::from_offset(name, src, n.span().start)),
+            );
+        }
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }
 
 #[cfg(test)]

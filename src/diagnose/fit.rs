@@ -10,7 +10,7 @@
 //! a statistical stopping rule.
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
+use crate::model::effects::GEOMETRY_ORIGINS_FROM;
 use crate::model::{predict, Base, Effect, EffectKind, LinkLags, RowState};
 use crate::robot::Joints;
 use crate::thermal::MotorTemps;
@@ -57,6 +57,10 @@ pub struct Problem {
     /// reflector, a frame, sag) is then absorbed whatever its form, and
     /// only what changes with time is left to the effects.
     pub centre_poses: bool,
+    /// Fit the joint-origin part of geometry-offset (a full kinematic
+    /// calibration): only where the poses are enough for it, else it would
+    /// fit each pose's own error and predict no other.
+    pub origins: bool,
 }
 
 impl Problem {
@@ -134,6 +138,12 @@ impl Problem {
                 }
             }
         }
+    }
+
+    /// Subtract from each entry of every column of `m` (`width()` rows per
+    /// data row of `rows`) its pose's mean.
+    pub(crate) fn centre_columns(&self, m: &mut DMatrix<f64>, rows: &[usize]) {
+        self.centre(m, rows);
     }
 
     /// Positions in `rows` grouped by pose (every pose's rows together).
@@ -247,9 +257,52 @@ impl Fit {
     }
 }
 
+impl Problem {
+    /// The parameters of `layout` (effect, index) the fit may free: those
+    /// with a place on the arm, and the joint origins only where asked for.
+    fn allowed(&self, layout: &[(EffectKind, usize)]) -> Vec<usize> {
+        (0..layout.len())
+            .filter(|&p| {
+                let (kind, idx) = layout[p];
+                (kind != EffectKind::GeometryOffset || idx < GEOMETRY_ORIGINS_FROM || self.origins)
+                    && self.base.nominal.has_param(kind, idx)
+            })
+            .collect()
+    }
+
+    /// How many parameters of `kinds` (none of them the lag) the rows `rows`
+    /// identify against the noise: the rank of what a fit of them could
+    /// take up.
+    pub fn identifiable_rank(&self, kinds: &[EffectKind], rows: &[usize]) -> usize {
+        let layout: Vec<(EffectKind, usize)> = kinds
+            .iter()
+            .flat_map(|&k| (0..k.params().len()).map(move |i| (k, i)))
+            .collect();
+        let Some(j) = self.cached_jacobian(kinds, rows) else {
+            return 0;
+        };
+        let allowed = self.allowed(&layout);
+        let typ: Vec<f64> = allowed
+            .iter()
+            .map(|&p| {
+                let (k, i) = layout[p];
+                k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6))
+            })
+            .collect();
+        identifiable(&j.select_columns(allowed.iter()), &typ, self.noise_mm).len()
+    }
+}
+
 /// Relative singular value under which a parameter direction counts as not
 /// identifiable on these data.
 const IDENTIFIABLE: f64 = 1e-5;
+/// Largest standard error of an identifiable direction, in typical sizes
+/// (the defaults of `data/effects.toml`): real errors run to several times
+/// those illustrations (an arm's joint origins off by 0.1 mm where the
+/// default is 0.03), and a direction pinned to a fifth of its real size is
+/// worth fitting. Its noise floor: the singular value of the scaled
+/// columns (mm of the data per typical step) at least the noise over this.
+const SE_IN_TYPICAL: f64 = 5.0;
 const MAX_ITER: usize = 100;
 /// Longest thermal-lag time constant fitted, minutes: a structure that
 /// lags by more than 10 h hardly warms during a test, which
@@ -343,22 +396,7 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         .iter()
         .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
         .collect();
-    // The joint-origin part of geometry-offset only from enough poses: with
-    // fewer, it would fit each pose's own error and predict no other.
-    let poses: std::collections::BTreeSet<usize> = rows
-        .iter()
-        .filter_map(|&i| problem.rows.get(i))
-        .map(|r| r.pose)
-        .collect();
-    let allowed: Vec<usize> = (0..m)
-        .filter(|&p| {
-            let (kind, idx) = layout[p];
-            (kind != EffectKind::GeometryOffset
-                || idx < GEOMETRY_ORIGINS_FROM
-                || poses.len() >= FULL_GEOMETRY_POSES)
-                && problem.base.nominal.has_param(kind, idx)
-        })
-        .collect();
+    let allowed = problem.allowed(&layout);
     let free: Vec<usize> = {
         let sub = j0.select_columns(allowed.iter());
         let typ: Vec<f64> = allowed.iter().map(|&p| typical[p]).collect();
@@ -523,8 +561,9 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
 /// Parameters the data identify. Columns are scaled by each parameter's
 /// typical size, so a singular value is how far (mm, over all residuals)
 /// the data move when the parameters move one typical size along that
-/// direction. A direction that moves them less than the noise `sigma` (or
-/// is numerically degenerate) cannot be told from noise: the parameter
+/// direction. A direction that moves them less than the noise `sigma` over
+/// [`SE_IN_TYPICAL`] (its standard error would exceed that many typical
+/// sizes), or is numerically degenerate, cannot be told from noise: the parameter
 /// weighing most in it is held at zero, and the test repeats. This drops
 /// the axis-6 zero without orientation data, c1 against a tracker's z, or a
 /// base tilt seen from a single pose, instead of fitting them to huge
@@ -560,7 +599,7 @@ fn identifiable(j: &DMatrix<f64>, typical: &[f64], sigma: f64) -> Vec<usize> {
                     |a, (i, v)| if v < a.1 { (i, v) } else { a },
                 );
         let smax = values.iter().copied().fold(0.0, f64::max);
-        if smin >= sigma.max(IDENTIFIABLE * smax) {
+        if smin >= (sigma / SE_IN_TYPICAL).max(IDENTIFIABLE * smax) {
             break;
         }
         let row = eig.eigenvectors.column(imin);

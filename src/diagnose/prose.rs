@@ -84,14 +84,17 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     format!(", which explain only part of it: {}", partial.join(", "))
                 }
             ));
+            words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(false)));
             words.extend(d.where_.words.iter().cloned());
             if !partial.is_empty() && !d.where_after.words.is_empty() {
                 words.push(format!("What {} leaves:", partial.join(" + ")));
-                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+                words.extend(after_words(&d.where_after));
             }
         }
         Verdict::ExplainedBy { remainder, .. } | Verdict::Ambiguous { remainder, .. } => {
             words.push(format!("Verdict: {}.", d.verdict.labels().join(" + ")));
+            let thermal = d.verdict.effects().iter().any(|k| k.is_thermal());
+            words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(thermal)));
             words.extend(d.where_.words.iter().cloned());
             for s in &d.steps {
                 let stage = match s.part {
@@ -116,13 +119,13 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     "What changes over time and they leave ({over_time:.3} mm held-out with each pose's own offset, noise {:.3} mm) is not explained by the library:",
                     noise.rms_mm
                 ));
-                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+                words.extend(after_words(&d.where_after));
             } else if *remainder {
                 words.push(format!(
                     "What they leave ({:.3} mm held-out, noise {:.3} mm) is not explained by the library:",
                     cv, noise.rms_mm
                 ));
-                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+                words.extend(after_words(&d.where_after));
             }
         }
     }
@@ -157,6 +160,18 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         ));
     }
     words.push(advice(&d.advice, remedies));
+    if !d.detection_limits.is_empty() {
+        let list: Vec<String> = d
+            .detection_limits
+            .iter()
+            .map(|l| format!("{} above {:.3} mm", l.effect.name(), l.flange_mm))
+            .collect();
+        words.push(format!(
+            "These poses, times and noise would have revealed (at {:.0} %, with 90 % power, beyond the rest of what was found; the largest move of the flange at the calibration pose over these times): {}.",
+            100.0 * d.level,
+            list.join(", ")
+        ));
+    }
     for a in &d.ambiguities {
         let why = match a.correlation {
             Some(c) => format!("correlation {c:.2}"),
@@ -168,6 +183,18 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         ));
     }
     words
+}
+
+/// Where what is left lies, indented under the sentence that introduces
+/// it; its change over time said only where it grows (it is what is left).
+fn after_words(w: &super::locate::Where) -> Vec<String> {
+    w.time_shape
+        .as_ref()
+        .and_then(|t| t.words(true))
+        .into_iter()
+        .chain(w.words.iter().cloned())
+        .map(|s| format!("  {s}"))
+        .collect()
 }
 
 /// What to do, in one sentence.

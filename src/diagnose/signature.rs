@@ -57,7 +57,11 @@ fn quadratic_columns(problem: &Problem, rows: &[usize]) -> DMatrix<f64> {
 
 /// The numeric Jacobian of the residual along every parameter of
 /// `effects` at their values.
-fn effects_jacobian(problem: &Problem, effects: &[Effect], rows: &[usize]) -> DMatrix<f64> {
+pub(crate) fn effects_jacobian(
+    problem: &Problem,
+    effects: &[Effect],
+    rows: &[usize],
+) -> DMatrix<f64> {
     let r0 = problem.residuals(effects, rows);
     let mut cols = Vec::new();
     for (ei, e) in effects.iter().enumerate() {
@@ -76,7 +80,7 @@ fn effects_jacobian(problem: &Problem, effects: &[Effect], rows: &[usize]) -> DM
 }
 
 /// Residual sum of squares of `r` less its least-squares fit on `a`.
-fn rss_after(a: &DMatrix<f64>, r: &DVector<f64>) -> f64 {
+pub(crate) fn rss_after(a: &DMatrix<f64>, r: &DVector<f64>) -> f64 {
     if a.ncols() == 0 {
         return r.norm_squared();
     }

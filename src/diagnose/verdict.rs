@@ -2,6 +2,7 @@
 //! what to do about it. No sentences here: [`super::prose`] words them,
 //! and a caller may word them its own way.
 
+use super::detect::DetectionLimit;
 use super::gap::{GapStats, Noise};
 use super::locate::Where;
 use super::prepare::Registration;
@@ -213,6 +214,9 @@ pub struct Diagnosis {
     /// A growth with the square of the link temperatures over time, which
     /// no effect of the library has.
     pub quadratic_growth: Option<QuadraticGrowth>,
+    /// For every effect of the library, the smallest size these poses,
+    /// times and noise would have revealed.
+    pub detection_limits: Vec<DetectionLimit>,
     pub registration: Option<Registration>,
     /// The stages of the diagnosis: with poses measured again and again,
     /// first what changes with time, then what stays; else one.

@@ -118,6 +118,68 @@ pub fn decode_lossless(bytes: &[u8]) -> String {
     }
 }
 
+/// The longest source line an error shows whole; a longer one (a
+/// generated program may hold a megabyte on one line) is cut to
+/// [`SHOWN_AROUND`] characters on each side of the column.
+pub const SHOWN_WHOLE: usize = 240;
+
+/// See [`SHOWN_WHOLE`].
+pub const SHOWN_AROUND: usize = 80;
+
+/// A character as an error message shows it: itself, or an escape when it
+/// would be invisible or move the terminal (`\0`, `\u{FEFF}`). Tabs stay
+/// tabs, so that the caret lines up under them.
+pub fn visible_char(c: char, out: &mut String) {
+    match c {
+        '\t' => out.push('\t'),
+        '\0' => out.push_str("\\0"),
+        c if c.is_control()
+            || matches!(c, '\u{FEFF}' | '\u{200B}'..='\u{200F}' | '\u{2028}'..='\u{202E}' | '\u{2060}'..='\u{2064}') =>
+        {
+            out.push_str(&format!("\\u{{{:X}}}", c as u32));
+        }
+        c => out.push(c),
+    }
+}
+
+/// Text as an error message shows it (see [`visible_char`]).
+pub fn visible(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    text.chars().for_each(|c| visible_char(c, &mut out));
+    out
+}
+
+/// The part of `line` an error shows around 1-based column `col`, with
+/// invisible characters made visible and `…` where it was cut; and the
+/// shown text before the column (the caret goes after it).
+fn shown_line(line: &str, col: usize) -> (String, String) {
+    let chars: Vec<char> = line.chars().collect();
+    let at = col.saturating_sub(1).min(chars.len());
+    let (from, to) = if chars.len() <= SHOWN_WHOLE {
+        (0, chars.len())
+    } else {
+        (
+            at.saturating_sub(SHOWN_AROUND),
+            (at + SHOWN_AROUND).min(chars.len()),
+        )
+    };
+    let mut before = String::new();
+    if from > 0 {
+        before.push('…');
+    }
+    chars[from..at]
+        .iter()
+        .for_each(|&c| visible_char(c, &mut before));
+    let mut shown = before.clone();
+    chars[at..to]
+        .iter()
+        .for_each(|&c| visible_char(c, &mut shown));
+    if to < chars.len() {
+        shown.push('…');
+    }
+    (shown, before)
+}
+
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Error {
     pub kind: ErrorKind,
@@ -221,12 +283,11 @@ impl Error {
                 ));
                 if !loc.line_text.is_empty() {
                     let gutter = loc.line.to_string().len();
+                    let (shown, before) = shown_line(&loc.line_text, loc.col);
                     out.push_str(&format!("\n{:gutter$} |", ""));
-                    out.push_str(&format!("\n{} | {}", loc.line, loc.line_text));
-                    let pad: String = loc
-                        .line_text
+                    out.push_str(&format!("\n{} | {}", loc.line, shown));
+                    let pad: String = before
                         .chars()
-                        .take(loc.col.saturating_sub(1))
                         .map(|c| if c == '\t' { '\t' } else { ' ' })
                         .collect();
                     out.push_str(&format!("\n{:gutter$} | {}^", "", pad));
@@ -378,6 +439,26 @@ mod tests {
             "error: no time (choose the entry routine)"
         );
         assert!(!on_note.to_string().contains("--"));
+    }
+
+    #[test]
+    fn a_long_line_is_cut_around_the_column_and_invisibles_are_shown() {
+        let mut src = "x".repeat(1_000_000);
+        src.insert_str(500_000, "\u{FEFF}\0bad");
+        let e = Error::input("bad word").at(Location::from_offset("f", src.as_bytes(), 500_000));
+        let shown = e.to_string();
+        assert!(shown.len() < 400, "{} bytes shown", shown.len());
+        let lines: Vec<&str> = shown.lines().collect();
+        assert_eq!(
+            lines[2],
+            format!(
+                "1 | …{}\\u{{FEFF}}\\0bad{}…",
+                "x".repeat(80),
+                "x".repeat(75)
+            )
+        );
+        // The caret stands under the escaped BOM.
+        assert_eq!(lines[3].find('^'), Some("1 | ".len() + 1 + 80));
     }
 
     #[test]

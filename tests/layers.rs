@@ -260,8 +260,12 @@ fn repository_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in entries.flatten() {
         let path = entry.path();
         let name = entry.file_name();
+        // `.git` is a folder in a clone and a file in a worktree.
+        if name == ".git" {
+            continue;
+        }
         if path.is_dir() {
-            if ![".git", "target", "corpus", "artifacts", "coverage"]
+            if !["target", "corpus", "artifacts", "coverage"]
                 .iter()
                 .any(|skip| name == *skip)
             {

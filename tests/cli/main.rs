@@ -5,5 +5,6 @@
 
 mod ci_report;
 mod conventions;
+mod hostile;
 mod pre_commit_hook;
 mod transcripts;

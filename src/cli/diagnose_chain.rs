@@ -184,25 +184,27 @@ pub fn run(
 
 /// Why a parameter is held at zero, in words.
 fn unidentified_words(x: &Dropped) -> String {
-    match &x.why {
-        Unidentified::NoLever { lever_mm } => format!(
-            "no lever: it moves the measured point by at most {lever_mm:.2e} mm per {}",
-            x.unit
-        ),
+    held_words(&x.why, x.unit)
+}
+
+/// Why a parameter in `unit` is not identifiable, in words.
+pub(crate) fn held_words(why: &Unidentified, unit: &str) -> String {
+    match why {
+        Unidentified::NoLever { lever_mm } => {
+            format!("no lever: it moves the measured point by at most {lever_mm:.2e} mm per {unit}")
+        }
         Unidentified::SameAs { same_as, .. } if same_as.is_empty() => {
             "the same effect as the parameters kept before it".into()
         }
         Unidentified::SameAs { same_as, .. } => {
             format!("same effect as {}", same_as.join(" + "))
         }
-        Unidentified::Unresolved { stderr, limit } => format!(
-            "standard error {stderr:.3} {u}, above its resolution {limit} {u}",
-            u = x.unit
-        ),
-        Unidentified::Implausible { value, limit } => format!(
-            "fitted to {value:.3} {u}, beyond a plausible {limit} {u}",
-            u = x.unit
-        ),
+        Unidentified::Unresolved { stderr, limit } => {
+            format!("standard error {stderr:.3} {unit}, above its resolution {limit} {unit}")
+        }
+        Unidentified::Implausible { value, limit } => {
+            format!("fitted to {value:.3} {unit}, beyond a plausible {limit} {unit}")
+        }
     }
 }
 

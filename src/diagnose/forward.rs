@@ -65,6 +65,7 @@ pub fn params_out(fit: &fit::Fit) -> Vec<ParamOut> {
                 unit: info.unit.to_string(),
                 value: p.value,
                 stderr: p.stderr,
+                held: p.held.clone(),
             })
         })
         .collect()
@@ -376,7 +377,7 @@ pub fn forward(
     let fit = if selected.is_empty() {
         None
     } else {
-        Some(fit::fit(problem, &all, &selected).map_err(|e| {
+        Some(fit::fit_plausible(problem, &all, &selected).map_err(|e| {
             if e.kind == ErrorKind::NoConvergence {
                 Error::new(
                     ErrorKind::NoConvergence,

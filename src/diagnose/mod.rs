@@ -39,6 +39,7 @@ pub mod knock;
 pub mod locate;
 pub mod measurements;
 pub mod pipeline;
+pub mod plausible;
 pub mod plot;
 pub mod prepare;
 pub mod prose;
@@ -46,6 +47,7 @@ pub mod select;
 pub mod signature;
 pub mod simulate;
 pub mod stats;
+pub mod unidentified;
 pub mod verdict;
 
 pub use gap::{estimate_noise, gap, gap_stats, orientation_gap, GapStats, Noise, NoiseSource};

@@ -140,6 +140,9 @@ pub struct ParamOut {
     pub value: f64,
     /// `null` when the data cannot identify it (held at zero).
     pub stderr: Option<f64>,
+    /// Why the data cannot identify it, where they cannot.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held: Option<super::unidentified::Unidentified>,
 }
 
 #[derive(Debug, Clone, Serialize)]

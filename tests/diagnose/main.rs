@@ -15,6 +15,7 @@ mod loop_program;
 mod nuisance;
 mod nuisance_ur5;
 mod poses;
+mod real_plausible;
 mod robust;
 mod urdf;
 mod world;

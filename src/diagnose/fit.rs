@@ -710,8 +710,8 @@ fn identifiable(
         .collect();
     let mut dropped: Vec<(usize, Dropped)> = Vec::new();
     let mut free: Vec<usize> = Vec::new();
-    for c in 0..j.ncols() {
-        if norms[c] > 1e-9 {
+    for (c, &norm) in norms.iter().enumerate() {
+        if norm > 1e-9 {
             free.push(c);
         } else {
             let lever = j.column(c).amax();

@@ -11,6 +11,7 @@ use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::simulate::{
     iso_cube_poses, program_poses, random_poses, simulate_arm, SimSpec,
 };
+use rapidtherm::diagnose::unidentified::Unidentified;
 use rapidtherm::diagnose::{self, Diagnosis, Options, Part, Prepared, RegisterFailure};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::effects::Effect;
@@ -652,6 +653,32 @@ fn diagnosis_table(d: &Diagnosis) -> String {
                 .flat_map(|c| c.params.iter())
                 .map(|p| (p.name.as_str(), p.value, p.stderr, p.unit.as_str())),
         ));
+        // A parameter taken beyond what a real arm has, or traded against
+        // a few others: its reason, so that its zero is not read as a
+        // finding (every held parameter's reason is in the JSON).
+        let told: Vec<String> = selected
+            .iter()
+            .flat_map(|c| c.params.iter())
+            .filter_map(|p| {
+                let why = p.held.as_ref()?;
+                let clear = match why {
+                    Unidentified::Implausible { .. } => true,
+                    Unidentified::SameAs { same_as, .. } => (1..=3).contains(&same_as.len()),
+                    _ => false,
+                };
+                clear.then(|| {
+                    format!(
+                        "  {}: {}\n",
+                        p.name,
+                        super::diagnose_chain::held_words(why, &p.unit)
+                    )
+                })
+            })
+            .collect();
+        if !told.is_empty() {
+            s.push_str("Not identifiable from these data (held at zero):\n");
+            s.extend(told);
+        }
     }
     s.push_str(&format!(
         "\nHeld-out gap: {:.4} mm before, {:.4} mm after ({:.0} % smaller).\n",

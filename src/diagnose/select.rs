@@ -257,6 +257,42 @@ pub fn score_candidates(
     out.into_iter().map(|(_, s)| s).collect()
 }
 
+/// What `chosen` adds to the positions predicted with the rest of
+/// `selected` (fitted on all rows, stacked as in [`Scored::contribution`]).
+pub fn score_contribution(
+    problem: &Problem,
+    selected: &[EffectKind],
+    chosen: EffectKind,
+) -> Option<Vec<f64>> {
+    let all: Vec<usize> = (0..problem.rows.len()).collect();
+    let without: Vec<EffectKind> = selected.iter().copied().filter(|k| *k != chosen).collect();
+    let predicted = |kinds: &[EffectKind]| -> Option<Vec<Vector3<f64>>> {
+        let effects = match kinds {
+            [] => Vec::new(),
+            _ => fit(problem, &all, kinds).ok()?.effects,
+        };
+        Some(centred(
+            problem,
+            &all,
+            problem
+                .predict_rows(&effects, &all)
+                .iter()
+                .map(|p| p.translation.vector)
+                .collect(),
+        ))
+    };
+    let (a, b) = (predicted(selected)?, predicted(&without)?);
+    Some(
+        a.iter()
+            .zip(&b)
+            .flat_map(|(a, b)| {
+                let d = a - b;
+                [d.x, d.y, d.z]
+            })
+            .collect(),
+    )
+}
+
 /// Cosine of two stacked contribution vectors.
 pub fn collinearity(a: &[f64], b: &[f64]) -> f64 {
     let dot: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();

@@ -267,9 +267,21 @@ fn noisy_orientations_do_not_spoil_the_positions() {
     }
     let p = prepare(&meas, &Model::default(), false).unwrap();
     let d = diagnose(&p, &Options::default()).unwrap();
+    // The drift named, nothing unexplained, and no static effect beyond
+    // the frame and geometry: the poses' means, tested by F, carry the
+    // drift's own fitting error at each pose's mean temperature, which a
+    // frame or a zero takes up.
+    let labels = d.verdict.labels();
     assert_eq!(
-        d.verdict.labels(),
-        vec!["joint-offset-drift"],
+        labels.first().map(String::as_str),
+        Some("joint-offset-drift"),
+        "{:?}",
+        d.words()
+    );
+    assert!(
+        labels[1..]
+            .iter()
+            .all(|l| l == "tracker-frame" || l == "geometry-offset"),
         "{:?}",
         d.words()
     );
@@ -283,7 +295,10 @@ fn noisy_orientations_do_not_spoil_the_positions() {
 #[test]
 fn registration_does_not_swallow_thermal_drift() {
     // Bending data recorded in a tracker's own frame: registered on the
-    // cold start, the diagnosis still finds the bending, and only it.
+    // cold start, the diagnosis still finds the bending, and no other
+    // effect beyond the instrument frame (what the registration on the
+    // cold start's 15 points leaves of it, 0.003 mm, is significant on
+    // 300 rows), and nothing unexplained.
     let mut meas = data(
         vec![Effect::with_defaults(EffectKind::ArmBending)],
         false,
@@ -299,7 +314,18 @@ fn registration_does_not_swallow_thermal_drift() {
     let p = prepare(&meas, &Model::default(), true).unwrap();
     assert_eq!(p.registration.as_ref().unwrap().rows_used, 15);
     let d = diagnose(&p, &Options::default()).unwrap();
-    assert_eq!(d.verdict.labels(), vec!["arm-bending"], "{:?}", d.words());
+    let labels = d.verdict.labels();
+    assert_eq!(
+        labels.first().map(String::as_str),
+        Some("arm-bending"),
+        "{:?}",
+        d.words()
+    );
+    assert!(
+        labels[1..].iter().all(|l| l == "tracker-frame"),
+        "{:?}",
+        d.words()
+    );
 }
 
 /// An effect without the joint-origin part of geometry-offset, which is

@@ -68,6 +68,34 @@ pub struct Arm {
     pub chosen_by: ChosenBy,
 }
 
+/// Every arm named for a task (`TASK=ARM`) names a task of the run: a
+/// misspelt task, or a task name given for single files (which have no
+/// task names), would otherwise leave the arm silently unused.
+pub fn check_task_specs(specs: &[ArmSpec], tasks: &[Task]) -> Result<()> {
+    let names: Vec<&str> = tasks.iter().filter_map(|t| t.name.as_deref()).collect();
+    let mut errors = Vec::new();
+    for s in specs {
+        let Some(t) = s.task.as_deref() else { continue };
+        if names.iter().any(|n| n.eq_ignore_ascii_case(t)) {
+            continue;
+        }
+        let why = if names.is_empty() {
+            "the files of this run are one program, not a backup's tasks: name the arm alone"
+                .to_string()
+        } else {
+            format!("its tasks are {}", names.join(", "))
+        };
+        errors.push(Error::usage(format!(
+            "`{t}={}` names task {t}, which this run does not have ({why})",
+            s.written
+        )));
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
 /// The arm of `task`: the one named for it (`TASK=ARM`), else the one
 /// named for all, else the robot type the backup's MOC.cfg names, else
 /// the embedded IRB 140.

@@ -39,6 +39,7 @@ pub fn run(
     host: &mut dyn Host,
     sink: &mut dyn Sink,
 ) -> Result<Vec<Ran>> {
+    crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
     let model = load_model(&plan.model)?;
     let (motion, still): (Vec<Task>, Vec<Task>) = tasks.into_iter().partition(moves_a_robot);
     // One task written to files is written as it is corrected (a program of

@@ -26,9 +26,18 @@ use crate::robot::Joints;
 use nalgebra::{Isometry3, Matrix6x5, Vector5, Vector6};
 use std::f64::consts::TAU;
 
-/// RAPID's "no value" for an axis (`9E+09`); anything this large is not an
-/// angle.
-const NO_AXIS: f64 = 8.9e9;
+/// RAPID's "no value" for an axis: `9E+09`, as the controller keeps it in
+/// single precision (a relative step of 6e-8), so within a millionth.
+const NO_AXIS: f64 = 9e9;
+
+/// Whether an axis value is RAPID's "no value".
+fn no_value(v: f64) -> bool {
+    (v - NO_AXIS).abs() <= NO_AXIS * 1e-6
+}
+
+/// An axis beyond this (degrees) is no angle (a typing or unit mistake):
+/// far past any arm's travel.
+const NO_ANGLE_DEG: f64 = 1e6;
 
 /// Axis 5 closer to 0 than this (degrees) is a wrist singularity: the
 /// written value is 0 to the controller's resolution.
@@ -72,7 +81,14 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
         })
     };
     let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
-    let absent = degrees.iter().filter(|d| d.abs() >= NO_AXIS).count();
+    let absent = degrees.iter().filter(|d| no_value(**d)).count();
+    if let Some(i) = (0..6).find(|&i| !no_value(degrees[i]) && !(degrees[i].abs() < NO_ANGLE_DEG)) {
+        return Err(located(Error::input(format!(
+            "axis {} is {:e}: neither an angle nor 9E+09 (no value)",
+            i + 1,
+            degrees[i]
+        ))));
+    }
     if absent == 6 {
         return Ok(leave(
             Reason::NoRobotAxes,

@@ -50,6 +50,7 @@ fn programs() -> Vec<(String, Vec<u8>)> {
                 "conf_wrong",
                 "several_errors",
                 "bad_speeds",
+                "not_an_angle",
                 "_at60",
                 "_at120",
             ]

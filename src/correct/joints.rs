@@ -39,6 +39,12 @@ fn no_value(v: f64) -> bool {
 /// far past any arm's travel.
 const NO_ANGLE_DEG: f64 = 1e6;
 
+/// Whether an axis value can be an angle (a value that is not a number
+/// cannot).
+fn is_angle(v: f64) -> bool {
+    v.abs() < NO_ANGLE_DEG
+}
+
 /// Axis 5 closer to 0 than this (degrees) is a wrist singularity: the
 /// written value is 0 to the controller's resolution.
 const SINGULAR_DEG: f64 = 1e-3;
@@ -82,7 +88,7 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
     };
     let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
     let absent = degrees.iter().filter(|d| no_value(**d)).count();
-    if let Some(i) = (0..6).find(|&i| !no_value(degrees[i]) && !(degrees[i].abs() < NO_ANGLE_DEG)) {
+    if let Some(i) = (0..6).find(|&i| !no_value(degrees[i]) && !is_angle(degrees[i])) {
         return Err(located(Error::input(format!(
             "axis {} is {:e}: neither an angle nor 9E+09 (no value)",
             i + 1,

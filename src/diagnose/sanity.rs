@@ -9,7 +9,7 @@ use super::measurements::Measurements;
 use super::prepare::Prepared;
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// Two rows with the same pose label whose joints differ by more than
 /// this (degrees) do not measure one pose. A controller repeats a taught
@@ -35,7 +35,11 @@ pub fn check_rows(meas: &Measurements) -> Result<()> {
     // Exact copies: time, joints and position equal to the last bit. A
     // tracker's noise makes that impossible for two real measurements.
     let mut first_of: HashMap<[u64; 10], usize> = HashMap::new();
+    // The copied rows of each original, in the order the originals were
+    // first copied (a map from original to its place: linear in the rows
+    // however many are copied).
     let mut copies: Vec<(usize, Vec<usize>)> = Vec::new();
+    let mut copied_at: HashMap<usize, usize> = HashMap::new();
     for (k, m) in meas.rows.iter().enumerate() {
         let mut key = [0u64; 10];
         key[0] = m.time_min.to_bits();
@@ -46,9 +50,12 @@ pub fn check_rows(meas: &Measurements) -> Result<()> {
             key[7 + i] = m.position[i].to_bits();
         }
         match first_of.get(&key) {
-            Some(&orig) => match copies.iter_mut().find(|(o, _)| *o == orig) {
-                Some((_, lines)) => lines.push(k),
-                None => copies.push((orig, vec![k])),
+            Some(&orig) => match copied_at.get(&orig) {
+                Some(&i) => copies[i].1.push(k),
+                None => {
+                    copied_at.insert(orig, copies.len());
+                    copies.push((orig, vec![k]));
+                }
             },
             None => {
                 first_of.insert(key, k);
@@ -70,7 +77,7 @@ pub fn check_rows(meas: &Measurements) -> Result<()> {
     }
     // One label, one pose: the noise is estimated from a label's repeats.
     let mut by_label: HashMap<&str, usize> = HashMap::new();
-    let mut reported: Vec<&str> = Vec::new();
+    let mut reported: HashSet<&str> = HashSet::new();
     for (k, m) in meas.rows.iter().enumerate() {
         let Some(label) = m.pose.as_deref() else {
             continue;
@@ -83,8 +90,7 @@ pub fn check_rows(meas: &Measurements) -> Result<()> {
         let worst = (0..6)
             .map(|i| (i, (m.joints[i] - a.joints[i]).abs().to_degrees()))
             .fold((0, 0.0), |w, c| if c.1 > w.1 { c } else { w });
-        if worst.1 > SAME_POSE_DEG && !reported.contains(&label) {
-            reported.push(label);
+        if worst.1 > SAME_POSE_DEG && reported.insert(label) {
             errors.push(Error::input_at(
                 &meas.file,
                 m.line,

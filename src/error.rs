@@ -61,6 +61,9 @@ pub enum Remedy {
     ArmOfTheModel,
     /// Tasks that would write one file differently: one at a time.
     OneTaskAtATime,
+    /// A backup that does not place a task's robot: mend it, or accept the
+    /// default placement (the world origin) explicitly.
+    AcceptDefaultPlacement,
 }
 
 impl Remedy {
@@ -86,6 +89,9 @@ impl Remedy {
                 "give a model diagnosed on this arm, or leave the arm to the model"
             }
             Remedy::OneTaskAtATime => "",
+            Remedy::AcceptDefaultPlacement => {
+                "; mend the backup, or accept the default placement (the world origin) explicitly"
+            }
         }
     }
 }

@@ -5,7 +5,7 @@ use super::messages::info;
 use super::{write_stdout, Format, Status};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::report::{render_csv, render_table, Align};
-use rapidtherm::resolve::arm::{names_a_file, ArmSource, ArmSpec};
+use rapidtherm::resolve::arm::{names_a_file, ArmSource, ArmSpec, Placing};
 use rapidtherm::robot::abb::{self, AbbArm};
 use rapidtherm::robot::Robot;
 use std::path::Path;
@@ -156,4 +156,13 @@ pub fn run_arms(args: ArmsArgs) -> Result<Status> {
     };
     write_stdout(text.as_bytes())?;
     Ok(Status::Success)
+}
+
+/// `--accept-default-placement` as the library's choice.
+pub fn placing(accept: bool) -> Placing {
+    if accept {
+        Placing::AcceptDefault
+    } else {
+        Placing::FromBackup
+    }
 }

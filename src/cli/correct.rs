@@ -139,6 +139,11 @@ pub struct CorrectArgs {
     /// whose own are unknown; the arm's lengths still scale the drift.
     #[arg(long)]
     pub irb140_thermal: bool,
+    /// Put a task whose backup does not say where its robot stands (a
+    /// missing or broken BACKINFO, SYS.cfg or MOC.cfg) at the world origin,
+    /// as the arm named or the IRB 140; without it such a task is refused.
+    #[arg(long)]
+    pub accept_default_placement: bool,
     /// Write the corrected program here (`-`: standard output).
     #[arg(short, long, value_name = "OUT", conflicts_with_all = ["in_place", "check", "diff"])]
     pub output: Option<PathBuf>,
@@ -292,6 +297,7 @@ fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
         model: model_source(args.model.as_deref()),
         arms: super::arms::arm_specs(&args.robot)?,
         irb140_thermal: args.irb140_thermal,
+        placing: super::arms::placing(args.accept_default_placement),
         expand_expressions: args.expand_expressions,
         split_shared: args.split_shared,
         action,

@@ -101,7 +101,8 @@ pub fn say_arm(task: &str, arm: &Arm) {
             format!("chosen by the robot type {rt} of the backup's SYSPAR/MOC.cfg")
         }
         ChosenBy::Default => {
-            "chosen by default (no --robot, no robot type in a MOC.cfg)".to_string()
+            "chosen by default (no --robot, and no backup configuration names a robot type)"
+                .to_string()
         }
         ChosenBy::ModelUrdf => "named by the model file's [robot] urdf".to_string(),
     };

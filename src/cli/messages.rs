@@ -311,6 +311,9 @@ pub fn remedy(r: Remedy) -> &'static str {
             "give a model diagnosed on this arm, or leave out --robot to use the model's"
         }
         Remedy::OneTaskAtATime => " with --task",
+        Remedy::AcceptDefaultPlacement => {
+            "; mend the backup, or put the robot at the world origin with --accept-default-placement"
+        }
     }
 }
 

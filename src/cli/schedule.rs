@@ -4,7 +4,7 @@
 use super::messages::{self, note, status};
 use super::{write_output, Status};
 use rapidtherm::error::{Error, Result};
-use rapidtherm::resolve::arm::{arm_for, base_frame};
+use rapidtherm::resolve::arm::{arm_for, base_frame, check_placement, check_task_specs};
 use rapidtherm::schedule::{estimate, Estimate, EstimateOptions};
 use std::path::PathBuf;
 
@@ -22,6 +22,10 @@ pub struct ScheduleArgs {
     /// embedded IRB 140.
     #[arg(long, value_name = "NAME|FILE.urdf")]
     pub robot: Option<String>,
+    /// Put a task whose backup does not say where its robot stands at the
+    /// world origin, as the arm named or the IRB 140 (else it is refused).
+    #[arg(long)]
+    pub accept_default_placement: bool,
     /// Minutes since the cold start at which the program starts.
     #[arg(long, value_name = "MIN", default_value_t = 0.0)]
     pub start: f64,
@@ -47,7 +51,13 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
     // The program's errors are said before the arm's and the base's.
     let program = super::tasks::read(&task)?.1;
+    check_task_specs(&specs, std::slice::from_ref(&task))?;
     let arm = arm_for(&task, &specs)?;
+    check_placement(
+        &task,
+        &arm,
+        super::arms::placing(args.accept_default_placement),
+    )?;
     super::events::say_arm(&task.label(), &arm);
     let opts = EstimateOptions {
         entry: args.entry.clone(),

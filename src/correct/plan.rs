@@ -6,7 +6,7 @@
 
 use super::check::CheckRule;
 use crate::model::Moment;
-use crate::resolve::arm::ArmSpec;
+use crate::resolve::arm::{ArmSpec, Placing};
 use crate::schedule::Visit;
 use std::path::PathBuf;
 
@@ -21,6 +21,8 @@ pub struct CorrectPlan {
     pub arms: Vec<ArmSpec>,
     /// Use the IRB 140's thermal defaults on an arm whose own are unknown.
     pub irb140_thermal: bool,
+    /// Whether a task its backup does not place may stand at the origin.
+    pub placing: Placing,
     /// Write numbers in place of literals written with named constants or
     /// expressions.
     pub expand_expressions: bool,

@@ -6,6 +6,7 @@
 
 use crate::digest::fingerprint;
 use crate::error::{Error, ErrorKind, Remedy, Result};
+use crate::rapid::task::placement::Unknown;
 use crate::rapid::task::Task;
 use crate::robot::abb::{self, AbbArm};
 use crate::robot::{irb140_opw, Robot};
@@ -89,6 +90,44 @@ pub fn check_task_specs(specs: &[ArmSpec], tasks: &[Task]) -> Result<()> {
             "`{t}={}` names task {t}, which this run does not have ({why})",
             s.written
         )));
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Whether a task whose backup does not say what its robot is, or where
+/// it stands, may take the default: the arm named (else the IRB 140) at
+/// the world origin. A backup copied by hand or cut short must not move a
+/// correction by where the robot happens not to be: only the user says so.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Placing {
+    /// The backup places the robot, or the run is refused.
+    #[default]
+    FromBackup,
+    /// The user accepted the default placement (`--accept-default-placement`).
+    AcceptDefault,
+}
+
+/// Refuse `task` where its backup leaves unknown what the run needs: where
+/// the robot stands, and which arm it is unless one was named (by
+/// `--robot` or a model file). Every such gap is one error, at its file
+/// and line.
+pub fn check_placement(task: &Task, arm: &Arm, placing: Placing) -> Result<()> {
+    if placing == Placing::AcceptDefault {
+        return Ok(());
+    }
+    let named = !matches!(arm.chosen_by, ChosenBy::Default | ChosenBy::RobotType(_));
+    let mut errors: Vec<Error> = task
+        .gaps
+        .iter()
+        .filter(|g| !(named && g.kind.unknown() == Unknown::Type))
+        .map(|g| g.to_error(&task.label()))
+        .collect();
+    // The remedy once, after the last gap.
+    if let Some(last) = errors.pop() {
+        errors.push(last.with_remedy(Remedy::AcceptDefaultPlacement));
     }
     match Error::many(errors) {
         Some(e) => Err(e),

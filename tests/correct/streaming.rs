@@ -200,6 +200,7 @@ fn job_run(path: &std::path::Path, when: TimeBasis, keep_rows: bool) -> (Way, St
         model: ModelSource::Default,
         arms: Vec::new(),
         irb140_thermal: false,
+        placing: Default::default(),
         expand_expressions: false,
         split_shared: false,
         action: Action::Write(Destination::File("OUT".into())),

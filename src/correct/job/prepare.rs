@@ -11,7 +11,9 @@ use crate::error::{Error, Remedy, Result};
 use crate::model::{Model, Moment, WarmRobot};
 use crate::rapid::task::Task;
 use crate::rapid::Program;
-use crate::resolve::arm::{arm_for, arm_of, base_frame, same_chain, Arm, ArmSource, ChosenBy};
+use crate::resolve::arm::{
+    arm_for, arm_of, base_frame, check_placement, same_chain, Arm, ArmSource, ChosenBy,
+};
 use crate::robot::Robot;
 use crate::schedule::{self, EstimateOptions, Schedule};
 
@@ -49,6 +51,7 @@ pub fn checked_arm(
     host: &mut dyn Host,
 ) -> Result<Arm> {
     let arm = arm_for_model(plan, task, model)?;
+    check_placement(task, &arm, plan.placing)?;
     host.event(Event::Arm {
         task: &task.label(),
         arm: &arm,

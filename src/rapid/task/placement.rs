@@ -59,6 +59,33 @@ pub enum GapKind {
     BadOrientation { norm: f64 },
 }
 
+/// What a gap leaves unknown: the arm's type, where it stands, or both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unknown {
+    /// Which arm it is (an arm named by the user makes up for it).
+    Type,
+    /// Where the arm stands in the world (nothing but the backup says).
+    Place,
+    /// Both.
+    TypeAndPlace,
+}
+
+impl GapKind {
+    /// What the gap leaves unknown.
+    pub fn unknown(&self) -> Unknown {
+        match self {
+            GapKind::NoRobotType { .. } => Unknown::Type,
+            GapKind::BadNumber { .. } | GapKind::BadOrientation { .. } => Unknown::Place,
+            GapKind::Missing(_)
+            | GapKind::Unreadable(_)
+            | GapKind::FolderNotListed { .. }
+            | GapKind::TaskNotInSys { .. }
+            | GapKind::GroupWithoutRobot { .. }
+            | GapKind::RobotNotInMoc { .. } => Unknown::TypeAndPlace,
+        }
+    }
+}
+
 /// One gap, with where it was found: the file, and the line and column
 /// where the file has them.
 #[derive(Debug, Clone, PartialEq)]
@@ -109,8 +136,13 @@ impl fmt::Display for GapKind {
 impl Gap {
     /// The gap as an input error of `task`, at its place.
     pub fn to_error(&self, task: &str) -> Error {
+        let unknown = match self.kind.unknown() {
+            Unknown::Type => "type is",
+            Unknown::Place => "place in the world is",
+            Unknown::TypeAndPlace => "type and place are",
+        };
         let e = Error::input(format!(
-            "task {task}: {} ({}), so its robot's type and place are unknown",
+            "task {task}: {} ({}), so its robot's {unknown} unknown",
             self.kind,
             self.file.display()
         ));

@@ -384,3 +384,53 @@ fn a_named_arm_makes_up_for_a_missing_robot_type_but_not_for_a_place() {
         text(&named)
     );
 }
+
+/// One file read by two motion tasks (a module hard-linked into both task
+/// folders, or a task folder named beside its backup) is refused before
+/// anything is read or written, whatever the action: before, the last
+/// task's correction was written, and `--check` judged each task alone.
+#[test]
+fn a_file_read_by_two_tasks_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    std::fs::remove_file(bk.join("RAPID/TASK2/SYSMOD/user.sys")).unwrap();
+    std::fs::hard_link(
+        bk.join("RAPID/TASK1/SYSMOD/user.sys"),
+        bk.join("RAPID/TASK2/SYSMOD/user.sys"),
+    )
+    .unwrap();
+    let before = files(&bk);
+    for action in [&["--in-place"][..], &["--check"], &["--diff"]] {
+        let out = rapidtherm(
+            &[&["correct", "bk", "--at", "120"][..], action].concat(),
+            dir.path(),
+        );
+        let log = text(&out);
+        assert_eq!(out.status.code(), Some(2), "{action:?}: {log}");
+        assert!(
+            log.contains("bk/RAPID/TASK1/SYSMOD/user.sys is read by task T_ROB1 and, as bk/RAPID/TASK2/SYSMOD/user.sys, by task T_ROB2"),
+            "{log}"
+        );
+        assert_eq!(files(&bk), before, "{action:?}: written");
+    }
+    // One task at a time is fine.
+    let out = rapidtherm(
+        &[
+            "correct", "bk", "--task", "T_ROB1", "--at", "120", "--check",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+
+    let out = rapidtherm(
+        &["correct", "bk", "bk/RAPID/TASK1", "--at", "120", "--check"],
+        dir.path(),
+    );
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("task T_ROB1 is named twice in this run"),
+        "{log}"
+    );
+}

@@ -12,6 +12,7 @@
 mod host;
 mod prepare;
 mod ran;
+mod shared;
 
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::load_model;
@@ -42,6 +43,7 @@ pub fn run(
     crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
     let model = load_model(&plan.model)?;
     let (motion, still): (Vec<Task>, Vec<Task>) = tasks.into_iter().partition(moves_a_robot);
+    shared::refuse_files_of_two_tasks(&motion)?;
     // One task written to files is written as it is corrected (a program of
     // a million targets is never held in memory); several tasks, or a run
     // whose results are reported, are corrected in memory first.

@@ -162,10 +162,23 @@ fn walk_cycles<'p>(
     let start_s = opts.start_min * 60.0;
     w.clock = start_s;
     w.robot_free = start_s;
-    for _ in 0..opts.cycles {
+    for cycle in 0..opts.cycles {
+        let before = w.steps;
         let flow = w.call_routine(module, routine, Vec::new(), 0)?;
         if matches!(flow, Flow::Exit) {
             break;
+        }
+        // Every cycle walks what the first did: a count of cycles the
+        // budget cannot hold is refused now, not after minutes of walking
+        // and gigabytes of visits.
+        let per_cycle = w.steps - before;
+        if cycle == 0 && per_cycle.saturating_mul(u64::from(opts.cycles)) > STEP_BUDGET {
+            return Err(Error::usage(format!(
+                "{} cycles of {} would walk {} statements ({per_cycle} each), past the walk's limit of {STEP_BUDGET}: give fewer cycles",
+                opts.cycles,
+                routine.name,
+                per_cycle.saturating_mul(u64::from(opts.cycles))
+            )));
         }
     }
     Ok(())

@@ -171,6 +171,7 @@ impl<'p> Walker<'p> {
         let mut speed = self.speed_of(speed_data, frame, line)?;
         if let Some(v) = v {
             match self.eval(v, frame)?.num() {
+                Some(v) if !(v.is_finite() && v > 0.0) => return Err(not_positive("\\V", v)),
                 Some(v) => speed.v_tcp = v,
                 None => self.note(frame, line, "\\V: value known only at run time, ignored"),
             }
@@ -180,6 +181,7 @@ impl<'p> Walker<'p> {
         speed.v_ori *= ov;
         let t_override = match t {
             Some(t) => match self.eval(t, frame)?.num() {
+                Some(t) if !(t.is_finite() && t > 0.0) => return Err(not_positive("\\T", t)),
                 Some(t) => Some(t / ov),
                 None => {
                     self.note(frame, line, "\\T: value known only at run time, ignored");
@@ -211,7 +213,12 @@ impl<'p> Walker<'p> {
             );
             return Ok(());
         }
-        let (speed, t_override) = self.move_speed([m.speed, m.v, m.t], frame, line)?;
+        let (speed, t_override) = self
+            .move_speed([m.speed, m.v, m.t], frame, line)
+            .map_err(|e| match e.location {
+                Some(_) => e,
+                None => e.at(self.location(frame, s)),
+            })?;
         let ov = self.velset.0;
         let frames = self.frame_names(m.tool, m.wobj, frame, line)?;
         let (tool, wobj) = (&frames.0, &frames.1);
@@ -594,4 +601,14 @@ fn arc_length(a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>) -> (f64, f64
         }
     };
     (radius * angle(c), radius * angle(b))
+}
+
+/// A move's `\V` (mm/s) or `\T` (s) that is not a positive number: the
+/// controller stops on it, and a time estimate would divide by it.
+fn not_positive(arg: &str, value: f64) -> Error {
+    let what = if arg == "\\T" { "a move time" } else { "a speed" };
+    Error::new(
+        ErrorKind::Syntax,
+        format!("{arg}:={value} is not {what} (it must be greater than 0)"),
+    )
 }

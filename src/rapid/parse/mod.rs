@@ -28,6 +28,7 @@ use std::sync::Arc;
 mod builder;
 mod calls;
 mod declarations;
+mod duplicates;
 mod expressions;
 mod file;
 mod grammar;
@@ -118,6 +119,7 @@ pub fn parse_sources(inputs: Vec<(String, Source)>, options: ParseOptions) -> Re
         seen.insert(m.name.to_lowercase(), i);
     }
     refuse_speeds(&b.prog, &refs)?;
+    duplicates::refuse_duplicates(&b, &refs)?;
     b.finish(&refs, &lines)?;
     Ok(b.prog)
 }

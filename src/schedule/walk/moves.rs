@@ -213,12 +213,12 @@ impl<'p> Walker<'p> {
             );
             return Ok(());
         }
-        let (speed, t_override) = self
-            .move_speed([m.speed, m.v, m.t], frame, line)
-            .map_err(|e| match e.location {
-                Some(_) => e,
-                None => e.at(self.location(frame, s)),
-            })?;
+        let (speed, t_override) =
+            self.move_speed([m.speed, m.v, m.t], frame, line)
+                .map_err(|e| match e.location {
+                    Some(_) => e,
+                    None => e.at(self.location(frame, s)),
+                })?;
         let ov = self.velset.0;
         let frames = self.frame_names(m.tool, m.wobj, frame, line)?;
         let (tool, wobj) = (&frames.0, &frames.1);
@@ -606,7 +606,11 @@ fn arc_length(a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>) -> (f64, f64
 /// A move's `\V` (mm/s) or `\T` (s) that is not a positive number: the
 /// controller stops on it, and a time estimate would divide by it.
 fn not_positive(arg: &str, value: f64) -> Error {
-    let what = if arg == "\\T" { "a move time" } else { "a speed" };
+    let what = if arg == "\\T" {
+        "a move time"
+    } else {
+        "a speed"
+    };
     Error::new(
         ErrorKind::Syntax,
         format!("{arg}:={value} is not {what} (it must be greater than 0)"),

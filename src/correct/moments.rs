@@ -2,7 +2,7 @@
 //! (one fixed moment, or its times in a schedule) and which visit counts.
 
 use super::When;
-use crate::error::{Error, Remedy, Result};
+use crate::error::{Error, Remedy, Result, Subject};
 use crate::model::Moment;
 use crate::rapid::Program;
 use crate::schedule::{Schedule, Visit};
@@ -32,8 +32,17 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
             .times(id)
         {
             Some(times) => Ok(times.iter().map(|&t| Moment::Minute(t)).collect()),
+            // The target is the error's subject, not its message: a
+            // schedule that misses 20,000 targets is one cause, said once
+            // with the others counted.
             None => default.map(|m| vec![m]).ok_or_else(|| {
-                Error::input(format!("the schedule has no time for target {id}"))
+                let subject = if joint {
+                    Subject::JointTarget(id.to_string())
+                } else {
+                    Subject::Target(id.to_string())
+                };
+                Error::input("the schedule has no time for it")
+                    .about(subject)
                     .with_remedy(Remedy::GiveDefaultTime)
             }),
         },

@@ -179,10 +179,16 @@ fn correct_all(
     errors.append(&mut found.errors);
     errors.sort_by_key(|e| e.0);
     errors.extend(joints.errors);
+    // Only the errors shown get their line's text (each a walk through
+    // their file): the rest are counted.
     if let Some(e) = Error::many(
         same_cause(errors.into_iter().map(|(_, e)| e).collect())
             .into_iter()
-            .map(|e| with_source(e, program))
+            .enumerate()
+            .map(|(k, e)| match k <= crate::error::MAX_RELATED {
+                true => with_source(e, program),
+                false => e,
+            })
             .collect(),
     ) {
         return Err(e);

@@ -434,3 +434,27 @@ fn a_file_read_by_two_tasks_is_refused() {
         "{log}"
     );
 }
+
+/// `--start` on the backup: the FOR loop over the scan array reads its
+/// index at run time, so the walk gives its 20,000 elements no time. That
+/// is one cause, said once with the others counted (before, each was its
+/// own error, and finding each one's source line took the run 24 s).
+#[test]
+fn targets_the_walk_cannot_time_are_one_error_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let out = rapidtherm(
+        &[
+            "correct", "bk", "--task", "T_ROB1", "--start", "0", "--check",
+        ],
+        dir.path(),
+    );
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("target pScan{1}: the schedule has no time for it"),
+        "{log}"
+    );
+    assert!(log.contains("the same for 19999 more"), "{log}");
+}

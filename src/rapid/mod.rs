@@ -31,7 +31,10 @@
 //! | an expression (`Offs`, `RelTool`, `CRobT`, `CalcRobT`, `MirPos`, a FUNC returning robtarget) | derived | the declared name (`CONST robtarget p20 := Offs(p10,0,0,50)`), else `main@2`: the 2nd such expression of routine `main` |
 //!
 //! Routine-qualified identifiers get the module too (`MainModule:main#3`)
-//! when two modules of the run have a routine of that name. Jointtargets
+//! when two modules of the run have a routine of that name. A routine's
+//! own declaration of a name declared elsewhere too shadows it within the
+//! routine, and its identifier carries the routine (`r1/pA`): a move in
+//! `r1` reads it, a move elsewhere the other. Jointtargets
 //! follow the same rules in their own name space.
 //!
 //! # Encoding

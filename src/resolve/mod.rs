@@ -252,7 +252,7 @@ pub fn uses(program: &Program) -> Uses<'_> {
             file: at.file as u32,
             offset: at.offset,
         };
-        for (reached, through) in refs.targets(reach, module) {
+        for (reached, through) in refs.targets(reach, (module, at.routine)) {
             site.through = through;
             let s = b.site(site);
             match reached {
@@ -453,6 +453,9 @@ struct Refs<'a> {
     derived_at: HashMap<usize, usize>,
 }
 
+/// Where a name is read: its module and routine.
+type Scope<'s> = (&'s str, &'s str);
+
 /// What a move reaches: one target, or every target of a stretch (an
 /// array's elements through an index known only at run time).
 enum Reached {
@@ -461,15 +464,21 @@ enum Reached {
 }
 
 impl Refs<'_> {
-    fn lookup(&self, id: &str, module: &str) -> Option<usize> {
+    /// The target a name reads in `routine` of `module`: the routine's own
+    /// data first (its identifier carries the routine where the name is
+    /// declared elsewhere too), then the module's, then the task's.
+    fn lookup(&self, id: &str, (module, routine): Scope) -> Option<usize> {
+        let own = format!("{routine}/{id}");
         self.index
-            .get(id)
+            .get(&own)
+            .or_else(|| self.index.get(&format!("{module}:{own}")))
             .or_else(|| self.index.get(&format!("{module}:{id}")))
+            .or_else(|| self.index.get(id))
     }
 
     /// A name read by a move or a derived expression: the target itself,
     /// and what a variable of that name is assigned from at run time.
-    fn named(&self, name: &str, module: &str, through: Through) -> Vec<(Reached, Through)> {
+    fn named(&self, name: &str, module: Scope, through: Through) -> Vec<(Reached, Through)> {
         let mut out: Vec<(Reached, Through)> = self
             .lookup(name, module)
             .map(|i| (Reached::One(i), through))
@@ -490,7 +499,7 @@ impl Refs<'_> {
     /// array element with literal indices (every element where an index
     /// is read at run time), the bases of a derived expression, and what
     /// a variable read is assigned from.
-    fn targets(&self, reach: Reach, module: &str) -> Vec<(Reached, Through)> {
+    fn targets(&self, reach: Reach, module: Scope) -> Vec<(Reached, Through)> {
         let expr = match reach {
             Reach::Name(n) => return self.named(n, module, Through::Direct),
             Reach::Expr(e) => e,
@@ -532,25 +541,32 @@ impl Refs<'_> {
                 }
                 let mut out: Vec<(Reached, Through)> = Vec::new();
                 // An array the fast lane read: its elements, all at once.
-                if let Some(prefix) = pattern.strip_suffix("{*}") {
-                    let run = self
-                        .index
-                        .array(prefix)
-                        .or_else(|| self.index.array(&format!("{module}:{prefix}")));
-                    if let Some((first, n)) = run {
-                        out.push((Reached::All(first..first + n), Through::Direct));
+                let (module, routine) = module;
+                // The routine's own array first, as for a name.
+                let own = format!("{routine}/{pattern}");
+                let qualified = format!("{module}:{pattern}");
+                let qualified_own = format!("{module}:{own}");
+                let mut patterns = [own, qualified_own, qualified, pattern].into_iter();
+                for pattern in patterns.by_ref() {
+                    if let Some(prefix) = pattern.strip_suffix("{*}") {
+                        if let Some((first, n)) = self.index.array(prefix) {
+                            out.push((Reached::All(first..first + n), Through::Direct));
+                        }
+                    }
+                    out.extend(
+                        program
+                            .targets()
+                            .one_by_one_all()
+                            .filter(|(_, t)| {
+                                matches!(t.kind, TargetKind::ArrayElement | TargetKind::RecordField)
+                                    && glob_match(&pattern, &t.id)
+                            })
+                            .map(|(i, _)| (Reached::One(i), Through::Direct)),
+                    );
+                    if !out.is_empty() {
+                        break;
                     }
                 }
-                out.extend(
-                    program
-                        .targets()
-                        .one_by_one_all()
-                        .filter(|(_, t)| {
-                            matches!(t.kind, TargetKind::ArrayElement | TargetKind::RecordField)
-                                && glob_match(&pattern, &t.id)
-                        })
-                        .map(|(i, _)| (Reached::One(i), Through::Direct)),
-                );
                 out
             }
             _ => Vec::new(),

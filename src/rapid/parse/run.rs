@@ -152,6 +152,11 @@ impl Builder {
             }
         }
 
+        // A routine's own data shadows a name declared elsewhere: its
+        // targets' identifiers carry the routine (`r1/pA`), so that each
+        // identifier stays one target's.
+        self.scope_routine_data();
+
         // Identifiers unique across modules, the runs' among them (their
         // name spaces counted only where the run has several modules).
         let extra = if modules.len() > 1 {
@@ -189,6 +194,83 @@ impl Builder {
         self.prog.modules = modules;
         self.number_targets();
         Ok(())
+    }
+
+    /// Give the targets of a routine's own data declarations whose name is
+    /// declared elsewhere too (in the module, the task, or another routine)
+    /// the routine in their identifier: `r1/pA` (`r1/arr{2}`).
+    fn scope_routine_data(&mut self) {
+        let local = |origin: &Origin, kind: TargetKind| {
+            origin.routine.is_some()
+                && matches!(
+                    kind,
+                    TargetKind::Declared | TargetKind::ArrayElement | TargetKind::RecordField
+                )
+        };
+        if !self.prog.targets.iter().any(|t| local(&t.origin, t.kind))
+            && !self.prog.jointtargets.iter().any(|t| local(&t.origin, t.kind))
+        {
+            return;
+        }
+        // Declared names, lower case, with how many declarations
+        // (module and routine data alike) have each.
+        // A declaration is told by its scope: duplicates in one scope are
+        // refused before this, and an array's elements or a record's
+        // fields are one declaration.
+        type Scope = (Arc<str>, Option<Arc<str>>);
+        let mut count: HashMap<String, HashSet<Scope>> = HashMap::new();
+        let mut note = |name: &str, at: Scope| {
+            count.entry(name.to_lowercase()).or_default().insert(at);
+        };
+        for t in &self.prog.targets {
+            if let (Some(n), TargetKind::Declared | TargetKind::ArrayElement | TargetKind::RecordField) =
+                (&t.name, t.kind)
+            {
+                note(n, (t.origin.module.clone(), t.origin.routine.clone()));
+            }
+        }
+        for t in &self.prog.jointtargets {
+            if let (Some(n), TargetKind::Declared | TargetKind::ArrayElement) = (&t.name, t.kind) {
+                note(n, (t.origin.module.clone(), t.origin.routine.clone()));
+            }
+        }
+        let runs = &self.prog.runs;
+        for r in &runs.decls {
+            let src = self.prog.sources.get(r.file).map_or(&[][..], |s| s.bytes());
+            for item in &r.items {
+                if let Some(n) = r.name_of(src, item) {
+                    note(n, (r.module.clone(), None));
+                }
+            }
+        }
+        for a in &runs.arrays {
+            note(&a.name, (a.module.clone(), a.routine.clone()));
+        }
+        let shadows = |name: &Option<String>| {
+            name.as_ref()
+                .is_some_and(|n| count.get(&n.to_lowercase()).is_some_and(|s| s.len() > 1))
+        };
+        for t in &mut self.prog.targets {
+            if local(&t.origin, t.kind) && shadows(&t.name) {
+                if let Some(r) = &t.origin.routine {
+                    t.id = format!("{r}/{}", t.id);
+                }
+            }
+        }
+        for t in &mut self.prog.jointtargets {
+            if local(&t.origin, t.kind) && shadows(&t.name) {
+                if let Some(r) = &t.origin.routine {
+                    t.id = format!("{r}/{}", t.id);
+                }
+            }
+        }
+        for a in &mut self.prog.runs.arrays {
+            if let Some(r) = &a.routine {
+                if shadows(&Some(a.name.to_string())) {
+                    a.prefix = Arc::from(format!("{r}/{}", a.name));
+                }
+            }
+        }
     }
 
     /// The name spaces of the runs' targets, with their modules: each
@@ -687,3 +769,4 @@ impl VisitMut for DerivedWalk<'_> {
 
     fn visit_expr_mut(&mut self, _: &mut Expr) {}
 }
+

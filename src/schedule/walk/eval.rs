@@ -21,7 +21,10 @@ impl<'p> Walker<'p> {
             Expr::JointTarget(i) => self.joint_value(*i),
             Expr::Name(n) => self.name_value(n, frame)?,
             Expr::Index(_) | Expr::Component(_) => match self.path_of(e, frame)? {
-                Some(path) => self.path_value(&path, frame.module)?,
+                Some(path) => {
+                    let routine = frame.routine.map(|r| &*r.name);
+                    self.path_value(&path, (frame.module, routine))?
+                }
                 None => Value::Unknown,
             },
             Expr::Aggregate(a) => {
@@ -112,7 +115,14 @@ impl<'p> Walker<'p> {
     }
 
     /// The target or jointtarget with this path, seen from `module`.
-    pub(super) fn path_value(&mut self, path: &str, module: usize) -> Result<Value> {
+    /// The value of the target an access path names in `routine` of
+    /// `module`: the routine's own data first (`r1/pA` where `pA` is
+    /// declared elsewhere too), then the module's, then the task's.
+    pub(super) fn path_value(
+        &mut self,
+        path: &str,
+        (module, routine): (usize, Option<&str>),
+    ) -> Result<Value> {
         let lower = path.to_ascii_lowercase();
         let module_name = self
             .program
@@ -120,12 +130,15 @@ impl<'p> Walker<'p> {
             .get(module)
             .map(|m| m.name.to_ascii_lowercase())
             .unwrap_or_default();
+        let own = routine.map(|r| format!("{}/{lower}", r.to_ascii_lowercase()));
+        let own_qualified = own.as_ref().map(|o| format!("{module_name}:{o}"));
         let qualified = format!("{module_name}:{lower}");
-        let hit = self
-            .target_ids
-            .get(&qualified)
-            .or_else(|| self.target_ids.get(&lower))
-            .copied();
+        let candidates = || {
+            own.iter()
+                .chain(&own_qualified)
+                .chain([&qualified, &lower])
+        };
+        let hit = candidates().find_map(|k| self.target_ids.get(k)).copied();
         if let Some(i) = hit {
             if let Some(t) = self.program.targets().get(i) {
                 if t.value.is_some() {
@@ -133,11 +146,7 @@ impl<'p> Walker<'p> {
                 }
             }
         }
-        let jhit = self
-            .joint_ids
-            .get(&qualified)
-            .or_else(|| self.joint_ids.get(&lower))
-            .copied();
+        let jhit = candidates().find_map(|k| self.joint_ids.get(k)).copied();
         if let Some(i) = jhit {
             return Ok(self.joint_value(i));
         }
@@ -184,7 +193,7 @@ impl<'p> Walker<'p> {
         let ty = d.type_name.to_ascii_lowercase();
         match ty.as_str() {
             "robtarget" | "jointtarget" if d.dims.is_empty() => {
-                let v = self.path_value(&d.name, module)?;
+                let v = self.path_value(&d.name, (module, routine.map(|r| &*r.name)))?;
                 if !matches!(v, Value::Unknown) {
                     return Ok(v);
                 }

@@ -50,6 +50,8 @@ fn programs() -> Vec<(String, Vec<u8>)> {
                 "conf_wrong",
                 "several_errors",
                 "bad_speeds",
+                "bad_move_",
+                "declared_twice",
                 "not_an_angle",
                 "_at60",
                 "_at120",

@@ -50,7 +50,6 @@ fn programs() -> Vec<(String, Vec<u8>)> {
                 "conf_wrong",
                 "several_errors",
                 "bad_speeds",
-                "bad_move_",
                 "declared_twice",
                 "not_an_angle",
                 "_at60",

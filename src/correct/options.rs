@@ -43,6 +43,20 @@ pub struct Options {
     /// such a target is corrected for its first use and the others are
     /// reported with their residual.
     pub split_shared: bool,
+    /// What a run does with a file whose marker is not trusted (its
+    /// numbers changed since the correction, or it has no fingerprint).
+    pub untrusted: Untrusted,
+}
+
+/// What a run does with a file whose marker is not trusted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Untrusted {
+    /// Refuse: a run that writes would correct corrected numbers again.
+    #[default]
+    Refuse,
+    /// Take every target as cold, and say why: a check or a report finds
+    /// the targets that would move, the re-taught ones among them.
+    AsCold,
 }
 
 impl Options {
@@ -57,6 +71,7 @@ impl Options {
             model_label: "embedded default model, embedded IRB 140 arm".to_string(),
             base_frame: None,
             split_shared: false,
+            untrusted: Untrusted::Refuse,
         }
     }
 }

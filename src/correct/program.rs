@@ -12,7 +12,7 @@
 use super::context::Run;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
-use super::options::{Options, When};
+use super::options::{Options, Untrusted, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
 use super::pass::{tallied, Done, Pass, Tallied};
 use super::progress::Progress;
@@ -21,6 +21,7 @@ use super::target::{correct_robtarget, with_others, Solved};
 use super::{derived, expressions, marker, shared};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::WarmRobot;
+use crate::rapid::numprint::NumberPrint;
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Program, TargetKind};
 use std::collections::{HashMap, HashSet};
@@ -105,7 +106,13 @@ fn correct_all(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
     let basis = options.when.basis();
-    if let Some(found) = marker::find(program) {
+    let distrust = marker::find(program).and_then(|_| marker::untrusted(program));
+    if let Some(u) = &distrust {
+        if options.untrusted == Untrusted::Refuse {
+            return Err(marker::refuse_untrusted(program, u));
+        }
+    }
+    if let (Some(found), None) = (marker::find(program), &distrust) {
         let wanted = marker::for_run(&basis, &options.model_label, options.split_shared, b"");
         if !found.marker.same_correction(&wanted) {
             return Err(marker::refuse(program, &found, &wanted));
@@ -250,7 +257,11 @@ fn correct_all(
             shared: early.lines,
             splits: early.splits,
             already_corrected: None,
-            notes: run.notes(),
+            notes: distrust
+                .iter()
+                .map(|u| marker::untrusted_note(program, u))
+                .chain(run.notes())
+                .collect(),
             summary,
             outputs: Vec::new(),
         },
@@ -280,6 +291,65 @@ fn write_file(
     out: &mut (dyn Write + Send),
     (found, progress): (&mut Found, &mut Progress),
 ) -> Result<bool> {
+    // Every byte up to the numbers' line goes through the fingerprint of
+    // the numbers, the marker's proof: it is of what is written.
+    let src = pass.run.program.source(f);
+    let end = marker::numbers_at(src);
+    let mut printed = Printed {
+        out,
+        print: NumberPrint::new(),
+    };
+    let changed = write_numbers(
+        pass,
+        (f, basis),
+        &mut fixed,
+        &mut printed,
+        end,
+        (found, progress),
+    )?;
+    let Printed { out, print } = printed;
+    out.write_all(&marker::numbers_line(src, end, &print.finish()))
+        .map_err(write_error)?;
+    // What follows the last ENDMODULE (edits there too, should any be).
+    let rest: Vec<&Edit> = fixed.iter().filter(|e| e.span.start >= end).collect();
+    let mut splice = Splice { src, at: end, out };
+    let mut rest = rest.into_iter().peekable();
+    splice.finish_at(&mut rest, src.len())?;
+    out_flush(splice.out)?;
+    Ok(changed)
+}
+
+fn out_flush(out: &mut dyn Write) -> Result<()> {
+    out.flush().map_err(write_error)
+}
+
+/// A writer that reads the numbers of what it writes.
+struct Printed<'w> {
+    out: &'w mut (dyn Write + Send),
+    print: NumberPrint,
+}
+
+impl Write for Printed<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.out.write(buf)?;
+        self.print.feed(&buf[..n]);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
+/// The file's bytes up to `end` (the numbers' line's place) with the
+/// marker and the new numbers.
+fn write_numbers(
+    pass: &Pass,
+    (f, basis): (usize, &str),
+    fixed: &mut Vec<Edit>,
+    out: &mut (dyn Write + Send),
+    end: usize,
+    (found, progress): (&mut Found, &mut Progress),
+) -> Result<bool> {
     let run = pass.run;
     let program = run.program;
     let src = program.source(f);
@@ -294,7 +364,7 @@ fn write_file(
         first_where(targets.len(), |i| file_of(i) > f),
     );
     let place = |i: usize| targets.place(i).map_or(src.len(), |p| p.1);
-    let head_end = if lo < hi { place(lo) } else { src.len() };
+    let head_end = if lo < hi { place(lo) } else { end };
     let mut changed = changed_before;
     let mut ready: Vec<Result<Done>> = Vec::new();
     let put_head = |out: &mut (dyn Write + Send), fixed: &[Edit]| -> Result<()> {
@@ -342,7 +412,7 @@ fn write_file(
                 chunks
                     .into_par_iter()
                     .map(|c| {
-                        let to = if c.end < hi { place(c.end) } else { src.len() };
+                        let to = if c.end < hi { place(c.end) } else { end };
                         pass.chunk(src, c.clone(), place(c.start)..to, fixed_ref)
                     })
                     .collect::<Vec<_>>()

@@ -4,8 +4,8 @@
 //! moments, and the run's options.
 
 use super::host::{Event, Host};
-use crate::correct::plan::{CorrectPlan, ModelSource, TimeBasis};
-use crate::correct::{Options, When};
+use crate::correct::plan::{Action, CorrectPlan, ModelSource, TimeBasis};
+use crate::correct::{Options, Untrusted, When};
 use crate::digest::fingerprint;
 use crate::error::{Error, Remedy, Result};
 use crate::model::{Model, Moment, WarmRobot};
@@ -225,6 +225,12 @@ pub fn warm_run(
         model_label,
         base_frame: base_frame(task)?,
         split_shared: plan.split_shared,
+        // A run that writes would correct corrected numbers again; one
+        // that only looks takes them as cold and says why.
+        untrusted: match plan.action {
+            Action::Write(_) => Untrusted::Refuse,
+            Action::Check(_) | Action::Diff { .. } | Action::Report => Untrusted::AsCold,
+        },
     };
     Ok((arm_name, warm, options))
 }

@@ -208,7 +208,11 @@ impl Builder {
                 )
         };
         if !self.prog.targets.iter().any(|t| local(&t.origin, t.kind))
-            && !self.prog.jointtargets.iter().any(|t| local(&t.origin, t.kind))
+            && !self
+                .prog
+                .jointtargets
+                .iter()
+                .any(|t| local(&t.origin, t.kind))
         {
             return;
         }
@@ -223,8 +227,10 @@ impl Builder {
             count.entry(name.to_lowercase()).or_default().insert(at);
         };
         for t in &self.prog.targets {
-            if let (Some(n), TargetKind::Declared | TargetKind::ArrayElement | TargetKind::RecordField) =
-                (&t.name, t.kind)
+            if let (
+                Some(n),
+                TargetKind::Declared | TargetKind::ArrayElement | TargetKind::RecordField,
+            ) = (&t.name, t.kind)
             {
                 note(n, (t.origin.module.clone(), t.origin.routine.clone()));
             }
@@ -769,4 +775,3 @@ impl VisitMut for DerivedWalk<'_> {
 
     fn visit_expr_mut(&mut self, _: &mut Expr) {}
 }
-

@@ -133,11 +133,7 @@ impl<'p> Walker<'p> {
         let own = routine.map(|r| format!("{}/{lower}", r.to_ascii_lowercase()));
         let own_qualified = own.as_ref().map(|o| format!("{module_name}:{o}"));
         let qualified = format!("{module_name}:{lower}");
-        let candidates = || {
-            own.iter()
-                .chain(&own_qualified)
-                .chain([&qualified, &lower])
-        };
+        let candidates = || own.iter().chain(&own_qualified).chain([&qualified, &lower]);
         let hit = candidates().find_map(|k| self.target_ids.get(k)).copied();
         if let Some(i) = hit {
             if let Some(t) = self.program.targets().get(i) {

@@ -11,6 +11,7 @@ use super::solve::{row, written_in_world};
 use super::splice::Splice;
 use super::target::{correct_robtarget, Solved};
 use crate::error::{Error, Result};
+use crate::rapid::numprint::NumberPrint;
 use crate::rapid::rewrite::{robtarget_changes, Edit};
 use crate::rapid::{Target, TargetKind};
 use std::collections::{HashMap, HashSet};
@@ -46,6 +47,9 @@ pub(super) struct Tallied {
 #[derive(Default)]
 pub(super) struct Done {
     pub bytes: Vec<u8>,
+    /// The tokens of `bytes` for the fingerprint of the file's numbers,
+    /// read here, on the chunk's core ([`NumberPrint::tokens_of`]).
+    pub tokens: Option<Vec<u8>>,
     pub rows: Vec<Correction>,
     pub tally: Vec<Tallied>,
     pub left: Vec<(usize, LeftAlone)>,
@@ -183,6 +187,9 @@ impl Pass<'_, '_> {
             }
         }
         splice.finish_at(&mut fixed, span.end)?;
+        if self.write {
+            done.tokens = NumberPrint::tokens_of(&bytes);
+        }
         done.bytes = bytes;
         Ok(done)
     }

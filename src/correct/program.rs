@@ -298,6 +298,7 @@ fn write_file(
     let mut printed = Printed {
         out,
         print: NumberPrint::new(),
+        held: Vec::with_capacity(PRINT_PIECE),
     };
     let changed = write_numbers(
         pass,
@@ -307,7 +308,12 @@ fn write_file(
         end,
         (found, progress),
     )?;
-    let Printed { out, print } = printed;
+    let Printed {
+        out,
+        mut print,
+        held,
+    } = printed;
+    print.feed(&held);
     out.write_all(&marker::numbers_line(src, end, &print.finish()))
         .map_err(write_error)?;
     // What follows the last ENDMODULE (edits there too, should any be).
@@ -323,16 +329,39 @@ fn out_flush(out: &mut dyn Write) -> Result<()> {
     out.flush().map_err(write_error)
 }
 
-/// A writer that reads the numbers of what it writes.
+/// A writer that reads the numbers of what it writes: what is written
+/// (a number's new text, the bytes between two) is read a piece of
+/// [`PRINT_PIECE`] at a time, so that few tokens are cut between pieces.
 struct Printed<'w> {
     out: &'w mut (dyn Write + Send),
     print: NumberPrint,
+    held: Vec<u8>,
+}
+
+/// How much the fingerprint reads at a time.
+const PRINT_PIECE: usize = 1 << 16;
+
+impl Printed<'_> {
+    /// A chunk's bytes, whose tokens were read on its core where given.
+    fn chunk(&mut self, bytes: &[u8], tokens: Option<&[u8]>) -> std::io::Result<()> {
+        self.out.write_all(bytes)?;
+        self.print.feed(&self.held);
+        self.held.clear();
+        if !tokens.is_some_and(|t| self.print.absorb(t)) {
+            self.print.feed(bytes);
+        }
+        Ok(())
+    }
 }
 
 impl Write for Printed<'_> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         let n = self.out.write(buf)?;
-        self.print.feed(&buf[..n]);
+        self.held.extend_from_slice(&buf[..n]);
+        if self.held.len() >= PRINT_PIECE {
+            self.print.feed(&self.held);
+            self.held.clear();
+        }
         Ok(n)
     }
     fn flush(&mut self) -> std::io::Result<()> {
@@ -346,7 +375,7 @@ fn write_numbers(
     pass: &Pass,
     (f, basis): (usize, &str),
     fixed: &mut Vec<Edit>,
-    out: &mut (dyn Write + Send),
+    out: &mut Printed,
     end: usize,
     (found, progress): (&mut Found, &mut Progress),
 ) -> Result<bool> {
@@ -367,7 +396,7 @@ fn write_numbers(
     let head_end = if lo < hi { place(lo) } else { end };
     let mut changed = changed_before;
     let mut ready: Vec<Result<Done>> = Vec::new();
-    let put_head = |out: &mut (dyn Write + Send), fixed: &[Edit]| -> Result<()> {
+    let put_head = |out: &mut Printed, fixed: &[Edit]| -> Result<()> {
         let m = marker::for_run(
             basis,
             &run.options.model_label,
@@ -453,15 +482,12 @@ fn first_where(n: usize, pred: impl Fn(usize) -> bool) -> usize {
 /// Put a batch's chunks out in file order, keeping what they found;
 /// whether any of them changes the file, and how many targets they
 /// solved.
-fn put_out(
-    out: &mut (dyn Write + Send),
-    done: Vec<Result<Done>>,
-    found: &mut Found,
-) -> Result<(bool, usize)> {
+fn put_out(out: &mut Printed, done: Vec<Result<Done>>, found: &mut Found) -> Result<(bool, usize)> {
     let (mut changed, mut steps) = (false, 0);
     for d in done {
         let d = d?;
-        out.write_all(&d.bytes).map_err(write_error)?;
+        out.chunk(&d.bytes, d.tokens.as_deref())
+            .map_err(write_error)?;
         changed |= d.changed;
         steps += d.steps;
         found.rows.extend(d.rows);

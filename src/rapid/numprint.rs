@@ -147,13 +147,126 @@ impl NumberPrint {
 
     /// Read the next piece of the file.
     pub fn feed(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.byte(b);
+        // A page at a time: the tokens of a megabyte are not held.
+        for piece in bytes.chunks(PAGE) {
+            self.lex(piece);
+            self.flush_page();
         }
-        if self.buf.len() >= PAGE {
-            self.sha.update(&self.buf);
-            self.buf.clear();
+    }
+
+    /// Read `bytes`, their tokens into the buffer.
+    fn lex(&mut self, bytes: &[u8]) {
+        let mut i = 0;
+        while i < bytes.len() {
+            if self.state != State::Normal {
+                // A token cut by the piece's start: byte by byte.
+                self.byte(bytes[i]);
+                i += 1;
+                continue;
+            }
+            match self.token(bytes, i) {
+                Some(next) => i = next,
+                // A token running past the piece's end: byte by byte,
+                // its state carried to the next piece.
+                None => {
+                    for &b in &bytes[i..] {
+                        self.byte(b);
+                    }
+                    i = bytes.len();
+                }
+            }
         }
+    }
+
+    /// The token at `i` (outside any token), read whole where it ends
+    /// within `s`: where the next one starts. `None` where it runs to the
+    /// end of `s` (the byte-by-byte reader takes it). The same tokens as
+    /// [`Self::byte`] reads, a slice at a time.
+    fn token(&mut self, s: &[u8], mut i: usize) -> Option<usize> {
+        let b = s[i];
+        match CLASS[usize::from(b)] {
+            OTHER => {
+                i += 1;
+                while i < s.len() && CLASS[usize::from(s[i])] == OTHER {
+                    i += 1;
+                }
+                Some(i)
+            }
+            WORD => {
+                i += 1;
+                while i < s.len() && is_word(s[i]) {
+                    i += 1;
+                }
+                (i < s.len()).then_some(i)
+            }
+            COMMENT => {
+                let end = memchr::memchr2(b'\n', b'\r', &s[i..])?;
+                Some(i + end)
+            }
+            QUOTE => {
+                let mut j = i + 1;
+                loop {
+                    j += memchr::memchr(b'"', &s[j..])?;
+                    // `""` inside a string is a quote; the byte after the
+                    // closing one must be seen to know which.
+                    match s.get(j + 1) {
+                        Some(b'"') => j += 2,
+                        Some(_) => return Some(j + 1),
+                        None => return None,
+                    }
+                }
+            }
+            SIGN => {
+                self.op(b);
+                Some(i + 1)
+            }
+            DOT if !s.get(i + 1)?.is_ascii_digit() => Some(i + 1),
+            _ => self.number(s, i),
+        }
+    }
+
+    /// A number starting at `i` (a digit, or `.` and a digit), read whole
+    /// where it ends within `s`.
+    fn number(&mut self, s: &[u8], mut i: usize) -> Option<usize> {
+        let mut num = Num::default();
+        while i < s.len() && s[i].is_ascii_digit() {
+            num.digit(s[i], false);
+            i += 1;
+        }
+        if s.get(i) == Some(&b'.') {
+            i += 1;
+            while i < s.len() && s[i].is_ascii_digit() {
+                num.digit(s[i], true);
+                i += 1;
+            }
+        }
+        let at_e = matches!(s.get(i)?, b'e' | b'E');
+        if at_e {
+            // An exponent only where a digit follows (after a sign).
+            let mut j = i + 1;
+            let sign = match *s.get(j)? {
+                c @ (b'+' | b'-') => {
+                    j += 1;
+                    Some(c)
+                }
+                _ => None,
+            };
+            if s.get(j)?.is_ascii_digit() {
+                num.exp_neg = sign == Some(b'-');
+                while j < s.len() && s[j].is_ascii_digit() {
+                    let d = i64::from(s[j] - b'0');
+                    num.exp = num.exp.saturating_mul(10).saturating_add(d).min(1 << 40);
+                    j += 1;
+                }
+                if j == s.len() {
+                    return None;
+                }
+                i = j;
+            }
+        }
+        self.num = num;
+        self.emit_number();
+        Some(i)
     }
 
     /// `v1 sha256:` and 16 hex digits.
@@ -163,6 +276,48 @@ impl NumberPrint {
         let digest = self.sha.finalize();
         let hex: String = digest.iter().take(8).map(|b| format!("{b:02x}")).collect();
         format!("{VERSION} sha256:{hex}")
+    }
+
+    /// The tokens a piece of a file adds (its encoded numbers and signs),
+    /// read alone: for a piece that starts and ends between tokens (at a
+    /// robtarget's `[`), read on any thread and added in file order with
+    /// [`NumberPrint::absorb`]. `None` where it ends inside a comment or a
+    /// string (the piece is then fed).
+    pub fn tokens_of(piece: &[u8]) -> Option<Vec<u8>> {
+        let mut p = NumberPrint {
+            sha: Sha256::new(),
+            buf: Vec::with_capacity(piece.len() / 2),
+            state: State::Normal,
+            num: Num::default(),
+        };
+        p.lex(piece);
+        if matches!(p.state, State::Comment | State::Str) {
+            return None;
+        }
+        p.end_token();
+        Some(p.buf)
+    }
+
+    /// Add the tokens of a piece ([`NumberPrint::tokens_of`]) that follows
+    /// what was fed, starting with a byte that ends any token but a
+    /// comment or a string (a `[`). `false` (nothing added) where what was
+    /// fed ends inside a comment or a string: feed the piece instead.
+    pub fn absorb(&mut self, tokens: &[u8]) -> bool {
+        if matches!(self.state, State::Comment | State::Str) {
+            return false;
+        }
+        // What `[` would do: end the word or number before it.
+        self.end_token();
+        self.buf.extend_from_slice(tokens);
+        self.flush_page();
+        true
+    }
+
+    fn flush_page(&mut self) {
+        if self.buf.len() >= PAGE {
+            self.sha.update(&self.buf);
+            self.buf.clear();
+        }
     }
 
     fn op(&mut self, b: u8) {
@@ -314,6 +469,40 @@ impl NumberPrint {
 /// Bytes gathered before they are hashed.
 const PAGE: usize = 1 << 16;
 
+/// What a byte starts outside any token.
+const OTHER: u8 = 0;
+const DIGIT: u8 = 1;
+const WORD: u8 = 2;
+const COMMENT: u8 = 3;
+const QUOTE: u8 = 4;
+const DOT: u8 = 5;
+const SIGN: u8 = 6;
+
+static CLASS: [u8; 256] = {
+    let mut t = [OTHER; 256];
+    let mut b = 0;
+    while b < 256 {
+        let c = b as u8;
+        t[b] = if c.is_ascii_digit() {
+            DIGIT
+        } else if c.is_ascii_alphabetic() || c == b'_' || c >= 0x80 {
+            WORD
+        } else if c == b'!' {
+            COMMENT
+        } else if c == b'"' {
+            QUOTE
+        } else if c == b'.' {
+            DOT
+        } else if c == b'-' || c == b'+' {
+            SIGN
+        } else {
+            OTHER
+        };
+        b += 1;
+    }
+    t
+};
+
 fn is_word_start(b: u8) -> bool {
     b.is_ascii_alphabetic() || b == b'_' || b >= 0x80
 }
@@ -369,6 +558,34 @@ mod tests {
             p.feed(std::slice::from_ref(b));
         }
         assert_eq!(p.finish(), whole);
+    }
+
+    #[test]
+    fn pieces_read_alone_and_absorbed_give_the_same_fingerprint() {
+        let text = b"MODULE M\n  ! c 12\n  MoveL [[612.345,-0.5,1E+3],[1,0,0,0]], v100, z1, t;\n  MoveL [[1,2,3],[0,1,0,0]], v1000\\V:=5, fine, t;\n  s:=\"a[1\"; n:=1E[2];\nENDMODULE\n";
+        let whole = NumberPrint::of(text);
+        let cuts: Vec<usize> = (0..text.len()).filter(|&i| text[i] == b'[').collect();
+        let mut taken = 0;
+        for (k, &a) in cuts.iter().enumerate() {
+            for &b in &cuts[k..] {
+                let mut p = NumberPrint::new();
+                p.feed(&text[..a]);
+                let absorbed = match NumberPrint::tokens_of(&text[a..b]) {
+                    Some(t) => p.absorb(&t),
+                    None => false,
+                };
+                if absorbed {
+                    taken += 1;
+                } else {
+                    p.feed(&text[a..b]);
+                }
+                p.feed(&text[b..]);
+                assert_eq!(p.finish(), whole, "pieces {a}..{b}");
+            }
+        }
+        // The pieces read alone were added, except those that start in the
+        // string (`"a[1"`: 2 of the 8 cuts' 36 pairs) or end in it (6).
+        assert_eq!((cuts.len(), taken), (8, 36 - 2 - 6));
     }
 
     /// The encoding is pinned: a marked file must read the same in every

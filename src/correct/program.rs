@@ -425,7 +425,7 @@ fn write_numbers(
         .map(|b| b..(b + BATCH).min(hi))
         .collect();
     if batches.is_empty() {
-        put_head(out, &fixed)?;
+        put_head(out, fixed)?;
     }
     for (k, batch) in batches.iter().enumerate() {
         let chunks: Vec<std::ops::Range<usize>> = batch

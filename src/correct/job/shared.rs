@@ -32,6 +32,12 @@ fn file_id(path: &Path) -> Option<FileId> {
     }
 }
 
+/// Two tasks, by their places in the run: the earlier, the later.
+type TaskPair = (usize, usize);
+/// A file as the earlier task reads it, as the later does, and how many
+/// files the two share.
+type Shared<'a> = (&'a Path, &'a Path, usize);
+
 /// Refuse `tasks` if a file is read by two of them: one error per pair of
 /// tasks, naming the first such file. Standard input and a file that
 /// cannot be read are left to the read, which says why.
@@ -42,7 +48,7 @@ pub fn refuse_files_of_two_tasks(tasks: &[Task]) -> Result<()> {
     let mut first: HashMap<FileId, (usize, &Path)> = HashMap::new();
     // (earlier task, later task) -> (file as the earlier reads it, as the
     // later does, how many files they share).
-    let mut pairs: Vec<((usize, usize), (&Path, &Path, usize))> = Vec::new();
+    let mut pairs: Vec<(TaskPair, Shared)> = Vec::new();
     for (i, task) in tasks.iter().enumerate() {
         for file in &task.modules {
             if file.as_path() == Path::new("-") {

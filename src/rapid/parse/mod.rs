@@ -25,6 +25,7 @@ use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 use std::sync::Arc;
 
+mod ahead;
 mod builder;
 mod calls;
 mod declarations;
@@ -39,6 +40,7 @@ mod statements;
 mod structure;
 mod words;
 
+use ahead::Ahead;
 use builder::{Builder, InlineCtx};
 use calls::*;
 use expressions::*;

@@ -17,7 +17,7 @@
 //! asks at). A statement the lane declines is not kept: the parse reads
 //! it again and keeps the reason, as where nothing was read ahead.
 
-use super::lane::{decl_item, move_item};
+use super::items::{decl_item, move_item};
 use crate::rapid::lane::{read_decl, read_move, Decline, Seen, Value};
 use crate::rapid::runs::{DeclItem, MoveItem, NONE};
 use crate::rapid::scan::Scanner;

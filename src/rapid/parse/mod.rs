@@ -13,7 +13,7 @@
 //! instruction table), `lane` (the fast lane's statements into runs),
 //! `run` (the whole-run pass) and `messages` (syntax errors).
 
-use super::lane::{read_decl, read_move, LaneDecl, LaneMove, Seen};
+use super::lane::{read_decl, read_move, LaneDecl, Seen};
 use super::motion::{motion_signature, ArgAt};
 use super::place::{line_starts, pos_of};
 use super::scan::{Piece, PieceKind, Scanner};
@@ -32,6 +32,7 @@ mod declarations;
 mod expressions;
 mod file;
 mod grammar;
+mod items;
 mod lane;
 mod messages;
 mod run;

@@ -68,6 +68,11 @@ pub fn join(
     extra: &[Vec<(&str, String)>],
 ) -> Result<String> {
     let Some(labels) = labels else {
+        // One text (a listing of a million targets is 150 MB): as it is,
+        // not copied.
+        if texts.len() == 1 {
+            return Ok(texts.into_iter().next().unwrap_or_default());
+        }
         return Ok(texts.concat());
     };
     let mut out = String::new();

@@ -4,7 +4,7 @@
 use super::derived::calls_by_offset;
 use super::expressions::Expressions;
 use super::names::Names;
-use super::options::Options;
+use super::options::{Options, When};
 use crate::error::Result;
 use crate::model::{States, WarmRobot};
 use crate::rapid::constants::{Constants, Site};
@@ -42,10 +42,16 @@ pub(super) struct Run<'a> {
 
 impl<'a> Run<'a> {
     pub fn new(program: &'a Program, warm: &'a WarmRobot, options: &'a Options) -> Result<Run<'a>> {
+        let mut states = warm.states();
+        // Every target at one moment: its state worked out once. (An
+        // error is said where a target asks for it, as before.)
+        if let When::At(m) = options.when {
+            let _ = states.remember(m);
+        }
         Ok(Run {
             program,
             warm,
-            states: warm.states(),
+            states,
             options,
             frames: match &options.base_frame {
                 Some(base) => Frames::of_program(program)?.placed(base),

@@ -25,6 +25,7 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
             schedule,
             joints,
             default,
+            ..
         } => match joints
             .as_ref()
             .filter(|_| joint)

@@ -19,6 +19,11 @@ pub enum When {
         /// their own name space); `None`: looked up in `schedule`.
         joints: Option<Schedule>,
         default: Option<Moment>,
+        /// The schedules were made by walking the program being
+        /// corrected (the estimate of `--start`): they name only its
+        /// targets, and are not checked against them again (a check of a
+        /// million names, a tenth of such a run). A schedule file is.
+        of_program: bool,
     },
 }
 
@@ -88,6 +93,7 @@ impl When {
                 schedule,
                 joints,
                 default,
+                ..
             } => schedule_basis(|e| schedule.encode(e), joints, default),
         }
     }

@@ -127,7 +127,10 @@ fn correct_all(
     }
     let run = Run::new(program, warm, options)?;
     if let When::Schedule {
-        schedule, joints, ..
+        schedule,
+        joints,
+        of_program: false,
+        ..
     } = &options.when
     {
         check_schedule_names(program, schedule)?;

@@ -20,6 +20,7 @@ fn a_schedules_basis_is_pinned() {
         schedule: robtargets,
         joints: Some(joints),
         default: Some(Moment::Minute(60.0)),
+        of_program: false,
     };
     // The bytes, as docs/correct.md writes them down.
     let mut b = b"rapidtherm schedule 1\0".to_vec();

@@ -36,6 +36,7 @@ fn when_of(program: &Program, entry: &str, partial: bool) -> Option<When> {
             schedule: est.schedule,
             joints: Some(est.joint_schedule),
             default,
+            of_program: true,
         });
     }
     let mut file = Schedule::new();
@@ -48,6 +49,7 @@ fn when_of(program: &Program, entry: &str, partial: bool) -> Option<When> {
         schedule: file,
         joints: None,
         default,
+        of_program: false,
     })
 }
 

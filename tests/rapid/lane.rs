@@ -97,6 +97,37 @@ fn the_three_shapes_read_the_same_with_the_lane() {
     }
 }
 
+#[test]
+fn large_programs_are_read_ahead_on_every_core_the_same() {
+    // Large enough that the lane reads stretches of them ahead of the
+    // parse, cut into pieces on every core (from 256 kB on).
+    for shape in [gen_shapes::Shape::Cam, gen_shapes::Shape::Declared] {
+        let mut src = Vec::new();
+        shape.write(&mut src, 20_000).unwrap();
+        let (moves, rest) = same_both_ways(&src).unwrap();
+        assert_eq!(moves + rest, 20_000, "{}", shape.name());
+        let lane = read(&src, true).unwrap();
+        let tally = &lane.lane;
+        eprintln!(
+            "{}: the lane read {} statements, {} of them ahead of the parse",
+            shape.name(),
+            tally.read,
+            tally.ahead
+        );
+        // The parse reads a statement itself where a stretch read ahead
+        // ends: a few dozen of 20,000 (the declared shape's 20,000 moves
+        // by name too).
+        assert!(
+            tally.ahead * 100 >= tally.read * 99,
+            "{}: {} of {} read ahead",
+            shape.name(),
+            tally.ahead,
+            tally.read
+        );
+        assert!(tally.declined.is_empty(), "{:?}", tally.declined);
+    }
+}
+
 /// A robtarget literal of target `i`, in one of a few number styles.
 fn literal(i: u32, style: u8) -> String {
     let x = 400.0 + f64::from(i % 97);

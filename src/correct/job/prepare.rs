@@ -123,6 +123,7 @@ pub fn when_and_notes(
                 schedule: Schedule::read(&name, &bytes)?,
                 joints: None,
                 default: *default,
+                of_program: false,
             };
             (when, Vec::new())
         }
@@ -133,6 +134,7 @@ pub fn when_and_notes(
                 schedule: estimate.schedule,
                 joints: Some(estimate.joint_schedule),
                 default: *default,
+                of_program: true,
             };
             (when, estimate.notes)
         }
@@ -192,6 +194,7 @@ pub fn warm_run(
             schedule,
             joints,
             default,
+            ..
         } => {
             let latest = std::iter::once(schedule)
                 .chain(joints)

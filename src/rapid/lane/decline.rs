@@ -134,11 +134,13 @@ pub struct Declined {
     pub line: u32,
 }
 
-/// What the lane did in one run: how many statements it read, and those
-/// it began and left to the grammar, by reason.
+/// What the lane did in one run: how many statements it read (and how
+/// many of those it read ahead of the parse, on every core), and those it
+/// began and left to the grammar, by reason.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct LaneTally {
     pub read: usize,
+    pub ahead: usize,
     pub declined: BTreeMap<Decline, Declined>,
 }
 

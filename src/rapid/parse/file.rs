@@ -24,6 +24,8 @@ pub(super) struct FileParser<'a, 'b> {
     /// The declaration run the next declaration the lane reads joins,
     /// while nothing else came between.
     pub open_decls: Option<usize>,
+    /// What the fast lane read ahead of the parse, on every core.
+    pub ahead: Ahead,
 }
 
 /// Pest's view of a piece: ASCII as is, every other byte as U+007F, so
@@ -71,6 +73,7 @@ impl<'a, 'b> FileParser<'a, 'b> {
             call_joints: Vec::new(),
             seen: Seen::default(),
             open_decls: None,
+            ahead: Ahead::default(),
         }
     }
 

@@ -6,19 +6,16 @@
 //! literals. A jointtarget declaration it reads is held as the grammar
 //! holds it.
 
+use super::ahead::Kept;
+use super::items::{decl_item, in_file, move_item};
 use super::*;
 use crate::rapid::lane::{Cursor, Decline, Part, Value};
-use crate::rapid::runs::{ArrayRun, DeclItem, DeclRun, MoveItem, MoveRun, NONE};
+use crate::rapid::runs::{ArrayRun, DeclItem, DeclRun, MoveRun};
 
 impl<'a> FileParser<'a, '_> {
     /// The line of byte `at`.
     fn line_of(&self, at: usize) -> u32 {
         self.lines.partition_point(|&s| s <= at).max(1) as u32
-    }
-
-    /// The text of `r` of the file (the lane reads ASCII only).
-    fn ascii(&self, r: &std::ops::Range<usize>) -> &'a str {
-        std::str::from_utf8(&self.src[r.clone()]).unwrap_or("")
     }
 
     /// The move the lane reads at the next statement's start, if any,
@@ -38,17 +35,38 @@ impl<'a> FileParser<'a, '_> {
         let Some(routine) = self.routine.clone() else {
             return Ok(false);
         };
-        let line = self.line_of(at);
-        let read = read_move(self.src, at, &mut self.seen).and_then(|mv| match mv {
-            Some(mv) => Ok(Some((self.move_item(at, line, &mv)?, mv))),
-            None => Ok(None),
-        });
-        let ((item, literals), mv) = match read {
-            Ok(Some(read)) => read,
-            Ok(None) => return Ok(false),
-            Err(why) => {
-                self.b.prog.lane.decline(why, self.file, line);
-                return Ok(false);
+        // A move read ahead (on every core) is taken; where none was, the
+        // lane reads here, and reads ahead from the move it found.
+        let ((item, literals), end) = match self.kept_ahead(at) {
+            Some((end, Kept::Move(item, literals))) => {
+                self.b.prog.lane.ahead += 1;
+                ((item, literals), end)
+            }
+            _ => {
+                let line = self.line_of(at);
+                let src = self.src;
+                let b = &mut *self.b;
+                let read = read_move(src, at, &mut self.seen).and_then(|mv| match mv {
+                    Some(mv) => {
+                        let mut global = |r: std::ops::Range<usize>| {
+                            let name = b.intern(ascii(src, &r));
+                            b.run_name(&name).ok_or(Decline::TooManyNames)
+                        };
+                        Ok(Some((move_item(at, line, &mv, &mut global)?, mv.end)))
+                    }
+                    None => Ok(None),
+                });
+                match read {
+                    Ok(Some(read)) => {
+                        self.ahead.read_from(self.src, self.lines, read.1);
+                        read
+                    }
+                    Ok(None) => return Ok(false),
+                    Err(why) => {
+                        self.b.prog.lane.decline(why, self.file, line);
+                        return Ok(false);
+                    }
+                }
             }
         };
         self.b.prog.lane.read += 1;
@@ -85,52 +103,18 @@ impl<'a> FileParser<'a, '_> {
         }
         self.inline_k += usize::from(literals);
         self.peeked = None;
-        self.scanner.skip_to(mv.end);
+        self.scanner.skip_to(end);
         Ok(true)
     }
 
-    /// A move the lane read, as a run holds it; why not where it cannot
-    /// (a statement too long, too many names, a file too large).
-    fn move_item(
-        &mut self,
-        at: usize,
-        line: u32,
-        mv: &LaneMove,
-    ) -> std::result::Result<(MoveItem, u8), Decline> {
-        let (literals, parts) = match &mv.named {
-            Some(n) => (0, [offset(at, n.start)?, short(n.len())?]),
-            None => {
-                let mut parts = [0u16; 2];
-                for (p, &l) in parts.iter_mut().zip(&mv.literals) {
-                    *p = offset(at, l)?;
-                }
-                // A move has one or two targets.
-                (mv.literals.len() as u8, parts)
-            }
-        };
-        let mut names = [NONE; 6];
-        let wobj = mv.wobj.clone();
-        let ranges = [
-            Some(mv.instruction.clone()),
-            Some(mv.speed.clone()),
-            Some(mv.zone.clone()),
-            Some(mv.tool.clone()),
-            wobj.as_ref().map(|w| w.0.clone()),
-            wobj.map(|w| w.1),
-        ];
-        for (slot, r) in names.iter_mut().zip(ranges) {
-            if let Some(r) = r {
-                let name = self.b.intern(self.ascii(&r));
-                *slot = self.b.run_name(&name).ok_or(Decline::TooManyNames)?;
-            }
-        }
-        let item = MoveItem {
-            at: in_file(at)?,
-            line,
-            names,
-            parts,
-        };
-        Ok((item, literals))
+    /// What the lane read ahead at `at`, if anything, its names numbered
+    /// in the run's table.
+    fn kept_ahead(&mut self, at: usize) -> Option<(usize, Kept)> {
+        let (src, b) = (self.src, &mut *self.b);
+        self.ahead.take(at, |r| {
+            let name = b.intern(ascii(src, &r));
+            b.run_name(&name)
+        })
     }
 
     /// The declaration the lane reads at the next piece's start of a
@@ -145,6 +129,25 @@ impl<'a> FileParser<'a, '_> {
             Some(p) => p.start,
             None => self.scanner.next_start(),
         };
+        // A robtarget declaration read ahead is taken.
+        if let Some((
+            end,
+            Kept::Decl {
+                item,
+                scope,
+                storage,
+                type_name,
+            },
+        )) = self.kept_ahead(at)
+        {
+            let type_name = ascii(self.src, &type_name);
+            self.join_decls(item, (scope, storage, type_name), m);
+            self.b.prog.lane.read += 1;
+            self.b.prog.lane.ahead += 1;
+            self.peeked = None;
+            self.scanner.skip_to(end);
+            return Ok(true);
+        }
         let line = self.line_of(at);
         let read = read_decl(self.src, at, &mut self.seen).and_then(|d| {
             let Some(d) = d else { return Ok(None) };
@@ -165,6 +168,7 @@ impl<'a> FileParser<'a, '_> {
         });
         match read {
             Ok(Some(end)) => {
+                self.ahead.read_from(self.src, self.lines, end);
                 self.b.prog.lane.read += 1;
                 self.peeked = None;
                 self.scanner.skip_to(end);
@@ -186,21 +190,24 @@ impl<'a> FileParser<'a, '_> {
         lit: usize,
         m: &mut Module,
     ) -> std::result::Result<(), Decline> {
-        let item = DeclItem {
-            at: in_file(at)?,
-            line,
-            name: (
-                offset(at, d.name.start)?,
-                u8::try_from(d.name.len()).map_err(|_| Decline::TooLong)?,
-            ),
-            literal: offset(at, lit)?,
-            qualified: false,
-        };
-        let type_name = self.ascii(&d.type_name);
+        let item = decl_item(at, line, d, lit)?;
+        let type_name = ascii(self.src, &d.type_name);
+        self.join_decls(item, (d.scope, d.storage, type_name), m);
+        Ok(())
+    }
+
+    /// A robtarget declaration joined to the declaration run open where
+    /// it is alike (else starting one).
+    fn join_decls(
+        &mut self,
+        item: DeclItem,
+        (scope, storage, type_name): (Option<Scope>, Storage, &str),
+        m: &mut Module,
+    ) {
         let runs = &mut self.b.prog.runs.decls;
         let open = self.open_decls.filter(|&r| {
             runs.get(r).is_some_and(|run| {
-                run.scope == d.scope && run.storage == d.storage && &*run.type_name == type_name
+                run.scope == scope && run.storage == storage && &*run.type_name == type_name
             })
         });
         match open {
@@ -210,8 +217,8 @@ impl<'a> FileParser<'a, '_> {
                 runs.push(DeclRun {
                     file: self.file,
                     module: self.module.clone(),
-                    scope: d.scope,
-                    storage: d.storage,
+                    scope,
+                    storage,
                     type_name: Arc::from(type_name),
                     base: 0,
                     items: vec![item],
@@ -220,7 +227,6 @@ impl<'a> FileParser<'a, '_> {
                 self.open_decls = Some(r);
             }
         }
-        Ok(())
     }
 
     fn declared_joint_by_lane(
@@ -242,7 +248,7 @@ impl<'a> FileParser<'a, '_> {
         let Some((_, robax, extax)) = c.jointtarget() else {
             return Err(Decline::At(Part::Value, c.found()));
         };
-        let name = self.ascii(&d.name).to_string();
+        let name = ascii(self.src, &d.name).to_string();
         let j = JointTarget {
             id: name.clone(),
             kind: TargetKind::Declared,
@@ -259,7 +265,7 @@ impl<'a> FileParser<'a, '_> {
         m.data.push(DataDecl {
             scope: d.scope,
             storage: d.storage,
-            type_name: self.ascii(&d.type_name).to_string(),
+            type_name: ascii(self.src, &d.type_name).to_string(),
             name,
             dims: Vec::new(),
             init: Some(Expr::JointTarget(self.b.prog.jointtargets.len() - 1)),
@@ -294,7 +300,7 @@ impl<'a> FileParser<'a, '_> {
             .iter()
             .map(|&e| in_file(e))
             .collect::<std::result::Result<_, _>>()?;
-        let name = self.b.intern(self.ascii(&d.name));
+        let name = self.b.intern(ascii(self.src, &d.name));
         let r = self.b.prog.runs.arrays.len();
         self.b.prog.runs.arrays.push(ArrayRun {
             file: self.file,
@@ -311,7 +317,7 @@ impl<'a> FileParser<'a, '_> {
         m.data.push(DataDecl {
             scope: d.scope,
             storage: d.storage,
-            type_name: self.ascii(&d.type_name).to_string(),
+            type_name: ascii(self.src, &d.type_name).to_string(),
             name: name.to_string(),
             dims: vec![Expr::Num(Number::new(size.0 as f64, size.1.clone()))],
             init: Some(Expr::Elements(r)),
@@ -324,17 +330,7 @@ impl<'a> FileParser<'a, '_> {
     }
 }
 
-/// Where `x` is in a statement at `at`, as a run holds it (16 bits).
-fn offset(at: usize, x: usize) -> std::result::Result<u16, Decline> {
-    short(x.saturating_sub(at))
-}
-
-/// A length within a statement, as a run holds it (16 bits).
-fn short(n: usize) -> std::result::Result<u16, Decline> {
-    u16::try_from(n).map_err(|_| Decline::TooLong)
-}
-
-/// Where `x` is in its file, as a run holds it (32 bits).
-fn in_file(x: usize) -> std::result::Result<u32, Decline> {
-    u32::try_from(x).map_err(|_| Decline::FileTooLarge)
+/// The text of `r` of the file (the lane reads ASCII only).
+fn ascii<'a>(src: &'a [u8], r: &std::ops::Range<usize>) -> &'a str {
+    std::str::from_utf8(&src[r.clone()]).unwrap_or("")
 }

@@ -13,7 +13,7 @@
 //! instruction table), `lane` (the fast lane's statements into runs),
 //! `run` (the whole-run pass) and `messages` (syntax errors).
 
-use super::lane::{read_decl, read_move, LaneDecl, LaneMove, Seen};
+use super::lane::{read_decl, read_move, LaneDecl, Seen};
 use super::motion::{motion_signature, ArgAt};
 use super::place::{line_starts, pos_of};
 use super::scan::{Piece, PieceKind, Scanner};
@@ -25,6 +25,7 @@ use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 use std::sync::Arc;
 
+mod ahead;
 mod builder;
 mod calls;
 mod declarations;
@@ -32,6 +33,7 @@ mod duplicates;
 mod expressions;
 mod file;
 mod grammar;
+mod items;
 mod lane;
 mod messages;
 mod run;
@@ -40,6 +42,7 @@ mod statements;
 mod structure;
 mod words;
 
+use ahead::Ahead;
 use builder::{Builder, InlineCtx};
 use calls::*;
 use expressions::*;

@@ -308,45 +308,40 @@ fn distrust_words(why: &Distrust) -> String {
 /// The refusal to correct a file whose marker is not trusted: its numbers
 /// cannot be told corrected from cold.
 pub fn refuse_untrusted(program: &Program, u: &Untrusted) -> Error {
-    let file = &program.files[u.file];
     let why = distrust_words(&u.why);
-    let src = program.source(u.file);
-    let offset: usize = src
-        .split_inclusive(|&b| b == b'\n')
-        .take(u.line - 1)
-        .map(<[u8]>::len)
-        .sum();
     Error::input(format!(
         "rapidtherm's marker says this file is corrected, but {why}; which of its targets are corrected and which are cold cannot be told"
     ))
     .with_note("correct its cold original; or, if every target in it is cold, delete the two `! rapidtherm` lines")
-    .at(Location {
+    .at(marker_line(program, u.file, u.line))
+}
+
+/// The place of the marker's line `line` of file `file`.
+fn marker_line(program: &Program, file: usize, line: usize) -> Location {
+    let src = program.source(file);
+    let offset: usize = src
+        .split_inclusive(|&b| b == b'\n')
+        .take(line - 1)
+        .map(<[u8]>::len)
+        .sum();
+    Location {
         col: 1,
-        ..Location::from_offset(file, src, offset)
-    })
+        ..Location::from_offset(&program.files[file], src, offset)
+    }
 }
 
 /// The refusal to correct a corrected program on another basis.
 pub fn refuse(program: &Program, found: &Found, wanted: &Marker) -> Error {
     let m = &found.marker;
-    let file = &program.files[found.file];
-    let mut e = Error::input(format!(
+    Error::input(format!(
         "this program was already corrected by rapidtherm {} for {} with {}; correcting it again (for {} with {}) would add a second correction on top of the first",
         m.version, m.basis, m.model, wanted.basis, wanted.model
     ))
     .with_note(format!(
         "correct its cold original instead (fingerprint {})",
         m.cold
-    ));
-    let src = program.source(found.file);
-    let offset: usize = src
-        .split_inclusive(|&b| b == b'\n')
-        .take(found.line - 1)
-        .map(<[u8]>::len)
-        .sum();
-    let loc = Location::from_offset(file, src, offset);
-    e = e.at(Location { col: 1, ..loc });
-    e
+    ))
+    .at(marker_line(program, found.file, found.line))
 }
 
 /// The marker's fields of a run, for a cold file's bytes.

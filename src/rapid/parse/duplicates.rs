@@ -6,9 +6,9 @@
 //! declaration would otherwise leave a move bound to whichever came
 //! first, and the other corrected as if unused.
 
-use super::Builder;
 use crate::error::{Error, ErrorKind, Location, Result};
 use crate::rapid::values::Scope;
+use crate::rapid::Program;
 use std::collections::HashMap;
 
 /// Where a declaration is: its file and byte offset, and its line.
@@ -32,8 +32,7 @@ enum Space {
 
 /// Refuse every name declared twice in one scope, each at its second
 /// declaration, naming the first.
-pub(super) fn refuse_duplicates(b: &Builder, refs: &[(&str, &[u8])]) -> Result<()> {
-    let prog = &b.prog;
+pub(super) fn refuse_duplicates(prog: &Program, refs: &[(&str, &[u8])]) -> Result<()> {
     let mut first: HashMap<(Space, String), At> = HashMap::new();
     let mut errors = Vec::new();
     let mut declare = |spaces: &[Space], name: &str, at: At, what: &str| {

@@ -122,7 +122,7 @@ pub fn parse_sources(inputs: Vec<(String, Source)>, options: ParseOptions) -> Re
         seen.insert(m.name.to_lowercase(), i);
     }
     refuse_speeds(&b.prog, &refs)?;
-    duplicates::refuse_duplicates(&b, &refs)?;
+    duplicates::refuse_duplicates(&b.prog, &refs)?;
     b.finish(&refs, &lines)?;
     Ok(b.prog)
 }

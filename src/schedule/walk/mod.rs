@@ -689,7 +689,10 @@ impl<'p> Walker<'p> {
             (Some(a), Some(b), Some(st)) if st != 0.0 => {
                 let mut v = a;
                 let mut flow = Flow::Normal;
+                let turns = ((b - a) / st).floor() + 1.0;
+                let mut first = true;
                 while (st > 0.0 && v <= b) || (st < 0.0 && v >= b) {
+                    let before = self.steps;
                     self.count_step(frame, s)?;
                     frame.vars.insert(key.clone(), Value::Num(v));
                     match self.exec_list(body, frame)? {
@@ -697,6 +700,24 @@ impl<'p> Walker<'p> {
                         other => {
                             flow = other;
                             break;
+                        }
+                    }
+                    // Every turn walks about what the first did: a loop
+                    // the budget cannot hold is refused now, not after
+                    // minutes.
+                    if first {
+                        first = false;
+                        let left = (self.steps - before) as f64 * (turns - 1.0);
+                        if self.steps as f64 + left > STEP_BUDGET as f64 {
+                            return Err(Error::new(
+                                ErrorKind::Unsupported,
+                                format!(
+                                    "FOR {var}: {turns} turns of {} statements each would pass the walk's limit of {STEP_BUDGET} statements",
+                                    self.steps - before
+                                ),
+                            )
+                            .with_remedy(Remedy::GiveSchedule)
+                            .at(self.location(frame, s)));
                         }
                     }
                     v += st;

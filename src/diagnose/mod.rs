@@ -39,6 +39,7 @@ pub mod instrument;
 pub mod knock;
 pub mod locate;
 pub mod measurements;
+pub mod memo;
 pub mod pipeline;
 pub mod plausible;
 pub mod plot;

@@ -65,7 +65,7 @@ pub struct Problem {
     pub origins: bool,
     /// Fits already made on this problem or one derived from it, by what
     /// they were fitted to ([`super::memo`]).
-    pub memo: super::memo::FitMemo,
+    pub memo: super::memo::Memo<Fit>,
 }
 
 impl Problem {
@@ -422,7 +422,7 @@ fn fit_bounded(
     plausible_only: bool,
     start: Option<&[f64]>,
 ) -> Result<Fit> {
-    let key = super::memo::key(problem, rows, kinds, plausible_only, start);
+    let key = Problem::memo_key(problem, rows, kinds, plausible_only, start);
     if let Some(f) = problem.memo.get(&key) {
         return Ok(f);
     }

@@ -33,6 +33,7 @@ pub mod chain_diagnose;
 pub mod chain_residual;
 pub mod detect;
 pub mod fit;
+mod fit_key;
 pub mod forward;
 pub mod gap;
 pub mod instrument;

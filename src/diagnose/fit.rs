@@ -63,6 +63,9 @@ pub struct Problem {
     /// calibration): only where the poses are enough for it, else it would
     /// fit each pose's own error and predict no other.
     pub origins: bool,
+    /// Fits already made on this problem or one derived from it, by what
+    /// they were fitted to ([`super::memo`]).
+    pub memo: super::memo::Memo<Fit>,
 }
 
 impl Problem {
@@ -177,18 +180,50 @@ impl Problem {
 
     /// Predicted flange poses of `rows` with the fixed effects plus `extra`.
     pub fn predict_rows(&self, extra: &[Effect], rows: &[usize]) -> Vec<nalgebra::Isometry3<f64>> {
+        let all = self.with_fixed(extra);
+        let lagged = self.lagged_states(&all, rows);
+        self.predict_with(&all, rows, lagged.as_deref())
+    }
+
+    /// The fixed effects followed by `extra`.
+    fn with_fixed(&self, extra: &[Effect]) -> Vec<Effect> {
         let mut all = self.fixed.clone();
         all.extend_from_slice(extra);
-        let lag = LinkLags::new(&self.history, &all);
+        all
+    }
+
+    /// Per row of `rows`, the motor temperatures through each link's lag
+    /// for the time constants of `all` (`None` without a lag). A fit
+    /// computes them once per set of time constants: every column of a
+    /// Jacobian but the time constants' own shares them.
+    fn lagged_states(&self, all: &[Effect], rows: &[usize]) -> Option<Vec<[MotorTemps; 4]>> {
+        let lag = LinkLags::new(&self.history, all)?;
+        Some(
+            rows.iter()
+                .filter_map(|&i| self.rows.get(i))
+                .map(|r| lag.at(r.time_min))
+                .collect(),
+        )
+    }
+
+    /// [`Problem::predict_rows`] for all the effects `all` (fixed ones
+    /// included), with their lagged temperatures given.
+    fn predict_with(
+        &self,
+        all: &[Effect],
+        rows: &[usize],
+        lagged: Option<&[[MotorTemps; 4]]>,
+    ) -> Vec<nalgebra::Isometry3<f64>> {
         rows.iter()
             .filter_map(|&i| self.rows.get(i))
-            .map(|r| {
+            .enumerate()
+            .map(|(k, r)| {
                 let state = RowState {
                     q: r.q,
                     temps: r.temps,
-                    lagged: lag.as_ref().map(|l| l.at(r.time_min)),
+                    lagged: lagged.and_then(|l| l.get(k).copied()),
                 };
-                predict(&self.base, &all, &state)
+                predict(&self.base, all, &state)
             })
             .collect()
     }
@@ -205,9 +240,27 @@ impl Problem {
     /// The stacked residual vector (positions in mm, orientations in mrad
     /// times `w_ori`).
     pub fn residuals(&self, extra: &[Effect], rows: &[usize]) -> DVector<f64> {
+        let all = self.with_fixed(extra);
+        let lagged = self.lagged_states(&all, rows);
+        self.residuals_with(&all, rows, lagged.as_deref())
+    }
+
+    /// [`Problem::residuals`] for all the effects `all` (fixed ones
+    /// included), with their lagged temperatures given.
+    fn residuals_with(
+        &self,
+        all: &[Effect],
+        rows: &[usize],
+        lagged: Option<&[[MotorTemps; 4]]>,
+    ) -> DVector<f64> {
         let w = self.width();
         let mut out = DVector::zeros(rows.len() * w);
-        for (k, (pose, &i)) in self.predict_rows(extra, rows).iter().zip(rows).enumerate() {
+        for (k, (pose, &i)) in self
+            .predict_with(all, rows, lagged)
+            .iter()
+            .zip(rows)
+            .enumerate()
+        {
             let Some(r) = self.rows.get(i) else { continue };
             let d = r.position - pose.translation.vector;
             out.fixed_rows_mut::<3>(k * w).copy_from(&d);
@@ -328,7 +381,28 @@ const MAX_TAU_MIN: f64 = 600.0;
 /// Fit the parameters of `kinds` (added to the problem's fixed effects) to
 /// the rows `rows`.
 pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fit> {
-    fit_bounded(problem, rows, kinds, false)
+    fit_bounded(problem, rows, kinds, false, None)
+}
+
+/// [`fit`] started from `start` (the values of the effects of those kinds
+/// found there; the others start at zero), where a fit of the same model
+/// nearby is known: a held-out fold's from the fit on all rows, a joint fit
+/// from the fits of its parts. The time constants' grid search is skipped,
+/// and the fit ends in the minimum nearest to what was found.
+pub fn fit_from(
+    problem: &Problem,
+    rows: &[usize],
+    kinds: &[EffectKind],
+    start: &[Effect],
+) -> Result<Fit> {
+    let theta: Vec<f64> = kinds
+        .iter()
+        .flat_map(|&k| {
+            let found = start.iter().find(|e| e.kind == k);
+            (0..k.params().len()).map(move |i| found.map_or(0.0, |e| e.get(i)))
+        })
+        .collect();
+    fit_bounded(problem, rows, kinds, false, Some(&theta))
 }
 
 /// [`fit`] for a model that is reported: a parameter that ends beyond its
@@ -338,7 +412,7 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
 /// parameters trading against each other predicts as well as one of them
 /// alone, and the extra fits would cost minutes on a thousand poses.
 pub fn fit_plausible(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fit> {
-    fit_bounded(problem, rows, kinds, true)
+    fit_bounded(problem, rows, kinds, true, None)
 }
 
 fn fit_bounded(
@@ -346,6 +420,26 @@ fn fit_bounded(
     rows: &[usize],
     kinds: &[EffectKind],
     plausible_only: bool,
+    start: Option<&[f64]>,
+) -> Result<Fit> {
+    let key = Problem::memo_key(problem, rows, kinds, plausible_only, start);
+    if let Some(f) = problem.memo.get(&key) {
+        return Ok(f);
+    }
+    let f = fit_afresh(problem, rows, kinds, plausible_only, start)?;
+    problem.memo.put(key, &f);
+    Ok(f)
+}
+
+/// The time constants (as bits) and the lagged temperatures of each row.
+type LagMemo = ([u64; 4], std::rc::Rc<Vec<[MotorTemps; 4]>>);
+
+fn fit_afresh(
+    problem: &Problem,
+    rows: &[usize],
+    kinds: &[EffectKind],
+    plausible_only: bool,
+    start: Option<&[f64]>,
 ) -> Result<Fit> {
     let layout: Vec<(EffectKind, usize)> = kinds
         .iter()
@@ -365,7 +459,25 @@ fn fit_bounded(
             })
             .collect()
     };
-    let residual = |theta: &[f64]| problem.residuals(&effects_of(theta), rows);
+    // The lagged temperatures of the last time constants seen: every
+    // Jacobian column but the time constants' own reuses them.
+    let lag_memo: std::cell::RefCell<Option<LagMemo>> = Default::default();
+    let residual = |theta: &[f64]| {
+        let all = problem.with_fixed(&effects_of(theta));
+        let lagged = crate::model::lag_taus(&all).and_then(|taus| {
+            let key = taus.map(f64::to_bits);
+            let mut memo = lag_memo.borrow_mut();
+            match memo.as_ref() {
+                Some((k, v)) if *k == key => Some(v.clone()),
+                _ => {
+                    let v = std::rc::Rc::new(problem.lagged_states(&all, rows)?);
+                    *memo = Some((key, v.clone()));
+                    Some(v)
+                }
+            }
+        });
+        problem.residuals_with(&all, rows, lagged.as_deref().map(Vec::as_slice))
+    };
     let jacobian = |theta: &[f64], r0: &DVector<f64>, free: &[usize]| -> DMatrix<f64> {
         let mut j = DMatrix::zeros(r0.len(), free.len());
         for (c, &p) in free.iter().enumerate() {
@@ -380,7 +492,11 @@ fn fit_bounded(
         j
     };
 
-    let mut theta = vec![0.0; m];
+    let mut theta = match start {
+        Some(t) if t.len() == m => t.to_vec(),
+        _ => vec![0.0; m],
+    };
+    let warm = theta.iter().any(|&v| v != 0.0);
     // The thermal-lag time constants: nonlinear, and never negative.
     let lag_params: Vec<usize> = (0..m)
         .filter(|&p| layout[p].0 == EffectKind::ThermalLag)
@@ -391,7 +507,7 @@ fn fit_bounded(
             rows.len()
         )));
     }
-    if !lag_params.is_empty() {
+    if !lag_params.is_empty() && !warm {
         // τ is strongly nonlinear: start from the best of a coarse grid (one
         // τ for all links), with the other parameters solved linearly at
         // each τ.
@@ -422,6 +538,8 @@ fn fit_bounded(
     // Identifiability at the start point.
     let r0 = residual(&theta);
     let all: Vec<usize> = (0..m).collect();
+    // Without a lag the effects are nearly linear: the Jacobian at zero
+    // serves a warm start too (a step that fails refreshes it).
     let j0 = match lag_params.is_empty() {
         true => problem.cached_jacobian(kinds, rows),
         false => None,

@@ -55,18 +55,39 @@ impl Forward {
     }
 }
 
+/// The parameters of a fit as reported. A value beyond its plausible bound
+/// (`data/plausible_effects.toml`) is declared implausible, as a reported
+/// model's fit holds it ([`fit::fit_plausible`]): a candidate's record of
+/// its fit alone (a thermal effect taking up static error with all its
+/// parameters, an expansion factor of 10,000) never shows it as a finding.
 pub fn params_out(fit: &fit::Fit) -> Vec<ParamOut> {
     fit.effects
         .iter()
         .zip(&fit.params)
         .flat_map(|(e, ps)| {
-            e.kind.params().iter().zip(ps).map(|(info, p)| ParamOut {
-                name: format!("{}.{}", e.kind.name(), info.name),
-                unit: info.unit.to_string(),
-                value: p.value,
-                stderr: p.stderr,
-                held: p.held.clone(),
-            })
+            e.kind
+                .params()
+                .iter()
+                .zip(ps)
+                .enumerate()
+                .map(|(i, (info, p))| {
+                    let limit = super::plausible::bound(e.kind, i);
+                    let wild = p.held.is_none() && p.value.abs() > limit;
+                    ParamOut {
+                        name: format!("{}.{}", e.kind.name(), info.name),
+                        unit: info.unit.to_string(),
+                        value: if wild { 0.0 } else { p.value },
+                        stderr: if wild { None } else { p.stderr },
+                        held: if wild {
+                            Some(super::unidentified::Unidentified::Implausible {
+                                value: p.value,
+                                limit,
+                            })
+                        } else {
+                            p.held.clone()
+                        },
+                    }
+                })
         })
         .collect()
 }

@@ -335,11 +335,6 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     })
 }
 
-/// The drop of the held-out mean-square gap over time (in noise
-/// variances) a thermal effect must make besides its F test: held-out
-/// scores scatter by a few percent of the noise variance between fits.
-const TIME_MARGIN: f64 = 0.05;
-
 /// One stage of a diagnosis: what its selection found, its verdict, and
 /// the test of what is left against the noise.
 struct Stage {
@@ -443,7 +438,15 @@ impl Ctx<'_> {
         } else {
             let mut kinds = thermal.selected.clone();
             kinds.extend(statics.selected.iter().copied());
-            let joint = fit::fit(problem, &all, &kinds).ok()?;
+            // Started from the thermal effects found over time and the
+            // static ones found with them held: there the joint model's
+            // residual is the static stage's, and the fit can only lower it.
+            // From a cold start a lag's fit may end in another, worse
+            // minimum, and the difference would be taken for static error
+            // the model lacks.
+            let mut start = thermal.effects();
+            start.extend(statics.effects());
+            let joint = fit::fit_from(problem, &all, &kinds, &start).ok()?;
             joint.rss - thermal.rss().0
         };
         (dof > 0).then(|| {
@@ -544,7 +547,13 @@ fn two_stages(
             &thermal_pool,
             &ctx.noise,
             ctx.max_effects,
-            Some(TIME_MARGIN * ctx.noise.rms_mm * ctx.noise.rms_mm),
+            // Held out by time span: an effect must predict the spans its
+            // fit never saw better than the model without it. Its
+            // significance is the F test's; a margin on top would be a
+            // second threshold no test states (a lone lag with logged
+            // temperatures passed F at p < 1e-5 and was refused by a margin
+            // of 5 % of the noise variance).
+            Some(0.0),
             None,
         )
     };

@@ -162,6 +162,7 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         // A full kinematic calibration from as many poses as it has
         // parameters; the diagnosis decides by the rank it finds.
         origins: pose_names.len() >= FULL_GEOMETRY_POSES,
+        memo: Default::default(),
     };
     let prepared = Prepared {
         problem,

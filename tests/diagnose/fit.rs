@@ -345,3 +345,38 @@ fn fitted_params(kind: EffectKind) -> usize {
         kind.params().len()
     }
 }
+
+/// A fit asked for again is answered from the memo (the fast path ran:
+/// its hit count rose) with the very fit made the first time; a fit of
+/// other rows, or started elsewhere, is made afresh. A fold's fit started
+/// from the fit on all rows ends where a cold fit of the fold ends.
+#[test]
+fn a_fit_asked_again_is_remembered_and_a_warm_start_ends_where_a_cold_one_does() {
+    use rapidtherm::diagnose::fit::fit_from;
+    let truth = Effect::with_defaults(EffectKind::ThermalLag);
+    let meas = data(vec![truth], false, 11);
+    let p = prepare(&meas, &Model::default(), false).unwrap();
+    let all: Vec<usize> = (0..p.problem.rows.len()).collect();
+    let kinds = [EffectKind::ThermalLag, EffectKind::ArmBending];
+    let first = fit(&p.problem, &all, &kinds).unwrap();
+    let hits = p.problem.memo.hits();
+    let again = fit(&p.problem, &all, &kinds).unwrap();
+    assert_eq!(p.problem.memo.hits(), hits + 1);
+    assert_eq!(first.effects, again.effects);
+    assert_eq!(first.rss.to_bits(), again.rss.to_bits());
+    // Another set of rows: no hit.
+    let fold: Vec<usize> = all.iter().copied().filter(|i| i % 5 != 0).collect();
+    let cold = fit(&p.problem, &fold, &kinds).unwrap();
+    assert_eq!(p.problem.memo.hits(), hits + 1);
+    let warm = fit_from(&p.problem, &fold, &kinds, &first.effects).unwrap();
+    assert_eq!(p.problem.memo.hits(), hits + 1);
+    // Both at the fold's minimum: residuals equal to a thousandth of the
+    // noise variance over the fold.
+    let n = cold.n_obs as f64;
+    assert!(
+        (warm.rss - cold.rss).abs() / n < 1e-3 * 0.01 * 0.01,
+        "warm {} cold {}",
+        warm.rss,
+        cold.rss
+    );
+}

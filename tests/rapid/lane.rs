@@ -16,7 +16,7 @@
 mod gen_shapes;
 
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestRunner};
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use rapidtherm::rapid::{self, ParseOptions, Program, Source};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -249,17 +249,22 @@ fn module(items: &[Data]) -> String {
 #[test]
 fn generated_declarations_read_the_same_with_the_lane() {
     let (ran, took) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    TestRunner::new(Config::with_cases(64))
-        .run(&prop::collection::vec(data(), 2..12), |items| {
-            let src = module(&items);
-            let (_, declared) = same_both_ways(src.as_bytes())?;
-            ran.fetch_add(1, Ordering::Relaxed);
-            if declared > 0 {
-                took.fetch_add(1, Ordering::Relaxed);
-            }
-            Ok(())
-        })
-        .unwrap();
+    // A fixed seed: the count of cases the lane read must not pass or
+    // fail by chance.
+    TestRunner::new_with_rng(
+        Config::with_cases(64),
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    )
+    .run(&prop::collection::vec(data(), 2..12), |items| {
+        let src = module(&items);
+        let (_, declared) = same_both_ways(src.as_bytes())?;
+        ran.fetch_add(1, Ordering::Relaxed);
+        if declared > 0 {
+            took.fetch_add(1, Ordering::Relaxed);
+        }
+        Ok(())
+    })
+    .unwrap();
     let (ran, took) = (ran.into_inner(), took.into_inner());
     eprintln!("the lane read declarations in {took} of {ran} generated modules");
     assert!(

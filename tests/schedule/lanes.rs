@@ -7,7 +7,7 @@
 
 use super::props::{body, program};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestRunner};
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use rapidtherm::rapid::{self, ParseOptions, Program, Source};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, EstimateOptions};
@@ -182,16 +182,21 @@ fn a_program_reads_the_same_with_the_lane() {
         std::sync::atomic::AtomicUsize::new(0),
     );
     let strategy = (prop::collection::vec(body(), 1..6), 0.0..500.0f64);
-    TestRunner::new(Config::with_cases(64))
-        .run(&strategy, |(main, start)| {
-            let read = same_both_ways(program(&main).as_bytes(), start)?;
-            ran.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            if read > 0 {
-                took.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            }
-            Ok(())
-        })
-        .unwrap();
+    // A fixed seed: the count of cases the lane read must not pass or
+    // fail by chance.
+    TestRunner::new_with_rng(
+        Config::with_cases(64),
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    )
+    .run(&strategy, |(main, start)| {
+        let read = same_both_ways(program(&main).as_bytes(), start)?;
+        ran.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if read > 0 {
+            took.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+        Ok(())
+    })
+    .unwrap();
     let (ran, took) = (ran.into_inner(), took.into_inner());
     eprintln!("the lane read moves in {took} of {ran} generated programs");
     assert!(

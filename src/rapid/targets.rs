@@ -306,6 +306,11 @@ pub struct TargetIndex<'p> {
     qualified: HashMap<String, usize>,
     /// Array runs by their identifiers' prefix, lower case.
     arrays: HashMap<String, (usize, usize)>,
+    /// Whether some identifier carries its routine (`r1/pA`): only then
+    /// is a routine-scoped key worth building for a lookup.
+    scoped: bool,
+    /// Whether some identifier carries its module (`M:p10`).
+    module_keyed: bool,
 }
 
 impl<'p> TargetIndex<'p> {
@@ -345,12 +350,23 @@ impl<'p> TargetIndex<'p> {
             .arrays
             .iter()
             .map(|a| (a.prefix.to_ascii_lowercase(), (a.base, a.elements.len())))
-            .collect();
+            .collect::<HashMap<_, _>>();
+        let scoped = one_by_one
+            .keys()
+            .chain(arrays.keys())
+            .any(|k| k.contains('/'));
+        let module_keyed = !qualified.is_empty()
+            || one_by_one
+                .keys()
+                .chain(arrays.keys())
+                .any(|k| k.contains(':'));
         TargetIndex {
             one_by_one,
             declared,
             qualified,
             arrays,
+            scoped,
+            module_keyed,
         }
     }
 }
@@ -392,6 +408,19 @@ impl TargetIndex<'_> {
         let k: usize = rest.strip_suffix('}')?.parse().ok()?;
         let &(base, len) = self.arrays.get(prefix)?;
         (1..=len).contains(&k).then_some(base + k - 1)
+    }
+
+    /// Whether some identifier is scoped to its routine (`r1/pA`, where a
+    /// routine's data shadows a name declared elsewhere too). Lookups skip
+    /// the routine-scoped keys where none is: most programs, and every
+    /// move by name pays for them otherwise.
+    pub fn has_routine_scoped(&self) -> bool {
+        self.scoped
+    }
+
+    /// Whether some identifier is qualified by its module (`M:p10`).
+    pub fn has_qualified(&self) -> bool {
+        self.module_keyed
     }
 
     /// The targets of the array run whose identifiers start `prefix{`

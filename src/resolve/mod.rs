@@ -468,11 +468,25 @@ impl Refs<'_> {
     /// data first (its identifier carries the routine where the name is
     /// declared elsewhere too), then the module's, then the task's.
     fn lookup(&self, id: &str, (module, routine): Scope) -> Option<usize> {
-        let own = format!("{routine}/{id}");
-        self.index
-            .get(&own)
-            .or_else(|| self.index.get(&format!("{module}:{own}")))
-            .or_else(|| self.index.get(&format!("{module}:{id}")))
+        // The scoped and qualified keys are built only where the index
+        // holds such identifiers: a move by name is looked up a million
+        // times on a large program, and three allocations each showed.
+        let scoped = self.index.has_routine_scoped();
+        let qualified = self.index.has_qualified();
+        let own = || format!("{routine}/{id}");
+        scoped
+            .then(|| self.index.get(&own()))
+            .flatten()
+            .or_else(|| {
+                (scoped && qualified)
+                    .then(|| self.index.get(&format!("{module}:{}", own())))
+                    .flatten()
+            })
+            .or_else(|| {
+                qualified
+                    .then(|| self.index.get(&format!("{module}:{id}")))
+                    .flatten()
+            })
             .or_else(|| self.index.get(id))
     }
 

@@ -104,6 +104,11 @@ pub(super) struct Walker<'p> {
     /// Non-inline robtarget ids (lower case) → index.
     pub(super) target_ids: FastMap<String, usize>,
     pub(super) joint_ids: FastMap<String, usize>,
+    /// Whether some id of `target_ids` or `joint_ids` carries its routine
+    /// (`r1/pa`) or its module (`m:pa`): only then does a name's lookup
+    /// build those keys.
+    pub(super) ids_scoped: bool,
+    pub(super) ids_qualified: bool,
     /// (file, byte offset) of a derived expression → its target.
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
@@ -211,6 +216,10 @@ impl<'p> Walker<'p> {
             .filter(|(_, j)| j.kind != TargetKind::Inline)
             .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
             .collect();
+        let joint_ids: FastMap<String, usize> = joint_ids;
+        let keys = || target_ids.keys().chain(joint_ids.keys());
+        let ids_scoped = keys().any(|k| k.contains('/'));
+        let ids_qualified = keys().any(|k| k.contains(':'));
         let mut decls: FastMap<String, Vec<(usize, Decl)>> = FastMap::default();
         let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
         for (mi, m) in program.modules.iter().enumerate() {
@@ -244,6 +253,8 @@ impl<'p> Walker<'p> {
                 Some(base) => Frames::of_program(program)?.placed(base),
                 None => Frames::of_program(program)?,
             },
+            ids_scoped,
+            ids_qualified,
             target_ids,
             joint_ids,
             derived_at,

@@ -4,12 +4,12 @@
 //! it. The numbers are those of [`Expr::Target`](super::Expr::Target)
 //! and every list of targets the library keeps.
 
+use super::nocase::NoCase;
 use super::runs::{blank_target, MoveRef, Runs};
 use super::source::Source;
 use super::values::{Target, TargetKind};
 use std::borrow::Cow;
 use std::collections::HashMap;
-use std::hash::{Hash, Hasher};
 
 /// An empty target, to be filled ([`Targets::fill`]).
 pub fn blank() -> Target {
@@ -273,29 +273,6 @@ impl<'p> IntoIterator for Targets<'p> {
         Box::new(self.iter())
     }
 }
-
-/// A name compared without regard to case, as RAPID compares names.
-#[derive(Clone, Copy, Debug)]
-struct NoCase<'a>(&'a [u8]);
-
-impl Hash for NoCase<'_> {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        // FNV-1a over the lower-case bytes, handed on as one number.
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for &b in self.0 {
-            h = (h ^ u64::from(b.to_ascii_lowercase())).wrapping_mul(0x100_0000_01b3);
-        }
-        state.write_u64(h);
-    }
-}
-
-impl PartialEq for NoCase<'_> {
-    fn eq(&self, other: &Self) -> bool {
-        self.0.eq_ignore_ascii_case(other.0)
-    }
-}
-
-impl Eq for NoCase<'_> {}
 
 /// The program's targets by identifier (compared without regard to
 /// case): those held one by one that `keep` keeps, every declared target

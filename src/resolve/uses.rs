@@ -159,6 +159,18 @@ impl<'u> UseRef<'u> {
     pub fn file(&self) -> usize {
         self.file
     }
+    /// The move instruction's name as written (`MoveL`).
+    pub fn instruction(&self) -> &'u str {
+        self.instruction
+    }
+    /// The routine the move is in.
+    pub fn routine(&self) -> &'u str {
+        self.routine
+    }
+    /// The move's line.
+    pub fn line(&self) -> u32 {
+        self.line
+    }
     /// Where the move's statement starts.
     pub fn offset(&self) -> usize {
         self.offset

@@ -144,6 +144,10 @@ impl<'u> UseRef<'u> {
     pub fn file(&self) -> usize {
         self.file
     }
+    /// The move instruction (`MoveL`).
+    pub fn instruction(&self) -> &'u str {
+        self.instruction
+    }
     /// Where the move's statement starts.
     pub fn offset(&self) -> usize {
         self.offset

@@ -55,5 +55,5 @@ pub use outcome::{
     Split, Summary,
 };
 
-pub use options::{Options, Untrusted, When};
+pub use options::{Options, ScheduleSource, Untrusted, When, ESTIMATE_ENCODING};
 pub use program::{correct, correct_into, Corrected, Keep};

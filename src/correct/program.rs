@@ -12,7 +12,7 @@
 use super::context::Run;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
-use super::options::{Options, Untrusted, When};
+use super::options::{Options, ScheduleSource, Untrusted, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
 use super::pass::{tallied, Done, Pass, Tallied};
 use super::progress::Progress;
@@ -129,7 +129,7 @@ fn correct_all(
     if let When::Schedule {
         schedule,
         joints,
-        of_program: false,
+        source: ScheduleSource::File,
         ..
     } = &options.when
     {

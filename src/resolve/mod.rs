@@ -18,6 +18,7 @@ use std::collections::HashMap;
 
 pub mod arm;
 pub mod dataflow;
+pub mod monitoring;
 mod uses;
 
 use uses::{Site, UsesBuilder};

@@ -6,6 +6,7 @@
 //! time ([`instant`]).
 
 mod check;
+mod ends;
 mod eval;
 mod instant;
 mod moves;
@@ -527,6 +528,16 @@ impl<'p> Walker<'p> {
                             } else {
                                 format!("ELSEIF #{i}")
                             };
+                            if self.list_ends(body, frame.module, 0) {
+                                self.note(
+                                    frame,
+                                    line,
+                                    format!(
+                                        "IF: condition known only at run time; the {which} branch ends the program (EXIT), so the walk takes its condition as false"
+                                    ),
+                                );
+                                continue;
+                            }
                             self.note(
                                 frame,
                                 line,
@@ -546,6 +557,14 @@ impl<'p> Walker<'p> {
             StatementKind::CompactIf { cond, then } => match self.eval(cond, frame)?.boolean() {
                 Some(false) => Ok(Flow::Normal),
                 Some(true) => self.exec(then, frame),
+                None if self.ends_program(then, frame.module) => {
+                    self.note(
+                        frame,
+                        line,
+                        "IF: condition known only at run time; the statement ends the program (EXIT), so the walk carries on past it",
+                    );
+                    Ok(Flow::Normal)
+                }
                 None => {
                     self.note(
                         frame,
@@ -830,6 +849,23 @@ impl<'p> Walker<'p> {
                     frame,
                     line,
                     format!("{}: waits on a run-time condition, taken as 0 s", call.name),
+                );
+                return Ok(Flow::Normal);
+            }
+            // MultiMove: the task waits for the others at its
+            // synchronisation point, with its robot at rest (the
+            // instructions need a stop point before them); the other
+            // tasks' time is not modelled here.
+            "syncmoveon" | "syncmoveoff" | "syncmoveundo" | "syncmovesuspend"
+            | "syncmoveresume" => {
+                self.clock = self.clock.max(self.robot_free);
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "{}: waits for the other motion tasks (MultiMove), taken as 0 s",
+                        call.name
+                    ),
                 );
                 return Ok(Flow::Normal);
             }

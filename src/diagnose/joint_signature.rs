@@ -72,29 +72,26 @@ impl JointSignature {
     }
 }
 
-/// Each row's direction of approach of every joint: +1 where it came from
+/// Per joint, each row's direction of approach: +1 where it came from
 /// below (its angle rose since the row measured before it), −1 from above,
 /// 0 for the first row or a joint that did not move.
-fn approach(problem: &Problem) -> Vec<[f64; 6]> {
+fn approach(problem: &Problem) -> [Vec<f64>; 6] {
     let mut order: Vec<usize> = (0..problem.rows.len()).collect();
     order.sort_by(|&a, &b| {
         problem.rows[a]
             .time_min
             .total_cmp(&problem.rows[b].time_min)
     });
-    let mut out = vec![[0.0; 6]; problem.rows.len()];
-    for w in order.windows(2) {
-        let (prev, now) = (&problem.rows[w[0]].q, &problem.rows[w[1]].q);
-        out[w[1]] = std::array::from_fn(|i| {
-            let d = now[i] - prev[i];
-            if d.abs() < 1e-9 {
-                0.0
-            } else {
-                d.signum()
+    std::array::from_fn(|axis| {
+        let mut out = vec![0.0; problem.rows.len()];
+        for w in order.windows(2) {
+            let d = problem.rows[w[1]].q[axis] - problem.rows[w[0]].q[axis];
+            if d.abs() >= 1e-9 {
+                out[w[1]] = d.signum();
             }
-        });
-    }
-    out
+        }
+        out
+    })
 }
 
 /// Look for a joint signature in what the static effects `statics` leave
@@ -124,7 +121,7 @@ pub fn find(
     // The zero column of every joint (mm of the residual per mrad).
     let params = EffectKind::GeometryOffset.params();
     let mut tried: Vec<(usize, JointShape, Vec<DVector<f64>>)> = Vec::new();
-    for axis in 0..6 {
+    for (axis, dir) in dirs.iter().enumerate() {
         let name = format!("dq{}_mrad", axis + 1);
         let Some(p) = params.iter().position(|info| info.name == name) else {
             continue;
@@ -151,7 +148,7 @@ pub fn find(
         tried.push((
             axis,
             JointShape::Backlash { lags: true },
-            vec![times(&|i| dirs[i][axis])],
+            vec![times(&|i| dir[i])],
         ));
     }
     let level = LEVEL / tried.len().max(1) as f64;

@@ -692,23 +692,26 @@ fn two_stages(
     // cannot be told from the arm's own geometry: it would only take up
     // part of that geometry. Said, not named.
     let mut ambiguous_sag = None;
-    if !ctx.static_judged && statics.selected.contains(&EffectKind::GravitySag) {
-        let without: Vec<EffectKind> = static_pool
-            .iter()
-            .copied()
-            .filter(|k| *k != EffectKind::GravitySag)
-            .collect();
-        let sag_cv = statics.cv;
-        statics = ctx.select(
-            &held,
+    let without_sag: Vec<EffectKind> = static_pool
+        .iter()
+        .copied()
+        .filter(|k| *k != EffectKind::GravitySag)
+        .collect();
+    let select_without_sag = |held: &Problem| {
+        ctx.select(
+            held,
             &[],
-            &without,
+            &without_sag,
             ctx.static_held_out,
             Some(Joint {
                 problem: &problem,
                 kinds: &thermal.selected,
             }),
-        )?;
+        )
+    };
+    if !ctx.static_judged && statics.selected.contains(&EffectKind::GravitySag) {
+        let sag_cv = statics.cv;
+        statics = select_without_sag(&held)?;
         ambiguous_sag = Some(Ambiguity {
             pair: ["geometry-offset".into(), "gravity-sag".into()],
             correlation: None,
@@ -735,21 +738,7 @@ fn two_stages(
         .and_then(|s| s.sag_beyond)
         .is_some_and(|t| !t.significant())
     {
-        let without: Vec<EffectKind> = static_pool
-            .iter()
-            .copied()
-            .filter(|k| *k != EffectKind::GravitySag)
-            .collect();
-        statics = ctx.select(
-            &held,
-            &[],
-            &without,
-            ctx.static_held_out,
-            Some(Joint {
-                problem: &problem,
-                kinds: &thermal.selected,
-            }),
-        )?;
+        statics = select_without_sag(&held)?;
     }
     // Structure over time, each pose's own offset taken out.
     let over_time_where = locate::locate(

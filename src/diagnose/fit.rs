@@ -103,7 +103,11 @@ impl Problem {
 
     /// The cached Jacobian at zero for `kinds` on `rows`, if every kind is
     /// cached.
-    fn cached_jacobian(&self, kinds: &[EffectKind], rows: &[usize]) -> Option<DMatrix<f64>> {
+    pub(crate) fn cached_jacobian(
+        &self,
+        kinds: &[EffectKind],
+        rows: &[usize],
+    ) -> Option<DMatrix<f64>> {
         let cache = self.zero_jacobians.as_ref()?;
         let blocks: Vec<&DMatrix<f64>> =
             kinds.iter().map(|k| cache.get(k)).collect::<Option<_>>()?;
@@ -395,14 +399,38 @@ pub fn fit_from(
     kinds: &[EffectKind],
     start: &[Effect],
 ) -> Result<Fit> {
-    let theta: Vec<f64> = kinds
+    fit_bounded(
+        problem,
+        rows,
+        kinds,
+        false,
+        Some(&start_theta(kinds, start)),
+    )
+}
+
+/// The parameters of `kinds` as found in `start` (zero where absent).
+fn start_theta(kinds: &[EffectKind], start: &[Effect]) -> Vec<f64> {
+    kinds
         .iter()
         .flat_map(|&k| {
             let found = start.iter().find(|e| e.kind == k);
             (0..k.params().len()).map(move |i| found.map_or(0.0, |e| e.get(i)))
         })
-        .collect();
-    fit_bounded(problem, rows, kinds, false, Some(&theta))
+        .collect()
+}
+
+/// [`fit_plausible`] started from `start`, the converged fit of the same
+/// selection: the reported fit then ends in the minimum the selection was
+/// tested at. From a cold start a scaled expansion with a lag (a quadratic
+/// growth's look-alike) often crept along the time constants' valley for
+/// a hundred iterations and ended the diagnosis without a verdict.
+pub fn fit_plausible_from(
+    problem: &Problem,
+    rows: &[usize],
+    kinds: &[EffectKind],
+    start: &[Effect],
+) -> Result<Fit> {
+    fit_bounded(problem, rows, kinds, true, Some(&start_theta(kinds, start)))
 }
 
 /// [`fit`] for a model that is reported: a parameter that ends beyond its
@@ -413,6 +441,36 @@ pub fn fit_from(
 /// alone, and the extra fits would cost minutes on a thousand poses.
 pub fn fit_plausible(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fit> {
     fit_bounded(problem, rows, kinds, true, None)
+}
+
+/// A converged `fit` as a reported model holds it, where the reported fit
+/// itself could not converge (it went on from the converged values with
+/// the implausible ones held, and crept along a time constant's valley):
+/// every parameter beyond its plausible bound held at zero with the value
+/// it took as the reason, the others as fitted, and the residual of that.
+pub fn held_implausible(problem: &Problem, rows: &[usize], fit: &Fit) -> Fit {
+    let mut out = fit.clone();
+    let mut dropped = 0;
+    for (e, ps) in out.effects.iter_mut().zip(out.params.iter_mut()) {
+        for (i, p) in ps.iter_mut().enumerate() {
+            let limit = super::plausible::bound(e.kind, i);
+            if p.held.is_none() && p.value.abs() > limit {
+                p.held = Some(Unidentified::Implausible {
+                    value: p.value,
+                    limit,
+                });
+                p.value = 0.0;
+                p.stderr = None;
+                e.params[i] = 0.0;
+                dropped += 1;
+            }
+        }
+    }
+    if dropped > 0 {
+        out.rss = problem.residuals(&out.effects, rows).norm_squared();
+        out.n_free = out.n_free.saturating_sub(dropped);
+    }
+    out
 }
 
 fn fit_bounded(

@@ -37,6 +37,7 @@ mod fit_key;
 pub mod forward;
 pub mod gap;
 pub mod instrument;
+pub mod joint_signature;
 pub mod knock;
 pub mod locate;
 pub mod measurements;

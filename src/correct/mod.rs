@@ -32,6 +32,7 @@ mod context;
 pub mod derived;
 mod edits;
 mod expressions;
+mod fate;
 pub mod job;
 mod joints;
 pub mod marker;
@@ -50,6 +51,7 @@ mod splice;
 mod target;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
+pub use fate::{Fate, MoveCounts, MoveFate};
 pub use outcome::{
     Correction, Derived, Frame, FramesUse, Kind, LeftAlone, Outcome, Reason, Residual, SharedUse,
     Split, Summary,

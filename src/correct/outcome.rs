@@ -1,6 +1,7 @@
 //! What a correction run reports: each corrected target, each target left
 //! as written and why, derived targets, and the summary.
 
+use super::fate::{MoveCounts, MoveFate};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Program, Target, TargetKind};
 use crate::resolve::{Through, Usage};
@@ -86,6 +87,11 @@ pub enum Kind {
     Expression,
     #[serde(rename = "jointtarget")]
     JointTarget,
+    /// A move's target argument that reaches no target of the files read
+    /// (a parameter, a variable filled at run time, a name declared
+    /// elsewhere): reported by the move's place.
+    #[serde(rename = "argument")]
+    Argument,
 }
 
 impl Kind {
@@ -100,6 +106,7 @@ impl Kind {
             Kind::Derived => "derived",
             Kind::Expression => "expression",
             Kind::JointTarget => "jointtarget",
+            Kind::Argument => "argument",
         }
     }
 
@@ -121,7 +128,7 @@ impl Kind {
 
     /// Whether the target is a robtarget (not a jointtarget).
     pub fn is_robtarget(self) -> bool {
-        self != Kind::JointTarget
+        !matches!(self, Kind::JointTarget | Kind::Argument)
     }
 }
 
@@ -175,6 +182,13 @@ pub enum Reason {
     /// A jointtarget without robot axes (all `9E+09`): a positioner's or
     /// an external axis's, nothing of the arm to correct.
     NoRobotAxes,
+    /// A move's target argument is a parameter of its procedure that the
+    /// calls do not settle (one passes a literal, a function's result, or
+    /// no call passes anything the files read declare).
+    Parameter,
+    /// A move's target is declared in none of the files read (another
+    /// module of the task).
+    Undeclared,
     /// Not a target left alone but one use of a corrected target: moved to
     /// with another tool or work object than the one it is corrected for
     /// (its first use's), so at this use it is not right warm.
@@ -190,6 +204,8 @@ impl Reason {
             Reason::Unused => "unused",
             Reason::Coordinated => "coordinated",
             Reason::NoRobotAxes => "no-robot-axes",
+            Reason::Parameter => "parameter",
+            Reason::Undeclared => "undeclared",
             Reason::SharedFrames => "shared-frames",
         }
     }
@@ -346,12 +362,17 @@ pub struct Summary {
     pub shared: usize,
     /// Copies written for targets split by tool and work object.
     pub split: usize,
+    /// The program's move instructions by where they end.
+    pub moves: MoveCounts,
 }
 
 /// The outcome of correcting a program: the per-target report and the new
 /// bytes of each file.
 #[derive(Debug, Clone, Serialize)]
 pub struct Outcome {
+    /// Every move instruction of the program and where it ends (kept
+    /// where the run keeps its rows).
+    pub moves: Vec<MoveFate>,
     pub corrections: Vec<Correction>,
     pub derived: Vec<Derived>,
     pub left_alone: Vec<LeftAlone>,

@@ -11,93 +11,10 @@
 //! declared without a value (both filled at run time), a literal reading
 //! variables, or a name declared nowhere in the files read.
 
-use super::outcome::{Kind, LeftAlone, Reason};
+use super::outcome::{Fate, Kind, LeftAlone, MoveCounts, MoveFate, Reason};
 use crate::rapid::{Expr, Program, Routine, TargetKind};
 use crate::resolve::{each_move_instruction, Frames, Move, Point, Through};
-use serde::Serialize;
 use std::collections::HashMap;
-
-/// What became of one move instruction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(tag = "fate", content = "reason", rename_all = "kebab-case")]
-pub enum Fate {
-    /// Its target is corrected (for this move's tool and work object, or
-    /// it is one of the target's other uses, reported as such).
-    Corrected,
-    /// Its target is derived from corrected targets at run time (Offs,
-    /// RelTool, a variable assigned from them): their corrections carry it.
-    Derived,
-    /// Its target is left as written, for this reason.
-    LeftAlone(Reason),
-    /// The run is refused over it: its error names the place, and nothing
-    /// is written. A refused run has no report, so no row carries this;
-    /// it completes the rule.
-    Refused,
-}
-
-impl Fate {
-    /// The fate's name in reports.
-    pub fn code(self) -> &'static str {
-        match self {
-            Fate::Corrected => "corrected",
-            Fate::Derived => "derived",
-            Fate::LeftAlone(_) => "left-alone",
-            Fate::Refused => "refused",
-        }
-    }
-
-    /// The worse of two fates: a move is only as right as its worst
-    /// target.
-    fn worst(self, other: Fate) -> Fate {
-        let rank = |f: Fate| match f {
-            Fate::Corrected => 0,
-            Fate::Derived => 1,
-            Fate::LeftAlone(_) => 2,
-            Fate::Refused => 3,
-        };
-        if rank(other) > rank(self) {
-            other
-        } else {
-            self
-        }
-    }
-}
-
-/// One move instruction and its fate.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct MoveFate {
-    pub instruction: String,
-    pub file: String,
-    pub line: u32,
-    pub col: u32,
-    pub routine: String,
-    /// Its target argument as written (a name, a target's identifier, a
-    /// function call); the CirPoint first for circular moves.
-    pub target: String,
-    #[serde(flatten)]
-    pub fate: Fate,
-}
-
-/// How many move instructions ended in each place.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-pub struct MoveCounts {
-    pub moves: usize,
-    pub corrected: usize,
-    pub derived: usize,
-    pub left_alone: usize,
-}
-
-impl MoveCounts {
-    fn add(&mut self, fate: Fate) {
-        self.moves += 1;
-        match fate {
-            Fate::Corrected => self.corrected += 1,
-            Fate::Derived => self.derived += 1,
-            Fate::LeftAlone(_) => self.left_alone += 1,
-            Fate::Refused => {}
-        }
-    }
-}
 
 /// What the run decided of its targets, which the moves' fates are read
 /// from.

@@ -51,10 +51,9 @@ mod splice;
 mod target;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
-pub use fate::{Fate, MoveCounts, MoveFate};
 pub use outcome::{
-    Correction, Derived, Frame, FramesUse, Kind, LeftAlone, Outcome, Reason, Residual, SharedUse,
-    Split, Summary,
+    Correction, Derived, Fate, Frame, FramesUse, Kind, LeftAlone, MoveCounts, MoveFate, Outcome,
+    Reason, Residual, SharedUse, Split, Summary,
 };
 
 pub use options::{Options, Untrusted, When};

@@ -1,7 +1,6 @@
 //! What a correction run reports: each corrected target, each target left
 //! as written and why, derived targets, and the summary.
 
-use super::fate::{MoveCounts, MoveFate};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::{Program, Target, TargetKind};
 use crate::resolve::{Through, Usage};
@@ -434,5 +433,87 @@ pub(super) fn leave(
         reason,
         detail: detail.into(),
         world_mm: None,
+    }
+}
+
+/// What became of one move instruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(tag = "fate", content = "reason", rename_all = "kebab-case")]
+pub enum Fate {
+    /// Its target is corrected (for this move's tool and work object, or
+    /// it is one of the target's other uses, reported as such).
+    Corrected,
+    /// Its target is derived from corrected targets at run time (Offs,
+    /// RelTool, a variable assigned from them): their corrections carry it.
+    Derived,
+    /// Its target is left as written, for this reason.
+    LeftAlone(Reason),
+    /// The run is refused over it: its error names the place, and nothing
+    /// is written. A refused run has no report, so no row carries this;
+    /// it completes the rule.
+    Refused,
+}
+
+impl Fate {
+    /// The fate's name in reports.
+    pub fn code(self) -> &'static str {
+        match self {
+            Fate::Corrected => "corrected",
+            Fate::Derived => "derived",
+            Fate::LeftAlone(_) => "left-alone",
+            Fate::Refused => "refused",
+        }
+    }
+
+    /// The worse of two fates: a move is only as right as its worst
+    /// target.
+    pub(super) fn worst(self, other: Fate) -> Fate {
+        let rank = |f: Fate| match f {
+            Fate::Corrected => 0,
+            Fate::Derived => 1,
+            Fate::LeftAlone(_) => 2,
+            Fate::Refused => 3,
+        };
+        if rank(other) > rank(self) {
+            other
+        } else {
+            self
+        }
+    }
+}
+
+/// One move instruction and its fate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MoveFate {
+    pub instruction: String,
+    pub file: String,
+    pub line: u32,
+    pub col: u32,
+    pub routine: String,
+    /// Its target argument as written (a name, a target's identifier, a
+    /// function call); the CirPoint first for circular moves.
+    pub target: String,
+    #[serde(flatten)]
+    pub fate: Fate,
+}
+
+/// How many move instructions ended in each place.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct MoveCounts {
+    pub moves: usize,
+    pub corrected: usize,
+    pub derived: usize,
+    pub left_alone: usize,
+}
+
+impl MoveCounts {
+    pub(super) fn add(&mut self, fate: Fate) {
+        self.moves += 1;
+        match fate {
+            Fate::Corrected => self.corrected += 1,
+            Fate::Derived => self.derived += 1,
+            Fate::LeftAlone(_) => self.left_alone += 1,
+            Fate::Refused => {}
+        }
     }
 }

@@ -675,7 +675,7 @@ fn summary(
         left_alone,
         shared,
         split,
-        moves: fate::MoveCounts::default(),
+        moves: super::outcome::MoveCounts::default(),
     }
 }
 

@@ -213,6 +213,8 @@ fn job_run(path: &std::path::Path, when: TimeBasis, keep_rows: bool) -> (Way, St
     let mut ran = job::run(&plan, tasks, &mut Quiet, &mut memory.clone()).unwrap();
     let ran = ran.remove(0);
     let mut outcome = ran.outcome;
+    // Streamed, the run keeps no row of a move or a target.
+    outcome.moves.clear();
     outcome.corrections.clear();
     outcome.derived.clear();
     outcome.residuals.clear();

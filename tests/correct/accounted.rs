@@ -257,6 +257,31 @@ fn scan_finds_instructions_not_comments_strings_or_routine_names() {
     assert_eq!(found, [(5, 10), (6, 5), (6, 37)]);
 }
 
+/// The programs the tests refuse on purpose, each for a located error of
+/// its own: bad input, a target no warm solution reaches, another
+/// correction's output, configuration monitoring that cannot be settled.
+const REFUSED_ON_PURPOSE: &[&str] = &[
+    "tests/cmd/correct_data/bad_speeds.mod",
+    "tests/cmd/correct_data/cell_at60.mod",
+    "tests/cmd/correct_data/conf_wrong.mod",
+    "tests/cmd/correct_data/confl_joint_move.mod",
+    "tests/cmd/correct_data/confl_uncalled.mod",
+    "tests/cmd/correct_data/confl_unsettled.mod",
+    "tests/cmd/correct_data/declared_twice.mod",
+    "tests/cmd/correct_data/glue_bead_start60.mod",
+    "tests/cmd/correct_data/jointtarget_beyond_limit.mod",
+    "tests/cmd/correct_data/jointtarget_not_an_angle.mod",
+    "tests/cmd/correct_data/several_errors.mod",
+    "tests/cmd/correct_data/unknown_tool.mod",
+    "tests/cmd/correct_data/unknown_tool_array.mod",
+    "tests/cmd/correct_data/unknown_wobj.mod",
+    "tests/cmd/correct_data/unreachable.mod",
+    "tests/cmd/correct_data/ur5_move.mod",
+    "tests/cmd/correct_start_twice.out/glue_bead_start60.mod",
+    "tests/cmd/diff_data/other.mod",
+    "tests/cmd/schedule_data/unreachable.mod",
+];
+
 #[test]
 fn every_move_of_every_sample_and_test_program_is_accounted_for_at_minute_120() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -301,11 +326,17 @@ fn every_move_of_every_sample_and_test_program_is_accounted_for_at_minute_120() 
         Accounted::Reported(n) => moves += n,
         Accounted::Refused | Accounted::Already => panic!("the backup sample is not corrected"),
     }
-    // Most programs are reported, and their moves are thousands: the
-    // rule is not met by refusing.
+    // The rule is not met by refusing: a program is refused only where a
+    // transcript refuses it on purpose (a located error the issue asks
+    // for), and the moves checked are thousands.
+    let unexpected: Vec<&String> = refused
+        .iter()
+        .filter(|f| !REFUSED_ON_PURPOSE.contains(&f.replace('\\', "/").as_str()))
+        .collect();
     assert!(
-        reported_runs > 2 * refused.len(),
-        "{reported_runs} reported, refused: {refused:?}"
+        unexpected.is_empty(),
+        "refused, and no transcript refuses them: {unexpected:?} ({reported_runs} reported)"
     );
+    assert!(reported_runs > refused.len(), "{reported_runs} reported");
     assert!(moves > 1000, "{moves} moves checked");
 }

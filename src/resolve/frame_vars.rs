@@ -92,56 +92,44 @@ fn settled_frame_parameters(program: &Program) -> HashMap<String, Vec<String>> {
         return HashMap::new();
     }
     let mut passed: HashMap<String, Option<Vec<String>>> = HashMap::new();
-    let mut late_bound_with_arguments = false;
-    for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in super::routine_bodies(routine) {
-            walk_statements(body, &mut |s| {
-                let StatementKind::Call(call) = &s.kind else {
-                    return;
-                };
-                if call.late_bound {
-                    late_bound_with_arguments |= !call.args.is_empty();
-                    return;
+    let bound = super::calls::each_call(program, &mut |call| {
+        let Some(params) = wanted.get(&call.name.to_ascii_lowercase()) else {
+            return;
+        };
+        let args: Vec<&Expr> = call.positional().collect();
+        for (name, place, is_tool) in params {
+            let (declared, default) = match is_tool {
+                true => (&tools, "tool0"),
+                false => (&wobjs, "wobj0"),
+            };
+            let value = match place {
+                Some(k) => args.get(*k).copied().map(Some),
+                None => match call.optional(name) {
+                    None => Some(None),
+                    Some(a) => a.value.as_ref().map(Some),
+                },
+            };
+            let entry = passed
+                .entry(name.clone())
+                .or_insert_with(|| Some(Vec::new()));
+            let settled = match value {
+                Some(None) => Some(default.to_string()),
+                Some(Some(Expr::Name(n))) if declared.contains(&n.to_ascii_lowercase()) => {
+                    Some(n.to_string())
                 }
-                let Some(params) = wanted.get(&call.name.to_ascii_lowercase()) else {
-                    return;
-                };
-                let args: Vec<&Expr> = call.positional().collect();
-                for (name, place, is_tool) in params {
-                    let (declared, default) = match is_tool {
-                        true => (&tools, "tool0"),
-                        false => (&wobjs, "wobj0"),
-                    };
-                    let value = match place {
-                        Some(k) => args.get(*k).copied().map(Some),
-                        None => match call.optional(name) {
-                            None => Some(None),
-                            Some(a) => a.value.as_ref().map(Some),
-                        },
-                    };
-                    let entry = passed
-                        .entry(name.clone())
-                        .or_insert_with(|| Some(Vec::new()));
-                    let settled = match value {
-                        Some(None) => Some(default.to_string()),
-                        Some(Some(Expr::Name(n))) if declared.contains(&n.to_ascii_lowercase()) => {
-                            Some(n.to_string())
-                        }
-                        _ => None,
-                    };
-                    match (settled, entry.as_mut()) {
-                        (Some(n), Some(list)) => {
-                            if !list.iter().any(|x| x.eq_ignore_ascii_case(&n)) {
-                                list.push(n);
-                            }
-                        }
-                        _ => *entry = None,
+                _ => None,
+            };
+            match (settled, entry.as_mut()) {
+                (Some(n), Some(list)) => {
+                    if !list.iter().any(|x| x.eq_ignore_ascii_case(&n)) {
+                        list.push(n);
                     }
                 }
-            });
+                _ => *entry = None,
+            }
         }
-    }
-    if late_bound_with_arguments {
+    });
+    if !bound {
         return HashMap::new();
     }
     passed

@@ -17,6 +17,7 @@ use nalgebra::Isometry3;
 use std::collections::HashMap;
 
 pub mod arm;
+mod calls;
 pub mod dataflow;
 mod frame_vars;
 pub mod monitoring;

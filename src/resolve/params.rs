@@ -6,10 +6,8 @@
 //! function's result or a call the program makes by a name computed at
 //! run time leaves it to the run).
 
-use crate::rapid::{Expr, Program, RoutineKind, StatementKind};
+use crate::rapid::{Expr, Program, RoutineKind};
 use std::collections::HashMap;
-
-use super::walk_statements;
 
 /// For each settled robtarget parameter, by `routine/parameter` (lower
 /// case), the names its calls pass.
@@ -35,38 +33,26 @@ pub fn settled_parameters(program: &Program) -> HashMap<String, Vec<String>> {
     // Passed names by (routine, parameter); `None`: a call that does not
     // settle it.
     let mut passed: HashMap<String, Option<Vec<String>>> = HashMap::new();
-    let mut late_bound_with_arguments = false;
-    for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in super::routine_bodies(routine) {
-            walk_statements(body, &mut |s| {
-                let StatementKind::Call(call) = &s.kind else {
-                    return;
-                };
-                if call.late_bound {
-                    late_bound_with_arguments |= !call.args.is_empty();
-                    return;
-                }
-                let Some(params) = wanted.get(&call.name.to_ascii_lowercase()) else {
-                    return;
-                };
-                let args: Vec<&Expr> = call.positional().collect();
-                for (k, p) in params {
-                    let key = format!("{}/{p}", call.name.to_ascii_lowercase());
-                    let entry = passed.entry(key).or_insert_with(|| Some(Vec::new()));
-                    match (args.get(*k), entry.as_mut()) {
-                        (Some(Expr::Name(n)), Some(list)) => {
-                            let n = n.to_ascii_lowercase();
-                            if !list.contains(&n) {
-                                list.push(n);
-                            }
-                        }
-                        _ => *entry = None,
+    let bound = super::calls::each_call(program, &mut |call| {
+        let Some(params) = wanted.get(&call.name.to_ascii_lowercase()) else {
+            return;
+        };
+        let args: Vec<&Expr> = call.positional().collect();
+        for (k, p) in params {
+            let key = format!("{}/{p}", call.name.to_ascii_lowercase());
+            let entry = passed.entry(key).or_insert_with(|| Some(Vec::new()));
+            match (args.get(*k), entry.as_mut()) {
+                (Some(Expr::Name(n)), Some(list)) => {
+                    let n = n.to_ascii_lowercase();
+                    if !list.contains(&n) {
+                        list.push(n);
                     }
                 }
-            });
+                _ => *entry = None,
+            }
         }
-    }
-    if late_bound_with_arguments {
+    });
+    if !bound {
         return HashMap::new();
     }
     passed

@@ -34,6 +34,7 @@ pub mod chain_residual;
 pub mod detect;
 pub mod fit;
 mod fit_key;
+mod fit_steps;
 pub mod forward;
 pub mod gap;
 pub mod instrument;

@@ -91,7 +91,7 @@ fn settled_frame_parameters(program: &Program) -> HashMap<String, Vec<String>> {
     if wanted.is_empty() {
         return HashMap::new();
     }
-    let mut passed: HashMap<String, Option<Vec<String>>> = HashMap::new();
+    let mut passed: HashMap<String, super::calls::Passed> = HashMap::new();
     let bound = super::calls::each_call(program, &mut |call| {
         let Some(params) = wanted.get(&call.name.to_ascii_lowercase()) else {
             return;
@@ -119,24 +119,13 @@ fn settled_frame_parameters(program: &Program) -> HashMap<String, Vec<String>> {
                 }
                 _ => None,
             };
-            match (settled, entry.as_mut()) {
-                (Some(n), Some(list)) => {
-                    if !list.iter().any(|x| x.eq_ignore_ascii_case(&n)) {
-                        list.push(n);
-                    }
-                }
-                _ => *entry = None,
-            }
+            super::calls::pass(entry, settled);
         }
     });
     if !bound {
         return HashMap::new();
     }
-    passed
-        .into_iter()
-        .filter_map(|(k, v)| Some((k, v?)))
-        .filter(|(_, v)| v.len() == 1)
-        .collect()
+    super::calls::settled(passed, |names| names.len() == 1)
 }
 
 /// Tool and work object variables declared without a value, each with the

@@ -32,7 +32,7 @@ pub fn settled_parameters(program: &Program) -> HashMap<String, Vec<String>> {
     }
     // Passed names by (routine, parameter); `None`: a call that does not
     // settle it.
-    let mut passed: HashMap<String, Option<Vec<String>>> = HashMap::new();
+    let mut passed: HashMap<String, super::calls::Passed> = HashMap::new();
     let bound = super::calls::each_call(program, &mut |call| {
         let Some(params) = wanted.get(&call.name.to_ascii_lowercase()) else {
             return;
@@ -41,23 +41,15 @@ pub fn settled_parameters(program: &Program) -> HashMap<String, Vec<String>> {
         for (k, p) in params {
             let key = format!("{}/{p}", call.name.to_ascii_lowercase());
             let entry = passed.entry(key).or_insert_with(|| Some(Vec::new()));
-            match (args.get(*k), entry.as_mut()) {
-                (Some(Expr::Name(n)), Some(list)) => {
-                    let n = n.to_ascii_lowercase();
-                    if !list.contains(&n) {
-                        list.push(n);
-                    }
-                }
-                _ => *entry = None,
-            }
+            let name = match args.get(*k) {
+                Some(Expr::Name(n)) => Some(n.to_ascii_lowercase()),
+                _ => None,
+            };
+            super::calls::pass(entry, name);
         }
     });
     if !bound {
         return HashMap::new();
     }
-    passed
-        .into_iter()
-        .filter_map(|(k, v)| Some((k, v?)))
-        .filter(|(_, v)| !v.is_empty())
-        .collect()
+    super::calls::settled(passed, |names| !names.is_empty())
 }

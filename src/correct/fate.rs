@@ -63,7 +63,10 @@ pub(super) fn fates(
         let mut fate = Fate::Corrected;
         let mut names = Vec::new();
         for p in &m.points {
-            let text = argument_text(program, m.file, p);
+            // The argument's text names a row or an unread name only: a
+            // streamed run keeps no rows, and a million moves need not
+            // copy it.
+            let text = || argument_text(program, m.file, p);
             let reaches = if m.joints {
                 !p.jointtargets.is_empty()
             } else {
@@ -81,6 +84,7 @@ pub(super) fn fates(
             } else if !reaches {
                 let (reason, detail) =
                     unread_reason(m, p, routine, (&declared, decided.frames, &assigned));
+                let text = text();
                 let key = (text.to_ascii_lowercase(), reason);
                 match unread_at.get_mut(&key) {
                     Some(seen) => seen.1 += 1,
@@ -146,7 +150,9 @@ pub(super) fn fates(
                 f
             };
             fate = fate.worst(f);
-            names.push(text);
+            if rows {
+                names.push(text());
+            }
         }
         counts.add(fate);
         if rows {

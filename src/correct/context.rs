@@ -12,7 +12,7 @@ use crate::rapid::{Expr, FunctionCall, Program, Target};
 use crate::resolve::dataflow::{runtime_writes, Write};
 use crate::resolve::monitoring::{Monitor, Monitoring};
 use crate::resolve::{uses, Frames, Uses};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::{Mutex, OnceLock};
 
 /// What every target of a run shares: the program's frames and usages, the
@@ -35,6 +35,10 @@ pub(super) struct Run<'a> {
     /// Robtarget and jointtarget variables the run writes, by lower-case
     /// name.
     pub writes: HashMap<String, Write>,
+    /// Tooldata and wobjdata parameters some call leaves to the run, by
+    /// (routine, parameter), lower case: a target moved to with one is
+    /// left alone.
+    pub unsettled_frames: HashSet<(String, String)>,
     pub constants: Constants<'a>,
     /// Every function call of the program by where it starts.
     pub calls: HashMap<usize, &'a FunctionCall>,
@@ -80,6 +84,7 @@ impl<'a> Run<'a> {
             monitoring,
             unmonitored,
             writes: runtime_writes(program),
+            unsettled_frames: crate::resolve::unsettled_frame_parameters(program),
             constants: Constants::of(program),
             calls: calls_by_offset(program),
             expressions: Expressions::of(program),

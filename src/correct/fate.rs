@@ -60,6 +60,27 @@ pub(super) fn fates(
     let mut unread_at: HashMap<(String, Reason), (usize, usize)> = HashMap::new();
     each_move_instruction(program, &mut |m: &Move| {
         let routine = routines.get(&(m.module, m.routine)).copied();
+        // One row per name and reason: the first move's place, with the
+        // count of moves.
+        let mut record = |text: String, reason: Reason, detail: String| {
+            let key = (text.to_ascii_lowercase(), reason);
+            match unread_at.get_mut(&key) {
+                Some(seen) => seen.1 += 1,
+                None => {
+                    unread_at.insert(key, (unread.len(), 1));
+                    unread.push(LeftAlone {
+                        id: text,
+                        kind: Kind::Argument,
+                        file: program.file_name(m.file).to_string(),
+                        line: m.line,
+                        col: m.col,
+                        reason,
+                        detail,
+                        world_mm: None,
+                    });
+                }
+            }
+        };
         let mut fate = Fate::Corrected;
         let mut names = Vec::new();
         for p in &m.points {
@@ -84,24 +105,7 @@ pub(super) fn fates(
             } else if !reaches {
                 let (reason, detail) =
                     unread_reason(m, p, routine, (&declared, decided.frames, &assigned));
-                let text = text();
-                let key = (text.to_ascii_lowercase(), reason);
-                match unread_at.get_mut(&key) {
-                    Some(seen) => seen.1 += 1,
-                    None => {
-                        unread_at.insert(key, (unread.len(), 1));
-                        unread.push(LeftAlone {
-                            id: text.clone(),
-                            kind: Kind::Argument,
-                            file: program.file_name(m.file).to_string(),
-                            line: m.line,
-                            col: m.col,
-                            reason,
-                            detail,
-                            world_mm: None,
-                        });
-                    }
-                }
+                record(text(), reason, detail);
                 Fate::LeftAlone(reason)
             } else if m.joints {
                 let mut f = Fate::Corrected;
@@ -149,6 +153,14 @@ pub(super) fn fates(
                 }
                 f
             };
+            // A parameter some call passes a name that reaches nothing:
+            // the move goes there at run time too.
+            let mut f = f;
+            for name in &p.unread_passed {
+                let (reason, detail) = passed_reason(name, &text(), m, program, &declared);
+                record(name.to_string(), reason, detail);
+                f = f.worst(Fate::LeftAlone(reason));
+            }
             fate = fate.worst(f);
             if rows {
                 names.push(text());
@@ -288,6 +300,51 @@ fn unread_reason(
         detail.push_str(&format!("; nor is {}", missing.join(" or ")));
     }
     (Reason::Undeclared, detail)
+}
+
+/// Why a name a call passes for a parameter reaches no target, and the
+/// words: data of the program filled at run time, or declared in none of
+/// the files read.
+fn passed_reason(
+    name: &str,
+    parameter: &str,
+    m: &Move,
+    program: &Program,
+    declared: &Declared,
+) -> (Reason, String) {
+    let passed = format!("{name}, passed for {parameter} of {}", m.routine);
+    if let Some((type_name, has_value, line)) = declared.get(&name.to_ascii_lowercase()) {
+        let how = match has_value {
+            true => "whose value is decided at run time",
+            false => "declared without a value",
+        };
+        return (
+            Reason::Runtime,
+            format!("{passed}, is a {type_name} {how} (line {line}): the run fills it"),
+        );
+    }
+    let local = (program.modules.iter())
+        .flat_map(|m| &m.routines)
+        .find_map(|r| {
+            let d = r.data.iter().find(|d| d.name.eq_ignore_ascii_case(name))?;
+            Some((r, d))
+        });
+    if let Some((r, d)) = local {
+        return (
+            Reason::Runtime,
+            format!(
+                "{passed}, is a {} {} of routine {} (line {}): the run fills it",
+                storage_word(d.storage),
+                d.type_name,
+                r.name,
+                d.pos.line
+            ),
+        );
+    }
+    (
+        Reason::Undeclared,
+        format!("{passed}, is declared in none of the files read: read the whole task (its folder or backup)"),
+    )
 }
 
 fn storage_word(s: crate::rapid::Storage) -> &'static str {

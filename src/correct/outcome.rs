@@ -6,6 +6,7 @@ use crate::rapid::{Program, Target, TargetKind};
 use crate::resolve::{Through, Usage};
 use nalgebra::Isometry3;
 use serde::Serialize;
+use std::collections::HashMap;
 
 /// One corrected robtarget or jointtarget.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -393,17 +394,30 @@ pub struct Outcome {
     pub outputs: Vec<Vec<u8>>,
 }
 
+/// The report of a derived target. A name it reads that is a parameter
+/// its calls settle (`passed`, by `routine/parameter`; `reads`: the plain
+/// names the expression is given) moves as the targets passed.
 pub(super) fn derived_report(
     program: &Program,
     target: &Target,
     corrections: &[Correction],
+    (passed, reads): (&HashMap<String, Vec<String>>, &[&str]),
 ) -> Derived {
     let d = target.derived.as_deref();
     let bases: Vec<String> = d.map(|d| d.bases.clone()).unwrap_or_default();
-    let base_correction_mm = bases
-        .iter()
-        .filter_map(|b| corrections.iter().find(|c| c.id.eq_ignore_ascii_case(b)))
-        .map(|c| c.correction_norm_mm)
+    let correction_of = |b: &str| {
+        corrections
+            .iter()
+            .find(|c| c.id.eq_ignore_ascii_case(b))
+            .map(|c| c.correction_norm_mm)
+    };
+    let routine = target.origin.routine.as_deref().unwrap_or_default();
+    let through_parameters = reads.iter().flat_map(|r| {
+        let key = format!("{routine}/{r}").to_ascii_lowercase();
+        passed.get(&key).into_iter().flatten()
+    });
+    let base_correction_mm = (bases.iter().chain(through_parameters))
+        .filter_map(|b| correction_of(b))
         .fold(0.0, f64::max);
     let location = program.location(&target.origin);
     Derived {

@@ -211,13 +211,25 @@ fn correct_all(
     // them; what remains at each is its residual.
     let index_of = program.target_index(|t| t.kind != TargetKind::Inline);
     let lookup = (&run.frames, &run.uses, &index_of);
+    let passed = match found.derived.is_empty() {
+        true => HashMap::new(),
+        false => crate::resolve::settled_parameters(program),
+    };
     let derived: Vec<Derived> = found
         .derived
         .iter()
         .map(|&i| {
             progress.step();
             let target = targets.at(i);
-            let mut report = derived_report(program, &target, &found.rows);
+            let reads: Vec<&str> = match passed.is_empty() {
+                true => Vec::new(),
+                false => (run.calls.get(&target.origin.pos.offset).into_iter())
+                    .flat_map(|c| &c.args)
+                    .filter(|a| !a.optional)
+                    .filter_map(|a| a.value.as_ref().and_then(crate::rapid::Expr::as_name))
+                    .collect(),
+            };
+            let mut report = derived_report(program, &target, &found.rows, (&passed, &reads));
             report.residual_mm = derived::residual(
                 program,
                 i,

@@ -105,6 +105,11 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
             }
         }
     }
+    if !run.unsettled_frames.is_empty() {
+        if let Some(left) = unsettled_frames(run, index, target) {
+            return Some(left);
+        }
+    }
     if target.kind != TargetKind::Inline && !run.uses.contains(index) {
         return Some(leave(
             program,
@@ -112,6 +117,36 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
             Reason::Unused,
             "no move instruction of the program reaches it, so its tool and work object are unknown",
         ));
+    }
+    None
+}
+
+/// A target some move reaches with a tool or work object that is a
+/// parameter its calls do not settle: the frames it moves in are the
+/// run's, and correcting it for any one would be a guess.
+fn unsettled_frames(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
+    for u in run.uses.of(index) {
+        let routine = u.routine().to_ascii_lowercase();
+        for (what, name) in [("tool", u.tool()), ("work object", u.wobj())] {
+            let Some(name) = name else { continue };
+            if run
+                .unsettled_frames
+                .contains(&(routine.clone(), name.to_ascii_lowercase()))
+            {
+                return Some(leave(
+                    run.program,
+                    target,
+                    Reason::Parameter,
+                    format!(
+                        "moved to by {} in {} (line {}) with {what} {name}, a parameter of {} that its calls do not settle (each must pass a {what} declared in the files read)",
+                        u.instruction(),
+                        u.routine(),
+                        u.line(),
+                        u.routine()
+                    ),
+                ));
+            }
+        }
     }
     None
 }

@@ -11,11 +11,13 @@
 //! \wobjdata WObj)` with `MoveL ToPoint, v200, fine, tGun \WObj?WObj;`
 //! moves with the work object every call passes, or with `wobj0` where
 //! every call leaves the optional argument out (the conditional argument
-//! is then omitted too).
+//! is then omitted too). Calls that pass different ones pair each target
+//! with the frames of the call that passes it ([`per_call`](super::per_call)).
 
-use crate::rapid::{Expr, Program, RoutineKind, StatementKind};
+use crate::rapid::{Expr, Program, StatementKind};
 use std::collections::HashMap;
 
+use super::per_call::{declared_frames, proc_calls};
 use super::walk_statements;
 
 /// For each tooldata or wobjdata variable declared without a value whose
@@ -34,96 +36,25 @@ pub fn frame_variables(program: &Program) -> HashMap<String, Vec<String>> {
     out
 }
 
-/// The tool and work object names of the program, lower case, with the
-/// defaults: (tools, work objects).
-fn declared_frames(program: &Program) -> (Vec<String>, Vec<String>) {
-    let tools = program
-        .tools()
-        .iter()
-        .map(|t| t.name.to_ascii_lowercase())
-        .chain(["tool0".to_string()])
-        .collect();
-    let wobjs = program
-        .wobjs()
-        .iter()
-        .map(|w| w.name.to_ascii_lowercase())
-        .chain(["wobj0".to_string()])
-        .collect();
-    (tools, wobjs)
-}
-
-/// For each tooldata or wobjdata parameter of a procedure that every call
-/// settles to one and the same name (a declared tool or work object passed
-/// by name, or an optional argument left out: the default), that name; by
-/// lower-case parameter name. Calls that pass different ones leave the
-/// parameter to the run: the target a call passes goes with the frames of
-/// that call, and pairing every target with every frame would refuse
-/// targets over frames the program never moves them in. A call by a name
-/// computed at run time with arguments leaves every parameter to the run.
+/// For each tooldata or wobjdata parameter that every call of every
+/// procedure with a parameter of that name settles to one and the same
+/// name, that name; by lower-case parameter name. Parameters the calls
+/// settle to different names move with each call's (see
+/// [`per_call`](super::per_call)).
 fn settled_frame_parameters(program: &Program) -> HashMap<String, Vec<String>> {
-    // (routine, parameter, its place among the required ones or None for
-    // an optional one, tool or not), by lower-case routine name.
-    type Wanted = (String, Option<usize>, bool);
-    let mut wanted: HashMap<String, Vec<Wanted>> = HashMap::new();
-    let (tools, wobjs) = declared_frames(program);
-    for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        if routine.kind != RoutineKind::Proc {
-            continue;
-        }
-        let mut required = 0;
-        for p in &routine.params {
-            let place = (!p.optional).then_some(required);
-            required += usize::from(!p.optional);
-            let t = p.type_name.to_ascii_lowercase();
-            let is_tool = t == "tooldata";
-            let name = p.name.to_ascii_lowercase();
-            // A parameter that shares its name with declared data is left
-            // to the data's rules: one list per name could not tell them.
-            let taken = tools.contains(&name) || wobjs.contains(&name);
-            if (is_tool || t == "wobjdata") && p.array_dims == 0 && !taken {
-                wanted
-                    .entry(routine.name.to_ascii_lowercase())
-                    .or_default()
-                    .push((name, place, is_tool));
-            }
-        }
-    }
-    if wanted.is_empty() {
+    let Some(procs) = proc_calls(program) else {
         return HashMap::new();
-    }
+    };
     let mut passed: HashMap<String, super::calls::Passed> = HashMap::new();
-    let bound = super::calls::each_call(program, &mut |call| {
-        let Some(params) = wanted.get(&call.name.to_ascii_lowercase()) else {
-            return;
-        };
-        let args: Vec<&Expr> = call.positional().collect();
-        for (name, place, is_tool) in params {
-            let (declared, default) = match is_tool {
-                true => (&tools, "tool0"),
-                false => (&wobjs, "wobj0"),
-            };
-            let value = match place {
-                Some(k) => args.get(*k).copied().map(Some),
-                None => match call.optional(name) {
-                    None => Some(None),
-                    Some(a) => a.value.as_ref().map(Some),
-                },
-            };
+    for pc in procs.values() {
+        for (k, (name, _)) in pc.frames.iter().enumerate() {
             let entry = passed
                 .entry(name.clone())
                 .or_insert_with(|| Some(Vec::new()));
-            let settled = match value {
-                Some(None) => Some(default.to_string()),
-                Some(Some(Expr::Name(n))) if declared.contains(&n.to_ascii_lowercase()) => {
-                    Some(n.to_string())
-                }
-                _ => None,
-            };
-            super::calls::pass(entry, settled);
+            for call in &pc.calls {
+                super::calls::pass(entry, call.frames[k].clone());
+            }
         }
-    });
-    if !bound {
-        return HashMap::new();
     }
     super::calls::settled(passed, |names| names.len() == 1)
 }

@@ -23,11 +23,13 @@ mod frame_vars;
 pub mod monitoring;
 mod moves;
 mod params;
+mod per_call;
 mod uses;
 
 pub use frame_vars::frame_variables;
 pub use moves::{each_move_instruction, Move, Point};
 pub use params::settled_parameters;
+pub use per_call::unsettled_frame_parameters;
 
 use uses::{Site, UsesBuilder};
 pub use uses::{UseRef, Uses};
@@ -243,9 +245,76 @@ pub fn uses(program: &Program) -> Uses<'_> {
         (Some(n), false) => frame_vars.get(&n.to_ascii_lowercase()),
         _ => None,
     };
+    let pairing = per_call::Pairing::new(program);
     each_move(program, &mut |module, reach, at| {
         let reached = refs.targets(reach, (module, at.routine));
         if reached.is_empty() {
+            return;
+        }
+        // A tool or work object that is a parameter the calls pass
+        // differently: each target with the frames of the calls that pass
+        // it (or of every call, for a target no call passes).
+        let paired = match pairing.is_empty() {
+            true => None,
+            false => pairing.of_move(at.routine, at.tool, at.wobj),
+        };
+        if let Some(mp) = paired {
+            let read = read_names(reach);
+            let places = mp.target_places(&read);
+            let passed: Vec<Vec<usize>> = (mp.calls().iter())
+                .map(|c| {
+                    (places.iter())
+                        .filter_map(|&k| c.targets[k].as_deref())
+                        .filter_map(|n| refs.lookup(n, (module, at.routine)))
+                        .collect()
+                })
+                .collect();
+            for (reached, through) in &reached {
+                let by = |c: usize| match reached {
+                    Reached::One(i) => passed[c].contains(i),
+                    Reached::All(_) => false,
+                };
+                let passing = (0..passed.len()).any(by);
+                // Each (tool, work object) once: calls passing the same
+                // frames make one use.
+                let mut pairs: Vec<(u32, u32)> = Vec::new();
+                for (c, call) in mp.calls().iter().enumerate() {
+                    if passing && !by(c) {
+                        continue;
+                    }
+                    let (tool, wobj) = mp.frames(call, (at.tool, at.wobj));
+                    let expand = |n: Option<&'_ str>| -> Vec<Option<String>> {
+                        match sources(n) {
+                            Some(list) => list.iter().map(|s| Some(s.clone())).collect(),
+                            None => vec![n.map(str::to_string)],
+                        }
+                    };
+                    for t in expand(tool) {
+                        for w in expand(wobj) {
+                            let (t, w) = (b.name(t.as_deref()), b.name(w.as_deref()));
+                            if pairs.contains(&(t, w)) {
+                                continue;
+                            }
+                            pairs.push((t, w));
+                            let site = Site {
+                                through: *through,
+                                tool: t,
+                                wobj: w,
+                                instruction: b.name(Some(at.instruction)),
+                                routine: b.name(Some(at.routine)),
+                                line: at.line,
+                                file: at.file as u32,
+                                offset: at.offset,
+                            };
+                            let s = b.site(site);
+                            match reached {
+                                Reached::One(i) => b.reach(*i, s),
+                                Reached::All(r) => b.reach_all(r.clone(), s),
+                            }
+                        }
+                    }
+                }
+            }
             return;
         }
         let (one_tool, one_wobj) = ([at.tool], [at.wobj]);
@@ -288,6 +357,20 @@ pub fn uses(program: &Program) -> Uses<'_> {
         }
     });
     b.finish()
+}
+
+/// The plain names a move's target argument reads: the name itself, or
+/// the names a derived expression is given (`Offs(ToPoint, 0, 0, 50)`).
+fn read_names<'e>(reach: Reach<'e>) -> Vec<&'e str> {
+    match reach {
+        Reach::Name(n) => vec![n],
+        Reach::Expr(Expr::Name(n)) => vec![&**n],
+        Reach::Expr(Expr::Call(c)) => (c.args.iter())
+            .filter(|a| !a.optional)
+            .filter_map(|a| a.value.as_ref().and_then(Expr::as_name))
+            .collect(),
+        Reach::Expr(_) => Vec::new(),
+    }
 }
 
 /// The targets a move can name: every one but inline literals and

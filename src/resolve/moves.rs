@@ -23,6 +23,10 @@ pub struct Point<'a> {
     /// The jointtargets it names (MoveAbsJ, MoveExtJ): one, or every
     /// element of an array its index reads at run time.
     pub jointtargets: Vec<usize>,
+    /// Where the argument is a parameter its calls settle: the names some
+    /// call passes that reach no target of the files read (a variable the
+    /// run fills, a name declared elsewhere). The move is the run's there.
+    pub unread_passed: Vec<&'a str>,
 }
 
 /// One move instruction.
@@ -86,6 +90,39 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
             .map(|(i, _)| i)
             .collect()
     };
+    // What the calls pass for a parameter they settle (`routine/name`).
+    let passed = |name: &str, scope: (&str, &str)| -> &[String] {
+        match aliases.is_empty() {
+            true => &[],
+            false => {
+                let own = format!("{}/{name}", scope.1).to_ascii_lowercase();
+                aliases.get(&own).map_or(&[], Vec::as_slice)
+            }
+        }
+    };
+    // A name, or what the calls pass for a parameter they settle.
+    let joint_passed = |name: &str, scope: (&str, &str)| -> Vec<usize> {
+        let mut out: Vec<usize> = joint_named(name, scope).into_iter().collect();
+        if out.is_empty() {
+            for p in passed(name, scope) {
+                out.extend(joint_named(p, scope));
+            }
+        }
+        out
+    };
+    // The names passed for a parameter that reach nothing.
+    let unread = |e: Option<&Expr>, name: Option<&str>, joints: bool, scope: (&str, &str)| {
+        let Some(n) = name.or(e.and_then(Expr::as_name)) else {
+            return Vec::new();
+        };
+        (passed(n, scope).iter())
+            .filter(|p| match joints {
+                true => joint_named(p, scope).is_none(),
+                false => refs.lookup(p, scope).is_none(),
+            })
+            .map(String::as_str)
+            .collect()
+    };
     let reached = |reach: Reach, scope: (&str, &str)| -> Vec<(std::ops::Range<usize>, Through)> {
         refs.targets(reach, scope)
             .into_iter()
@@ -118,9 +155,10 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
                                 jointtargets: match e {
                                     _ if !joints => Vec::new(),
                                     Expr::JointTarget(i) => vec![*i],
-                                    Expr::Name(n) => joint_named(n, scope).into_iter().collect(),
+                                    Expr::Name(n) => joint_passed(n, scope),
                                     _ => joint_elements(e),
                                 },
+                                unread_passed: unread(Some(e), None, joints, scope),
                             })
                             .collect();
                         visit(&Move {
@@ -145,6 +183,7 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
                                     name: Some(name),
                                     robtargets: reached(Reach::Name(name), scope),
                                     jointtargets: Vec::new(),
+                                    unread_passed: unread(None, Some(name), false, scope),
                                 }],
                                 None => mv
                                     .targets()
@@ -153,6 +192,7 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
                                         name: None,
                                         robtargets: vec![(i..i + 1, Through::Direct)],
                                         jointtargets: Vec::new(),
+                                        unread_passed: Vec::new(),
                                     })
                                     .collect(),
                             };

@@ -54,10 +54,16 @@ impl<'p> Walker<'p> {
     }
 
     pub(super) fn target_value(&self, i: usize) -> Result<Value> {
-        let Some(t) = self.program.targets().get(i) else {
-            return Ok(Value::Unknown);
+        // A target of a run is read into one slot, not made anew for every
+        // move (a million moves made a million targets).
+        let targets = self.program.targets();
+        let mut slot = self.slot.borrow_mut();
+        let t: &crate::rapid::Target = match targets.one_by_one(i) {
+            Some(t) => t,
+            None if targets.fill(i, &mut slot) => &slot,
+            None => return Ok(Value::Unknown),
         };
-        Ok(match target_pose(self.program, &t)? {
+        Ok(match target_pose(self.program, t)? {
             Some((pose, conf)) => Value::Rob(Box::new(Rob {
                 pose,
                 conf,

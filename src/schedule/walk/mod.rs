@@ -131,6 +131,11 @@ pub(super) struct Walker<'p> {
     pub(super) joint_schedule: Schedule,
     /// Visits of bases through derived targets: (base, minutes).
     pub(super) base_visits: Vec<(usize, f64)>,
+    /// A visited target's identifier, read into one buffer for every
+    /// visit.
+    pub(super) id_buf: String,
+    /// The target a move's literal is read into ([`Self::target_value`]).
+    pub(super) slot: std::cell::RefCell<crate::rapid::Target>,
     pub(super) notes: Vec<String>,
     /// Targets that cannot be timed (not finite, out of reach), each once:
     /// the walk goes on to find them all, and the estimate is refused.
@@ -281,6 +286,8 @@ impl<'p> Walker<'p> {
             },
             joint_schedule: Schedule::new(),
             base_visits: Vec::new(),
+            id_buf: String::new(),
+            slot: std::cell::RefCell::new(crate::rapid::targets::blank()),
             notes: Vec::new(),
             noted: HashSet::new(),
             errors: Errors::default(),

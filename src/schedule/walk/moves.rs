@@ -629,14 +629,24 @@ impl<'p> Walker<'p> {
     pub(super) fn visit(&mut self, rob: &Rob, at_s: f64) {
         let t = at_s / 60.0;
         let targets = self.program.targets();
-        if let Some(target) = rob.id.and_then(|i| targets.get(i)) {
-            self.schedule.visit(&target.id, t);
-        } else if let Some(target) = rob.derived.and_then(|i| targets.get(i)) {
-            self.schedule.visit(&target.id, t);
+        // The identifier alone: the whole target of a run, made again for
+        // every move, read its literal a second time.
+        let mut id = std::mem::take(&mut self.id_buf);
+        if rob
+            .id
+            .is_some_and(|i| targets.id_into(i, &mut id).is_some())
+        {
+            self.schedule.visit(&id, t);
+        } else if rob
+            .derived
+            .is_some_and(|i| targets.id_into(i, &mut id).is_some())
+        {
+            self.schedule.visit(&id, t);
             for &b in &rob.bases {
                 self.base_visits.push((b, t));
             }
         }
+        self.id_buf = id;
     }
 }
 

@@ -59,6 +59,8 @@ pub enum AcceptArg {
     Parameter,
     /// Moves to targets declared in none of the files read.
     Undeclared,
+    /// Moves by an instruction rapidtherm does not know (an option's).
+    Instruction,
     /// Moves to a target with another tool or work object than the one it
     /// is corrected for (its first use's).
     SharedFrames,
@@ -73,6 +75,7 @@ impl From<AcceptArg> for Reason {
             AcceptArg::Coordinated => Reason::Coordinated,
             AcceptArg::Parameter => Reason::Parameter,
             AcceptArg::Undeclared => Reason::Undeclared,
+            AcceptArg::Instruction => Reason::Instruction,
             AcceptArg::SharedFrames => Reason::SharedFrames,
         }
     }

@@ -83,6 +83,34 @@ pub(super) fn fates(
         };
         let mut fate = Fate::Corrected;
         let mut names = Vec::new();
+        if !m.known {
+            let text = (m.points.iter())
+                .map(|p| argument_text(program, m.file, p))
+                .collect::<Vec<_>>()
+                .join(", ");
+            record(
+                text.clone(),
+                Reason::Instruction,
+                format!(
+                    "{} is neither a procedure of the files read nor an instruction rapidtherm knows (an option's, or a procedure of another module of the task): what it does with {text} is unknown",
+                    m.instruction
+                ),
+            );
+            fate = Fate::LeftAlone(Reason::Instruction);
+            counts.add(fate);
+            if rows {
+                out.push(MoveFate {
+                    instruction: m.instruction.to_string(),
+                    file: program.file_name(m.file).to_string(),
+                    line: m.line,
+                    col: m.col,
+                    routine: m.routine.to_string(),
+                    target: text,
+                    fate,
+                });
+            }
+            return;
+        }
         for p in &m.points {
             // The argument's text names a row or an unread name only: a
             // streamed run keeps no rows, and a million moves need not
@@ -98,7 +126,7 @@ pub(super) fn fates(
                 .and_then(Expr::as_name)
                 .or(p.name)
                 .and_then(|n| left_by_id.get(&n.to_ascii_lowercase()));
-            let f = if let (false, Some(&r)) = (reaches, known) {
+            let f = if let (false, true, Some(&r)) = (reaches, m.joints, known) {
                 // Reported as a target already (a jointtarget written with
                 // expressions).
                 Fate::LeftAlone(r)

@@ -189,6 +189,10 @@ pub enum Reason {
     /// A move's target is declared in none of the files read (another
     /// module of the task).
     Undeclared,
+    /// Moved to (for all anyone can tell) by an instruction the reader
+    /// does not know: an option's (`Search_Groove`), or a procedure of a
+    /// module not read. What it does with its targets is unknown.
+    Instruction,
     /// Not a target left alone but one use of a corrected target: moved to
     /// with another tool or work object than the one it is corrected for
     /// (its first use's), so at this use it is not right warm.
@@ -206,6 +210,7 @@ impl Reason {
             Reason::NoRobotAxes => "no-robot-axes",
             Reason::Parameter => "parameter",
             Reason::Undeclared => "undeclared",
+            Reason::Instruction => "instruction",
             Reason::SharedFrames => "shared-frames",
         }
     }

@@ -287,8 +287,24 @@ pub(super) fn solve(
     let conf_off = held == Some(Monitor::Off);
     // Where the walk cannot tell, the refusal says that it took
     // monitoring as on.
+    // A target out of reach that carries external axis positions: the
+    // arm may ride a track the files read do not place.
+    let track = target.value.as_ref().and_then(|v| {
+        let names = ["eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f"];
+        let set: Vec<String> = (v.extax_values().iter().zip(names))
+            .filter(|(x, _)| x.abs() > 1e-9 && x.abs() < 8.9e9)
+            .map(|(x, n)| format!("{n} = {x}"))
+            .collect();
+        (!set.is_empty()).then(|| set.join(", "))
+    });
     let prefix = |e: Error, context: &str| {
         let e = prefix(e, context);
+        let e = match (&track, e.kind) {
+            (Some(axes), ErrorKind::Unreachable) => e.with_note(format!(
+                "the target carries external axis positions ({axes}): if the arm rides a track or stands on a moving base, read the task from its backup (its MOC.cfg places the base)"
+            )),
+            _ => e,
+        };
         if held == Some(Monitor::Unsettled) {
             e.with_note("configuration monitoring at its move cannot be settled (ConfL/ConfJ \\Off is in effect on some paths to it only): taken as on, so its robconf is held")
         } else {
@@ -321,20 +337,51 @@ pub(super) fn solve(
         }
         Err(e) => return Err(at_target(program, target, prefix(e, "as written"))),
     };
-    let q_warm = warm.joints_for(&flange, &conf, state).map_err(|e| {
-        at_target(
-            program,
-            target,
-            prefix(e, &format!("on the warm robot at {moment}")),
-        )
-    })?;
+    let q_warm = match warm.joints_for(&flange, &conf, state) {
+        Ok(q) => q,
+        // With configuration monitoring off the controller ignores the
+        // robconf and takes the solution nearest the joints it is at: the
+        // warm solution nearest the cold one stands for it, where the
+        // cold one lies so near a boundary that the warm arm crosses it.
+        Err(e) if conf_off => match nearest_within_limits(warm, &flange, &q_nominal, state) {
+            Some(q) => {
+                let note = format!(
+                    "target {} (line {}): the warm arm leaves its cold configuration {conf} at {moment}; configuration monitoring is off at every move to it (ConfL/ConfJ \\Off), so it is corrected on the warm solution nearest its cold joints ({})",
+                    target.id,
+                    target.origin.pos.line,
+                    warm.nominal.conf_of(&q)
+                );
+                run.note((target.origin.file, target.origin.pos.offset), note);
+                q
+            }
+            None => {
+                return Err(at_target(
+                    program,
+                    target,
+                    prefix(
+                        beyond_warm_limit(warm, &flange, &q_nominal, state).unwrap_or(e),
+                        &format!("on the warm robot at {moment}"),
+                    ),
+                ))
+            }
+        },
+        Err(e) => {
+            return Err(at_target(
+                program,
+                target,
+                prefix(e, &format!("on the warm robot at {moment}")),
+            ))
+        }
+    };
     let corrected_flange = warm.nominal.fk(&q_warm);
     let exact = target_of_flange(&corrected_flange, tool, wobj)?;
     // The controller must pick back the warm joints from the corrected
     // target and the unchanged robconf: certain without solving away from
     // every boundary (a third of the solving of a million targets), else
     // solved.
-    if warm.nominal.picks_back(&q_warm, &conf) {
+    // With monitoring off the robconf picks nothing back: the nearest
+    // solution is taken, which the warm joints are.
+    if conf_off || warm.nominal.picks_back(&q_warm, &conf) {
         return Ok(Solution { exact, q_nominal });
     }
     let picked = warm
@@ -356,6 +403,69 @@ pub(super) fn solve(
         ));
     }
     Ok(Solution { exact, q_nominal })
+}
+
+/// Why no warm solution lies within the limits, where the one nearest the
+/// cold joints `near` passes one: "axis 3 at 50.0005° (49.9925° cold)
+/// beyond the IRB 140's +50°".
+fn beyond_warm_limit(
+    warm: &WarmRobot,
+    flange: &Isometry3<f64>,
+    near: &Joints,
+    state: &State,
+) -> Option<Error> {
+    let q = warm.joints_near(flange, near, false, state).ok()?;
+    let (axis, at, (lo, hi)) = *warm.nominal.outside_limits(&q).first()?;
+    let limit = if at > hi { hi } else { lo };
+    Some(
+        Error::new(
+            ErrorKind::Unreachable,
+            format!(
+                "axis {} at {:.4}° ({:.4}° cold) beyond the {}'s {}{}°",
+                axis + 1,
+                at.to_degrees(),
+                near[axis].to_degrees(),
+                warm.nominal.name,
+                if limit >= 0.0 { "+" } else { "" },
+                crate::robot::arm::degrees_text(limit)
+            ),
+        )
+        .with_note("the pose is taught at the limit: the warm arm needs the axis past it, on this configuration and on every other (configuration monitoring is off, so any would do)"),
+    )
+}
+
+/// The warm joints within the arm's limits that put the flange at
+/// `flange`, nearest `near` (every branch, axes 4 and 6 a turn either
+/// way): what a controller without configuration monitoring moves to.
+fn nearest_within_limits(
+    warm: &WarmRobot,
+    flange: &Isometry3<f64>,
+    near: &Joints,
+    state: &State,
+) -> Option<Joints> {
+    let turn = std::f64::consts::TAU;
+    let distance = |q: &Joints| (0..6).map(|j| (q[j] - near[j]).powi(2)).sum::<f64>();
+    let mut best: Option<Joints> = None;
+    for b in warm.nominal.branches_scaled(flange, &state.scales).ok()? {
+        for k4 in [-1.0, 0.0, 1.0] {
+            for k6 in [-1.0, 0.0, 1.0] {
+                let mut q = b;
+                q[3] += k4 * turn;
+                q[5] += k6 * turn;
+                let better = best.is_none_or(|p| distance(&q) < distance(&p));
+                if better && warm.nominal.outside_limits(&q).is_empty() {
+                    best = Some(q);
+                }
+            }
+        }
+    }
+    let q = best?;
+    if warm.is_pure_expansion() {
+        return Some(q);
+    }
+    // Effects beyond expansion: refined from that branch.
+    let q = warm.joints_near(flange, &q, false, state).ok()?;
+    warm.nominal.outside_limits(&q).is_empty().then_some(q)
 }
 
 /// The solution of the nominal arm whose axes lie nearest the quadrants of

@@ -111,6 +111,25 @@ pub const INSTANT_INSTRUCTIONS: &[&str] = &[
     "arcrefresh",
 ];
 
+/// Instructions that read robtargets or jointtargets without moving to
+/// them: the tool and work object calibrations (their positions are
+/// taught, not moved to by the program).
+const READ_TARGETS_WITHOUT_MOVING: &[&str] = &[
+    "stooltcpcalib",
+    "stoolrotcalib",
+    "mtooltcpcalib",
+    "mtoolrotcalib",
+    "stoolcalib",
+];
+
+/// Whether `name` is a built-in instruction that reads targets without
+/// moving to them (any case).
+pub fn reads_targets_without_moving(name: &str) -> bool {
+    READ_TARGETS_WITHOUT_MOVING
+        .iter()
+        .any(|i| i.eq_ignore_ascii_case(name))
+}
+
 /// Whether `name` is a built-in instruction that takes no motion time
 /// (any case).
 pub fn is_instant_instruction(name: &str) -> bool {

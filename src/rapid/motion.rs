@@ -104,7 +104,7 @@ pub fn motion_signature(name: &str) -> Option<MotionSignature> {
             Some(Index(4)),
             Some(Index(5)),
         ),
-        "MOVEABSJ" | "MOVEABSJDO" | "MOVEABSJSYNC" => sig(
+        "MOVEABSJ" | "MOVEABSJDO" | "MOVEABSJSYNC" | "ARCMOVEABSJ" => sig(
             AbsJoint,
             &[],
             &[0],
@@ -112,13 +112,17 @@ pub fn motion_signature(name: &str) -> Option<MotionSignature> {
             Some(Index(2)),
             Some(Index(3)),
         ),
-        "MOVEEXTJ" => sig(ExtJoint, &[], &[0], Index(1), Some(Index(2)), None),
+        "MOVEEXTJ" | "ARCMOVEEXTJ" => sig(ExtJoint, &[], &[0], Index(1), Some(Index(2)), None),
         // SearchL Signal, SearchPoint (the result), ToPoint, Speed, Tool
         "SEARCHL" => sig(Linear, &[2], &[], Index(3), None, Some(Index(4))),
         "SEARCHJ" => sig(Joint, &[2], &[], Index(3), None, Some(Index(4))),
         "SEARCHC" => sig(Circular, &[2, 3], &[], Index(4), None, Some(Index(5))),
+        // SmarTac's Search_1D Result, StartPoint, SearchPoint, Speed, Tool:
+        // to the start, then searching toward the search point.
+        "SEARCH_1D" => sig(Linear, &[1, 2], &[], Index(3), None, Some(Index(4))),
         // Process instructions: ToPoint, Speed, process data..., Zone, Tool
-        "ARCL" | "ARCL1" | "ARCL2" | "ARCLSTART" | "ARCLEND" | "CAPL" => sig(
+        "ARCL" | "ARCL1" | "ARCL2" | "ARCLSTART" | "ARCLEND" | "CAPL" | "ARCCALCL"
+        | "ARCADAPTL" | "ARCADAPTLSTART" | "ARCADAPTLEND" | "DISPL" => sig(
             Linear,
             &[0],
             &[],
@@ -126,7 +130,8 @@ pub fn motion_signature(name: &str) -> Option<MotionSignature> {
             Some(FromEnd(2)),
             Some(FromEnd(1)),
         ),
-        "ARCC" | "ARCC1" | "ARCC2" | "ARCCSTART" | "ARCCEND" | "CAPC" => sig(
+        "ARCC" | "ARCC1" | "ARCC2" | "ARCCSTART" | "ARCCEND" | "CAPC" | "ARCCALCC"
+        | "ARCADAPTC" | "ARCADAPTCSTART" | "ARCADAPTCEND" | "DISPC" => sig(
             Circular,
             &[0, 1],
             &[],
@@ -134,6 +139,8 @@ pub fn motion_signature(name: &str) -> Option<MotionSignature> {
             Some(FromEnd(2)),
             Some(FromEnd(1)),
         ),
+        // ContactL ToPoint, Speed, Tool (the Contact option): a stop.
+        "CONTACTL" => sig(Linear, &[0], &[], Index(1), None, Some(Index(2))),
         // SpotL ToPoint, Speed, Spot, Tool: always a stop point.
         "SPOTL" => sig(Linear, &[0], &[], Index(1), None, Some(FromEnd(1))),
         "SPOTJ" => sig(Joint, &[0], &[], Index(1), None, Some(FromEnd(1))),

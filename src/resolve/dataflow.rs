@@ -75,6 +75,17 @@ pub fn runtime_writes(program: &Program) -> HashMap<String, Write> {
                     if let Some(params) = writable_params.get(&name) {
                         written.extend(params);
                     }
+                    // `\SearchStop:=p` (SmarTac's searches and others):
+                    // where the search stopped, written by the run.
+                    let stop = call.optional("SearchStop").and_then(|a| a.value.as_ref());
+                    if let Some(root) = stop.and_then(root_name) {
+                        note(
+                            root,
+                            routine,
+                            s.pos.line,
+                            format!("written by {}", call.name),
+                        );
+                    }
                     for i in written {
                         if let Some(root) = positional.get(i).and_then(|e| root_name(e)) {
                             note(

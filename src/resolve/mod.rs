@@ -265,7 +265,7 @@ pub fn uses(program: &Program) -> Uses<'_> {
                 .map(|c| {
                     (places.iter())
                         .filter_map(|&k| c.targets[k].as_deref())
-                        .filter_map(|n| refs.lookup(n, (module, at.routine)))
+                        .filter_map(|n| refs.passed(n, (module, at.routine)))
                         .collect()
                 })
                 .collect();
@@ -585,6 +585,10 @@ struct Refs<'a> {
     /// Derived targets written in statements (`MoveL Offs(p10, 0, 0, 50)`),
     /// by where their call starts.
     derived_at: HashMap<usize, usize>,
+    /// Robtarget parameters and routine data without a value, by
+    /// (routine, name), lower case: inside their routine they hide a
+    /// module's or the task's target of the same name.
+    hiding: std::collections::HashSet<(String, String)>,
 }
 
 /// Where a name is read: its module and routine.
@@ -613,6 +617,21 @@ impl<'a> Refs<'a> {
                 .filter(|(_, t)| t.kind == TargetKind::Derived)
                 .map(|(i, t)| (t.origin.pos.offset, i))
                 .collect(),
+            hiding: (program.modules.iter())
+                .flat_map(|m| &m.routines)
+                .flat_map(|r| {
+                    let params = (r.params.iter())
+                        .filter(|p| p.type_name.eq_ignore_ascii_case("robtarget"))
+                        .map(|p| &p.name);
+                    let unset = (r.data.iter())
+                        .filter(|d| d.init.is_none())
+                        .filter(|d| d.type_name.eq_ignore_ascii_case("robtarget"))
+                        .map(|d| &d.name);
+                    params
+                        .chain(unset)
+                        .map(|n| (r.name.to_ascii_lowercase(), n.to_ascii_lowercase()))
+                })
+                .collect(),
         }
     }
 
@@ -623,6 +642,22 @@ impl<'a> Refs<'a> {
         // The scoped and qualified keys are built only where the index
         // holds such identifiers: a move by name is looked up a million
         // times on a large program, and three allocations each showed.
+        // A parameter or a routine's own variable of that name hides the
+        // module's and the task's: the move goes where the run puts it.
+        if !self.hiding.is_empty()
+            && self
+                .hiding
+                .contains(&(routine.to_ascii_lowercase(), id.to_ascii_lowercase()))
+        {
+            return None;
+        }
+        self.passed(id, (module, routine))
+    }
+
+    /// The target a name a call passes reads: looked up as a name of the
+    /// routine's module or the task (a parameter of the same name, which
+    /// it is passed to, does not hide it).
+    fn passed(&self, id: &str, (module, routine): Scope) -> Option<usize> {
         let scoped = self.index.has_routine_scoped();
         let qualified = self.index.has_qualified();
         let own = || format!("{routine}/{id}");
@@ -656,11 +691,19 @@ impl<'a> Refs<'a> {
         // A variable's assignments, and a parameter's calls (by routine).
         let own = format!("{}/{name}", module.1).to_ascii_lowercase();
         let assigned = self.aliases.get(&name.to_ascii_lowercase());
-        for bases in assigned.into_iter().chain(self.aliases.get(&own)) {
+        if let Some(bases) = assigned {
             out.extend(
                 bases
                     .iter()
                     .filter_map(|b| self.lookup(b, module))
+                    .map(|i| (Reached::One(i), Through::Variable)),
+            );
+        }
+        if let Some(bases) = self.aliases.get(&own) {
+            out.extend(
+                bases
+                    .iter()
+                    .filter_map(|b| self.passed(b, module))
                     .map(|i| (Reached::One(i), Through::Variable)),
             );
         }
@@ -706,7 +749,7 @@ impl<'a> Refs<'a> {
                             };
                             let own = format!("{}/{n}", module.1).to_ascii_lowercase();
                             for b in self.aliases.get(&own).into_iter().flatten() {
-                                if let Some(j) = self.lookup(b, module) {
+                                if let Some(j) = self.passed(b, module) {
                                     out.push((Reached::One(j), Through::Derived(i)));
                                 }
                             }

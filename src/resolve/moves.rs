@@ -44,6 +44,10 @@ pub struct Move<'a> {
     pub wobj: Option<String>,
     /// Whether it moves to a jointtarget (its targets are joints).
     pub joints: bool,
+    /// Whether the instruction is one the reader knows the arguments of;
+    /// `false`: a call of neither a procedure of the files read nor a
+    /// known instruction, given targets.
+    pub known: bool,
     pub points: Vec<Point<'a>>,
 }
 
@@ -118,10 +122,21 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
         (passed(n, scope).iter())
             .filter(|p| match joints {
                 true => joint_named(p, scope).is_none(),
-                false => refs.lookup(p, scope).is_none(),
+                false => refs.passed(p, scope).is_none(),
             })
             .map(String::as_str)
             .collect()
+    };
+    // Procedures of the files read and instructions that take targets
+    // without moving to them (PDispOn, the tool calibrations).
+    let known: std::collections::HashSet<String> = (program.modules.iter())
+        .flat_map(|m| &m.routines)
+        .map(|r| r.name.to_ascii_lowercase())
+        .collect();
+    let known = |name: &str| {
+        known.contains(name)
+            || crate::rapid::builtins::is_instant_instruction(name)
+            || crate::rapid::builtins::reads_targets_without_moving(name)
     };
     let reached = |reach: Reach, scope: (&str, &str)| -> Vec<(std::ops::Range<usize>, Through)> {
         refs.targets(reach, scope)
@@ -139,7 +154,57 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
             for body in super::routine_bodies(routine) {
                 super::walk_statements(body, &mut |s| match &s.kind {
                     StatementKind::Call(call) => {
-                        let Some(m) = call.motion() else { return };
+                        let Some(m) = call.motion() else {
+                            // An instruction the reader does not know
+                            // (an option's, or a procedure of a module not
+                            // read) given targets: a move for all anyone
+                            // can tell, accounted for as such.
+                            if call.late_bound || known(&call.name.to_ascii_lowercase()) {
+                                return;
+                            }
+                            let points: Vec<Point> = (call.args.iter())
+                                .filter_map(|a| a.value.as_ref())
+                                .filter_map(|e| {
+                                    let robtargets = match e {
+                                        Expr::JointTarget(_) => Vec::new(),
+                                        _ => reached(Reach::Expr(e), scope),
+                                    };
+                                    let jointtargets = match e {
+                                        Expr::JointTarget(i) => vec![*i],
+                                        Expr::Name(n) => {
+                                            joint_named(n, scope).into_iter().collect()
+                                        }
+                                        _ => Vec::new(),
+                                    };
+                                    (!robtargets.is_empty() || !jointtargets.is_empty()).then_some(
+                                        Point {
+                                            expr: Some(e),
+                                            name: None,
+                                            robtargets,
+                                            jointtargets,
+                                            unread_passed: Vec::new(),
+                                        },
+                                    )
+                                })
+                                .collect();
+                            if !points.is_empty() {
+                                visit(&Move {
+                                    instruction: &call.name,
+                                    module: scope.0,
+                                    routine: scope.1,
+                                    file: module.file,
+                                    line: s.pos.line,
+                                    col: s.pos.col,
+                                    offset: s.pos.offset,
+                                    tool: None,
+                                    wobj: None,
+                                    joints: false,
+                                    known: false,
+                                    points,
+                                });
+                            }
+                            return;
+                        };
                         let joints = m.signature.robtargets.is_empty();
                         let points = [m.via, m.to]
                             .into_iter()
@@ -172,6 +237,7 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
                             tool: m.tool.map(super::describe),
                             wobj: m.wobj.map(super::describe),
                             joints,
+                            known: true,
                             points,
                         });
                     }
@@ -207,6 +273,7 @@ pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
                                 tool: mv.tool().map(|t| t.to_string()),
                                 wobj: mv.wobj().map(|w| w.to_string()),
                                 joints: false,
+                                known: true,
                                 points,
                             });
                         }

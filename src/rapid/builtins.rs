@@ -113,8 +113,10 @@ pub const INSTANT_INSTRUCTIONS: &[&str] = &[
 
 /// Instructions that read robtargets or jointtargets without moving to
 /// them: the tool and work object calibrations (their positions are
-/// taught, not moved to by the program).
+/// taught, not moved to by the program) and the joint world zones.
 const READ_TARGETS_WITHOUT_MOVING: &[&str] = &[
+    "wzhomejointdef",
+    "wzlimjointdef",
     "stooltcpcalib",
     "stoolrotcalib",
     "mtooltcpcalib",

@@ -122,7 +122,8 @@ pub fn motion_signature(name: &str) -> Option<MotionSignature> {
         "SEARCH_1D" => sig(Linear, &[1, 2], &[], Index(3), None, Some(Index(4))),
         // Process instructions: ToPoint, Speed, process data..., Zone, Tool
         "ARCL" | "ARCL1" | "ARCL2" | "ARCLSTART" | "ARCLEND" | "CAPL" | "ARCCALCL"
-        | "ARCADAPTL" | "ARCADAPTLSTART" | "ARCADAPTLEND" | "DISPL" => sig(
+        | "ARCCALCLSTART" | "ARCCALCLEND" | "ARCADAPTL" | "ARCADAPTLSTART" | "ARCADAPTLEND"
+        | "DISPL" => sig(
             Linear,
             &[0],
             &[],
@@ -131,7 +132,8 @@ pub fn motion_signature(name: &str) -> Option<MotionSignature> {
             Some(FromEnd(1)),
         ),
         "ARCC" | "ARCC1" | "ARCC2" | "ARCCSTART" | "ARCCEND" | "CAPC" | "ARCCALCC"
-        | "ARCADAPTC" | "ARCADAPTCSTART" | "ARCADAPTCEND" | "DISPC" => sig(
+        | "ARCCALCCSTART" | "ARCCALCCEND" | "ARCADAPTC" | "ARCADAPTCSTART" | "ARCADAPTCEND"
+        | "DISPC" => sig(
             Circular,
             &[0, 1],
             &[],

@@ -42,6 +42,22 @@ pub(super) fn lower(id: &str) -> Cow<'_, str> {
 /// When each target is reached: every visit of every target, in minutes.
 /// Keys are target identifiers as written (lookups ignore case, as RAPID
 /// does).
+/// `f` of `id` in lower case, lowered on the stack where it is short: a
+/// million targets looked up by a RobotStudio-style name (`Target_10`)
+/// made a million copies.
+fn with_lower<R>(id: &str, f: impl FnOnce(&str) -> R) -> R {
+    let mut buf = [0u8; 64];
+    if let Some(b) = buf.get_mut(..id.len()) {
+        b.copy_from_slice(id.as_bytes());
+        b.make_ascii_lowercase();
+        // Lowering ASCII letters keeps UTF-8 valid.
+        if let Ok(key) = std::str::from_utf8(b) {
+            return f(key);
+        }
+    }
+    f(&lower(id))
+}
+
 #[derive(Clone, Default, PartialEq)]
 pub struct Schedule {
     /// By lower-case identifier (hashed: a schedule of a million targets
@@ -123,11 +139,17 @@ impl Schedule {
 
     /// Record one visit of `target` at `time_min`.
     pub fn visit(&mut self, target: &str, time_min: f64) {
-        let key = lower(target);
-        if let Some(entry) = self.visits.get_mut(&*key) {
-            entry.push(time_min);
+        let seen = with_lower(target, |key| match self.visits.get_mut(key) {
+            Some(entry) => {
+                entry.push(time_min);
+                true
+            }
+            None => false,
+        });
+        if seen {
             return;
         }
+        let key = lower(target);
         let id: Arc<str> = Arc::from(target);
         let key = match key {
             Cow::Borrowed(_) => id.clone(),
@@ -145,7 +167,7 @@ impl Schedule {
 
     /// All visit times of a target, in the order recorded.
     pub fn times(&self, target: &str) -> Option<&[f64]> {
-        self.visits.get(&*lower(target)).map(Times::as_slice)
+        with_lower(target, |key| self.visits.get(key).map(Times::as_slice))
     }
 
     /// Target identifiers in the order they were first visited.

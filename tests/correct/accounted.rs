@@ -10,7 +10,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// ABB's motion instructions (RAPID reference, and the Arc, Spot, Paint,
-/// Cap and Trigg options), written out here rather than taken from the
+/// Cap, Trigg, Dispense, Contact and SmarTac options), written out here rather than taken from the
 /// reader, so that an instruction the reader does not know is found.
 const MOTION: &[&str] = &[
     "MoveL",
@@ -56,6 +56,27 @@ const MOTION: &[&str] = &[
     "SpotJ",
     "CapL",
     "CapC",
+    // Options found on real programs: ArcWare's calculated and adaptive
+    // paths and its external-axis moves, Dispense, Contact, SmarTac.
+    "ArcCalcL",
+    "ArcCalcC",
+    "ArcCalcLStart",
+    "ArcCalcLEnd",
+    "ArcCalcCStart",
+    "ArcCalcCEnd",
+    "ArcAdaptL",
+    "ArcAdaptC",
+    "ArcAdaptLStart",
+    "ArcAdaptLEnd",
+    "ArcAdaptCStart",
+    "ArcAdaptCEnd",
+    "ArcMoveAbsJ",
+    "ArcMoveExtJ",
+    "DispL",
+    "DispC",
+    "ContactL",
+    "Search_1D",
+    "Search_Groove",
 ];
 
 /// The source with comments and strings blanked (their bytes made

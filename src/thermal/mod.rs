@@ -11,12 +11,15 @@
 //! - [`profile`]: profiles from fitted curves and [`default_profile`].
 //! - [`plot`]: SVG of measured and fitted curves.
 //! - [`table`]: fit results as the paper-like table, CSV and JSON.
+//! - [`duty`]: warm-up and cool-down over a day of running and stops,
+//!   the exact update of saturating curves.
 //! - [`lag`]: a structure's temperature behind its motors' (first-order
 //!   lag), one discretisation for every job.
 //!
 //! Owns temperatures over time. May import the shared `error`,
 //! `csv_table` and `report`; never `robot`, `model` or anything above.
 
+pub mod duty;
 pub mod fit;
 pub mod lag;
 pub mod plot;

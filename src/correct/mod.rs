@@ -36,6 +36,7 @@ mod moments;
 mod outcome;
 pub mod plot;
 mod progress;
+pub mod runtime;
 mod shared;
 mod solve;
 pub mod stream;

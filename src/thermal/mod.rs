@@ -58,6 +58,13 @@ pub trait HeatingProfile: Send + Sync {
         )
         .with_remedy(crate::error::Remedy::GiveMinute))
     }
+
+    /// The saturating curve of each axis, where the profile is one: the
+    /// only kind with a state that can be carried forward through running
+    /// and stopped spans ([`duty`]). `None` for polynomials and recordings.
+    fn curves(&self) -> Option<[saturating::SatCurve; 6]> {
+        None
+    }
 }
 
 /// Table 1 of the FEA paper: maximum motor temperatures, °C.

@@ -7,6 +7,7 @@ mod common;
 mod backup;
 mod cli;
 mod plot;
+mod runtime;
 mod samples;
 mod shared;
 mod streaming;

@@ -2,12 +2,15 @@
 //!
 //! - criterion: correcting the CAM sample (5,252 targets) in memory, and
 //!   one target through the warm robot;
-//! - end to end: `rapidtherm correct` and `rapidtherm targets` on a
-//!   generated program of 1,000,000 inline targets (117 MB, written to a
-//!   temporary folder, never committed), side by side with `cp` of the
-//!   same file (the floor), three runs each, medians, the load average and
-//!   the children's peak resident memory on stderr.
-//!   Set `RAPIDTHERM_BENCH_TARGETS` to change the count.
+//! - end to end: `rapidtherm correct --at`, `correct --start` and
+//!   `rapidtherm targets` on generated programs of 1,000,000 targets in
+//!   each of the three shapes large programs come in (CAM inline moves,
+//!   RobotStudio's declared targets, one array walked by a FOR loop;
+//!   written to a temporary folder, never committed), side by side with
+//!   `cp` of the same file (the floor), three rounds, medians, the load
+//!   average and each run's peak resident memory on stderr. Set
+//!   `RAPIDTHERM_BENCH_TARGETS`, `RAPIDTHERM_BENCH_RUNS` and
+//!   `RAPIDTHERM_BENCH_SHAPES` (`cam,declared,array`) to change them.
 
 use criterion::{Criterion, Throughput};
 use rapidtherm::correct::{correct, Options, When};
@@ -17,9 +20,13 @@ use rapidtherm::rapid;
 use rapidtherm::robot::Robot;
 use std::hint::black_box;
 use std::io::Write;
-use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
+
+#[path = "../examples/gen_shapes.rs"]
+#[allow(dead_code)]
+mod gen_shapes;
+use gen_shapes::Shape;
 
 fn options() -> Options {
     Options::new(When::At(Moment::Minute(120.0)))
@@ -38,144 +45,142 @@ fn bench_sample(c: &mut Criterion) {
     group.finish();
 }
 
-/// A CAM-style program as the issue describes it: `n` inline MoveL
-/// targets with a spindle tool and a work object, CRLF line ends, all
-/// reachable, robconf consistent with the pose (117 MB for a million).
-fn write_program(path: &Path, n: usize) {
-    let file = std::fs::File::create(path).expect("temp file");
-    let mut w = std::io::BufWriter::new(file);
-    let _ = write!(w, "MODULE Big\r\n");
-    let _ = write!(
-        w,
-        "  PERS tooldata tSpindle:=[TRUE,[[0,0,150],[1,0,0,0]],[2,[0,0,60],[1,0,0,0],0,0,0]];\r\n"
-    );
-    let _ = write!(
-        w,
-        "  PERS wobjdata wPlate:=[FALSE,TRUE,\"\",[[0,0,0],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];\r\n"
-    );
-    let _ = write!(w, "  PROC main()\r\n");
-    // A deterministic zigzag over a 300 x 300 mm field.
-    for i in 0..n {
-        let u = (i % 1000) as f64 / 1000.0;
-        let v = (i / 1000 % 1000) as f64 / 1000.0;
-        let (x, y, z) = (
-            420.0 + 80.0 * u,
-            -150.0 + 300.0 * v,
-            250.0 + 20.0 * (u * 7.0).sin(),
-        );
-        let cf = if y >= 0.0 { 0 } else { -1 };
-        let _ = write!(
-            w,
-            "    MoveL [[{x:.3},{y:.3},{z:.3}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]],v200,z1,tSpindle\\WObj:=wPlate;\r\n"
-        );
+/// The children's resource use of one run: wall time, CPU time (user
+/// and system) and peak resident memory (kB), each child's own (waited
+/// for with `wait4`, so that one large run does not hide the others'
+/// peaks, as `RUSAGE_CHILDREN` would).
+struct Ran {
+    wall: Duration,
+    cpu: Duration,
+    peak_kb: i64,
+}
+
+/// Run `program args`, its standard output to `/dev/null`, and measure it.
+// The child is reaped by `wait4` (for its own resource use), which
+// clippy does not see.
+#[allow(clippy::zombie_processes)]
+fn run(program: &str, args: &[&std::ffi::OsStr]) -> Ran {
+    let t = Instant::now();
+    let child = Command::new(program)
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let pid = child.id() as libc::pid_t;
+    // The child's messages are read before it is waited for (a full pipe
+    // would stop it).
+    let mut stderr = String::new();
+    if let Some(mut e) = child.stderr {
+        let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
     }
-    let _ = write!(w, "  ENDPROC\r\nENDMODULE\r\n");
-}
-
-/// Peak resident memory (kB) of the largest waited-for child so far.
-fn children_peak_kb() -> i64 {
+    let mut status = 0;
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: getrusage writes into the struct we own.
-    unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) };
-    usage.ru_maxrss
+    // SAFETY: waits for our own child and writes into structs we own.
+    let got = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    let wall = t.elapsed();
+    assert_eq!(got, pid, "wait4");
+    assert!(
+        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+        "{program} {args:?}: {stderr}"
+    );
+    let tv = |v: libc::timeval| Duration::new(v.tv_sec as u64, v.tv_usec as u32 * 1000);
+    Ran {
+        wall,
+        cpu: tv(usage.ru_utime) + tv(usage.ru_stime),
+        peak_kb: usage.ru_maxrss,
+    }
 }
 
-/// CPU time (user and system) of all waited-for children so far: on a
-/// machine other work shares, what a run costs apart from the wait.
-fn children_cpu() -> Duration {
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: getrusage writes into the struct we own.
-    unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) };
-    let t = |v: libc::timeval| Duration::new(v.tv_sec as u64, v.tv_usec as u32 * 1000);
-    t(usage.ru_utime) + t(usage.ru_stime)
-}
-
-fn median(mut v: Vec<Duration>) -> Duration {
-    v.sort();
+fn median<T: PartialOrd + Copy>(mut v: Vec<T>) -> T {
+    v.sort_by(|a, b| a.partial_cmp(b).expect("no NaN"));
     v[v.len() / 2]
 }
 
+/// The three shapes of a million targets (`examples/gen_shapes.rs`), each
+/// beside `cp` of the same file: `correct --at 120 -o OUT`, `correct
+/// --start 0 -o OUT` and `targets` (to `/dev/null`), the four run in turn
+/// (`RAPIDTHERM_BENCH_RUNS` rounds, 3 by default) so that all see the same
+/// load; medians of the times and of the per-round ratios, each command's
+/// median peak memory, the load average.
 fn end_to_end() {
     let n: usize = std::env::var("RAPIDTHERM_BENCH_TARGETS")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1_000_000);
-    let dir = tempfile::tempdir().expect("temp dir");
-    let input = dir.path().join("big.mod");
-    write_program(&input, n);
-    let size_mb = std::fs::metadata(&input).map(|m| m.len()).unwrap_or(0) as f64 / 1e6;
-    let out = dir.path().join("out.mod");
-    let copy = dir.path().join("copy.mod");
-    let mut cp_times = Vec::new();
-    for _ in 0..3 {
-        let t = Instant::now();
-        let status = Command::new("cp")
-            .arg(&input)
-            .arg(&copy)
-            .status()
-            .expect("cp");
-        assert!(status.success());
-        cp_times.push(t.elapsed());
-    }
-    let cp_peak = children_peak_kb();
-    let mut times = Vec::new();
-    let mut cpu = Vec::new();
-    for _ in 0..3 {
-        let t = Instant::now();
-        let c = children_cpu();
-        let result = Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-            .args(["correct", "--at", "120", "-o"])
-            .arg(&out)
-            .arg(&input)
-            .output()
-            .expect("rapidtherm");
-        assert!(
-            result.status.success(),
-            "{}",
-            String::from_utf8_lossy(&result.stderr)
+    let rounds: usize = std::env::var("RAPIDTHERM_BENCH_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3);
+    let shapes: Vec<Shape> = match std::env::var("RAPIDTHERM_BENCH_SHAPES") {
+        Ok(list) => list.split(',').filter_map(Shape::named).collect(),
+        Err(_) => Shape::ALL.to_vec(),
+    };
+    let bin = env!("CARGO_BIN_EXE_rapidtherm");
+    for shape in shapes {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let input = dir.path().join(format!("{}.mod", shape.name()));
+        {
+            let file = std::fs::File::create(&input).expect("temp file");
+            let mut w = std::io::BufWriter::new(file);
+            shape.write(&mut w, n).expect("written");
+            w.flush().expect("written");
+        }
+        let size_mb = std::fs::metadata(&input).map(|m| m.len()).unwrap_or(0) as f64 / 1e6;
+        let out = dir.path().join("out.mod");
+        let copy = dir.path().join("copy.mod");
+        let os = |s: &'static str| std::ffi::OsStr::new(s);
+        let (inp, outp, cpp) = (input.as_os_str(), out.as_os_str(), copy.as_os_str());
+        let mut all: [Vec<Ran>; 4] = Default::default();
+        let (mut at_cp, mut start_at) = (Vec::new(), Vec::new());
+        for _ in 0..rounds {
+            let cp = run("cp", &[inp, cpp]);
+            let at = run(
+                bin,
+                &[os("correct"), os("--at"), os("120"), os("-o"), outp, inp],
+            );
+            let start = run(
+                bin,
+                &[os("correct"), os("--start"), os("0"), os("-o"), outp, inp],
+            );
+            let list = run(bin, &[os("targets"), inp]);
+            at_cp.push(at.wall.as_secs_f64() / cp.wall.as_secs_f64());
+            start_at.push(start.wall.as_secs_f64() / at.wall.as_secs_f64());
+            for (k, r) in [cp, at, start, list].into_iter().enumerate() {
+                all[k].push(r);
+            }
+        }
+        let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+        let [cp, at, start, list] = all.map(|runs| {
+            (
+                median(runs.iter().map(|r| r.wall).collect()).as_secs_f64(),
+                median(runs.iter().map(|r| r.cpu).collect()).as_secs_f64(),
+                median(runs.iter().map(|r| r.peak_kb).collect()) as f64 * 1024.0 / 1e6,
+            )
+        });
+        eprintln!(
+            "{} shape, {n} targets ({size_mb:.1} MB, CRLF), medians of {rounds}, load average {}:\n  cp {:.3} s (peak {:.0} MB)\n  correct --at 120 -o OUT {:.2} s = {:.1} x cp (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.2} x the file\n  correct --start 0 -o OUT {:.2} s = {:.2} x --at (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.2} x the file\n  targets {:.2} s = {:.1} MB/s, CPU {:.2} s, peak {:.0} MB",
+            shape.name(),
+            load.split_whitespace().take(3).collect::<Vec<_>>().join(" "),
+            cp.0,
+            cp.2,
+            at.0,
+            median(at_cp),
+            at.1,
+            at.2,
+            at.2 / size_mb,
+            start.0,
+            median(start_at),
+            start.1,
+            start.2,
+            start.2 / size_mb,
+            list.0,
+            size_mb / list.0,
+            list.1,
+            list.2,
         );
-        times.push(t.elapsed());
-        cpu.push(children_cpu() - c);
+        black_box(&out);
     }
-    let peak = children_peak_kb();
-    // `targets` after `correct`: the peak memory read next is the larger
-    // of the two runs'.
-    let mut listing = Vec::new();
-    let mut listing_cpu = Vec::new();
-    for _ in 0..3 {
-        let t = Instant::now();
-        let c = children_cpu();
-        let status = Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-            .arg("targets")
-            .arg(&input)
-            .stdout(std::process::Stdio::null())
-            .status()
-            .expect("rapidtherm");
-        assert!(status.success());
-        listing.push(t.elapsed());
-        listing_cpu.push(children_cpu() - c);
-    }
-    let listing_peak = children_peak_kb();
-    let (cp, rt, ls) = (median(cp_times), median(times), median(listing));
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    eprintln!(
-        "end to end, {n} inline targets ({size_mb:.1} MB), medians of 3, load average {}:\n  cp {:.3} s (peak {} MB)\n  rapidtherm correct --at 120 -o OUT {:.2} s = {:.1} x cp, {:.1} MB/s, {:.2} µs/target, CPU {:.2} s (peak {} MB = {:.2} x the file)\n  rapidtherm targets {:.2} s = {:.1} MB/s, CPU {:.2} s (peak of both runs {} MB)",
-        load.split_whitespace().take(3).collect::<Vec<_>>().join(" "),
-        cp.as_secs_f64(),
-        cp_peak / 1024,
-        rt.as_secs_f64(),
-        rt.as_secs_f64() / cp.as_secs_f64(),
-        size_mb / rt.as_secs_f64(),
-        rt.as_secs_f64() * 1e6 / n as f64,
-        median(cpu).as_secs_f64(),
-        peak / 1024,
-        peak as f64 * 1024.0 / 1e6 / size_mb,
-        ls.as_secs_f64(),
-        size_mb / ls.as_secs_f64(),
-        median(listing_cpu).as_secs_f64(),
-        listing_peak / 1024
-    );
-    black_box(out);
 }
 
 fn main() {

@@ -114,10 +114,9 @@ fn start_beside_at() {
     let input = dir.path().join("cam.mod");
     std::fs::write(&input, gen_cam::cam_program(n / 5, 5)).expect("temp file");
     let out = dir.path().join("out.mod");
-    // To a file both are streamed (`--start` reads the program whole from
-    // the skeleton to time it, the first of its two passes); to standard
-    // output both take the whole-program path, the reference they are
-    // held to.
+    // To a file and to standard output the correction is the same pass
+    // (docs/streaming.md): written into its sink as it goes, one task
+    // writing its files; the two are timed side by side.
     let (mut at, mut start, mut at_whole, mut start_whole, mut ratios) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for _ in 0..3 {

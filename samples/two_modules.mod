@@ -1,5 +1,6 @@
 MODULE MainModule
-    ! Two modules in one file: both declare p10 and a routine `main`, so
+    ! Two modules in one file: both declare p10 and a routine `main` (the
+    ! second ones LOCAL: RAPID refuses one global name declared twice), so
     ! their identifiers are qualified with the module (MainModule:p10).
     CONST robtarget p10 := [[450, 100, 300], [0, 0, 1, 0], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
     CONST robtarget p20 := [[450, 200, 300], [0, 0, 1, 0], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
@@ -13,7 +14,7 @@ MODULE MainModule
 ENDMODULE
 
 MODULE Station2
-    CONST robtarget p10 := [[400, -150, 250], [0, 0, 1, 0], [-1, 0, -1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+    LOCAL CONST robtarget p10 := [[400, -150, 250], [0, 0, 1, 0], [-1, 0, -1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
     CONST robtarget pPlace := [[380, -250, 200], [0, 0, 1, 0], [-1, 0, -1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
     LOCAL PROC main()

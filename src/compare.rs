@@ -7,9 +7,10 @@
 //! `resolve` and the shared `error`; never `correct` or `diagnose`.
 
 use crate::error::{Error, Result};
-use crate::rapid::{Program, TargetKind};
+use crate::rapid::{Program, Target, TargetKind};
 use crate::robot::frames::pose_from_rapid;
 use serde::Serialize;
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 /// One target present in both programs.
@@ -17,7 +18,7 @@ use std::collections::HashMap;
 pub struct TargetDelta {
     pub id: String,
     /// `robtarget` or `jointtarget`.
-    pub kind: &'static str,
+    pub kind: DataType,
     /// Position change (mm), in the frame the target is written in; zero
     /// for jointtargets.
     pub dx: f64,
@@ -52,26 +53,46 @@ pub struct Summary {
     pub max_deg: f64,
 }
 
+/// What a compared target is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum DataType {
+    #[serde(rename = "robtarget")]
+    Robtarget,
+    #[serde(rename = "jointtarget")]
+    Jointtarget,
+}
+
+impl std::fmt::Display for DataType {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            DataType::Robtarget => "robtarget",
+            DataType::Jointtarget => "jointtarget",
+        })
+    }
+}
+
 /// Compare every robtarget and jointtarget of `a` with the one of the same
 /// identifier in `b`.
 pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
     // Identifiers compared as RAPID compares names (without regard to
     // case), each looked up once: a scan of the other program per target
     // made two backups of 20,000 targets take half a minute.
-    let (a_ids, b_ids) = (by_id(a.targets(), |t| &t.id), by_id(b.targets(), |t| &t.id));
+    let a_targets: Vec<Cow<Target>> = a.targets().iter().collect();
+    let b_targets: Vec<Cow<Target>> = b.targets().iter().collect();
+    let (a_ids, b_ids) = (by_id(&a_targets, |t| &t.id), by_id(&b_targets, |t| &t.id));
     let a_joints = by_id(a.jointtargets(), |j| &j.id);
     let b_joints = by_id(b.jointtargets(), |j| &j.id);
     let mut targets = Vec::new();
     let mut only_in_a = Vec::new();
     let mut derived = 0;
-    for ta in a.targets() {
+    for ta in &a_targets {
         if ta.kind == TargetKind::Derived {
             derived += 1;
             continue;
         }
         let Some(tb) = b_ids
             .get(&ta.id.to_ascii_lowercase())
-            .map(|&i| &b.targets()[i])
+            .map(|&i| &b_targets[i])
         else {
             only_in_a.push(ta.id.clone());
             continue;
@@ -107,7 +128,7 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
         };
         targets.push(TargetDelta {
             id: ta.id.clone(),
-            kind: "robtarget",
+            kind: DataType::Robtarget,
             dx: d.x,
             dy: d.y,
             dz: d.z,
@@ -131,7 +152,7 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
             .fold(0.0, f64::max);
         targets.push(TargetDelta {
             id: ja.id.clone(),
-            kind: "jointtarget",
+            kind: DataType::Jointtarget,
             dx: 0.0,
             dy: 0.0,
             dz: 0.0,
@@ -139,8 +160,7 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
             dangle: dq,
         });
     }
-    let only_in_b = b
-        .targets()
+    let only_in_b = b_targets
         .iter()
         .filter(|t| {
             t.kind != TargetKind::Derived && !a_ids.contains_key(&t.id.to_ascii_lowercase())
@@ -174,7 +194,10 @@ fn by_id<T>(items: &[T], id: impl Fn(&T) -> &String) -> HashMap<String, usize> {
 }
 
 fn summarise(targets: &[TargetDelta]) -> Summary {
-    let robtargets: Vec<&TargetDelta> = targets.iter().filter(|t| t.kind == "robtarget").collect();
+    let robtargets: Vec<&TargetDelta> = targets
+        .iter()
+        .filter(|t| t.kind == DataType::Robtarget)
+        .collect();
     let n = robtargets.len();
     let sum_sq: f64 = robtargets.iter().map(|t| t.dist * t.dist).sum();
     Summary {
@@ -290,7 +313,7 @@ impl Diff {
 mod tests {
     use super::*;
 
-    fn delta(id: &str, kind: &'static str, dist: f64, dangle: f64) -> TargetDelta {
+    fn delta(id: &str, kind: DataType, dist: f64, dangle: f64) -> TargetDelta {
         TargetDelta {
             id: id.to_string(),
             kind,
@@ -321,9 +344,9 @@ mod tests {
         assert!((gate.max_deg - 0.15 / 100.0 * 180.0 / std::f64::consts::PI).abs() < 1e-12);
         let d = diff_of(
             vec![
-                delta("p10", "robtarget", 0.1, 0.0),
-                delta("j10", "jointtarget", 0.0, 30.0),
-                delta("p20", "robtarget", f64::NAN, 0.0),
+                delta("p10", DataType::Robtarget, 0.1, 0.0),
+                delta("j10", DataType::Jointtarget, 0.0, 30.0),
+                delta("p20", DataType::Robtarget, f64::NAN, 0.0),
             ],
             &["pOld"],
             &["pNew"],
@@ -336,13 +359,15 @@ mod tests {
         assert_eq!(f[3], GateFailure::OnlyInSecond("pNew".into()));
         let none = diff_of(vec![], &[], &[]);
         assert_eq!(none.gate(&gate), vec![GateFailure::NothingCompared]);
-        let ok = diff_of(vec![delta("p10", "robtarget", 0.1, 0.01)], &[], &[]);
+        let ok = diff_of(vec![delta("p10", DataType::Robtarget, 0.1, 0.01)], &[], &[]);
         assert!(ok.gate(&gate).is_empty());
         // An angle alone gates angles only.
         let deg = Gate::new(None, Some(1.0)).unwrap();
-        assert!(diff_of(vec![delta("p10", "robtarget", 5.0, 0.5)], &[], &[])
-            .gate(&deg)
-            .is_empty());
+        assert!(
+            diff_of(vec![delta("p10", DataType::Robtarget, 5.0, 0.5)], &[], &[])
+                .gate(&deg)
+                .is_empty()
+        );
     }
 
     #[test]

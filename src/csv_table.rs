@@ -49,7 +49,12 @@ impl CsvTable {
             let line = index + 1;
             let start = offset;
             offset += raw.len();
-            let text = raw.trim_end_matches(['\n', '\r']);
+            let mut text = raw.trim_end_matches(['\n', '\r']);
+            if index == 0 {
+                // Excel and Notepad start UTF-8 files with a byte-order
+                // mark; it is not part of the first column's name.
+                text = text.strip_prefix('\u{FEFF}').unwrap_or(text);
+            }
             let trimmed = text.trim_start();
             if trimmed.is_empty() || trimmed.starts_with('#') {
                 continue;
@@ -267,6 +272,13 @@ mod tests {
         let e = t.require("t2_c").unwrap_err();
         assert!(e.message.contains("t2_c"));
         assert_eq!(e.location.unwrap().line, 1);
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_column() {
+        let t = CsvTable::parse("h.csv", "\u{FEFF}time_min,t1_c\n0,7\n".as_bytes()).unwrap();
+        assert_eq!(t.header, vec!["time_min", "t1_c"]);
+        assert!(t.require("time_min").is_ok());
     }
 
     #[test]

@@ -51,6 +51,19 @@ pub enum Remedy {
     FitBeyondRecording,
     /// A name not in the catalogue of ABB arms: see the list.
     ListArms,
+    /// A task's arm is not known from the backup: name it for the task.
+    NameTheArm,
+    /// An arm whose thermal behaviour is unknown: give a model file of it,
+    /// or use the IRB 140's thermal defaults on its lengths.
+    ModelOfTheArm,
+    /// An arm said besides a model fitted on another: leave it to the
+    /// model.
+    ArmOfTheModel,
+    /// Tasks that would write one file differently: one at a time.
+    OneTaskAtATime,
+    /// A backup that does not place a task's robot: mend it, or accept the
+    /// default placement (the world origin) explicitly.
+    AcceptDefaultPlacement,
 }
 
 impl Remedy {
@@ -68,6 +81,17 @@ impl Remedy {
                 "; fit a saturating model to predict beyond it, or hold the end values explicitly"
             }
             Remedy::ListArms => " (the catalogue lists every name)",
+            Remedy::NameTheArm => "; name the arm this task moves",
+            Remedy::ModelOfTheArm => {
+                "give a model file of this arm (its heating measured, or a heating recording in it), or use the IRB 140's thermal defaults on this arm's lengths"
+            }
+            Remedy::ArmOfTheModel => {
+                "give a model diagnosed on this arm, or leave the arm to the model"
+            }
+            Remedy::OneTaskAtATime => "",
+            Remedy::AcceptDefaultPlacement => {
+                "; mend the backup, or accept the default placement (the world origin) explicitly"
+            }
         }
     }
 }
@@ -118,10 +142,94 @@ pub fn decode_lossless(bytes: &[u8]) -> String {
     }
 }
 
+/// What an error is about, where it is one thing of the input: a target
+/// of the program by its identifier. Kept apart from the message (which
+/// says why), so that the errors of one cause about many targets are told
+/// apart by their cause, never by taking their text apart.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Subject {
+    Target(String),
+    JointTarget(String),
+}
+
+impl fmt::Display for Subject {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Subject::Target(id) => write!(f, "target {id}"),
+            Subject::JointTarget(id) => write!(f, "jointtarget {id}"),
+        }
+    }
+}
+
+/// The longest source line an error shows whole; a longer one (a
+/// generated program may hold a megabyte on one line) is cut to
+/// [`SHOWN_AROUND`] characters on each side of the column.
+pub const SHOWN_WHOLE: usize = 240;
+
+/// See [`SHOWN_WHOLE`].
+pub const SHOWN_AROUND: usize = 80;
+
+/// A character as an error message shows it: itself, or an escape when it
+/// would be invisible or move the terminal (`\0`, `\u{FEFF}`). Tabs stay
+/// tabs, so that the caret lines up under them.
+pub fn visible_char(c: char, out: &mut String) {
+    match c {
+        '\t' => out.push('\t'),
+        '\0' => out.push_str("\\0"),
+        c if c.is_control()
+            || matches!(c, '\u{FEFF}' | '\u{200B}'..='\u{200F}' | '\u{2028}'..='\u{202E}' | '\u{2060}'..='\u{2064}') =>
+        {
+            out.push_str(&format!("\\u{{{:X}}}", c as u32));
+        }
+        c => out.push(c),
+    }
+}
+
+/// Text as an error message shows it (see [`visible_char`]).
+pub fn visible(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    text.chars().for_each(|c| visible_char(c, &mut out));
+    out
+}
+
+/// The part of `line` an error shows around 1-based column `col`, with
+/// invisible characters made visible and `…` where it was cut; and the
+/// shown text before the column (the caret goes after it).
+fn shown_line(line: &str, col: usize) -> (String, String) {
+    let chars: Vec<char> = line.chars().collect();
+    let at = col.saturating_sub(1).min(chars.len());
+    let (from, to) = if chars.len() <= SHOWN_WHOLE {
+        (0, chars.len())
+    } else {
+        (
+            at.saturating_sub(SHOWN_AROUND),
+            (at + SHOWN_AROUND).min(chars.len()),
+        )
+    };
+    let mut before = String::new();
+    if from > 0 {
+        before.push('…');
+    }
+    chars[from..at]
+        .iter()
+        .for_each(|&c| visible_char(c, &mut before));
+    let mut shown = before.clone();
+    chars[at..to]
+        .iter()
+        .for_each(|&c| visible_char(c, &mut shown));
+    if to < chars.len() {
+        shown.push('…');
+    }
+    (shown, before)
+}
+
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Error {
     pub kind: ErrorKind,
+    /// Why it is an error (the cause), without what it is about.
     pub message: String,
+    /// What it is about, where it is a target: said before the message.
+    pub subject: Option<Box<Subject>>,
     pub location: Option<Box<Location>>,
     /// Extra lines shown after the caret (for example what was expected).
     pub notes: Vec<String>,
@@ -150,10 +258,25 @@ impl Error {
         Error {
             kind,
             message: message.into(),
+            subject: None,
             location: None,
             notes: Vec::new(),
             remedy: None,
             related: None,
+        }
+    }
+
+    /// The error is about `subject`.
+    pub fn about(mut self, subject: Subject) -> Error {
+        self.subject = Some(Box::new(subject));
+        self
+    }
+
+    /// What it is about and why, as one line: `target p20: unknown tool`.
+    pub fn headline(&self) -> String {
+        match &self.subject {
+            Some(s) => format!("{s}: {}", self.message),
+            None => self.message.clone(),
         }
     }
 
@@ -212,7 +335,7 @@ impl Error {
             _ => "",
         };
         let mut out = String::new();
-        let message = format!("{}{}", self.message, suffix(None));
+        let message = format!("{}{}", self.headline(), suffix(None));
         match &self.location {
             Some(loc) => {
                 out.push_str(&format!(
@@ -221,12 +344,11 @@ impl Error {
                 ));
                 if !loc.line_text.is_empty() {
                     let gutter = loc.line.to_string().len();
+                    let (shown, before) = shown_line(&loc.line_text, loc.col);
                     out.push_str(&format!("\n{:gutter$} |", ""));
-                    out.push_str(&format!("\n{} | {}", loc.line, loc.line_text));
-                    let pad: String = loc
-                        .line_text
+                    out.push_str(&format!("\n{} | {}", loc.line, shown));
+                    let pad: String = before
                         .chars()
-                        .take(loc.col.saturating_sub(1))
                         .map(|c| if c == '\t' { '\t' } else { ' ' })
                         .collect();
                     out.push_str(&format!("\n{:gutter$} | {}^", "", pad));
@@ -381,6 +503,26 @@ mod tests {
     }
 
     #[test]
+    fn a_long_line_is_cut_around_the_column_and_invisibles_are_shown() {
+        let mut src = "x".repeat(1_000_000);
+        src.insert_str(500_000, "\u{FEFF}\0bad");
+        let e = Error::input("bad word").at(Location::from_offset("f", src.as_bytes(), 500_000));
+        let shown = e.to_string();
+        assert!(shown.len() < 400, "{} bytes shown", shown.len());
+        let lines: Vec<&str> = shown.lines().collect();
+        assert_eq!(
+            lines[2],
+            format!(
+                "1 | …{}\\u{{FEFF}}\\0bad{}…",
+                "x".repeat(80),
+                "x".repeat(75)
+            )
+        );
+        // The caret stands under the escaped BOM.
+        assert_eq!(lines[3].find('^'), Some("1 | ".len() + 1 + 80));
+    }
+
+    #[test]
     fn display_has_caret_under_column() {
         let src = b"abc def\n";
         let e = Error::input("bad word").at(Location::from_offset("f", src, 4));
@@ -435,5 +577,20 @@ mod related_tests {
     #[test]
     fn error_stays_small() {
         assert!(std::mem::size_of::<Error>() < 128);
+    }
+}
+
+#[cfg(test)]
+mod subject_tests {
+    use super::*;
+
+    #[test]
+    fn an_error_about_a_target_says_it_before_its_cause() {
+        let e = Error::input("unknown tool `t`").about(Subject::Target("p20".to_string()));
+        assert_eq!(e.message, "unknown tool `t`");
+        assert_eq!(e.headline(), "target p20: unknown tool `t`");
+        assert_eq!(e.to_string(), "error: target p20: unknown tool `t`");
+        let j = Error::input("x").about(Subject::JointTarget("j1".to_string()));
+        assert_eq!(j.headline(), "jointtarget j1: x");
     }
 }

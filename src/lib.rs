@@ -16,7 +16,7 @@
 //! | 4 | [`resolve`], [`schedule`] | what a program means by its targets (tools, work objects, poses); when each target is reached |
 //! | 3 | [`model`] | the warm robot both jobs share: model file, expansion, effects, perturbed chain, `WarmRobot` |
 //! | 2 | [`rapid`], [`robot`], [`thermal`] | the language; geometry (URDF, ABB arms by name, chain, OPW FK/IK, robconf, frames); temperatures over time and the thermal lag |
-//! | 1 | [`error`], [`csv_table`], [`report`], [`plot`] | shared foundations: errors with locations, CSV tables, number and table formatting, the SVG pictures' canvas |
+//! | 1 | [`error`], [`input`], [`digest`], [`csv_table`], [`report`], [`plot`] | shared foundations: errors with locations, bounded reading of inputs, fingerprints and their byte encodings, CSV tables, number and table formatting, the SVG pictures' canvas |
 //!
 //! The main job's data flow: `rapid::parse` → `resolve` (the flange pose
 //! each target means) → `schedule` (when) → `model::WarmRobot` (where the
@@ -48,7 +48,9 @@ pub mod compare;
 pub mod correct;
 pub mod csv_table;
 pub mod diagnose;
+pub mod digest;
 pub mod error;
+pub mod input;
 pub mod model;
 pub mod plot;
 pub mod rapid;

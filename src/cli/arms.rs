@@ -5,6 +5,7 @@ use super::messages::info;
 use super::{write_stdout, Format, Status};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::report::{render_csv, render_table, Align};
+use rapidtherm::resolve::arm::{names_a_file, ArmSource, ArmSpec, Placing};
 use rapidtherm::robot::abb::{self, AbbArm};
 use rapidtherm::robot::Robot;
 use std::path::Path;
@@ -24,10 +25,7 @@ enum RobotArg<'a> {
 }
 
 fn robot_arg(arg: &Path) -> Result<RobotArg<'_>> {
-    let urdf = arg
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
-    if urdf || arg.is_file() {
+    if names_a_file(arg) {
         return Ok(RobotArg::File(arg));
     }
     arg.to_str().map(RobotArg::Name).ok_or_else(|| {
@@ -71,6 +69,31 @@ pub fn find_arm(name: &str) -> Result<&'static AbbArm> {
 /// than a catalogue arm.
 pub fn is_file(arg: &Path) -> bool {
     matches!(robot_arg(arg), Ok(RobotArg::File(_)))
+}
+
+/// `--robot` values as arms: `[TASK=]NAME|FILE.urdf`, the task part
+/// where the whole is no file's name; a catalogue name looked up here (a
+/// name it lacks is a usage error before any input is read), a URDF file
+/// read when its task's arm is resolved.
+pub fn arm_specs(values: &[String]) -> Result<Vec<ArmSpec>> {
+    values
+        .iter()
+        .map(|v| {
+            let (task, spec) = match v.split_once('=') {
+                Some((t, spec)) if !Path::new(v).exists() => (Some(t.to_string()), spec),
+                _ => (None, v.as_str()),
+            };
+            let source = match robot_arg(Path::new(spec))? {
+                RobotArg::File(p) => ArmSource::Urdf(p.to_path_buf()),
+                RobotArg::Name(n) => ArmSource::Catalogue(find_arm(n)?),
+            };
+            Ok(ArmSpec {
+                task,
+                source,
+                written: spec.to_string(),
+            })
+        })
+        .collect()
 }
 
 fn sources(arm: &AbbArm) -> String {
@@ -133,4 +156,13 @@ pub fn run_arms(args: ArmsArgs) -> Result<Status> {
     };
     write_stdout(text.as_bytes())?;
     Ok(Status::Success)
+}
+
+/// `--accept-default-placement` as the library's choice.
+pub fn placing(accept: bool) -> Placing {
+    if accept {
+        Placing::AcceptDefault
+    } else {
+        Placing::FromBackup
+    }
 }

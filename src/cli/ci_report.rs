@@ -6,10 +6,11 @@
 //! Only a gate passes or fails: on anything else `--format github|junit`
 //! is refused (exit 2) before any work is done.
 
-use super::check_rule::CheckRule;
-use super::correct::{reason_words, shared_words};
+use super::ci_suite::{Case, Level, Suite};
+use super::correct_words::{reason_words, shared_words};
 use super::Format;
-use rapidtherm::compare::{Diff, Gate, GateFailure};
+use rapidtherm::compare::{DataType, Diff, Gate, GateFailure};
+use rapidtherm::correct::check::CheckRule;
 use rapidtherm::correct::{Outcome, Reason};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::Program;
@@ -213,7 +214,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
         let cold = rule.left_cold(l);
         counts[1] += usize::from(cold);
         let code = l.reason.code();
-        let words = reason_words(l.reason, &l.kind, &l.detail);
+        let words = reason_words(l.reason, l.kind, &l.detail);
         let (level, title, message) = if cold {
             (
                 Level::Error,
@@ -320,7 +321,7 @@ pub fn gate(
         let mut cases = Vec::new();
         for t in &p.diff.targets {
             let fails = moved.contains(t.id.as_str());
-            let (moved, title) = if t.kind == "jointtarget" {
+            let (moved, title) = if t.kind == DataType::Jointtarget {
                 let turned = format!("a joint turned {}°", mm(t.dangle, 6));
                 (turned.clone(), format!("{} {turned}", t.id))
             } else {
@@ -425,11 +426,16 @@ fn places(program: &Program) -> Places {
     let origins = program
         .targets()
         .iter()
-        .map(|t| (&t.id, &t.origin))
-        .chain(program.jointtargets().iter().map(|j| (&j.id, &j.origin)));
+        .map(|t| (t.id.clone(), t.origin.clone()))
+        .chain(
+            program
+                .jointtargets()
+                .iter()
+                .map(|j| (j.id.clone(), j.origin.clone())),
+        );
     let mut places = Places::new();
     for (id, origin) in origins {
-        let l = program.location(origin);
+        let l = program.location(&origin);
         // The first of a name, as `Program::target` finds it.
         places
             .entry(id.to_ascii_lowercase())
@@ -463,43 +469,6 @@ fn located(
         title,
         message,
     }
-}
-
-/// How a case fares at the gate, and how a CI system shows it; from the
-/// best to the worst.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub(super) enum Level {
-    /// Passes; not annotated.
-    Pass,
-    /// Passes; worth a notice (a target nothing of the arm drifts in).
-    Notice,
-    /// Passes, but stays wrong on the warm robot: the user accepted it
-    /// (a warning; a skipped test in JUnit).
-    Skip,
-    /// Fails the gate.
-    Error,
-}
-
-/// One target (or use of one) at the gate.
-pub(super) struct Case {
-    /// The target's identifier.
-    pub name: String,
-    pub file: String,
-    /// 0: unknown.
-    pub line: u32,
-    pub col: u32,
-    pub level: Level,
-    /// Why it fails: the failure's type in JUnit.
-    pub kind: &'static str,
-    pub title: String,
-    pub message: String,
-}
-
-/// The cases of one file, or of one task of a backup.
-pub(super) struct Suite {
-    pub name: String,
-    pub properties: Vec<(String, String)>,
-    pub cases: Vec<Case>,
 }
 
 fn suite_for<'s>(

@@ -6,7 +6,7 @@ use super::messages::{self, error, note};
 use super::tasks::{self, TaskPick};
 use super::Format;
 use super::{read_input, write_stdout, Status};
-use rapidtherm::compare::{diff, Diff, Gate, GateFailure};
+use rapidtherm::compare::{diff, DataType, Diff, Gate, GateFailure};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid;
 use rapidtherm::rapid::task::Task;
@@ -207,7 +207,7 @@ fn gate_message(
     let mut nothing = false;
     for f in failures {
         match f {
-            GateFailure::Moved(t) if t.kind == "jointtarget" => lines.push(format!(
+            GateFailure::Moved(t) if t.kind == DataType::Jointtarget => lines.push(format!(
                 "  {}: jointtarget, a joint turned {}°",
                 t.id,
                 mm(t.dangle, 6)

@@ -1,20 +1,27 @@
-//! `rapidtherm correct`: the main job.
+//! `rapidtherm correct`: the main job's command line. Its arguments are
+//! read into a [`CorrectPlan`] before any input is opened (every usage
+//! error is raised there); the library's job runs the plan
+//! (`rapidtherm::correct::job`); this file renders what it returns (the
+//! report, the check's list, the diff) and puts the written files in
+//! place.
 
-use super::check_rule::CheckRule;
 use super::ci_report::{self, ReportFormat};
-use super::messages::{self, info, note};
+use super::correct_words::{reason_words, shared_words, summary_text};
+use super::events::Said;
+use super::messages::{self, note};
+use super::output::FileSink;
 use super::tasks;
 use super::Format;
-use super::{output, read_input, write_output, write_stdout, Status};
-use rapidtherm::correct::{correct, marker, Options, Outcome, Reason, When};
-use rapidtherm::error::{Error, Errors, Result};
-use rapidtherm::model::warm::{Moment, WarmRobot};
+use super::{write_stdout, Status};
+use rapidtherm::correct::check::{counts, CheckRule, Finding, FindingStatus};
+use rapidtherm::correct::job::{self, moves_a_robot, Ran};
+use rapidtherm::correct::plan::{Action, CorrectPlan, Destination, ModelSource, TimeBasis};
+use rapidtherm::correct::{Kind, Outcome, Reason};
+use rapidtherm::error::{Error, Result};
+use rapidtherm::model::warm::Moment;
 use rapidtherm::model::Model;
-use rapidtherm::rapid;
-use rapidtherm::rapid::task::Task;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
-use rapidtherm::robot::Robot;
-use rapidtherm::schedule::{self, EstimateOptions, Schedule, Visit};
+use rapidtherm::schedule::Visit;
 use std::path::{Path, PathBuf};
 
 /// `--visit`: the command line's names for [`Visit`].
@@ -71,7 +78,14 @@ impl From<AcceptArg> for Reason {
 pub struct WhenArgs {
     /// Every target at this minute since the cold start, or `steady` for
     /// the thermally stable state after warm-up.
-    #[arg(long, value_name = "MIN|steady", group = "when")]
+    // A negative minute is read as a value (and refused as a minute), not
+    // taken for a flag.
+    #[arg(
+        long,
+        value_name = "MIN|steady",
+        group = "when",
+        allow_hyphen_values = true
+    )]
     pub at: Option<String>,
     /// Times per target: a CSV `target,time_min` (`rapidtherm schedule`
     /// writes one).
@@ -79,7 +93,12 @@ pub struct WhenArgs {
     pub schedule: Option<PathBuf>,
     /// Estimate the times from the program itself, starting at this minute
     /// (walks --entry, follows calls and loops, times every move).
-    #[arg(long, value_name = "MIN", group = "when")]
+    #[arg(
+        long,
+        value_name = "MIN",
+        group = "when",
+        allow_negative_numbers = true
+    )]
     pub start: Option<f64>,
 }
 
@@ -120,6 +139,11 @@ pub struct CorrectArgs {
     /// whose own are unknown; the arm's lengths still scale the drift.
     #[arg(long)]
     pub irb140_thermal: bool,
+    /// Put a task whose backup does not say where its robot stands (a
+    /// missing or broken BACKINFO, SYS.cfg or MOC.cfg) at the world origin,
+    /// as the arm named or the IRB 140; without it such a task is refused.
+    #[arg(long)]
+    pub accept_default_placement: bool,
     /// Write the corrected program here (`-`: standard output).
     #[arg(short, long, value_name = "OUT", conflicts_with_all = ["in_place", "check", "diff"])]
     pub output: Option<PathBuf>,
@@ -176,6 +200,8 @@ pub struct CorrectArgs {
     pub format: ReportFormat,
 }
 
+/// A moment as the command line writes it: a minute since the cold
+/// start, or `steady`. The one place a time is read from text.
 pub(super) fn moment(text: &str, what: &str) -> Result<Moment> {
     if text.eq_ignore_ascii_case("steady") {
         return Ok(Moment::Steady);
@@ -188,228 +214,134 @@ pub(super) fn moment(text: &str, what: &str) -> Result<Moment> {
     }
 }
 
-/// `--model`: a model file, or an embedded model by name (`default`, the
-/// calibrated one; `base`, docs/model.md's unscaled base model) when no file of
-/// that name exists.
+/// The model `--model` names (the embedded default without it).
 pub fn load_model(path: Option<&Path>) -> Result<Model> {
+    job::load_model(&model_source(path))
+}
+
+/// `--model`: an embedded model by name (`default`, the calibrated one;
+/// `base`, docs/model.md's unscaled base model) when no file of that name
+/// exists, else a model file.
+pub fn model_source(path: Option<&Path>) -> ModelSource {
     match path {
-        Some(p) => match embedded_model(p) {
-            Some(m) => Ok(m),
-            None => Model::load(p),
-        },
-        None => Ok(Model::default()),
+        None => ModelSource::Default,
+        Some(p) if !p.exists() && p.to_str().and_then(Model::named).is_some() => {
+            ModelSource::Named(p.display().to_string())
+        }
+        Some(p) => ModelSource::File(p.to_path_buf()),
     }
 }
 
-fn embedded_model(path: &Path) -> Option<Model> {
-    if path.exists() {
-        return None;
-    }
-    path.to_str().and_then(Model::named)
-}
-
-pub fn run_correct(args: CorrectArgs) -> Result<Status> {
+/// The plan of the arguments: every usage error is raised here, before
+/// any input is read.
+fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
     if args.in_place && args.files.iter().any(|f| f == Path::new("-")) {
         return Err(Error::usage("--in-place cannot rewrite standard input"));
     }
-    if args.tolerance.is_nan() || args.tolerance < 0.0 {
-        return Err(Error::usage("--tolerance must be a length ≥ 0 (mm)"));
+    // An infinite tolerance would let every check pass.
+    if !(args.tolerance.is_finite() && args.tolerance >= 0.0) {
+        return Err(Error::usage("--tolerance must be a finite length ≥ 0 (mm)"));
     }
     ci_report::refuse_outside_check(args.format, args.check, args.diff)?;
+    if args.output.is_some() && args.files.len() > 1 {
+        return Err(one_file());
+    }
+    let default = args
+        .default_time
+        .as_deref()
+        .map(|t| moment(t, "--default-time"))
+        .transpose()?;
+    let when = match (&args.when.at, &args.when.schedule, args.when.start) {
+        (Some(at), _, _) => TimeBasis::At(moment(at, "--at")?),
+        (None, Some(file), _) => TimeBasis::Schedule {
+            file: file.clone(),
+            default,
+        },
+        (None, None, Some(start)) => {
+            if !(start.is_finite() && start >= 0.0) {
+                return Err(Error::usage("--start: a minute since the cold start (≥ 0)"));
+            }
+            TimeBasis::Start {
+                start_min: start,
+                entry: args.entry.clone(),
+                cycles: args.cycles,
+                default,
+            }
+        }
+        (None, None, None) => {
+            return Err(Error::usage(
+                "say when the targets are reached: --at MIN, --at steady, --schedule FILE or --start MIN",
+            ))
+        }
+    };
+    let rule = CheckRule {
+        tolerance: args.tolerance,
+        accepted: args.accept.iter().map(|&a| a.into()).collect(),
+    };
+    let action = match (&args.output, args.in_place, args.check, args.diff) {
+        (_, _, _, true) => Action::Diff {
+            check: args.check.then_some(rule),
+        },
+        (_, _, true, false) => Action::Check(rule),
+        (Some(out), _, _, _) if out == Path::new("-") => Action::Write(Destination::Stdout),
+        (Some(out), _, _, _) => Action::Write(Destination::File(out.clone())),
+        (None, true, _, _) => Action::Write(Destination::InPlace {
+            backup: args.backup.clone(),
+        }),
+        (None, false, _, _) => Action::Report,
+    };
     super::plot::check_dir(args.plot.as_deref())?;
-    let model = load_model(args.model.as_deref())?;
+    Ok(CorrectPlan {
+        when,
+        visit: args.visit.into(),
+        model: model_source(args.model.as_deref()),
+        arms: super::arms::arm_specs(&args.robot)?,
+        irb140_thermal: args.irb140_thermal,
+        placing: super::arms::placing(args.accept_default_placement),
+        expand_expressions: args.expand_expressions,
+        split_shared: args.split_shared,
+        action,
+        keep_rows: args.plot.is_some(),
+    })
+}
+
+fn one_file() -> Error {
+    Error::usage("-o writes one file: give one input, or use --in-place for several")
+}
+
+pub fn run_correct(args: CorrectArgs) -> Result<Status> {
+    let plan = plan(&args)?;
     let found = tasks::select(&args.files, &args.pick)?;
-    let (motion, still): (Vec<Task>, Vec<Task>) =
-        found.into_iter().partition(|t| t.motion != Some(false));
+    // What the plan asks of the tasks found: known once they are.
+    let motion: Vec<&rapidtherm::rapid::task::Task> =
+        found.iter().filter(|t| moves_a_robot(t)).collect();
     if args.output.is_some() && (motion.len() != 1 || motion[0].modules.len() != 1) {
-        return Err(Error::usage(
-            "-o writes one file: give one input, or use --in-place for several",
-        ));
+        return Err(one_file());
     }
     if args.when.schedule.is_some() && motion.len() > 1 {
         return Err(Error::usage(
             "a schedule file times the targets of one task: pick it with --task (or use --start, which times each task)",
         ));
     }
-    if let Some(status) = super::stream::correct(&args, &model, &motion, &still)? {
-        return Ok(status);
-    }
-    // Every task is tried before anything is written or printed, so that a
-    // run reports all its errors and a refused task leaves every file as
-    // it was.
-    let mut runs = Vec::new();
-    let mut errors = Errors::default();
-    for task in motion {
-        match correct_task(&args, &model, task) {
-            Ok(run) => runs.push(run),
-            Err(e) => errors.push(e),
-        }
-    }
-    if let Some(e) = errors.into_error(|n| {
-        Error::input(format!(
-            "{n} tasks cannot be corrected; nothing was written"
-        ))
-    }) {
-        return Err(e);
-    }
-    note_still(&still);
+    let mut sink = FileSink::new(args.backup.clone());
+    let runs = job::run(&plan, found, &mut Said::default(), &mut sink)?;
     let drawn: Vec<_> = runs
         .iter()
         .map(|r| (&r.task, &r.inputs, &r.outcome))
         .collect();
     let pictures = super::plot::draw(args.plot.as_deref(), &drawn)?;
-    let status = emit(&args, &runs)?;
+    sink.commit()?;
+    let status = emit(&args, &plan, &runs)?;
     super::plot::write(args.plot.as_deref(), &pictures)?;
     Ok(status)
 }
 
-/// Tasks that move no robot are named and left alone.
-pub(super) fn note_still(still: &[Task]) {
-    for t in still {
-        note!(
-            "task {} is not a motion task (SYSPAR/SYS.cfg): left alone",
-            t.label()
-        );
-    }
-}
-
-/// One task corrected: what was read, with which arm, and the outcome.
-struct Run {
-    task: Task,
-    arm: String,
-    inputs: super::Inputs,
-    program: rapid::Program,
-    outcome: Outcome,
-}
-
-/// The arm of a task, refused when the thermal defaults would be guessed.
-pub(super) fn checked_arm(args: &CorrectArgs, task: &Task, model: &Model) -> Result<tasks::Arm> {
-    let arm = tasks::arm_for_model(task, &args.robot, model)?;
-    if args.model.is_none() && !arm.is_irb140 && !args.irb140_thermal {
-        let whose = match &task.name {
-            Some(n) => format!("task {n}: "),
-            None => String::new(),
-        };
-        return Err(Error::usage(format!(
-            "{whose}{} is not an IRB 140, and how it warms up and expands is unknown: the embedded thermal defaults were measured on an IRB 140",
-            arm.robot.name
-        ))
-        .with_note("give a model file of this arm with --model FILE.toml (its heating measured, or a heating recording in it), or use the IRB 140's defaults on this arm's lengths with --irb140-thermal"));
-    }
-    Ok(arm)
-}
-
-/// The warm robot a task's run needs until `when`'s last minute, and the
-/// run's options: (arm name, warm robot, options).
-pub(super) fn warm_run(
-    args: &CorrectArgs,
-    model: &Model,
-    task: &Task,
-    arm: tasks::Arm,
-    when: When,
-) -> Result<(String, WarmRobot, Options)> {
-    warm_run_until(args, model, task, arm, when, 0.0)
-}
-
-/// [`warm_run`] where targets `when` does not hold are reached too, the
-/// last at minute `later` (a streamed estimate's cut literals).
-pub(super) fn warm_run_until(
-    args: &CorrectArgs,
-    model: &Model,
-    task: &Task,
-    arm: tasks::Arm,
-    when: When,
-    later: f64,
-) -> Result<(String, WarmRobot, Options)> {
-    let horizon = match &when {
-        When::At(Moment::Minute(t)) => *t,
-        When::At(Moment::Steady) => 0.0,
-        When::Schedule {
-            schedule,
-            joints,
-            default,
-        } => {
-            let latest = std::iter::once(schedule)
-                .chain(joints)
-                .flat_map(|s| s.targets().iter().filter_map(|id| s.times(id)))
-                .flatten()
-                .copied()
-                .fold(0.0, f64::max);
-            let latest = latest.max(later);
-            match default {
-                Some(Moment::Minute(t)) => latest.max(*t),
-                _ => latest,
-            }
-        }
-    };
-    let arm_name = arm.robot.name.clone();
-    let warm = WarmRobot::new(arm.robot, model, horizon)?;
-    if warm.instrument_left_out() {
-        note!(
-            "task {}: the model's tracker-frame is the frame of the instrument it was diagnosed with, not the robot's: left out of the correction",
-            task.label()
-        );
-    }
-    let model_label = model_label(args.model.as_deref(), &arm.label)?;
-    let borrowed = args.model.is_none() && !arm.is_irb140;
-    let on_lengths = if borrowed {
-        " on this arm's lengths"
-    } else {
-        ""
-    };
-    info!(
-        "task {}: thermal model: {model_label}{on_lengths}",
-        task.label()
-    );
-    let options = Options {
-        when,
-        visit: args.visit.into(),
-        expand_expressions: args.expand_expressions,
-        model_label,
-        base_frame: tasks::base_frame(task)?,
-        split_shared: args.split_shared,
-    };
-    Ok((arm_name, warm, options))
-}
-
-fn correct_task(args: &CorrectArgs, model: &Model, task: Task) -> Result<Run> {
-    let arm = checked_arm(args, &task, model)?;
-    let (inputs, program) = tasks::read(&task)?;
-    let when = when_of(args, &program, &arm.robot, tasks::base_frame(&task)?)?;
-    let (arm_name, warm, options) = warm_run(args, model, &task, arm, when)?;
-    let bar = progress_bar(program.targets().len() + program.jointtargets().len());
-    let started = std::time::Instant::now();
-    let outcome = correct(&program, &warm, &options, &mut |done, total| {
-        if let Some(b) = &bar {
-            // The time left is estimated from the pace of the targets
-            // alone: what ran before the first (reading, the schedule)
-            // would make it many times too long.
-            if done == 0 {
-                b.reset_eta();
-            }
-            b.set_length(total as u64);
-            b.set_position(done as u64);
-        }
-    })?;
-    messages::took(&format!("task {}: correcting", task.label()), started);
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    Ok(Run {
-        task,
-        arm: arm_name,
-        inputs,
-        program,
-        outcome,
-    })
-}
-
-/// Print and write what the runs found, as the options ask.
-fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
+/// Print what the runs found, as the plan asks.
+fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> {
     // A task of a backup is named; files given one by one are one
     // unnamed task, reported as before.
     let named = runs.len() > 1 || runs.iter().any(|r| r.task.name.is_some());
-    let heading = |r: &Run| -> String {
+    let heading = |r: &Ran| -> String {
         if named {
             format!("task {} ({}):\n", r.task.label(), r.arm)
         } else {
@@ -424,129 +356,103 @@ fn emit(args: &CorrectArgs, runs: &[Run]) -> Result<Status> {
             );
         }
     }
-    let changed = runs.iter().any(|r| {
-        r.outcome
-            .outputs
-            .iter()
-            .enumerate()
-            .any(|(f, o)| o.as_slice() != r.program.source(f))
-    });
-    let accepted: Vec<Reason> = args.accept.iter().map(|&a| a.into()).collect();
-    let rule = CheckRule {
-        tolerance: args.tolerance,
-        accepted: &accepted,
-    };
-    let findings: Vec<Vec<Finding>> = runs
-        .iter()
-        .map(|r| check_findings(&r.outcome, &rule))
-        .collect();
-    let any_finding = findings.iter().any(|f| !f.is_empty());
     let summaries = || -> String {
         runs.iter()
             .map(|r| heading(r) + &summary_text(&r.outcome))
             .collect()
     };
-    if args.diff {
-        let mut text = Vec::new();
-        for r in runs {
-            for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
-                text.extend(unified_diff(name, before, after));
-            }
-        }
-        write_stdout(&text)?;
-        messages::lines(&summaries());
-        if args.check {
-            messages::outcome_lines(&per_task(
-                runs,
-                &findings,
-                Format::Table,
-                named,
-                "findings",
-                check_list,
-            )?);
-            messages::lines(&check_verdict(&findings.concat(), args.tolerance));
-        }
-        return Ok(if changed || (args.check && any_finding) {
-            Status::Changes
-        } else {
-            Status::Success
-        });
-    }
-    if args.check {
-        messages::lines(&summaries());
-        let list = match args.format.data() {
-            Some(format) => per_task(runs, &findings, format, named, "findings", check_list)?,
-            None => {
-                let checked: Vec<ci_report::Checked> = runs
-                    .iter()
-                    .map(|r| ci_report::Checked {
-                        task: named.then(|| r.task.label()),
-                        files: r.inputs.iter().map(|(n, _)| n.as_str()).collect(),
-                        outcome: &r.outcome,
-                    })
-                    .collect();
-                ci_report::check(args.format, &checked, &rule)?
-            }
-        };
-        write_stdout(list.as_bytes())?;
-        messages::lines(&check_verdict(&findings.concat(), args.tolerance));
-        return Ok(if any_finding {
-            Status::Changes
-        } else {
-            Status::Success
-        });
-    }
-    if let Some(out) = &args.output {
-        write_output(out, &runs[0].outcome.outputs[0])?;
-        messages::lines(&summaries());
-        return Ok(Status::Success);
-    }
-    if args.in_place {
-        let mut writes: Vec<(&String, &Vec<u8>)> = Vec::new();
-        for r in runs {
-            for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
-                if after == before {
-                    continue;
+    let rule = match &plan.action {
+        Action::Check(rule) | Action::Diff { check: Some(rule) } => Some(rule),
+        _ => None,
+    };
+    let found: Vec<Vec<Finding>> = runs
+        .iter()
+        .map(|r| {
+            rule.map(|rule| rule.findings(&r.outcome))
+                .unwrap_or_default()
+        })
+        .collect();
+    let findings: Vec<Vec<Row>> = found
+        .iter()
+        .map(|f| f.iter().map(Row::of).collect())
+        .collect();
+    let any_finding = findings.iter().any(|f| !f.is_empty());
+    let verdict = || check_verdict(&found.concat(), args.tolerance);
+    match &plan.action {
+        Action::Diff { check } => {
+            let mut text = Vec::new();
+            for r in runs {
+                for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
+                    text.extend(unified_diff(name, before.bytes(), after));
                 }
-                // One file read in two tasks (a shared module named twice)
-                // must not be corrected twice over.
-                if writes.iter().any(|(n, a)| *n == name && *a != after) {
-                    return Err(Error::input(format!(
-                        "{name} is read in two tasks that would correct it differently; correct one task at a time with --task"
-                    )));
+            }
+            write_stdout(&text)?;
+            messages::lines(&summaries());
+            if check.is_some() {
+                messages::outcome_lines(&per_task(
+                    runs,
+                    &findings,
+                    Format::Table,
+                    named,
+                    "findings",
+                    check_list,
+                )?);
+                messages::lines(&verdict());
+            }
+            let changed = runs.iter().any(Ran::changed);
+            Ok(if changed || (check.is_some() && any_finding) {
+                Status::Changes
+            } else {
+                Status::Success
+            })
+        }
+        Action::Check(rule) => {
+            messages::lines(&summaries());
+            let list = match args.format.data() {
+                Some(format) => per_task(runs, &findings, format, named, "findings", check_list)?,
+                None => {
+                    let checked: Vec<ci_report::Checked> = runs
+                        .iter()
+                        .map(|r| ci_report::Checked {
+                            task: named.then(|| r.task.label()),
+                            files: r.inputs.iter().map(|(n, _)| n.as_str()).collect(),
+                            outcome: &r.outcome,
+                        })
+                        .collect();
+                    ci_report::check(args.format, &checked, rule)?
                 }
-                writes.push((name, after));
+            };
+            write_stdout(list.as_bytes())?;
+            messages::lines(&verdict());
+            Ok(if any_finding {
+                Status::Changes
+            } else {
+                Status::Success
+            })
+        }
+        Action::Write(_) => {
+            messages::lines(&summaries());
+            Ok(Status::Success)
+        }
+        Action::Report => {
+            // Refused before the run: github and junit report a check only.
+            let format = args.format.data().unwrap_or_default();
+            let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
+            write_stdout(
+                per_task(runs, &outcomes, format, named, "report", |o, f| {
+                    super::correct_report::report(o, f)
+                })?
+                .as_bytes(),
+            )?;
+            if format == Format::Table {
+                messages::lines(&summaries());
             }
+            Ok(Status::Success)
         }
-        // Every backup is checked before any file is written: a refused
-        // backup leaves the whole program as it was.
-        if let Some(suffix) = args.backup.as_deref() {
-            for (name, _) in &writes {
-                output::check_backup_free(&output::backup_path(Path::new(name), suffix))?;
-            }
-        }
-        for (name, after) in writes {
-            output::write_atomic(Path::new(name), after, args.backup.as_deref())?;
-        }
-        messages::lines(&summaries());
-        return Ok(Status::Success);
     }
-    // Refused before the run: github and junit report a check only.
-    let format = args.format.data().unwrap_or_default();
-    let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
-    write_stdout(
-        per_task(runs, &outcomes, format, named, "report", |o, f| {
-            super::correct_report::report(o, f)
-        })?
-        .as_bytes(),
-    )?;
-    if format == Format::Table {
-        messages::lines(&summaries());
-    }
-    Ok(Status::Success)
 }
 
-fn in_task(named: bool, r: &Run) -> String {
+fn in_task(named: bool, r: &Ran) -> String {
     if named {
         format!("task {}: ", r.task.label())
     } else {
@@ -556,7 +462,7 @@ fn in_task(named: bool, r: &Run) -> String {
 
 /// One rendering per task, joined (see [`tasks::join`]).
 fn per_task<T>(
-    runs: &[Run],
+    runs: &[Ran],
     items: &[T],
     format: Format,
     named: bool,
@@ -587,34 +493,15 @@ fn per_task<T>(
     )
 }
 
-/// The model and arm a run uses, as the marker of a corrected file names
-/// them: the embedded ones by name, files by their fingerprint.
-fn model_label(model: Option<&Path>, arm: &str) -> Result<String> {
-    let model = match model {
-        Some(p) if embedded_model(p).is_some() => {
-            format!("embedded {}", p.display().to_string().to_ascii_lowercase())
-        }
-        Some(p) => {
-            let (_, bytes) = read_input(p)?;
-            marker::fingerprint(&bytes)
-        }
-        None => "embedded default".to_string(),
-    };
-    Ok(format!("{model} model, {arm} arm"))
-}
-
-/// One line of `--check`'s list: a target that would move more than the
-/// tolerance, or one left cold for a reason not accepted.
+/// One line of `--check`'s list, as its table, CSV and JSON show it.
 #[derive(Clone, serde::Serialize)]
-struct Finding {
+struct Row {
     id: String,
-    kind: String,
+    kind: Kind,
     file: String,
     line: u32,
     col: u32,
-    /// `moves`, `left-alone`, or `other-use` (a use with another tool or
-    /// work object than the target is corrected for).
-    status: &'static str,
+    status: FindingStatus,
     correction_mm: Option<f64>,
     /// For `other-use`: how far off the TCP lands there (`None` in JSON
     /// where only the run time knows).
@@ -624,68 +511,59 @@ struct Finding {
     detail: String,
 }
 
-fn check_findings(outcome: &Outcome, rule: &CheckRule) -> Vec<Finding> {
-    let moves = outcome
-        .corrections
-        .iter()
-        .filter(|c| rule.moves(c))
-        .map(|c| Finding {
-            id: c.id.clone(),
-            kind: c.kind.clone(),
-            file: c.file.clone(),
-            line: c.line,
-            col: c.col,
-            status: "moves",
-            correction_mm: Some(c.correction_norm_mm),
-            residual_mm: None,
-            reason: None,
-            detail: String::new(),
-        });
-    let cold = outcome
-        .left_alone
-        .iter()
-        .filter(|l| rule.left_cold(l))
-        .map(|l| Finding {
-            id: l.id.clone(),
-            kind: l.kind.clone(),
-            file: l.file.clone(),
-            line: l.line,
-            col: l.col,
-            status: "left-alone",
-            correction_mm: None,
-            residual_mm: None,
-            reason: Some(l.reason),
-            detail: reason_words(l.reason, &l.kind, &l.detail),
-        });
-    let other_uses = outcome
-        .shared
-        .iter()
-        .filter(|u| rule.lands_off(u))
-        .map(|u| Finding {
-            id: u.id.clone(),
-            kind: u.kind.clone(),
-            file: u.file.clone(),
-            line: u.line,
-            col: u.col,
-            status: "other-use",
-            correction_mm: None,
-            residual_mm: Some(u.residual_mm),
-            reason: Some(Reason::SharedFrames),
-            detail: shared_words(u),
-        });
-    moves.chain(cold).chain(other_uses).collect()
+impl Row {
+    fn of(f: &Finding) -> Row {
+        match *f {
+            Finding::Moves(c) => Row {
+                id: c.id.clone(),
+                kind: c.kind,
+                file: c.file.clone(),
+                line: c.line,
+                col: c.col,
+                status: f.status(),
+                correction_mm: Some(c.correction_norm_mm),
+                residual_mm: None,
+                reason: None,
+                detail: String::new(),
+            },
+            Finding::LeftAlone(l) => Row {
+                id: l.id.clone(),
+                kind: l.kind,
+                file: l.file.clone(),
+                line: l.line,
+                col: l.col,
+                status: f.status(),
+                correction_mm: None,
+                residual_mm: None,
+                reason: Some(l.reason),
+                detail: reason_words(l.reason, l.kind, &l.detail),
+            },
+            Finding::OtherUse(u) => Row {
+                id: u.id.clone(),
+                kind: u.kind,
+                file: u.file.clone(),
+                line: u.line,
+                col: u.col,
+                status: f.status(),
+                correction_mm: None,
+                residual_mm: Some(u.residual_mm),
+                reason: Some(Reason::SharedFrames),
+                detail: shared_words(u),
+            },
+        }
+    }
 }
 
-fn check_list(findings: &Vec<Finding>, format: Format) -> Result<String> {
+fn check_list(findings: &Vec<Row>, format: Format) -> Result<String> {
     let header = ["target", "kind", "at", "status", "corr_mm", "reason"];
     let rows: Vec<Vec<String>> = findings
         .iter()
         .map(|f| {
             vec![
                 f.id.clone(),
-                f.kind.clone(),
+                f.kind.to_string(),
                 format!("{}:{}:{}", f.file, f.line, f.col),
-                f.status.to_string(),
+                f.status.code().to_string(),
                 f.correction_mm.map_or(String::new(), |c| mm(c, 4)),
                 f.reason
                     .map_or(String::new(), |r| format!("{}: {}", r.code(), f.detail)),
@@ -708,9 +586,7 @@ fn check_list(findings: &Vec<Finding>, format: Format) -> Result<String> {
 }
 
 fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
-    let moves = findings.iter().filter(|f| f.status == "moves").count();
-    let other_uses = findings.iter().filter(|f| f.status == "other-use").count();
-    let cold = findings.len() - moves - other_uses;
+    let (moves, cold, other_uses) = counts(findings);
     if findings.is_empty() {
         return format!("check: no target moves more than {tolerance} mm and none is left cold\n");
     }
@@ -729,205 +605,6 @@ fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
         text.push_str(&format!(
             "check: {other_uses} use(s) with another tool or work object than their target is corrected for land more than {tolerance} mm off (--split-shared, or --accept shared-frames)\n"
         ));
-    }
-    text
-}
-
-/// A use with other frames in words: where, with what, how far off, and
-/// what the target is corrected for.
-pub(super) fn shared_words(u: &rapidtherm::correct::SharedUse) -> String {
-    let instruction = |f: &rapidtherm::correct::FramesUse| match &f.through {
-        Some(expr) => format!("{} {expr}", f.instruction),
-        None => f.instruction.clone(),
-    };
-    let (o, c) = (&u.other, &u.corrected_for);
-    let off = match (u.residual_mm, u.residual_deg) {
-        (Some(mm_off), Some(deg)) if deg >= 0.00005 => {
-            format!("it lands {} mm, {}° off", mm(mm_off, 4), mm(deg, 4))
-        }
-        (Some(mm_off), _) => format!("it lands {} mm off", mm(mm_off, 4)),
-        (None, _) => format!(
-            "where it lands is known only at run time ({})",
-            u.unknown.as_deref().unwrap_or("")
-        ),
-    };
-    let mut text = format!(
-        "at {} in {} line {} (tool {}, wobj {}) {off}; corrected for tool {}, wobj {} ({} in {} line {}, its first use)",
-        instruction(o), o.routine, o.line, o.tool, o.wobj, c.tool, c.wobj, instruction(c), c.routine, c.line
-    );
-    if let Some(why) = &u.not_split {
-        text.push_str(&format!("; not split: {why}"));
-    }
-    text
-}
-
-/// A reason's words, with what the user can do where the CLI has a flag
-/// for it.
-pub(super) fn reason_words(reason: Reason, kind: &str, detail: &str) -> String {
-    match reason {
-        Reason::Expression if kind != "jointtarget" => format!("{detail} (--expand-expressions)"),
-        _ => detail.to_string(),
-    }
-}
-
-/// When the targets are reached, from --at, --schedule or --start; the
-/// estimate's notes are said.
-fn when_of(
-    args: &CorrectArgs,
-    program: &rapid::Program,
-    robot: &Robot,
-    base_frame: Option<nalgebra::Isometry3<f64>>,
-) -> Result<When> {
-    let (when, notes) = when_and_notes(args, program, robot, base_frame)?;
-    for note in &notes {
-        note!("{note}");
-    }
-    Ok(when)
-}
-
-/// When the targets are reached, from --at, --schedule or --start, and
-/// the notes of the estimate (none for the others), not yet said.
-pub(super) fn when_and_notes(
-    args: &CorrectArgs,
-    program: &rapid::Program,
-    robot: &Robot,
-    base_frame: Option<nalgebra::Isometry3<f64>>,
-) -> Result<(When, Vec<String>)> {
-    let default = default_moment(args)?;
-    Ok(match (&args.when.at, &args.when.schedule, args.when.start) {
-        (Some(at), _, _) => (When::At(moment(at, "--at")?), Vec::new()),
-        (None, Some(path), _) => {
-            let (name, bytes) = read_input(path)?;
-            let when = When::Schedule {
-                schedule: Schedule::read(&name, &bytes)?,
-                joints: None,
-                default,
-            };
-            (when, Vec::new())
-        }
-        (None, None, Some(start)) => {
-            if !(start.is_finite() && start >= 0.0) {
-                return Err(Error::usage("--start: a minute since the cold start (≥ 0)"));
-            }
-            let estimate =
-                schedule::estimate(program, robot, &estimate_options(args, start, base_frame))?;
-            let when = When::Schedule {
-                schedule: estimate.schedule,
-                joints: Some(estimate.joint_schedule),
-                default,
-            };
-            (when, estimate.notes)
-        }
-        (None, None, None) => {
-            return Err(Error::usage(
-                "say when the targets are reached: --at MIN, --at steady, --schedule FILE or --start MIN",
-            ))
-        }
-    })
-}
-
-/// `--default-time`, read.
-pub(super) fn default_moment(args: &CorrectArgs) -> Result<Option<Moment>> {
-    args.default_time
-        .as_deref()
-        .map(|t| moment(t, "--default-time"))
-        .transpose()
-}
-
-/// The walk of `--start start`.
-pub(super) fn estimate_options(
-    args: &CorrectArgs,
-    start: f64,
-    base_frame: Option<nalgebra::Isometry3<f64>>,
-) -> EstimateOptions {
-    EstimateOptions {
-        entry: args.entry.clone(),
-        start_min: start,
-        cycles: args.cycles,
-        base_frame,
-    }
-}
-
-fn progress_bar(total: usize) -> Option<indicatif::ProgressBar> {
-    // Only worth showing for long runs, and only to a person.
-    if total < 50_000 || !messages::progress_shown() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(total as u64);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "correcting {bar:40} {pos}/{len} targets ({eta} left)",
-    ) {
-        bar.set_style(style);
-    }
-    Some(bar)
-}
-
-pub(super) fn summary_text(outcome: &Outcome) -> String {
-    let s = &outcome.summary;
-    let mut text = format!(
-        "{} target(s) corrected ({} rewritten): max {} mm, RMS {} mm; largest drift {} mm",
-        s.corrected,
-        s.rewritten,
-        mm(s.max_mm, 4),
-        mm(s.rms_mm, 4),
-        mm(s.max_drift_mm, 4)
-    );
-    if s.derived > 0 {
-        text.push_str(&format!("; {} derived left as written", s.derived));
-    }
-    if s.left_alone > 0 {
-        text.push_str(&format!("; {} left alone", s.left_alone));
-    }
-    if s.shared > 0 {
-        text.push_str(&format!(
-            "; {} use(s) with another tool or work object",
-            s.shared
-        ));
-    }
-    if s.split > 0 {
-        text.push_str(&format!("; {} split", s.split));
-    }
-    text.push('\n');
-    for l in &outcome.left_alone {
-        let level = if l.reason.leaves_target_cold() {
-            "warning"
-        } else {
-            "note"
-        };
-        text.push_str(&format!(
-            "{level}: left alone {} ({}:{}:{}) [{}]: {}\n",
-            l.id,
-            l.file,
-            l.line,
-            l.col,
-            l.reason.code(),
-            reason_words(l.reason, &l.kind, &l.detail)
-        ));
-    }
-    for u in &outcome.shared {
-        // Below what a written number resolves it is a note, not a warning.
-        let level = match u.residual_mm {
-            Some(r) if r < 0.001 => "note",
-            _ => "warning",
-        };
-        text.push_str(&format!(
-            "{level}: other use of {} ({}:{}:{}) [{}]: {}\n",
-            u.id,
-            u.file,
-            u.line,
-            u.col,
-            Reason::SharedFrames.code(),
-            shared_words(u)
-        ));
-    }
-    for s in &outcome.splits {
-        text.push_str(&format!(
-            "note: split {} ({}:{}): copy {} for tool {}, wobj {}\n",
-            s.id, s.file, s.line, s.copy, s.tool, s.wobj
-        ));
-    }
-    for note in &outcome.notes {
-        text.push_str(&format!("note: {note}\n"));
     }
     text
 }

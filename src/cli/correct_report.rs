@@ -3,7 +3,7 @@
 //! numbers, then the targets left alone, derived, split or used with
 //! other frames.
 
-use super::correct::{reason_words, shared_words};
+use super::correct_words::{reason_words, shared_words};
 use super::Format;
 use rapidtherm::correct::{Frame, Outcome};
 use rapidtherm::error::{Error, Result};
@@ -70,7 +70,12 @@ pub fn report(outcome: &Outcome, format: Format) -> Result<String> {
                 .corrections
                 .iter()
                 .map(|c| {
-                    let mut r = vec![c.id.clone(), c.kind.clone(), c.line.to_string(), minute(c)];
+                    let mut r = vec![
+                        c.id.clone(),
+                        c.kind.to_string(),
+                        c.line.to_string(),
+                        minute(c),
+                    ];
                     r.extend(numbers(c));
                     r.push(c.tool.clone().unwrap_or_default());
                     r.push(c.wobj.clone().unwrap_or_default());
@@ -94,7 +99,12 @@ pub fn report(outcome: &Outcome, format: Format) -> Result<String> {
                 .corrections
                 .iter()
                 .map(|c| {
-                    let mut r = vec![c.id.clone(), c.kind.clone(), c.line.to_string(), minute(c)];
+                    let mut r = vec![
+                        c.id.clone(),
+                        c.kind.to_string(),
+                        c.line.to_string(),
+                        minute(c),
+                    ];
                     r.push(c.tool.clone().unwrap_or_else(|| "-".to_string()));
                     let mut wobj = c.wobj.clone().unwrap_or_else(|| "-".to_string());
                     if shared(c) {
@@ -159,7 +169,7 @@ fn lines(outcome: &Outcome) -> String {
             l.id,
             l.line,
             l.reason.code(),
-            reason_words(l.reason, &l.kind, &l.detail)
+            reason_words(l.reason, l.kind, &l.detail)
         ));
     }
     for r in &outcome.residuals {

@@ -1,5 +1,6 @@
 //! `simulate`, `diagnose` and `gap`: argument parsing and printing only.
 
+use super::diagnose_args::{parameter_table, DiagnoseArgs};
 use super::messages::{note, outcome, status, warning};
 use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
@@ -10,6 +11,7 @@ use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::simulate::{
     iso_cube_poses, program_poses, random_poses, simulate_arm, SimSpec,
 };
+use rapidtherm::diagnose::unidentified::Unidentified;
 use rapidtherm::diagnose::{self, Diagnosis, Options, Part, Prepared, RegisterFailure};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::effects::Effect;
@@ -61,44 +63,6 @@ pub struct SimulateArgs {
     /// Output CSV (`-`: standard output).
     #[arg(short = 'o', long = "output", default_value = "-")]
     output: PathBuf,
-}
-
-#[derive(clap::Args)]
-pub struct DiagnoseArgs {
-    /// Measurements CSV (`-`: standard input).
-    pub data: PathBuf,
-    /// The current model (default: nominal IRB 140 with the base thermal model).
-    #[arg(long)]
-    pub model: Option<PathBuf>,
-    /// Tracker noise, mm per axis (default: estimated from repeated poses, else 0.01).
-    #[arg(long)]
-    pub noise: Option<f64>,
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
-    /// Write the model with the diagnosed effects added.
-    #[arg(long, value_name = "FILE.toml")]
-    pub save_model: Option<PathBuf>,
-    /// Write SVG plots of the gap before and after into this directory.
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// First fit the rigid transform from the instrument's frame to the robot base.
-    #[arg(long)]
-    pub register: bool,
-    /// The arm, by name (`rapidtherm arms`) or URDF file.
-    #[arg(long, value_name = "NAME|FILE.urdf")]
-    pub robot: Option<PathBuf>,
-    /// Diagnose as a general serial chain (geometric calibration of every
-    /// joint origin), even when the arm has the OPW form.
-    #[arg(long)]
-    pub chain: bool,
-    /// The URDF link the instrument measured (a reflector), hung on the
-    /// flange by fixed joints; its offset is fitted (default: tool0).
-    #[arg(long, value_name = "LINK")]
-    pub point: Option<String>,
-    /// A second measurements file in the same instrument frame, held out:
-    /// the geometry fitted on DATA is judged on it.
-    #[arg(long, value_name = "FILE.csv")]
-    pub holdout: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -329,6 +293,18 @@ impl<'a> WithWords<'a> {
 }
 
 pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
+    // Every output checked before anything is read or written.
+    let poses_file = ["joints:", "program:"]
+        .iter()
+        .find_map(|p| args.poses.strip_prefix(p))
+        .map(Path::new);
+    let inputs: Vec<&Path> = poses_file
+        .into_iter()
+        .chain(args.model.as_deref())
+        .chain(args.robot.as_deref())
+        .collect();
+    super::output::check_file("-o", &args.output)?;
+    super::output::refuse_inputs_as_outputs(&[("-o", &args.output)], &inputs)?;
     let model = load_model(&args.model)?;
     let mut effects = model.effects()?;
     for spec in &args.effects {
@@ -355,6 +331,12 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
 }
 
 pub fn run_gap(args: GapArgs) -> Result<Status> {
+    // A usage error before any file is read.
+    if let Some(limit) = args.fail_above {
+        if !(limit.is_finite() && limit >= 0.0) {
+            return Err(Error::usage("--fail-above must be a number of mm >= 0"));
+        }
+    }
     let model = load_model(&args.model)?;
     let setup = load_setup(&args.robot, &model, args.model.is_some())?;
     let meas = read_measurements(&args.data, &setup.arm)?;
@@ -399,8 +381,11 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     };
     write_stdout(text.as_bytes())?;
     match args.fail_above {
-        Some(limit) if !(limit.is_finite() && limit >= 0.0) => {
-            Err(Error::usage("--fail-above must be a number of mm >= 0"))
+        // A gap that is not a number never passes the gate: nothing was
+        // shown to be within it.
+        Some(limit) if g.rms_mm.is_nan() => {
+            outcome!("gap is not a number: it is not within {limit} mm");
+            Ok(Status::Changes)
         }
         Some(limit) if g.rms_mm > limit => {
             outcome!("gap {:.4} mm RMS is above {limit} mm", g.rms_mm);
@@ -408,6 +393,29 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
         }
         _ => Ok(Status::Success),
     }
+}
+
+/// The outputs of a diagnosis, checked before anything is read or
+/// written: a model file that would replace an input, a plot folder that
+/// cannot be made.
+fn check_diagnose_outputs(args: &DiagnoseArgs) -> Result<()> {
+    if let Some(dir) = &args.plot {
+        super::output::check_folder("--plot", dir)?;
+    }
+    let Some(path) = &args.save_model else {
+        return Ok(());
+    };
+    super::output::check_file("--save-model", path)?;
+    let inputs: Vec<&Path> = [Some(args.data.as_path())]
+        .into_iter()
+        .chain([
+            args.model.as_deref(),
+            args.robot.as_deref(),
+            args.holdout.as_deref(),
+        ])
+        .flatten()
+        .collect();
+    super::output::refuse_inputs_as_outputs(&[("--save-model", path)], &inputs)
 }
 
 /// The robot's own nominal geometry (a URDF's or a catalogue arm's), which
@@ -458,6 +466,7 @@ fn registration_words(r: &diagnose::Registration) -> String {
 }
 
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
+    check_diagnose_outputs(&args)?;
     // Read once: standard input cannot be read twice, and the choice of
     // diagnosis looks at the data.
     let (name, bytes) = read_input(&args.data)?;
@@ -644,6 +653,32 @@ fn diagnosis_table(d: &Diagnosis) -> String {
                 .flat_map(|c| c.params.iter())
                 .map(|p| (p.name.as_str(), p.value, p.stderr, p.unit.as_str())),
         ));
+        // A parameter taken beyond what a real arm has, or traded against
+        // a few others: its reason, so that its zero is not read as a
+        // finding (every held parameter's reason is in the JSON).
+        let told: Vec<String> = selected
+            .iter()
+            .flat_map(|c| c.params.iter())
+            .filter_map(|p| {
+                let why = p.held.as_ref()?;
+                let clear = match why {
+                    Unidentified::Implausible { .. } => true,
+                    Unidentified::SameAs { same_as, .. } => (1..=3).contains(&same_as.len()),
+                    _ => false,
+                };
+                clear.then(|| {
+                    format!(
+                        "  {}: {}\n",
+                        p.name,
+                        super::diagnose_chain::held_words(why, &p.unit)
+                    )
+                })
+            })
+            .collect();
+        if !told.is_empty() {
+            s.push_str("Not identifiable from these data (held at zero):\n");
+            s.extend(told);
+        }
     }
     s.push_str(&format!(
         "\nHeld-out gap: {:.4} mm before, {:.4} mm after ({:.0} % smaller).\n",
@@ -656,28 +691,6 @@ fn diagnosis_table(d: &Diagnosis) -> String {
 
 /// Fitted parameters as a table: name, value, standard error ("not
 /// identifiable" where the data could not pin it), unit.
-pub(crate) fn parameter_table<'a>(
-    params: impl Iterator<Item = (&'a str, f64, Option<f64>, &'a str)>,
-) -> String {
-    let rows: Vec<Vec<String>> = params
-        .map(|(name, value, stderr, unit)| {
-            vec![
-                name.to_string(),
-                format!("{value:.4}"),
-                stderr
-                    .map(|e| format!("{e:.4}"))
-                    .unwrap_or_else(|| "not identifiable".into()),
-                unit.to_string(),
-            ]
-        })
-        .collect();
-    render_table(
-        &["parameter", "value", "± stderr", "unit"],
-        &[Align::Left, Align::Right, Align::Right, Align::Left],
-        &rows,
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,11 +2,11 @@
 //! any arm with `--chain`): argument checks and printing only; the work is
 //! `rapidtherm::diagnose::chain_diagnose`.
 
-use super::diagnose::{parameter_table, DiagnoseArgs};
+use super::diagnose_args::{parameter_table, DiagnoseArgs};
 use super::messages::warning;
 use super::Format;
 use super::{read_input, write_stdout, Status};
-use rapidtherm::diagnose::chain_calib::Sample;
+use rapidtherm::diagnose::chain_calib::{Dropped, Sample, Unidentified};
 use rapidtherm::diagnose::chain_diagnose::{
     diagnose_chain, ChainData, ChainDiagnosis, ChainOptions, ChainSetup,
 };
@@ -182,6 +182,32 @@ pub fn run(
     Ok(Status::Success)
 }
 
+/// Why a parameter is held at zero, in words.
+fn unidentified_words(x: &Dropped) -> String {
+    held_words(&x.why, x.unit)
+}
+
+/// Why a parameter in `unit` is not identifiable, in words.
+pub(crate) fn held_words(why: &Unidentified, unit: &str) -> String {
+    match why {
+        Unidentified::NoLever { lever_mm } => {
+            format!("no lever: it moves the measured point by at most {lever_mm:.2e} mm per {unit}")
+        }
+        Unidentified::SameAs { same_as, .. } if same_as.is_empty() => {
+            "the same effect as the parameters kept before it".into()
+        }
+        Unidentified::SameAs { same_as, .. } => {
+            format!("same effect as {}", same_as.join(" + "))
+        }
+        Unidentified::Unresolved { stderr, limit } => {
+            format!("standard error {stderr:.3} {unit}, above its resolution {limit} {unit}")
+        }
+        Unidentified::Implausible { value, limit } => {
+            format!("fitted to {value:.3} {unit}, beyond a plausible {limit} {unit}")
+        }
+    }
+}
+
 fn opt(v: Option<f64>) -> String {
     v.map(|v| format!("{v:.4}")).unwrap_or_else(|| "-".into())
 }
@@ -247,15 +273,7 @@ fn table(d: &ChainDiagnosis) -> String {
         d.condition
     ));
     for x in &d.dropped {
-        s.push_str(&format!(
-            "  {}{}\n",
-            x.name,
-            if x.same_as.is_empty() {
-                String::new()
-            } else {
-                format!(" (same effect as {})", x.same_as.join(" + "))
-            }
-        ));
+        s.push_str(&format!("  {} ({})\n", x.name, unidentified_words(x)));
     }
     if let Some(r) = &d.holdout_remainder {
         s.push_str("\nOn the held-out set:\n");

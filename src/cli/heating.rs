@@ -35,7 +35,7 @@ pub struct FitArgs {
     pub axes: Vec<usize>,
     /// Fix T(0) of the saturating models to this temperature (°C) instead
     /// of fitting it (the default profile pins 7.0).
-    #[arg(long, value_name = "CELSIUS")]
+    #[arg(long, value_name = "CELSIUS", value_parser = celsius)]
     pub pin_t0: Option<f64>,
     /// Write an SVG plot of measured and fitted curves (`-`: the SVG goes to
     /// standard output instead of the table).
@@ -58,7 +58,7 @@ pub struct EvalArgs {
     #[arg(long, default_value = "auto", requires = "records")]
     pub model: String,
     /// Fix T(0) of a saturating model fitted to `--records` (°C).
-    #[arg(long, value_name = "CELSIUS", requires = "records")]
+    #[arg(long, value_name = "CELSIUS", requires = "records", value_parser = celsius)]
     pub pin_t0: Option<f64>,
     /// Use measured temperatures directly, interpolated linearly in time.
     #[arg(long, value_name = "RECORDS.csv")]
@@ -111,6 +111,10 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
 const STEADY_WARN_C: f64 = 1.0;
 
 fn run_fit(a: FitArgs) -> Result<Status> {
+    if let Some(plot) = &a.plot {
+        super::output::check_file("--plot", plot)?;
+        super::output::refuse_inputs_as_outputs(&[("--plot", plot)], &[&a.records])?;
+    }
     let models = parse_models(&a.model)?;
     let mut axes: Vec<usize> = Vec::new();
     for x in &a.axes {
@@ -121,11 +125,6 @@ fn run_fit(a: FitArgs) -> Result<Status> {
     if let Some(bad) = axes.iter().find(|x| !(1..=6).contains(*x)) {
         return Err(Error::usage(format!(
             "--axes: axis {bad} does not exist (1..6)"
-        )));
-    }
-    if let Some(t0) = a.pin_t0.filter(|v| !v.is_finite()) {
-        return Err(Error::usage(format!(
-            "--pin-t0 {t0} is not a finite temperature"
         )));
     }
     let record = read_record(&a.records)?;
@@ -256,4 +255,17 @@ fn run_eval(a: EvalArgs) -> Result<Status> {
     };
     write_stdout(text.as_bytes())?;
     Ok(Status::Success)
+}
+
+/// A temperature argument: a number a robot's motor can have (the same
+/// bounds as every recording's, `data/thermal/plausible.toml`).
+fn celsius(text: &str) -> std::result::Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number"))?;
+    match rapidtherm::thermal::plausible::implausible(v) {
+        None => Ok(v),
+        Some(why) => Err(why),
+    }
 }

@@ -2,7 +2,7 @@
 //! task, a `<testcase>` per target, a `<failure>` where it fails the gate.
 //! The dialect Jenkins and GitLab read; `tests/junit/junit.xsd` pins it.
 
-use super::ci_report::{Case, Level, Suite};
+use super::ci_suite::{Case, Level, Suite};
 use quick_xml::events::{BytesDecl, BytesText, Event};
 use quick_xml::Writer;
 use rapidtherm::error::{Error, Result};

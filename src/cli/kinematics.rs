@@ -98,7 +98,10 @@ impl ModelArgs {
         let Some(t) = temps else { return Ok(None) };
         let thermal = match &self.thermal {
             Some(path) => {
-                let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+                let text =
+                    String::from_utf8(rapidtherm::input::read_path(path)?).map_err(|_| {
+                        Error::input(format!("{}: a thermal model must be UTF-8", path.display()))
+                    })?;
                 ThermalExpansion::from_toml(&path.display().to_string(), &text)?
             }
             None => ThermalExpansion::default(),
@@ -127,8 +130,22 @@ fn round(v: f64, decimals: i32) -> f64 {
     }
 }
 
+/// Largest joint angle `fk` takes, degrees: beyond any arm's travel (an
+/// independent axis 6 turns a few hundred times at most), so a larger
+/// number is a typing or unit mistake, and its robconf (quarter turns)
+/// would not fit the controller's integers.
+const MAX_JOINT_DEG: f64 = 100_000.0;
+
 pub fn run_fk(args: FkArgs) -> Result<Status> {
-    let q = six(&args.joints, "joint angles")?.map(f64::to_radians);
+    let angles = six(&args.joints, "joint angles")?;
+    if let Some(i) = (0..6).find(|&i| angles[i].abs() > MAX_JOINT_DEG) {
+        return Err(Error::usage(format!(
+            "axis {} at {:e}° is no joint angle (more than {MAX_JOINT_DEG}° from zero)",
+            i + 1,
+            angles[i]
+        )));
+    }
+    let q = angles.map(f64::to_radians);
     let robot = args.model.robot()?;
     let temps = args.model.temps()?;
     for v in robot.outside_limits(&q) {

@@ -278,12 +278,14 @@ pub fn warning_at(w: &rapidtherm::rapid::Warning) {
 
 /// At `-vv`, how long `what` took since `start`.
 pub fn took(what: &str, start: std::time::Instant) {
+    took_for(what, start.elapsed());
+}
+
+/// At `-vv`, that `what` took `elapsed`.
+pub fn took_for(what: &str, elapsed: std::time::Duration) {
     emit_plain(
         2,
-        format_args!(
-            "info: {what}: {:.1} ms",
-            start.elapsed().as_secs_f64() * 1e3
-        ),
+        format_args!("info: {what}: {:.1} ms", elapsed.as_secs_f64() * 1e3),
     );
 }
 
@@ -301,6 +303,17 @@ pub fn remedy(r: Remedy) -> &'static str {
             "; fit a saturating model (`heating fit --model first-order`) to predict beyond it, or hold the end values explicitly"
         }
         Remedy::ListArms => " (`rapidtherm arms` lists every name)",
+        Remedy::NameTheArm => "; give the arm with --robot TASK=NAME|FILE.urdf",
+        Remedy::ModelOfTheArm => {
+            "give a model file of this arm with --model FILE.toml (its heating measured, or a heating recording in it), or use the IRB 140's defaults on this arm's lengths with --irb140-thermal"
+        }
+        Remedy::ArmOfTheModel => {
+            "give a model diagnosed on this arm, or leave out --robot to use the model's"
+        }
+        Remedy::OneTaskAtATime => " with --task",
+        Remedy::AcceptDefaultPlacement => {
+            "; mend the backup, or put the robot at the world origin with --accept-default-placement"
+        }
     }
 }
 

@@ -9,15 +9,20 @@
 #![deny(clippy::print_stderr)]
 
 mod arms;
-mod check_rule;
 mod ci_report;
+mod ci_suite;
 mod compare;
 mod correct;
 mod correct_report;
+mod correct_words;
 mod diagnose;
+mod diagnose_args;
 mod diagnose_chain;
+mod events;
+mod format;
 mod generate;
 mod heating;
+mod io;
 mod junit;
 mod kinematics;
 mod messages;
@@ -25,15 +30,14 @@ mod model;
 mod output;
 mod plot;
 mod schedule;
-mod stream;
 mod targets;
-mod targets_fast;
 mod tasks;
 
+pub use format::{Format, Status};
+pub use io::{read_input, write_stdout, Inputs};
+pub use output::write_output;
+
 use clap::{CommandFactory, Parser, Subcommand};
-use rapidtherm::error::{Error, Result};
-use std::io::{Read, Write};
-use std::path::Path;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -73,7 +77,7 @@ enum Command {
     /// Make simulated measurements ("real" data) with chosen effects and noise.
     Simulate(diagnose::SimulateArgs),
     /// Diagnose the sim-to-real gap of measured positions.
-    Diagnose(diagnose::DiagnoseArgs),
+    Diagnose(diagnose_args::DiagnoseArgs),
     /// RMS and max gap of a model on measured data.
     Gap(diagnose::GapArgs),
     /// List the ABB arms `--robot` takes by name (payload, reach, where the numbers come from).
@@ -82,24 +86,6 @@ enum Command {
     Completions(generate::CompletionsArgs),
     /// Print the man page (roff), or write one page per subcommand with --out-dir.
     Man(generate::ManArgs),
-}
-
-/// Output format chosen with `--format`: the library renders tables, CSV
-/// and JSON; which one a run prints is the command line's choice.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
-pub enum Format {
-    #[default]
-    Table,
-    Csv,
-    Json,
-}
-
-/// How a command that ran without error ended.
-pub enum Status {
-    /// Exit 0.
-    Success,
-    /// Exit 1: `--check`/`--diff` found changes, or a gate failed.
-    Changes,
 }
 
 pub fn main() -> ExitCode {
@@ -141,68 +127,5 @@ pub fn main() -> ExitCode {
             messages::print_error(&e);
             ExitCode::from(2)
         }
-    }
-}
-
-/// Read a whole input file, or standard input for `-`. Returns the name to
-/// use in messages and the bytes.
-pub fn read_input(path: &Path) -> Result<(String, Vec<u8>)> {
-    if path == Path::new("-") {
-        let mut buf = Vec::new();
-        std::io::stdin()
-            .read_to_end(&mut buf)
-            .map_err(|e| Error::io(Path::new("<stdin>"), &e))?;
-        Ok(("<stdin>".to_string(), buf))
-    } else {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
-        Ok((path.display().to_string(), bytes))
-    }
-}
-
-/// Input files as read: the name used in messages and the bytes.
-pub type Inputs = Vec<(String, Vec<u8>)>;
-
-/// Read RAPID files (`-`: standard input) and parse them as one run; the
-/// reader's warnings go to stderr.
-pub fn read_program(files: &[std::path::PathBuf]) -> Result<(Inputs, rapidtherm::rapid::Program)> {
-    let mut inputs = Vec::new();
-    for f in files {
-        inputs.push(read_input(f)?);
-    }
-    let refs: Vec<(&str, &[u8])> = inputs
-        .iter()
-        .map(|(n, b)| (n.as_str(), b.as_slice()))
-        .collect();
-    let started = std::time::Instant::now();
-    let program = rapidtherm::rapid::parse_files(&refs)?;
-    messages::took("parsing", started);
-    for w in &program.warnings {
-        messages::warning_at(w);
-    }
-    Ok((inputs, program))
-}
-
-/// Write data to standard output (a closed pipe is not an error worth a
-/// panic: the reader has what it wanted).
-pub fn write_stdout(bytes: &[u8]) -> Result<()> {
-    let mut out = std::io::stdout().lock();
-    stdout_written(out.write_all(bytes).and_then(|_| out.flush()))
-}
-
-/// What writing to standard output came to, as [`write_stdout`] takes it.
-pub fn stdout_written(r: std::io::Result<()>) -> Result<()> {
-    match r {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(Error::io(Path::new("<stdout>"), &e)),
-    }
-}
-
-/// Write to a file atomically, or to standard output for `-`.
-pub fn write_output(path: &Path, bytes: &[u8]) -> Result<()> {
-    if path == Path::new("-") {
-        write_stdout(bytes)
-    } else {
-        crate::cli::output::write_atomic(path, bytes, None)
     }
 }

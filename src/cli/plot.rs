@@ -21,7 +21,9 @@ pub fn check_dir(dir: Option<&Path>) -> Result<()> {
             "--plot {}: not a folder (the pictures are written into a folder, created if missing)",
             dir.display()
         ))),
-        _ => Ok(()),
+        // To be made: its nearest existing folder must be one, checked
+        // before the run writes anything else.
+        _ => super::output::check_folder("--plot", dir),
     }
 }
 
@@ -70,6 +72,7 @@ fn file_name(path: &str) -> &str {
 /// Write the pictures into `dir` (created if missing), each atomically.
 pub fn write(dir: Option<&Path>, drawn: &[(PathBuf, String)]) -> Result<()> {
     let Some(dir) = dir else { return Ok(()) };
+    super::output::check_folder("--plot", dir)?;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
     for (name, svg) in drawn {
         let path = dir.join(name);

@@ -2,7 +2,7 @@
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::error::Result;
-use rapidtherm::rapid::{self, Number, Program, Target};
+use rapidtherm::rapid::{Number, Program, Target};
 use rapidtherm::report::{
     render_csv, render_table, shortest, shortest_of_literal, shortest_to_4_places, write_table,
     Align, Rows,
@@ -10,7 +10,7 @@ use rapidtherm::report::{
 use rapidtherm::resolve::{self, Usage};
 use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::pose_from_rapid;
-use std::collections::HashMap;
+use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::io::Write;
 use std::path::PathBuf;
@@ -52,9 +52,6 @@ fn num(buf: &mut String, x: &Number, src: &[u8]) {
 
 pub fn run(args: TargetsArgs) -> Result<Status> {
     let tasks = super::tasks::select(&args.files, &args.pick)?;
-    if let Some(status) = super::targets_fast::run(&args, &tasks)? {
-        return Ok(status);
-    }
     let refs: Vec<&rapidtherm::rapid::task::Task> = tasks.iter().collect();
     let labels = super::tasks::labels(&refs);
     let mut texts = Vec::new();
@@ -116,28 +113,47 @@ fn listing(
         several: inputs.len() > 1,
         format: args.format,
     };
-    let uses = all_uses(prog);
-    let mut sink = lister.sink();
-    for (i, t) in prog.targets().iter().enumerate() {
-        lister.add(&mut sink, t, uses.get(&i), prog.source(t.origin.file));
-    }
+    // The moves that reach each target: those [`resolve::uses`] finds, and
+    // the moves naming declared derived targets (`CONST robtarget p20 :=
+    // Offs(p10, ...)`), which it gives to no target.
+    let uses = resolve::uses(prog);
+    let derived = resolve::declared_derived_usages(prog);
+    let all = prog.targets();
+    // The rows made a chunk of targets at a time on every core (a
+    // program's targets of a run made one at a time), put together in
+    // order.
+    let chunks = all.len().div_ceil(CHUNK);
+    let parts: Vec<Sink> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut slot = rapidtherm::rapid::targets::blank();
+            let mut sink = lister.sink();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(all.len()) {
+                let t: &Target = match all.one_by_one(i) {
+                    Some(t) => t,
+                    None if all.fill(i, &mut slot) => &slot,
+                    None => continue,
+                };
+                let own = uses.usages(i);
+                let u = match own.is_empty() {
+                    true => derived.get(&i),
+                    false => Some(&own),
+                };
+                lister.add(&mut sink, t, u, prog.source(t.origin.file));
+            }
+            sink
+        })
+        .collect();
     let mut out = Vec::new();
     // Writing to a Vec cannot fail.
-    let _ = lister.finish(vec![sink], &mut out);
+    let _ = lister.finish(parts, &mut out);
     Ok(String::from_utf8(out).unwrap_or_default())
 }
 
-/// The moves that reach each target: those [`resolve::usages`] finds, and
-/// the moves naming declared derived targets (`CONST robtarget p20 :=
-/// Offs(p10, ...)`), which it gives to no target.
-pub(super) fn all_uses(prog: &Program) -> HashMap<usize, Vec<Usage>> {
-    let mut uses = resolve::usages(prog);
-    uses.extend(resolve::declared_derived_usages(prog));
-    uses
-}
+/// Targets one core lists at a time.
+const CHUNK: usize = 16_384;
 
-/// Makes the rows of one program's listing; the whole program and the
-/// streamed file (`targets_fast`) share it, so both print the same bytes.
+/// Makes the rows of one program's listing, a chunk of targets at a time.
 pub(super) struct Lister<'p> {
     pub prog: &'p Program,
     /// Several files: the table's `at` names the file.
@@ -515,7 +531,7 @@ const LEGEND: &str = "frame: x_mm, y_mm, z_mm and q1..q4 are the TCP in the obje
 const LEGEND_PAIRS: &str = "several tools or work objects: the pairs in the order the program first uses them, tool and wobj lists matching place by place; `rapidtherm correct` corrects the target for the first\n";
 const LEGEND_UNUSED: &str = "-: no move instruction reaches the target\n";
 
-fn joints(prog: &rapid::Program, format: Format) -> String {
+fn joints(prog: &Program, format: Format) -> String {
     let header = [
         "target", "kind", "file", "line", "col", "j1", "j2", "j3", "j4", "j5", "j6", "tool", "wobj",
     ];

@@ -5,9 +5,10 @@
 
 use super::Correction;
 use crate::model::{Moment, States, WarmRobot};
+use crate::rapid::targets::TargetIndex;
 use crate::rapid::{builtins, Expr, FunctionCall, Program, Statement, StatementKind, UnaryOp};
 use crate::resolve::{
-    frames_named, frames_of, target_pose, walk_statements, Frames, Through, Usage,
+    frames_for, frames_named, target_pose, walk_statements, Frames, Through, Uses,
 };
 use crate::robot::frames::{flange_of_target, target_of_flange};
 use nalgebra::Isometry3;
@@ -151,37 +152,31 @@ pub fn residual(
     program: &Program,
     index: usize,
     calls: &HashMap<usize, &FunctionCall>,
-    (frames, uses): &(&Frames, &HashMap<usize, Vec<Usage>>),
+    (frames, uses, index_of): &(&Frames, &Uses, &TargetIndex),
     corrections: &[Correction],
     warm: &WarmRobot,
     states: &States,
     eval: &dyn Fn(&Expr) -> Option<f64>,
 ) -> Option<f64> {
-    let target = &program.targets()[index];
+    let target = program.targets().get(index)?;
     let call = calls.get(&target.origin.pos.offset)?;
     let base_id = target.derived.as_ref()?.bases.first()?;
     let correction = corrections
         .iter()
         .find(|c| c.id.eq_ignore_ascii_case(base_id))?;
-    let (base_index, base) = program
-        .targets()
-        .iter()
-        .enumerate()
-        .find(|(_, t)| t.id.eq_ignore_ascii_case(base_id))?;
-    let (original, conf) = target_pose(program, base).ok()??;
-    let base_uses = uses.get(&base_index);
+    let base_index = index_of.get(base_id)?;
+    let base = program.targets().get(base_index)?;
+    let (original, conf) = target_pose(program, &base).ok()??;
     // This expression's own move: its tool and work object may be other
     // than the ones the base is corrected for (its first use's).
-    let (tool, wobj) = match base_uses
-        .into_iter()
-        .flatten()
-        .find(|u| u.through == Through::Derived(index))
+    let (tool, wobj) = match uses
+        .of(base_index)
+        .find(|u| u.through() == Through::Derived(index))
     {
-        Some(u) => {
-            frames_named(program, frames, base, u.tool.as_deref(), u.wobj.as_deref()).ok()?
-        }
+        Some(u) => frames_named(program, frames, &base, u.tool(), u.wobj()).ok()?,
         None => {
-            let (tool, wobj, _, _) = frames_of(program, frames, base_index, base_uses).ok()?;
+            let first = uses.first(base_index).map(|f| (f.tool(), f.wobj()));
+            let (tool, wobj, _, _) = frames_for(program, frames, &base, first).ok()?;
             (tool, wobj)
         }
     };

@@ -5,10 +5,9 @@
 //! to write numbers in their place, and then the position (and the
 //! orientation, if it turns) is written as a literal of numbers.
 
-use super::outcome::{leave, LeftAlone, Reason};
-use super::solve::Run;
+use super::outcome::{leave, Kind, LeftAlone, Reason};
 use crate::error::Result;
-use crate::rapid::constants::names_read;
+use crate::rapid::constants::{names_read, Constants, Site};
 use crate::rapid::rewrite::{format_like, Edit, POSITION_RESOLUTION, QUATERNION_RESOLUTION};
 use crate::rapid::visit::{walk_expr, Visit};
 use crate::rapid::{Aggregate, Expr, Program, Target};
@@ -52,8 +51,8 @@ impl<'p> Expressions<'p> {
         // is written with expressions (CAM programs hold none).
         if program
             .targets()
-            .iter()
-            .any(Target::written_with_expressions)
+            .one_by_one_all()
+            .any(|(_, t)| t.written_with_expressions())
         {
             found.visit_program(program);
         }
@@ -67,8 +66,12 @@ impl<'p> Expressions<'p> {
 
     /// The literal's numbers, when every part is an aggregate of numbers
     /// the program fixes before it runs (literals and `CONST num`).
-    pub fn evaluate(&self, run: &Run, target: &Target) -> Option<Evaluated> {
+    pub fn evaluate(&self, constants: &Constants, target: &Target) -> Option<Evaluated> {
         let parts = self.parts(target)?;
+        let site = Site {
+            module: &target.origin.module,
+            routine: target.origin.routine.as_deref(),
+        };
         let values = |i: usize| -> Option<(Vec<f64>, Range<usize>)> {
             let Expr::Aggregate(a) = &parts[i] else {
                 return None;
@@ -76,7 +79,7 @@ impl<'p> Expressions<'p> {
             let v: Vec<f64> = a
                 .items
                 .iter()
-                .map(|e| run.eval(target, e))
+                .map(|e| constants.num(e, site))
                 .collect::<Option<_>>()?;
             Some((v, a.span.clone()))
         };
@@ -93,7 +96,11 @@ impl<'p> Expressions<'p> {
     }
 
     /// The report for a literal left as written.
-    pub fn left_alone(&self, run: &Run, target: &Target) -> LeftAlone {
+    pub fn left_alone(
+        &self,
+        (program, constants): (&Program, &Constants),
+        target: &Target,
+    ) -> LeftAlone {
         let names: Vec<String> = self
             .parts(target)
             .map(|p| p.iter().flat_map(names_read).collect())
@@ -103,16 +110,16 @@ impl<'p> Expressions<'p> {
         } else {
             format!(" (reads {})", names.join(", "))
         };
-        if self.evaluate(run, target).is_some() {
+        if self.evaluate(constants, target).is_some() {
             leave(
-                run.program,
+                program,
                 target,
                 Reason::Expression,
                 format!("written with named constants or expressions{read}: left as written unless numbers may be written in their place"),
             )
         } else {
             leave(
-                run.program,
+                program,
                 target,
                 Reason::Runtime,
                 format!("written with expressions whose value only the run knows{read}"),
@@ -167,7 +174,7 @@ pub(super) fn jointtarget_expressions(program: &Program) -> Vec<LeftAlone> {
         let loc = Location::from_offset(&program.files[file], program.source(file), offset);
         out.push(LeftAlone {
             id,
-            kind: "jointtarget".to_string(),
+            kind: Kind::JointTarget,
             file: loc.file,
             line: loc.line as u32,
             col: loc.col as u32,

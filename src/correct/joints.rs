@@ -14,10 +14,10 @@
 //! - Robot axes all `9E+09` (a positioner's jointtarget): nothing of the arm
 //!   to correct; left alone. External axes are never changed.
 
+use super::context::Run;
 use super::moments::{joint_moments_of, minute_of, pick};
-use super::outcome::{Correction, Frame, LeftAlone, Reason, Residual};
-use super::solve::Run;
-use crate::error::{Error, ErrorKind, Result};
+use super::outcome::{Correction, Frame, Kind, LeftAlone, Reason, Residual};
+use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::model::warm::pose_error;
 use crate::model::State;
 use crate::rapid::rewrite::jointtarget_edits;
@@ -26,9 +26,24 @@ use crate::robot::Joints;
 use nalgebra::{Isometry3, Matrix6x5, Vector5, Vector6};
 use std::f64::consts::TAU;
 
-/// RAPID's "no value" for an axis (`9E+09`); anything this large is not an
-/// angle.
-const NO_AXIS: f64 = 8.9e9;
+/// RAPID's "no value" for an axis: `9E+09`, as the controller keeps it in
+/// single precision (a relative step of 6e-8), so within a millionth.
+const NO_AXIS: f64 = 9e9;
+
+/// Whether an axis value is RAPID's "no value".
+fn no_value(v: f64) -> bool {
+    (v - NO_AXIS).abs() <= NO_AXIS * 1e-6
+}
+
+/// An axis beyond this (degrees) is no angle (a typing or unit mistake):
+/// far past any arm's travel.
+const NO_ANGLE_DEG: f64 = 1e6;
+
+/// Whether an axis value can be an angle (a value that is not a number
+/// cannot).
+fn is_angle(v: f64) -> bool {
+    v.abs() < NO_ANGLE_DEG
+}
 
 /// Axis 5 closer to 0 than this (degrees) is a wrist singularity: the
 /// written value is 0 to the controller's resolution.
@@ -56,13 +71,13 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
     } = run;
     let location = program.location(&jt.origin);
     let located = |e: Error| {
-        let msg = format!("jointtarget {}: {}", jt.id, e.message);
-        Error { message: msg, ..e }.at(location.clone())
+        e.about(Subject::JointTarget(jt.id.clone()))
+            .at(location.clone())
     };
     let leave = |reason: Reason, detail: String| {
         JointSolved::LeftAlone(LeftAlone {
             id: jt.id.clone(),
-            kind: "jointtarget".to_string(),
+            kind: Kind::JointTarget,
             file: location.file.clone(),
             line: jt.origin.pos.line,
             col: jt.origin.pos.col,
@@ -72,7 +87,14 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
         })
     };
     let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
-    let absent = degrees.iter().filter(|d| d.abs() >= NO_AXIS).count();
+    let absent = degrees.iter().filter(|d| no_value(**d)).count();
+    if let Some(i) = (0..6).find(|&i| !no_value(degrees[i]) && !is_angle(degrees[i])) {
+        return Err(located(Error::input(format!(
+            "axis {} is {:e}: neither an angle nor 9E+09 (no value)",
+            i + 1,
+            degrees[i]
+        ))));
+    }
     if absent == 6 {
         return Ok(leave(
             Reason::NoRobotAxes,
@@ -145,7 +167,7 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
     Ok(JointSolved::Corrected(
         Box::new(Correction {
             id: jt.id.clone(),
-            kind: "jointtarget".to_string(),
+            kind: Kind::JointTarget,
             file: location.file.clone(),
             line: jt.origin.pos.line,
             col: jt.origin.pos.col,

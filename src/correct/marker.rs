@@ -11,18 +11,33 @@
 //! A run asked to split targets moved to with several tools or work
 //! objects adds `; shared=split`.
 //!
+//! The marker proves what it claims with a second line, above the file's
+//! last `ENDMODULE`: the fingerprint of the numbers the corrected file
+//! holds ([`NumberPrint`], encoding `v1`):
+//!
+//! ```text
+//!     ! rapidtherm numbers v1 sha256:787c66029705ac4c
+//! ENDMODULE
+//! ```
+//!
+//! A target re-taught or added after the correction, or a marker pasted
+//! into another file, leaves the numbers without a matching fingerprint:
+//! such a marker is not trusted ([`untrusted`]).
+//!
 //! A run on a marked program never corrects it a second time: on the same
 //! basis and model there is nothing to do (the file already is what the
 //! run would write), on another it is refused, since the numbers in the
 //! file are no longer the cold ones the correction starts from.
 
 use crate::error::{Error, Location};
+use crate::rapid::numprint::NumberPrint;
 use crate::rapid::rewrite::Edit;
 use crate::rapid::Program;
-use sha2::{Digest, Sha256};
 
 const PREFIX: &str = "! rapidtherm ";
 const CORRECTED: &str = " corrected: ";
+/// The second line's start: the fingerprint of the numbers follows.
+const NUMBERS: &str = "! rapidtherm numbers ";
 
 /// What a marker records.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -49,44 +64,7 @@ pub struct Found {
     pub line: usize,
 }
 
-/// `sha256:` and the first 16 hex digits of the bytes' SHA-256: enough to
-/// tell files apart, short enough to read.
-pub fn fingerprint(bytes: &[u8]) -> String {
-    hex_of(&Sha256::digest(bytes))
-}
-
-/// [`fingerprint`] of the text `show` writes, hashed as it is written (a
-/// schedule of a million visits writes tens of megabytes).
-pub fn fingerprint_of(show: impl FnOnce(&mut dyn std::fmt::Write) -> std::fmt::Result) -> String {
-    struct Hashing {
-        sha: Sha256,
-        buf: Vec<u8>,
-    }
-    impl std::fmt::Write for Hashing {
-        fn write_str(&mut self, s: &str) -> std::fmt::Result {
-            // Debug writes a few bytes at a time: hashed a page at a time.
-            if self.buf.len() + s.len() > 8192 {
-                self.sha.update(&self.buf);
-                self.buf.clear();
-            }
-            self.buf.extend_from_slice(s.as_bytes());
-            Ok(())
-        }
-    }
-    let mut h = Hashing {
-        sha: Sha256::new(),
-        buf: Vec::with_capacity(8192),
-    };
-    // Writing into memory cannot fail, nor can Debug of plain data.
-    let _ = show(&mut h);
-    h.sha.update(&h.buf);
-    hex_of(&h.sha.finalize())
-}
-
-fn hex_of(digest: &[u8]) -> String {
-    let hex: String = digest.iter().take(8).map(|b| format!("{b:02x}")).collect();
-    format!("sha256:{hex}")
-}
+pub use crate::digest::fingerprint;
 
 impl Marker {
     /// The comment line (without indentation or line end).
@@ -197,27 +175,173 @@ pub fn insert(program: &Program, file: usize, marker: &Marker) -> Option<Edit> {
     })
 }
 
+/// Where the line holding a file's last `ENDMODULE` starts (the end of
+/// the file where it has none): the numbers' line goes there, and the
+/// fingerprint covers every number before it.
+pub fn numbers_at(src: &[u8]) -> usize {
+    let mut end = src.len();
+    // Line by line from the end: the last module closes near it.
+    loop {
+        let start = src[..end]
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |p| p + 1);
+        let line = &src[start..end];
+        let text = line.trim_ascii_start();
+        if text.len() >= 9 && text[..9].eq_ignore_ascii_case(b"ENDMODULE") {
+            return start;
+        }
+        if start == 0 {
+            return src.len();
+        }
+        end = start - 1;
+    }
+}
+
+/// The numbers' line (its indentation and line end as the file's
+/// marker line has them), for a fingerprint `print`.
+pub fn numbers_line(src: &[u8], at: usize, print: &str) -> Vec<u8> {
+    let crlf = src.windows(2).any(|w| w == b"\r\n");
+    let eol = if crlf { "\r\n" } else { "\n" };
+    // After a last line without a line end, the line starts anew.
+    let lead = if at == src.len() && !src.is_empty() && !src.ends_with(b"\n") {
+        eol
+    } else {
+        ""
+    };
+    format!("{lead}    {NUMBERS}{print}{eol}").into_bytes()
+}
+
+/// The fingerprint the numbers' line of a file records, where it has one:
+/// on the line above its last `ENDMODULE`.
+fn recorded_numbers(src: &[u8]) -> Option<String> {
+    let at = numbers_at(src);
+    let before = &src[..at.saturating_sub(1)];
+    let start = before
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |p| p + 1);
+    let line = String::from_utf8_lossy(&src[start..at]);
+    line.trim()
+        .strip_prefix(NUMBERS)
+        .map(|p| p.trim().to_string())
+}
+
+/// Why a marker is not trusted.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Distrust {
+    /// The file has no numbers' line (a marker pasted, or written by a
+    /// version before the fingerprint).
+    NoFingerprint,
+    /// The numbers changed since: a target re-taught, added or removed.
+    NumbersChanged { recorded: String, now: String },
+}
+
+/// A marked file whose marker is not trusted.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Untrusted {
+    pub file: usize,
+    pub line: usize,
+    pub why: Distrust,
+}
+
+/// The first marked file of `program` whose numbers do not match its
+/// marker's fingerprint (every number of the file, outside comments and
+/// strings, before its last `ENDMODULE`).
+pub fn untrusted(program: &Program) -> Option<Untrusted> {
+    let mut marked: Vec<(usize, usize)> = Vec::new();
+    for module in &program.modules {
+        if marked.iter().any(|(f, _)| *f == module.file) {
+            continue;
+        }
+        let src = program.source(module.file);
+        let Some(start) = header_end(src, module.pos.offset) else {
+            continue;
+        };
+        let end = src[start..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(src.len(), |p| start + p);
+        if Marker::parse(String::from_utf8_lossy(&src[start..end]).trim()).is_some() {
+            let line = 1 + src[..start].iter().filter(|&&b| b == b'\n').count();
+            marked.push((module.file, line));
+        }
+    }
+    marked.into_iter().find_map(|(file, line)| {
+        let src = program.source(file);
+        let why = match recorded_numbers(src) {
+            None => Distrust::NoFingerprint,
+            Some(recorded) => {
+                let now = NumberPrint::of(&src[..numbers_at(src)]);
+                if now == recorded {
+                    return None;
+                }
+                Distrust::NumbersChanged { recorded, now }
+            }
+        };
+        Some(Untrusted { file, line, why })
+    })
+}
+
+/// The note of a run that takes a file whose marker is not trusted as
+/// cold (a check, a report).
+pub fn untrusted_note(program: &Program, u: &Untrusted) -> String {
+    format!(
+        "{} line {}: rapidtherm's marker is not trusted: {}; every target is taken as cold",
+        program.files[u.file],
+        u.line,
+        distrust_words(&u.why)
+    )
+}
+
+fn distrust_words(why: &Distrust) -> String {
+    match why {
+        Distrust::NoFingerprint => {
+            "it has no fingerprint of its numbers (a marker copied into it, or written before rapidtherm recorded one)".to_string()
+        }
+        Distrust::NumbersChanged { recorded, now } => format!(
+            "its numbers changed since (fingerprint {recorded} recorded, {now} now): a target re-taught, added or removed after the correction"
+        ),
+    }
+}
+
+/// The refusal to correct a file whose marker is not trusted: its numbers
+/// cannot be told corrected from cold.
+pub fn refuse_untrusted(program: &Program, u: &Untrusted) -> Error {
+    let why = distrust_words(&u.why);
+    Error::input(format!(
+        "rapidtherm's marker says this file is corrected, but {why}; which of its targets are corrected and which are cold cannot be told"
+    ))
+    .with_note("correct its cold original; or, if every target in it is cold, delete the two `! rapidtherm` lines")
+    .at(marker_line(program, u.file, u.line))
+}
+
+/// The place of the marker's line `line` of file `file`.
+fn marker_line(program: &Program, file: usize, line: usize) -> Location {
+    let src = program.source(file);
+    let offset: usize = src
+        .split_inclusive(|&b| b == b'\n')
+        .take(line - 1)
+        .map(<[u8]>::len)
+        .sum();
+    Location {
+        col: 1,
+        ..Location::from_offset(&program.files[file], src, offset)
+    }
+}
+
 /// The refusal to correct a corrected program on another basis.
 pub fn refuse(program: &Program, found: &Found, wanted: &Marker) -> Error {
     let m = &found.marker;
-    let file = &program.files[found.file];
-    let mut e = Error::input(format!(
+    Error::input(format!(
         "this program was already corrected by rapidtherm {} for {} with {}; correcting it again (for {} with {}) would add a second correction on top of the first",
         m.version, m.basis, m.model, wanted.basis, wanted.model
     ))
     .with_note(format!(
         "correct its cold original instead (fingerprint {})",
         m.cold
-    ));
-    let src = program.source(found.file);
-    let offset: usize = src
-        .split_inclusive(|&b| b == b'\n')
-        .take(found.line - 1)
-        .map(<[u8]>::len)
-        .sum();
-    let loc = Location::from_offset(file, src, offset);
-    e = e.at(Location { col: 1, ..loc });
-    e
+    ))
+    .at(marker_line(program, found.file, found.line))
 }
 
 /// The marker's fields of a run, for a cold file's bytes.

@@ -2,14 +2,14 @@
 //! (one fixed moment, or its times in a schedule) and which visit counts.
 
 use super::When;
-use crate::error::{Error, Remedy, Result};
+use crate::error::{Error, Remedy, Result, Subject};
 use crate::model::Moment;
 use crate::rapid::Program;
 use crate::schedule::{Schedule, Visit};
-use std::collections::HashSet;
 
-/// The moments a target is reached.
-pub(super) fn moments_of(when: &When, id: &str) -> Result<Vec<Moment>> {
+/// The moments robtarget `index` (identifier `id`) is reached.
+pub(super) fn moments_of(when: &When, index: usize, id: &str) -> Result<Vec<Moment>> {
+    let _ = index;
     moments_in(when, id, false)
 }
 
@@ -25,6 +25,7 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
             schedule,
             joints,
             default,
+            ..
         } => match joints
             .as_ref()
             .filter(|_| joint)
@@ -32,29 +33,21 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
             .times(id)
         {
             Some(times) => Ok(times.iter().map(|&t| Moment::Minute(t)).collect()),
+            // The target is the error's subject, not its message: a
+            // schedule that misses 20,000 targets is one cause, said once
+            // with the others counted.
             None => default.map(|m| vec![m]).ok_or_else(|| {
-                Error::input(format!("the schedule has no time for target {id}"))
+                let subject = if joint {
+                    Subject::JointTarget(id.to_string())
+                } else {
+                    Subject::Target(id.to_string())
+                };
+                Error::input("the schedule has no time for it")
+                    .about(subject)
                     .with_remedy(Remedy::GiveDefaultTime)
             }),
         },
     }
-}
-
-/// The moment a robtarget is corrected for: [`pick`] of [`moments_of`],
-/// without making the list of its visits (a streamed run asks for a
-/// million targets). `times`: its times in `when`'s schedule, looked up
-/// by the caller (who needs them too).
-pub(super) fn picked_moment(
-    when: &When,
-    id: &str,
-    times: Option<&[f64]>,
-    visit: Visit,
-) -> Result<Moment> {
-    if let (When::Schedule { .. }, Some(times)) = (when, times) {
-        return Ok(Moment::Minute(visit.pick(times)));
-    }
-    // One moment (`--at`, or the default), or the error.
-    moments_of(when, id).map(|m| pick(&m, visit))
 }
 
 pub(super) fn pick(moments: &[Moment], visit: Visit) -> Moment {
@@ -84,13 +77,23 @@ pub(super) fn minute_of(m: Moment) -> Option<f64> {
 /// ignores case): a lookup per schedule entry in the list of targets made
 /// a schedule of every target quadratic.
 pub(super) fn check_schedule_names(program: &Program, schedule: &Schedule) -> Result<()> {
-    let ids: HashSet<String> = program
-        .targets()
-        .iter()
-        .map(|t| t.id.as_str())
-        .chain(program.jointtargets().iter().map(|j| j.id.as_str()))
-        .map(str::to_ascii_lowercase)
-        .collect();
+    // Identifiers only: the targets' numbers are not read for this.
+    let targets = program.targets();
+    let mut ids: foldhash::HashSet<String> = foldhash::HashSet::default();
+    ids.reserve(targets.len() + program.jointtargets().len());
+    let mut id = String::new();
+    for i in 0..targets.len() {
+        if targets.id_into(i, &mut id).is_some() {
+            id.make_ascii_lowercase();
+            ids.insert(std::mem::take(&mut id));
+        }
+    }
+    ids.extend(
+        program
+            .jointtargets()
+            .iter()
+            .map(|j| j.id.to_ascii_lowercase()),
+    );
     for id in schedule.targets() {
         if !ids.contains(&id.to_ascii_lowercase()) {
             return Err(Error::input(format!(

@@ -2,7 +2,7 @@
 //! as written and why, derived targets, and the summary.
 
 use crate::rapid::rewrite::Edit;
-use crate::rapid::{Program, Target};
+use crate::rapid::{Program, Target, TargetKind};
 use crate::resolve::{Through, Usage};
 use nalgebra::Isometry3;
 use serde::Serialize;
@@ -11,8 +11,7 @@ use serde::Serialize;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Correction {
     pub id: String,
-    /// `robtarget` kinds (`declared`, `inline`, ...) or `jointtarget`.
-    pub kind: String,
+    pub kind: Kind,
     pub file: String,
     pub line: u32,
     pub col: u32,
@@ -63,6 +62,73 @@ pub struct Correction {
     pub(super) edits: Vec<Edit>,
     #[serde(skip)]
     pub(super) file_index: usize,
+}
+
+/// What a reported target is: a robtarget by where and how it is written
+/// (its [`TargetKind`], or a literal written with expressions), or a
+/// jointtarget.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub enum Kind {
+    #[serde(rename = "declared")]
+    Declared,
+    #[serde(rename = "array")]
+    ArrayElement,
+    #[serde(rename = "record")]
+    RecordField,
+    #[serde(rename = "inline")]
+    Inline,
+    #[serde(rename = "assigned")]
+    Assigned,
+    #[serde(rename = "derived")]
+    Derived,
+    /// A robtarget literal written with named constants or expressions.
+    #[serde(rename = "expression")]
+    Expression,
+    #[serde(rename = "jointtarget")]
+    JointTarget,
+}
+
+impl Kind {
+    /// The kind's name in reports.
+    pub fn code(self) -> &'static str {
+        match self {
+            Kind::Declared => "declared",
+            Kind::ArrayElement => "array",
+            Kind::RecordField => "record",
+            Kind::Inline => "inline",
+            Kind::Assigned => "assigned",
+            Kind::Derived => "derived",
+            Kind::Expression => "expression",
+            Kind::JointTarget => "jointtarget",
+        }
+    }
+
+    /// A robtarget's kind in reports: a literal with expressions is not
+    /// derived from another target, whatever the parser files it under.
+    pub fn of(target: &Target) -> Kind {
+        if target.written_with_expressions() {
+            return Kind::Expression;
+        }
+        match target.kind {
+            TargetKind::Declared => Kind::Declared,
+            TargetKind::ArrayElement => Kind::ArrayElement,
+            TargetKind::RecordField => Kind::RecordField,
+            TargetKind::Inline => Kind::Inline,
+            TargetKind::Assigned => Kind::Assigned,
+            TargetKind::Derived => Kind::Derived,
+        }
+    }
+
+    /// Whether the target is a robtarget (not a jointtarget).
+    pub fn is_robtarget(self) -> bool {
+        self != Kind::JointTarget
+    }
+}
+
+impl std::fmt::Display for Kind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.code())
+    }
 }
 
 /// The frame a correction's position differences are in.
@@ -141,8 +207,7 @@ impl Reason {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LeftAlone {
     pub id: String,
-    /// `robtarget` kinds (`declared`, `inline`, ...) or `jointtarget`.
-    pub kind: String,
+    pub kind: Kind,
     pub file: String,
     pub line: u32,
     pub col: u32,
@@ -195,7 +260,7 @@ pub struct Residual {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SharedUse {
     pub id: String,
-    pub kind: String,
+    pub kind: Kind,
     pub file: String,
     pub line: u32,
     pub col: u32,
@@ -230,10 +295,10 @@ pub struct FramesUse {
 impl FramesUse {
     pub(super) fn of(u: &Usage, program: &Program) -> FramesUse {
         let through = match u.through {
-            Through::Derived(i) => program.targets()[i]
-                .derived
-                .as_ref()
-                .map(|d| d.expr.clone()),
+            Through::Derived(i) => program
+                .targets()
+                .get(i)
+                .and_then(|t| t.derived.as_ref().map(|d| d.expr.clone())),
             _ => None,
         };
         FramesUse {
@@ -308,44 +373,6 @@ pub struct Outcome {
     pub outputs: Vec<Vec<u8>>,
 }
 
-pub(super) fn summarise(
-    corrections: &[Correction],
-    derived: &[Derived],
-    left_alone: &[LeftAlone],
-    (shared, splits): (&[SharedUse], &[Split]),
-) -> Summary {
-    let robtargets: Vec<&Correction> = corrections
-        .iter()
-        .filter(|c| c.kind != "jointtarget")
-        .collect();
-    let n = robtargets.len();
-    let sum_sq: f64 = robtargets
-        .iter()
-        .map(|c| c.correction_norm_mm.powi(2))
-        .sum();
-    Summary {
-        corrected: corrections.len(),
-        rewritten: corrections.iter().filter(|c| c.rewritten).count(),
-        max_mm: robtargets
-            .iter()
-            .map(|c| c.correction_norm_mm)
-            .fold(0.0, f64::max),
-        rms_mm: if n > 0 {
-            (sum_sq / n as f64).sqrt()
-        } else {
-            0.0
-        },
-        max_drift_mm: corrections
-            .iter()
-            .map(|c| c.drift_norm_mm)
-            .fold(0.0, f64::max),
-        derived: derived.len(),
-        left_alone: left_alone.len(),
-        shared: shared.len(),
-        split: splits.len(),
-    }
-}
-
 pub(super) fn derived_report(
     program: &Program,
     target: &Target,
@@ -379,22 +406,12 @@ pub(super) fn leave(
     let location = program.location(&target.origin);
     LeftAlone {
         id: target.id.clone(),
-        kind: kind_of(target).to_string(),
+        kind: Kind::of(target),
         file: location.file,
         line: target.origin.pos.line,
         col: target.origin.pos.col,
         reason,
         detail: detail.into(),
         world_mm: None,
-    }
-}
-
-/// A robtarget's kind in reports: a literal with expressions is not
-/// derived from another target, whatever the parser files it under.
-pub(super) fn kind_of(target: &Target) -> &'static str {
-    if target.written_with_expressions() {
-        "expression"
-    } else {
-        target.kind.as_str()
     }
 }

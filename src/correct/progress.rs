@@ -31,6 +31,15 @@ impl<'f> Progress<'f> {
         }
     }
 
+    /// `n` more targets done.
+    pub(super) fn add(&mut self, n: usize) {
+        let before = self.done / EVERY;
+        self.done += n;
+        if self.done / EVERY != before {
+            (self.report)(self.done, self.total);
+        }
+    }
+
     /// Every target done.
     pub(super) fn finish(&mut self) {
         (self.report)(self.total, self.total);

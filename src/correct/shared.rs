@@ -25,19 +25,18 @@
 //!   procedure, assigned from), or whose name is declared twice. Those
 //!   keep the first-use rule, and their lines say why.
 
+use super::context::Run;
 use super::derived::apply_with;
+use super::names::Names;
 use super::outcome::{Correction, FramesUse, SharedUse, Split};
-use super::solve::{at_target, corrected, nearest_solution, prefix, Meant, Run};
+use super::solve::{at_target, corrected, nearest_solution, prefix, Meant};
 use crate::error::{ErrorKind, Result};
 use crate::rapid::rewrite::{apply_edits, statement_words, Edit};
-use crate::rapid::visit::{walk_call, walk_data_decl, walk_expr, walk_routine, Visit};
-use crate::rapid::{
-    Call, DataDecl, Expr, Module, Program, Routine, Scope, Statement, Storage, Target, TargetKind,
-};
+use crate::rapid::{Expr, Program, Storage, Target, TargetKind};
 use crate::resolve::{frames_named, uses_by_frames, Through, Usage};
 use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use nalgebra::Isometry3;
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashSet};
 use std::ops::Range;
 
 /// RAPID's longest identifier.
@@ -83,12 +82,10 @@ pub(super) fn other_pairs(
     meant: &Meant,
     correction: &Correction,
 ) -> Result<Vec<OtherPair>> {
-    let Some(uses) = run.uses.get(&index) else {
-        return Ok(Vec::new());
-    };
-    if uses.iter().all(|u| u.same_frames(&uses[0])) {
+    if !run.uses.several_frames(index) {
         return Ok(Vec::new());
     }
+    let uses = &run.uses.usages(index);
     let groups = uses_by_frames(uses);
     let Some(exact) = correction.exact else {
         return Ok(Vec::new());
@@ -122,7 +119,7 @@ pub(super) fn other_pairs(
             };
             lines.push(SharedUse {
                 id: correction.id.clone(),
-                kind: correction.kind.clone(),
+                kind: correction.kind,
                 file: correction.file.clone(),
                 line: correction.line,
                 col: correction.col,
@@ -140,7 +137,7 @@ pub(super) fn other_pairs(
             let renames = renames(run, target, group)?;
             let names = [pair.tool_name(), pair.wobj_name()];
             let correction = corrected(run, target, meant, (&frames.0, &frames.1), names, None)
-                .map_err(|e| format!("it cannot be corrected for this pair: {}", e.message))?;
+                .map_err(|e| format!("it cannot be corrected for this pair: {}", e.headline()))?;
             Ok(Copy {
                 correction,
                 decl,
@@ -171,7 +168,8 @@ fn landed(
     let (cold, sent) = match u.through {
         Through::Direct => (meant.pose, *exact),
         Through::Derived(i) => {
-            let derived = &program.targets()[i];
+            let derived = program.targets().at(i);
+            let derived = &*derived;
             // Constants as seen where the expression is written, as the
             // derived target's own residual reads them.
             let eval = |e: &Expr| run.eval(derived, e);
@@ -274,10 +272,11 @@ fn splittable(
     }
     if let Some(u) = uses.iter().find(|u| u.through != Through::Direct) {
         let how = match u.through {
-            Through::Derived(i) => program.targets()[i]
-                .derived
-                .as_ref()
-                .map_or("a derived target".to_string(), |d| d.expr.clone()),
+            Through::Derived(i) => program
+                .targets()
+                .get(i)
+                .and_then(|t| t.derived.as_ref().map(|d| d.expr.clone()))
+                .unwrap_or_else(|| "a derived target".to_string()),
             _ => "a variable".to_string(),
         };
         return Err(format!(
@@ -348,165 +347,6 @@ fn renames(
         out.extend(words.into_iter().map(|w| (u.file, w)));
     }
     Ok(out)
-}
-
-/// Where the program's names are declared and read, for the split: built
-/// once per run, and only when a split is asked for and some target has
-/// several pairs.
-#[derive(Default)]
-pub(super) struct Names {
-    /// Declarations (data and parameters) per lower-case name.
-    declared: HashMap<String, usize>,
-    /// The declaration of each declared robtarget, by target index.
-    decl_of: HashMap<usize, DeclAt>,
-    /// Per (lower-case name, file, statement offset): how many of the
-    /// move's targets (ToPoint, CirPoint) name it.
-    as_target: HashMap<(String, usize, usize), usize>,
-    /// The first other reading of each lower-case name, in words.
-    other: HashMap<String, String>,
-}
-
-struct DeclAt {
-    storage: Storage,
-    scope: Option<Scope>,
-    offset: usize,
-}
-
-impl Names {
-    fn of(program: &Program) -> Names {
-        let mut c = Collect {
-            program,
-            names: Names::default(),
-            file: 0,
-            routine: String::new(),
-            line: 0,
-            offset: 0,
-            passed_to: None,
-        };
-        c.visit_program(program);
-        c.names
-    }
-}
-
-struct Collect<'p> {
-    program: &'p Program,
-    names: Names,
-    file: usize,
-    routine: String,
-    line: u32,
-    offset: usize,
-    /// The procedure whose arguments are being walked.
-    passed_to: Option<String>,
-}
-
-impl Collect<'_> {
-    fn where_(&self) -> String {
-        let what = match &self.passed_to {
-            Some(p) => format!("passed to {p}"),
-            None => "read".to_string(),
-        };
-        if self.routine.is_empty() {
-            format!("{what} in a declaration, line {}", self.line)
-        } else {
-            format!("{what} in {} line {}", self.routine, self.line)
-        }
-    }
-}
-
-impl<'a> Visit<'a> for Collect<'_> {
-    fn visit_module(&mut self, m: &'a Module) {
-        self.file = m.file;
-        self.routine.clear();
-        crate::rapid::visit::walk_module(self, m);
-    }
-    fn visit_data_decl(&mut self, d: &'a DataDecl) {
-        *self
-            .names
-            .declared
-            .entry(d.name.to_ascii_lowercase())
-            .or_default() += 1;
-        if let Some(Expr::Target(i)) = &d.init {
-            self.names.decl_of.insert(
-                *i,
-                DeclAt {
-                    storage: d.storage,
-                    scope: d.scope,
-                    offset: d.pos.offset,
-                },
-            );
-        }
-        self.line = d.pos.line;
-        walk_data_decl(self, d);
-    }
-    fn visit_routine(&mut self, r: &'a Routine) {
-        for p in &r.params {
-            *self
-                .names
-                .declared
-                .entry(p.name.to_ascii_lowercase())
-                .or_default() += 1;
-        }
-        self.routine = r.name.to_string();
-        walk_routine(self, r);
-    }
-    fn visit_statement(&mut self, s: &'a Statement) {
-        self.line = s.pos.line;
-        self.offset = s.pos.offset;
-        crate::rapid::visit::walk_statement(self, s);
-    }
-    fn visit_call(&mut self, c: &'a Call) {
-        let Some(m) = c.motion() else {
-            let outer = self.passed_to.replace(c.name.to_string());
-            walk_call(self, c);
-            self.passed_to = outer;
-            return;
-        };
-        let targets: Vec<&Expr> = [m.via, m.to].into_iter().flatten().collect();
-        for e in &targets {
-            if let Expr::Name(n) = e {
-                *self
-                    .names
-                    .as_target
-                    .entry((n.to_ascii_lowercase(), self.file, self.offset))
-                    .or_default() += 1;
-            }
-        }
-        // Every other argument is a reading (a target named as the tool
-        // would be one, too).
-        for v in c.args.iter().filter_map(|a| a.value.as_ref()) {
-            let counted = matches!(v, Expr::Name(_)) && targets.iter().any(|t| std::ptr::eq(*t, v));
-            if !counted {
-                self.visit_expr(v);
-            }
-        }
-    }
-    fn visit_expr(&mut self, e: &'a Expr) {
-        match e {
-            Expr::Name(n) => {
-                let here = self.where_();
-                self.names
-                    .other
-                    .entry(n.to_ascii_lowercase())
-                    .or_insert(here);
-            }
-            // A derived expression (`Offs(pHome, 0, 0, 50)`) is filed as a
-            // target of its own; the names it reads are read here.
-            Expr::Target(i) => {
-                let program = self.program;
-                if let Some(d) = program.targets().get(*i).and_then(|t| t.derived.as_ref()) {
-                    let here = format!("{} {}", d.expr, self.where_());
-                    for b in &d.bases {
-                        self.names
-                            .other
-                            .entry(b.to_ascii_lowercase())
-                            .or_insert_with(|| here.clone());
-                    }
-                }
-            }
-            _ => {}
-        }
-        walk_expr(self, e);
-    }
 }
 
 /// A target's pairs waiting for the run's end, where copies are named

@@ -2,139 +2,28 @@
 //! that reach it, the nominal pose those joints are for the controller, and
 //! the check that the controller picks the same joints back.
 
-use super::derived::{calls_by_offset, unapply_with};
+use super::context::Run;
 use super::edits::{quaternion_like, ORIENTATION_CHANGE_RAD};
-use super::expressions::{Evaluated, Expressions};
-use super::moments::{minute_of, moments_of, pick};
-use super::outcome::{leave, Correction, Frame, LeftAlone, Reason};
-use super::shared::{Names, OtherPair};
-use super::Options;
-use crate::error::{Error, ErrorKind, Result};
-use crate::model::{Moment, State, States, WarmRobot};
-use crate::rapid::constants::{Constants, Site};
-use crate::rapid::rewrite::robtarget_edits;
-use crate::rapid::{Expr, FunctionCall, Program, Storage, Target, TargetKind};
-use crate::resolve::dataflow::{runtime_writes, Write};
-use crate::resolve::{frames_of, target_pose, usages, Frames, Through, Usage};
+use super::expressions::Evaluated;
+use super::moments::minute_of;
+use super::outcome::{Correction, Frame, Kind};
+use crate::error::{Error, ErrorKind, Result, Subject};
+use crate::model::{Moment, State, WarmRobot};
+use crate::rapid::rewrite::{robtarget_edits, Edit};
+use crate::rapid::{Program, Target, TargetKind};
+use crate::resolve::{frames_for, target_pose};
 use crate::robot::conf::{quadrant_distance, RobConf};
 use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use crate::robot::Joints;
-use nalgebra::{Isometry3, UnitQuaternion, Vector3};
-use std::cell::{OnceCell, RefCell};
-use std::collections::HashMap;
-
-/// What became of one robtarget: corrected (with its other tool and
-/// work object pairs, if any), or left alone.
-pub(super) enum Solved {
-    Corrected(Box<Correction>, Vec<OtherPair>),
-    LeftAlone(LeftAlone),
-}
-
-/// What every target of a run shares: the program's frames and usages, the
-/// warm robot's states, the options.
-pub(super) struct Run<'a> {
-    pub program: &'a Program,
-    pub warm: &'a WarmRobot,
-    pub states: States<'a>,
-    pub options: &'a Options,
-    pub frames: Frames,
-    pub uses: HashMap<usize, Vec<Usage>>,
-    pub conf_off: bool,
-    /// Robtarget and jointtarget variables the run writes, by lower-case
-    /// name.
-    pub writes: HashMap<String, Write>,
-    pub constants: Constants<'a>,
-    /// Every function call of the program by where it starts.
-    pub calls: HashMap<usize, &'a FunctionCall>,
-    pub expressions: Expressions<'a>,
-    /// Choices made on the way that the user should know about.
-    pub notes: RefCell<Vec<String>>,
-    /// Where names are declared and read, for splitting targets (built
-    /// when first needed).
-    pub names: OnceCell<Names>,
-}
-
-impl<'a> Run<'a> {
-    pub fn new(program: &'a Program, warm: &'a WarmRobot, options: &'a Options) -> Result<Run<'a>> {
-        Ok(Run {
-            program,
-            warm,
-            states: warm.states(),
-            options,
-            frames: match &options.base_frame {
-                Some(base) => Frames::of_program(program)?.placed(base),
-                None => Frames::of_program(program)?,
-            },
-            uses: usages(program),
-            conf_off: configuration_monitoring_off(program),
-            writes: runtime_writes(program),
-            constants: Constants::of(program),
-            calls: calls_by_offset(program),
-            expressions: Expressions::of(program),
-            notes: RefCell::new(Vec::new()),
-            names: OnceCell::new(),
-        })
-    }
-
-    /// The value of a number in the program as written at `target`
-    /// (literals and constants).
-    pub fn eval(&self, target: &Target, e: &Expr) -> Option<f64> {
-        let site = Site {
-            module: &target.origin.module,
-            routine: target.origin.routine.as_deref(),
-        };
-        self.constants.num(e, site)
-    }
-}
-
-/// Why a robtarget is not corrected, when it is not: its value is decided
-/// at run time, it is written with expressions (and the run was not asked
-/// to write numbers in their place), or no move reaches it.
-fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
-    let program = run.program;
-    let variable = matches!(target.storage, Some(Storage::Var | Storage::Pers));
-    if variable && target.kind != TargetKind::Assigned {
-        let name = target.name.as_deref().unwrap_or_default().to_lowercase();
-        if let Some(w) = run.writes.get(&name) {
-            return Some(leave(
-                program,
-                target,
-                Reason::Runtime,
-                format!(
-                    "{} is {} at run time ({} line {}): its declared value is not what the robot moves to",
-                    w.variable, w.how, w.routine, w.line
-                ),
-            ));
-        }
-        if let Some(v) = &target.value {
-            if v.rot_values().iter().all(|&x| x == 0.0) {
-                return Some(leave(
-                    program,
-                    target,
-                    Reason::Runtime,
-                    "a placeholder (zero quaternion) that the run fills in",
-                ));
-            }
-        }
-    }
-    if target.kind != TargetKind::Inline && !run.uses.contains_key(&index) {
-        return Some(leave(
-            program,
-            target,
-            Reason::Unused,
-            "no move instruction of the program reaches it, so its tool and work object are unknown",
-        ));
-    }
-    None
-}
+use nalgebra::{Isometry3, Vector3};
 
 /// The corrected pose of one meant TCP pose, and the joints involved.
-struct Solution {
+pub(super) struct Solution {
     /// The corrected target: its nominal pose is where the warm robot
     /// must be sent.
-    exact: Isometry3<f64>,
+    pub exact: Isometry3<f64>,
     /// The nominal joints of the pose as written (for the drift).
-    q_nominal: Joints,
+    pub q_nominal: Joints,
 }
 
 /// What the cold program means by a target, and when it is corrected
@@ -152,93 +41,10 @@ pub(super) struct Meant<'e> {
     pub state: State,
 }
 
-/// Correct the robtarget `index` of the program: the warm joints that
-/// reach the flange pose it means, written back as the nominal pose of
-/// those joints in the target's own tool and work object. A target moved
-/// to with several tools or work objects is corrected for its first use's
-/// pair; its other pairs are returned for the report (or a split).
-pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Result<Solved> {
-    let Run {
-        program,
-        states,
-        options,
-        frames,
-        uses,
-        ..
-    } = run;
-    if let Some(left) = left_alone(run, index, target) {
-        return Ok(Solved::LeftAlone(left));
-    }
-    let target_uses = uses.get(&index);
-    let mut evaluated: Option<Evaluated> = None;
-    let (pose, conf) = match &target.value {
-        Some(_) => target_pose(program, target)?.ok_or_else(|| {
-            at_target(program, target, Error::input("a robtarget without numbers"))
-        })?,
-        None => {
-            let value = run.expressions.evaluate(run, target);
-            let Some(v) = value.filter(|_| options.expand_expressions) else {
-                return Ok(Solved::LeftAlone(run.expressions.left_alone(run, target)));
-            };
-            let pc = v.pose_conf().map_err(|e| at_target(program, target, e))?;
-            evaluated = Some(v);
-            pc
-        }
-    };
-    let (tool, wobj, tool_name, wobj_name) = frames_of(program, frames, index, target_uses)?;
-    let names = [
-        tool_name.as_deref().unwrap_or("tool0"),
-        wobj_name.as_deref().unwrap_or("wobj0"),
-    ];
-    if let Err(e) = flange_of_target(&pose, &tool, &wobj) {
-        if e.kind == ErrorKind::Unsupported {
-            return Ok(Solved::LeftAlone(leave(
-                program,
-                target,
-                Reason::Coordinated,
-                e.message,
-            )));
-        }
-    }
-    let moments = moments_of(&options.when, &target.id)
-        .map_err(|e| e.at(program.location(&target.origin)))?;
-    let moment = pick(&moments, options.visit);
-    let state = states
-        .at(moment)
-        .map_err(|e| at_target(program, target, e))?;
-    let meant = Meant {
-        pose,
-        conf,
-        evaluated: evaluated.as_ref(),
-        moments,
-        moment,
-        state,
-    };
-    // The uses the target is corrected for: those with its first use's
-    // tool and work object (copied only when some use has another pair:
-    // a CAM program has millions of targets with one use each).
-    let filtered: Vec<Usage>;
-    let first_pair = match target_uses {
-        Some(u) if u.iter().any(|x| !x.same_frames(&u[0])) => {
-            filtered = u.iter().filter(|x| x.same_frames(&u[0])).cloned().collect();
-            Some(&filtered)
-        }
-        other => other,
-    };
-    let exact = by_derived_uses(run, target, first_pair, &meant, (&tool, &wobj))?;
-    let mut correction = corrected(run, target, &meant, (&tool, &wobj), names, exact)?;
-    if let Some(first) = target_uses.and_then(|u| u.first()) {
-        correction.order = (first.file, first.offset);
-    }
-    let others = super::shared::other_pairs(run, index, target, &meant, &correction)?;
-    Ok(Solved::Corrected(Box::new(correction), others))
-}
-
 /// The correction of a target for one tool and work object (`names`, as
-/// the report gives them): the solve,
-/// or `exact` where it is already known (a base placed by its derived
-/// uses), the drift over the target's moments, and the edits writing the
-/// new numbers over the literal.
+/// the report gives them): the solve, or `exact` where it is already
+/// known (a base placed by its derived uses), the drift over the target's
+/// moments, and the edits writing the new numbers over the literal.
 pub(super) fn corrected(
     run: &Run,
     target: &Target,
@@ -247,29 +53,50 @@ pub(super) fn corrected(
     names: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
+    let numbers = corrected_numbers(run, target, meant, frames, exact)?;
     let src = run.program.source(target.origin.file);
-    corrected_in(run, src, target, meant, frames, names, exact)
+    let edits = edits_of(src, target, meant, &numbers);
+    Ok(row(
+        run,
+        target,
+        meant,
+        frames,
+        names,
+        &numbers,
+        (!edits.is_empty(), edits),
+    ))
 }
 
-/// [`corrected`] for a target whose numbers lie in `src` (a streamed
-/// file the run's program was cut from).
-pub(super) fn corrected_in(
+/// The edits writing a target's corrected numbers over its literal (in
+/// `src`), each formatted like the number it replaces.
+pub(super) fn edits_of(src: &[u8], target: &Target, meant: &Meant, n: &Numbers) -> Vec<Edit> {
+    let new_trans = n.exact.translation.vector;
+    match (&target.value, meant.evaluated) {
+        (Some(value), _) => robtarget_edits(src, value, new_trans.into(), n.turned, None),
+        (None, Some(e)) => e.edits(src, new_trans.into(), n.turned),
+        (None, None) => Vec::new(),
+    }
+}
+
+/// A target's report row from its numbers: `rewritten` whether its text
+/// changed, with the edits that change it where the caller keeps them.
+pub(super) fn row(
     run: &Run,
-    src: &[u8],
     target: &Target,
     meant: &Meant,
     (tool, wobj): (&ToolData, &WobjData),
     [tool_name, wobj_name]: [&str; 2],
-    exact: Option<Isometry3<f64>>,
-) -> Result<Correction> {
+    numbers: &Numbers,
+    (rewritten, edits): (bool, Vec<Edit>),
+) -> Correction {
     let Numbers {
         exact,
         drift,
         range,
         turn,
-        turned,
         new_rot,
-    } = corrected_numbers(run, target, meant, (tool, wobj), exact)?;
+        ..
+    } = *numbers;
     let Meant {
         pose,
         evaluated,
@@ -278,11 +105,6 @@ pub(super) fn corrected_in(
         ..
     } = meant;
     let new_trans = exact.translation.vector;
-    let edits = match (&target.value, evaluated) {
-        (Some(value), _) => robtarget_edits(src, value, new_trans.into(), turned, None),
-        (None, Some(e)) => e.edits(src, new_trans.into(), turned),
-        (None, None) => Vec::new(),
-    };
     let original: Vec<f64> = match (&target.value, evaluated) {
         (Some(value), _) => value
             .trans_values()
@@ -295,9 +117,9 @@ pub(super) fn corrected_in(
     };
     let correction = new_trans - pose.translation.vector;
     let location = run.program.location(&target.origin);
-    Ok(Correction {
+    Correction {
         id: target.id.clone(),
-        kind: super::outcome::kind_of(target).to_string(),
+        kind: Kind::of(target),
         file: location.file,
         line: target.origin.pos.line,
         col: target.origin.pos.col,
@@ -314,17 +136,18 @@ pub(super) fn corrected_in(
         dangle_deg: turn.to_degrees(),
         original,
         corrected: new_trans.iter().chain(&new_rot).copied().collect(),
-        rewritten: !edits.is_empty(),
+        rewritten,
         exact: Some(exact),
         world_mm: in_world(run, pose, tool, wobj),
         order: (target.origin.file, target.origin.pos.offset),
         edits,
         file_index: target.origin.file,
-    })
+    }
 }
 
 /// The numbers of one target's correction, without its report row or
-/// its edits: what a streamed run of a million targets keeps of each.
+/// its edits: what a run of a million targets keeps of each.
+#[derive(Clone, Copy)]
 pub(super) struct Numbers {
     /// The corrected target.
     pub exact: Isometry3<f64>,
@@ -340,7 +163,7 @@ pub(super) struct Numbers {
     pub new_rot: [f64; 4],
 }
 
-/// The solve of [`corrected_in`], or `exact` where it is already known,
+/// The solve of a target, or `exact` where it is already known,
 /// the drift over the target's moments, and what is to be written over
 /// the literal (the position of `exact`, and `turned`).
 pub(super) fn corrected_numbers(
@@ -427,21 +250,26 @@ fn in_world(
 /// where they do not say (no move names its work object, no numbers, a
 /// work object a mechanical unit moves).
 pub(super) fn written_in_world(run: &Run, index: usize, target: &Target) -> Option<[f64; 3]> {
-    let uses = run.uses.get(&index);
-    if uses.is_none() && target.kind != TargetKind::Inline {
+    let first = run.uses.first(index);
+    if first.is_none() && target.kind != TargetKind::Inline {
         return None;
     }
     let (pose, _) = match &target.value {
         Some(_) => target_pose(run.program, target).ok()??,
-        None => run.expressions.evaluate(run, target)?.pose_conf().ok()?,
+        None => run
+            .expressions
+            .evaluate(&run.constants, target)?
+            .pose_conf()
+            .ok()?,
     };
-    let (tool, wobj, _, _) = frames_of(run.program, &run.frames, index, uses).ok()?;
+    let first = first.map(|f| (f.tool(), f.wobj()));
+    let (tool, wobj, _, _) = frames_for(run.program, &run.frames, target, first).ok()?;
     in_world(run, &pose, &tool, &wobj)
 }
 
 /// The corrected target for one meant pose (TCP `pose` in its work object,
 /// robconf `conf`) at one thermal state.
-fn solve(
+pub(super) fn solve(
     run: &Run,
     target: &Target,
     pose: &Isometry3<f64>,
@@ -474,10 +302,7 @@ fn solve(
                         "target {} (line {}): robconf {conf} matches no solution; configuration monitoring is off (ConfL/ConfJ \\Off), so it is corrected on the nearest configuration {nearest}",
                         target.id, target.origin.pos.line
                     );
-                    let mut notes = run.notes.borrow_mut();
-                    if !notes.contains(&note) {
-                        notes.push(note);
-                    }
+                    run.note((target.origin.file, target.origin.pos.offset), note);
                     (q, nearest)
                 }
                 None => return Err(at_target(program, target, prefix(e, "as written"))),
@@ -522,107 +347,6 @@ fn solve(
     Ok(Solution { exact, q_nominal })
 }
 
-/// A base no move names, reached only through `Offs`/`RelTool` with
-/// offsets known before the run (`MoveL Offs(pPallet, 0, 0, 50), ...`): it
-/// is corrected so that its derived poses land, on average. Each use's
-/// derived pose is corrected as a target of its own; the base that use
-/// asks for is that corrected pose with the offset taken back; the base
-/// written is the mean of those (positions averaged, orientations by the
-/// normalised sum of aligned quaternions). What remains at each use is
-/// reported as that derived target's residual. `uses` are those with the
-/// tool and work object the base is corrected for (its first use's).
-/// `None` when the rule does not apply: a move names the base itself
-/// (then it is corrected for that), or no use has offsets known before
-/// the run.
-fn by_derived_uses(
-    run: &Run,
-    target: &Target,
-    uses: Option<&Vec<Usage>>,
-    meant: &Meant,
-    frames: (&ToolData, &WobjData),
-) -> Result<Option<Isometry3<f64>>> {
-    let Meant {
-        pose,
-        conf,
-        state,
-        moment,
-        ..
-    } = meant;
-    let Some(uses) = uses else { return Ok(None) };
-    if uses
-        .iter()
-        .any(|u| !matches!(u.through, Through::Derived(_)))
-    {
-        return Ok(None);
-    }
-    let eval = |e: &Expr| run.eval(target, e);
-    let mut bases: Vec<Isometry3<f64>> = Vec::new();
-    let mut seen = Vec::new();
-    for u in uses {
-        let Through::Derived(i) = u.through else {
-            continue;
-        };
-        if seen.contains(&i) {
-            continue;
-        }
-        seen.push(i);
-        let derived = &run.program.targets()[i];
-        let Some(call) = run.calls.get(&derived.origin.pos.offset) else {
-            continue;
-        };
-        let Some(meant) = super::derived::apply_with(call, pose, &eval) else {
-            continue;
-        };
-        let sol = solve(run, derived, &meant, conf, frames, state, *moment)?;
-        if let Some(base) = unapply_with(call, &sol.exact, &eval) {
-            bases.push(base);
-        }
-    }
-    if bases.is_empty() {
-        return Ok(None);
-    }
-    let n = bases.len() as f64;
-    let position = bases
-        .iter()
-        .map(|b| b.translation.vector)
-        .sum::<Vector3<f64>>()
-        / n;
-    let first = bases[0].rotation.into_inner();
-    let sum = bases
-        .iter()
-        .map(|b| {
-            let q = b.rotation.into_inner();
-            if q.dot(&first) < 0.0 {
-                -q
-            } else {
-                q
-            }
-        })
-        .fold(nalgebra::Quaternion::new(0.0, 0.0, 0.0, 0.0), |a, q| a + q);
-    let rotation = UnitQuaternion::from_quaternion(sum);
-    Ok(Some(Isometry3::from_parts(position.into(), rotation)))
-}
-
-/// Whether the program switches configuration monitoring off
-/// (`ConfL \Off`, `ConfJ \Off`): then the controller does not hold targets
-/// to their robconf.
-fn configuration_monitoring_off(program: &Program) -> bool {
-    let mut off = false;
-    for module in &program.modules {
-        for routine in &module.routines {
-            crate::resolve::walk_calls(&routine.body, &mut |call, _| {
-                let name = call.name.as_ref();
-                if (name.eq_ignore_ascii_case("ConfL") || name.eq_ignore_ascii_case("ConfJ"))
-                    && call.optional("Off").is_some()
-                {
-                    off = true;
-                }
-            });
-        }
-    }
-    off
-}
-
 /// The solution of the nominal arm whose axes lie nearest the quadrants of
 /// `conf` (same cfx preferred).
 pub(super) fn nearest_solution(
@@ -651,6 +375,6 @@ pub(super) fn prefix(e: Error, context: &str) -> Error {
 }
 
 pub(super) fn at_target(program: &Program, target: &Target, e: Error) -> Error {
-    let message = format!("target {}: {}", target.id, e.message);
-    Error { message, ..e }.at(program.location(&target.origin))
+    e.about(Subject::Target(target.id.clone()))
+        .at(program.location(&target.origin))
 }

@@ -13,13 +13,23 @@
 //! about its own joint axis is the joint offset; the first joint's origin
 //! is the instrument frame; translations along parallel axes are one
 //! another). Which ones are kept is decided by a rank test of the
-//! column-normalised Jacobian at the start, in a fixed order of preference
-//! (instrument frame, point, joint offsets, origin translations, origin
-//! rotations): a parameter whose column is (nearly) a combination of those
-//! already kept is dropped and held at zero, with the kept parameters it
-//! duplicates named. Nothing is guessed from the robot's shape.
+//! Jacobian at the start, in a fixed order of preference (instrument frame,
+//! point, joint offsets, origin translations, origin rotations), with an
+//! absolute floor before any normalising: a parameter is kept only where
+//! the part of its column independent of those kept before it moves the
+//! data by more than the noise over the parameter's resolution (its lever
+//! times the noise). A parameter that hardly moves the measured point at
+//! all (a joint turning about an axis through it), one that is (nearly) a
+//! combination of those already kept, and one whose standard error would
+//! exceed its resolution are dropped and held at zero, each with its
+//! reason. After the fit, the standard errors come from the covariance of
+//! the kept parameters (a proper inverse: an unconstrained direction is
+//! dropped, never reported with zero variance), and a parameter outside
+//! its plausible range or less well determined than its resolution is
+//! dropped and the fit repeated. Nothing is guessed from the robot's shape.
 
 use super::prepare::kabsch;
+pub use super::unidentified::Unidentified;
 use crate::error::{Error, ErrorKind, Result};
 use crate::robot::chain::Chain;
 use crate::robot::Joints;
@@ -49,13 +59,35 @@ pub enum Group {
     Origin,
 }
 
-/// A raw parameter: its name and unit.
+/// A raw parameter: its name and unit, the largest value a real arm's
+/// error of its kind can take, and the largest standard error a
+/// calibration may report for it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ParamDef {
     pub name: String,
     pub unit: &'static str,
     pub group: Group,
+    /// Largest plausible magnitude, in `unit`: a fitted value beyond it is
+    /// the fit wandering along a direction the data hardly constrain, not
+    /// an error of the arm.
+    pub plausible: f64,
+    /// Largest standard error worth reporting, in `unit` (a tenth of the
+    /// plausible range): a parameter the data pin less well is not
+    /// identifiable from them.
+    pub resolution: f64,
 }
+
+/// Plausible magnitudes of each kind of parameter: the instrument frame
+/// relative to its rigid (Kabsch) start, mm and mrad; the measured point
+/// off its nominal place, mm (a reflector whose holder is not the one
+/// assumed); joint zeros, mrad; joint origins, mm and mrad. An industrial
+/// arm's geometric errors are tenths of a mm and of a mrad, a few mrad at
+/// worst (a UR5's wrist tilt: 12 mrad); these bounds are several times
+/// wider.
+const PLAUSIBLE_FRAME: (f64, f64) = (100.0, 100.0);
+const PLAUSIBLE_POINT_MM: f64 = 100.0;
+const PLAUSIBLE_OFFSET_MRAD: f64 = 50.0;
+const PLAUSIBLE_ORIGIN: (f64, f64) = (10.0, 50.0);
 
 /// Number of raw parameters: frame 6, point 3, offsets 6, origins 36.
 pub const N_RAW: usize = 51;
@@ -67,27 +99,63 @@ const ORIGIN: usize = 15;
 /// The raw parameters of a six-joint chain, in the order of preference.
 pub fn param_defs() -> Vec<ParamDef> {
     let mut out = Vec::with_capacity(N_RAW);
-    let def = |name: String, unit, group| ParamDef { name, unit, group };
+    let def = |name: String, unit, group, plausible: f64| ParamDef {
+        name,
+        unit,
+        group,
+        plausible,
+        resolution: plausible / 10.0,
+    };
     for a in ["x", "y", "z"] {
-        out.push(def(format!("frame.{a}"), "mm", Group::Frame));
+        out.push(def(
+            format!("frame.{a}"),
+            "mm",
+            Group::Frame,
+            PLAUSIBLE_FRAME.0,
+        ));
     }
     for a in ["rx", "ry", "rz"] {
-        out.push(def(format!("frame.{a}"), "mrad", Group::Frame));
+        out.push(def(
+            format!("frame.{a}"),
+            "mrad",
+            Group::Frame,
+            PLAUSIBLE_FRAME.1,
+        ));
     }
     for a in ["x", "y", "z"] {
-        out.push(def(format!("point.{a}"), "mm", Group::Point));
+        out.push(def(
+            format!("point.{a}"),
+            "mm",
+            Group::Point,
+            PLAUSIBLE_POINT_MM,
+        ));
     }
     for j in 1..=6 {
-        out.push(def(format!("joint{j}.offset"), "mrad", Group::Offset));
+        out.push(def(
+            format!("joint{j}.offset"),
+            "mrad",
+            Group::Offset,
+            PLAUSIBLE_OFFSET_MRAD,
+        ));
     }
     for j in 1..=6 {
         for a in ["x", "y", "z"] {
-            out.push(def(format!("joint{j}.{a}"), "mm", Group::Origin));
+            out.push(def(
+                format!("joint{j}.{a}"),
+                "mm",
+                Group::Origin,
+                PLAUSIBLE_ORIGIN.0,
+            ));
         }
     }
     for j in 1..=6 {
         for a in ["rx", "ry", "rz"] {
-            out.push(def(format!("joint{j}.{a}"), "mrad", Group::Origin));
+            out.push(def(
+                format!("joint{j}.{a}"),
+                "mrad",
+                Group::Origin,
+                PLAUSIBLE_ORIGIN.1,
+            ));
         }
     }
     out
@@ -189,14 +257,13 @@ fn jacobian(nominal: &Nominal, x: &[f64], cols: &[usize], samples: &[Sample]) ->
     jac
 }
 
-/// A parameter the rank test dropped, and the kept ones it duplicates.
+/// A parameter held at zero, and why.
 #[derive(Debug, Clone, Serialize)]
 pub struct Dropped {
     pub name: String,
-    /// Share of its column's norm independent of the kept columns.
-    pub independent: f64,
-    /// Kept parameters that make up most of its effect.
-    pub same_as: Vec<String>,
+    pub unit: &'static str,
+    #[serde(flatten)]
+    pub why: Unidentified,
 }
 
 /// The outcome of the rank test.
@@ -207,44 +274,61 @@ pub struct Identifiability {
     /// Share of each kept column independent of those kept before it.
     pub independent: Vec<f64>,
     pub dropped: Vec<Dropped>,
-    /// Rank of the kept (normalised) columns by their singular values: a
-    /// check on the greedy test, equal to `kept.len()`.
-    pub rank: usize,
-    /// Condition number of the kept normalised columns.
-    pub condition: f64,
 }
 
 /// Below this share of its norm independent of the parameters kept before
-/// it, a parameter counts as not identifiable: its standard error would be
-/// over 100 times that of a parameter with a column of its own, and the
-/// fit would trade it against the others (on the UR5 grid a joint 5 zero
-/// of −43 ± 90 mrad against a wrist length of −5 ± 10 mm at 1e-4).
+/// it, a parameter counts as a combination of them whatever the noise: its
+/// standard error would be over 100 times that of a parameter with a
+/// column of its own, and the fit would trade it against the others (on
+/// the UR5 grid a joint 5 zero of −43 ± 90 mrad against a wrist length of
+/// −5 ± 10 mm at 1e-4).
 pub const INDEPENDENT_MIN: f64 = 1e-2;
 
-/// Rank test (ordered Gram–Schmidt on the column-normalised Jacobian) over
-/// the raw parameters allowed by `allow`.
+/// Largest displacement of the measured point, over the poses, per unit of
+/// the parameter whose column `col` is (3 rows per pose).
+fn lever(col: &DVector<f64>) -> f64 {
+    col.as_slice()
+        .chunks(3)
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .fold(0.0, f64::max)
+}
+
+/// Rank test over the raw parameters allowed by `allow`, against the
+/// measurement noise `noise_mm` (per axis): ordered Gram–Schmidt on the
+/// Jacobian's columns as they are (mm per unit), each parameter kept only
+/// where the part of its column independent of those kept before it is
+/// at least 1 % of its norm (not a rounding-level combination) and large
+/// enough that the noise leaves its standard error within its resolution
+/// (noise over that independent norm). The floor is absolute: a column of
+/// rounding noise, normalised, would look independent.
 pub fn identify(
     nominal: &Nominal,
     samples: &[Sample],
     allow: &dyn Fn(Group) -> bool,
+    noise_mm: f64,
 ) -> Identifiability {
     let defs = param_defs();
     let x0 = vec![0.0; N_RAW];
     let cols: Vec<usize> = (0..N_RAW).filter(|&k| allow(defs[k].group)).collect();
-    let mut jac = jacobian(nominal, &x0, &cols, samples);
-    for mut c in jac.column_iter_mut() {
-        let n = c.norm();
-        if n > 0.0 {
-            c /= n;
-        }
-    }
+    let jac = jacobian(nominal, &x0, &cols, samples);
     let mut basis: Vec<DVector<f64>> = Vec::new();
     let mut kept_local: Vec<usize> = Vec::new();
     let mut kept = Vec::new();
     let mut kept_independent = Vec::new();
     let mut dropped = Vec::new();
     for (c, &k) in cols.iter().enumerate() {
+        let def = &defs[k];
         let col: DVector<f64> = jac.column(c).into();
+        let lev = lever(&col);
+        // Changed by its resolution, it moves no pose by the noise.
+        if lev * def.resolution < noise_mm {
+            dropped.push(Dropped {
+                name: def.name.clone(),
+                unit: def.unit,
+                why: Unidentified::NoLever { lever_mm: lev },
+            });
+            continue;
+        }
         let mut r = col.clone();
         // Twice: classical Gram–Schmidt loses orthogonality once.
         for _ in 0..2 {
@@ -253,37 +337,41 @@ pub fn identify(
                 r.axpy(-d, b, 1.0);
             }
         }
-        let independent = r.norm();
-        if independent > INDEPENDENT_MIN {
-            basis.push(r / independent);
+        let own = r.norm();
+        let independent = own / col.norm().max(1e-300);
+        let stderr = noise_mm / own.max(1e-300);
+        if independent <= INDEPENDENT_MIN {
+            dropped.push(Dropped {
+                name: def.name.clone(),
+                unit: def.unit,
+                why: Unidentified::SameAs {
+                    independent,
+                    same_as: duplicates(&jac, &kept_local, &col)
+                        .into_iter()
+                        .map(|i| defs[cols[i]].name.clone())
+                        .collect(),
+                },
+            });
+        } else if stderr > def.resolution {
+            dropped.push(Dropped {
+                name: def.name.clone(),
+                unit: def.unit,
+                why: Unidentified::Unresolved {
+                    stderr,
+                    limit: def.resolution,
+                },
+            });
+        } else {
+            basis.push(r / own);
             kept_local.push(c);
             kept.push(k);
             kept_independent.push(independent);
-        } else {
-            dropped.push(Dropped {
-                name: defs[k].name.clone(),
-                independent,
-                same_as: duplicates(&jac, &kept_local, &col)
-                    .into_iter()
-                    .map(|i| defs[cols[i]].name.clone())
-                    .collect(),
-            });
         }
     }
-    // A check on the greedy test: the kept columns together have full rank.
-    let kept_cols = DMatrix::from_fn(jac.nrows(), kept_local.len(), |i, c| {
-        jac[(i, kept_local[c])]
-    });
-    let sv = kept_cols.singular_values();
-    let smax = sv.max();
-    let rank = sv.iter().filter(|&&s| s > 1e-6 * smax).count();
-    let condition = smax / sv.min().max(1e-300);
     Identifiability {
         kept,
         independent: kept_independent,
         dropped,
-        rank,
-        condition,
     }
 }
 
@@ -292,11 +380,16 @@ fn duplicates(jac: &DMatrix<f64>, kept: &[usize], col: &DVector<f64>) -> Vec<usi
     if kept.is_empty() {
         return Vec::new();
     }
-    let a = DMatrix::from_fn(jac.nrows(), kept.len(), |i, c| jac[(i, kept[c])]);
-    let Ok(coef) = a.svd(true, true).solve(col, 1e-10) else {
+    // Columns normalised: a coefficient is then its share of the effect.
+    let norms: Vec<f64> = kept
+        .iter()
+        .map(|&c| jac.column(c).norm().max(1e-300))
+        .collect();
+    let a = DMatrix::from_fn(jac.nrows(), kept.len(), |i, c| jac[(i, kept[c])] / norms[c]);
+    let unit = col / col.norm().max(1e-300);
+    let Ok(coef) = a.svd(true, true).solve(&unit, 1e-10) else {
         return Vec::new();
     };
-    // Columns are unit vectors: a coefficient is its share of the effect.
     let mut big: Vec<(usize, f64)> = coef
         .iter()
         .enumerate()
@@ -324,6 +417,9 @@ pub struct Fit {
     pub params: Vec<Param>,
     /// RMS of the 3-D gap on the fitted samples, mm.
     pub rms_mm: f64,
+    /// Residual standard deviation per axis, mm (the residual sum of
+    /// squares over its degrees of freedom).
+    pub sigma_mm: f64,
 }
 
 impl Fit {
@@ -379,7 +475,10 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Lm<'_> {
     }
 }
 
-/// Fit the raw parameters `kept` (others at zero) to `samples`.
+/// Fit the raw parameters `kept` (others at zero) to `samples`, as they
+/// are: standard errors from the covariance σ²(JᵀJ)⁻¹ where JᵀJ is
+/// positive definite, infinite where it is not (a direction the data leave
+/// free).
 pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<Fit> {
     let m = 3 * samples.len();
     if m <= kept.len() {
@@ -410,11 +509,9 @@ pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<Fit>
     let rss: f64 = g.iter().map(|v| v.norm_squared()).sum();
     let jac = jacobian(nominal, &x, kept, samples);
     let sigma2 = rss / (m - kept.len()) as f64;
-    let jtj = jac.transpose() * &jac;
-    let cov = jtj
-        .pseudo_inverse(1e-12)
-        .map_err(|e| Error::new(ErrorKind::NoConvergence, e.to_string()))?
-        * sigma2;
+    // A proper inverse: a direction the data leave free has no finite
+    // variance, and is not given a zero one (as a pseudo-inverse would).
+    let cov = (jac.transpose() * &jac).cholesky().map(|c| c.inverse());
     let defs = param_defs();
     let params = kept
         .iter()
@@ -423,14 +520,115 @@ pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<Fit>
             name: defs[k].name.clone(),
             unit: defs[k].unit,
             value: x[k],
-            stderr: cov[(i, i)].max(0.0).sqrt(),
+            stderr: cov
+                .as_ref()
+                .map_or(f64::INFINITY, |c| (c[(i, i)] * sigma2).max(0.0).sqrt()),
         })
         .collect();
     Ok(Fit {
         x,
         params,
         rms_mm: (rss / samples.len() as f64).sqrt(),
+        sigma_mm: sigma2.sqrt(),
     })
+}
+
+/// A calibration: the fit of the identifiable parameters and those held
+/// at zero, with why.
+#[derive(Debug, Clone)]
+pub struct Calibration {
+    pub fit: Fit,
+    pub kept: Vec<usize>,
+    pub dropped: Vec<Dropped>,
+    /// Number of singular values of the kept columns, each scaled by its
+    /// parameter's resolution, that move the data by more than the
+    /// residual noise: equal to the number kept (checked), counted, not
+    /// assumed.
+    pub rank: usize,
+    /// Condition number of the kept columns scaled by their resolutions.
+    pub condition: f64,
+}
+
+/// Fit the parameters `id` keeps, then drop, one at a time and refitting,
+/// the parameter furthest outside what a metrologist signs: a value beyond
+/// its plausible range, or a standard error (from the fit's own residual)
+/// above its resolution. What is left is reported with honest standard
+/// errors.
+pub fn calibrate(
+    nominal: &Nominal,
+    samples: &[Sample],
+    id: Identifiability,
+) -> Result<Calibration> {
+    let defs = param_defs();
+    let mut kept = id.kept;
+    let mut dropped = id.dropped;
+    loop {
+        let fit = fit(nominal, samples, &kept)?;
+        // The worst offender, by how far it is beyond its bound.
+        let worst = fit
+            .params
+            .iter()
+            .zip(&kept)
+            .filter_map(|(p, &k)| {
+                let d = &defs[k];
+                let over_value = p.value.abs() / d.plausible;
+                let over_se = p.stderr / d.resolution;
+                let why = if over_value > 1.0 && over_value >= over_se {
+                    Unidentified::Implausible {
+                        value: p.value,
+                        limit: d.plausible,
+                    }
+                } else if over_se > 1.0 {
+                    Unidentified::Unresolved {
+                        stderr: p.stderr,
+                        limit: d.resolution,
+                    }
+                } else {
+                    return None;
+                };
+                Some((over_value.max(over_se), k, why))
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        match worst {
+            Some((_, k, why)) => {
+                kept.retain(|&x| x != k);
+                dropped.push(Dropped {
+                    name: defs[k].name.clone(),
+                    unit: defs[k].unit,
+                    why,
+                });
+            }
+            None => {
+                let (rank, condition) = scaled_rank(nominal, samples, &fit, &kept);
+                dropped.sort_by_key(|d| defs.iter().position(|x| x.name == d.name));
+                return Ok(Calibration {
+                    fit,
+                    kept,
+                    dropped,
+                    rank,
+                    condition,
+                });
+            }
+        }
+    }
+}
+
+/// Rank and condition of the kept columns at the solution, each scaled by
+/// its parameter's resolution: a singular value counts when moving the
+/// parameters one resolution along its direction moves the data by more
+/// than the fit's residual noise.
+fn scaled_rank(nominal: &Nominal, samples: &[Sample], fit: &Fit, kept: &[usize]) -> (usize, f64) {
+    if kept.is_empty() {
+        return (0, 1.0);
+    }
+    let defs = param_defs();
+    let jac = jacobian(nominal, &fit.x, kept, samples);
+    let scaled = DMatrix::from_fn(jac.nrows(), kept.len(), |i, c| {
+        jac[(i, c)] * defs[kept[c]].resolution
+    });
+    let sv = scaled.singular_values();
+    let rank = sv.iter().filter(|&&s| s > fit.sigma_mm).count();
+    (rank, sv.max() / sv.min().max(1e-300))
 }
 
 /// The instrument frame that best maps the nominal chain's points onto the

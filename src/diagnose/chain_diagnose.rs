@@ -13,6 +13,7 @@
 use super::chain_calib::{self, Dropped, Group, Nominal, Param, Sample, N_RAW};
 use super::chain_residual::{remainder, Remainder, ResidualRow};
 use super::gap::{gap_stats, GapStats};
+use super::instrument::default_noise_mm;
 use crate::error::{Error, Result};
 use crate::robot::chain::Chain;
 use nalgebra::{Isometry3, Vector3};
@@ -76,8 +77,9 @@ pub struct ChainDiagnosis {
     pub thermal: String,
     pub parameters: Vec<Param>,
     pub dropped: Vec<Dropped>,
-    /// Rank of the kept parameters' Jacobian columns (equal to their
-    /// number) and their condition number.
+    /// Rank of the kept parameters' Jacobian columns, each scaled by its
+    /// resolution, against the residual noise (counted: equal to their
+    /// number), and their condition number.
     pub rank: usize,
     pub condition: f64,
     pub remainder: Remainder,
@@ -107,6 +109,18 @@ fn pick(samples: &[Sample], idx: &[usize]) -> Vec<Sample> {
     idx.iter().map(|&i| samples[i]).collect()
 }
 
+/// The calibration restricted to `allow`: the rank test against the
+/// instrument's noise, the fit, and the parameters a metrologist would not
+/// sign dropped.
+fn calibrate(
+    nominal: &Nominal,
+    samples: &[Sample],
+    allow: &dyn Fn(Group) -> bool,
+) -> Result<chain_calib::Calibration> {
+    let id = chain_calib::identify(nominal, samples, allow, default_noise_mm()?);
+    chain_calib::calibrate(nominal, samples, id)
+}
+
 /// Held-out RMS of the model restricted to `allow` (the rank test redone
 /// on each training part).
 fn cross_validate(
@@ -119,8 +133,7 @@ fn cross_validate(
     let mut n = 0usize;
     for (train, test) in fold_sets(data, folds) {
         let tr = pick(&data.samples, &train);
-        let id = chain_calib::identify(nominal, &tr, allow);
-        let f = chain_calib::fit(nominal, &tr, &id.kept)?;
+        let f = calibrate(nominal, &tr, allow)?.fit;
         let g = chain_calib::gaps(nominal, &f.x, &pick(&data.samples, &test));
         sq += g.iter().map(|v| v.norm_squared()).sum::<f64>();
         n += g.len();
@@ -201,19 +214,18 @@ pub fn diagnose_chain(
     ];
     let mut last = None;
     for (name, allow) in scopes {
-        let id = chain_calib::identify(&nominal, &data.samples, allow);
-        let f = chain_calib::fit(&nominal, &data.samples, &id.kept)?;
+        let cal = calibrate(&nominal, &data.samples, allow)?;
         let cv = cross_validate(&nominal, data, allow, opts.folds)?;
         stages.push(Stage {
             name: name.into(),
-            parameters: id.kept.len(),
-            fit: stats(&nominal, &f.x, data),
+            parameters: cal.kept.len(),
+            fit: stats(&nominal, &cal.fit.x, data),
             cv_rms_mm: Some(cv),
-            holdout: holdout.map(|h| stats(&nominal, &f.x, h)),
+            holdout: holdout.map(|h| stats(&nominal, &cal.fit.x, h)),
         });
-        last = Some((id, f));
+        last = Some(cal);
     }
-    let Some((id, full)) = last else {
+    let Some(cal) = last else {
         return Err(Error::input("no calibration stage ran"));
     };
     let [raw, rigid, point, geometry] = [0, 1, 2, 3].map(|i| &stages[i]);
@@ -237,9 +249,10 @@ pub fn diagnose_chain(
         "The data have no temperatures (time is only an order): no thermal effect can be named."
     }
     .to_string();
-    let rows = residual_rows(&nominal, &full, data);
+    let full = &cal.fit;
+    let rows = residual_rows(&nominal, full, data);
     let remainder_fit = remainder(&rows);
-    let holdout_remainder = holdout.map(|h| remainder(&residual_rows(&nominal, &full, h)));
+    let holdout_remainder = holdout.map(|h| remainder(&residual_rows(&nominal, full, h)));
     let mut words = vec![format!(
         "Gap of the nominal {} at `{}`: {:.3} mm RMS as measured, {:.3} mm after a rigid instrument frame.",
         setup.robot, setup.point_name, raw.fit.rms_mm, rigid.fit.rms_mm
@@ -249,7 +262,7 @@ pub fn diagnose_chain(
         point.fit.rms_mm,
         cv_point,
         geometry.parameters,
-        id.dropped.len(),
+        cal.dropped.len(),
         geometry.fit.rms_mm,
         cv_geom
     ));
@@ -290,10 +303,10 @@ pub fn diagnose_chain(
         stages,
         named,
         thermal,
-        parameters: full.params,
-        dropped: id.dropped,
-        rank: id.rank,
-        condition: id.condition,
+        parameters: full.params.clone(),
+        dropped: cal.dropped,
+        rank: cal.rank,
+        condition: cal.condition,
         remainder: remainder_fit,
         holdout_remainder,
         words,

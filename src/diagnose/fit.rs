@@ -9,8 +9,10 @@
 //! set), a Jacobian reused across steps (the effects are nearly linear), and
 //! a statistical stopping rule.
 
+use super::plausible;
+use super::unidentified::Unidentified;
 use crate::error::{Error, ErrorKind, Result};
-use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
+use crate::model::effects::GEOMETRY_ORIGINS_FROM;
 use crate::model::{predict, Base, Effect, EffectKind, LinkLags, RowState};
 use crate::robot::Joints;
 use crate::thermal::MotorTemps;
@@ -57,6 +59,13 @@ pub struct Problem {
     /// reflector, a frame, sag) is then absorbed whatever its form, and
     /// only what changes with time is left to the effects.
     pub centre_poses: bool,
+    /// Fit the joint-origin part of geometry-offset (a full kinematic
+    /// calibration): only where the poses are enough for it, else it would
+    /// fit each pose's own error and predict no other.
+    pub origins: bool,
+    /// Fits already made on this problem or one derived from it, by what
+    /// they were fitted to ([`super::memo`]).
+    pub memo: super::memo::Memo<Fit>,
 }
 
 impl Problem {
@@ -136,6 +145,12 @@ impl Problem {
         }
     }
 
+    /// Subtract from each entry of every column of `m` (`width()` rows per
+    /// data row of `rows`) its pose's mean.
+    pub(crate) fn centre_columns(&self, m: &mut DMatrix<f64>, rows: &[usize]) {
+        self.centre(m, rows);
+    }
+
     /// Positions in `rows` grouped by pose (every pose's rows together).
     pub fn pose_groups(&self, rows: &[usize]) -> Vec<Vec<usize>> {
         let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
@@ -165,18 +180,50 @@ impl Problem {
 
     /// Predicted flange poses of `rows` with the fixed effects plus `extra`.
     pub fn predict_rows(&self, extra: &[Effect], rows: &[usize]) -> Vec<nalgebra::Isometry3<f64>> {
+        let all = self.with_fixed(extra);
+        let lagged = self.lagged_states(&all, rows);
+        self.predict_with(&all, rows, lagged.as_deref())
+    }
+
+    /// The fixed effects followed by `extra`.
+    fn with_fixed(&self, extra: &[Effect]) -> Vec<Effect> {
         let mut all = self.fixed.clone();
         all.extend_from_slice(extra);
-        let lag = LinkLags::new(&self.history, &all);
+        all
+    }
+
+    /// Per row of `rows`, the motor temperatures through each link's lag
+    /// for the time constants of `all` (`None` without a lag). A fit
+    /// computes them once per set of time constants: every column of a
+    /// Jacobian but the time constants' own shares them.
+    fn lagged_states(&self, all: &[Effect], rows: &[usize]) -> Option<Vec<[MotorTemps; 4]>> {
+        let lag = LinkLags::new(&self.history, all)?;
+        Some(
+            rows.iter()
+                .filter_map(|&i| self.rows.get(i))
+                .map(|r| lag.at(r.time_min))
+                .collect(),
+        )
+    }
+
+    /// [`Problem::predict_rows`] for all the effects `all` (fixed ones
+    /// included), with their lagged temperatures given.
+    fn predict_with(
+        &self,
+        all: &[Effect],
+        rows: &[usize],
+        lagged: Option<&[[MotorTemps; 4]]>,
+    ) -> Vec<nalgebra::Isometry3<f64>> {
         rows.iter()
             .filter_map(|&i| self.rows.get(i))
-            .map(|r| {
+            .enumerate()
+            .map(|(k, r)| {
                 let state = RowState {
                     q: r.q,
                     temps: r.temps,
-                    lagged: lag.as_ref().map(|l| l.at(r.time_min)),
+                    lagged: lagged.and_then(|l| l.get(k).copied()),
                 };
-                predict(&self.base, &all, &state)
+                predict(&self.base, all, &state)
             })
             .collect()
     }
@@ -193,9 +240,27 @@ impl Problem {
     /// The stacked residual vector (positions in mm, orientations in mrad
     /// times `w_ori`).
     pub fn residuals(&self, extra: &[Effect], rows: &[usize]) -> DVector<f64> {
+        let all = self.with_fixed(extra);
+        let lagged = self.lagged_states(&all, rows);
+        self.residuals_with(&all, rows, lagged.as_deref())
+    }
+
+    /// [`Problem::residuals`] for all the effects `all` (fixed ones
+    /// included), with their lagged temperatures given.
+    fn residuals_with(
+        &self,
+        all: &[Effect],
+        rows: &[usize],
+        lagged: Option<&[[MotorTemps; 4]]>,
+    ) -> DVector<f64> {
         let w = self.width();
         let mut out = DVector::zeros(rows.len() * w);
-        for (k, (pose, &i)) in self.predict_rows(extra, rows).iter().zip(rows).enumerate() {
+        for (k, (pose, &i)) in self
+            .predict_with(all, rows, lagged)
+            .iter()
+            .zip(rows)
+            .enumerate()
+        {
             let Some(r) = self.rows.get(i) else { continue };
             let d = r.position - pose.translation.vector;
             out.fixed_rows_mut::<3>(k * w).copy_from(&d);
@@ -223,6 +288,9 @@ pub struct Param {
     /// Standard error; `None` when the data cannot identify the parameter
     /// (held at zero).
     pub stderr: Option<f64>,
+    /// Why the data cannot identify it, where they cannot (held at zero; a
+    /// time constant keeps its start value).
+    pub held: Option<Unidentified>,
 }
 
 /// The outcome of a fit.
@@ -247,9 +315,63 @@ impl Fit {
     }
 }
 
+impl Problem {
+    /// The parameters of `layout` (effect, index) the fit may free: those
+    /// with a place on the arm, and the joint origins only where asked for.
+    fn allowed(&self, layout: &[(EffectKind, usize)]) -> Vec<usize> {
+        (0..layout.len())
+            .filter(|&p| {
+                let (kind, idx) = layout[p];
+                (kind != EffectKind::GeometryOffset || idx < GEOMETRY_ORIGINS_FROM || self.origins)
+                    && self.base.nominal.has_param(kind, idx)
+            })
+            .collect()
+    }
+
+    /// How many parameters of `kinds` (none of them the lag) the rows `rows`
+    /// identify against the noise: the rank of what a fit of them could
+    /// take up.
+    pub fn identifiable_rank(&self, kinds: &[EffectKind], rows: &[usize]) -> usize {
+        let layout: Vec<(EffectKind, usize)> = kinds
+            .iter()
+            .flat_map(|&k| (0..k.params().len()).map(move |i| (k, i)))
+            .collect();
+        let Some(j) = self.cached_jacobian(kinds, rows) else {
+            return 0;
+        };
+        let allowed = self.allowed(&layout);
+        let typ: Vec<f64> = allowed
+            .iter()
+            .map(|&p| {
+                let (k, i) = layout[p];
+                k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6))
+            })
+            .collect();
+        let bounds: Vec<(EffectKind, f64)> = allowed
+            .iter()
+            .map(|&p| (layout[p].0, plausible::bound(layout[p].0, layout[p].1)))
+            .collect();
+        identifiable(
+            &j.select_columns(allowed.iter()),
+            &typ,
+            &bounds,
+            self.noise_mm,
+        )
+        .0
+        .len()
+    }
+}
+
 /// Relative singular value under which a parameter direction counts as not
 /// identifiable on these data.
 const IDENTIFIABLE: f64 = 1e-5;
+/// Largest standard error of an identifiable direction, in typical sizes
+/// (the defaults of `data/effects.toml`): real errors run to several times
+/// those illustrations (an arm's joint origins off by 0.1 mm where the
+/// default is 0.03), and a direction pinned to a fifth of its real size is
+/// worth fitting. Its noise floor: the singular value of the scaled
+/// columns (mm of the data per typical step) at least the noise over this.
+const SE_IN_TYPICAL: f64 = 5.0;
 const MAX_ITER: usize = 100;
 /// Longest thermal-lag time constant fitted, minutes: a structure that
 /// lags by more than 10 h hardly warms during a test, which
@@ -259,6 +381,66 @@ const MAX_TAU_MIN: f64 = 600.0;
 /// Fit the parameters of `kinds` (added to the problem's fixed effects) to
 /// the rows `rows`.
 pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fit> {
+    fit_bounded(problem, rows, kinds, false, None)
+}
+
+/// [`fit`] started from `start` (the values of the effects of those kinds
+/// found there; the others start at zero), where a fit of the same model
+/// nearby is known: a held-out fold's from the fit on all rows, a joint fit
+/// from the fits of its parts. The time constants' grid search is skipped,
+/// and the fit ends in the minimum nearest to what was found.
+pub fn fit_from(
+    problem: &Problem,
+    rows: &[usize],
+    kinds: &[EffectKind],
+    start: &[Effect],
+) -> Result<Fit> {
+    let theta: Vec<f64> = kinds
+        .iter()
+        .flat_map(|&k| {
+            let found = start.iter().find(|e| e.kind == k);
+            (0..k.params().len()).map(move |i| found.map_or(0.0, |e| e.get(i)))
+        })
+        .collect();
+    fit_bounded(problem, rows, kinds, false, Some(&theta))
+}
+
+/// [`fit`] for a model that is reported: a parameter that ends beyond its
+/// plausible bound (`data/plausible_effects.toml`) is held at zero, with
+/// the value it took as the reason, and the fit goes on without it. Held
+/// out scores and the tests between models use [`fit`]: a pair of
+/// parameters trading against each other predicts as well as one of them
+/// alone, and the extra fits would cost minutes on a thousand poses.
+pub fn fit_plausible(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fit> {
+    fit_bounded(problem, rows, kinds, true, None)
+}
+
+fn fit_bounded(
+    problem: &Problem,
+    rows: &[usize],
+    kinds: &[EffectKind],
+    plausible_only: bool,
+    start: Option<&[f64]>,
+) -> Result<Fit> {
+    let key = Problem::memo_key(problem, rows, kinds, plausible_only, start);
+    if let Some(f) = problem.memo.get(&key) {
+        return Ok(f);
+    }
+    let f = fit_afresh(problem, rows, kinds, plausible_only, start)?;
+    problem.memo.put(key, &f);
+    Ok(f)
+}
+
+/// The time constants (as bits) and the lagged temperatures of each row.
+type LagMemo = ([u64; 4], std::rc::Rc<Vec<[MotorTemps; 4]>>);
+
+fn fit_afresh(
+    problem: &Problem,
+    rows: &[usize],
+    kinds: &[EffectKind],
+    plausible_only: bool,
+    start: Option<&[f64]>,
+) -> Result<Fit> {
     let layout: Vec<(EffectKind, usize)> = kinds
         .iter()
         .flat_map(|&k| (0..k.params().len()).map(move |i| (k, i)))
@@ -277,7 +459,25 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
             })
             .collect()
     };
-    let residual = |theta: &[f64]| problem.residuals(&effects_of(theta), rows);
+    // The lagged temperatures of the last time constants seen: every
+    // Jacobian column but the time constants' own reuses them.
+    let lag_memo: std::cell::RefCell<Option<LagMemo>> = Default::default();
+    let residual = |theta: &[f64]| {
+        let all = problem.with_fixed(&effects_of(theta));
+        let lagged = crate::model::lag_taus(&all).and_then(|taus| {
+            let key = taus.map(f64::to_bits);
+            let mut memo = lag_memo.borrow_mut();
+            match memo.as_ref() {
+                Some((k, v)) if *k == key => Some(v.clone()),
+                _ => {
+                    let v = std::rc::Rc::new(problem.lagged_states(&all, rows)?);
+                    *memo = Some((key, v.clone()));
+                    Some(v)
+                }
+            }
+        });
+        problem.residuals_with(&all, rows, lagged.as_deref().map(Vec::as_slice))
+    };
     let jacobian = |theta: &[f64], r0: &DVector<f64>, free: &[usize]| -> DMatrix<f64> {
         let mut j = DMatrix::zeros(r0.len(), free.len());
         for (c, &p) in free.iter().enumerate() {
@@ -292,7 +492,11 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         j
     };
 
-    let mut theta = vec![0.0; m];
+    let mut theta = match start {
+        Some(t) if t.len() == m => t.to_vec(),
+        _ => vec![0.0; m],
+    };
+    let warm = theta.iter().any(|&v| v != 0.0);
     // The thermal-lag time constants: nonlinear, and never negative.
     let lag_params: Vec<usize> = (0..m)
         .filter(|&p| layout[p].0 == EffectKind::ThermalLag)
@@ -303,7 +507,7 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
             rows.len()
         )));
     }
-    if !lag_params.is_empty() {
+    if !lag_params.is_empty() && !warm {
         // τ is strongly nonlinear: start from the best of a coarse grid (one
         // τ for all links), with the other parameters solved linearly at
         // each τ.
@@ -334,6 +538,8 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     // Identifiability at the start point.
     let r0 = residual(&theta);
     let all: Vec<usize> = (0..m).collect();
+    // Without a lag the effects are nearly linear: the Jacobian at zero
+    // serves a warm start too (a step that fails refreshes it).
     let j0 = match lag_params.is_empty() {
         true => problem.cached_jacobian(kinds, rows),
         false => None,
@@ -343,30 +549,45 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
         .iter()
         .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
         .collect();
-    // The joint-origin part of geometry-offset only from enough poses: with
-    // fewer, it would fit each pose's own error and predict no other.
-    let poses: std::collections::BTreeSet<usize> = rows
+    let allowed = problem.allowed(&layout);
+    let bounds: Vec<f64> = layout
         .iter()
-        .filter_map(|&i| problem.rows.get(i))
-        .map(|r| r.pose)
+        .map(|&(k, i)| plausible::bound(k, i))
         .collect();
-    let allowed: Vec<usize> = (0..m)
-        .filter(|&p| {
-            let (kind, idx) = layout[p];
-            (kind != EffectKind::GeometryOffset
-                || idx < GEOMETRY_ORIGINS_FROM
-                || poses.len() >= FULL_GEOMETRY_POSES)
-                && problem.base.nominal.has_param(kind, idx)
-        })
-        .collect();
-    let free: Vec<usize> = {
+    let mut held: BTreeMap<usize, Unidentified> = BTreeMap::new();
+    let mut free: Vec<usize> = {
         let sub = j0.select_columns(allowed.iter());
         let typ: Vec<f64> = allowed.iter().map(|&p| typical[p]).collect();
-        identifiable(&sub, &typ, problem.noise_mm)
-            .into_iter()
-            .map(|c| allowed[c])
-            .collect()
+        let bnd: Vec<(EffectKind, f64)> =
+            allowed.iter().map(|&p| (layout[p].0, bounds[p])).collect();
+        let (kept, dropped) = identifiable(&sub, &typ, &bnd, problem.noise_mm);
+        for (c, why) in dropped {
+            held.insert(
+                allowed[c],
+                match why {
+                    Dropped::NoLever(lever_mm) => Unidentified::NoLever { lever_mm },
+                    Dropped::Unresolved(stderr) => Unidentified::Unresolved {
+                        stderr,
+                        limit: SE_IN_TYPICAL * typical[allowed[c]],
+                    },
+                    Dropped::SameAs(independent, partners) => Unidentified::SameAs {
+                        independent,
+                        same_as: partners
+                            .iter()
+                            .map(|&k| name_of(layout[allowed[k]]))
+                            .collect(),
+                    },
+                },
+            );
+        }
+        kept.into_iter().map(|c| allowed[c]).collect()
     };
+    // Levenberg–Marquardt with Marquardt's diagonal scaling; for a reported
+    // model, repeated while parameters end beyond their plausible bounds
+    // (those are held at zero, with the value each took as the reason): a
+    // value no real arm has is the fit wandering along a direction the data
+    // hardly constrain, often two parameters trading against each other.
+    let mut total_iterations = 0;
     for (p, value) in theta.iter_mut().enumerate() {
         // A time constant the data cannot pin keeps its grid value (zero
         // would mean "no lag", a claim the data do not support either).
@@ -374,118 +595,150 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
             *value = 0.0;
         }
     }
-
-    // Levenberg–Marquardt with Marquardt's diagonal scaling. The Jacobian
-    // is reused while steps keep lowering the residual (the effects are
-    // nearly linear in their parameters) and recomputed when one fails.
-    let mut r = residual(&theta);
-    let mut rss = r.norm_squared();
-    let mut lambda = 1e-6;
-    let mut iterations = 0;
-    let mut converged = free.is_empty();
-    let mut j = DMatrix::zeros(r.len(), free.len());
+    let mut j = DMatrix::zeros(rows.len() * problem.width(), free.len());
     for (c, &p) in free.iter().enumerate() {
         j.set_column(c, &j0.column(p));
     }
     let mut fresh = true;
-    // RSS at the end of each iteration: a fit that creeps along a flat
-    // valley (a time constant the data hardly pin) has converged for every
-    // statistical purpose once ten iterations lower χ² by less than 0.1.
-    let mut history: Vec<f64> = Vec::new();
-    while !converged && iterations < MAX_ITER {
-        iterations += 1;
-        history.push(rss);
-        if history.len() > 10 && history[history.len() - 11] - rss <= 0.1 * rss / n_obs as f64 {
-            converged = true;
-            break;
-        }
-        let mut g = j.transpose() * &r;
-        let mut a = j.transpose() * &j;
-        // A time constant on a bound (0, or MAX_TAU_MIN) that the data push
-        // beyond it: hold it there this iteration (active set).
-        for (c, &p) in free.iter().enumerate() {
-            let at_bound =
-                (theta[p] <= 0.0 && g[c] < 0.0) || (theta[p] >= MAX_TAU_MIN && g[c] > 0.0);
-            if lag_params.contains(&p) && at_bound {
-                g[c] = 0.0;
-                for k in 0..free.len() {
-                    if k != c {
-                        a[(c, k)] = 0.0;
-                        a[(k, c)] = 0.0;
+    let (theta, rss, j, free) = loop {
+        // The Jacobian is reused while steps keep lowering the residual (the
+        // effects are nearly linear in their parameters) and recomputed when
+        // one fails.
+        let mut r = residual(&theta);
+        let mut rss = r.norm_squared();
+        let mut lambda = 1e-6;
+        let mut iterations = 0;
+        let mut converged = free.is_empty();
+        // RSS at the end of each iteration: a fit that creeps along a flat
+        // valley (a time constant the data hardly pin) has converged for every
+        // statistical purpose once ten iterations lower χ² by less than 0.1.
+        let mut history: Vec<f64> = Vec::new();
+        while !converged && iterations < MAX_ITER {
+            iterations += 1;
+            history.push(rss);
+            if history.len() > 10 && history[history.len() - 11] - rss <= 0.1 * rss / n_obs as f64 {
+                converged = true;
+                break;
+            }
+            let mut g = j.transpose() * &r;
+            let mut a = j.transpose() * &j;
+            // A time constant on a bound (0, or MAX_TAU_MIN) that the data push
+            // beyond it: hold it there this iteration (active set).
+            for (c, &p) in free.iter().enumerate() {
+                let at_bound =
+                    (theta[p] <= 0.0 && g[c] < 0.0) || (theta[p] >= MAX_TAU_MIN && g[c] > 0.0);
+                if lag_params.contains(&p) && at_bound {
+                    g[c] = 0.0;
+                    for k in 0..free.len() {
+                        if k != c {
+                            a[(c, k)] = 0.0;
+                            a[(k, c)] = 0.0;
+                        }
                     }
                 }
             }
-        }
-        if at_minimum(&a, &g, rss, n_obs) {
-            if fresh {
-                converged = true;
-                break;
+            if at_minimum(&a, &g, rss, n_obs) {
+                if fresh {
+                    converged = true;
+                    break;
+                }
+                j = jacobian(&theta, &r, &free);
+                fresh = true;
+                continue;
             }
-            j = jacobian(&theta, &r, &free);
-            fresh = true;
-            continue;
-        }
-        let Some(step) = solve_damped(&a, &g, lambda) else {
-            lambda = (lambda * 10.0).max(1e-9);
-            if lambda > 1e12 {
-                break;
+            let Some(step) = solve_damped(&a, &g, lambda) else {
+                lambda = (lambda * 10.0).max(1e-9);
+                if lambda > 1e12 {
+                    break;
+                }
+                continue;
+            };
+            let mut t = theta.clone();
+            for (c, &p) in free.iter().enumerate() {
+                t[p] += step[c];
             }
-            continue;
-        };
-        let mut t = theta.clone();
-        for (c, &p) in free.iter().enumerate() {
-            t[p] += step[c];
-        }
-        for &li in &lag_params {
-            t[li] = t[li].clamp(0.0, MAX_TAU_MIN);
-        }
-        let r1 = residual(&t);
-        let rss1 = r1.norm_squared();
-        if rss1.is_finite() && rss1 <= rss {
-            let gain = (rss - rss1) / rss.max(1e-300);
-            theta = t;
-            r = r1;
-            rss = rss1;
-            lambda = (lambda / 5.0).max(1e-12);
-            if gain < 1e-12 && fresh {
-                converged = true;
-            } else if gain < 1e-4 && !lag_params.is_empty() {
-                // Slow progress on a reused Jacobian: the step direction is
-                // stale (a time constant, the one strongly nonlinear
-                // parameter, moved); refresh it.
+            for &li in &lag_params {
+                t[li] = t[li].clamp(0.0, MAX_TAU_MIN);
+            }
+            let r1 = residual(&t);
+            let rss1 = r1.norm_squared();
+            if rss1.is_finite() && rss1 <= rss {
+                let gain = (rss - rss1) / rss.max(1e-300);
+                theta = t;
+                r = r1;
+                rss = rss1;
+                lambda = (lambda / 5.0).max(1e-12);
+                if gain < 1e-12 && fresh {
+                    converged = true;
+                } else if gain < 1e-4 && !lag_params.is_empty() {
+                    // Slow progress on a reused Jacobian: the step direction is
+                    // stale (a time constant, the one strongly nonlinear
+                    // parameter, moved); refresh it.
+                    j = jacobian(&theta, &r, &free);
+                    fresh = true;
+                } else {
+                    fresh = false;
+                }
+            } else if !fresh {
                 j = jacobian(&theta, &r, &free);
                 fresh = true;
             } else {
-                fresh = false;
-            }
-        } else if !fresh {
-            j = jacobian(&theta, &r, &free);
-            fresh = true;
-        } else {
-            lambda = (lambda * 8.0).max(1e-9);
-            if lambda > 1e12 {
-                // No step lowers the residual, not even a vanishing one
-                // along the gradient of a fresh Jacobian: a minimum as far
-                // as the arithmetic can tell (a time constant on its bound
-                // leaves a gradient it may not follow).
-                converged = fresh || gradient_small(&a, &g, rss * 1e4);
-                break;
+                lambda = (lambda * 8.0).max(1e-9);
+                if lambda > 1e12 {
+                    // No step lowers the residual, not even a vanishing one
+                    // along the gradient of a fresh Jacobian: a minimum as far
+                    // as the arithmetic can tell (a time constant on its bound
+                    // leaves a gradient it may not follow).
+                    converged = fresh || gradient_small(&a, &g, rss * 1e4);
+                    break;
+                }
             }
         }
-    }
-    if !converged {
-        return Err(Error::new(
-            ErrorKind::NoConvergence,
-            format!(
-                "the fit of {} did not converge in {iterations} iterations",
-                kinds
-                    .iter()
-                    .map(|k| k.name())
-                    .collect::<Vec<_>>()
-                    .join(" + ")
-            ),
-        ));
-    }
+        total_iterations += iterations;
+        if !converged {
+            return Err(Error::new(
+                ErrorKind::NoConvergence,
+                format!(
+                    "the fit of {} did not converge in {iterations} iterations",
+                    kinds
+                        .iter()
+                        .map(|k| k.name())
+                        .collect::<Vec<_>>()
+                        .join(" + ")
+                ),
+            ));
+        }
+        // Every parameter beyond its bound at once: one at a time, each
+        // with a fit of its own, cost minutes on a thousand poses where a
+        // thermal effect took up a static error with all its parameters.
+        let beyond: Vec<usize> = free
+            .iter()
+            .copied()
+            .filter(|&p| theta[p].abs() > bounds[p])
+            .collect();
+        if beyond.is_empty() || !plausible_only {
+            break (theta, rss, j, free);
+        }
+        // The fit goes on from where it stopped, those held at zero and
+        // their columns dropped.
+        let keep: Vec<usize> = (0..free.len())
+            .filter(|&c| !beyond.contains(&free[c]))
+            .collect();
+        j = j.select_columns(keep.iter());
+        fresh = false;
+        for p in beyond {
+            held.insert(
+                p,
+                Unidentified::Implausible {
+                    value: theta[p],
+                    limit: bounds[p],
+                },
+            );
+            theta[p] = 0.0;
+            free.retain(|&f| f != p);
+        }
+    };
+    let iterations = total_iterations;
     let dof = (n_obs - free.len()).max(1) as f64;
     let sigma2 = rss / dof;
     let cov = (j.transpose() * &j).try_inverse();
@@ -507,6 +760,7 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
             list.push(Param {
                 value: theta[p],
                 stderr,
+                held: held.get(&p).cloned(),
             });
         }
     }
@@ -520,16 +774,50 @@ pub fn fit(problem: &Problem, rows: &[usize], kinds: &[EffectKind]) -> Result<Fi
     })
 }
 
-/// Parameters the data identify. Columns are scaled by each parameter's
-/// typical size, so a singular value is how far (mm, over all residuals)
-/// the data move when the parameters move one typical size along that
-/// direction. A direction that moves them less than the noise `sigma` (or
-/// is numerically degenerate) cannot be told from noise: the parameter
-/// weighing most in it is held at zero, and the test repeats. This drops
-/// the axis-6 zero without orientation data, c1 against a tracker's z, or a
-/// base tilt seen from a single pose, instead of fitting them to huge
-/// values.
-fn identifiable(j: &DMatrix<f64>, typical: &[f64], sigma: f64) -> Vec<usize> {
+/// Why [`identifiable`] held a column, before it is named.
+enum Dropped {
+    /// The column hardly moves the data at all: its largest entry per unit
+    /// of the parameter, mm.
+    NoLever(f64),
+    /// Its direction moves the data less than the noise over
+    /// [`SE_IN_TYPICAL`] typical sizes: the standard error it would have, in
+    /// its unit.
+    Unresolved(f64),
+    /// It moves the data (nearly) as the columns listed do: the share of
+    /// its scaled norm along the direction the data do not pin.
+    SameAs(f64, Vec<usize>),
+}
+
+/// `effect.param`, as reports name a parameter.
+fn name_of((kind, index): (EffectKind, usize)) -> String {
+    format!(
+        "{}.{}",
+        kind.name(),
+        kind.params().get(index).map_or("?", |p| p.name)
+    )
+}
+
+/// Parameters the data identify, and why each other one is held. Columns
+/// are scaled by each parameter's typical size, so a singular value is how
+/// far (mm, over all residuals) the data move when the parameters move one
+/// typical size along that direction. A direction that moves them less than
+/// the noise `sigma` over [`SE_IN_TYPICAL`] (its standard error would
+/// exceed that many typical sizes), or is numerically degenerate, cannot be
+/// told from noise: of the parameters that carry it, the one with the
+/// smallest plausible bound (`bounds`: each column's effect and bound, in
+/// its unit; compared within one effect) is held at zero, and the test
+/// repeats. Of two parameters that move the data
+/// alike, the one that can plausibly take the larger value is kept (a
+/// reflector 31 mm off the flange is the measured point's offset, not a
+/// wrist origin 28 mm off). This drops the axis-6 zero without orientation
+/// data, c1 against a tracker's z, or a base tilt seen from a single pose,
+/// instead of fitting them to huge values.
+fn identifiable(
+    j: &DMatrix<f64>,
+    typical: &[f64],
+    bounds: &[(EffectKind, f64)],
+    sigma: f64,
+) -> (Vec<usize>, Vec<(usize, Dropped)>) {
     let scale: Vec<f64> = (0..j.ncols())
         .map(|c| typical.get(c).copied().unwrap_or(1.0))
         .collect();
@@ -538,7 +826,16 @@ fn identifiable(j: &DMatrix<f64>, typical: &[f64], sigma: f64) -> Vec<usize> {
         .zip(&scale)
         .map(|(c, t)| c.norm() * t)
         .collect();
-    let mut free: Vec<usize> = (0..j.ncols()).filter(|&c| norms[c] > 1e-9).collect();
+    let mut dropped: Vec<(usize, Dropped)> = Vec::new();
+    let mut free: Vec<usize> = Vec::new();
+    for (c, &norm) in norms.iter().enumerate() {
+        if norm > 1e-9 {
+            free.push(c);
+        } else {
+            let lever = j.column(c).amax();
+            dropped.push((c, Dropped::NoLever(lever)));
+        }
+    }
     // The Gram matrix of the scaled columns, once: the singular values and
     // right singular vectors of any set of columns are the square roots
     // and eigenvectors of its block (a tall SVD per dropped parameter cost
@@ -560,19 +857,54 @@ fn identifiable(j: &DMatrix<f64>, typical: &[f64], sigma: f64) -> Vec<usize> {
                     |a, (i, v)| if v < a.1 { (i, v) } else { a },
                 );
         let smax = values.iter().copied().fold(0.0, f64::max);
-        if smin >= sigma.max(IDENTIFIABLE * smax) {
+        if smin >= (sigma / SE_IN_TYPICAL).max(IDENTIFIABLE * smax) {
             break;
         }
         let row = eig.eigenvectors.column(imin);
+        // Of the parameters that carry a good part of the direction (a
+        // third of the largest weight or more), the one with the least room
+        // (the smallest plausible bound) is held; among equal bounds, the
+        // one weighing most, the later in the order of preference on a tie.
+        let largest = row.amax();
+        // Bounds are compared within one effect only: between effects
+        // (an instrument frame against a joint origin) the order of
+        // preference decides, as before bounds were known.
+        let bound = |c: usize| bounds.get(free[c]).copied();
         let mut worst = 0;
         for c in 0..free.len() {
-            if row[c].abs() >= row[worst].abs() * (1.0 - 1e-6) {
+            if row[c].abs() < largest / 3.0 {
+                continue;
+            }
+            let room = match (bound(c), bound(worst)) {
+                (Some((ka, a)), Some((kb, b))) if ka == kb => a.total_cmp(&b),
+                _ => std::cmp::Ordering::Equal,
+            };
+            let better = if row[worst].abs() < largest / 3.0 {
+                true
+            } else if room != std::cmp::Ordering::Equal {
+                room == std::cmp::Ordering::Less
+            } else {
+                row[c].abs() >= row[worst].abs() * (1.0 - 1e-6)
+            };
+            if better {
                 worst = c;
             }
         }
+        let p = free[worst];
+        // Its partners: the others that carry a good part of it.
+        let partners: Vec<usize> = (0..free.len())
+            .filter(|&c| c != worst && row[c].abs() >= largest / 3.0)
+            .map(|c| free[c])
+            .collect();
+        let why = if partners.is_empty() {
+            Dropped::Unresolved(sigma / smin.max(1e-300) * scale[p])
+        } else {
+            Dropped::SameAs((smin / norms[p]).min(1.0), partners)
+        };
+        dropped.push((p, why));
         free.remove(worst);
     }
-    free
+    (free, dropped)
 }
 
 /// Whether the fit is done: the gradient is negligible, or what a full
@@ -619,4 +951,37 @@ fn solve_scaled(j: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
         x.len(),
         x.iter().zip(&norms).map(|(v, n)| v / n),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two parameters that move the data alike (a wrist origin along the
+    /// last axis and the measured point along the flange's z, on a UR5): the
+    /// one that can plausibly take the larger value is kept, and the other
+    /// is held as the same effect, whichever comes first.
+    #[test]
+    fn of_two_alike_the_one_with_room_is_kept() {
+        let column = DVector::from_fn(30, |i, _| ((i * 7 % 11) as f64) - 5.0);
+        let mut j = DMatrix::zeros(30, 3);
+        j.set_column(0, &column);
+        j.set_column(1, &column);
+        j.set_column(2, &DVector::from_fn(30, |i, _| (i % 3) as f64));
+        let g = EffectKind::GeometryOffset;
+        for (bounds, kept, held) in [
+            ([(g, 10.0), (g, 100.0), (g, 10.0)], 1, 0),
+            ([(g, 100.0), (g, 10.0), (g, 10.0)], 0, 1),
+        ] {
+            let (free, dropped) = identifiable(&j, &[0.03, 0.03, 0.03], &bounds, 0.01);
+            assert!(free.contains(&kept) && free.contains(&2), "{free:?}");
+            assert_eq!(dropped.len(), 1);
+            assert_eq!(dropped[0].0, held);
+            assert!(
+                matches!(&dropped[0].1, Dropped::SameAs(_, with) if with == &vec![kept]),
+                "{:?}",
+                dropped[0].0
+            );
+        }
+    }
 }

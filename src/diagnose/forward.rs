@@ -1,14 +1,31 @@
-//! Forward selection over a pool of candidate effects: each step adds the
-//! candidate that lowers the held-out gap most, while it still drops
-//! clearly (by held-out score, by the noise it is above, and by BIC); a
-//! near tie with a collinear runner-up is recorded as an ambiguity. The
-//! selected set is refitted on all rows at the end.
+//! Forward selection over a pool of candidate effects, by significance: at
+//! each step every candidate is added to the model and tested against it
+//! (an F test of the drop in the residual sum of squares over the noise
+//! the data show, at the stage's level shared among the candidates tried),
+//! and, where the design allows, it must also predict held-out data
+//! better. Of those that pass, the one with the lowest held-out gap is
+//! added. Two effects that show only together (a lag on a scaled
+//! expansion) are tried as a pair when no single one passes. A runner-up
+//! the data cannot tell from the effect chosen (neither adds anything
+//! significant beyond the other) is named beside it as a candidate.
 
 use super::fit::{self, Problem};
 use super::select::{self, Folds};
+use super::stats::{NoiseDof, Test, LEVEL};
 use super::verdict::{Ambiguity, CandidateOut, ParamOut, Part, StepOut};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::EffectKind;
+
+/// The noise the tests compare with.
+#[derive(Debug, Clone, Copy)]
+pub struct TestNoise {
+    /// 3-D RMS of the noise, mm.
+    pub rms_mm: f64,
+    /// Variance of one residual component, mm².
+    pub sigma2: f64,
+    /// How well that variance is known.
+    pub dof: NoiseDof,
+}
 
 /// What a forward selection found.
 #[derive(Debug, Clone)]
@@ -19,37 +36,112 @@ pub struct Forward {
     pub cv: f64,
     /// The selected effects (and the base) refitted on all rows.
     pub fit: Option<fit::Fit>,
+    /// Residual sum of squares of the base on all rows, and its free
+    /// parameters.
+    pub rss0: f64,
+    pub free0: usize,
     pub steps: Vec<StepOut>,
     /// Every candidate's score at the first step.
     pub candidates: Vec<CandidateOut>,
     pub ambiguities: Vec<Ambiguity>,
 }
 
+impl Forward {
+    /// Residual sum of squares and free parameters of the final model.
+    pub fn rss(&self) -> (f64, usize) {
+        self.fit
+            .as_ref()
+            .map_or((self.rss0, self.free0), |f| (f.rss, f.n_free))
+    }
+}
+
+/// The parameters of a fit as reported. A value beyond its plausible bound
+/// (`data/plausible_effects.toml`) is declared implausible, as a reported
+/// model's fit holds it ([`fit::fit_plausible`]): a candidate's record of
+/// its fit alone (a thermal effect taking up static error with all its
+/// parameters, an expansion factor of 10,000) never shows it as a finding.
 pub fn params_out(fit: &fit::Fit) -> Vec<ParamOut> {
     fit.effects
         .iter()
         .zip(&fit.params)
         .flat_map(|(e, ps)| {
-            e.kind.params().iter().zip(ps).map(|(info, p)| ParamOut {
-                name: format!("{}.{}", e.kind.name(), info.name),
-                unit: info.unit.to_string(),
-                value: p.value,
-                stderr: p.stderr,
-            })
+            e.kind
+                .params()
+                .iter()
+                .zip(ps)
+                .enumerate()
+                .map(|(i, (info, p))| {
+                    let limit = super::plausible::bound(e.kind, i);
+                    let wild = p.held.is_none() && p.value.abs() > limit;
+                    ParamOut {
+                        name: format!("{}.{}", e.kind.name(), info.name),
+                        unit: info.unit.to_string(),
+                        value: if wild { 0.0 } else { p.value },
+                        stderr: if wild { None } else { p.stderr },
+                        held: if wild {
+                            Some(super::unidentified::Unidentified::Implausible {
+                                value: p.value,
+                                limit,
+                            })
+                        } else {
+                            p.held.clone()
+                        },
+                    }
+                })
         })
         .collect()
 }
 
-/// Select from `pool` on `problem` (fits judged against `noise_rms_mm`, the
-/// 3-D RMS of the noise), adding at most `max_effects` to `base` (always
-/// fitted with them, never reported as selected).
+/// Effects fitted earlier on another form of the data (the thermal effects
+/// over time), refitted together with the candidates for their F test:
+/// the static stage tests on the poses' means, which carry the error of
+/// those effects at each pose's mean temperature, not only noise.
+#[derive(Debug, Clone, Copy)]
+pub struct Joint<'a> {
+    pub problem: &'a Problem,
+    pub kinds: &'a [EffectKind],
+}
+
+impl Joint<'_> {
+    /// Residual sum of squares and free parameters of `selected` fitted
+    /// together with the joint effects.
+    fn rss(&self, selected: &[EffectKind]) -> Option<(f64, usize)> {
+        let all: Vec<usize> = (0..self.problem.rows.len()).collect();
+        let mut kinds = self.kinds.to_vec();
+        kinds.extend(selected.iter().copied());
+        fit::fit(self.problem, &all, &kinds)
+            .ok()
+            .map(|f| (f.rss, f.n_free))
+    }
+}
+
+/// Share of the held-out gap above the noise that going from `cv0` to `cv`
+/// (3-D RMS, mm) removes.
+/// Where the gap is within the scatter of held-out scores above the noise
+/// (5 % of its variance), there is nothing to share out: 0.
+pub fn share_above_noise(cv0: f64, cv: f64, noise_rms_mm: f64) -> f64 {
+    let n2 = noise_rms_mm * noise_rms_mm;
+    let above = cv0 * cv0 - n2;
+    if above <= 0.05 * n2 {
+        return 0.0;
+    }
+    ((cv0 * cv0 - cv * cv) / above).clamp(0.0, 1.0)
+}
+
+/// Select from `pool` on `problem`, adding at most `max_effects` to `base`
+/// (always fitted with them, never reported as selected). With
+/// `held_out`, a candidate must also lower the held-out mean-square gap,
+/// by more than that margin (mm²).
+#[allow(clippy::too_many_arguments)]
 pub fn forward(
     problem: &Problem,
     folds: &Folds,
     base: &[EffectKind],
     pool: &[EffectKind],
-    noise_rms_mm: f64,
+    noise: &TestNoise,
     max_effects: usize,
+    held_out: Option<f64>,
+    joint: Option<Joint>,
 ) -> Result<Forward> {
     let all: Vec<usize> = (0..problem.rows.len()).collect();
     let cv0 = select::cv_rms(problem, folds, base)?;
@@ -57,39 +149,50 @@ pub fn forward(
         [] => None,
         _ => Some(fit::fit(problem, &all, base)?),
     };
-    let r0 = problem.residuals(base_fit.as_ref().map_or(&[][..], |f| &f.effects[..]), &all);
-    let n_obs = r0.len().max(1) as f64;
-    let bic0 = match &base_fit {
-        Some(f) => f.bic(),
-        None => n_obs * (r0.norm_squared().max(1e-300) / n_obs).ln(),
+    let (rss0, free0) = match &base_fit {
+        Some(f) => (f.rss, f.n_free),
+        None => (problem.residuals(&[], &all).norm_squared(), 0),
     };
     let mut pool: Vec<EffectKind> = pool.iter().copied().filter(|k| !base.contains(k)).collect();
     // The slowest fit first, so that the threads finish together.
     pool.sort_by_key(|k| *k != EffectKind::ThermalLag);
     let mut selected: Vec<EffectKind> = base.to_vec();
     let mut current_fit: Option<fit::Fit> = base_fit;
-    let mut cur_cv = cv0;
-    let mut cur_bic = bic0;
+    let (mut cur_cv, mut cur_rss, mut cur_free) = (cv0, rss0, free0);
     let mut steps = Vec::new();
     let mut candidates: Vec<CandidateOut> = Vec::new();
-    let mut ambiguities = Vec::new();
-    let mut ties: Vec<Option<EffectKind>> = Vec::new();
-    let nr2 = noise_rms_mm * noise_rms_mm;
+    // Per step: the effect added and a runner-up that passed too.
+    let mut runners: Vec<(EffectKind, select::Scored)> = Vec::new();
+    let test_of = |s: &select::Scored, rss: f64, free: usize, level: f64| {
+        s.fit.as_ref().map(|f| {
+            Test::nested(
+                rss,
+                f.rss,
+                f.n_free.saturating_sub(free),
+                noise.sigma2,
+                noise.dof,
+                level,
+            )
+        })
+    };
     while selected.len() < base.len() + max_effects && !pool.is_empty() {
         let cur_effects = current_fit
             .as_ref()
             .map(|f| f.effects.clone())
             .unwrap_or_default();
         let mut scored = select::score_candidates(problem, folds, &selected, &cur_effects, &pool);
+        let tried = scored.iter().filter(|s| s.fit.is_some()).count().max(1);
+        let level = LEVEL / tried as f64;
         if steps.is_empty() {
             candidates = scored
                 .iter()
                 .map(|s| CandidateOut {
                     name: s.kind.name().into(),
                     part: Part::All,
-                    explained: 1.0 - (s.cv_rms_mm / cv0.max(1e-300)).powi(2),
+                    explained: share_above_noise(cv0, s.cv_rms_mm, noise.rms_mm),
                     cv_rms_mm: s.cv_rms_mm,
                     bic: s.fit.as_ref().map(fit::Fit::bic),
+                    test: test_of(s, cur_rss, cur_free, level),
                     params: s.fit.as_ref().map(params_out).unwrap_or_default(),
                     selected: false,
                     error: s.error.clone(),
@@ -97,26 +200,39 @@ pub fn forward(
                 .collect();
         }
         scored.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
-        let Some(best) = scored.first() else { break };
-        let Some(best_fit) = best.fit.clone() else {
-            break;
+        let joint_now = match joint {
+            Some(j) if !scored.is_empty() => j.rss(&selected),
+            _ => None,
         };
-        // A further effect must earn its place more clearly than the first:
-        // with each one added, the held-out score has been chosen over more
-        // candidates, and a small gain is likelier luck.
-        let factor = if selected.len() > base.len() {
-            0.85
-        } else {
-            0.9
+        let passes = |s: &select::Scored| {
+            test_of(s, cur_rss, cur_free, level).is_some_and(|t| t.significant())
+                && held_out.is_none_or(|m| s.cv_rms_mm.powi(2) < cur_cv.powi(2) - m)
+                && match (joint, joint_now) {
+                    (Some(j), Some((rss0, free0))) => {
+                        let mut with = selected.clone();
+                        with.push(s.kind);
+                        j.rss(&with).is_some_and(|(rss1, free1)| {
+                            Test::nested(
+                                rss0,
+                                rss1,
+                                free1.saturating_sub(free0),
+                                noise.sigma2,
+                                noise.dof,
+                                level,
+                            )
+                            .significant()
+                        })
+                    }
+                    _ => true,
+                }
         };
-        let drop_ok = best.cv_rms_mm < factor * cur_cv
-            && cur_cv * cur_cv - best.cv_rms_mm * best.cv_rms_mm > 0.2 * nr2
-            && best_fit.bic() < cur_bic - 10.0;
-        if !drop_ok {
+        let mut eligible = scored.iter().filter(|s| passes(s));
+        let Some(best) = eligible.next().cloned() else {
             // Two effects may show only together (a lag on a scaled
             // expansion: either alone fits the warm-up's shape poorly).
-            let Some((pair, pair_fit, pair_cv)) =
-                best_pair(problem, folds, &selected, &scored, cur_cv, cur_bic, nr2)?
+            let Some((pair, pair_fit, pair_cv)) = best_pair(
+                problem, folds, &selected, &scored, cur_cv, cur_rss, cur_free, noise, held_out,
+            )?
             else {
                 break;
             };
@@ -127,104 +243,154 @@ pub fn forward(
                 gap_after_mm: pair_cv,
                 drop_pct: 100.0 * (1.0 - pair_cv / cur_cv.max(1e-300)),
                 runner_up: None,
+                test: Some(Test::nested(
+                    cur_rss,
+                    pair_fit.rss,
+                    pair_fit.n_free.saturating_sub(cur_free),
+                    noise.sigma2,
+                    noise.dof,
+                    LEVEL,
+                )),
             });
             for k in pair {
                 selected.push(k);
-                ties.push(None);
                 pool.retain(|p| *p != k);
             }
             cur_cv = pair_cv;
-            cur_bic = pair_fit.bic();
+            (cur_rss, cur_free) = (pair_fit.rss, pair_fit.n_free);
             current_fit = Some(pair_fit);
-            if cur_cv <= 1.05 * noise_rms_mm {
-                break;
-            }
             continue;
-        }
-        let runner = scored.get(1).filter(|r| r.fit.is_some());
-        // A runner-up within half the noise variance is a near tie: which of
-        // the two fits better may only show with what is added later.
-        ties.push(
-            runner
-                .filter(|r| r.cv_rms_mm.powi(2) - best.cv_rms_mm.powi(2) < 0.5 * nr2)
-                .map(|r| r.kind),
-        );
-        if let Some(r) = runner {
-            let corr = select::collinearity(&best.contribution, &r.contribution);
-            // Nearly equal held-out scores: closer than a quarter of the
-            // noise variance (the scores' own scatter is a few percent of it).
-            let close = r.cv_rms_mm * r.cv_rms_mm - best.cv_rms_mm * best.cv_rms_mm < 0.25 * nr2;
-            if corr > 0.95 && close {
-                ambiguities.push(Ambiguity {
-                    pair: [best.kind.name().into(), r.kind.name().into()],
-                    correlation: Some(corr),
-                    separate_by: select::separating_advice(best.kind, r.kind),
-                });
-            }
-        }
+        };
+        let runner = eligible.next().cloned();
+        let Some(best_fit) = best.fit.clone() else {
+            break;
+        };
         steps.push(StepOut {
             added: best.kind.name().into(),
             part: Part::All,
             gap_before_mm: cur_cv,
             gap_after_mm: best.cv_rms_mm,
             drop_pct: 100.0 * (1.0 - best.cv_rms_mm / cur_cv.max(1e-300)),
-            runner_up: runner.map(|r| r.kind.name().to_string()),
+            runner_up: runner.as_ref().map(|r| r.kind.name().to_string()),
+            test: test_of(&best, cur_rss, cur_free, level),
         });
+        if let Some(r) = runner {
+            runners.push((best.kind, r));
+        }
         selected.push(best.kind);
         pool.retain(|k| *k != best.kind);
         cur_cv = best.cv_rms_mm;
-        cur_bic = best_fit.bic();
+        (cur_rss, cur_free) = (best_fit.rss, best_fit.n_free);
         current_fit = Some(best_fit);
-        if cur_cv <= 1.05 * noise_rms_mm {
-            break;
-        }
     }
-    // Near ties settled with the whole set: the runner-up in the place of
-    // the effect it tied with, kept where the set then scores better; where
-    // both sets score alike, the data cannot tell the two apart.
-    for (i, tie) in ties.iter().enumerate() {
-        let Some(runner) = *tie else { continue };
-        let at = base.len() + i;
-        if selected.contains(&runner) {
+    // A runner-up that passed at the same step, put in the place of the
+    // effect chosen: kept where the whole set then predicts held-out data
+    // better (which of two near-collinear effects fits may only show with
+    // what was added after them).
+    for (chosen, runner) in &runners {
+        if selected.contains(&runner.kind) {
             continue;
         }
+        let Some(at) = selected.iter().position(|k| k == chosen) else {
+            continue;
+        };
         let mut alt = selected.clone();
-        alt[at] = runner;
+        alt[at] = runner.kind;
         let Ok(cv_alt) = select::cv_rms(problem, folds, &alt) else {
             continue;
         };
-        let chosen = selected[at];
         if cv_alt < cur_cv {
             selected = alt;
             cur_cv = cv_alt;
             if let Some(step) = steps.iter_mut().find(|s| s.added == chosen.name()) {
-                step.added = runner.name().into();
+                step.added = runner.kind.name().into();
                 step.runner_up = Some(chosen.name().into());
             }
-            for a in &mut ambiguities {
-                if a.pair == [chosen.name().to_string(), runner.name().to_string()] {
-                    a.pair.swap(0, 1);
-                }
+        }
+    }
+    // Backward: an effect added early may have only stood in for those
+    // added after it (a joint drift for a lag on a scaled expansion). Each
+    // is tested against the model without it; the least significant that
+    // is not significant is dropped, and the test repeats.
+    while selected.len() > base.len() + 1 {
+        let Ok(full) = fit::fit(problem, &all, &selected) else {
+            break;
+        };
+        let mut weakest: Option<(f64, EffectKind)> = None;
+        for &k in &selected[base.len()..] {
+            let without: Vec<EffectKind> = selected.iter().copied().filter(|x| *x != k).collect();
+            let Ok(f) = fit::fit(problem, &all, &without) else {
+                continue;
+            };
+            let t = Test::nested(
+                f.rss,
+                full.rss,
+                full.n_free.saturating_sub(f.n_free),
+                noise.sigma2,
+                noise.dof,
+                LEVEL,
+            );
+            if !t.significant() && weakest.is_none_or(|(p, _)| t.p_value > p) {
+                weakest = Some((t.p_value, k));
             }
         }
-        if (cv_alt.powi(2) - cur_cv.powi(2)).abs() < 0.25 * nr2
-            && !ambiguities.iter().any(|a| {
-                a.pair.contains(&chosen.name().to_string())
-                    && a.pair.contains(&runner.name().to_string())
-            })
-        {
-            let (kept, other) = (
-                selected[at],
-                if selected[at] == runner {
-                    chosen
-                } else {
-                    runner
+        let Some((_, k)) = weakest else { break };
+        selected.retain(|x| *x != k);
+        steps.retain(|s| s.added != k.name());
+        cur_cv = select::cv_rms(problem, folds, &selected)?;
+    }
+    // A runner-up that passed at the same step and that the effect chosen
+    // adds nothing significant beyond: the data cannot tell the two apart,
+    // and both are named as candidates.
+    let mut ambiguities = Vec::new();
+    for (first, runner) in runners {
+        // The effect now in that place (the runner-up, where it was put
+        // in), against the other.
+        let (chosen, runner) = if selected.contains(&first) {
+            (first, runner)
+        } else if selected.contains(&runner.kind) {
+            // The effect put out's own contribution is not kept: no
+            // correlation is said.
+            (
+                runner.kind,
+                select::Scored {
+                    kind: first,
+                    contribution: Vec::new(),
+                    ..runner
                 },
-            );
+            )
+        } else {
+            continue;
+        };
+        let mut with_runner = selected.clone();
+        with_runner.push(runner.kind);
+        let swapped: Vec<EffectKind> = with_runner
+            .iter()
+            .copied()
+            .filter(|k| *k != chosen)
+            .collect();
+        let (Ok(both), Ok(alone)) = (
+            fit::fit(problem, &all, &with_runner),
+            fit::fit(problem, &all, &swapped),
+        ) else {
+            continue;
+        };
+        let beyond = Test::nested(
+            alone.rss,
+            both.rss,
+            both.n_free.saturating_sub(alone.n_free),
+            noise.sigma2,
+            noise.dof,
+            LEVEL,
+        );
+        if !beyond.significant() {
+            let best_contribution = select::score_contribution(problem, &selected, chosen);
             ambiguities.push(Ambiguity {
-                pair: [kept.name().into(), other.name().into()],
-                correlation: None,
-                separate_by: select::separating_advice(kept, other),
+                pair: [chosen.name().into(), runner.kind.name().into()],
+                correlation: best_contribution
+                    .filter(|_| !runner.contribution.is_empty())
+                    .map(|c| select::collinearity(&c, &runner.contribution)),
+                separate_by: select::separating_advice(chosen, runner.kind),
             });
         }
     }
@@ -232,7 +398,7 @@ pub fn forward(
     let fit = if selected.is_empty() {
         None
     } else {
-        Some(fit::fit(problem, &all, &selected).map_err(|e| {
+        Some(fit::fit_plausible(problem, &all, &selected).map_err(|e| {
             if e.kind == ErrorKind::NoConvergence {
                 Error::new(
                     ErrorKind::NoConvergence,
@@ -261,6 +427,8 @@ pub fn forward(
         cv0,
         cv: cur_cv,
         fit,
+        rss0,
+        free0,
         steps,
         candidates,
         ambiguities,
@@ -280,17 +448,19 @@ impl Forward {
 }
 
 /// The best pair of the three best single candidates, added together,
-/// when it drops the held-out gap by 15 %, by more than two fifths of the
-/// noise variance, to within 1.25 times the noise, and BIC agrees by twice
-/// the margin of one effect.
+/// when it is significant at the stage's level shared among the pairs
+/// tried and, where the design allows, lowers the held-out gap.
+#[allow(clippy::too_many_arguments)]
 fn best_pair(
     problem: &Problem,
     folds: &Folds,
     selected: &[EffectKind],
     scored: &[select::Scored],
     cur_cv: f64,
-    cur_bic: f64,
-    nr2: f64,
+    cur_rss: f64,
+    cur_free: usize,
+    noise: &TestNoise,
+    held_out: Option<f64>,
 ) -> Result<Option<([EffectKind; 2], fit::Fit, f64)>> {
     let all: Vec<usize> = (0..problem.rows.len()).collect();
     let top: Vec<EffectKind> = scored
@@ -299,32 +469,37 @@ fn best_pair(
         .take(3)
         .map(|s| s.kind)
         .collect();
-    let mut best: Option<([EffectKind; 2], f64)> = None;
+    let pairs = (top.len() * top.len().saturating_sub(1) / 2).max(1);
+    let level = LEVEL / pairs as f64;
+    let mut best: Option<([EffectKind; 2], fit::Fit, f64)> = None;
     for (i, &a) in top.iter().enumerate() {
         for &b in &top[i + 1..] {
             let mut kinds = selected.to_vec();
             kinds.extend([a, b]);
+            let Ok(f) = fit::fit(problem, &all, &kinds) else {
+                continue;
+            };
+            let t = Test::nested(
+                cur_rss,
+                f.rss,
+                f.n_free.saturating_sub(cur_free),
+                noise.sigma2,
+                noise.dof,
+                level,
+            );
+            if !t.significant() {
+                continue;
+            }
             let Ok(cv) = select::cv_rms(problem, folds, &kinds) else {
                 continue;
             };
-            if best.as_ref().is_none_or(|(_, c)| cv < *c) {
-                best = Some(([a, b], cv));
+            if held_out.is_some_and(|m| cv.powi(2) >= cur_cv.powi(2) - m) {
+                continue;
+            }
+            if best.as_ref().is_none_or(|(_, _, c)| cv < *c) {
+                best = Some(([a, b], f, cv));
             }
         }
     }
-    let Some((pair, cv)) = best else {
-        return Ok(None);
-    };
-    // And only a pair that leaves little more than noise: two effects bent
-    // together to half-follow a shape the library lacks (a lagged
-    // expansion for a room warming linearly) are a forced fit.
-    if !(cv < 0.85 * cur_cv && cur_cv * cur_cv - cv * cv > 0.4 * nr2 && cv * cv < 1.5625 * nr2) {
-        return Ok(None);
-    }
-    let mut kinds = selected.to_vec();
-    kinds.extend(pair);
-    let Ok(f) = fit::fit(problem, &all, &kinds) else {
-        return Ok(None);
-    };
-    Ok((f.bic() < cur_bic - 20.0).then_some((pair, f, cv)))
+    Ok(best)
 }

@@ -4,6 +4,7 @@
 use super::fit::Problem;
 use super::instrument::instrument;
 use super::prepare::Prepared;
+use super::stats::NoiseDof;
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
 use serde::Serialize;
@@ -101,7 +102,26 @@ pub struct Noise {
     pub source: NoiseSource,
 }
 
+/// Degrees of freedom per value of a noise level estimated from second
+/// differences: a median of absolute values has about 37 % of the
+/// efficiency of their mean square, and neighbouring second differences
+/// share points (correlation −2/3), which about halves their number.
+const DOF_PER_DIFFERENCE_VALUE: f64 = 0.37 * 0.5;
+
 impl Noise {
+    /// How well the noise variance is known: exact where the caller gave
+    /// it or where it is the instrument's assumed level (no repeated poses
+    /// to measure it), else the effective degrees of freedom of the
+    /// estimate (three values per second difference).
+    pub fn dof(&self) -> NoiseDof {
+        match self.source {
+            NoiseSource::Given | NoiseSource::Default => NoiseDof::EXACT,
+            NoiseSource::Estimated { differences } => {
+                NoiseDof((3 * differences) as f64 * DOF_PER_DIFFERENCE_VALUE)
+            }
+        }
+    }
+
     fn new(per_axis_mm: f64, source: NoiseSource) -> Noise {
         Noise {
             per_axis_mm,
@@ -166,7 +186,7 @@ pub fn orientation_weight(problem: &Problem, noise: &Noise) -> f64 {
         return problem.w_ori;
     }
     match estimate_noise(problem, &rotation_gaps(problem)) {
-        Some((s, _)) if s > 0.0 => (noise.per_axis_mm / s).clamp(0.01, 100.0),
+        Some((s, _)) if s > 0.0 => (noise.per_axis_mm / s).clamp(1e-4, 100.0),
         _ => problem.w_ori,
     }
 }

@@ -17,10 +17,35 @@ pub struct Knock {
     pub shift_mm: Vector3<f64>,
 }
 
+/// The best step of `gaps` (one per row of `rows`) with each pose's own
+/// offset: the step, the residual sum of squares about the pose means
+/// without it and with it, and how many splits were tried (the F test of
+/// the step shares its level among them).
+pub fn best(
+    problem: &Problem,
+    rows: &[usize],
+    gaps: &[Vector3<f64>],
+) -> Option<(Knock, f64, f64, usize)> {
+    let gc = centre_by_pose(problem, rows, gaps.to_vec());
+    let rss0: f64 = gc.iter().map(|g| g.norm_squared()).sum();
+    let (k, rss, tried) = fit_rss(problem, rows, gaps)?;
+    Some((k, rss0, rss, tried))
+}
+
 /// Per-pose offsets plus one shift from `after_min` on, fitted to `gaps`
 /// of `rows` (closed form for each split; the best split of the distinct
 /// times).
 fn fit(problem: &Problem, rows: &[usize], gaps: &[Vector3<f64>]) -> Option<Knock> {
+    fit_rss(problem, rows, gaps).map(|(k, _, _)| k)
+}
+
+/// [`fit`], with the residual sum of squares of the best split and the
+/// number of splits tried.
+fn fit_rss(
+    problem: &Problem,
+    rows: &[usize],
+    gaps: &[Vector3<f64>],
+) -> Option<(Knock, f64, usize)> {
     let mut times: Vec<f64> = rows.iter().map(|&i| problem.rows[i].time_min).collect();
     times.sort_by(f64::total_cmp);
     times.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
@@ -44,6 +69,7 @@ fn fit(problem: &Problem, rows: &[usize], gaps: &[Vector3<f64>]) -> Option<Knock
     };
     let stride = (splits.len() / 100).max(1);
     splits = splits.into_iter().step_by(stride).collect();
+    let tried = splits.len();
     let gc = centre_by_pose(problem, rows, gaps.to_vec());
     let mut best: Option<(f64, Knock)> = None;
     for k in splits {
@@ -78,7 +104,7 @@ fn fit(problem: &Problem, rows: &[usize], gaps: &[Vector3<f64>]) -> Option<Knock
             ));
         }
     }
-    best.map(|(_, k)| k)
+    best.map(|(rss, k)| (k, rss, tried))
 }
 
 /// Held-out RMS of `gaps` (one per row of the problem) under a step with

@@ -92,6 +92,9 @@ impl Where {
 pub struct Where {
     pub rms_mm: f64,
     pub time_bins: Vec<TimeBin>,
+    /// How it changes over the warm-up (not among `words`: the report
+    /// words it beside the verdict, see [`TimeShape::words`]).
+    pub time_shape: Option<TimeShape>,
     /// Correlation of the gap size with the mean motor temperature rise.
     pub temperature_correlation: Option<f64>,
     pub direction: Direction,
@@ -110,7 +113,7 @@ impl Where {
         let grows = match (self.time_bins.first(), self.time_bins.last()) {
             (Some(a), Some(b)) => b.rms_mm > 1.5 * a.rms_mm || a.rms_mm > 1.5 * b.rms_mm,
             _ => false,
-        };
+        } || matches!(self.time_shape, Some(TimeShape::Grows { .. }));
         self.step.is_some()
             || self.joint.is_some()
             || grows
@@ -200,20 +203,7 @@ pub fn locate(
             }
         }
     }
-    if let (Some(first), Some(last)) = (time_bins.first(), time_bins.last()) {
-        let (a, b) = (first.rms_mm, last.rms_mm);
-        if b > 2.0 * a && b > 1.5 * noise_rms {
-            words.push(format!(
-                "It grows with the warm-up: {:.3} mm RMS in minutes {:.0}–{:.0}, {:.3} mm in minutes {:.0}–{:.0}.",
-                a, first.from_min, first.to_min, b, last.from_min, last.to_min
-            ));
-        } else if a > 1.5 * noise_rms && b < 2.0 * a && b > 0.5 * a {
-            words.push(format!(
-                "It is there from the cold start on: {:.3} mm RMS in minutes {:.0}–{:.0}, {:.3} mm in minutes {:.0}–{:.0} (static, not thermal).",
-                a, first.from_min, first.to_min, b, last.from_min, last.to_min
-            ));
-        }
-    }
+    let time_shape = time_shape(problem, &gaps[..n], &time_bins, noise_rms);
     let t_ref = problem.base.thermal.t_ref;
     let rise: Vec<f64> = rows
         .iter()
@@ -352,6 +342,7 @@ pub fn locate(
     Where {
         rms_mm: total,
         time_bins,
+        time_shape,
         temperature_correlation,
         direction,
         worst_poses,
@@ -359,6 +350,95 @@ pub fn locate(
         joint: joint.filter(|j| j.share > 0.3),
         step,
         words,
+    }
+}
+
+/// How a gap changes over the warm-up, judged on its change since the
+/// cold start (each pose's gap less its own in the first time bin), not on
+/// the raw gap, so that static error does not read as growth or hide it.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "shape", rename_all = "kebab-case")]
+pub enum TimeShape {
+    /// The change since the cold start reaches `late_mm` RMS in the last
+    /// time bin (minutes `late_min`), above 1.5 times the noise.
+    Grows { late_mm: f64, late_min: [f64; 2] },
+    /// There at the cold start (`early_mm` RMS in the first bin), and its
+    /// change by the last bin (`late_mm`) within 1.5 times the noise.
+    FromColdStart {
+        early_mm: f64,
+        early_min: [f64; 2],
+        late_mm: f64,
+    },
+}
+
+impl TimeShape {
+    /// The shape in a sentence. `thermal_named`: the verdict names a
+    /// thermal effect, beside which a gap is never called static (a small
+    /// change can be significant and still within 1.5 times the noise).
+    pub fn words(&self, thermal_named: bool) -> Option<String> {
+        match self {
+            TimeShape::Grows { late_mm, late_min } => Some(format!(
+                "It grows with the warm-up: its change since the cold start is {:.3} mm RMS in minutes {:.0}–{:.0}.",
+                late_mm, late_min[0], late_min[1]
+            )),
+            TimeShape::FromColdStart { .. } if thermal_named => None,
+            TimeShape::FromColdStart {
+                early_mm,
+                early_min,
+                late_mm,
+            } => Some(format!(
+                "It is there from the cold start on: {:.3} mm RMS in minutes {:.0}–{:.0}, and changes by {:.3} mm RMS over the warm-up, within the noise.",
+                early_mm, early_min[0], early_min[1], late_mm
+            )),
+        }
+    }
+}
+
+/// The shape of `gaps` over time (see [`TimeShape`]); where no pose is
+/// measured in the first time bin and again later, none.
+fn time_shape(
+    problem: &Problem,
+    gaps: &[Vector3<f64>],
+    bins: &[TimeBin],
+    noise_rms: f64,
+) -> Option<TimeShape> {
+    let (first, last) = (bins.first()?, bins.last()?);
+    if bins.len() < 2 {
+        return None;
+    }
+    let in_first = |t: f64| t >= first.from_min && t <= first.to_min && t < last.from_min;
+    let mut start: BTreeMap<usize, (Vector3<f64>, usize)> = BTreeMap::new();
+    for (r, g) in problem.rows.iter().zip(gaps) {
+        if in_first(r.time_min) {
+            let e = start.entry(r.pose).or_insert((Vector3::zeros(), 0));
+            e.0 += g;
+            e.1 += 1;
+        }
+    }
+    let late: Vec<Vector3<f64>> = problem
+        .rows
+        .iter()
+        .zip(gaps)
+        .filter(|(r, _)| r.time_min >= last.from_min)
+        .filter_map(|(r, g)| start.get(&r.pose).map(|(s, k)| g - s / *k as f64))
+        .collect();
+    if late.is_empty() {
+        return None;
+    }
+    let late_mm = rms(&late);
+    if late_mm > 1.5 * noise_rms {
+        Some(TimeShape::Grows {
+            late_mm,
+            late_min: [last.from_min, last.to_min],
+        })
+    } else if first.rms_mm > 1.5 * noise_rms {
+        Some(TimeShape::FromColdStart {
+            early_mm: first.rms_mm,
+            early_min: [first.from_min, first.to_min],
+            late_mm,
+        })
+    } else {
+        None
     }
 }
 

@@ -173,11 +173,13 @@ impl Measurements {
                 pose,
             });
         }
-        Ok(Measurements {
+        let meas = Measurements {
             file: file.to_string(),
             rows,
             warnings,
-        })
+        };
+        super::sanity::check_rows(&meas)?;
+        Ok(meas)
     }
 
     pub fn has_orientation(&self) -> bool {

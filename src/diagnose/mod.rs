@@ -23,26 +23,35 @@
 //! effects), [`select`] (folds, candidate scores), [`locate`] (where a gap
 //! lies), [`pipeline`] (the diagnosis and its verdict), [`verdict`] (the
 //! result as data), [`prose`] (the result in sentences), [`instrument`]
-//! (noise levels and the ISO cube from `data/instrument.toml`), [`arm`],
+//! (noise levels and the ISO cube from `data/instrument.toml`), [`sanity`]
+//! (sets a diagnosis cannot mean anything on), [`arm`],
 //! [`measurements`], [`simulate`], [`plot`].
 
 pub mod arm;
 pub mod chain_calib;
 pub mod chain_diagnose;
 pub mod chain_residual;
+pub mod detect;
 pub mod fit;
+mod fit_key;
 pub mod forward;
 pub mod gap;
 pub mod instrument;
 pub mod knock;
 pub mod locate;
 pub mod measurements;
+pub mod memo;
 pub mod pipeline;
+pub mod plausible;
 pub mod plot;
 pub mod prepare;
 pub mod prose;
+pub mod sanity;
 pub mod select;
+pub mod signature;
 pub mod simulate;
+pub mod stats;
+pub mod unidentified;
 pub mod verdict;
 
 pub use gap::{estimate_noise, gap, gap_stats, orientation_gap, GapStats, Noise, NoiseSource};

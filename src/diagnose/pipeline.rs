@@ -2,18 +2,21 @@
 //! candidate effect, forward selection while the held-out gap still drops
 //! clearly, the final fit, and the verdict.
 
-use super::fit::Problem;
-use super::forward::{forward, params_out, Forward};
-use super::gap::{gap_stats, noise_level, orientation_weight, NoiseSource};
+use super::detect;
+use super::fit::{self, Problem};
+use super::forward::{forward, params_out, Forward, Joint, TestNoise};
+use super::gap::{gap_stats, noise_level, orientation_weight, Noise, NoiseSource};
 use super::knock;
 use super::locate::{self, Where};
 use super::prepare::Prepared;
 use super::select;
+use super::signature::{self, QuadraticGrowth};
+use super::stats::{Test, LEVEL};
 use super::verdict::{
     Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
 };
 use crate::error::{Error, Result};
-use crate::model::effects::{FULL_GEOMETRY_POSES, GEOMETRY_ORIGINS_FROM};
+use crate::model::effects::GEOMETRY_ORIGINS_FROM;
 use crate::model::{EffectEntry, EffectKind, Model};
 
 /// Options of a diagnosis.
@@ -64,10 +67,12 @@ fn repeats_over_time(problem: &Problem) -> bool {
 /// gets its own constant offset, which takes up whatever stays the same at
 /// every visit (the arm's geometric error of any form, the reflector, the
 /// instrument's frame, sag), so that a thermal effect is named only when it
-/// predicts held-out time spans better than that static explanation does.
-/// Then what stays, with the thermal effects found held fixed: the static
-/// effects, judged on held-out poses. Data without such repeats are judged
-/// in one stage over all effects.
+/// is significant against the noise over time and predicts held-out time
+/// spans better. A step in time found there is removed from the data before
+/// the second stage. Then what stays, with the thermal effects found held
+/// fixed: the static effects, tested on the poses' means and held out by
+/// pose where the poses are enough. Data without such repeats are judged in
+/// one stage over all effects.
 pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let problem = &prepared.problem;
     let n = problem.rows.len();
@@ -85,9 +90,24 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let tuned = Problem {
         noise_mm: noise.per_axis_mm,
         w_ori: orientation_weight(problem, &noise),
+        origins: true,
         ..problem.clone()
     }
     .with_zero_jacobians();
+    let n_poses = tuned.rows.iter().map(|r| r.pose + 1).max().unwrap_or(0);
+    // The static stage can be judged where the poses give more numbers than
+    // a full kinematic calibration (with the instrument frame) can take up:
+    // what is left then has degrees of freedom of its own.
+    let static_rank = tuned.identifiable_rank(
+        &[EffectKind::GeometryOffset, EffectKind::TrackerFrame],
+        &all,
+    );
+    let width = tuned.width();
+    let static_judged = width * n_poses > static_rank;
+    let tuned = Problem {
+        origins: static_judged,
+        ..tuned
+    };
     let problem = &tuned;
     let folds = select::make_folds(problem, opts.folds);
     if folds.folds.len() < 2 {
@@ -95,6 +115,18 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             "too few measurements for cross-validation: need several poses or times",
         ));
     }
+    // Held out by pose where every fold keeps more numbers than the static
+    // rank: else a held-out pose cannot be predicted, and the tests stand
+    // on the fitted data alone.
+    let static_held_out = folds
+        .folds
+        .iter()
+        .all(|(train, _)| {
+            let poses: std::collections::BTreeSet<usize> =
+                train.iter().map(|&i| problem.rows[i].pose).collect();
+            width * poses.len() > static_rank
+        })
+        .then_some(0.0);
     let lag_fixed = problem
         .fixed
         .iter()
@@ -105,39 +137,52 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         .collect();
     let where_ = locate::locate(problem, &gaps_before, &prepared.pose_names, noise.rms_mm);
     let noise_assumed = noise.source == NoiseSource::Default;
-    let n_poses = problem.rows.iter().map(|r| r.pose + 1).max().unwrap_or(0);
+    let tnoise = TestNoise {
+        rms_mm: noise.rms_mm,
+        sigma2: noise.per_axis_mm * noise.per_axis_mm,
+        dof: noise.dof(),
+    };
 
     let ctx = Ctx {
         problem,
         folds: &folds,
-        noise_rms_mm: noise.rms_mm,
+        noise: tnoise,
         noise_assumed,
         max_effects: opts.max_effects,
         structured: where_.has_structure(),
         n_poses,
+        static_judged,
+        static_held_out,
     };
-    let (stages, final_problem, parts, judged, knock) = if repeats_over_time(problem) {
-        let (stages, held, first, knock) =
+    let (stages, final_problem, parts, knock, quadratic) = if repeats_over_time(problem) {
+        let (stages, held, first, knock, quadratic) =
             two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
-        (
-            stages,
-            held,
-            [first, Part::Static],
-            [true, n_poses >= FULL_GEOMETRY_POSES],
-            knock,
-        )
+        (stages, held, [first, Part::Static], knock, quadratic)
     } else {
-        let one = forward(problem, &folds, &[], &pool, noise.rms_mm, opts.max_effects)?;
-        let verdict = ctx.judge(&one, ctx.structured, true);
+        let one = ctx.select(problem, &[], &pool, static_held_out, None)?;
+        let (rss, free) = one.rss();
+        let lof = Test::lack_of_fit(
+            rss,
+            (n * width).saturating_sub(free),
+            tnoise.sigma2,
+            tnoise.dof,
+            LEVEL,
+        );
+        let verdict = ctx.judge(&one, Some(lof), ctx.structured);
         (
-            vec![(one, verdict)],
+            vec![Stage {
+                forward: one,
+                verdict,
+                lack_of_fit: Some(lof),
+                judged: static_judged,
+            }],
             problem.clone(),
             [Part::All, Part::All],
-            [true, true],
+            None,
             None,
         )
     };
-    let last = stages.last().map(|(f, _)| f);
+    let last = stages.last().map(|s| &s.forward);
     // Before: the model in use, every position as measured (no pose
     // offsets), on the same held-out folds as the last stage's score.
     let cv0 = select::cv_rms(problem, &folds, &[])?;
@@ -149,12 +194,26 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         .map(|f| f.effects.clone())
         .unwrap_or_default();
     let gaps_after = final_problem.position_gaps(&last_effects, &all);
-    let verdict = combine(stages.iter().map(|(_, v)| v.clone()).collect());
+    // Detection limits beyond everything fitted: the thermal effects held
+    // fixed in the last stage's problem and its own effects, on the data
+    // as the diagnosis ended with them (a step removed).
+    let mut found: Vec<crate::model::Effect> = final_problem.fixed[problem.fixed.len()..].to_vec();
+    found.extend(last_effects.iter().cloned());
+    let detection_limits = detect::limits(
+        &Problem {
+            fixed: problem.fixed.clone(),
+            ..final_problem.clone()
+        },
+        &found,
+        &tnoise,
+    );
+    let verdict = combine(stages.iter().map(|s| s.verdict.clone()).collect());
     let mut candidates = Vec::new();
     let mut steps = Vec::new();
     let mut ambiguities = Vec::new();
     let mut fitted = Vec::new();
-    for ((f, _), part) in stages.iter().zip(parts) {
+    for (stage, part) in stages.iter().zip(parts) {
+        let f = &stage.forward;
         // What each stage selected, with the parameters of its final fit
         // (the base an absolute pass fitted with them left out).
         let finals = f.fit.as_ref().map(params_out).unwrap_or_default();
@@ -164,7 +223,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             // Geometry's joint origins are not fitted from too few poses:
             // not listed, rather than listed as unidentifiable.
             let listed = |p: &ParamOut| {
-                (n_poses >= FULL_GEOMETRY_POSES || !is_origin_param(&p.name))
+                (static_judged || !is_origin_param(&p.name))
                     && has_place(&problem.base.nominal, &p.name)
             };
             candidates.push(CandidateOut {
@@ -203,7 +262,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     // geometry).
     let time_left = stages.len() > 1
         && matches!(
-            stages.first().map(|(_, v)| v),
+            stages.first().map(|s| &s.verdict),
             Some(Verdict::Unexplained { .. })
                 | Some(Verdict::ExplainedBy {
                     remainder: true,
@@ -228,14 +287,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     } else {
         locate::locate(problem, &gaps_after, &prepared.pose_names, noise.rms_mm)
     };
-    let advice = advise(
-        &verdict,
-        cv0,
-        cur_cv,
-        noise.rms_mm,
-        noise.per_axis_mm,
-        [&where_, &where_after],
-    );
+    let advice = advise(&verdict, cv0, cur_cv, &noise, [&where_, &where_after]);
     let partial = match &verdict {
         Verdict::Unexplained { partial } => partial.iter().map(|k| k.name().to_string()).collect(),
         _ => Vec::new(),
@@ -247,6 +299,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         gap,
         gap_after: gap_stats(&gaps_after),
         noise,
+        level: LEVEL,
         candidates,
         steps,
         ambiguous: ambiguities.iter().map(|a| a.pair.clone()).collect(),
@@ -255,16 +308,24 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         where_,
         where_after,
         left_over_time: time_left,
+        quadratic_growth: quadratic,
+        detection_limits,
         registration: prepared.registration.clone(),
         stages: stages
             .iter()
-            .zip(parts.into_iter().zip(judged))
-            .map(|((f, _), (part, judged))| StageSummary {
+            .zip(parts)
+            .map(|(st, part)| StageSummary {
                 part,
-                gap_before_mm: f.cv0,
-                gap_after_mm: f.cv,
-                effects: f.selected.iter().map(|k| k.name().to_string()).collect(),
-                judged,
+                gap_before_mm: st.forward.cv0,
+                gap_after_mm: st.forward.cv,
+                effects: st
+                    .forward
+                    .selected
+                    .iter()
+                    .map(|k| k.name().to_string())
+                    .collect(),
+                judged: st.judged,
+                lack_of_fit: st.lack_of_fit,
             })
             .collect(),
         advice,
@@ -274,37 +335,49 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     })
 }
 
+/// One stage of a diagnosis: what its selection found, its verdict, and
+/// the test of what is left against the noise.
+struct Stage {
+    forward: Forward,
+    verdict: Verdict,
+    /// `None` where the design leaves no degrees of freedom to judge.
+    lack_of_fit: Option<Test>,
+    judged: bool,
+}
+
 /// What every stage of a diagnosis shares.
 struct Ctx<'a> {
     problem: &'a Problem,
     /// Held-out folds by time block and pose group.
     folds: &'a select::Folds,
-    noise_rms_mm: f64,
+    noise: TestNoise,
     noise_assumed: bool,
     max_effects: usize,
     /// The current model's gap shows structure.
     structured: bool,
     n_poses: usize,
+    /// The poses give more numbers than a full kinematic calibration takes.
+    static_judged: bool,
+    /// Where every fold keeps enough of them to predict its held-out poses:
+    /// the drop of the held-out mean-square gap a static effect must make.
+    static_held_out: Option<f64>,
 }
 
 impl Ctx<'_> {
-    fn judge(&self, f: &Forward, structured: bool, judge_remainder: bool) -> Verdict {
+    fn judge(&self, f: &Forward, lof: Option<Test>, structured: bool) -> Verdict {
         judge(&Scores {
             selected: &f.selected,
-            cv0: f.cv0,
-            cv: f.cv,
-            noise_rms_mm: self.noise_rms_mm,
+            lack_of_fit: lof,
             noise_assumed: self.noise_assumed,
             structured,
             ambiguous: !f.ambiguities.is_empty(),
-            judge_remainder,
         })
     }
 
     /// The problem with `thermal`'s effects held fixed, for the static
     /// effects to be fitted on.
-    fn held_by(&self, thermal: &Forward) -> Problem {
-        let mut fixed = self.problem.fixed.clone();
+    fn held_by(&self, problem: &Problem, thermal: &Forward) -> Problem {
+        let mut fixed = problem.fixed.clone();
         fixed.extend(thermal.effects());
         let statics: Vec<EffectKind> = EffectKind::ALL
             .into_iter()
@@ -312,7 +385,7 @@ impl Ctx<'_> {
             .collect();
         Problem {
             fixed,
-            ..self.problem.clone()
+            ..problem.clone()
         }
         .with_zero_jacobians_of(&statics)
     }
@@ -322,21 +395,81 @@ impl Ctx<'_> {
         problem: &Problem,
         base: &[EffectKind],
         pool: &[EffectKind],
+        held_out: Option<f64>,
+        joint: Option<Joint>,
     ) -> Result<Forward> {
         forward(
             problem,
             self.folds,
             base,
             pool,
-            self.noise_rms_mm,
+            &self.noise,
             self.max_effects,
+            held_out,
+            joint,
         )
+    }
+
+    /// The lack-of-fit test of the static part: what `statics` leaves of
+    /// the poses' means (the residual less its part within each pose).
+    /// With thermal effects found over time, they are fitted again together
+    /// with the static ones: their error at each pose's mean temperature is
+    /// not noise of the means, and would otherwise read as static error.
+    fn static_lack_of_fit(
+        &self,
+        problem: &Problem,
+        thermal: &Forward,
+        held: &Problem,
+        statics: &Forward,
+    ) -> Option<Test> {
+        let all: Vec<usize> = (0..held.rows.len()).collect();
+        let within_of = |p: &Problem| {
+            Problem {
+                centre_poses: true,
+                ..p.clone()
+            }
+            .residuals(&[], &all)
+            .norm_squared()
+        };
+        let (rss, free) = statics.rss();
+        let dof = (held.width() * self.n_poses).saturating_sub(free);
+        let between = if thermal.selected.is_empty() {
+            rss - within_of(held)
+        } else {
+            let mut kinds = thermal.selected.clone();
+            kinds.extend(statics.selected.iter().copied());
+            // Started from the thermal effects found over time and the
+            // static ones found with them held: there the joint model's
+            // residual is the static stage's, and the fit can only lower it.
+            // From a cold start a lag's fit may end in another, worse
+            // minimum, and the difference would be taken for static error
+            // the model lacks.
+            let mut start = thermal.effects();
+            start.extend(statics.effects());
+            let joint = fit::fit_from(problem, &all, &kinds, &start).ok()?;
+            joint.rss - thermal.rss().0
+        };
+        (dof > 0).then(|| {
+            Test::lack_of_fit(
+                between.max(0.0),
+                dof,
+                self.noise.sigma2,
+                self.noise.dof,
+                LEVEL,
+            )
+        })
     }
 }
 
-/// The stages of a diagnosis, the problem of the last, and the first
-/// stage's part.
-type Staged = (Vec<(Forward, Verdict)>, Problem, Part, Option<locate::Step>);
+/// The stages of a diagnosis, the problem of the last, the first stage's
+/// part, and a step in time found over time.
+type Staged = (
+    Vec<Stage>,
+    Problem,
+    Part,
+    Option<locate::Step>,
+    Option<QuadraticGrowth>,
+);
 
 /// A knock as a step between the measurement times around it.
 fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {
@@ -360,40 +493,134 @@ fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {
     }
 }
 
+/// A step in time in what `thermal` leaves over time (each pose's own
+/// offset taken out), when it is significant: an F test of its three
+/// components against the noise, at the level shared among the splits
+/// tried.
+fn significant_step(
+    centred: &Problem,
+    thermal: &Forward,
+    noise: &TestNoise,
+) -> Option<knock::Knock> {
+    let all: Vec<usize> = (0..centred.rows.len()).collect();
+    let gaps = centred.position_gaps(&thermal.effects(), &all);
+    let (k, rss0, rss1, tried) = knock::best(centred, &all, &gaps)?;
+    let t = Test::nested(
+        rss0,
+        rss1,
+        3,
+        noise.sigma2,
+        noise.dof,
+        LEVEL / tried.max(1) as f64,
+    );
+    t.significant().then_some(k)
+}
+
 /// The two stages of data that measure poses again and again: what changes
 /// with time (each pose's own offset free, held out by time span), then
 /// what stays (the thermal effects found held fixed). Returns the stages,
 /// the problem of the last, the first stage's part (`absolute` when the
-/// absolute pass replaced it), and a knock that explains the change over
-/// time better than any thermal effect.
+/// absolute pass replaced it), and a step in time found (removed from the
+/// data before the static stage).
 fn two_stages(
     ctx: &Ctx,
     pool: &[EffectKind],
     gaps_before: &[nalgebra::Vector3<f64>],
     pose_names: &[String],
 ) -> Result<Staged> {
-    let problem = ctx.problem;
+    let mut problem = ctx.problem.clone();
     let mut first = Part::OverTime;
     let all: Vec<usize> = (0..problem.rows.len()).collect();
-    let centred = Problem {
+    let centred_of = |p: &Problem| Problem {
         centre_poses: true,
-        ..problem.clone()
+        ..p.clone()
     };
+    let mut centred = centred_of(&problem);
     let time_folds = select::make_folds(&centred, ctx.folds.folds.len());
     let thermal_pool: Vec<EffectKind> = pool.iter().copied().filter(|k| k.is_thermal()).collect();
     let static_pool: Vec<EffectKind> = pool.iter().copied().filter(|k| !k.is_thermal()).collect();
-    let mut thermal = forward(
-        &centred,
-        &time_folds,
+    let over_time = |c: &Problem| {
+        forward(
+            c,
+            &time_folds,
+            &[],
+            &thermal_pool,
+            &ctx.noise,
+            ctx.max_effects,
+            // Held out by time span: an effect must predict the spans its
+            // fit never saw better than the model without it. Its
+            // significance is the F test's; a margin on top would be a
+            // second threshold no test states (a lone lag with logged
+            // temperatures passed F at p < 1e-5 and was refused by a margin
+            // of 5 % of the noise variance).
+            Some(0.0),
+            None,
+        )
+    };
+    let mut thermal = over_time(&centred)?;
+    // A step of the whole robot (a knock, a loosened foot) is no effect of
+    // the library: where what the thermal effects leave over time holds a
+    // significant one, it is removed from the data (every row after it
+    // shifted back) and the thermal effects are selected again, so that
+    // neither a thermal effect that half-followed it nor, later, a static
+    // one that took up its mean is named.
+    // The step and the thermal effects are found in turn (each given the
+    // other, as a joint fit would), a few rounds at most.
+    let original = centred.clone();
+    let mut knocked = None;
+    for _ in 0..3 {
+        let Some(k) = significant_step(&original, &thermal, &ctx.noise) else {
+            if knocked.take().is_some() {
+                // The thermal effects found on the corrected data explain
+                // the change without a step: back to the data as measured.
+                problem = ctx.problem.clone();
+                centred = original.clone();
+                thermal = over_time(&centred)?;
+            }
+            break;
+        };
+        let same = knocked.as_ref().is_some_and(|p: &knock::Knock| {
+            p.after_min == k.after_min && (p.shift_mm - k.shift_mm).norm() < 0.1 * ctx.noise.rms_mm
+        });
+        let mut corrected = ctx.problem.clone();
+        for r in &mut corrected.rows {
+            if r.time_min >= k.after_min - 1e-9 {
+                r.position -= k.shift_mm;
+            }
+        }
+        problem = corrected;
+        centred = centred_of(&problem);
+        knocked = Some(k);
+        if same {
+            break;
+        }
+        thermal = over_time(&centred)?;
+    }
+    // A growth with the square of the temperatures, beyond the thermal
+    // effects found: what it replaces is not named.
+    let quadratic = signature::quadratic_growth(&centred, &thermal.effects(), &ctx.noise);
+    if let Some(q) = &quadratic {
+        thermal.selected.retain(|k| !q.replaces.contains(k));
+        thermal
+            .steps
+            .retain(|s| !q.replaces.iter().any(|k| k.name() == s.added));
+        for c in &mut thermal.candidates {
+            if q.replaces.iter().any(|k| k.name() == c.name) {
+                c.selected = false;
+            }
+        }
+    }
+    let mut held = ctx.held_by(&problem, &thermal);
+    let mut statics = ctx.select(
+        &held,
         &[],
-        &thermal_pool,
-        ctx.noise_rms_mm,
-        ctx.max_effects,
+        &static_pool,
+        ctx.static_held_out,
+        Some(Joint {
+            problem: &problem,
+            kinds: &thermal.selected,
+        }),
     )?;
-    // The held-out gap over time with no thermal effect.
-    let centred_cv0 = thermal.cv0;
-    let mut held = ctx.held_by(&thermal);
-    let mut statics = ctx.select(&held, &[], &static_pool)?;
     // Where the library's static effects leave nothing of the static part
     // (or find none to take up), each pose's offset is known, not free: the
     // absolute level of the gap (thermal effects vanish at the cold start)
@@ -401,16 +628,29 @@ fn two_stages(
     // effect or one of two that move the flange alike. Taken when it finds
     // all the free-offset stage found, and more, and the whole held-out gap
     // drops clearly with it or stays with fewer static effects.
-    if statics.selected.is_empty() || statics.cv <= 1.2 * ctx.noise_rms_mm {
-        let absolute = ctx.select(problem, &statics.selected, &thermal_pool)?;
+    let static_lof = ctx.static_lack_of_fit(&problem, &thermal, &held, &statics);
+    if knocked.is_none()
+        && quadratic.is_none()
+        && (statics.selected.is_empty() || static_lof.is_some_and(|t| !t.significant()))
+    {
+        let absolute = ctx.select(&problem, &statics.selected, &thermal_pool, Some(0.0), None)?;
         let superset = thermal
             .selected
             .iter()
             .all(|k| absolute.selected.contains(k));
         if superset && absolute.selected.len() > thermal.selected.len() {
-            let held_abs = ctx.held_by(&absolute);
-            let statics_abs = ctx.select(&held_abs, &[], &static_pool)?;
-            let nr2 = ctx.noise_rms_mm.powi(2);
+            let held_abs = ctx.held_by(&problem, &absolute);
+            let statics_abs = ctx.select(
+                &held_abs,
+                &[],
+                &static_pool,
+                ctx.static_held_out,
+                Some(Joint {
+                    problem: &problem,
+                    kinds: &absolute.selected,
+                }),
+            )?;
+            let nr2 = ctx.noise.rms_mm.powi(2);
             // Better held out, or as good with fewer static effects (a
             // static one had only taken up the thermal effect's average).
             let better = statics_abs.cv.powi(2) < statics.cv.powi(2) - 0.2 * nr2;
@@ -424,86 +664,90 @@ fn two_stages(
             }
         }
     }
-    // A step of the whole robot competes with the thermal effects found:
-    // where it predicts the held-out time spans clearly better (by a fifth
-    // of the noise variance, as an effect must to be added), the change
-    // over time is no thermal effect of the library (a knock early in the
-    // warm-up looks like the base motor's rise); where nothing thermal is
-    // found, a step that beats "no change" the same way is structure.
-    let mut knocked = None;
-    if let Some((knock_cv, knock)) = knock::score(&centred, &time_folds, gaps_before) {
-        let nr2 = ctx.noise_rms_mm.powi(2);
-        let cv0 = centred_cv0;
-        let beats = |cv: f64| cv.powi(2) - knock_cv.powi(2) > 0.2 * nr2;
-        let thermal_cv = match thermal.selected.is_empty() {
-            true => cv0,
-            false => select::cv_rms(&centred, &time_folds, &thermal.selected)?,
-        };
-        if beats(cv0) && beats(thermal_cv) {
-            knocked = Some(knock);
-            if !thermal.selected.is_empty() {
-                thermal = Forward {
-                    selected: Vec::new(),
-                    cv0,
-                    cv: cv0,
-                    fit: None,
-                    steps: Vec::new(),
-                    ambiguities: Vec::new(),
-                    candidates: std::mem::take(&mut thermal.candidates),
-                };
-                first = Part::OverTime;
-                held = ctx.held_by(&thermal);
-                statics = ctx.select(&held, &[], &static_pool)?;
-            }
-        }
-    }
-    // From too few poses for a full kinematic calibration, with static
-    // error left over, sag cannot be told from the arm's own geometry: it
-    // would only take up part of that geometry. Said, not named.
+    // Where the poses are too few for a full kinematic calibration, sag
+    // cannot be told from the arm's own geometry: it would only take up
+    // part of that geometry. Said, not named.
     let mut ambiguous_sag = None;
-    if ctx.n_poses < FULL_GEOMETRY_POSES
-        && statics.cv > 1.5 * ctx.noise_rms_mm
-        && statics.selected.contains(&EffectKind::GravitySag)
-    {
+    if !ctx.static_judged && statics.selected.contains(&EffectKind::GravitySag) {
         let without: Vec<EffectKind> = static_pool
             .iter()
             .copied()
             .filter(|k| *k != EffectKind::GravitySag)
             .collect();
         let sag_cv = statics.cv;
-        statics = ctx.select(&held, &[], &without)?;
+        statics = ctx.select(
+            &held,
+            &[],
+            &without,
+            ctx.static_held_out,
+            Some(Joint {
+                problem: &problem,
+                kinds: &thermal.selected,
+            }),
+        )?;
         ambiguous_sag = Some(Ambiguity {
             pair: ["geometry-offset".into(), "gravity-sag".into()],
             correlation: None,
             separate_by: format!(
-                "measure {FULL_GEOMETRY_POSES} poses or more spread over the joint ranges, with the upper arm horizontal and vertical: from these, gravity-sag would take the static gap to {sag_cv:.3} mm held-out, but the arm's own geometry, fitted in full only from that many poses, may explain it as well"
+                "measure more poses spread over the joint ranges (more numbers than a full kinematic calibration takes up: {} here), with the upper arm horizontal and vertical: from these, gravity-sag would take the static gap to {sag_cv:.3} mm held-out, but the arm's own geometry may explain it as well",
+                ctx.n_poses
             ),
         });
     }
     statics.ambiguities.extend(ambiguous_sag);
     // Structure over time, each pose's own offset taken out.
-    let over_time = locate::locate(
+    let over_time_where = locate::locate(
         &centred,
         &select::centred(&centred, &all, gaps_before.to_vec()),
         pose_names,
-        ctx.noise_rms_mm,
+        ctx.noise.rms_mm,
     );
-    let thermal_verdict = if knocked.is_some() {
-        Verdict::Unexplained {
-            partial: Vec::new(),
-        }
-    } else {
-        ctx.judge(&thermal, over_time.has_structure(), true)
-    };
-    // With fewer poses than a full kinematic calibration needs, pose-to-pose
-    // structure left may still be geometry: reported, not called
-    // unexplained.
-    let static_verdict = ctx.judge(&statics, ctx.structured, ctx.n_poses >= FULL_GEOMETRY_POSES);
+    let (rss, free) = thermal.rss();
+    let time_dof = centred
+        .residuals(&[], &all)
+        .len()
+        .saturating_sub(centred.width() * ctx.n_poses + free);
+    let time_lof = (first == Part::OverTime)
+        .then(|| Test::lack_of_fit(rss, time_dof, ctx.noise.sigma2, ctx.noise.dof, LEVEL));
+    let mut thermal_verdict = ctx.judge(&thermal, time_lof, over_time_where.has_structure());
+    if knocked.is_some() || quadratic.is_some() {
+        // The step or the growth itself is what no effect of the library
+        // explains.
+        thermal_verdict = match thermal_verdict {
+            Verdict::ExplainedBy { effects, .. } => Verdict::ExplainedBy {
+                effects,
+                remainder: true,
+            },
+            Verdict::Ambiguous { effects, .. } => Verdict::Ambiguous {
+                effects,
+                remainder: true,
+            },
+            _ => Verdict::Unexplained {
+                partial: Vec::new(),
+            },
+        };
+    }
+    let static_lof = ctx.static_lack_of_fit(&problem, &thermal, &held, &statics);
+    let static_verdict = ctx.judge(&statics, static_lof, ctx.structured);
     Ok((
-        vec![(thermal, thermal_verdict), (statics, static_verdict)],
+        vec![
+            Stage {
+                forward: thermal,
+                verdict: thermal_verdict,
+                lack_of_fit: time_lof,
+                judged: true,
+            },
+            Stage {
+                forward: statics,
+                verdict: static_verdict,
+                lack_of_fit: static_lof,
+                judged: ctx.static_judged,
+            },
+        ],
         held,
         first,
-        knocked.map(|k| step_of(problem, &k)),
+        knocked.map(|k| step_of(&problem, &k)),
+        quadratic,
     ))
 }
 
@@ -583,78 +827,60 @@ fn combine(verdicts: Vec<Verdict>) -> Verdict {
 struct Scores<'a> {
     /// Effects forward selection added, in order.
     selected: &'a [EffectKind],
-    /// Held-out RMS gap of the current model and with the selected
-    /// effects, mm.
-    cv0: f64,
-    cv: f64,
-    /// 3-D RMS of the noise, mm.
-    noise_rms_mm: f64,
+    /// The test of what the selected effects leave against the noise;
+    /// `None` where no degrees of freedom are left to judge it.
+    lack_of_fit: Option<Test>,
     /// The noise level is the instrument's default, not measured.
     noise_assumed: bool,
     /// The current model's gap shows structure (see [`Where::has_structure`]).
     structured: bool,
-    /// A selected effect has a near-indistinguishable runner-up.
+    /// A selected effect has a runner-up the data cannot tell from it.
     ambiguous: bool,
-    /// Whether structure left after the selected effects may be called
-    /// unexplained (else it is reported, not judged).
-    judge_remainder: bool,
 }
 
+/// The verdict of one stage. `none` only where what is left is within the
+/// noise by the lack-of-fit test at the stated level (the residual sum of
+/// squares over its degrees of freedom against the noise variance, an F
+/// test); above it `unexplained`, beside the effects named. Without a
+/// measured noise level (no repeated poses), a gap above the assumed level
+/// may just be a noisier instrument: it is called unexplained only with
+/// evidence of structure.
 fn judge(s: &Scores) -> Verdict {
-    let nr2 = s.noise_rms_mm * s.noise_rms_mm;
-    let base2 = s.cv0 * s.cv0;
-    let fin2 = s.cv * s.cv;
-    let excess_explained = if base2 > nr2 {
-        (base2 - fin2) / (base2 - nr2)
-    } else {
-        1.0
-    };
-    // With the noise measured on these data (thousands of values), a
-    // held-out gap a fifth above it that has structure (a step, growth, a
-    // joint it follows) is not noise: a 0.03 mm knock in 0.035 mm of noise
-    // is that.
-    let clearly_above = s.cv0 > 1.5 * s.noise_rms_mm
-        || (!s.noise_assumed && s.structured && s.cv0 > 1.2 * s.noise_rms_mm);
+    let above =
+        s.lack_of_fit.is_some_and(|t| t.significant()) && (!s.noise_assumed || s.structured);
     if s.selected.is_empty() {
-        // Without a measured noise level (no repeated poses) a gap above
-        // the assumed level may just be a noisier instrument: call it
-        // unexplained only with evidence of structure.
-        if !clearly_above || (s.noise_assumed && !s.structured) || !s.judge_remainder {
-            Verdict::None
-        } else {
+        if above {
             Verdict::Unexplained {
                 partial: Vec::new(),
             }
-        }
-    } else if s.cv <= 1.5 * s.noise_rms_mm || excess_explained >= 0.8 || !s.judge_remainder {
-        let effects = s.selected.to_vec();
-        // Most of the gap is explained, but clear structure remains: name
-        // the effects and say that something else is there too.
-        let remainder = s.cv > 2.0 * s.noise_rms_mm && s.judge_remainder;
-        if s.ambiguous {
-            Verdict::Ambiguous { effects, remainder }
         } else {
-            Verdict::ExplainedBy { effects, remainder }
+            Verdict::None
         }
     } else {
-        Verdict::Unexplained {
-            partial: s.selected.to_vec(),
+        let effects = s.selected.to_vec();
+        if s.ambiguous {
+            Verdict::Ambiguous {
+                effects,
+                remainder: above,
+            }
+        } else {
+            Verdict::ExplainedBy {
+                effects,
+                remainder: above,
+            }
         }
     }
 }
 
-fn advise(
-    verdict: &Verdict,
-    cv0: f64,
-    cv: f64,
-    noise_rms_mm: f64,
-    noise_per_axis_mm: f64,
-    wheres: [&Where; 2],
-) -> Advice {
+fn advise(verdict: &Verdict, cv0: f64, cv: f64, noise: &Noise, wheres: [&Where; 2]) -> Advice {
     match verdict {
-        Verdict::None if cv0 > 1.5 * noise_rms_mm => Advice::CheckNoise {
-            assumed_mm: noise_per_axis_mm,
-        },
+        // `none` above an assumed (not measured) noise level: the
+        // instrument may be noisier than assumed.
+        Verdict::None if noise.source == NoiseSource::Default && cv0 > 1.5 * noise.rms_mm => {
+            Advice::CheckNoise {
+                assumed_mm: noise.per_axis_mm,
+            }
+        }
         Verdict::None => Advice::Nothing,
         Verdict::Unexplained { .. } => Advice::LookThere {
             axis: wheres.iter().find_map(|w| w.joint.as_ref()).map(|j| j.axis),

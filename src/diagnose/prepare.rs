@@ -8,6 +8,7 @@ use super::fit::{Problem, Row};
 use super::instrument::instrument;
 use super::measurements::Measurements;
 use crate::error::{Error, Result};
+use crate::model::effects::FULL_GEOMETRY_POSES;
 use crate::model::Model;
 use crate::thermal::TempHistory;
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
@@ -158,12 +159,18 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         noise_mm: noise.position.noise_mm,
         zero_jacobians: None,
         centre_poses: false,
+        // A full kinematic calibration from as many poses as it has
+        // parameters; the diagnosis decides by the rank it finds.
+        origins: pose_names.len() >= FULL_GEOMETRY_POSES,
+        memo: Default::default(),
     };
-    Ok(Prepared {
+    let prepared = Prepared {
         problem,
         pose_names,
         registration: None,
-    })
+    };
+    super::sanity::check_spread(&prepared, &meas.file)?;
+    Ok(prepared)
 }
 
 /// Fit the instrument's frame and bring the measured points and

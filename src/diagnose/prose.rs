@@ -84,14 +84,17 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     format!(", which explain only part of it: {}", partial.join(", "))
                 }
             ));
+            words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(false)));
             words.extend(d.where_.words.iter().cloned());
             if !partial.is_empty() && !d.where_after.words.is_empty() {
                 words.push(format!("What {} leaves:", partial.join(" + ")));
-                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+                words.extend(after_words(&d.where_after));
             }
         }
         Verdict::ExplainedBy { remainder, .. } | Verdict::Ambiguous { remainder, .. } => {
             words.push(format!("Verdict: {}.", d.verdict.labels().join(" + ")));
+            let thermal = d.verdict.effects().iter().any(|k| k.is_thermal());
+            words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(thermal)));
             words.extend(d.where_.words.iter().cloned());
             for s in &d.steps {
                 let stage = match s.part {
@@ -100,9 +103,14 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     Part::Static => "Static (the thermal effects fitted), adding",
                     Part::All => "Adding",
                 };
+                let change = if s.drop_pct >= 0.0 {
+                    format!("−{:.0} %", s.drop_pct)
+                } else {
+                    format!("+{:.0} %: named in-sample, where too few poses are left to hold any out", -s.drop_pct)
+                };
                 words.push(format!(
-                    "{stage} {}: held-out gap {:.3} → {:.3} mm (−{:.0} %).",
-                    s.added, s.gap_before_mm, s.gap_after_mm, s.drop_pct
+                    "{stage} {}: held-out gap {:.3} → {:.3} mm ({change}).",
+                    s.added, s.gap_before_mm, s.gap_after_mm
                 ));
             }
             if *remainder && d.left_over_time {
@@ -111,15 +119,33 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     "What changes over time and they leave ({over_time:.3} mm held-out with each pose's own offset, noise {:.3} mm) is not explained by the library:",
                     noise.rms_mm
                 ));
-                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+                words.extend(after_words(&d.where_after));
             } else if *remainder {
                 words.push(format!(
                     "What they leave ({:.3} mm held-out, noise {:.3} mm) is not explained by the library:",
                     cv, noise.rms_mm
                 ));
-                words.extend(d.where_after.words.iter().map(|w| format!("  {w}")));
+                words.extend(after_words(&d.where_after));
             }
         }
+    }
+    if let Some(q) = &d.quadratic_growth {
+        let replaced: Vec<&str> = q.replaces.iter().map(|k| k.name()).collect();
+        words.push(format!(
+            "What changes over time grows with the square of the links' temperature rise, beyond the library's linear expansion: {:.3} mm RMS (F = {:.1} on {} parameters, p = {:.1e}){}.",
+            q.rms_mm,
+            q.test.f,
+            q.test.df1,
+            q.test.p_value,
+            if replaced.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; {} added nothing beyond it and is not named",
+                    replaced.join(", ")
+                )
+            }
+        ));
     }
     // A static part the poses are too few to attribute: said, not judged.
     if let Some(st) = d
@@ -129,11 +155,23 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         .filter(|s| s.gap_after_mm > 1.5 * noise.rms_mm)
     {
         words.push(format!(
-            "Pose-to-pose error of {:.3} mm (held-out, noise {:.3} mm) stays the same over time and is left unattributed: from these poses the arm's own geometry cannot be told from other static causes (a full kinematic calibration needs 30 poses or more, spread over the joint ranges).",
+            "Pose-to-pose error of {:.3} mm (held-out, noise {:.3} mm) stays the same over time and is left unattributed: these poses give fewer numbers than a full kinematic calibration takes up, so the arm's own geometry cannot be told from other static causes (measure more poses, spread over the joint ranges).",
             st.gap_after_mm, noise.rms_mm
         ));
     }
     words.push(advice(&d.advice, remedies));
+    if !d.detection_limits.is_empty() {
+        let list: Vec<String> = d
+            .detection_limits
+            .iter()
+            .map(|l| format!("{} above {:.3} mm", l.effect.name(), l.flange_mm))
+            .collect();
+        words.push(format!(
+            "These poses, times and noise would have revealed (at {:.0} %, with 90 % power, beyond the rest of what was found; the largest move of the flange at the calibration pose over these times): {}.",
+            100.0 * d.level,
+            list.join(", ")
+        ));
+    }
     for a in &d.ambiguities {
         let why = match a.correlation {
             Some(c) => format!("correlation {c:.2}"),
@@ -145,6 +183,18 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         ));
     }
     words
+}
+
+/// Where what is left lies, indented under the sentence that introduces
+/// it; its change over time said only where it grows (it is what is left).
+fn after_words(w: &super::locate::Where) -> Vec<String> {
+    w.time_shape
+        .as_ref()
+        .and_then(|t| t.words(true))
+        .into_iter()
+        .chain(w.words.iter().cloned())
+        .map(|s| format!("  {s}"))
+        .collect()
 }
 
 /// What to do, in one sentence.

@@ -3,7 +3,7 @@
 //! BIC, forward selection while the held-out gap still drops clearly, and
 //! honest verdicts (`none`, `unexplained`, ambiguities).
 
-use super::fit::{fit, Fit, Problem};
+use super::fit::{fit, fit_from, Fit, Problem};
 use crate::error::{ErrorKind, Result};
 use crate::model::{Effect, EffectKind};
 use nalgebra::Vector3;
@@ -78,11 +78,20 @@ pub struct Scored {
 pub fn cv_rms(problem: &Problem, folds: &Folds, kinds: &[EffectKind]) -> Result<f64> {
     let mut sum = 0.0;
     let mut count = 0usize;
+    // Each fold's fit starts where the fit on all rows ended (asked for
+    // beside every score, and remembered): a fold leaves out a fifth of the
+    // rows, and its minimum lies near; the time constants' grid search and
+    // most iterations are saved.
+    let all: Vec<usize> = (0..problem.rows.len()).collect();
+    let full = match kinds {
+        [] => None,
+        _ => fit(problem, &all, kinds).ok(),
+    };
     for (train, test) in &folds.folds {
-        let effects: Vec<Effect> = if kinds.is_empty() {
-            Vec::new()
-        } else {
-            fit(problem, train, kinds)?.effects
+        let effects: Vec<Effect> = match (kinds, &full) {
+            ([], _) => Vec::new(),
+            (_, Some(f)) => fit_from(problem, train, kinds, &f.effects)?.effects,
+            (_, None) => fit(problem, train, kinds)?.effects,
         };
         for g in held_out_gaps(problem, &effects, train, test) {
             sum += g.norm_squared();
@@ -255,6 +264,42 @@ pub fn score_candidates(
     let mut out = results.into_inner().unwrap_or_default();
     out.sort_by_key(|(i, _)| *i);
     out.into_iter().map(|(_, s)| s).collect()
+}
+
+/// What `chosen` adds to the positions predicted with the rest of
+/// `selected` (fitted on all rows, stacked as in [`Scored::contribution`]).
+pub fn score_contribution(
+    problem: &Problem,
+    selected: &[EffectKind],
+    chosen: EffectKind,
+) -> Option<Vec<f64>> {
+    let all: Vec<usize> = (0..problem.rows.len()).collect();
+    let without: Vec<EffectKind> = selected.iter().copied().filter(|k| *k != chosen).collect();
+    let predicted = |kinds: &[EffectKind]| -> Option<Vec<Vector3<f64>>> {
+        let effects = match kinds {
+            [] => Vec::new(),
+            _ => fit(problem, &all, kinds).ok()?.effects,
+        };
+        Some(centred(
+            problem,
+            &all,
+            problem
+                .predict_rows(&effects, &all)
+                .iter()
+                .map(|p| p.translation.vector)
+                .collect(),
+        ))
+    };
+    let (a, b) = (predicted(selected)?, predicted(&without)?);
+    Some(
+        a.iter()
+            .zip(&b)
+            .flat_map(|(a, b)| {
+                let d = a - b;
+                [d.x, d.y, d.z]
+            })
+            .collect(),
+    )
 }
 
 /// Cosine of two stacked contribution vectors.

@@ -113,7 +113,7 @@ pub fn program_poses(program: &Program, robot: &Robot) -> Result<Vec<(String, Jo
         {
             continue;
         }
-        let Some((pose, conf)) = target_pose(program, target)? else {
+        let Some((pose, conf)) = target_pose(program, &target)? else {
             continue;
         };
         let (tool, wobj, _, _) = frames_of(program, &frames, index, uses.get(&index))?;

@@ -2,9 +2,12 @@
 //! what to do about it. No sentences here: [`super::prose`] words them,
 //! and a caller may word them its own way.
 
+use super::detect::DetectionLimit;
 use super::gap::{GapStats, Noise};
 use super::locate::Where;
 use super::prepare::Registration;
+use super::signature::QuadraticGrowth;
+use super::stats::Test;
 use crate::model::{EffectEntry, EffectKind};
 use nalgebra::Vector3;
 use serde::{Serialize, Serializer};
@@ -100,10 +103,14 @@ pub struct StageSummary {
     pub gap_before_mm: f64,
     pub gap_after_mm: f64,
     pub effects: Vec<String>,
-    /// Whether structure left here may be called unexplained (a static
-    /// part from fewer poses than a full kinematic calibration needs is
-    /// reported, not judged).
+    /// Whether the poses give more numbers than a full kinematic
+    /// calibration takes up (for the static part; the time variation is
+    /// always judged): else the arm's own geometry cannot be told from
+    /// other static causes.
     pub judged: bool,
+    /// The test of what the stage leaves against the noise (`null` where
+    /// no degrees of freedom are left to judge it).
+    pub lack_of_fit: Option<Test>,
 }
 
 /// What to do about the gap.
@@ -133,6 +140,9 @@ pub struct ParamOut {
     pub value: f64,
     /// `null` when the data cannot identify it (held at zero).
     pub stderr: Option<f64>,
+    /// Why the data cannot identify it, where they cannot.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held: Option<super::unidentified::Unidentified>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -140,11 +150,13 @@ pub struct CandidateOut {
     pub name: String,
     /// The stage that scored it ([`StageSummary::part`]).
     pub part: Part,
-    /// Fraction of the base model's held-out mean-square gap this effect
-    /// alone removes.
+    /// Share of the held-out mean-square gap above the noise that this
+    /// effect alone removes.
     pub explained: f64,
     pub cv_rms_mm: f64,
     pub bic: Option<f64>,
+    /// Its F test against the stage's model without it.
+    pub test: Option<Test>,
     pub params: Vec<ParamOut>,
     pub selected: bool,
     pub error: Option<String>,
@@ -159,6 +171,8 @@ pub struct StepOut {
     pub gap_after_mm: f64,
     pub drop_pct: f64,
     pub runner_up: Option<String>,
+    /// The F test that added it.
+    pub test: Option<Test>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -183,6 +197,8 @@ pub struct Diagnosis {
     pub gap: GapStats,
     pub gap_after: GapStats,
     pub noise: Noise,
+    /// The level of each stage's family of tests.
+    pub level: f64,
     pub candidates: Vec<CandidateOut>,
     pub steps: Vec<StepOut>,
     /// Pairs of effects the data cannot tell apart.
@@ -198,6 +214,12 @@ pub struct Diagnosis {
     /// What is left unexplained changes over time (located with each
     /// pose's own offset taken out), rather than from pose to pose.
     pub left_over_time: bool,
+    /// A growth with the square of the link temperatures over time, which
+    /// no effect of the library has.
+    pub quadratic_growth: Option<QuadraticGrowth>,
+    /// For every effect of the library, the smallest size these poses,
+    /// times and noise would have revealed.
+    pub detection_limits: Vec<DetectionLimit>,
     pub registration: Option<Registration>,
     /// The stages of the diagnosis: with poses measured again and again,
     /// first what changes with time, then what stays; else one.

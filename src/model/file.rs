@@ -25,6 +25,7 @@
 
 use super::effects::{Effect, EffectKind};
 use super::expansion::ThermalExpansion;
+use super::file_place::{dotted, locate, Part};
 use super::perturb::{Base, Geometry};
 use crate::error::{Error, ErrorKind, Location, Result};
 use crate::robot::{Opw, Robot};
@@ -113,6 +114,13 @@ pub struct EffectEntry {
     pub stderr: BTreeMap<String, f64>,
 }
 
+/// A value the TOML parser took and the model cannot use: its key path
+/// and what is wrong.
+struct Invalid {
+    at: Vec<Part>,
+    message: String,
+}
+
 /// The embedded default model: the nominal IRB 140 with the base thermal
 /// model of `docs/model.md`, in the model-file format (`data/irb140/model.toml`).
 pub const DEFAULT_MODEL_TOML: &str = include_str!("../../data/irb140/model.toml");
@@ -195,7 +203,8 @@ impl EffectEntry {
 }
 
 impl Model {
-    /// Parse a model file's text (`file` names it in messages).
+    /// Parse a model file's text (`file` names it in messages). An error
+    /// names the key and its line and column.
     pub fn parse(file: &str, text: &str) -> Result<Model> {
         let model: Model = toml::from_str(text).map_err(|e| {
             let mut err = Error::input(format!("bad model file: {}", e.message()));
@@ -204,14 +213,15 @@ impl Model {
             }
             err
         })?;
-        model.validate().map_err(|e| {
-            Error::new(e.kind, e.message).at(Location::from_offset(file, text.as_bytes(), 0))
+        model.validate().map_err(|bad| {
+            Error::input(format!("`{}`: {}", dotted(&bad.at), bad.message))
+                .at(locate(file, text, &bad.at))
         })?;
         Ok(model)
     }
 
     pub fn load(path: &Path) -> Result<Model> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+        let bytes = crate::input::read_path(path)?;
         let text = String::from_utf8(bytes)
             .map_err(|_| Error::input(format!("{}: model files must be UTF-8", path.display())))?;
         let mut model = Model::parse(&path.display().to_string(), &text)?;
@@ -225,45 +235,107 @@ impl Model {
             .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write the model: {e}")))
     }
 
-    fn validate(&self) -> Result<()> {
-        let o = match (&self.robot.opw, &self.robot.urdf) {
-            (Some(o), None) => o,
-            (None, Some(_)) => return self.validate_thermal(),
-            _ => {
-                return Err(Error::input(
-                    "model: [robot] needs either its OPW lengths ([robot.opw]) or `urdf = \"FILE\"`, not both",
-                ))
-            }
+    /// Every value the parser took and the model cannot use, by its key.
+    fn validate(&self) -> std::result::Result<(), Invalid> {
+        use Part::Key;
+        let bad = |at: Vec<Part>, message: &str| {
+            Err(Invalid {
+                at,
+                message: message.to_string(),
+            })
         };
-        let lengths = [o.c1, o.a1, o.c2, o.c3, o.c4, o.a2, o.b];
-        if lengths.iter().any(|v| !v.is_finite()) || o.c2 <= 0.0 || o.c3 <= 0.0 {
-            return Err(Error::input(
-                "model: robot lengths must be finite, c2 and c3 positive",
-            ));
+        match (&self.robot.opw, &self.robot.urdf) {
+            (Some(o), None) => {
+                let lengths = [
+                    ("c1", o.c1),
+                    ("a1", o.a1),
+                    ("c2", o.c2),
+                    ("c3", o.c3),
+                    ("c4", o.c4),
+                    ("a2", o.a2),
+                    ("b", o.b),
+                ];
+                for (name, v) in lengths {
+                    let positive = matches!(name, "c2" | "c3");
+                    // A millimetre length beyond 100 m is no robot arm.
+                    if !v.is_finite() || v.abs() > 1e5 || (positive && v <= 0.0) {
+                        return bad(
+                            vec![Key("robot"), Key("opw"), Key(name)],
+                            if positive {
+                                "must be a positive length in mm (at most 100,000)"
+                            } else {
+                                "must be a finite length in mm (at most 100,000 either way)"
+                            },
+                        );
+                    }
+                }
+            }
+            (None, Some(_)) => {}
+            _ => {
+                return bad(
+                    vec![Key("robot")],
+                    "needs either its OPW lengths ([robot.opw]) or `urdf = \"FILE\"`, not both",
+                )
+            }
         }
-        self.validate_thermal()
-    }
-
-    fn validate_thermal(&self) -> Result<()> {
+        if !self.point().iter().all(|v| v.is_finite() && v.abs() <= 1e4) {
+            return bad(
+                vec![Key("robot"), Key("point_mm")],
+                "must be three finite mm (within 10 m of the flange)",
+            );
+        }
         let th = &self.thermal;
-        for link in [&th.base, &th.lower_arm, &th.upper_arm, &th.wrist] {
+        for (key, link) in [
+            ("base", &th.base),
+            ("lower_arm", &th.lower_arm),
+            ("upper_arm", &th.upper_arm),
+            ("wrist", &th.wrist),
+        ] {
             if link.motors.is_empty() || link.motors.iter().any(|&m| !(1..=6).contains(&m)) {
-                return Err(Error::input("model: each link needs motors among 1..6"));
+                return bad(
+                    vec![Key("thermal"), Key(key), Key("motors")],
+                    "each link needs motors among 1..6",
+                );
             }
-            if !link.alpha.is_finite() {
-                return Err(Error::input("model: alpha must be finite"));
+            // Engineering metals expand by 1e-6 to 3e-5 per kelvin.
+            if !(link.alpha.is_finite() && link.alpha.abs() < 1e-3) {
+                return bad(
+                    vec![Key("thermal"), Key(key), Key("alpha")],
+                    "must be a finite expansion coefficient per kelvin (aluminium: 2.2e-5)",
+                );
             }
         }
-        if !self.point().iter().all(|v| v.is_finite()) {
-            return Err(Error::input("model: [robot] point_mm must be finite"));
+        if !(th.k0.is_finite() && (0.0..=100.0).contains(&th.k0)) {
+            return bad(
+                vec![Key("thermal"), Key("k0")],
+                "must be a finite factor from 0 to 100",
+            );
         }
-        if !(th.k0.is_finite() && th.k0 >= 0.0) {
-            return Err(Error::input("model: k0 must be a finite factor ≥ 0"));
+        if !(th.t_ref.is_finite() && (-50.0..=150.0).contains(&th.t_ref)) {
+            return bad(
+                vec![Key("thermal"), Key("t_ref")],
+                "must be a temperature in °C from -50 to 150",
+            );
         }
-        if !th.t_ref.is_finite() {
-            return Err(Error::input("model: t_ref must be finite"));
+        for (i, entry) in self.effects.iter().enumerate() {
+            let at = |rest: Vec<Part>| {
+                let mut at = vec![Key("effects"), Part::Index(i)];
+                at.extend(rest);
+                at
+            };
+            let Some(kind) = EffectKind::from_name(&entry.name) else {
+                return bad(at(vec![Key("name")]), "unknown effect");
+            };
+            let mut effect = Effect::zero(kind);
+            for (key, value) in &entry.params {
+                if let Err(e) = effect.set(key, &value.to_string()) {
+                    return Err(Invalid {
+                        at: at(vec![Key("params"), Part::Name(key.clone())]),
+                        message: e.message,
+                    });
+                }
+            }
         }
-        self.effects()?;
         Ok(())
     }
 
@@ -319,7 +391,7 @@ impl Model {
                 Some(dir) if Path::new(rec).is_relative() => dir.join(rec),
                 _ => PathBuf::from(rec),
             };
-            let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, &e))?;
+            let bytes = crate::input::read_path(&path)?;
             let record = HeatingRecord::parse(&path.display().to_string(), &bytes)?;
             return match &self.heating.fit {
                 // A recording of the actual run: interpolated, refused
@@ -371,6 +443,37 @@ mod tests {
             (base.translation.vector - crate::robot::irb140_opw().fk(&q).translation.vector).norm()
                 < 1e-9
         );
+    }
+
+    /// A value the TOML parser takes but the model cannot use is reported
+    /// at its key, with the key named.
+    #[test]
+    fn an_unusable_value_is_reported_at_its_key() {
+        let cases = [
+            ("k0 = 0.33699", "k0 = -1", "`thermal.k0`"),
+            ("t_ref = 7.0", "t_ref = 289.0", "`thermal.t_ref`"),
+            ("c2 = 360.0", "c2 = -360.0", "`robot.opw.c2`"),
+            (
+                "motors = [2, 3]",
+                "motors = [2, 7]",
+                "`thermal.lower_arm.motors`",
+            ),
+        ];
+        for (from, to, key) in cases {
+            assert!(DEFAULT_MODEL_TOML.contains(from), "{from}");
+            let text = DEFAULT_MODEL_TOML.replacen(from, to, 1);
+            let e = Model::parse("m.toml", &text).unwrap_err();
+            let line = 1 + text[..text.find(to).unwrap()].matches('\n').count();
+            let loc = e.location.as_ref().unwrap();
+            assert_eq!(loc.line, line, "{to}: {e}");
+            assert!(e.message.contains(key), "{to}: {e}");
+        }
+        let text = format!(
+            "{DEFAULT_MODEL_TOML}\n[[effects]]\nname = \"arm-bending\"\n[effects.params]\nnot_a_param = 1.0\n"
+        );
+        let e = Model::parse("m.toml", &text).unwrap_err();
+        assert!(e.message.contains("`effects[1].params.not_a_param`"), "{e}");
+        assert_eq!(e.location.unwrap().line, text.lines().count());
     }
 
     #[test]

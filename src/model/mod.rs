@@ -15,6 +15,7 @@ pub mod chain;
 pub mod effects;
 pub mod expansion;
 pub mod file;
+pub mod file_place;
 pub mod general;
 pub mod perturb;
 pub mod warm;

@@ -126,6 +126,7 @@ impl WarmRobot {
                 .history
                 .as_ref()
                 .and_then(|h| LinkLags::new(h, &self.effects)),
+            known: None,
         }
     }
 
@@ -206,11 +207,29 @@ impl WarmRobot {
 pub struct States<'a> {
     warm: &'a WarmRobot,
     lags: Option<LinkLags<'a>>,
+    /// One moment's state worked out ahead: a run at one moment asks for
+    /// it a million times, and working it out each time (the heating
+    /// curves' exponentials) was a twentieth of correcting a target.
+    known: Option<(Moment, State)>,
 }
 
 impl States<'_> {
+    /// Work out the state at `at` once, for every later [`States::at`] of
+    /// it (the same state, kept).
+    pub fn remember(&mut self, at: Moment) -> Result<()> {
+        self.known = None;
+        let state = self.at(at)?;
+        self.known = Some((at, state));
+        Ok(())
+    }
+
     /// The thermal state at a moment.
     pub fn at(&self, at: Moment) -> Result<State> {
+        if let Some((m, state)) = &self.known {
+            if *m == at {
+                return Ok(*state);
+            }
+        }
         match at {
             Moment::Steady => {
                 let temps = self.warm.profile.steady()?;

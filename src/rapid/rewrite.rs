@@ -351,7 +351,7 @@ fn format_like_plain_into(
     let was = match was {
         Some(w) => w,
         None => {
-            let w = super::fastmove::decimal_value(digits)?;
+            let w = super::lane::decimal_value(digits)?;
             if digits.len() < old.len() {
                 -w
             } else {
@@ -686,7 +686,7 @@ mod tests {
             prog.number_text(0, &t.value.as_ref().unwrap().trans[2]),
             "3"
         );
-        let edits = prog.robtarget_edits(t, [1.0, 2.0, 4.5], Some([1.0, 0.0, 0.0, 0.0]), None);
+        let edits = prog.robtarget_edits(&t, [1.0, 2.0, 4.5], Some([1.0, 0.0, 0.0, 0.0]), None);
         let out = prog.apply_edits(0, &edits).unwrap();
         assert_eq!(
             out,

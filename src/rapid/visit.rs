@@ -8,6 +8,13 @@
 //! statements) and UNDO; a statement's expressions before its nested
 //! blocks, as they are written.
 //!
+//! Moves the fast lane read are held in runs, one
+//! [`StatementKind::Moves`](super::StatementKind::Moves) statement for a
+//! run (its moves through [`Program::moves`]), and an array's literals
+//! one [`Expr::Elements`]: the walk does not go into them. A pass that
+//! needs every call as a [`Call`] walks [`Program::expanded`], the
+//! program as the grammar alone makes it.
+//!
 //! Context such as the module or routine a statement is in is kept by the
 //! visitor itself, set in `visit_module` / `visit_routine` before walking:
 //!
@@ -33,7 +40,7 @@
 //! }
 //!
 //! let src = b"MODULE m\nPROC main()\nIF TRUE THEN\nMoveL p10, v100, fine, tool0;\nENDIF\nENDPROC\nENDMODULE\n";
-//! let program = rapid::parse("m.mod", src)?;
+//! let program = rapid::parse("m.mod", src)?.expanded();
 //! let mut v = Calls::default();
 //! v.visit_program(&program);
 //! assert_eq!(v.found, [("main", "MoveL")]);
@@ -197,7 +204,7 @@ pub fn walk_statement<'a, V: Visit<'a> + ?Sized>(v: &mut V, s: &'a Statement) {
         | S::Retry
         | S::TryNext
         | S::Placeholder(_)
-        | S::CutMoves { .. } => {}
+        | S::Moves(_) => {}
     }
 }
 
@@ -239,7 +246,8 @@ pub fn walk_expr<'a, V: Visit<'a> + ?Sized>(v: &mut V, e: &'a Expr) {
         | Expr::Placeholder(_)
         | Expr::Name(_)
         | Expr::Target(_)
-        | Expr::JointTarget(_) => {}
+        | Expr::JointTarget(_)
+        | Expr::Elements(_) => {}
     }
 }
 
@@ -391,7 +399,7 @@ pub fn walk_statement_mut<V: VisitMut + ?Sized>(v: &mut V, s: &mut Statement) {
         | S::Retry
         | S::TryNext
         | S::Placeholder(_)
-        | S::CutMoves { .. } => {}
+        | S::Moves(_) => {}
     }
 }
 
@@ -433,7 +441,8 @@ pub fn walk_expr_mut<V: VisitMut + ?Sized>(v: &mut V, e: &mut Expr) {
         | Expr::Placeholder(_)
         | Expr::Name(_)
         | Expr::Target(_)
-        | Expr::JointTarget(_) => {}
+        | Expr::JointTarget(_)
+        | Expr::Elements(_) => {}
     }
 }
 

@@ -114,7 +114,7 @@ pub fn aliases(program: &Program) -> HashMap<String, Vec<String>> {
                 }
                 let mut read = names_read(value);
                 for t in targets_in(value) {
-                    if let Some(d) = &program.targets()[t].derived {
+                    if let Some(d) = program.targets().get(t).and_then(|t| t.derived.clone()) {
                         read.extend(d.bases.iter().cloned());
                     }
                 }
@@ -150,19 +150,54 @@ pub fn aliases(program: &Program) -> HashMap<String, Vec<String>> {
 }
 
 /// Lower-case names of every robtarget variable declared in the program.
-fn robtarget_variables(program: &Program) -> HashSet<String> {
+fn robtarget_variables(program: &Program) -> Variables<'_> {
     variables_of(program, &["robtarget"])
 }
 
-/// Lower-case names of every variable of these types declared in the program.
-fn variables_of(program: &Program, types: &[&str]) -> HashSet<String> {
-    program
-        .modules
-        .iter()
-        .flat_map(|m| m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data)))
-        .filter(|d| types.iter().any(|t| d.type_name.eq_ignore_ascii_case(t)))
-        .map(|d| d.name.to_lowercase())
-        .collect()
+/// The variables of these types declared in the program, by lower-case
+/// name: the set is made when first asked (a program of a million
+/// declared targets and no assignment never makes it).
+fn variables_of<'p>(program: &'p Program, types: &'static [&'static str]) -> Variables<'p> {
+    Variables {
+        program,
+        types,
+        set: std::cell::OnceCell::new(),
+    }
+}
+
+struct Variables<'p> {
+    program: &'p Program,
+    types: &'static [&'static str],
+    set: std::cell::OnceCell<HashSet<String>>,
+}
+
+impl Variables<'_> {
+    fn contains(&self, key: &str) -> bool {
+        self.set
+            .get_or_init(|| {
+                let p = self.program;
+                let robtargets = self.types.contains(&"robtarget");
+                let in_runs = p
+                    .modules
+                    .iter()
+                    .flat_map(|m| m.decl_runs.iter())
+                    .filter(|_| robtargets)
+                    .flat_map(|&r| p.declared_names(r))
+                    .map(|(name, _, _)| name.to_lowercase());
+                p.modules
+                    .iter()
+                    .flat_map(|m| m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data)))
+                    .filter(|d| {
+                        self.types
+                            .iter()
+                            .any(|t| d.type_name.eq_ignore_ascii_case(t))
+                    })
+                    .map(|d| d.name.to_lowercase())
+                    .chain(in_runs)
+                    .collect()
+            })
+            .contains(key)
+    }
 }
 
 /// The program's own procedures, by lower-case name, with the positional

@@ -7,7 +7,8 @@
 //! `correct` and `diagnose` (programs as pose sets). May import `rapid`,
 //! `robot` and the shared `error`; never `model`, `schedule` or the jobs.
 
-use crate::error::{Error, ErrorKind, Result};
+use crate::error::{Error, ErrorKind, Result, Subject};
+use crate::rapid::targets::TargetIndex;
 use crate::rapid::visit::{walk_statement, Visit};
 use crate::rapid::{self, Call, Expr, Program, Statement, StatementKind, Target, TargetKind};
 use crate::robot::conf::RobConf;
@@ -15,7 +16,12 @@ use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
 use nalgebra::Isometry3;
 use std::collections::HashMap;
 
+pub mod arm;
 pub mod dataflow;
+mod uses;
+
+use uses::{Site, UsesBuilder};
+pub use uses::{UseRef, Uses};
 
 /// The tools and work objects a program declares, by lower-case name, with
 /// RAPID's predefined `tool0` and `wobj0`.
@@ -117,22 +123,16 @@ pub fn target_pose(
     let Some(v) = &target.value else {
         return Ok(None);
     };
-    let pose = pose_from_rapid(v.trans_values(), v.rot_values()).map_err(|e| {
-        located(
-            program,
-            &target.origin,
-            format!("target {}: {}", target.id, e.message),
-        )
-    })?;
+    let about = || Subject::Target(target.id.clone());
+    let pose = pose_from_rapid(v.trans_values(), v.rot_values())
+        .map_err(|e| located(program, &target.origin, e.message).about(about()))?;
     let conf = robconf_of(v.robconf_values()).map_err(|x| {
         located(
             program,
             &target.origin,
-            format!(
-                "target {}: robconf value {x} is not a whole number",
-                target.id
-            ),
+            format!("robconf value {x} is not a whole number"),
         )
+        .about(about())
     })?;
     Ok(Some((pose, conf)))
 }
@@ -217,50 +217,58 @@ pub enum Through {
     Variable,
 }
 
-/// For every target of the program (by index into [`Program::targets`]),
-/// the motion instructions that move to it with their tool and work
-/// object. Inline targets have the one instruction they are written in;
-/// declared targets (and array elements with a literal index) every move
-/// that names them; the bases of a derived target (`Offs(p10, ...)`) the
-/// moves to the derived pose, since the offset is taken in the same frame.
-pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
-    let by_id: HashMap<String, usize> = program
-        .targets()
-        .iter()
-        .enumerate()
-        .filter(|(_, t)| {
-            t.kind != TargetKind::Inline
-                && (t.kind != TargetKind::Derived || t.written_with_expressions())
-        })
-        .map(|(i, t)| (t.id.to_ascii_lowercase(), i))
-        .collect();
+/// Every target's uses (see [`Uses`]): inline targets have the one
+/// instruction they are written in; declared targets (and array elements
+/// with a literal index, or every element of an array its index reads at
+/// run time) every move that names them; the bases of a derived target
+/// (`Offs(p10, ...)`) the moves to the derived pose, since the offset is
+/// taken in the same frame.
+pub fn uses(program: &Program) -> Uses<'_> {
+    let index = program.target_index(|t| {
+        t.kind != TargetKind::Inline
+            && (t.kind != TargetKind::Derived || t.written_with_expressions())
+    });
     let aliases = dataflow::aliases(program);
     let refs = Refs {
         program,
-        by_id: &by_id,
+        index: &index,
         aliases: &aliases,
         derived_at: program
             .targets()
-            .iter()
-            .enumerate()
+            .one_by_one_all()
             .filter(|(_, t)| t.kind == TargetKind::Derived)
             .map(|(i, t)| (t.origin.pos.offset, i))
             .collect(),
     };
-    let mut out: HashMap<usize, Vec<Usage>> = HashMap::new();
-    each_move(program, &mut |module, expr, usage| {
-        for (index, through) in refs.targets(expr, module) {
-            let usage = Usage {
-                through,
-                ..usage.clone()
-            };
-            let list = out.entry(index).or_default();
-            if !list.contains(&usage) {
-                list.push(usage);
+    let mut b = UsesBuilder::new(program.targets());
+    each_move(program, &mut |module, reach, at| {
+        let mut site = Site {
+            through: Through::Direct,
+            tool: b.name(at.tool),
+            wobj: b.name(at.wobj),
+            instruction: b.name(Some(at.instruction)),
+            routine: b.name(Some(at.routine)),
+            line: at.line,
+            file: at.file as u32,
+            offset: at.offset,
+        };
+        for (reached, through) in refs.targets(reach, (module, at.routine)) {
+            site.through = through;
+            let s = b.site(site);
+            match reached {
+                Reached::One(i) => b.reach(i, s),
+                Reached::All(r) => b.reach_all(r, s),
             }
         }
     });
-    out
+    b.finish()
+}
+
+/// For every target of the program (by its number), the motion
+/// instructions that move to it with their tool and work object: [`uses`]
+/// as a map of [`Usage`]s, for callers that walk few targets.
+pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
+    uses(program).to_map()
 }
 
 /// The moves that name a derived target declared as data (`CONST
@@ -270,8 +278,7 @@ pub fn usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
 pub fn declared_derived_usages(program: &Program) -> HashMap<usize, Vec<Usage>> {
     let by_id: HashMap<String, usize> = program
         .targets()
-        .iter()
-        .enumerate()
+        .one_by_one_all()
         .filter(|(_, t)| {
             t.kind == TargetKind::Derived
                 && !t.written_with_expressions()
@@ -283,40 +290,65 @@ pub fn declared_derived_usages(program: &Program) -> HashMap<usize, Vec<Usage>> 
     if by_id.is_empty() {
         return out;
     }
-    each_move(program, &mut |module, expr, usage| {
-        let Some(name) = expr.as_name() else { return };
+    each_move(program, &mut |module, reach, at| {
+        let name = match reach {
+            Reach::Expr(e) => e.as_name(),
+            Reach::Name(n) => Some(n),
+        };
+        let Some(name) = name else { return };
         let found = by_id
             .get(&name.to_ascii_lowercase())
             .or_else(|| by_id.get(&format!("{module}:{name}").to_ascii_lowercase()));
         if let Some(&i) = found {
-            out.entry(i).or_default().push(usage.clone());
+            out.entry(i).or_default().push(at.usage(Through::Direct));
         }
     });
     out
 }
 
-/// Every target expression of every move instruction (ToPoint, and the
-/// CirPoint of circular moves) with its module's name and the use it
-/// makes (`through` direct, to be set by the caller).
-fn each_move(program: &Program, visit: &mut dyn FnMut(&str, &Expr, &Usage)) {
+/// What a move's target argument is.
+#[derive(Clone, Copy)]
+enum Reach<'a> {
+    /// An expression of a statement.
+    Expr(&'a Expr),
+    /// A plain name (a run's move by name).
+    Name(&'a str),
+}
+
+/// Where a move is, and what it moves with.
+struct MoveAt<'a> {
+    tool: Option<&'a str>,
+    wobj: Option<&'a str>,
+    instruction: &'a str,
+    routine: &'a str,
+    line: u32,
+    file: usize,
+    offset: usize,
+}
+
+impl MoveAt<'_> {
+    fn usage(&self, through: Through) -> Usage {
+        Usage {
+            through,
+            tool: self.tool.map(str::to_string),
+            wobj: self.wobj.map(str::to_string),
+            instruction: self.instruction.to_string(),
+            routine: self.routine.to_string(),
+            line: self.line,
+            file: self.file,
+            offset: self.offset,
+        }
+    }
+}
+
+/// Every target argument of every move instruction (ToPoint, and the
+/// CirPoint of circular moves) with its module's name and where the move
+/// is: the statements of every routine, and the moves by name of the
+/// runs (a run's literals are reached by their own move alone, and left
+/// out).
+fn each_move(program: &Program, visit: &mut dyn FnMut(&str, Reach, &MoveAt)) {
     for module in &program.modules {
         for routine in &module.routines {
-            let mut on_call = |call: &Call, line: u32, offset: usize| {
-                let Some(m) = call.motion() else { return };
-                let usage = Usage {
-                    through: Through::Direct,
-                    tool: m.tool.and_then(expr_name),
-                    wobj: m.wobj.and_then(expr_name),
-                    instruction: call.name.to_string(),
-                    routine: routine.name.to_string(),
-                    line,
-                    file: module.file,
-                    offset,
-                };
-                for expr in [m.via, m.to].into_iter().flatten() {
-                    visit(module.name.as_ref(), expr, &usage);
-                }
-            };
             let bodies = [
                 Some(&routine.body),
                 routine.backward.as_ref(),
@@ -324,10 +356,40 @@ fn each_move(program: &Program, visit: &mut dyn FnMut(&str, &Expr, &Usage)) {
                 routine.error.as_ref().map(|(_, s)| s),
             ];
             for body in bodies.into_iter().flatten() {
-                walk_statements(body, &mut |s| {
-                    if let StatementKind::Call(call) = &s.kind {
-                        on_call(call, s.pos.line, s.pos.offset);
+                walk_statements(body, &mut |s| match &s.kind {
+                    StatementKind::Call(call) => {
+                        let Some(m) = call.motion() else { return };
+                        let tool = m.tool.map(describe);
+                        let wobj = m.wobj.map(describe);
+                        let at = MoveAt {
+                            tool: tool.as_deref(),
+                            wobj: wobj.as_deref(),
+                            instruction: &call.name,
+                            routine: &routine.name,
+                            line: s.pos.line,
+                            file: module.file,
+                            offset: s.pos.offset,
+                        };
+                        for expr in [m.via, m.to].into_iter().flatten() {
+                            visit(module.name.as_ref(), Reach::Expr(expr), &at);
+                        }
                     }
+                    StatementKind::Moves(run) => {
+                        for mv in program.moves(*run) {
+                            let Some(name) = mv.named() else { continue };
+                            let at = MoveAt {
+                                tool: mv.tool().map(|t| &**t),
+                                wobj: mv.wobj().map(|w| &**w),
+                                instruction: mv.instruction(),
+                                routine: &routine.name,
+                                line: mv.line(),
+                                file: module.file,
+                                offset: mv.offset(),
+                            };
+                            visit(module.name.as_ref(), Reach::Name(name), &at);
+                        }
+                    }
+                    _ => {}
                 });
             }
         }
@@ -366,10 +428,6 @@ pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) 
 /// a function's result) by a description no declaration matches, so that
 /// its target is refused as having a tool nobody can tell before the run,
 /// never corrected for `tool0`.
-fn expr_name(expr: &Expr) -> Option<String> {
-    Some(describe(expr))
-}
-
 fn describe(expr: &Expr) -> String {
     match expr {
         Expr::Name(n) => n.to_string(),
@@ -388,30 +446,42 @@ fn is_plain_name(name: &str) -> bool {
 /// What resolving the targets an expression reads needs.
 struct Refs<'a> {
     program: &'a Program,
-    by_id: &'a HashMap<String, usize>,
+    index: &'a TargetIndex<'a>,
     aliases: &'a HashMap<String, Vec<String>>,
     /// Derived targets written in statements (`MoveL Offs(p10, 0, 0, 50)`),
     /// by where their call starts.
     derived_at: HashMap<usize, usize>,
 }
 
+/// Where a name is read: its module and routine.
+type Scope<'s> = (&'s str, &'s str);
+
+/// What a move reaches: one target, or every target of a stretch (an
+/// array's elements through an index known only at run time).
+enum Reached {
+    One(usize),
+    All(std::ops::Range<usize>),
+}
+
 impl Refs<'_> {
-    fn lookup(&self, id: &str, module: &str) -> Option<usize> {
-        self.by_id
-            .get(&id.to_ascii_lowercase())
-            .or_else(|| {
-                self.by_id
-                    .get(&format!("{module}:{id}").to_ascii_lowercase())
-            })
-            .copied()
+    /// The target a name reads in `routine` of `module`: the routine's own
+    /// data first (its identifier carries the routine where the name is
+    /// declared elsewhere too), then the module's, then the task's.
+    fn lookup(&self, id: &str, (module, routine): Scope) -> Option<usize> {
+        let own = format!("{routine}/{id}");
+        self.index
+            .get(&own)
+            .or_else(|| self.index.get(&format!("{module}:{own}")))
+            .or_else(|| self.index.get(&format!("{module}:{id}")))
+            .or_else(|| self.index.get(id))
     }
 
     /// A name read by a move or a derived expression: the target itself,
     /// and what a variable of that name is assigned from at run time.
-    fn named(&self, name: &str, module: &str, through: Through) -> Vec<(usize, Through)> {
-        let mut out: Vec<(usize, Through)> = self
+    fn named(&self, name: &str, module: Scope, through: Through) -> Vec<(Reached, Through)> {
+        let mut out: Vec<(Reached, Through)> = self
             .lookup(name, module)
-            .map(|i| (i, through))
+            .map(|i| (Reached::One(i), through))
             .into_iter()
             .collect();
         if let Some(bases) = self.aliases.get(&name.to_ascii_lowercase()) {
@@ -419,32 +489,41 @@ impl Refs<'_> {
                 bases
                     .iter()
                     .filter_map(|b| self.lookup(b, module))
-                    .map(|i| (i, Through::Variable)),
+                    .map(|i| (Reached::One(i), Through::Variable)),
             );
         }
         out
     }
 
-    /// Targets an expression reads: a literal, a declared name, an array
-    /// element with literal indices, the bases of a derived expression,
-    /// and what a variable read is assigned from.
-    fn targets(&self, expr: &Expr, module: &str) -> Vec<(usize, Through)> {
+    /// Targets a move's argument reads: a literal, a declared name, an
+    /// array element with literal indices (every element where an index
+    /// is read at run time), the bases of a derived expression, and what
+    /// a variable read is assigned from.
+    fn targets(&self, reach: Reach, module: Scope) -> Vec<(Reached, Through)> {
+        let expr = match reach {
+            Reach::Name(n) => return self.named(n, module, Through::Direct),
+            Reach::Expr(e) => e,
+        };
         let program = self.program;
         match expr {
             Expr::Target(i) => {
-                let t = &program.targets()[*i];
+                let Some(t) = program.targets().get(*i) else {
+                    return Vec::new();
+                };
                 match &t.derived {
-                    Some(_) if t.written_with_expressions() => vec![(*i, Through::Direct)],
+                    Some(_) if t.written_with_expressions() => {
+                        vec![(Reached::One(*i), Through::Direct)]
+                    }
                     Some(d) => d
                         .bases
                         .iter()
                         .flat_map(|b| self.named(b, module, Through::Derived(*i)))
                         .collect(),
-                    None => vec![(*i, Through::Direct)],
+                    None => vec![(Reached::One(*i), Through::Direct)],
                 }
             }
             Expr::Call(c) => match self.derived_at.get(&c.span.start) {
-                Some(&i) => self.targets(&Expr::Target(i), module),
+                Some(&i) => self.targets(Reach::Expr(&Expr::Target(i)), module),
                 None => Vec::new(),
             },
             Expr::Name(n) => self.named(n, module, Through::Direct),
@@ -457,19 +536,38 @@ impl Refs<'_> {
                 };
                 if !pattern.contains('*') {
                     if let Some(i) = self.lookup(&pattern, module) {
-                        return vec![(i, Through::Direct)];
+                        return vec![(Reached::One(i), Through::Direct)];
                     }
                 }
-                program
-                    .targets()
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, t)| {
-                        matches!(t.kind, TargetKind::ArrayElement | TargetKind::RecordField)
-                            && glob_match(&pattern, &t.id)
-                    })
-                    .map(|(i, _)| (i, Through::Direct))
-                    .collect()
+                let mut out: Vec<(Reached, Through)> = Vec::new();
+                // An array the fast lane read: its elements, all at once.
+                let (module, routine) = module;
+                // The routine's own array first, as for a name.
+                let own = format!("{routine}/{pattern}");
+                let qualified = format!("{module}:{pattern}");
+                let qualified_own = format!("{module}:{own}");
+                let mut patterns = [own, qualified_own, qualified, pattern].into_iter();
+                for pattern in patterns.by_ref() {
+                    if let Some(prefix) = pattern.strip_suffix("{*}") {
+                        if let Some((first, n)) = self.index.array(prefix) {
+                            out.push((Reached::All(first..first + n), Through::Direct));
+                        }
+                    }
+                    out.extend(
+                        program
+                            .targets()
+                            .one_by_one_all()
+                            .filter(|(_, t)| {
+                                matches!(t.kind, TargetKind::ArrayElement | TargetKind::RecordField)
+                                    && glob_match(&pattern, &t.id)
+                            })
+                            .map(|(i, _)| (Reached::One(i), Through::Direct)),
+                    );
+                    if !out.is_empty() {
+                        break;
+                    }
+                }
+                out
             }
             _ => Vec::new(),
         }
@@ -540,9 +638,24 @@ pub fn frames_of(
     index: usize,
     uses: Option<&Vec<Usage>>,
 ) -> Result<(ToolData, WobjData, Option<String>, Option<String>)> {
-    let target = &program.targets()[index];
-    let (tool_name, wobj_name) = match uses.and_then(|u| u.first()) {
-        Some(first) => (first.tool.clone(), first.wobj.clone()),
+    let target = program.targets().at(index);
+    let first = uses
+        .and_then(|u| u.first())
+        .map(|f| (f.tool.as_deref(), f.wobj.as_deref()));
+    frames_for(program, frames, &target, first)
+}
+
+/// [`frames_of`] for `target`, whose first use names `first` (its tool
+/// and work object as written; `None`: no move reaches it, and the target
+/// names its own instruction's).
+pub fn frames_for(
+    program: &Program,
+    frames: &Frames,
+    target: &Target,
+    first: Option<(Option<&str>, Option<&str>)>,
+) -> Result<(ToolData, WobjData, Option<String>, Option<String>)> {
+    let (tool_name, wobj_name) = match first {
+        Some((tool, wobj)) => (tool.map(str::to_string), wobj.map(str::to_string)),
         None => (
             target.tool.as_deref().map(str::to_string),
             target.wobj.as_deref().map(str::to_string),
@@ -572,21 +685,19 @@ pub fn frames_named(
             located(
                 program,
                 &target.origin,
-                format!(
-                    "target {}: unknown {what} `{name}` (no {data} of that name in the program)",
-                    target.id
-                ),
+                format!("unknown {what} `{name}` (no {data} of that name in the program)"),
             )
+            .about(Subject::Target(target.id.clone()))
             .with_note(ELSEWHERE)
         } else {
             located(
                 program,
                 &target.origin,
                 format!(
-                    "target {}: the {what} is `{name}`, which only the run decides (not a {data} declared by name); correcting it for another {what} would be silently wrong",
-                    target.id
+                    "the {what} is `{name}`, which only the run decides (not a {data} declared by name); correcting it for another {what} would be silently wrong"
                 ),
             )
+            .about(Subject::Target(target.id.clone()))
             .with_note("name the tooldata/wobjdata in the move instruction, or correct such targets by hand")
         }
     };
@@ -605,11 +716,9 @@ const ELSEWHERE: &str = "tools and work objects are often declared in a system m
 
 /// An error for a target whose frames cannot be modelled.
 pub fn unsupported(program: &Program, target: &Target, why: &str) -> Error {
-    Error::new(
-        ErrorKind::Unsupported,
-        format!("target {}: {why}", target.id),
-    )
-    .at(program.location(&target.origin))
+    Error::new(ErrorKind::Unsupported, why)
+        .about(Subject::Target(target.id.clone()))
+        .at(program.location(&target.origin))
 }
 
 #[cfg(test)]

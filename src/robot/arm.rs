@@ -90,7 +90,13 @@ impl Robot {
     }
 
     pub fn from_urdf_file(path: &Path) -> Result<Robot> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+        let bytes = crate::input::read_path(path)?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            Error::io(
+                path,
+                &std::io::Error::new(std::io::ErrorKind::InvalidData, e.utf8_error()),
+            )
+        })?;
         Robot::from_urdf_str(&path.display().to_string(), &text)
     }
 

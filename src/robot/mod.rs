@@ -38,6 +38,7 @@ mod ik_chain;
 mod ik_conf;
 mod lanes;
 pub mod urdf;
+pub mod urdf_scan;
 
 pub use arm::{describe_violation, irb140_opw, Robot};
 pub use conf::RobConf;

@@ -4,6 +4,7 @@
 
 use super::chain::{Chain, ChainJoint, LinkMass};
 use super::ik::Limits;
+use super::urdf_scan::{self, UrdfIndex};
 use crate::error::{Error, ErrorKind, Result};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::collections::HashMap;
@@ -31,18 +32,30 @@ fn pose_of(origin: &urdf_rs::Pose) -> Isometry3<f64> {
     )
 }
 
+/// Read a URDF text with urdf-rs, after [`urdf_scan::scan`] has refused
+/// what would overflow its stack or carry non-finite numbers.
+fn read(file: &str, text: &str) -> Result<(urdf_rs::Robot, UrdfIndex)> {
+    let index = urdf_scan::scan(file, text)?;
+    let robot = urdf_rs::read_from_string(text)
+        .map_err(|e| Error::input(format!("not a readable URDF: {e}")).at(index.link("")))?;
+    Ok((robot, index))
+}
+
 /// Parse a URDF text (`file` names it in messages).
 pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
-    let robot = urdf_rs::read_from_string(text)
-        .map_err(|e| Error::input(format!("{file}: not a readable URDF: {e}")))?;
+    let (robot, index) = read(file, text)?;
     let bad = |msg: String| Error::input(format!("{file}: {msg}"));
+    let bad_joint = |name: &str, msg: String| Error::input(msg).at(index.joint(name));
     let mut parent_joint: HashMap<&str, usize> = HashMap::new();
     for (i, j) in robot.joints.iter().enumerate() {
         if parent_joint.insert(j.child.link.as_str(), i).is_some() {
-            return Err(bad(format!(
-                "link `{}` is the child of more than one joint (not a tree)",
-                j.child.link
-            )));
+            return Err(bad_joint(
+                &j.name,
+                format!(
+                    "link `{}` is the child of more than one joint (not a tree)",
+                    j.child.link
+                ),
+            ));
         }
     }
     let movable = |j: &urdf_rs::Joint| {
@@ -110,7 +123,12 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
                 let axis = Vector3::from(j.axis.xyz.0);
                 let axis = Unit::try_new(axis, 1e-12)
                     .filter(|_| axis.iter().all(|v| v.is_finite()))
-                    .ok_or_else(|| bad(format!("joint `{}` has a zero or invalid axis", j.name)))?;
+                    .ok_or_else(|| {
+                        bad_joint(
+                            &j.name,
+                            format!("joint `{}` has a zero or invalid axis", j.name),
+                        )
+                    })?;
                 let lim = if j.joint_type == urdf_rs::JointType::Continuous {
                     // A continuous joint turns freely; one turn each way is
                     // what the IK enumerates.
@@ -118,10 +136,13 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
                 } else {
                     let (lo, hi) = (j.limit.lower, j.limit.upper);
                     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                        return Err(bad(format!(
-                            "revolute joint `{}` needs limits with lower < upper (got {lo} .. {hi})",
-                            j.name
-                        )));
+                        return Err(bad_joint(
+                            &j.name,
+                            format!(
+                                "revolute joint `{}` needs limits with lower < upper (got {lo} .. {hi})",
+                                j.name
+                            ),
+                        ));
                     }
                     (lo, hi)
                 };
@@ -143,10 +164,12 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
                 return Err(Error::new(
                     ErrorKind::Unsupported,
                     format!(
-                        "{file}: joint `{}` is {:?}; only revolute and fixed joints are modelled",
-                        j.name, other
+                        "joint `{}` is {}; only revolute and fixed joints are modelled",
+                        j.name,
+                        joint_type_name(other)
                     ),
-                ))
+                )
+                .at(index.joint(&j.name)))
             }
         }
     }
@@ -210,8 +233,7 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
 /// `parse` read from the same `text`: the link must hang on the arm's six
 /// revolute joints through fixed joints only (a reflector, a tool point).
 pub fn link_in_tip(file: &str, text: &str, arm: &UrdfArm, link: &str) -> Result<Isometry3<f64>> {
-    let robot = urdf_rs::read_from_string(text)
-        .map_err(|e| Error::input(format!("{file}: not a readable URDF: {e}")))?;
+    let (robot, _) = read(file, text)?;
     if !robot.links.iter().any(|l| l.name == link) {
         let names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
         return Err(Error::input(format!(
@@ -241,4 +263,17 @@ pub fn link_in_tip(file: &str, text: &str, arm: &UrdfArm, link: &str) -> Result<
         at = j.parent.link.as_str();
     }
     Err(Error::input(format!("{file}: the joints form a cycle")))
+}
+
+/// A joint type as URDF writes it (never `Debug` text in a message).
+fn joint_type_name(t: &urdf_rs::JointType) -> &'static str {
+    match t {
+        urdf_rs::JointType::Revolute => "revolute",
+        urdf_rs::JointType::Continuous => "continuous",
+        urdf_rs::JointType::Prismatic => "prismatic",
+        urdf_rs::JointType::Fixed => "fixed",
+        urdf_rs::JointType::Floating => "floating",
+        urdf_rs::JointType::Planar => "planar",
+        urdf_rs::JointType::Spherical => "spherical",
+    }
 }

@@ -1,12 +1,9 @@
 //! The estimate: walk the program's entry routine from a start time and
 //! time each move, for when the user has no schedule of the real run.
 
-use super::file::csv_of;
-use super::walk::cuts::CutWalk;
 use super::walk::{Flow, Walker};
-use super::{CutVisits, Schedule};
+use super::Schedule;
 use crate::error::{Error, ErrorKind, Remedy, Result};
-use crate::rapid::fastmove::Skeleton;
 use crate::rapid::{Program, Routine, RoutineKind};
 use crate::robot::Robot;
 
@@ -142,95 +139,8 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
         return Err(e);
     }
     let mut estimate = finished(&mut w, opts)?;
-    clashes(&mut estimate, |_| false);
+    clashes(&mut estimate);
     Ok(estimate)
-}
-
-/// The estimate of a program read from its skeleton with its cut moves
-/// left in runs ([`parse_skeleton_runs`]), those read from `src` as the
-/// walk meets them: the [`Estimate`] of the program's own targets (by
-/// the whole program's identifiers) and the cut literals' visits. Its
-/// schedule and `literals` together are [`estimate`]'s of the whole file.
-///
-/// [`parse_skeleton_runs`]: crate::rapid::parse_skeleton_runs
-#[derive(Debug, Clone, PartialEq)]
-pub struct CutEstimate {
-    pub estimate: Estimate,
-    pub literals: CutVisits,
-}
-
-impl CutEstimate {
-    /// [`Estimate::to_csv`] of the whole file, and how many targets and
-    /// visits the whole estimate holds (robtargets and jointtargets, a
-    /// jointtarget of a robtarget's identifier among them).
-    pub fn to_csv(&self) -> (String, usize, usize) {
-        let Estimate {
-            schedule,
-            joint_schedule: joints,
-            ..
-        } = &self.estimate;
-        let all = self.literals.in_order(schedule);
-        let cut_id = self.literals.ids();
-        let mut rows: Vec<(f64, usize, &str)> = Vec::new();
-        for (i, (id, times)) in all.iter().enumerate() {
-            rows.extend(times.iter().map(|&t| (t, i, &**id)));
-        }
-        let visits = rows.len() + joints.visit_count();
-        for (j, id) in joints.targets().iter().enumerate() {
-            if schedule.times(id).is_some() || cut_id(id) {
-                continue;
-            }
-            let times = joints.times(id).unwrap_or(&[]);
-            rows.extend(times.iter().map(|&t| (t, all.len() + j, &**id)));
-        }
-        (csv_of(rows), all.len() + joints.targets().len(), visits)
-    }
-}
-
-/// [`estimate`] of the file `src` read as `skeleton` and parsed from it in
-/// runs (`program`), its notes the whole walk's (cut literals never
-/// reached are named among the rest). `Ok(None)` where the walk has
-/// something to say of a cut move itself (a note, a target it cannot
-/// time) or the estimate is refused: the whole program's walk says it,
-/// in its place. Its cut moves' numbers are the ones the cut pass kept
-/// where it kept them ([`skeleton_with_poses`]), else read again.
-///
-/// [`skeleton_with_poses`]: crate::rapid::fastmove::skeleton_with_poses
-///
-/// Whether the arm reaches each cut literal is asked where `ask_reach`
-/// (an unreachable one declines the walk); else the caller asks it (the
-/// streamed correction solves each in its robconf, and leaves the run to
-/// the whole path where one has no solution), where asking here too was
-/// a third of the walk.
-pub fn estimate_cuts(
-    program: &Program,
-    (skeleton, src): (&Skeleton, &[u8]),
-    robot: &Robot,
-    opts: &EstimateOptions,
-    ask_reach: bool,
-) -> Result<Option<CutEstimate>> {
-    start_checked(opts)?;
-    let entry = find_entry(program, &opts.entry)?;
-    let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
-    w.deferred = Some(Vec::new());
-    w.cuts = Some(CutWalk::new(skeleton, src, ask_reach));
-    let walked = walk_cycles(&mut w, entry, opts);
-    if w.cuts.as_ref().is_some_and(|c| c.declined) {
-        return Ok(None);
-    }
-    walked?;
-    if !w.errors.is_empty() || !w.deferred.take().is_some_and(|d| all_reachable(robot, &d)) {
-        return Ok(None);
-    }
-    let Ok(mut estimate) = finished(&mut w, opts) else {
-        return Ok(None);
-    };
-    let Some(cuts) = w.cuts.take() else {
-        return Ok(None);
-    };
-    let literals = cuts.visits;
-    clashes(&mut estimate, literals.ids());
-    Ok(Some(CutEstimate { estimate, literals }))
 }
 
 fn start_checked(opts: &EstimateOptions) -> Result<()> {
@@ -252,10 +162,23 @@ fn walk_cycles<'p>(
     let start_s = opts.start_min * 60.0;
     w.clock = start_s;
     w.robot_free = start_s;
-    for _ in 0..opts.cycles {
+    for cycle in 0..opts.cycles {
+        let before = w.steps;
         let flow = w.call_routine(module, routine, Vec::new(), 0)?;
         if matches!(flow, Flow::Exit) {
             break;
+        }
+        // Every cycle walks what the first did: a count of cycles the
+        // budget cannot hold is refused now, not after minutes of walking
+        // and gigabytes of visits.
+        let per_cycle = w.steps - before;
+        if cycle == 0 && per_cycle.saturating_mul(u64::from(opts.cycles)) > STEP_BUDGET {
+            return Err(Error::usage(format!(
+                "{} cycles of {} would walk {} statements ({per_cycle} each), past the walk's limit of {STEP_BUDGET}: give fewer cycles",
+                opts.cycles,
+                routine.name,
+                per_cycle.saturating_mul(u64::from(opts.cycles))
+            )));
         }
     }
     Ok(())
@@ -279,11 +202,11 @@ fn finished(w: &mut Walker, opts: &EstimateOptions) -> Result<Estimate> {
     })
 }
 
-/// A note for each jointtarget whose identifier is a robtarget's: one
-/// `e`'s schedule holds, or one `also_robtarget` names.
-fn clashes(e: &mut Estimate, also_robtarget: impl Fn(&str) -> bool) {
+/// A note for each jointtarget whose identifier is a robtarget's that
+/// `e`'s schedule holds.
+fn clashes(e: &mut Estimate) {
     for id in e.joint_schedule.targets() {
-        if e.schedule.times(id).is_some() || also_robtarget(id) {
+        if e.schedule.times(id).is_some() {
             e.notes.push(format!(
                 "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV lists the robtarget's visits only"
             ));

@@ -3,6 +3,7 @@
 //! visit a correction is for.
 
 use crate::csv_table::CsvTable;
+use crate::digest::Encoder;
 use crate::error::{Error, Result};
 use std::borrow::Cow;
 use std::sync::Arc;
@@ -76,95 +77,43 @@ impl Times {
     }
 }
 
-/// As the sorted map the visits were kept in: a corrected file's marker
-/// records a schedule by a fingerprint of this text.
 impl std::fmt::Debug for Schedule {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let order: Vec<&str> = self.order.iter().map(|id| &**id).collect();
-        fmt_visits(f, self.entries(), &order)
+        f.debug_map()
+            .entries(
+                self.order
+                    .iter()
+                    .map(|id| (id, self.times(id).unwrap_or(&[]))),
+            )
+            .finish()
     }
 }
 
-/// A schedule's `Debug` text from its visits by lower-case identifier
-/// (in any order) and its identifiers in first-visit order.
-pub(super) fn fmt_visits(
-    f: &mut std::fmt::Formatter<'_>,
-    visits: Vec<(&str, &[f64])>,
-    order: &[&str],
-) -> std::fmt::Result {
-    use std::fmt::Write;
-    // Sorted by their first 16 bytes as one number first: a program's
-    // identifiers share long prefixes (`main#1234`), and comparing
-    // them byte by byte was half of fingerprinting a schedule.
-    let mut keyed: Vec<_> = visits
-        .into_iter()
-        .map(|(k, v)| (leading_bytes(k), k, v))
-        .collect();
-    keyed.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.cmp(b.1)));
-    if f.alternate() {
-        /// The visits in key order, written as a map.
-        struct Sorted<'a>(Vec<(&'a str, &'a [f64])>);
-        impl std::fmt::Debug for Sorted<'_> {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.debug_map().entries(self.0.iter().copied()).finish()
-            }
-        }
-        let sorted = keyed.into_iter().map(|(_, k, v)| (k, v)).collect();
-        return f
-            .debug_struct("Schedule")
-            .field("visits", &Sorted(sorted))
-            .field("order", &order)
-            .finish();
-    }
-    // The text the builders write (`Schedule { visits: {"a": [1.0]},
-    // order: ["A"] }`), put together here and passed on a page at a
-    // time: through the builders, a million targets' pieces were a
-    // hundred million calls, most of fingerprinting a schedule.
-    let mut page = String::with_capacity(PAGE + 256);
-    page.push_str("Schedule { visits: {");
-    for (i, (_, k, v)) in keyed.iter().enumerate() {
-        if i > 0 {
-            page.push_str(", ");
-        }
-        write!(page, "{k:?}: [")?;
-        for (j, t) in v.iter().enumerate() {
-            if j > 0 {
-                page.push_str(", ");
-            }
-            write!(page, "{t:?}")?;
-        }
-        page.push(']');
-        if page.len() >= PAGE {
-            f.write_str(&page)?;
-            page.clear();
-        }
-    }
-    page.push_str("}, order: [");
-    for (i, id) in order.iter().enumerate() {
-        if i > 0 {
-            page.push_str(", ");
-        }
-        write!(page, "{id:?}")?;
-        if page.len() >= PAGE {
-            f.write_str(&page)?;
-            page.clear();
-        }
-    }
-    page.push_str("] }");
-    f.write_str(&page)
-}
+/// The tag of the schedules' byte encoding, and its version: see
+/// [`encode_visits`].
+pub const SCHEDULE_ENCODING: &str = "rapidtherm schedule 1";
 
-/// Bytes of a schedule's `Debug` text passed on at once.
-const PAGE: usize = 1 << 15;
-
-/// The first 16 bytes of `s` as a big-endian number, zeros after its end:
-/// two strings whose numbers differ are in the order of their numbers
-/// (equal numbers say nothing).
-fn leading_bytes(s: &str) -> u128 {
-    let mut b = [0u8; 16];
-    let n = s.len().min(16);
-    b[..n].copy_from_slice(&s.as_bytes()[..n]);
-    u128::from_be_bytes(b)
+/// A schedule's visits in its byte encoding, version 1 (what a corrected
+/// file's marker fingerprints; see `docs/correct.md`): the number of
+/// targets (u32), then for each target in first-visit order its
+/// identifier in lower case (text: its length in bytes as a u32, then its
+/// UTF-8 bytes), its number of visits (u32) and each visit's minute (the
+/// bits of an f64), in the order visited; integers little-endian. A
+/// target's identifier is compared without regard to case, as RAPID
+/// compares names: `P10` and `p10` encode alike.
+pub fn encode_visits<'a>(
+    e: &mut Encoder,
+    targets: usize,
+    visits: impl Iterator<Item = (&'a str, &'a [f64])>,
+) {
+    e.u32(u32::try_from(targets).unwrap_or(u32::MAX));
+    for (id, times) in visits {
+        e.text(&lower(id));
+        e.u32(u32::try_from(times.len()).unwrap_or(u32::MAX));
+        for &t in times {
+            e.f64(t);
+        }
+    }
 }
 
 impl Schedule {
@@ -199,14 +148,6 @@ impl Schedule {
         self.visits.get(&*lower(target)).map(Times::as_slice)
     }
 
-    /// Every target's visits, by lower-case identifier, in no order.
-    pub(super) fn entries(&self) -> Vec<(&str, &[f64])> {
-        self.visits
-            .iter()
-            .map(|(k, v)| (&**k, v.as_slice()))
-            .collect()
-    }
-
     /// Target identifiers in the order they were first visited.
     pub fn targets(&self) -> &[Arc<str>] {
         &self.order
@@ -214,6 +155,15 @@ impl Schedule {
 
     pub fn is_empty(&self) -> bool {
         self.order.is_empty()
+    }
+
+    /// The schedule in its byte encoding ([`encode_visits`]).
+    pub fn encode(&self, e: &mut Encoder) {
+        let visits = self
+            .order
+            .iter()
+            .map(|id| (&**id, self.times(id).unwrap_or(&[])));
+        encode_visits(e, self.order.len(), visits);
     }
 
     /// Number of visits of all targets.

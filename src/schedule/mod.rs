@@ -10,24 +10,19 @@
 //!   [`Schedule::to_csv`] are the `target,time_min` file.
 //! - [`Visit`]: which of a target's visits its correction is for.
 //! - [`estimate`] with [`EstimateOptions`] → [`Estimate`]: walk the program
-//!   (see its docs for every choice made where run-time values decide);
-//!   [`estimate_cuts`] → [`CutEstimate`]: the same walk of a program read
-//!   from its skeleton, the cut moves read from the file as it goes, their
-//!   literals' visits by number ([`CutVisits`]).
-
+//!   (see its docs for every choice made where run-time values decide),
+//!   the moves of the fast lane's runs among the program's statements.
 //!
 //! Owns timing. May import `rapid`, `robot`, `resolve` and the shared
 //! `error` and `csv_table`; never `model`, `correct` or `diagnose`.
 
-mod cut_visits;
 mod estimate;
 mod file;
 mod timing;
 mod walk;
 
-pub use cut_visits::CutVisits;
-pub use estimate::{estimate, estimate_cuts, CutEstimate, Estimate, EstimateOptions};
-pub use file::{Schedule, Visit};
+pub use estimate::{estimate, Estimate, EstimateOptions};
+pub use file::{encode_visits, Schedule, Visit, SCHEDULE_ENCODING};
 pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, SpeedData};
 
 #[cfg(test)]

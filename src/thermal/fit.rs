@@ -8,6 +8,7 @@ use super::saturating::{fit_saturating, SatCurve};
 use super::select::{select_saturating, Candidate};
 use super::uncertainty::forecast_interval;
 use crate::error::{Error, ErrorKind, Result};
+use std::borrow::Cow;
 use std::fmt;
 use std::str::FromStr;
 
@@ -181,6 +182,37 @@ impl Metrics {
 /// rest is predicted by a curve that has not seen it.
 pub const TRAIN_FRACTION: (usize, usize) = (4, 5);
 
+/// Most rows a curve is fitted to. A longer recording (a controller
+/// logging every 50 ms: 200,000 rows for a warm-up) is fitted to the means
+/// of consecutive groups of rows, as many groups as this, each group's
+/// mean time against its mean temperature; the quality figures are still
+/// taken on every row. A group spans the recording's length divided by
+/// this (2.5 s of a three-hour warm-up), far below a heating time constant
+/// (minutes), so the curve is the one the rows give; the fits, their
+/// hold-out and the forecast's profile then cost what a recording of this
+/// many rows costs, not minutes.
+pub const MAX_FIT_ROWS: usize = 4000;
+
+/// The rows a curve is fitted to: `t`, `y` themselves when there are at
+/// most [`MAX_FIT_ROWS`], else the means of consecutive groups.
+pub(super) fn fitted_rows<'a>(t: &'a [f64], y: &'a [f64]) -> (Cow<'a, [f64]>, Cow<'a, [f64]>) {
+    let n = t.len().min(y.len());
+    if n <= MAX_FIT_ROWS {
+        return (Cow::Borrowed(&t[..n]), Cow::Borrowed(&y[..n]));
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    // Group boundaries spread the remainder over the groups, so that no
+    // group is much smaller than the others.
+    let edge = |g: usize| g * n / MAX_FIT_ROWS;
+    let (gt, gy): (Vec<f64>, Vec<f64>) = (0..MAX_FIT_ROWS)
+        .map(|g| {
+            let (a, b) = (edge(g), edge(g + 1));
+            (mean(&t[a..b]), mean(&y[a..b]))
+        })
+        .unzip();
+    (Cow::Owned(gt), Cow::Owned(gy))
+}
+
 /// The fit of one axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxisFit {
@@ -251,12 +283,14 @@ pub(super) fn fit_without_interval(
     kind: ModelKind,
     pin_t0: Option<f64>,
 ) -> Result<AxisFit> {
-    let curve = fit_curve(t, y, kind, pin_t0)?;
+    let (ft, fy) = fitted_rows(t, y);
+    let curve = fit_curve(&ft, &fy, kind, pin_t0)?;
     let fit = Metrics::of(t, y, |x| curve.eval(x));
     let n = t.len().min(y.len());
     let split = n * TRAIN_FRACTION.0 / TRAIN_FRACTION.1;
     let holdout = if split < n && split >= kind.params(pin_t0.is_some()) {
-        fit_curve(&t[..split], &y[..split], kind, pin_t0)
+        let (ht, hy) = fitted_rows(&t[..split], &y[..split]);
+        fit_curve(&ht, &hy, kind, pin_t0)
             .ok()
             .map(|c| Metrics::of(&t[split..n], &y[split..n], |x| c.eval(x)))
     } else {
@@ -281,9 +315,9 @@ pub(super) fn steady_interval_of(
     y: &[f64],
     pin_t0: Option<f64>,
 ) -> Option<(f64, f64)> {
-    let n = t.len().min(y.len());
+    let (t, y) = fitted_rows(t, y);
     match curve {
-        Curve::Saturating(c) => forecast_interval(&t[..n], &y[..n], c, pin_t0, f64::INFINITY),
+        Curve::Saturating(c) => forecast_interval(&t, &y, c, pin_t0, f64::INFINITY),
         Curve::Poly(_) => None,
     }
 }

@@ -19,6 +19,9 @@ pub const LAG_STEP_MIN: f64 = 0.25;
 pub struct TempHistory {
     times: Vec<f64>,
     temps: Vec<MotorTemps>,
+    /// SHA-256 of the samples, taken once: what a fit's memo keys on
+    /// instead of hashing twenty thousand samples per fit.
+    digest: [u8; 32],
 }
 
 impl TempHistory {
@@ -35,7 +38,28 @@ impl TempHistory {
             times.push(t);
             temps.push(profile.temps_at(t)?);
         }
-        Ok(TempHistory { times, temps })
+        Ok(TempHistory::of(times, temps))
+    }
+
+    fn of(times: Vec<f64>, temps: Vec<MotorTemps>) -> Self {
+        use sha2::{Digest, Sha256};
+        let mut h = Sha256::new();
+        for (t, m) in times.iter().zip(&temps) {
+            h.update(t.to_le_bytes());
+            for v in m {
+                h.update(v.to_le_bytes());
+            }
+        }
+        TempHistory {
+            times,
+            temps,
+            digest: h.finalize().into(),
+        }
+    }
+
+    /// SHA-256 of the samples (times and temperatures, little-endian f64).
+    pub fn digest(&self) -> &[u8; 32] {
+        &self.digest
     }
 
     /// From measured (time, temperatures) pairs in any order: averaged per
@@ -73,7 +97,7 @@ impl TempHistory {
             times.insert(0, 0.0);
             temps.insert(0, [t_ref; 6]);
         }
-        TempHistory { times, temps }
+        TempHistory::of(times, temps)
     }
 
     /// The structure temperatures through a first-order lag of time

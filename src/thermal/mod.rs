@@ -6,6 +6,7 @@
 //! - [`poly`]: polynomial curves (the paper's regression), solved stably.
 //! - [`saturating`]: first-order and two-time-constant curves.
 //! - [`uncertainty`]: how far a forecast beyond a recording can be trusted.
+//! - [`plausible`]: which numbers can be a robot's temperature.
 //! - [`select`]: choosing a saturating model by its held-out forecast.
 //! - [`fit`]: fitting one axis, metrics (R, R², Ā, RMSE, max, held-out).
 //! - [`profile`]: profiles from fitted curves and [`default_profile`].
@@ -22,6 +23,7 @@
 pub mod duty;
 pub mod fit;
 pub mod lag;
+pub mod plausible;
 pub mod plot;
 pub mod poly;
 pub mod profile;

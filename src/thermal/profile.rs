@@ -1,7 +1,7 @@
 //! Heating profiles built from fitted curves, and the embedded default
 //! profile of the IRB 140 at 60 % speed (`data/irb140/heating.toml`).
 
-use super::fit::{fit_axis, AxisFit, Curve, ModelKind};
+use super::fit::{fit_axis, fitted_rows, AxisFit, Curve, ModelKind};
 use super::record::HeatingRecord;
 use super::saturating::{SatCurve, SatTerm};
 use super::uncertainty::forecast_interval;
@@ -60,7 +60,8 @@ impl FittedProfile {
     pub fn uncertainty_at(&self, t_min: f64) -> [Option<(f64, f64)>; 6] {
         std::array::from_fn(|a| match &self.axes[a] {
             Curve::Saturating(c) => {
-                forecast_interval(&self.times, &self.temps[a], c, self.pin_t0, t_min)
+                let (t, y) = fitted_rows(&self.times, &self.temps[a]);
+                forecast_interval(&t, &y, c, self.pin_t0, t_min)
             }
             Curve::Poly(_) => None,
         })

@@ -2,6 +2,7 @@
 //! the profile that interpolates them: measured temperatures of the actual
 //! run, used directly instead of a model.
 
+use super::plausible::check;
 use super::HeatingProfile;
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Location, Result};
@@ -67,10 +68,12 @@ impl HeatingRecord {
             }
             times.push(t);
             for (axis, &c) in axis_col.iter().enumerate() {
-                temps[axis].push(table.number(row, c)?);
+                let v = table.number(row, c)?;
+                temps[axis].push(check(v, || table.field_location(row, c))?);
             }
             if let (Some(a), Some(c)) = (ambient.as_mut(), acol) {
-                a.push(table.number(row, c)?);
+                let v = table.number(row, c)?;
+                a.push(check(v, || table.field_location(row, c))?);
             }
         }
         Ok(HeatingRecord {

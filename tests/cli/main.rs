@@ -5,5 +5,7 @@
 
 mod ci_report;
 mod conventions;
+mod hostile;
+mod outputs;
 mod pre_commit_hook;
 mod transcripts;

@@ -42,7 +42,7 @@ impl<'a> Meanings<'a> {
             .enumerate()
             .find(|(_, t)| t.id == id)
             .unwrap();
-        let (pose, conf) = target_pose(self.program, target).unwrap().unwrap();
+        let (pose, conf) = target_pose(self.program, &target).unwrap().unwrap();
         let (tool, wobj, _, _) =
             frames_of(self.program, &self.frames, index, self.uses.get(&index)).unwrap();
         Meant {

@@ -251,3 +251,210 @@ fn each_robot_stands_where_moc_cfg_places_it() {
     assert_eq!(out.status.code(), Some(2), "{}", text(&out));
     assert!(text(&out).contains("TRACK_2"), "{}", text(&out));
 }
+
+/// A backup whose configuration does not place its robots is refused,
+/// with the file it lacks, and nothing is written; the user can accept the
+/// default placement (the world origin) explicitly. Before, the robots
+/// were silently put at the origin as IRB 140s.
+#[test]
+fn a_backup_that_does_not_place_its_robots_is_refused_unless_the_default_is_accepted() {
+    type Breaks<'a> = &'a dyn Fn(&Path);
+    let edit = |bk: &Path, file: &str, from: &str, to: &str| {
+        let p = bk.join(file);
+        let t = std::fs::read_to_string(&p).unwrap();
+        assert!(t.contains(from), "{file} has no {from}");
+        std::fs::write(&p, t.replace(from, to)).unwrap();
+    };
+    // Robot 1's task: without backinfo.txt, it is named by its folder.
+    let cases: [(&str, Breaks, &str, &str); 5] = [
+        (
+            "no backinfo",
+            &|bk| std::fs::remove_file(bk.join("BACKINFO/backinfo.txt")).unwrap(),
+            "the backup has no BACKINFO/backinfo.txt",
+            "TASK1",
+        ),
+        (
+            "no MOC.cfg",
+            &|bk| std::fs::remove_file(bk.join("SYSPAR/MOC.cfg")).unwrap(),
+            "the backup has no SYSPAR/MOC.cfg",
+            "T_ROB1",
+        ),
+        (
+            "garbled SYS.cfg",
+            &|bk| std::fs::write(bk.join("SYSPAR/SYS.cfg"), "garbage\n").unwrap(),
+            "SYSPAR/SYS.cfg is not a controller configuration file",
+            "T_ROB1",
+        ),
+        (
+            "a decimal comma in the base frame",
+            &|bk| {
+                edit(
+                    bk,
+                    "SYSPAR/MOC.cfg",
+                    "-base_frame_pos_x 1.6",
+                    "-base_frame_pos_x 1,6",
+                )
+            },
+            "MOC.cfg's base_frame_pos_x is `1,6`",
+            "T_ROB1",
+        ),
+        (
+            "a task the backinfo does not list",
+            &|bk| {
+                edit(
+                    bk,
+                    "BACKINFO/backinfo.txt",
+                    ">>TASK2: (T_ROB2,,)",
+                    ">>TASK9: (T_ROB9,,)",
+                )
+            },
+            "backinfo.txt does not list the task folder TASK2",
+            "T_ROB1",
+        ),
+    ];
+    for (what, break_it, says, rob1) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let bk = dir.path().join("bk");
+        copy_tree(&sample(), &bk);
+        break_it(&bk);
+        let before = files(&bk);
+        for cmd in [
+            &["correct", "bk", "--at", "120", "--in-place"][..],
+            &[
+                "correct", "bk", "--at", "120", "--check", "--robot", "irb140",
+            ],
+        ] {
+            let out = rapidtherm(cmd, dir.path());
+            let log = text(&out);
+            assert_eq!(out.status.code(), Some(2), "{what}: {cmd:?}: {log}");
+            assert!(log.contains(says), "{what}: {log}");
+            assert!(log.contains("--accept-default-placement"), "{what}: {log}");
+            assert_eq!(files(&bk), before, "{what}: written");
+        }
+        // Robot 1 stands at the world origin: accepted, it is corrected.
+        let out = rapidtherm(
+            &[
+                "correct",
+                "bk",
+                "--task",
+                rob1,
+                "--at",
+                "120",
+                "--in-place",
+                "--accept-default-placement",
+            ],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{what}: {}", text(&out));
+        assert_ne!(files(&bk), before, "{what}: nothing written");
+    }
+}
+
+/// A robot type missing from MOC.cfg is made up for by naming the arm;
+/// the base frame it gives is still used.
+#[test]
+fn a_named_arm_makes_up_for_a_missing_robot_type_but_not_for_a_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let p = bk.join("SYSPAR/MOC.cfg");
+    let t = std::fs::read_to_string(&p).unwrap();
+    std::fs::write(&p, t.replace("-use_robot_type \"ROB2_140_0.81_6\" ", "")).unwrap();
+    let args = [
+        "correct", "bk", "--task", "T_ROB2", "--at", "120", "--check",
+    ];
+    let out = rapidtherm(&args, dir.path());
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(
+        text(&out).contains("MOC.cfg's robot ROB_2 has no use_robot_type"),
+        "{}",
+        text(&out)
+    );
+    let named = rapidtherm(
+        &[&args[..], &["--robot", "T_ROB2=irb140"]].concat(),
+        dir.path(),
+    );
+    // Named, the task is corrected where MOC.cfg places it: robot 2's
+    // targets are out of reach at the origin, so a run that reached them
+    // used the backup's base frame.
+    assert_eq!(named.status.code(), Some(1), "{}", text(&named));
+    assert!(
+        text(&named).contains("3 target(s) corrected"),
+        "{}",
+        text(&named)
+    );
+}
+
+/// One file read by two motion tasks (a module hard-linked into both task
+/// folders, or a task folder named beside its backup) is refused before
+/// anything is read or written, whatever the action: before, the last
+/// task's correction was written, and `--check` judged each task alone.
+#[test]
+fn a_file_read_by_two_tasks_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    std::fs::remove_file(bk.join("RAPID/TASK2/SYSMOD/user.sys")).unwrap();
+    std::fs::hard_link(
+        bk.join("RAPID/TASK1/SYSMOD/user.sys"),
+        bk.join("RAPID/TASK2/SYSMOD/user.sys"),
+    )
+    .unwrap();
+    let before = files(&bk);
+    for action in [&["--in-place"][..], &["--check"], &["--diff"]] {
+        let out = rapidtherm(
+            &[&["correct", "bk", "--at", "120"][..], action].concat(),
+            dir.path(),
+        );
+        let log = text(&out);
+        assert_eq!(out.status.code(), Some(2), "{action:?}: {log}");
+        assert!(
+            log.contains("bk/RAPID/TASK1/SYSMOD/user.sys is read by task T_ROB1 and, as bk/RAPID/TASK2/SYSMOD/user.sys, by task T_ROB2"),
+            "{log}"
+        );
+        assert_eq!(files(&bk), before, "{action:?}: written");
+    }
+    // One task at a time is fine.
+    let out = rapidtherm(
+        &[
+            "correct", "bk", "--task", "T_ROB1", "--at", "120", "--check",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+
+    let out = rapidtherm(
+        &["correct", "bk", "bk/RAPID/TASK1", "--at", "120", "--check"],
+        dir.path(),
+    );
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("task T_ROB1 is named twice in this run"),
+        "{log}"
+    );
+}
+
+/// `--start` on the backup: the FOR loop over the scan array reads its
+/// index at run time, so the walk gives its 20,000 elements no time. That
+/// is one cause, said once with the others counted (before, each was its
+/// own error, and finding each one's source line took the run 24 s).
+#[test]
+fn targets_the_walk_cannot_time_are_one_error_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let out = rapidtherm(
+        &[
+            "correct", "bk", "--task", "T_ROB1", "--start", "0", "--check",
+        ],
+        dir.path(),
+    );
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("target pScan{1}: the schedule has no time for it"),
+        "{log}"
+    );
+    assert!(log.contains("the same for 19999 more"), "{log}");
+}

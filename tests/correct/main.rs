@@ -6,12 +6,13 @@ mod common;
 
 mod backup;
 mod cli;
+mod lanes;
+mod marker;
 mod plot;
 mod runtime;
 mod samples;
 mod shared;
 mod streaming;
-mod streaming_schedule;
 mod trust;
 
 use std::path::Path;

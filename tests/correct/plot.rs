@@ -236,6 +236,7 @@ fn the_drift_runs_along_the_schedules_minutes() {
         schedule,
         joints: None,
         default: None,
+        of_program: false,
     });
     let all = pictures(&out, "m.mod").unwrap();
     let drift = picture(&all, "drift.svg");

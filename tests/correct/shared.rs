@@ -49,7 +49,7 @@ fn lands(program: &Program, id: &str, tool: &str, wobj: &str) -> Isometry3<f64> 
         frames.tool(Some(tool)).unwrap(),
         frames.wobj(Some(wobj)).unwrap(),
     );
-    let (sent, conf) = target_pose(program, program.target(id).unwrap())
+    let (sent, conf) = target_pose(program, &program.target(id).unwrap())
         .unwrap()
         .unwrap();
     let flange = rapidtherm::robot::frames::flange_of_target(&sent, tool, wobj).unwrap();
@@ -58,7 +58,7 @@ fn lands(program: &Program, id: &str, tool: &str, wobj: &str) -> Isometry3<f64> 
 }
 
 fn cold_pose(program: &Program, id: &str) -> Isometry3<f64> {
-    target_pose(program, program.target(id).unwrap())
+    target_pose(program, &program.target(id).unwrap())
         .unwrap()
         .unwrap()
         .0
@@ -99,7 +99,7 @@ fn the_first_use_decides_and_every_other_use_is_reported() {
         for group in uses_by_frames(list).iter().skip(1) {
             for u in group {
                 expected += 1;
-                let id = &program.targets()[i].id;
+                let id = &program.targets().at(i).id;
                 assert!(
                     outcome
                         .shared
@@ -214,7 +214,7 @@ fn a_split_corrects_each_copy_for_its_own_pair() {
     // several pairs is one the run said it could not split.
     let uses = usages(&split);
     for (&i, list) in &uses {
-        let id = &split.targets()[i].id;
+        let id = &split.targets().at(i).id;
         if uses_by_frames(list).len() > 1 {
             assert!(
                 outcome

@@ -1,449 +1,455 @@
-//! The streamed main job (`correct::stream`, `rapid::fastmove`) against
-//! the whole-program path: on generated programs (inline moves the fast
-//! recogniser reads, and declared, derived, array and record targets,
-//! several modules, moves it leaves to the grammar) it writes the same
-//! bytes and the same summary, or declines; the recogniser reads the
-//! same numbers the grammar does; and `targets` lists the same targets
-//! (`rapid::fastlist`) and prints the same bytes in every format.
+//! The correction streamed into its files against the correction in
+//! memory, and timed by a schedule: a job that writes files corrects each
+//! task into its sink as it goes (`job::Way::Streamed`), and writes the
+//! bytes the in-memory run (`Way::InMemory`, the run that keeps every
+//! row) makes, with the same report; a program read with the fast lane
+//! is estimated as the grammar's program is (the same schedule, joint
+//! schedule, notes and duration) and corrected by that schedule, or by a
+//! user's file that times every other target, into the same bytes both
+//! ways. The binary's file, standard output and `--in-place` runs write
+//! as they correct.
 
+use super::lanes::{self, counted, program_with, read_both, same_both_ways, stmt, Stmt};
+use super::rapidtherm;
 use proptest::prelude::*;
-use rapidtherm::correct::stream::correct_streamed;
-use rapidtherm::correct::{correct, CutTimes, Options, When};
-use rapidtherm::model::warm::{Moment, WarmRobot};
-use rapidtherm::model::Model;
-use rapidtherm::rapid::fastlist::{Entry, Listing};
-use rapidtherm::rapid::fastmove::{recognise, skeleton, Skeleton};
-use rapidtherm::rapid::{self, TargetKind};
+use rapidtherm::correct::job::{self, Event, Host, Output as Written, Sink, Way};
+use rapidtherm::correct::plan::{Action, CorrectPlan, Destination, ModelSource, TimeBasis};
+use rapidtherm::correct::{Options, When};
+use rapidtherm::model::warm::Moment;
+use rapidtherm::rapid::Program;
 use rapidtherm::robot::Robot;
-use std::sync::OnceLock;
+use rapidtherm::schedule::{estimate, EstimateOptions, Schedule, Visit};
+use std::collections::HashMap;
+use std::process::Output;
+use std::sync::{Arc, Mutex};
 
-pub(super) fn warm() -> &'static WarmRobot {
-    static WARM: OnceLock<WarmRobot> = OnceLock::new();
-    WARM.get_or_init(|| WarmRobot::new(Robot::irb140(), &Model::default(), 120.0).unwrap())
-}
-
-fn options() -> Options {
-    Options::new(When::At(Moment::Minute(120.0)))
-}
-
-/// One statement of a generated routine body.
-#[derive(Debug, Clone)]
-pub(super) enum Stmt {
-    /// An inline move: instruction, point index, number style, work
-    /// object, what follows on the line.
-    Inline(&'static str, u32, u8, bool, &'static str),
-    /// A move to a declared target, an array element, a record field or
-    /// a derived pose of the first declared target.
-    Named(u8),
-    ConfOff,
-    /// A literal assigned to a variable (numbered with the inline ones).
-    Assigned(u32),
-    /// A target no arm reaches: the run refuses the program.
-    Unreachable,
-}
-
-/// A reachable point of the CAM field (the benchmark's zigzag).
-fn point(i: u32) -> (f64, f64, f64, i32) {
-    let u = f64::from(i % 37) / 37.0;
-    let v = f64::from(i % 23) / 23.0;
-    let y = -150.0 + 300.0 * v;
-    (
-        420.0 + 80.0 * u,
-        y,
-        250.0 + 20.0 * (u * 7.0).sin(),
-        if y >= 0.0 { 0 } else { -1 },
-    )
-}
-
-/// A robtarget literal in one of a few number styles.
-fn literal(i: u32, style: u8) -> String {
-    let (x, y, z, cf) = point(i);
-    match style % 4 {
-        0 => format!("[[{x:.3},{y:.3},{z:.3}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]]"),
-        1 => format!(
-            "[ [ {x:.1} , {y:.2} , {z:.4} ] , [ 0.0 , 0. , 1 , .0 ] , [ {cf} , 0 , {cf} , 0 ] , [ 9E+09 , 9e9 , 9E9 , 9E9 , 9E9 , 9E9 ] ]"
-        ),
-        2 => format!("[[+{x:.2},{y:.0},{z:.5}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]]"),
-        _ => format!("[[{x:.3}E0,{y:.3},{z:.3}],[0,0,1,0],[{cf},0,{cf},0],[9E9,9E9,9E9,9E9,9E9,9E9]]"),
+/// When the targets of `program` are reached: its estimate from minute 20
+/// (two cycles of the first module's routine, `entry`; the second
+/// module's targets are not reached and take the default), or, `partial`,
+/// a file of every other robtarget's visits and no jointtargets', the
+/// rest at the default. `None` where the estimate is refused.
+fn when_of(program: &Program, entry: &str, partial: bool) -> Option<When> {
+    let est = estimate(program, &Robot::irb140(), &estimate_options(entry)).ok()?;
+    let default = Some(Moment::Minute(45.0));
+    if !partial {
+        return Some(When::Schedule {
+            schedule: est.schedule,
+            joints: Some(est.joint_schedule),
+            default,
+            of_program: true,
+        });
     }
-}
-
-pub(super) fn stmt() -> impl Strategy<Value = Stmt> {
-    prop_oneof![
-        8 => (
-            prop::sample::select(vec!["MoveL", "MoveJ", "movel", "MoveC"]),
-            0u32..1000,
-            0u8..4,
-            any::<bool>(),
-            prop::sample::select(vec!["", " ! pass", "\tWaitTime 0;", " ! caf\u{e9}"]),
-        )
-            .prop_map(|(i, p, s, w, after)| Stmt::Inline(i, p, s, w, after)),
-        2 => (0u8..4).prop_map(Stmt::Named),
-        1 => Just(Stmt::ConfOff),
-        1 => (0u32..1000).prop_map(Stmt::Assigned),
-        1 => prop::bool::weighted(0.15).prop_map(|b| if b { Stmt::Unreachable } else { Stmt::ConfOff }),
-    ]
-}
-
-/// A program of one or two modules, every line ended with `eol`, the
-/// comments Latin-1 where `latin1`.
-fn program(bodies: &[Vec<Stmt>], eol: &str, latin1: bool) -> Vec<u8> {
-    program_with(bodies, eol, latin1, false)
-}
-
-/// [`program`], the routines of every module named `main` where
-/// `one_name` (their inline targets' identifiers then name the module:
-/// `M0:main#3`).
-pub(super) fn program_with(
-    bodies: &[Vec<Stmt>],
-    eol: &str,
-    latin1: bool,
-    one_name: bool,
-) -> Vec<u8> {
-    let mut s = String::new();
-    for (m, body) in bodies.iter().enumerate() {
-        let routine = if one_name {
-            "main".to_string()
-        } else {
-            format!("main{m}")
-        };
-        s += &format!("MODULE M{m}{eol}");
-        s += &format!("  PERS tooldata tSpindle{m}:=[TRUE,[[0,0,150],[1,0,0,0]],[2,[0,0,60],[1,0,0,0],0,0,0]];{eol}");
-        s += &format!("  PERS wobjdata wPlate{m}:=[FALSE,TRUE,\"\",[[0,0,20],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];{eol}");
-        s += &format!("  CONST robtarget pD{m}:={};{eol}", literal(5, 0));
-        s += &format!(
-            "  CONST robtarget aD{m}{{2}}:=[{},{}];{eol}",
-            literal(7, 0),
-            literal(8, 0)
-        );
-        s += &format!(
-            "  RECORD path{m}{eol}    robtarget start;{eol}    num n;{eol}  ENDRECORD{eol}"
-        );
-        s += &format!("  CONST path{m} rD{m}:=[{},1];{eol}", literal(9, 0));
-        s += &format!("  VAR robtarget pV{m};{eol}");
-        s += &format!("  PROC {routine}(){eol}");
-        for st in body {
-            let line = match st {
-                Stmt::Inline(ins, p, style, w, after) => {
-                    let wobj = if *w {
-                        format!("\\WObj:=wPlate{m}")
-                    } else {
-                        String::new()
-                    };
-                    let points = if ins.eq_ignore_ascii_case("MoveC") {
-                        format!("{}, {}", literal(*p, *style), literal(p + 1, *style))
-                    } else {
-                        literal(*p, *style)
-                    };
-                    format!("    {ins} {points},v200,z1,tSpindle{m}{wobj};{after}")
-                }
-                Stmt::Named(k) => {
-                    let t = match k {
-                        0 => format!("pD{m}"),
-                        1 => format!("aD{m}{{2}}"),
-                        2 => format!("rD{m}.start"),
-                        _ => format!("Offs(pD{m},0,0,5)"),
-                    };
-                    format!("    MoveL {t},v200,z1,tSpindle{m}\\WObj:=wPlate{m};")
-                }
-                Stmt::ConfOff => "    ConfL \\Off;".to_string(),
-                Stmt::Assigned(p) => format!("    pV{m} := {};", literal(*p, 0)),
-                Stmt::Unreachable => format!(
-                    "    MoveL [[3000,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v200,z1,tSpindle{m};"
-                ),
-            };
-            s += &line;
-            s += eol;
-        }
-        s += &format!("  ENDPROC{eol}ENDMODULE{eol}");
-    }
-    if latin1 {
-        s.chars()
-            .map(|c| u8::try_from(u32::from(c)).unwrap_or(b'?'))
-            .collect()
-    } else {
-        s.into_bytes()
-    }
-}
-
-/// Whether the streamed path wrote what the whole path writes and said
-/// the same summary; `false` when it declined.
-fn same_as_whole(src: &[u8]) -> bool {
-    let whole =
-        rapid::parse("p.mod", src).and_then(|p| correct(&p, warm(), &options(), &mut |_, _| {}));
-    let skel = skeleton(src);
-    let Ok(program) = rapid::parse("p.mod", &skel.bytes) else {
-        assert!(
-            whole.is_err(),
-            "the skeleton of a program that parses must parse"
-        );
-        return false;
-    };
-    streamed_as_whole(src, (&skel, &program), (&options(), None), whole)
-}
-
-/// Whether `correct_streamed` of `src` (read as `skel`, whose kept bytes
-/// parsed as `program`) for `options` (and the schedule's `times`)
-/// writes the bytes and says the summary of `whole`, the whole path's
-/// outcome; `false` when it declined. It never corrects what the whole
-/// path refuses.
-pub(super) fn streamed_as_whole(
-    src: &[u8],
-    (skel, program): (&Skeleton, &rapid::Program),
-    (options, times): (&Options, Option<&CutTimes>),
-    whole: rapidtherm::error::Result<rapidtherm::correct::Outcome>,
-) -> bool {
-    let mut written = Vec::new();
-    let streamed = correct_streamed(program, skel, src, warm(), (options, times), &mut written)
-        .expect("writes to memory");
-    let Some(streamed) = streamed else {
-        return false;
-    };
-    let whole = whole.expect("the fast path corrected a program the whole path refuses");
-    let bytes = if streamed.changed { &written[..] } else { src };
-    assert!(
-        bytes == whole.outputs[0].as_slice(),
-        "streamed bytes differ:\n{}",
-        String::from_utf8_lossy(bytes)
-    );
-    let said = |o: &rapidtherm::correct::Outcome| {
-        serde_json::to_string(&(&o.summary, &o.left_alone, &o.shared, &o.splits, &o.notes)).unwrap()
-    };
-    assert_eq!(said(&streamed.outcome), said(&whole));
-    true
-}
-
-#[test]
-fn a_cam_program_streams_with_the_same_bytes() {
-    let body: Vec<Stmt> = (0..300)
-        .map(|i| Stmt::Inline("MoveL", i, (i % 4) as u8, i % 3 == 0, ""))
-        .chain([Stmt::Named(0), Stmt::Named(3)])
-        .collect();
-    for eol in ["\n", "\r\n"] {
-        let src = program(
-            &[body.clone(), vec![Stmt::Named(1), Stmt::Named(2)]],
-            eol,
-            true,
-        );
-        assert_eq!(skeleton(&src).cuts.len(), 300);
-        assert!(same_as_whole(&src), "the fast path declined a CAM program");
-    }
-}
-
-#[test]
-fn a_refused_program_is_declined_and_left_to_the_whole_path() {
-    let body = vec![
-        Stmt::Inline("MoveL", 1, 0, false, ""),
-        Stmt::Unreachable,
-        Stmt::Inline("MoveL", 2, 0, false, ""),
-    ];
-    assert!(!same_as_whole(&program(&[body], "\n", false)));
-}
-
-#[test]
-fn a_declaration_after_a_cut_move_is_left_to_the_whole_path() {
-    // The grammar refuses a routine's data after its first statement; cut
-    // out, the move leaves the skeleton a routine the grammar takes.
-    let src = b"MODULE m\nPROC main()\n  MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v100,z1,tool0;\n  VAR num k;\n  WaitTime 1;\nENDPROC\nENDMODULE\n";
-    assert!(rapid::parse("p.mod", src).is_err());
-    let skel = skeleton(src);
-    assert_eq!(skel.cuts.len(), 1);
-    assert!(rapid::parse("p.mod", &skel.bytes).is_ok());
-    assert!(!same_as_whole(src));
-    assert!(!listed_as_whole(src));
-}
-
-proptest! {
-    #![proptest_config(ProptestConfig::with_cases(32))]
-
-    #[test]
-    fn streamed_and_whole_write_the_same_bytes(
-        bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
-        crlf in any::<bool>(),
-        latin1 in any::<bool>(),
-    ) {
-        let src = program(&bodies, if crlf { "\r\n" } else { "\n" }, latin1);
-        same_as_whole(&src);
-    }
-
-    #[test]
-    fn the_recogniser_reads_what_the_grammar_reads(
-        body in prop::collection::vec(stmt(), 1..30),
-    ) {
-        let src = program(&[body], "\n", false);
-        let program = rapid::parse("p.mod", &src).unwrap();
-        let skel = skeleton(&src);
-        let read: Vec<_> = skel
-            .cuts
-            .iter()
-            .flat_map(|c| recognise(&src, c.start).unwrap().targets)
-            .collect();
-        let inline: Vec<_> = program
-            .targets()
-            .iter()
-            .filter(|t| t.kind == TargetKind::Inline && read.iter().any(|(at, _)| *at == t.origin.pos.offset))
-            .map(|t| (t.origin.pos.offset, t.value.clone().unwrap()))
-            .collect();
-        prop_assert_eq!(read, inline);
-    }
-}
-
-/// What `targets` prints of a target, field by field (the numbers as
-/// written and as read).
-fn listed(t: &rapid::Target, src: &[u8]) -> String {
-    let numbers: Vec<(String, u64)> = t
-        .value
-        .iter()
-        .flat_map(|v| v.numbers())
-        .map(|n| (n.text(src).to_string(), n.value.to_bits()))
-        .collect();
-    format!(
-        "{} {} {}:{} {} {:?} {:?} {:?} {:?} {:?} {:?} {numbers:?}",
-        t.id,
-        t.kind.as_str(),
-        t.origin.pos.line,
-        t.origin.pos.col,
-        t.origin.module,
-        t.origin.routine,
-        t.instruction,
-        t.tool,
-        t.wobj,
-        t.name,
-        t.derived,
-    )
-}
-
-/// Whether the fast listing of `src` (`rapid::fastlist`) lists the targets
-/// the whole parse lists; `false` when it declined.
-fn listed_as_whole(src: &[u8]) -> bool {
-    let whole = rapid::parse("p.mod", src);
-    let skel = skeleton(src);
-    let Ok(program) = rapid::parse("p.mod", &skel.bytes) else {
-        assert!(
-            whole.is_err(),
-            "the skeleton of a program that parses must parse"
-        );
-        return false;
-    };
-    let Some(listing) = Listing::new(&program, &skel, src) else {
-        return false;
-    };
-    let whole = whole.expect("the skeleton parses where the whole file does not");
-    let mut got = Vec::new();
-    let mut reader = listing.reader();
-    for e in listing.entries() {
-        match *e {
-            Entry::Kept(i) => got.push(listed(listing.kept(i), &skel.bytes)),
-            Entry::Cut(k) => reader
-                .read(k, &mut |t| got.push(listed(t, src)))
-                .expect("a cut move reads again"),
+    let mut file = Schedule::new();
+    for id in est.schedule.targets().iter().step_by(2) {
+        for &t in est.schedule.times(id).unwrap_or(&[]) {
+            file.visit(id, t);
         }
     }
-    let want: Vec<String> = whole.targets().iter().map(|t| listed(t, src)).collect();
-    assert_eq!(got, want);
-    true
+    Some(When::Schedule {
+        schedule: file,
+        joints: None,
+        default,
+        of_program: false,
+    })
 }
 
-/// `rapidtherm targets` of the file `src` in `format`, read by name (the
-/// fast path where it applies) and from standard input (always the whole
-/// path; its file is named `<stdin>`, put back to the name).
-fn targets_both_ways(src: &[u8], format: &str) -> (String, String) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("p.mod");
-    std::fs::write(&path, src).unwrap();
-    let run = |stdin: bool| {
-        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_rapidtherm"));
-        cmd.args(["targets", "--format", format]);
-        if stdin {
-            cmd.arg("-").stdin(std::fs::File::open(&path).unwrap());
-        } else {
-            cmd.arg(&path);
+/// The walk of [`when_of`].
+fn estimate_options(entry: &str) -> EstimateOptions {
+    EstimateOptions {
+        entry: entry.to_string(),
+        start_min: 20.0,
+        cycles: 2,
+        base_frame: None,
+    }
+}
+
+/// The estimate's whole say, or its error's.
+fn estimated(p: &Program, entry: &str) -> String {
+    match estimate(p, &Robot::irb140(), &estimate_options(entry)) {
+        Ok(e) => {
+            let mut enc = rapidtherm::digest::Encoder::new("test");
+            e.schedule.encode(&mut enc);
+            format!(
+                "{}\n{}\n{}\n{:?}\n{:?}",
+                enc.finish(),
+                e.to_csv(),
+                e.joint_schedule.to_csv(),
+                e.duration_min.to_bits(),
+                e.notes
+            )
         }
-        let out = cmd.output().unwrap();
-        (
-            out.status.code(),
-            String::from_utf8_lossy(&out.stdout).into_owned(),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
+        Err(e) => format!("error: {e}"),
+    }
+}
+
+/// Read both ways, `src` is estimated alike, and corrected alike by that
+/// estimate (or by every other target's times of it, `partial`). How
+/// many targets the lane read.
+fn scheduled_both_ways(src: &[u8], entry: &str, partial: bool) -> Result<usize, TestCaseError> {
+    let (Ok(lane), Ok(grammar)) = read_both(src) else {
+        return same_both_ways(src, &Options::new(When::At(Moment::Minute(0.0))));
     };
-    let (code, by_name, said) = run(false);
-    let (whole_code, whole, whole_said) = run(true);
-    assert_eq!(code, whole_code, "{said}\n{whole_said}");
-    let name = path.display().to_string();
-    (by_name, whole.replace("<stdin>", &name))
+    prop_assert_eq!(estimated(&lane, entry), estimated(&grammar, entry));
+    let Some(when) = when_of(&grammar, entry, partial) else {
+        return Ok(lane.targets().moves_in_runs());
+    };
+    same_both_ways(src, &Options::new(when))
 }
 
 #[test]
-fn a_cam_program_lists_the_same_targets() {
+fn a_cam_program_is_timed_and_corrected_the_same_both_ways() {
     let body: Vec<Stmt> = (0..300)
         .map(|i| {
             Stmt::Inline(
-                ["MoveL", "MoveC"][(i % 7 == 0) as usize],
+                ["MoveL", "MoveJ", "MoveC"][(i % 3) as usize],
                 i,
                 (i % 4) as u8,
-                i % 3 == 0,
+                i % 5 == 0,
                 "",
             )
         })
-        .chain([Stmt::Named(0), Stmt::Named(3), Stmt::Assigned(4)])
+        .chain([Stmt::Named(0), Stmt::Named(3), Stmt::ConfOff])
         .collect();
-    for one_name in [false, true] {
-        // The second module's one literal is cut: only the whole file
-        // has `main#` in two modules when the routines share a name.
-        let second = vec![
-            Stmt::Named(1),
-            Stmt::Inline("MoveL", 5, 0, false, ""),
-            Stmt::Named(2),
-        ];
-        let src = program_with(&[body.clone(), second], "\r\n", true, one_name);
-        assert!(
-            listed_as_whole(&src),
-            "the fast listing declined a CAM program"
-        );
-        let text = String::from_utf8_lossy(&src).into_owned();
-        let qualified = rapid::parse("p.mod", &src)
-            .unwrap()
-            .targets()
+    let second = vec![Stmt::Named(1), Stmt::Inline("MoveL", 5, 0, false, "")];
+    for (partial, one_name) in [(false, false), (true, false), (false, true), (true, true)] {
+        // With one routine name in both modules, identifiers name their
+        // module (`M1:main#3`).
+        let src = program_with(&[body.clone(), second.clone()], "\r\n", true, one_name);
+        let entry = if one_name { "main" } else { "main0" };
+        let read = scheduled_both_ways(&src, entry, partial).unwrap();
+        // Every move literal (a MoveC has two).
+        assert_eq!(read, 300 + 100 + 1, "the lane read {read} move literals");
+    }
+}
+
+#[test]
+fn generated_programs_are_timed_and_corrected_the_same_both_ways() {
+    counted(
+        "timed by their estimate",
+        32,
+        (
+            prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+        ),
+        |(bodies, crlf, partial, one_name)| {
+            // With one routine name in every module, identifiers name
+            // their module (`M1:main#3`).
+            let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, false, one_name);
+            let entry = if one_name { "main" } else { "main0" };
+            scheduled_both_ways(&src, entry, partial)
+        },
+    );
+}
+
+/// Corrected files kept in memory, by name.
+#[derive(Default, Clone)]
+struct Memory(Arc<Mutex<HashMap<String, Vec<u8>>>>);
+
+struct Kept {
+    name: String,
+    bytes: Vec<u8>,
+    to: Memory,
+}
+
+impl std::io::Write for Kept {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.bytes.extend_from_slice(b);
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+impl Written for Kept {
+    fn restart(&mut self) -> std::io::Result<()> {
+        self.bytes.clear();
+        Ok(())
+    }
+    fn finish(self: Box<Self>, _changed: bool) -> rapidtherm::error::Result<()> {
+        let kept = *self;
+        kept.to.0.lock().unwrap().insert(kept.name, kept.bytes);
+        Ok(())
+    }
+}
+
+impl Sink for Memory {
+    fn create(&mut self, name: &str) -> rapidtherm::error::Result<Box<dyn Written>> {
+        Ok(Box::new(Kept {
+            name: name.to_string(),
+            bytes: Vec::new(),
+            to: self.clone(),
+        }))
+    }
+}
+
+/// A host that keeps nothing.
+struct Quiet;
+
+impl Host for Quiet {
+    fn event(&mut self, _: Event<'_>) {}
+}
+
+/// The job run on the file `path` timed by `when`, written to `-o OUT`,
+/// keeping every row (in memory) or not (streamed): how it ran, what it
+/// said, what it wrote.
+fn job_run(path: &std::path::Path, when: TimeBasis, keep_rows: bool) -> (Way, String, Vec<u8>) {
+    let plan = CorrectPlan {
+        when,
+        visit: Visit::default(),
+        model: ModelSource::Default,
+        arms: Vec::new(),
+        irb140_thermal: false,
+        placing: Default::default(),
+        expand_expressions: false,
+        split_shared: false,
+        action: Action::Write(Destination::File("OUT".into())),
+        keep_rows,
+    };
+    let tasks = rapidtherm::rapid::task::discover(&[path.to_path_buf()]).unwrap();
+    let memory = Memory::default();
+    let mut ran = job::run(&plan, tasks, &mut Quiet, &mut memory.clone()).unwrap();
+    let ran = ran.remove(0);
+    let mut outcome = ran.outcome;
+    outcome.corrections.clear();
+    outcome.derived.clear();
+    outcome.residuals.clear();
+    let written = memory.0.lock().unwrap().remove("OUT").expect("written");
+    (ran.way, lanes::said(&outcome), written)
+}
+
+/// The job writes what it corrects as it goes unless it keeps every row,
+/// and the bytes and the report are those of the run in memory, on the
+/// samples, for one moment and for an estimate.
+#[test]
+fn the_job_streams_what_it_corrects_in_memory() {
+    let samples = concat!(env!("CARGO_MANIFEST_DIR"), "/samples");
+    let mut streamed = 0;
+    for name in [
+        "cam_contour.mod",
+        "control_flow.mod",
+        "arc_pendant.mod",
+        "fixtures.mod",
+    ] {
+        let path = std::path::Path::new(samples).join(name);
+        for when in [
+            TimeBasis::At(Moment::Minute(120.0)),
+            TimeBasis::Start {
+                start_min: 0.0,
+                entry: "main".to_string(),
+                cycles: 1,
+                default: Some(Moment::Minute(60.0)),
+            },
+        ] {
+            let (way, said_streamed, bytes_streamed) = job_run(&path, when.clone(), false);
+            let (in_memory, said_whole, bytes_whole) = job_run(&path, when.clone(), true);
+            assert!(
+                matches!(way, Way::Streamed { .. }),
+                "{name} {when:?}: {way:?}"
+            );
+            assert_eq!(in_memory, Way::InMemory);
+            assert_eq!(said_streamed, said_whole, "{name} {when:?}");
+            assert!(
+                bytes_streamed == bytes_whole,
+                "{name} {when:?}: the files differ"
+            );
+            streamed += 1;
+        }
+    }
+    eprintln!("streamed and in memory alike: {streamed} runs");
+}
+
+/// What a run said on standard error, less the `-vv` timings.
+fn said(o: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&o.stderr)
+        .lines()
+        .filter(|l| !l.starts_with("info:"))
+        .map(str::to_string)
+        .collect()
+}
+
+/// Whether a `-vv` run wrote its files as it corrected them.
+fn was_streamed(o: &Output) -> bool {
+    String::from_utf8_lossy(&o.stderr).contains(": correcting and writing:")
+}
+
+/// `rapidtherm correct` on the CAM sample written to a file and to
+/// standard output, both as it is corrected: the same bytes, the same
+/// exit and the same messages (the estimate's notes, the summary), for
+/// one moment, an estimate and a schedule file that times every other
+/// target (the rest at a default).
+#[test]
+fn a_file_and_standard_output_get_the_same_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+    std::fs::copy(sample, dir.path().join("cam.mod")).unwrap();
+    let run = |args: &[&str]| rapidtherm(args, dir.path());
+    let estimate = run(&["schedule", "cam.mod", "--start", "10"]);
+    let csv = String::from_utf8(estimate.stdout).unwrap();
+    let every_other: String = csv
+        .lines()
+        .enumerate()
+        .filter(|(i, _)| i % 2 == 0)
+        .map(|(_, l)| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.path().join("half.csv"), every_other).unwrap();
+    for when in [
+        &["--at", "120"][..],
+        &["--start", "0"],
+        &["--start", "45", "--cycles", "3", "--visit", "last"],
+        &["--schedule", "half.csv", "--default-time", "200"],
+    ] {
+        let args = |out: &str| -> Vec<String> {
+            ["correct", "cam.mod", "-vv", "-o", out]
+                .iter()
+                .chain(when)
+                .map(|s| s.to_string())
+                .collect()
+        };
+        let streamed = run(&args("out.mod")
             .iter()
-            .any(|t| t.id.starts_with("M1:main#"));
-        assert_eq!(qualified, one_name, "{text}");
-        for format in ["table", "csv", "json"] {
-            let (fast, whole) = targets_both_ways(&src, format);
-            assert_eq!(fast, whole, "{format}");
+            .map(String::as_str)
+            .collect::<Vec<_>>());
+        let whole = run(&args("-").iter().map(String::as_str).collect::<Vec<_>>());
+        for o in [&streamed, &whole] {
+            assert!(
+                was_streamed(o),
+                "{when:?} was not streamed:\n{}",
+                String::from_utf8_lossy(&o.stderr)
+            );
         }
+        assert_eq!(streamed.status.code(), whole.status.code(), "{when:?}");
+        assert_eq!(said(&streamed), said(&whole), "{when:?}");
+        let written = std::fs::read(dir.path().join("out.mod")).unwrap();
+        assert!(written == whole.stdout, "{when:?}: the files differ");
     }
 }
 
-proptest! {
-    #![proptest_config(ProptestConfig::with_cases(32))]
-
-    #[test]
-    fn fast_and_whole_list_the_same_targets(
-        bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
-        crlf in any::<bool>(),
-        latin1 in any::<bool>(),
-        one_name in any::<bool>(),
-    ) {
-        let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, latin1, one_name);
-        listed_as_whole(&src);
-    }
+/// A schedule on standard input is read once and gives what the same
+/// schedule by file gives.
+#[test]
+fn a_schedule_on_standard_input_is_read_once() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+    std::fs::copy(sample, dir.path().join("cam.mod")).unwrap();
+    let bin = env!("CARGO_BIN_EXE_rapidtherm");
+    let run = |args: &[&str], stdin: &[u8]| {
+        let mut child = std::process::Command::new(bin)
+            .args(args)
+            .current_dir(dir.path())
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(stdin).unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let csv = run(&["schedule", "cam.mod", "--start", "10"], b"").stdout;
+    std::fs::write(dir.path().join("s.csv"), &csv).unwrap();
+    let piped = run(
+        &[
+            "correct",
+            "cam.mod",
+            "--schedule",
+            "-",
+            "-o",
+            "a.mod",
+            "-vv",
+        ],
+        &csv,
+    );
+    let said = String::from_utf8_lossy(&piped.stderr);
+    assert!(piped.status.success(), "{said}");
+    let by_file = run(
+        &["correct", "cam.mod", "--schedule", "s.csv", "-o", "b.mod"],
+        b"",
+    );
+    assert!(by_file.status.success());
+    let a = std::fs::read(dir.path().join("a.mod")).unwrap();
+    let b = std::fs::read(dir.path().join("b.mod")).unwrap();
+    // The marker names the schedule by its times, not by its file.
+    assert!(
+        a == b,
+        "a schedule piped and the same schedule by file differ"
+    );
 }
 
-proptest! {
-    // Each case runs the binary six times.
-    #![proptest_config(ProptestConfig::with_cases(12))]
-
-    #[test]
-    fn targets_prints_the_same_bytes_either_way(
-        bodies in prop::collection::vec(prop::collection::vec(stmt(), 0..25), 1..3),
-        crlf in any::<bool>(),
-        latin1 in any::<bool>(),
-        one_name in any::<bool>(),
-    ) {
-        let src = program_with(&bodies, if crlf { "\r\n" } else { "\n" }, latin1, one_name);
-        for format in ["table", "csv", "json"] {
-            let (fast, whole) = targets_both_ways(&src, format);
-            prop_assert_eq!(fast, whole, "{}", format);
-        }
+/// `--in-place` streams too: the file becomes what `-o -` writes, its
+/// backup the original, with the same exit and
+/// messages; a second run says the file is corrected already and changes
+/// neither it nor its backup; and a run that changes nothing leaves the
+/// file as it is, with no backup.
+#[test]
+fn in_place_streams_and_writes_what_the_whole_path_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+    let original = std::fs::read(sample).unwrap();
+    let run = |args: &[String]| rapidtherm(args, dir.path());
+    for when in [&["--at", "120"][..], &["--start", "0"]] {
+        std::fs::write(dir.path().join("cam.mod"), &original).unwrap();
+        let _ = std::fs::remove_file(dir.path().join("cam.mod.orig"));
+        let with = |more: &[&str]| -> Vec<String> {
+            ["correct", "cam.mod", "-vv"]
+                .iter()
+                .chain(more)
+                .chain(when)
+                .map(|s| s.to_string())
+                .collect()
+        };
+        let whole = run(&with(&["-o", "-"]));
+        let in_place = run(&with(&["--in-place", "--backup", ".orig"]));
+        assert!(was_streamed(&in_place), "{when:?} was not streamed");
+        assert_eq!(in_place.status.code(), whole.status.code(), "{when:?}");
+        assert_eq!(said(&in_place), said(&whole), "{when:?}");
+        let written = std::fs::read(dir.path().join("cam.mod")).unwrap();
+        assert!(written == whole.stdout, "{when:?}: the files differ");
+        let backup = std::fs::read(dir.path().join("cam.mod.orig")).unwrap();
+        assert!(
+            backup == original,
+            "{when:?}: the backup is not the original"
+        );
+        // Again, its backup there: the file is corrected already, which
+        // is said (for the same moment it is no error), and neither the
+        // file nor its backup changes.
+        let again = run(&with(&["--in-place", "--backup", ".orig"]));
+        let again_said = said(&again).join("\n");
+        assert!(again_said.contains("already corrected"), "{again_said}");
+        assert_eq!(
+            again.status.code(),
+            Some(if when[0] == "--at" { 0 } else { 2 })
+        );
+        assert!(std::fs::read(dir.path().join("cam.mod")).unwrap() == written);
+        assert!(std::fs::read(dir.path().join("cam.mod.orig")).unwrap() == original);
     }
+    // Cold at minute 0: nothing changes, nothing is written.
+    std::fs::write(dir.path().join("cold.mod"), &original).unwrap();
+    let before = std::fs::metadata(dir.path().join("cold.mod"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let cold = run(&[
+        "correct",
+        "cold.mod",
+        "-vv",
+        "--at",
+        "0",
+        "--in-place",
+        "--backup",
+        ".orig",
+    ]
+    .map(String::from));
+    assert!(was_streamed(&cold), "the cold run was not streamed");
+    assert_eq!(cold.status.code(), Some(0));
+    assert!(std::fs::read(dir.path().join("cold.mod")).unwrap() == original);
+    let after = std::fs::metadata(dir.path().join("cold.mod"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert_eq!(before, after, "an unchanged file was written");
+    assert!(!dir.path().join("cold.mod.orig").exists());
 }

@@ -49,6 +49,9 @@ fn programs() -> Vec<(String, Vec<u8>)> {
                 "unknown",
                 "conf_wrong",
                 "several_errors",
+                "bad_speeds",
+                "declared_twice",
+                "not_an_angle",
                 "_at60",
                 "_at120",
             ]
@@ -77,7 +80,7 @@ fn at_minute_zero_no_byte_changes_and_every_target_is_accounted_for() {
         // at minute 0 none is made).
         assert!(outcome.splits.is_empty(), "{name}: split at minute 0");
         for (&i, uses) in &usages(&program) {
-            let t = &program.targets()[i];
+            let t = program.targets().at(i);
             if !outcome.corrections.iter().any(|c| c.id == t.id) {
                 continue;
             }
@@ -97,7 +100,7 @@ fn at_minute_zero_no_byte_changes_and_every_target_is_accounted_for() {
             outcome.corrections.iter().any(|c| c.id == id)
                 || outcome.left_alone.iter().any(|l| l.id == id)
         };
-        for t in program.targets() {
+        for t in program.targets().iter() {
             if t.kind == TargetKind::Derived && !t.written_with_expressions() {
                 assert!(
                     outcome.derived.iter().any(|d| d.id == t.id),

@@ -32,11 +32,7 @@ fn landing_rms(program_name: &str, bytes: &[u8], model: &Model, truth: &[Effect]
     let mut sum = 0.0;
     let mut n = 0.0;
     let meanings = common::Meanings::new(&program);
-    for c in outcome
-        .corrections
-        .iter()
-        .filter(|c| c.kind != "jointtarget")
-    {
+    for c in outcome.corrections.iter().filter(|c| c.kind.is_robtarget()) {
         let common::Meant {
             pose: goal,
             conf,

@@ -23,7 +23,12 @@ fn run(csv: &str) -> Diagnosis {
     diagnose(&prepared, &Options::default()).unwrap()
 }
 
+/// Minutes in a debug build: not in every `cargo test`, where
+/// `general::thermal_effects_simulated_on_a_ur5_are_diagnosed_with_its_urdf`
+/// names a UR5's thermal effects without the nuisance. Run it with
+/// `cargo test --release --test diagnose under_real_nuisance -- --ignored`.
 #[test]
+#[ignore = "minutes: cargo test --release --test diagnose under_real_nuisance -- --ignored"]
 fn a_ur5s_thermal_effects_are_named_under_real_nuisance() {
     let drift = Effect::JointOffsetDrift([0.0, 30e-6, -25e-6, 0.0, 0.0, 0.0]);
     let expansion = Effect::ExpansionScale([1.0, 2.5, 2.5, 1.0]);

@@ -66,15 +66,31 @@ proptest! {
 }
 
 #[test]
-fn repeated_identical_rows_do_not_break_the_fits() {
-    // Every row the same pose at the same time: nothing identifiable, no
-    // panic, no NaN.
-    let mut text =
-        String::from("time_min,j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg,x_mm,y_mm,z_mm\n");
+fn repeated_identical_rows_are_refused_and_one_pose_does_not_break_the_fits() {
+    // Exact copies of a row are no measurements: refused at the first copy,
+    // naming the row copied.
+    let header = "time_min,j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg,x_mm,y_mm,z_mm\n";
+    let mut text = String::from(header);
     for _ in 0..40 {
         text.push_str("10,0,0,0,0,0,0,515.01,0,712\n");
     }
-    let m = Measurements::parse("same.csv", text.as_bytes(), &IRB140_LIMITS_DEG).unwrap();
+    let e = Measurements::parse("same.csv", text.as_bytes(), &IRB140_LIMITS_DEG).unwrap_err();
+    assert!(
+        e.message.contains("38 more repeat line 2 exactly"),
+        "{}",
+        e.message
+    );
+    assert_eq!(e.location.as_ref().map(|l| l.line), Some(3));
+    // One pose measured again and again (the tracker's noise in the last
+    // digits): nothing identifiable, no panic, no NaN.
+    let mut text = String::from(header);
+    for k in 0..40 {
+        text.push_str(&format!(
+            "10,0,0,0,0,0,0,{:.3},0,712\n",
+            515.0 + 0.001 * k as f64
+        ));
+    }
+    let m = Measurements::parse("one.csv", text.as_bytes(), &IRB140_LIMITS_DEG).unwrap();
     let p = prepare(&m, &Model::default(), false).unwrap();
     match diagnose(&p, &Options::default()) {
         Ok(d) => assert!(d.gap_after_mm.is_finite() && d.gap_before_mm.is_finite()),

@@ -52,9 +52,18 @@ pub enum Effect {
     /// Outside the library: the base knocked at `minute`, moved by `shift`
     /// (mm) for good.
     Knock(f64, Vector3<f64>),
-    /// Outside the library: backlash of axis 2, rad: the axis stops β/2
-    /// short on the side it came from.
-    Backlash(f64),
+    /// Outside the library: backlash of an axis (1-based), rad: the axis
+    /// stops β/2 short on the side it came from.
+    Backlash(usize, f64),
+    /// Outside the library: a cyclic error of an axis's angle (1-based
+    /// axis, cycles per turn, amplitude in rad, phase in rad), as a gear's
+    /// or an encoder's: Δq = A·sin(n·q + φ).
+    Cyclic(usize, f64, f64, f64),
+    /// Outside the library: every link grows with the square of its
+    /// temperature rise besides the model's linear growth, by β times the
+    /// model's expansion at a rise of 10 K (none at the cold start, four
+    /// times as much at 20 K).
+    QuadraticExpansion(f64),
 }
 
 impl Effect {
@@ -67,7 +76,10 @@ impl Effect {
             Effect::JointOffsetDrift(_) => "joint-offset-drift",
             Effect::MountDrift(..) => "mount-drift",
             Effect::GravitySag(_) => "gravity-sag",
-            Effect::Knock(..) | Effect::Backlash(_) => return None,
+            Effect::Knock(..)
+            | Effect::Backlash(..)
+            | Effect::Cyclic(..)
+            | Effect::QuadraticExpansion(_) => return None,
         })
     }
 }
@@ -357,7 +369,7 @@ pub fn generate(spec: &SetSpec) -> DataSet {
     // sweep, a minute apart at most.
     let mut order: Vec<usize> = (0..spec.poses).collect();
     order.shuffle(&mut rng);
-    let mut last_q2 = poses[order[spec.poses - 1]][1];
+    let mut last_q = poses[order[spec.poses - 1]];
     for (ti, &t0) in spec.times.iter().enumerate() {
         for (k, &pi) in order.iter().enumerate() {
             let t = t0 + 0.05 * k as f64;
@@ -415,14 +427,26 @@ pub fn generate(spec: &SetSpec) -> DataSet {
                             ) * state.base;
                         }
                     }
-                    Effect::Backlash(beta) => {
-                        let came_up = q[1] > last_q2;
-                        state.dq[1] += if came_up { -beta / 2.0 } else { beta / 2.0 };
+                    Effect::Backlash(axis, beta) => {
+                        let i = axis - 1;
+                        let came_up = q[i] > last_q[i];
+                        state.dq[i] += if came_up { -beta / 2.0 } else { beta / 2.0 };
                     }
+                    Effect::Cyclic(axis, cycles, amp, phase) => {
+                        let i = axis - 1;
+                        state.dq[i] += amp * (cycles * q[i] + phase).sin();
+                    }
+                    Effect::QuadraticExpansion(_) => {}
                 }
             }
-            state.grow =
-                std::array::from_fn(|link| 1.0 + K0 * ALPHA * scale[link] * structure[link]);
+            let quadratic = spec.effects.iter().find_map(|e| match e {
+                Effect::QuadraticExpansion(beta) => Some(*beta),
+                _ => None,
+            });
+            state.grow = std::array::from_fn(|link| {
+                let r = structure[link];
+                1.0 + K0 * ALPHA * (scale[link] * r + quadratic.map_or(0.0, |b| b * r * r / 10.0))
+            });
             let g = state.grow;
             state.len = [C1 * g[0], A1 * g[0], C2 * g[1], C3 * g[2], C4 * g[3]];
             let p = match spec.arm {
@@ -434,7 +458,7 @@ pub fn generate(spec: &SetSpec) -> DataSet {
                 noise.sample(&mut rng),
                 noise.sample(&mut rng),
             );
-            last_q2 = q[1];
+            last_q = q;
             let deg = q.map(|a| format!("{:.5}", a.to_degrees()));
             csv.push_str(&format!(
                 "{t:.2},{},{:.4},{:.4},{:.4}",

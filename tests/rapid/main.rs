@@ -2,6 +2,7 @@
 //! of them: a test binary per file made the clean build minutes longer.
 
 mod field;
+mod lane;
 mod proptest;
 mod rewrite;
 mod samples;

@@ -267,7 +267,7 @@ proptest! {
         let (src, expect) = module(&items, &stmts, &eols);
         let prog = rapid::parse("gen.mod", &src).map_err(|e| TestCaseError::fail(format!("{e}\n{}", String::from_utf8_lossy(&src))))?;
         prop_assert_eq!(rewrite::apply_edits("gen.mod", &src, &[]).unwrap(), src.clone());
-        let got: Vec<&str> = prog.targets().iter().map(|t| t.id.as_str()).collect();
+        let got: Vec<String> = prog.targets().iter().map(|t| t.id.clone()).collect();
         let want: Vec<&str> = expect.iter().map(|e| e.0.as_str()).collect();
         prop_assert_eq!(got, want);
         for (t, (_, nums)) in prog.targets().iter().zip(&expect) {
@@ -280,13 +280,13 @@ proptest! {
         if !expect.is_empty() {
             // Edit one number of one target: only its bytes change.
             let ti = pick.index(expect.len());
-            let num = prog.targets()[ti].value.as_ref().unwrap().trans[pick.index(3)].clone();
+            let num = prog.targets().at(ti).value.as_ref().unwrap().trans[pick.index(3)].clone();
             if let Some(edit) = rewrite::number_edit(&src, &num, new_value, rewrite::POSITION_RESOLUTION) {
                 let out = rewrite::apply_edits("gen.mod", &src, std::slice::from_ref(&edit)).unwrap();
                 prop_assert_eq!(&out[..num.span().start], &src[..num.span().start]);
                 prop_assert_eq!(&out[num.span().start + edit.new.len()..], &src[num.span().end..]);
                 let prog2 = rapid::parse("gen.mod", &out).unwrap();
-                let n2 = prog2.targets()[ti].value.as_ref().unwrap().numbers()
+                let n2 = prog2.targets().at(ti).value.as_ref().unwrap().numbers()
                     .find(|n| n.span().start == num.span().start).unwrap().value;
                 prop_assert!((n2 - new_value).abs() <= 0.0005 + 1e-9, "{} -> {}", new_value, n2);
             }

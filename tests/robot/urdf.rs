@@ -303,7 +303,8 @@ fn an_arm_without_a_spherical_wrist_has_fk_and_numeric_ik() {
 fn urdf_errors_name_the_problem() {
     let e = Robot::from_urdf_str("x.urdf", "<robot name=").unwrap_err();
     assert_eq!(e.kind, ErrorKind::Input);
-    assert!(e.message.starts_with("x.urdf:"), "{}", e.message);
+    // Named with its place: `x.urdf:1:…: error: …`.
+    assert!(e.to_string().starts_with("x.urdf:1:"), "{e}");
 
     let five = urdf(&[
         (

@@ -59,13 +59,10 @@ fn nothing_written_on_error() {
     assert!(stderr.contains("rBead"), "{stderr}");
 }
 
-/// `schedule FILE` walks a program of moves the fast recogniser knows on
-/// its skeleton, the moves in runs (`schedule::estimate_cuts`), or reads
-/// it from its skeleton (`rapid::parse_skeleton`) where that walk
-/// declines (an unreachable target); from standard input the grammar
-/// reads it whole. Both say the same: the CSV, the notes, the
-/// errors (an unreachable target's, told by the grammar's reading) and
-/// the exit code, on every sample.
+/// `schedule FILE` and `schedule -` (standard input) read the program
+/// the same way (one parse, the fast lane inside it) and say the same:
+/// the CSV, the notes, the errors (an unreachable target's) and the exit
+/// code, on every sample.
 #[test]
 fn a_file_schedules_as_standard_input_does() {
     let dir = tempfile::tempdir().unwrap();

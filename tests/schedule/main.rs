@@ -2,7 +2,7 @@
 //! of them: a test binary per file made the clean build minutes longer.
 
 mod cli;
+mod encoding;
 mod estimate;
+mod lanes;
 mod props;
-mod skeleton;
-mod text;

@@ -86,8 +86,8 @@ pub(super) fn program(main: &[String]) -> String {
         "MODULE P
   CONST robtarget pA := [[500,0,400],[0,0,1,0],[0,0,0,0],{EAX}];
   CONST robtarget arr{{2}} := [[[500,0,400],[0,0,1,0],[0,0,0,0],{EAX}],[[500,50,400],[0,0,1,0],[0,0,0,0],{EAX}]];
-  CONST speeddata vOdd := [-5, 0, 0, 0];
-  CONST speeddata vZero := [0, 0, 0, 0];
+  VAR speeddata vOdd;
+  VAR speeddata vZero;
   CONST num n := 2;
   VAR num nVar;
   VAR robtarget p;

@@ -3,6 +3,10 @@
 
 use super::*;
 
+/// Binary operators in one expression beyond this are refused (the tree
+/// is as deep as the chain is long).
+const MAX_OPERATORS: usize = 1000;
+
 impl FileParser<'_, '_> {
     /// A name as an interned string (the same few names recur millions of
     /// times in a CAM program).

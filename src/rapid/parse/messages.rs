@@ -85,7 +85,7 @@ fn expected_punctuation(rule: Rule, text: &str, at: usize) -> Vec<&'static str> 
         .into_iter()
         .filter(|t| {
             let probe = format!("{before}{t} {after}");
-            match RapidParser::parse(rule, &probe) {
+            match grammar::read(rule, &probe) {
                 Ok(_) => true,
                 Err(e) => error_offset(&e) >= at + t.len(),
             }
@@ -269,6 +269,10 @@ fn found_at(src: &[u8], offset: usize) -> String {
     let Some(&b) = rest.first() else {
         return "end of file".into();
     };
+    // A UTF-16 file reads as `ÿþM\0O\0…` byte by byte: name what it is.
+    if offset == 0 && (rest.starts_with(&[0xFF, 0xFE]) || rest.starts_with(&[0xFE, 0xFF])) {
+        return "a UTF-16 byte-order mark (RAPID files are UTF-8 or Latin-1: save the file as one of them)".into();
+    }
     if b == b'\n' || b == b'\r' {
         return "end of line".into();
     }
@@ -281,5 +285,8 @@ fn found_at(src: &[u8], offset: usize) -> String {
     } else {
         1
     };
-    format!("`{}`", decode_lossless(&rest[..len.min(24)]))
+    format!(
+        "`{}`",
+        crate::error::visible(&decode_lossless(&rest[..len.min(24)]))
+    )
 }

@@ -3,6 +3,7 @@
 //! modules, source order.
 
 use super::*;
+use crate::rapid::targets::{Held, Segment};
 
 impl Builder {
     pub(super) fn finish(&mut self, inputs: &[(&str, &[u8])], lines: &[Vec<usize>]) -> Result<()> {
@@ -104,59 +105,77 @@ impl Builder {
             d.visit_module_mut(m);
         }
 
-        // Bases of derived targets: only what names a robtarget of the run.
-        let declared: HashSet<String> = self
+        // Bases of derived targets: only what names a robtarget of the run
+        // (the runs' names among them, looked at only where a derived
+        // target has a base to keep).
+        if self
             .prog
             .targets
             .iter()
-            .filter(|t| t.kind != TargetKind::Inline && t.kind != TargetKind::Assigned)
-            .filter_map(|t| t.name.as_ref().map(|n| n.to_lowercase()))
-            .chain(
-                modules
-                    .iter()
-                    .flat_map(|m| m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data)))
-                    .filter(|d| d.type_name.eq_ignore_ascii_case("robtarget"))
-                    .map(|d| d.name.to_lowercase()),
-            )
-            .collect();
-        for t in &mut self.prog.targets {
-            if let Some(d) = &mut t.derived {
-                d.bases.retain(|b| {
-                    let base = b.split('{').next().unwrap_or("").to_lowercase();
-                    declared.contains(&base)
-                });
-                d.bases.dedup();
+            .any(|t| t.derived.as_ref().is_some_and(|d| !d.bases.is_empty()))
+        {
+            let runs = &self.prog.runs;
+            let sources = &self.prog.sources;
+            let run_names = runs
+                .decls
+                .iter()
+                .flat_map(|r| {
+                    let src = sources.get(r.file).map_or(&[][..], |s| s.bytes());
+                    r.items
+                        .iter()
+                        .filter_map(move |i| r.name_of(src, i).map(str::to_lowercase))
+                })
+                .chain(runs.arrays.iter().map(|a| a.name.to_lowercase()));
+            let declared: HashSet<String> = self
+                .prog
+                .targets
+                .iter()
+                .filter(|t| t.kind != TargetKind::Inline && t.kind != TargetKind::Assigned)
+                .filter_map(|t| t.name.as_ref().map(|n| n.to_lowercase()))
+                .chain(
+                    modules
+                        .iter()
+                        .flat_map(|m| m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data)))
+                        .filter(|d| d.type_name.eq_ignore_ascii_case("robtarget"))
+                        .map(|d| d.name.to_lowercase()),
+                )
+                .chain(run_names)
+                .collect();
+            for t in &mut self.prog.targets {
+                if let Some(d) = &mut t.derived {
+                    d.bases.retain(|b| {
+                        let base = b.split('{').next().unwrap_or("").to_lowercase();
+                        declared.contains(&base)
+                    });
+                    d.bases.dedup();
+                }
             }
         }
 
-        // Identifiers unique across modules (the cut moves' literals
-        // among them, where a run of them was left unread).
+        // A routine's own data shadows a name declared elsewhere: its
+        // targets' identifiers carry the routine (`r1/pA`), so that each
+        // identifier stays one target's.
+        self.scope_routine_data();
+
+        // Identifiers unique across modules, the runs' among them (their
+        // name spaces counted only where the run has several modules).
+        let extra = if modules.len() > 1 {
+            self.run_name_spaces()
+        } else {
+            Vec::new()
+        };
         let spaces = qualify(
             &mut self.prog.targets,
             |t| (&t.origin.module, &mut t.id),
-            &self.cut_runs,
+            &extra,
         );
         qualify(
             &mut self.prog.jointtargets,
             |t| (&t.origin.module, &mut t.id),
             &[],
         );
-        if self
-            .cut_runs
-            .iter()
-            .any(|(_, r)| spaces.contains(&r.to_lowercase()))
-        {
-            for m in &mut modules {
-                let module = m.name.clone();
-                for r in &mut m.routines {
-                    let mut q = QualifyRuns(
-                        spaces
-                            .contains(&r.name.to_lowercase())
-                            .then(|| Arc::from(qualified(&module, &r.name))),
-                    );
-                    q.visit_routine_mut(r);
-                }
-            }
+        if !spaces.is_empty() {
+            self.qualify_runs(&spaces);
         }
 
         // Source order, and the AST's indices follow.
@@ -173,7 +192,227 @@ impl Builder {
             }
         }
         self.prog.modules = modules;
+        self.number_targets();
         Ok(())
+    }
+
+    /// Give the targets of a routine's own data declarations whose name is
+    /// declared elsewhere too (in the module, the task, or another routine)
+    /// the routine in their identifier: `r1/pA` (`r1/arr{2}`).
+    fn scope_routine_data(&mut self) {
+        let local = |origin: &Origin, kind: TargetKind| {
+            origin.routine.is_some()
+                && matches!(
+                    kind,
+                    TargetKind::Declared | TargetKind::ArrayElement | TargetKind::RecordField
+                )
+        };
+        if !self.prog.targets.iter().any(|t| local(&t.origin, t.kind))
+            && !self
+                .prog
+                .jointtargets
+                .iter()
+                .any(|t| local(&t.origin, t.kind))
+        {
+            return;
+        }
+        // Declared names, lower case, with how many declarations
+        // (module and routine data alike) have each.
+        // A declaration is told by its scope: duplicates in one scope are
+        // refused before this, and an array's elements or a record's
+        // fields are one declaration.
+        type Scope = (Arc<str>, Option<Arc<str>>);
+        let mut count: HashMap<String, HashSet<Scope>> = HashMap::new();
+        let mut note = |name: &str, at: Scope| {
+            count.entry(name.to_lowercase()).or_default().insert(at);
+        };
+        for t in &self.prog.targets {
+            if let (
+                Some(n),
+                TargetKind::Declared | TargetKind::ArrayElement | TargetKind::RecordField,
+            ) = (&t.name, t.kind)
+            {
+                note(n, (t.origin.module.clone(), t.origin.routine.clone()));
+            }
+        }
+        for t in &self.prog.jointtargets {
+            if let (Some(n), TargetKind::Declared | TargetKind::ArrayElement) = (&t.name, t.kind) {
+                note(n, (t.origin.module.clone(), t.origin.routine.clone()));
+            }
+        }
+        let runs = &self.prog.runs;
+        for r in &runs.decls {
+            let src = self.prog.sources.get(r.file).map_or(&[][..], |s| s.bytes());
+            for item in &r.items {
+                if let Some(n) = r.name_of(src, item) {
+                    note(n, (r.module.clone(), None));
+                }
+            }
+        }
+        for a in &runs.arrays {
+            note(&a.name, (a.module.clone(), a.routine.clone()));
+        }
+        let shadows = |name: &Option<String>| {
+            name.as_ref()
+                .is_some_and(|n| count.get(&n.to_lowercase()).is_some_and(|s| s.len() > 1))
+        };
+        for t in &mut self.prog.targets {
+            if local(&t.origin, t.kind) && shadows(&t.name) {
+                if let Some(r) = &t.origin.routine {
+                    t.id = format!("{r}/{}", t.id);
+                }
+            }
+        }
+        for t in &mut self.prog.jointtargets {
+            if local(&t.origin, t.kind) && shadows(&t.name) {
+                if let Some(r) = &t.origin.routine {
+                    t.id = format!("{r}/{}", t.id);
+                }
+            }
+        }
+        for a in &mut self.prog.runs.arrays {
+            if let Some(r) = &a.routine {
+                if shadows(&Some(a.name.to_string())) {
+                    a.prefix = Arc::from(format!("{r}/{}", a.name));
+                }
+            }
+        }
+    }
+
+    /// The name spaces of the runs' targets, with their modules: each
+    /// routine with a run of literals, each array's name, each declared
+    /// name.
+    fn run_name_spaces(&self) -> Vec<(Arc<str>, String)> {
+        let runs = &self.prog.runs;
+        let mut out: Vec<(Arc<str>, String)> = Vec::new();
+        for r in runs.moves.iter().filter(|r| r.literals > 0) {
+            out.push((r.module.clone(), r.routine.to_string()));
+        }
+        for a in &runs.arrays {
+            out.push((a.module.clone(), a.name.to_string()));
+        }
+        for r in &runs.decls {
+            let src = self.prog.sources.get(r.file).map_or(&[][..], |s| s.bytes());
+            for item in &r.items {
+                if let Some(name) = r.name_of(src, item) {
+                    out.push((r.module.clone(), name.to_string()));
+                }
+            }
+        }
+        out
+    }
+
+    /// The runs' identifiers qualified with their modules where their
+    /// name spaces (lower case) are among `spaces`.
+    fn qualify_runs(&mut self, spaces: &HashSet<String>) {
+        let runs = &mut self.prog.runs;
+        for r in &mut runs.moves {
+            if spaces.contains(&r.routine.to_lowercase()) {
+                r.prefix = Arc::from(qualified(&r.module, &r.routine));
+            }
+        }
+        for a in &mut runs.arrays {
+            if spaces.contains(&a.name.to_lowercase()) {
+                a.prefix = Arc::from(qualified(&a.module, &a.name));
+            }
+        }
+        for r in &mut runs.decls {
+            let src = self.prog.sources.get(r.file).map_or(&[][..], |s| s.bytes());
+            for k in 0..r.items.len() {
+                let q = r
+                    .name_of(src, &r.items[k])
+                    .is_some_and(|n| spaces.contains(&n.to_lowercase()));
+                r.items[k].qualified = q;
+            }
+        }
+    }
+
+    /// Every target numbered in file order, those of the runs among them:
+    /// each run's targets a stretch of the numbering, the targets held one
+    /// by one the stretches between, and the tree's indices renumbered.
+    fn number_targets(&mut self) {
+        let runs = &mut self.prog.runs;
+        let mut blocks: Vec<(usize, usize, usize, Held)> = Vec::new();
+        for (i, r) in runs.moves.iter().enumerate() {
+            if let Some(first) = r.items.first().filter(|_| r.literals > 0) {
+                let at = first.at as usize + usize::from(first.parts[0]);
+                blocks.push((r.file, at, r.targets(), Held::Moves(i)));
+            }
+        }
+        for (i, r) in runs.decls.iter().enumerate() {
+            if let Some(first) = r.items.first() {
+                let at = first.at as usize + usize::from(first.literal);
+                blocks.push((r.file, at, r.items.len(), Held::Decls(i)));
+            }
+        }
+        for (i, a) in runs.arrays.iter().enumerate() {
+            if let Some(&first) = a.elements.first() {
+                blocks.push((a.file, first as usize, a.elements.len(), Held::Array(i)));
+            }
+        }
+        if blocks.is_empty() {
+            return;
+        }
+        blocks.sort_by_key(|b| (b.0, b.1));
+        let loose = &self.prog.targets;
+        let mut segments = Vec::with_capacity(2 * blocks.len() + 1);
+        let mut map = vec![0; loose.len()];
+        let (mut next, mut li) = (0, 0);
+        // The targets held one by one before `upto` (all that are left for
+        // none): a stretch of the numbering.
+        let one_by_one = |upto: Option<(usize, usize)>,
+                          (next, li): (&mut usize, &mut usize),
+                          segments: &mut Vec<Segment>,
+                          map: &mut Vec<usize>| {
+            let from = *li;
+            while *li < loose.len()
+                && upto.is_none_or(|u| (loose[*li].origin.file, loose[*li].origin.pos.offset) < u)
+            {
+                map[*li] = *next + (*li - from);
+                *li += 1;
+            }
+            if *li > from {
+                segments.push(Segment {
+                    start: *next,
+                    len: *li - from,
+                    held: Held::OneByOne(from),
+                });
+                *next += *li - from;
+            }
+        };
+        let mut bases = Vec::with_capacity(blocks.len());
+        for &(file, at, len, held) in &blocks {
+            one_by_one(
+                Some((file, at)),
+                (&mut next, &mut li),
+                &mut segments,
+                &mut map,
+            );
+            bases.push((held, next));
+            segments.push(Segment {
+                start: next,
+                len,
+                held,
+            });
+            next += len;
+        }
+        one_by_one(None, (&mut next, &mut li), &mut segments, &mut map);
+        for (held, base) in bases {
+            match held {
+                Held::Moves(r) => runs.moves[r].base = base,
+                Held::Decls(r) => runs.decls[r].base = base,
+                Held::Array(r) => runs.arrays[r].base = base,
+                Held::OneByOne(_) => {}
+            }
+        }
+        self.prog.segments = segments;
+        let identity = map.iter().enumerate().all(|(i, &n)| i == n);
+        if !identity {
+            let mut remap = Remap { t: &map, j: &[] };
+            for m in &mut self.prog.modules {
+                remap.visit_module_mut(m);
+            }
+        }
     }
 }
 
@@ -207,26 +446,13 @@ fn decl_offset(e: &Expr) -> Option<usize> {
     }
 }
 
-/// The prefix of the identifiers of a routine's unread cut moves, where
-/// their name space is qualified.
-struct QualifyRuns(Option<Arc<str>>);
-
-impl crate::rapid::visit::VisitMut for QualifyRuns {
-    fn visit_statement_mut(&mut self, s: &mut Statement) {
-        if let (StatementKind::CutMoves { prefix, .. }, Some(q)) = (&mut s.kind, &self.0) {
-            *prefix = q.clone();
-        }
-        crate::rapid::visit::walk_statement_mut(self, s);
-    }
-}
-
 /// Qualify with the module every identifier whose name space occurs in
 /// more than one module of the run, counting the name spaces of `extra`
 /// (module, routine) too; the name spaces qualified, in lower case.
 fn qualify<T>(
     items: &mut [T],
     f: impl Fn(&mut T) -> (&Arc<str>, &mut String),
-    extra: &[(Arc<str>, Arc<str>)],
+    extra: &[(Arc<str>, String)],
 ) -> HashSet<String> {
     let mut modules_of: HashMap<String, HashSet<String>> = HashMap::new();
     for (m, r) in extra {

@@ -3,14 +3,19 @@
 
 use super::*;
 
+/// Blocks (IF, FOR, ...) nested deeper than this are refused: the
+/// assembler recurses on them.
+const MAX_BLOCK_DEPTH: usize = 64;
+
 impl FileParser<'_, '_> {
     pub(super) fn statements(&mut self, depth: usize) -> Result<Vec<Statement>> {
         let mut out = Vec::new();
         loop {
+            // The fast lane reads the moves it knows, into runs (`lane`).
+            if self.lane_move(&mut out)? {
+                continue;
+            }
             let next = self.peek()?;
-            // The moves cut out before the next piece were statements of
-            // this list (see `cuts`).
-            self.put_cuts_back(next.map_or(self.src.len(), |p| p.start), &mut out)?;
             let Some(p) = next else {
                 return Ok(out);
             };

@@ -11,7 +11,7 @@ impl FileParser<'_, '_> {
                 if modules == 0 {
                     return Err(self.err(self.src.len(), "expected MODULE, found end of file"));
                 }
-                return self.all_cuts_back();
+                return Ok(());
             };
             match p.kind {
                 PieceKind::Header if modules == 0 => {
@@ -52,10 +52,18 @@ impl FileParser<'_, '_> {
             records: Vec::new(),
             aliases: Vec::new(),
             data: Vec::new(),
+            decl_runs: Vec::new(),
             routines: Vec::new(),
             pos: self.pos(head.start),
         };
+        self.open_decls = None;
         loop {
+            // The fast lane reads the declarations it knows (`lane`);
+            // anything else ends the run of declarations it was making.
+            if self.lane_decl(&mut m)? {
+                continue;
+            }
+            self.open_decls = None;
             let Some(p) = self.next()? else {
                 return Err(self.err(self.src.len(), "expected ENDMODULE, found end of file"));
             };
@@ -212,12 +220,6 @@ impl FileParser<'_, '_> {
         while let Some(p) = self.peek()? {
             if p.kind != PieceKind::Simple || !is_decl_word(&upper_word(self.src, &p)) {
                 break;
-            }
-            if self.cut_before(p.start) {
-                return Err(self.err(
-                    p.start,
-                    "data declarations must come before the first statement of a routine",
-                ));
             }
             self.next()?;
             let d = self.data_decl(&p)?;

@@ -24,10 +24,12 @@
 pub mod backinfo;
 pub mod cfg;
 pub mod pgf;
+pub mod placement;
 
 use crate::error::{Error, Result};
 use backinfo::BackTask;
-use cfg::Cfg;
+use cfg::{Cfg, Instance};
+use placement::{BackupPart, Gap, GapKind, Placement};
 use std::path::{Path, PathBuf};
 
 /// One task to read as one program.
@@ -54,6 +56,9 @@ pub struct Task {
     pub base_moved_by: Option<String>,
     /// What the reader noticed on the way (a module listed but missing).
     pub notes: Vec<String>,
+    /// What a backup's configuration should have said of this task's robot
+    /// and did not (empty for tasks not read from a backup).
+    pub gaps: Vec<Gap>,
 }
 
 impl Task {
@@ -67,6 +72,7 @@ impl Task {
             base_frame: None,
             base_moved_by: None,
             notes: Vec::new(),
+            gaps: Vec::new(),
         }
     }
 
@@ -136,12 +142,12 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<Task>> {
 
 /// The modules of a program file, found beside it.
 fn program_file(path: &Path) -> Result<Task> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+    let bytes = crate::input::read_path(path)?;
     let listed = pgf::modules(&path.display().to_string(), &bytes)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut modules = Vec::new();
     for m in &listed {
-        match find_ci(dir, m) {
+        match find_listed(dir, m, path)? {
             Some(found) => modules.push(found),
             None => {
                 return Err(Error::input(format!(
@@ -156,72 +162,149 @@ fn program_file(path: &Path) -> Result<Task> {
     Ok(Task::of_files(name, Some(path.to_path_buf()), modules))
 }
 
-/// What a backup says about its tasks, read once per backup.
+/// What a backup says about its tasks, read once per backup, and which of
+/// its parts it lacks.
 #[derive(Default)]
 struct Backup {
-    tasks: Vec<BackTask>,
+    root: PathBuf,
+    tasks: Option<Vec<BackTask>>,
     sys: Option<Cfg>,
     moc: Option<Cfg>,
+    /// The parts missing or unreadable: gaps of every task.
+    gaps: Vec<Gap>,
 }
 
 impl Backup {
-    /// The backup whose root is `root` (a folder holding `RAPID/`); every
-    /// part is optional, as a backup copied by hand may lack it.
+    /// The backup whose root is `root` (a folder holding `RAPID/`). A part
+    /// it lacks is a gap of every task, not an error: a backup copied by
+    /// hand still lists its targets; what needs the placement refuses.
     fn read(root: &Path) -> Result<Backup> {
-        let text = |rel: &str| -> Result<Option<String>> {
-            match find_ci(root, rel) {
-                Some(p) => {
-                    let bytes = std::fs::read(&p).map_err(|e| Error::io(&p, &e))?;
-                    Ok(Some(crate::error::decode_lossless(&bytes)))
+        let mut backup = Backup {
+            root: root.to_path_buf(),
+            ..Backup::default()
+        };
+        let mut text = |part: BackupPart| -> Result<Option<(PathBuf, String)>> {
+            match find_ci(root, part.path()) {
+                Some(p) if p.is_file() => {
+                    let bytes = crate::input::read_path(&p)?;
+                    Ok(Some((p, crate::error::decode_lossless(&bytes))))
                 }
-                None => Ok(None),
+                _ => {
+                    backup.gaps.push(Gap {
+                        kind: GapKind::Missing(part),
+                        file: root.join(part.path()),
+                        location: None,
+                    });
+                    Ok(None)
+                }
             }
         };
-        Ok(Backup {
-            tasks: text("BACKINFO/backinfo.txt")?
-                .map(|t| backinfo::parse(&t))
-                .unwrap_or_default(),
-            sys: text("SYSPAR/SYS.cfg")?.map(|t| Cfg::parse(&t)),
-            moc: text("SYSPAR/MOC.cfg")?.map(|t| Cfg::parse(&t)),
-        })
+        let backinfo = text(BackupPart::BackInfo)?;
+        let sys = text(BackupPart::Sys)?;
+        let moc = text(BackupPart::Moc)?;
+        backup.tasks = backinfo.map(|(_, t)| backinfo::parse(&t));
+        for (part, read, slot) in [
+            (BackupPart::Sys, sys, &mut backup.sys),
+            (BackupPart::Moc, moc, &mut backup.moc),
+        ] {
+            let Some((path, text)) = read else { continue };
+            match Cfg::parse(&path.display().to_string(), &text) {
+                Ok(cfg) => *slot = Some(cfg),
+                Err(e) => backup.gaps.push(Gap {
+                    kind: GapKind::Unreadable(part),
+                    file: path,
+                    location: e.location.map(|l| *l),
+                }),
+            }
+        }
+        Ok(backup)
+    }
+
+    fn backinfo_path(&self, task_dir: &Path) -> PathBuf {
+        if self.root.as_os_str().is_empty() {
+            task_dir.to_path_buf()
+        } else {
+            self.root.join(BackupPart::BackInfo.path())
+        }
     }
 
     fn task_of_folder(&self, folder: &str) -> Option<&BackTask> {
         self.tasks
+            .as_deref()?
             .iter()
             .find(|t| t.folder.eq_ignore_ascii_case(folder))
     }
 
+    /// A gap in `cfg` at an instance's attribute (or the instance).
+    fn gap_at(cfg: &Cfg, inst: &Instance, key: Option<&str>, kind: GapKind) -> Gap {
+        let (line, col) = key.and_then(|k| inst.place(k)).unwrap_or((inst.line, 1));
+        Gap {
+            kind,
+            file: PathBuf::from(&cfg.file),
+            location: Some(cfg.location(line, col)),
+        }
+    }
+
     /// What SYS.cfg and MOC.cfg say of a task: whether it moves a robot,
-    /// and that robot's type and placement.
+    /// that robot's type and placement, and what they fail to say.
     fn robot_of(&self, task: &str) -> Placement {
-        let none = Placement::default();
+        let mut out = Placement {
+            gaps: self.gaps.clone(),
+            ..Placement::default()
+        };
         let Some(sys) = &self.sys else {
-            return none;
+            return out;
         };
         let Some(entry) = sys
             .section("CAB_TASKS")
             .iter()
             .find(|t| t.get("Name").is_some_and(|n| n.eq_ignore_ascii_case(task)))
         else {
-            return none;
+            out.gaps.push(Gap {
+                kind: GapKind::TaskNotInSys {
+                    task: task.to_string(),
+                },
+                file: PathBuf::from(&sys.file),
+                location: None,
+            });
+            return out;
         };
         if !entry.has("MotionTask") {
+            // A task that moves nothing needs no robot: nothing missing
+            // matters to it.
             return Placement {
                 motion: Some(false),
-                ..none
+                ..Placement::default()
             };
         }
+        out.motion = Some(true);
         let robot = match entry.get("UseMechanicalUnitGroup") {
-            Some(group) => sys
-                .section("MECHANICAL_UNIT_GROUP")
-                .iter()
-                .find(|g| g.get("Name").is_some_and(|n| n.eq_ignore_ascii_case(group)))
-                .and_then(|g| g.get("Robot"))
-                .map(str::to_string),
+            Some(group) => {
+                let robot = sys
+                    .section("MECHANICAL_UNIT_GROUP")
+                    .iter()
+                    .find(|g| g.get("Name").is_some_and(|n| n.eq_ignore_ascii_case(group)))
+                    .and_then(|g| g.get("Robot"))
+                    .map(str::to_string);
+                if robot.is_none() {
+                    out.gaps.push(Self::gap_at(
+                        sys,
+                        entry,
+                        Some("UseMechanicalUnitGroup"),
+                        GapKind::GroupWithoutRobot {
+                            group: group.to_string(),
+                        },
+                    ));
+                    return out;
+                }
+                robot
+            }
             None => None,
         };
-        let robots = self.moc.as_ref().map_or(&[][..], |m| m.section("ROBOT"));
+        let Some(moc) = &self.moc else {
+            return out;
+        };
+        let robots = moc.section("ROBOT");
         let entry = match &robot {
             Some(name) => robots
                 .iter()
@@ -231,16 +314,41 @@ impl Backup {
             None => None,
         };
         let Some(entry) = entry else {
-            return Placement {
-                motion: Some(true),
-                ..none
-            };
+            out.gaps.push(Gap {
+                kind: GapKind::RobotNotInMoc { robot },
+                file: PathBuf::from(&moc.file),
+                location: None,
+            });
+            return out;
         };
-        let num = |k: &str, default: f64| {
-            entry
-                .get(k)
-                .and_then(|v| v.parse::<f64>().ok())
-                .unwrap_or(default)
+        out.robot_type = entry.get("use_robot_type").map(str::to_string);
+        if out.robot_type.is_none() {
+            out.gaps.push(Self::gap_at(
+                moc,
+                entry,
+                None,
+                GapKind::NoRobotType {
+                    robot: entry.get("name").unwrap_or("?").to_string(),
+                },
+            ));
+        }
+        let mut num = |k: &str, default: f64| match entry.get(k) {
+            None => default,
+            Some(v) => match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => x,
+                _ => {
+                    out.gaps.push(Self::gap_at(
+                        moc,
+                        entry,
+                        Some(k),
+                        GapKind::BadNumber {
+                            key: k.to_string(),
+                            value: v.to_string(),
+                        },
+                    ));
+                    default
+                }
+            },
         };
         // MOC.cfg places the base in metres.
         let pos = ["x", "y", "z"].map(|a| num(&format!("base_frame_pos_{a}"), 0.0) * 1000.0);
@@ -250,23 +358,21 @@ impl Backup {
             num("base_frame_orient_u2", 0.0),
             num("base_frame_orient_u3", 0.0),
         ];
-        let at_origin = pos == [0.0; 3] && orient == [1.0, 0.0, 0.0, 0.0];
-        Placement {
-            motion: Some(true),
-            robot_type: entry.get("use_robot_type").map(str::to_string),
-            base_frame: (!at_origin).then_some((pos, orient)),
-            base_moved_by: entry.get("base_frame_coordinated").map(str::to_string),
+        let norm = orient.iter().map(|v| v * v).sum::<f64>().sqrt();
+        // The controller stores the quaternion to about six digits.
+        if (norm - 1.0).abs() > 1e-4 {
+            out.gaps.push(Self::gap_at(
+                moc,
+                entry,
+                Some("base_frame_orient_u0"),
+                GapKind::BadOrientation { norm },
+            ));
         }
+        let at_origin = pos == [0.0; 3] && orient == [1.0, 0.0, 0.0, 0.0];
+        out.base_frame = (!at_origin).then_some((pos, orient));
+        out.base_moved_by = entry.get("base_frame_coordinated").map(str::to_string);
+        out
     }
-}
-
-/// What a backup's configuration says of one task's robot.
-#[derive(Default)]
-struct Placement {
-    motion: Option<bool>,
-    robot_type: Option<String>,
-    base_frame: Option<([f64; 3], [f64; 4])>,
-    base_moved_by: Option<String>,
 }
 
 /// The tasks a folder stands for (see the module documentation).
@@ -335,10 +441,22 @@ fn tasks_in_folder(dir: &Path) -> Result<Vec<Task>> {
     )])
 }
 
+/// `TASKn`, any case. Compared on bytes: a folder name is anything the
+/// file system allows (`Menü`), and its fourth byte need not end a
+/// character.
 fn is_task_folder_name(name: &str) -> bool {
-    name.len() > 4
-        && name[..4].eq_ignore_ascii_case("TASK")
-        && name[4..].bytes().all(|b| b.is_ascii_digit())
+    task_number(name).is_some()
+}
+
+/// The `n` of a `TASKn` folder name.
+fn task_number(name: &str) -> Option<u32> {
+    let b = name.as_bytes();
+    if b.len() > 4 && b[..4].eq_ignore_ascii_case(b"TASK") && b[4..].iter().all(u8::is_ascii_digit)
+    {
+        name[4..].parse().ok()
+    } else {
+        None
+    }
 }
 
 /// Every `TASKn` folder of a backup's `RAPID` folder, in task order.
@@ -354,7 +472,7 @@ fn task_folders(rapid: &Path, backup: &Backup) -> Result<Vec<Task>> {
     // TASK2 before TASK10.
     folders.sort_by_key(|p| {
         p.file_name()
-            .and_then(|n| n.to_string_lossy()[4..].parse::<u32>().ok())
+            .and_then(|n| task_number(&n.to_string_lossy()))
             .unwrap_or(u32::MAX)
     });
     if folders.is_empty() {
@@ -376,10 +494,20 @@ fn task_folder(dir: &Path, backup: &Backup) -> Result<Task> {
     let listed = backup.task_of_folder(&folder);
     let name = listed.map_or(folder.clone(), |t| t.name.clone());
     let mut notes = Vec::new();
+    let mut placed = backup.robot_of(&name);
+    if listed.is_none() && backup.tasks.is_some() && placed.motion != Some(false) {
+        placed.gaps.push(Gap {
+            kind: GapKind::FolderNotListed {
+                folder: folder.clone(),
+            },
+            file: backup.backinfo_path(dir),
+            location: None,
+        });
+    }
     let mut modules: Vec<PathBuf> = Vec::new();
     if let Some(t) = listed {
         for rel in &t.modules {
-            match find_ci(dir, rel) {
+            match find_listed(dir, rel, &backup.backinfo_path(dir))? {
                 Some(p) => modules.push(p),
                 None => notes.push(format!(
                     "task {name}: backinfo.txt lists {rel}, which is not in {}",
@@ -400,7 +528,6 @@ fn task_folder(dir: &Path, backup: &Backup) -> Result<Task> {
             modules.push(p);
         }
     }
-    let placed = backup.robot_of(&name);
     Ok(Task {
         name: Some(name),
         origin: Some(dir.to_path_buf()),
@@ -410,6 +537,7 @@ fn task_folder(dir: &Path, backup: &Backup) -> Result<Task> {
         base_frame: placed.base_frame,
         base_moved_by: placed.base_moved_by,
         notes,
+        gaps: placed.gaps,
     })
 }
 
@@ -449,4 +577,33 @@ fn find_ci(dir: &Path, rel: &str) -> Option<PathBuf> {
         here = found;
     }
     Some(here)
+}
+
+/// A path a file of the backup or program lists (`listed_in` names that
+/// file), found under `dir` as [`find_ci`] finds it, and refused when it
+/// would lead out of `dir`: an absolute path, a drive, a `..`, or a link
+/// to elsewhere. A run then writes only inside what the user named.
+fn find_listed(dir: &Path, rel: &str, listed_in: &Path) -> Result<Option<PathBuf>> {
+    let escapes = rel.starts_with(['/', '\\'])
+        || rel
+            .split(['/', '\\'])
+            .any(|part| part == ".." || part.contains(':'));
+    let outside = || {
+        Error::input(format!(
+            "{}: lists {rel}, which lies outside {}: a backup or program file may only name files inside its own folder",
+            listed_in.display(),
+            dir.display()
+        ))
+    };
+    if escapes {
+        return Err(outside());
+    }
+    let Some(found) = find_ci(dir, rel) else {
+        return Ok(None);
+    };
+    let real = |p: &Path| std::fs::canonicalize(p).map_err(|e| Error::io(p, &e));
+    if !real(&found)?.starts_with(real(dir)?) {
+        return Err(outside());
+    }
+    Ok(Some(found))
 }

@@ -56,11 +56,6 @@ impl<'p> Walker<'p> {
             self.fail_target(e);
             return false;
         }
-        // A cut move's literal may be asked of by the streamed correction
-        // the walk is for (see `estimate_cuts`).
-        if rob.cut.is_some() && self.cuts.as_ref().is_some_and(|c| !c.ask_reach) {
-            return true;
-        }
         let key: [u64; 7] = {
             let v = flange.translation.vector;
             let r = flange.rotation.coords;

@@ -15,10 +15,16 @@ impl<'p> Walker<'p> {
             Expr::Str(s) => Value::Str(s.to_string()),
             Expr::Placeholder(_) => Value::Unknown,
             Expr::Target(i) => self.target_value(*i)?,
+            // An array's literals the fast lane read: each read when the
+            // walk reads an element (`arr{i}`).
+            Expr::Elements(_) => Value::Unknown,
             Expr::JointTarget(i) => self.joint_value(*i),
             Expr::Name(n) => self.name_value(n, frame)?,
             Expr::Index(_) | Expr::Component(_) => match self.path_of(e, frame)? {
-                Some(path) => self.path_value(&path, frame.module)?,
+                Some(path) => {
+                    let routine = frame.routine.map(|r| &*r.name);
+                    self.path_value(&path, (frame.module, routine))?
+                }
                 None => Value::Unknown,
             },
             Expr::Aggregate(a) => {
@@ -51,14 +57,13 @@ impl<'p> Walker<'p> {
         let Some(t) = self.program.targets().get(i) else {
             return Ok(Value::Unknown);
         };
-        Ok(match target_pose(self.program, t)? {
+        Ok(match target_pose(self.program, &t)? {
             Some((pose, conf)) => Value::Rob(Box::new(Rob {
                 pose,
                 conf,
                 id: Some(i),
                 derived: None,
                 bases: Vec::new(),
-                cut: None,
             })),
             None => Value::Unknown,
         })
@@ -110,7 +115,14 @@ impl<'p> Walker<'p> {
     }
 
     /// The target or jointtarget with this path, seen from `module`.
-    pub(super) fn path_value(&mut self, path: &str, module: usize) -> Result<Value> {
+    /// The value of the target an access path names in `routine` of
+    /// `module`: the routine's own data first (`r1/pA` where `pA` is
+    /// declared elsewhere too), then the module's, then the task's.
+    pub(super) fn path_value(
+        &mut self,
+        path: &str,
+        (module, routine): (usize, Option<&str>),
+    ) -> Result<Value> {
         let lower = path.to_ascii_lowercase();
         let module_name = self
             .program
@@ -118,12 +130,11 @@ impl<'p> Walker<'p> {
             .get(module)
             .map(|m| m.name.to_ascii_lowercase())
             .unwrap_or_default();
+        let own = routine.map(|r| format!("{}/{lower}", r.to_ascii_lowercase()));
+        let own_qualified = own.as_ref().map(|o| format!("{module_name}:{o}"));
         let qualified = format!("{module_name}:{lower}");
-        let hit = self
-            .target_ids
-            .get(&qualified)
-            .or_else(|| self.target_ids.get(&lower))
-            .copied();
+        let candidates = || own.iter().chain(&own_qualified).chain([&qualified, &lower]);
+        let hit = candidates().find_map(|k| self.target_ids.get(k)).copied();
         if let Some(i) = hit {
             if let Some(t) = self.program.targets().get(i) {
                 if t.value.is_some() {
@@ -131,11 +142,7 @@ impl<'p> Walker<'p> {
                 }
             }
         }
-        let jhit = self
-            .joint_ids
-            .get(&qualified)
-            .or_else(|| self.joint_ids.get(&lower))
-            .copied();
+        let jhit = candidates().find_map(|k| self.joint_ids.get(k)).copied();
         if let Some(i) = jhit {
             return Ok(self.joint_value(i));
         }
@@ -163,14 +170,12 @@ impl<'p> Walker<'p> {
         let decl = self.decls.get(&key).and_then(|list| {
             list.iter()
                 .find(|(m, _)| *m == frame.module)
-                .or_else(|| {
-                    list.iter()
-                        .find(|(_, d)| d.scope != Some(rapid::Scope::Local))
-                })
+                .or_else(|| list.iter().find(|(_, d)| !d.local()))
                 .copied()
         });
         match decl {
-            Some((m, d)) => self.decl_value(m, None, d),
+            Some((m, Decl::Tree(d))) => self.decl_value(m, None, d),
+            Some((_, Decl::Run { target, .. })) => self.target_value(target),
             None => Ok(Value::Ref(name.to_string())),
         }
     }
@@ -184,7 +189,7 @@ impl<'p> Walker<'p> {
         let ty = d.type_name.to_ascii_lowercase();
         match ty.as_str() {
             "robtarget" | "jointtarget" if d.dims.is_empty() => {
-                let v = self.path_value(&d.name, module)?;
+                let v = self.path_value(&d.name, (module, routine.map(|r| &*r.name)))?;
                 if !matches!(v, Value::Unknown) {
                     return Ok(v);
                 }
@@ -281,7 +286,6 @@ impl<'p> Walker<'p> {
                     id: None,
                     derived,
                     bases,
-                    cut: None,
                 })))
             }
             "crobt" => {
@@ -296,7 +300,6 @@ impl<'p> Walker<'p> {
                             id: None,
                             derived,
                             bases: Vec::new(),
-                            cut: None,
                         })),
                         Err(_) => Value::Unknown,
                     },
@@ -343,7 +346,10 @@ impl<'p> Walker<'p> {
                             l.iter()
                                 .find(|(m, _)| *m == frame.module)
                                 .or_else(|| l.first())
-                                .copied()
+                                .and_then(|&(m, d)| match d {
+                                    Decl::Tree(d) => Some((m, d)),
+                                    Decl::Run { .. } => None,
+                                })
                         })
                     });
                 let (Some((m, d)), Some(k)) = (decl, which) else {

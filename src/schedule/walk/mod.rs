@@ -6,7 +6,6 @@
 //! time ([`instant`]).
 
 mod check;
-pub(super) mod cuts;
 mod eval;
 mod instant;
 mod moves;
@@ -46,9 +45,6 @@ pub(super) struct Rob {
     pub(super) derived: Option<usize>,
     /// Literal targets it was derived from.
     pub(super) bases: Vec<usize>,
-    /// The literal of a cut move it is (its number among the skeleton's
-    /// cut literals, in file order): see [`cuts`].
-    pub(super) cut: Option<usize>,
 }
 
 #[derive(Debug, Clone)]
@@ -111,7 +107,7 @@ pub(super) struct Walker<'p> {
     /// (file, byte offset) of a derived expression → its target.
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
-    pub(super) decls: FastMap<String, Vec<(usize, &'p DataDecl)>>,
+    pub(super) decls: FastMap<String, Vec<(usize, Decl<'p>)>>,
     /// Procedures and functions by lower-case name: (module, routine).
     pub(super) routines: FastMap<String, Vec<(usize, &'p Routine)>>,
     /// Robtarget variables assigned during the walk (module data).
@@ -148,12 +144,26 @@ pub(super) struct Walker<'p> {
     /// Flange poses whose reach is asked after the walk, and the robconf
     /// of their targets; `None`: asked at each move.
     pub(super) deferred: Option<Vec<(Isometry3<f64>, RobConf)>>,
-    /// The cut moves of a program read from its skeleton in runs
-    /// ([`cuts`]); `None`: the program has none.
-    pub(super) cuts: Option<cuts::CutWalk<'p>>,
 }
 
 /// Names as written, in a module and routine.
+/// A module's declaration: in the tree, or a robtarget of a run of the
+/// fast lane's (its target's number).
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Decl<'p> {
+    Tree(&'p DataDecl),
+    Run { local: bool, target: usize },
+}
+
+impl Decl<'_> {
+    pub(super) fn local(&self) -> bool {
+        match self {
+            Decl::Tree(d) => d.scope == Some(rapid::Scope::Local),
+            Decl::Run { local, .. } => *local,
+        }
+    }
+}
+
 #[derive(PartialEq)]
 pub(super) struct NamesAt {
     module: usize,
@@ -201,14 +211,23 @@ impl<'p> Walker<'p> {
             .filter(|(_, j)| j.kind != TargetKind::Inline)
             .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
             .collect();
-        let mut decls: FastMap<String, Vec<(usize, &DataDecl)>> = FastMap::default();
+        let mut decls: FastMap<String, Vec<(usize, Decl)>> = FastMap::default();
         let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
         for (mi, m) in program.modules.iter().enumerate() {
             for d in &m.data {
                 decls
                     .entry(d.name.to_ascii_lowercase())
                     .or_default()
-                    .push((mi, d));
+                    .push((mi, Decl::Tree(d)));
+            }
+            for &run in &m.decl_runs {
+                let local = program.declared_scope(run) == Some(rapid::Scope::Local);
+                for (name, _, target) in program.declared_names(run) {
+                    decls
+                        .entry(name.to_ascii_lowercase())
+                        .or_default()
+                        .push((mi, Decl::Run { local, target }));
+                }
             }
             for r in &m.routines {
                 routines
@@ -259,7 +278,6 @@ impl<'p> Walker<'p> {
             last_speed: None,
             last_frames: None,
             deferred: None,
-            cuts: None,
         })
     }
 
@@ -308,26 +326,20 @@ impl<'p> Walker<'p> {
                 self.schedule.visit(&target.id, t);
             }
         }
-        let mut missed: Vec<(usize, &str)> = self
-            .program
-            .targets()
-            .iter()
-            .filter(|t| t.value.is_some() && self.schedule.times(&t.id).is_none())
-            .map(|t| (t.origin.pos.offset, t.id.as_str()))
-            .collect();
-        let mut count = missed.len();
-        // The cut moves' literals never visited, among them in file order.
-        let cut = self
-            .cuts
-            .as_ref()
-            .map(|c| c.missed(self.program, SHOWN_MISSED));
-        if let Some((cut, n)) = &cut {
-            count += n;
-            missed.extend(cut.iter().map(|(at, id)| (*at, id.as_str())));
-            missed.sort_by_key(|m| m.0);
+        let mut count = 0;
+        let mut shown: Vec<String> = Vec::new();
+        // Identifiers only: the targets' numbers are not read for this.
+        let targets = self.program.targets();
+        let mut id = String::new();
+        for i in 0..targets.len() {
+            if targets.id_into(i, &mut id) == Some(true) && self.schedule.times(&id).is_none() {
+                count += 1;
+                if shown.len() < SHOWN_MISSED {
+                    shown.push(id.clone());
+                }
+            }
         }
         if count > 0 {
-            let shown: Vec<&str> = missed.iter().take(SHOWN_MISSED).map(|m| m.1).collect();
             let more = if count > shown.len() {
                 format!(", ... ({count} in all)")
             } else {
@@ -614,11 +626,10 @@ impl<'p> Walker<'p> {
             | StatementKind::TryNext
             | StatementKind::Connect { .. }
             | StatementKind::Placeholder(_) => Ok(Flow::Normal),
-            StatementKind::CutMoves {
-                cuts,
-                inline,
-                prefix,
-            } => self.exec_cut_moves(cuts.clone(), (*inline, prefix), s, frame),
+            StatementKind::Moves(run) => {
+                self.exec_moves(*run, frame)?;
+                Ok(Flow::Normal)
+            }
         }
     }
 
@@ -678,7 +689,10 @@ impl<'p> Walker<'p> {
             (Some(a), Some(b), Some(st)) if st != 0.0 => {
                 let mut v = a;
                 let mut flow = Flow::Normal;
+                let turns = ((b - a) / st).floor() + 1.0;
+                let mut first = true;
                 while (st > 0.0 && v <= b) || (st < 0.0 && v >= b) {
+                    let before = self.steps;
                     self.count_step(frame, s)?;
                     frame.vars.insert(key.clone(), Value::Num(v));
                     match self.exec_list(body, frame)? {
@@ -686,6 +700,24 @@ impl<'p> Walker<'p> {
                         other => {
                             flow = other;
                             break;
+                        }
+                    }
+                    // Every turn walks about what the first did: a loop
+                    // the budget cannot hold is refused now, not after
+                    // minutes.
+                    if first {
+                        first = false;
+                        let left = (self.steps - before) as f64 * (turns - 1.0);
+                        if self.steps as f64 + left > STEP_BUDGET as f64 {
+                            return Err(Error::new(
+                                ErrorKind::Unsupported,
+                                format!(
+                                    "FOR {var}: {turns} turns of {} statements each would pass the walk's limit of {STEP_BUDGET} statements",
+                                    self.steps - before
+                                ),
+                            )
+                            .with_remedy(Remedy::GiveSchedule)
+                            .at(self.location(frame, s)));
                         }
                     }
                     v += st;

@@ -17,12 +17,6 @@ pub(super) struct Goal<'a> {
     pub(super) max_speed: [f64; 6],
 }
 
-/// A MoveC's CirPoint: as written, or read already.
-pub(super) enum Via<'e> {
-    Expr(&'e Expr),
-    Known(Rob),
-}
-
 impl<'p> Walker<'p> {
     pub(super) fn speed_of(
         &mut self,
@@ -177,6 +171,7 @@ impl<'p> Walker<'p> {
         let mut speed = self.speed_of(speed_data, frame, line)?;
         if let Some(v) = v {
             match self.eval(v, frame)?.num() {
+                Some(v) if !(v.is_finite() && v > 0.0) => return Err(not_positive("\\V", v)),
                 Some(v) => speed.v_tcp = v,
                 None => self.note(frame, line, "\\V: value known only at run time, ignored"),
             }
@@ -186,6 +181,7 @@ impl<'p> Walker<'p> {
         speed.v_ori *= ov;
         let t_override = match t {
             Some(t) => match self.eval(t, frame)?.num() {
+                Some(t) if !(t.is_finite() && t > 0.0) => return Err(not_positive("\\T", t)),
                 Some(t) => Some(t / ov),
                 None => {
                     self.note(frame, line, "\\T: value known only at run time, ignored");
@@ -197,10 +193,10 @@ impl<'p> Walker<'p> {
         Ok((speed, t_override))
     }
 
-    pub(super) fn exec_move(
+    pub(super) fn exec_move<'c>(
         &mut self,
-        call: &'p Call,
-        m: &Motion<'p>,
+        call: &'c Call,
+        m: &Motion<'c>,
         s: &Statement,
         frame: &mut Frame<'p>,
     ) -> Result<()> {
@@ -217,7 +213,12 @@ impl<'p> Walker<'p> {
             );
             return Ok(());
         }
-        let (speed, t_override) = self.move_speed([m.speed, m.v, m.t], frame, line)?;
+        let (speed, t_override) =
+            self.move_speed([m.speed, m.v, m.t], frame, line)
+                .map_err(|e| match e.location {
+                    Some(_) => e,
+                    None => e.at(self.location(frame, s)),
+                })?;
         let ov = self.velset.0;
         let frames = self.frame_names(m.tool, m.wobj, frame, line)?;
         let (tool, wobj) = (&frames.0, &frames.1);
@@ -293,7 +294,7 @@ impl<'p> Walker<'p> {
                     frames: &frames,
                     max_speed,
                 };
-                return self.move_to_rob(&goal, *rob, m.via.map(Via::Expr), call, frame, s);
+                return self.move_to_rob(&goal, *rob, m.via, call, frame, s);
             }
             _ => {}
         }
@@ -315,7 +316,7 @@ impl<'p> Walker<'p> {
         &mut self,
         goal: &Goal,
         rob: Rob,
-        via: Option<Via>,
+        via: Option<&Expr>,
         call: &Call,
         frame: &mut Frame<'p>,
         s: &Statement,
@@ -367,8 +368,7 @@ impl<'p> Walker<'p> {
             }
             MotionKind::Circular => {
                 let cir = match via {
-                    Some(Via::Expr(e)) => self.eval(e, frame)?,
-                    Some(Via::Known(c)) => Value::Rob(Box::new(c)),
+                    Some(e) => self.eval(e, frame)?,
                     None => Value::Unknown,
                 };
                 let angle = from.rotation.angle_to(&rob.pose.rotation).to_degrees();
@@ -480,6 +480,24 @@ impl<'p> Walker<'p> {
             .map_or_else(|| "(computed target)".to_string(), |t| t.id.clone())
     }
 
+    /// The moves of a run the fast lane read, each as the grammar makes it.
+    pub(super) fn exec_moves(&mut self, run: usize, frame: &mut Frame<'p>) -> Result<()> {
+        let program = self.program;
+        for mv in program.moves(run) {
+            let Some(s) = mv.statement() else {
+                continue;
+            };
+            self.count_step(frame, &s)?;
+            let StatementKind::Call(call) = &s.kind else {
+                continue;
+            };
+            if let Some(m) = call.motion() {
+                self.exec_move(call, &m, &s, frame)?;
+            }
+        }
+        Ok(())
+    }
+
     pub(super) fn unreachable(
         &self,
         rob: &Rob,
@@ -492,7 +510,7 @@ impl<'p> Walker<'p> {
             .id
             .or(rob.derived)
             .and_then(|i| self.program.targets().get(i));
-        let name = id.map(|t| t.id.as_str()).unwrap_or("(computed)");
+        let name = id.as_ref().map_or("(computed)", |t| t.id.as_str());
         let mut err = Error::new(
             ErrorKind::Unreachable,
             format!(
@@ -500,7 +518,7 @@ impl<'p> Walker<'p> {
                 call.name, s.pos.line, e.message
             ),
         );
-        err = match id {
+        err = match &id {
             Some(t) => err.at(self.program.location(&t.origin)),
             None => err.at(self.location(frame, s)),
         };
@@ -544,10 +562,6 @@ impl<'p> Walker<'p> {
 
     pub(super) fn visit(&mut self, rob: &Rob, at_s: f64) {
         let t = at_s / 60.0;
-        if let (Some(literal), Some(cw)) = (rob.cut, self.cuts.as_mut()) {
-            cw.visit(literal, t, self.schedule.targets().len());
-            return;
-        }
         let targets = self.program.targets();
         if let Some(target) = rob.id.and_then(|i| targets.get(i)) {
             self.schedule.visit(&target.id, t);
@@ -587,4 +601,18 @@ fn arc_length(a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>) -> (f64, f64
         }
     };
     (radius * angle(c), radius * angle(b))
+}
+
+/// A move's `\V` (mm/s) or `\T` (s) that is not a positive number: the
+/// controller stops on it, and a time estimate would divide by it.
+fn not_positive(arg: &str, value: f64) -> Error {
+    let what = if arg == "\\T" {
+        "a move time"
+    } else {
+        "a speed"
+    };
+    Error::new(
+        ErrorKind::Syntax,
+        format!("{arg}:={value} is not {what} (it must be greater than 0)"),
+    )
 }

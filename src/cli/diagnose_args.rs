@@ -1,0 +1,68 @@
+//! `diagnose`'s arguments, and the table of fitted parameters both
+//! diagnoses print (the OPW one in `diagnose`, the general chain's in
+//! `diagnose_chain`): shared below both, so that neither imports the
+//! other back.
+
+use super::Format;
+use rapidtherm::report::{render_table, Align};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct DiagnoseArgs {
+    /// Measurements CSV (`-`: standard input).
+    pub data: PathBuf,
+    /// The current model (default: nominal IRB 140 with the base thermal model).
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Tracker noise, mm per axis (default: estimated from repeated poses, else 0.01).
+    #[arg(long)]
+    pub noise: Option<f64>,
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Write the model with the diagnosed effects added.
+    #[arg(long, value_name = "FILE.toml")]
+    pub save_model: Option<PathBuf>,
+    /// Write SVG plots of the gap before and after into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// First fit the rigid transform from the instrument's frame to the robot base.
+    #[arg(long)]
+    pub register: bool,
+    /// The arm, by name (`rapidtherm arms`) or URDF file.
+    #[arg(long, value_name = "NAME|FILE.urdf")]
+    pub robot: Option<PathBuf>,
+    /// Diagnose as a general serial chain (geometric calibration of every
+    /// joint origin), even when the arm has the OPW form.
+    #[arg(long)]
+    pub chain: bool,
+    /// The URDF link the instrument measured (a reflector), hung on the
+    /// flange by fixed joints; its offset is fitted (default: tool0).
+    #[arg(long, value_name = "LINK")]
+    pub point: Option<String>,
+    /// A second measurements file in the same instrument frame, held out:
+    /// the geometry fitted on DATA is judged on it.
+    #[arg(long, value_name = "FILE.csv")]
+    pub holdout: Option<PathBuf>,
+}
+
+pub(crate) fn parameter_table<'a>(
+    params: impl Iterator<Item = (&'a str, f64, Option<f64>, &'a str)>,
+) -> String {
+    let rows: Vec<Vec<String>> = params
+        .map(|(name, value, stderr, unit)| {
+            vec![
+                name.to_string(),
+                format!("{value:.4}"),
+                stderr
+                    .map(|e| format!("{e:.4}"))
+                    .unwrap_or_else(|| "not identifiable".into()),
+                unit.to_string(),
+            ]
+        })
+        .collect();
+    render_table(
+        &["parameter", "value", "± stderr", "unit"],
+        &[Align::Left, Align::Right, Align::Right, Align::Left],
+        &rows,
+    )
+}

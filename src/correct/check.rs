@@ -1,0 +1,121 @@
+//! What fails a check of a program against its correction (`correct
+//! --check`): a target that would move more than the tolerance, one left
+//! cold for a reason not accepted, a use with other frames landing too
+//! far off. One rule for every report of it (list, CI formats), so that
+//! they never disagree.
+
+use super::outcome::{Correction, LeftAlone, Outcome, Reason, SharedUse};
+use serde::Serialize;
+
+/// The tolerance and the accepted reasons of a check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckRule {
+    /// Largest correction (mm) that counts as no change.
+    pub tolerance: f64,
+    /// Reasons a target may be left alone for without failing.
+    pub accepted: Vec<Reason>,
+}
+
+impl CheckRule {
+    /// The correction is larger than the tolerance: the program would
+    /// change.
+    pub fn moves(&self, c: &Correction) -> bool {
+        c.correction_norm_mm > self.tolerance
+    }
+
+    /// Left as written, cold on the warm robot, for a reason not accepted.
+    pub fn left_cold(&self, l: &LeftAlone) -> bool {
+        l.reason.leaves_target_cold() && !self.accepted.contains(&l.reason)
+    }
+
+    /// A use with other frames landing farther off than the tolerance (a
+    /// correction that small passes too), or where only the run time
+    /// knows; unless shared frames are accepted.
+    pub fn lands_off(&self, u: &SharedUse) -> bool {
+        u.residual_mm.is_none_or(|r| r > self.tolerance)
+            && !self.accepted.contains(&Reason::SharedFrames)
+    }
+
+    /// What fails the check in `outcome`: the targets that move, then
+    /// those left cold, then the uses landing off.
+    pub fn findings<'o>(&self, outcome: &'o Outcome) -> Vec<Finding<'o>> {
+        let moves = outcome
+            .corrections
+            .iter()
+            .filter(|c| self.moves(c))
+            .map(Finding::Moves);
+        let cold = outcome
+            .left_alone
+            .iter()
+            .filter(|l| self.left_cold(l))
+            .map(Finding::LeftAlone);
+        let off = outcome
+            .shared
+            .iter()
+            .filter(|u| self.lands_off(u))
+            .map(Finding::OtherUse);
+        moves.chain(cold).chain(off).collect()
+    }
+}
+
+/// One thing a check found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Finding<'o> {
+    /// A target that would move more than the tolerance.
+    Moves(&'o Correction),
+    /// A target left cold for a reason not accepted.
+    LeftAlone(&'o LeftAlone),
+    /// A use with another tool or work object than its target is
+    /// corrected for, landing off.
+    OtherUse(&'o SharedUse),
+}
+
+/// A finding's status, as reports name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FindingStatus {
+    Moves,
+    LeftAlone,
+    OtherUse,
+}
+
+impl FindingStatus {
+    /// The status's name in reports.
+    pub fn code(self) -> &'static str {
+        match self {
+            FindingStatus::Moves => "moves",
+            FindingStatus::LeftAlone => "left-alone",
+            FindingStatus::OtherUse => "other-use",
+        }
+    }
+}
+
+impl Finding<'_> {
+    pub fn status(&self) -> FindingStatus {
+        match self {
+            Finding::Moves(_) => FindingStatus::Moves,
+            Finding::LeftAlone(_) => FindingStatus::LeftAlone,
+            Finding::OtherUse(_) => FindingStatus::OtherUse,
+        }
+    }
+
+    /// The reason it is reported for (none for a target that moves).
+    pub fn reason(&self) -> Option<Reason> {
+        match self {
+            Finding::Moves(_) => None,
+            Finding::LeftAlone(l) => Some(l.reason),
+            Finding::OtherUse(_) => Some(Reason::SharedFrames),
+        }
+    }
+}
+
+/// How many findings of each status `findings` holds: (moves, left
+/// alone, other uses).
+pub fn counts(findings: &[Finding]) -> (usize, usize, usize) {
+    let of = |s| findings.iter().filter(|f| f.status() == s).count();
+    (
+        of(FindingStatus::Moves),
+        of(FindingStatus::LeftAlone),
+        of(FindingStatus::OtherUse),
+    )
+}

@@ -1,0 +1,284 @@
+//! The main job: a planned correction ([`CorrectPlan`]) run on the tasks
+//! the user named. Each task is prepared (its arm, its files read, when
+//! its targets are reached, the warm robot), corrected, and its corrected
+//! files written through the caller's [`Sink`]; what happens on the way
+//! is told to the caller's [`Host`]. The caller renders the reports
+//! (per-target rows, the check's findings, diffs) from what [`run`]
+//! returns.
+//!
+//! Every task is tried before anything is written, so that a run reports
+//! all its errors and a refused task leaves every file as it was.
+
+mod host;
+mod prepare;
+mod ran;
+mod shared;
+
+pub use host::{Event, Host, Output, Sink};
+pub use prepare::load_model;
+pub use ran::{Inputs, Ran, Way};
+
+use super::plan::{Action, CorrectPlan, Destination};
+use super::{correct, correct_into, Keep, Outcome};
+use crate::error::{Error, Errors, Remedy, Result};
+use crate::model::{Model, WarmRobot};
+use crate::rapid::task::Task;
+use crate::rapid::{self, ParseOptions, Program, Source};
+use crate::resolve::arm::base_frame;
+use host::took;
+use prepare::{checked_arm, warm_run, when_and_notes};
+use std::io::Write;
+use std::path::Path;
+
+/// Run `plan` on `tasks` (those that move no robot are said and left
+/// alone). With [`Action::Write`], the corrected files are written
+/// through `sink`, and kept once every task is corrected; otherwise
+/// nothing is written, and each run's outputs are in its outcome.
+pub fn run(
+    plan: &CorrectPlan,
+    tasks: Vec<Task>,
+    host: &mut dyn Host,
+    sink: &mut dyn Sink,
+) -> Result<Vec<Ran>> {
+    crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
+    let model = load_model(&plan.model)?;
+    let (motion, still): (Vec<Task>, Vec<Task>) = tasks.into_iter().partition(moves_a_robot);
+    shared::refuse_files_of_two_tasks(&motion)?;
+    // One task written to files is written as it is corrected (a program of
+    // a million targets is never held in memory); several tasks, or a run
+    // whose results are reported, are corrected in memory first.
+    let streamed = motion.len() == 1 && !plan.keep_rows && matches!(plan.action, Action::Write(_));
+    let mut runs = Vec::new();
+    let mut errors = Errors::default();
+    for task in motion {
+        let to: Option<&mut dyn Sink> = if streamed { Some(&mut *sink) } else { None };
+        match correct_task(plan, &model, task, host, to) {
+            Ok(run) => runs.push(run),
+            Err(e) => errors.push(e),
+        }
+    }
+    if let Some(e) = errors.into_error(|n| {
+        Error::input(format!(
+            "{n} tasks cannot be corrected; nothing was written"
+        ))
+    }) {
+        return Err(e);
+    }
+    say_still(&still, host);
+    if let (Action::Write(to), false) = (&plan.action, streamed) {
+        write(to, &runs, sink)?;
+    }
+    Ok(runs)
+}
+
+/// Whether a task moves a robot (a backup's SYS.cfg says which do not).
+pub fn moves_a_robot(task: &Task) -> bool {
+    task.motion != Some(false)
+}
+
+/// Tasks that move no robot are named and left alone.
+fn say_still(still: &[Task], host: &mut dyn Host) {
+    for t in still {
+        host.event(Event::NotMotion { task: &t.label() });
+    }
+}
+
+/// What reading a task says before it reads: its notes, and its files.
+pub fn announce(task: &Task, host: &mut dyn Host) {
+    for note in &task.notes {
+        host.event(Event::TaskNote(note));
+    }
+    host.event(Event::Reads {
+        task: &task.label(),
+        files: &task.modules,
+    });
+}
+
+/// Read a task's modules and parse them as one program; what reading says
+/// (the task's notes, its files, the reader's warnings) is told. A file
+/// is mapped into memory, not copied.
+pub fn read_task(task: &Task, host: &mut dyn Host) -> Result<(Inputs, Program)> {
+    announce(task, host);
+    let mut inputs = Vec::new();
+    for f in &task.modules {
+        inputs.push(read_source(f)?);
+    }
+    let started = std::time::Instant::now();
+    let program = rapid::parse_sources(inputs.clone(), ParseOptions::default())?;
+    took(host, "parsing", started);
+    for w in &program.warnings {
+        host.event(Event::Warning(w));
+    }
+    host.event(Event::Lane {
+        task: &task.label(),
+        files: &program.files,
+        tally: &program.lane,
+    });
+    Ok((inputs, program))
+}
+
+/// A file's name in messages and its bytes: standard input for `-`, a
+/// regular file mapped into memory, anything else (a pipe) read.
+pub fn read_source(path: &Path) -> Result<(String, Source)> {
+    if path != Path::new("-") && std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return Ok((path.display().to_string(), Source::new(map_file(path)?)));
+    }
+    let (name, bytes) = prepare::read_named(path)?;
+    Ok((name, Source::new(bytes)))
+}
+
+/// The bytes of `path`, memory-mapped: a program of 100 MB is read as the
+/// work needs it, not copied first.
+pub fn map_file(path: &Path) -> Result<memmap2::Mmap> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, &e))?;
+    // SAFETY: the map is read while the program holds it; a program being
+    // rewritten by another process as it is read is outside what any
+    // reader can promise (a read into memory would read a mix too).
+    unsafe { memmap2::Mmap::map(&file) }.map_err(|e| Error::io(path, &e))
+}
+
+/// One task corrected: into `to`'s outputs as it goes where given (the
+/// plan writes files), else in memory.
+fn correct_task(
+    plan: &CorrectPlan,
+    model: &Model,
+    task: Task,
+    host: &mut dyn Host,
+    to: Option<&mut dyn Sink>,
+) -> Result<Ran> {
+    let arm = checked_arm(plan, &task, model, host)?;
+    let (inputs, program) = read_task(&task, host)?;
+    let (when, notes) = when_and_notes(plan, &program, &arm.robot, base_frame(&task)?)?;
+    for note in &notes {
+        host.event(Event::Note(note));
+    }
+    let (arm_name, warm, options) = warm_run(plan, model, &task, arm, (when, 0.0), host)?;
+    let started = std::time::Instant::now();
+    let mut progress = |done, total| host.event(Event::Progress { done, total });
+    let (outcome, way) = match (to, &plan.action) {
+        (Some(sink), Action::Write(dest)) => {
+            let (outcome, changed) =
+                correct_streamed(&program, (&warm, &options), (dest, sink), &mut progress)?;
+            (outcome, Way::Streamed { changed })
+        }
+        _ => (
+            correct(&program, &warm, &options, &mut progress)?,
+            Way::InMemory,
+        ),
+    };
+    let what = match way {
+        Way::Streamed { .. } => "correcting and writing",
+        Way::InMemory => "correcting",
+    };
+    took(host, &format!("task {}: {what}", task.label()), started);
+    Ok(Ran {
+        task,
+        arm: arm_name,
+        inputs,
+        outcome,
+        way,
+    })
+}
+
+/// A program corrected straight into the sink's outputs: each file's (or
+/// the one destination's) corrected bytes written as they are made, kept
+/// where they change it. Unchanged, a file written in place stays as it
+/// is (and gets no backup); another destination gets its bytes as they
+/// are.
+fn correct_streamed(
+    program: &Program,
+    (warm, options): (&WarmRobot, &crate::correct::Options),
+    (dest, sink): (&Destination, &mut dyn Sink),
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(Outcome, Vec<bool>)> {
+    let names: Vec<String> = match dest {
+        Destination::File(out) => vec![out.display().to_string()],
+        Destination::Stdout => vec!["-".to_string()],
+        Destination::InPlace { .. } => program.files.clone(),
+    };
+    let in_place = matches!(dest, Destination::InPlace { .. });
+    let mut outputs = Vec::with_capacity(names.len());
+    for name in &names {
+        outputs.push(sink.create(name)?);
+    }
+    let corrected = {
+        let mut buffered: Vec<std::io::BufWriter<&mut Box<dyn Output>>> = outputs
+            .iter_mut()
+            .map(|o| std::io::BufWriter::with_capacity(1 << 20, o))
+            .collect();
+        let mut writers: Vec<&mut (dyn Write + Send)> = buffered
+            .iter_mut()
+            .map(|b| b as &mut (dyn Write + Send))
+            .collect();
+        let c = correct_into(
+            program,
+            warm,
+            options,
+            (&mut writers, Keep::Summary),
+            progress,
+        )?;
+        for b in &mut buffered {
+            b.flush().map_err(|e| Error::io(Path::new(&names[0]), &e))?;
+        }
+        c
+    };
+    for (f, mut out) in outputs.into_iter().enumerate() {
+        let changed = corrected.changed.get(f).copied().unwrap_or(false);
+        if !changed && !in_place {
+            out.restart()
+                .and_then(|_| out.write_all(program.source(f)))
+                .map_err(|e| Error::io(Path::new(&names[f]), &e))?;
+        }
+        out.finish(changed || !in_place)?;
+    }
+    Ok((corrected.outcome, corrected.changed))
+}
+
+/// Write the runs' corrected files where the plan says.
+fn write(to: &Destination, runs: &[Ran], sink: &mut dyn Sink) -> Result<()> {
+    let mut writes: Vec<(&String, &Vec<u8>)> = Vec::new();
+    match to {
+        Destination::File(out) => {
+            let mut o = sink.create(&out.display().to_string())?;
+            o.write_all(&runs[0].outcome.outputs[0])
+                .map_err(|e| Error::io(out, &e))?;
+            return o.finish(true);
+        }
+        Destination::Stdout => {
+            let mut o = sink.create("-")?;
+            o.write_all(&runs[0].outcome.outputs[0])
+                .map_err(|e| Error::io(std::path::Path::new("<stdout>"), &e))?;
+            return o.finish(true);
+        }
+        Destination::InPlace { .. } => {}
+    }
+    for r in runs {
+        for ((name, before), after) in r.inputs.iter().zip(&r.outcome.outputs) {
+            if after.as_slice() == before.bytes() {
+                continue;
+            }
+            // One file read in two tasks (a shared module named twice)
+            // must not be corrected twice over.
+            if writes.iter().any(|(n, a)| *n == name && *a != after) {
+                return Err(Error::input(format!(
+                    "{name} is read in two tasks that would correct it differently; correct one task at a time"
+                ))
+                .with_remedy(Remedy::OneTaskAtATime));
+            }
+            writes.push((name, after));
+        }
+    }
+    // Every output is made (its backup checked) before any is kept: a
+    // refused backup leaves the whole program as it was.
+    let mut outputs = Vec::new();
+    for (name, after) in &writes {
+        let mut o = sink.create(name)?;
+        o.write_all(after)
+            .map_err(|e| Error::io(std::path::Path::new(name.as_str()), &e))?;
+        outputs.push(o);
+    }
+    for o in outputs {
+        o.finish(true)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,239 @@
+//! What a task's correction needs before its targets are solved: the
+//! model, the arm (refused where its thermal behaviour would be guessed),
+//! when each target is reached, the warm robot up to the last of those
+//! moments, and the run's options.
+
+use super::host::{Event, Host};
+use crate::correct::plan::{Action, CorrectPlan, ModelSource, TimeBasis};
+use crate::correct::{Options, Untrusted, When};
+use crate::digest::fingerprint;
+use crate::error::{Error, Remedy, Result};
+use crate::model::{Model, Moment, WarmRobot};
+use crate::rapid::task::Task;
+use crate::rapid::Program;
+use crate::resolve::arm::{
+    arm_for, arm_of, base_frame, check_placement, same_chain, Arm, ArmSource, ChosenBy,
+};
+use crate::robot::Robot;
+use crate::schedule::{self, EstimateOptions, Schedule};
+
+/// The model a plan names.
+pub fn load_model(source: &ModelSource) -> Result<Model> {
+    match source {
+        ModelSource::Default => Ok(Model::default()),
+        ModelSource::Named(name) => {
+            Model::named(name).ok_or_else(|| Error::usage(format!("no embedded model `{name}`")))
+        }
+        ModelSource::File(path) => Model::load(path),
+    }
+}
+
+/// The model and arm a run uses, as the marker of a corrected file names
+/// them: the embedded ones by name, files by their fingerprint.
+fn model_label(source: &ModelSource, arm: &str) -> Result<String> {
+    let model = match source {
+        ModelSource::Named(name) => format!("embedded {}", name.to_ascii_lowercase()),
+        ModelSource::File(path) => {
+            fingerprint(&std::fs::read(path).map_err(|e| Error::io(path, &e))?)
+        }
+        ModelSource::Default => "embedded default".to_string(),
+    };
+    Ok(format!("{model} model, {arm} arm"))
+}
+
+/// The arm of a task under the plan's model, said; refused where the
+/// thermal defaults would be guessed (an arm other than the IRB 140
+/// without a model of its own).
+pub fn checked_arm(
+    plan: &CorrectPlan,
+    task: &Task,
+    model: &Model,
+    host: &mut dyn Host,
+) -> Result<Arm> {
+    let arm = arm_for_model(plan, task, model)?;
+    check_placement(task, &arm, plan.placing)?;
+    host.event(Event::Arm {
+        task: &task.label(),
+        arm: &arm,
+    });
+    if plan.model == ModelSource::Default && !arm.is_irb140 && !plan.irb140_thermal {
+        let whose = match &task.name {
+            Some(n) => format!("task {n}: "),
+            None => String::new(),
+        };
+        return Err(Error::usage(format!(
+            "{whose}{} is not an IRB 140, and how it warms up and expands is unknown: the embedded thermal defaults were measured on an IRB 140",
+            arm.robot.name
+        ))
+        .with_note("")
+        .with_remedy(Remedy::ModelOfTheArm));
+    }
+    Ok(arm)
+}
+
+/// The arm of `task` under a model file. A model fitted on a URDF arm
+/// names it: that arm where nothing else says which arm the task moves,
+/// else the arm said, which must be the same (the effects are written on
+/// that arm's joints: on another, they would move targets wrongly).
+fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> {
+    let Some(urdf) = model.urdf_path() else {
+        return arm_for(task, &plan.arms);
+    };
+    let said = plan.arms.iter().any(|s| {
+        s.task.is_none()
+            || s.task
+                .as_deref()
+                .zip(task.name.as_deref())
+                .is_some_and(|(t, n)| t.eq_ignore_ascii_case(n))
+    });
+    if !said && task.robot_type.is_none() {
+        let mut arm = arm_of(&ArmSource::Urdf(urdf))?;
+        arm.chosen_by = ChosenBy::ModelUrdf;
+        return Ok(arm);
+    }
+    let arm = arm_for(task, &plan.arms)?;
+    let fitted = Robot::from_urdf_file(&urdf)?;
+    if !same_chain(&arm.robot, &fitted) {
+        return Err(Error::usage(format!(
+            "task {}: the model was fitted on {} ({}), whose joints its effects are written on; the task moves {}",
+            task.label(),
+            fitted.name,
+            urdf.display(),
+            arm.robot.name
+        ))
+        .with_note("")
+        .with_remedy(Remedy::ArmOfTheModel));
+    }
+    Ok(arm)
+}
+
+/// When the targets are reached, from the plan's time basis, and the
+/// notes of the estimate (none for the others), not yet said.
+pub fn when_and_notes(
+    plan: &CorrectPlan,
+    program: &Program,
+    robot: &Robot,
+    base_frame: Option<nalgebra::Isometry3<f64>>,
+) -> Result<(When, Vec<String>)> {
+    Ok(match &plan.when {
+        TimeBasis::At(moment) => (When::At(*moment), Vec::new()),
+        TimeBasis::Schedule { file, default } => {
+            let (name, bytes) = read_named(file)?;
+            let when = When::Schedule {
+                schedule: Schedule::read(&name, &bytes)?,
+                joints: None,
+                default: *default,
+                of_program: false,
+            };
+            (when, Vec::new())
+        }
+        TimeBasis::Start { default, .. } => {
+            let opts = estimate_options(plan, base_frame).unwrap_or_default();
+            let estimate = schedule::estimate(program, robot, &opts)?;
+            let when = When::Schedule {
+                schedule: estimate.schedule,
+                joints: Some(estimate.joint_schedule),
+                default: *default,
+                of_program: true,
+            };
+            (when, estimate.notes)
+        }
+    })
+}
+
+/// A file's name in messages and its bytes (`-`: standard input).
+pub fn read_named(path: &std::path::Path) -> Result<(String, Vec<u8>)> {
+    if path == std::path::Path::new("-") {
+        let mut buf = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin(), &mut buf)
+            .map_err(|e| Error::io(std::path::Path::new("<stdin>"), &e))?;
+        Ok(("<stdin>".to_string(), buf))
+    } else {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+        Ok((path.display().to_string(), bytes))
+    }
+}
+
+/// The walk of the plan's estimate; `None` where it has none.
+pub fn estimate_options(
+    plan: &CorrectPlan,
+    base_frame: Option<nalgebra::Isometry3<f64>>,
+) -> Option<EstimateOptions> {
+    match &plan.when {
+        TimeBasis::Start {
+            start_min,
+            entry,
+            cycles,
+            ..
+        } => Some(EstimateOptions {
+            entry: entry.clone(),
+            start_min: *start_min,
+            cycles: *cycles,
+            base_frame,
+        }),
+        _ => None,
+    }
+}
+
+/// The warm robot a task's run needs until `when`'s last minute (or
+/// `later`, where targets `when` does not hold are reached later: a
+/// streamed estimate's cut literals), and the run's options: (arm name,
+/// warm robot, options).
+pub fn warm_run(
+    plan: &CorrectPlan,
+    model: &Model,
+    task: &Task,
+    arm: Arm,
+    (when, later): (When, f64),
+    host: &mut dyn Host,
+) -> Result<(String, WarmRobot, Options)> {
+    let horizon = match &when {
+        When::At(Moment::Minute(t)) => *t,
+        When::At(Moment::Steady) => 0.0,
+        When::Schedule {
+            schedule,
+            joints,
+            default,
+            ..
+        } => {
+            let latest = std::iter::once(schedule)
+                .chain(joints)
+                .flat_map(|s| s.targets().iter().filter_map(|id| s.times(id)))
+                .flatten()
+                .copied()
+                .fold(0.0, f64::max);
+            let latest = latest.max(later);
+            match default {
+                Some(Moment::Minute(t)) => latest.max(*t),
+                _ => latest,
+            }
+        }
+    };
+    let arm_name = arm.robot.name.clone();
+    let label = task.label();
+    let warm = WarmRobot::new(arm.robot, model, horizon)?;
+    if warm.instrument_left_out() {
+        host.event(Event::InstrumentLeftOut { task: &label });
+    }
+    let model_label = model_label(&plan.model, &arm.label)?;
+    host.event(Event::ThermalModel {
+        task: &label,
+        label: &model_label,
+        on_lengths: plan.model == ModelSource::Default && !arm.is_irb140,
+    });
+    let options = Options {
+        when,
+        visit: plan.visit,
+        expand_expressions: plan.expand_expressions,
+        model_label,
+        base_frame: base_frame(task)?,
+        split_shared: plan.split_shared,
+        // A run that writes would correct corrected numbers again; one
+        // that only looks takes them as cold and says why.
+        untrusted: match plan.action {
+            Action::Write(_) => Untrusted::Refuse,
+            Action::Check(_) | Action::Diff { .. } | Action::Report => Untrusted::AsCold,
+        },
+    };
+    Ok((arm_name, warm, options))
+}

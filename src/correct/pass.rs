@@ -1,0 +1,212 @@
+//! The pass over a file's robtargets in file order, a chunk at a time on
+//! every core: each target solved, its new numbers written straight into
+//! the chunk's bytes (the file's bytes from the chunk's first target to
+//! the next chunk's, with the edits decided before the pass spliced in
+//! where they fall), its report row kept where the run keeps rows (or a
+//! derived target needs it), and what the summary adds up of it.
+
+use super::context::Run;
+use super::outcome::{Correction, LeftAlone};
+use super::solve::{row, written_in_world};
+use super::splice::Splice;
+use super::target::{correct_robtarget, Solved};
+use crate::error::{Error, Result};
+use crate::rapid::numprint::NumberPrint;
+use crate::rapid::rewrite::{robtarget_changes, Edit};
+use crate::rapid::{Target, TargetKind};
+use std::collections::{HashMap, HashSet};
+use std::ops::Range;
+
+/// What the pass shares between its chunks.
+pub(super) struct Pass<'r, 'a> {
+    pub run: &'r Run<'a>,
+    /// Keep every target's report row (else only those `bases` names).
+    pub keep_rows: bool,
+    /// Write the file's bytes (else only count what changes).
+    pub write: bool,
+    /// Targets solved before the pass (moved to with several tools or
+    /// work objects): their rows, the original's then its copies'; their
+    /// edits are among the edits decided before.
+    pub early: &'r HashMap<usize, Vec<Correction>>,
+    /// Targets whose rows the derived targets' residuals need.
+    pub bases: &'r HashSet<usize>,
+}
+
+/// What the summary adds up of a correction.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Tallied {
+    pub norm: f64,
+    pub drift: f64,
+    pub rewritten: bool,
+    /// A robtarget (not a jointtarget): its correction counts in the
+    /// summary's largest and RMS correction.
+    pub robtarget: bool,
+}
+
+/// One chunk done.
+#[derive(Default)]
+pub(super) struct Done {
+    pub bytes: Vec<u8>,
+    /// The tokens of `bytes` for the fingerprint of the file's numbers,
+    /// read here, on the chunk's core ([`NumberPrint::tokens_of`]).
+    pub tokens: Option<Vec<u8>>,
+    pub rows: Vec<Correction>,
+    pub tally: Vec<Tallied>,
+    pub left: Vec<(usize, LeftAlone)>,
+    pub derived: Vec<usize>,
+    pub errors: Vec<(usize, Error)>,
+    pub steps: usize,
+    pub changed: bool,
+}
+
+impl Pass<'_, '_> {
+    /// Targets `targets` of the file `src`: the bytes of `span` with their
+    /// new numbers and the edits of `fixed` that fall in it.
+    pub fn chunk(
+        &self,
+        src: &[u8],
+        targets: Range<usize>,
+        span: Range<usize>,
+        fixed: &[Edit],
+    ) -> Result<Done> {
+        let run = self.run;
+        let all = run.program.targets();
+        let mut done = Done {
+            bytes: Vec::with_capacity(if self.write {
+                span.len() + span.len() / 8
+            } else {
+                0
+            }),
+            ..Done::default()
+        };
+        let mut bytes = std::mem::take(&mut done.bytes);
+        let lo = fixed.partition_point(|x| x.span.start < span.start);
+        let hi = fixed.partition_point(|x| x.span.start < span.end);
+        let mut fixed = fixed[lo..hi].iter().peekable();
+        let mut sink = std::io::sink();
+        let mut splice = Splice {
+            src,
+            at: span.start,
+            out: if self.write {
+                &mut bytes as &mut dyn std::io::Write
+            } else {
+                &mut sink
+            },
+        };
+        // One target made at a time where it is in a run, into this.
+        let mut slot = crate::rapid::targets::blank();
+        // Where a number's new text is formatted.
+        let mut text = String::with_capacity(24);
+        for i in targets {
+            let t: &Target = match all.one_by_one(i) {
+                Some(t) => t,
+                None if all.fill(i, &mut slot) => &slot,
+                None => {
+                    done.errors.push((i, internal(i)));
+                    continue;
+                }
+            };
+            if t.kind == TargetKind::Derived && !t.written_with_expressions() {
+                done.derived.push(i);
+                continue;
+            }
+            done.steps += 1;
+            if let Some(rows) = self.early.get(&i) {
+                for r in rows {
+                    done.tally.push(tallied(r));
+                    if self.keep_rows || self.bases.contains(&i) {
+                        done.rows.push(r.clone());
+                    }
+                }
+                continue;
+            }
+            match correct_robtarget(run, i, t) {
+                Ok(Solved::Corrected(found)) => {
+                    let n = &found.numbers;
+                    let new = n.exact.translation.vector;
+                    let mut rewritten = false;
+                    let mut written = Ok(());
+                    match (&t.value, &found.evaluated) {
+                        (Some(value), _) => {
+                            let mut put = |at: Range<usize>, new: &[u8]| {
+                                rewritten = true;
+                                if written.is_ok() {
+                                    written = splice.put_after(&mut fixed, at, new);
+                                }
+                            };
+                            robtarget_changes(
+                                src,
+                                value,
+                                (new.into(), n.turned, None),
+                                &mut text,
+                                &mut put,
+                            );
+                        }
+                        (None, Some(e)) => {
+                            for edit in e.edits(src, new.into(), n.turned) {
+                                rewritten = true;
+                                if written.is_ok() {
+                                    written = splice
+                                        .finish_at(&mut fixed, edit.span.start)
+                                        .and_then(|_| splice.edit(&edit));
+                                }
+                            }
+                        }
+                        (None, None) => {}
+                    }
+                    written?;
+                    done.changed |= rewritten;
+                    let meant = found.meant();
+                    done.tally.push(Tallied {
+                        norm: (new - found.pose.translation.vector).norm(),
+                        drift: n.drift.norm(),
+                        rewritten,
+                        robtarget: true,
+                    });
+                    if self.keep_rows || self.bases.contains(&i) {
+                        let mut r = row(
+                            run,
+                            t,
+                            &meant,
+                            (&found.frames.0, &found.frames.1),
+                            [&found.names[0], &found.names[1]],
+                            n,
+                            (rewritten, Vec::new()),
+                        );
+                        if let Some(order) = found.order {
+                            r.order = order;
+                        }
+                        done.rows.push(r);
+                    }
+                }
+                Ok(Solved::LeftAlone(l)) => {
+                    let world_mm = written_in_world(run, i, t);
+                    done.left.push((i, LeftAlone { world_mm, ..l }));
+                }
+                Err(e) => done.errors.push((i, e)),
+            }
+        }
+        splice.finish_at(&mut fixed, span.end)?;
+        if self.write {
+            done.tokens = NumberPrint::tokens_of(&bytes);
+        }
+        done.bytes = bytes;
+        Ok(done)
+    }
+}
+
+/// What the summary adds up of a report row.
+pub(super) fn tallied(r: &Correction) -> Tallied {
+    Tallied {
+        norm: r.correction_norm_mm,
+        drift: r.drift_norm_mm,
+        rewritten: r.rewritten,
+        robtarget: r.kind.is_robtarget(),
+    }
+}
+
+fn internal(i: usize) -> Error {
+    Error::input(format!(
+        "internal: target {i} of the program does not read again"
+    ))
+}

@@ -1,0 +1,101 @@
+//! A correction run as the user asked for it, every choice read and
+//! checked before any input is opened: when the targets are reached, what
+//! to do with the result, which model and arms. The command line builds
+//! one from its arguments (every usage error is raised there); the job
+//! ([`super::job`]) runs it.
+
+use super::check::CheckRule;
+use crate::model::Moment;
+use crate::resolve::arm::{ArmSpec, Placing};
+use crate::schedule::Visit;
+use std::path::PathBuf;
+
+/// A planned correction.
+#[derive(Debug, Clone)]
+pub struct CorrectPlan {
+    pub when: TimeBasis,
+    /// Which visit a target reached several times is corrected for.
+    pub visit: Visit,
+    pub model: ModelSource,
+    /// Arms named for every task or for one task of a backup.
+    pub arms: Vec<ArmSpec>,
+    /// Use the IRB 140's thermal defaults on an arm whose own are unknown.
+    pub irb140_thermal: bool,
+    /// Whether a task its backup does not place may stand at the origin.
+    pub placing: Placing,
+    /// Write numbers in place of literals written with named constants or
+    /// expressions.
+    pub expand_expressions: bool,
+    /// Split targets moved to with several tools or work objects.
+    pub split_shared: bool,
+    pub action: Action,
+    /// Pictures are drawn from every target's row: the run keeps them.
+    pub keep_rows: bool,
+}
+
+/// When the targets are reached.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TimeBasis {
+    /// Every target at one moment.
+    At(Moment),
+    /// The times of a schedule file (`target,time_min`); `default` for the
+    /// targets it does not list.
+    Schedule {
+        file: PathBuf,
+        default: Option<Moment>,
+    },
+    /// The times estimated by walking the program from minute `start_min`.
+    Start {
+        start_min: f64,
+        entry: String,
+        cycles: u32,
+        default: Option<Moment>,
+    },
+}
+
+impl TimeBasis {
+    /// The schedule file, where one is read.
+    pub fn schedule_file(&self) -> Option<&std::path::Path> {
+        match self {
+            TimeBasis::Schedule { file, .. } => Some(file),
+            _ => None,
+        }
+    }
+}
+
+/// What the run does with the corrected program.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// Report every target; write nothing.
+    Report,
+    /// List what the check finds; write nothing.
+    Check(CheckRule),
+    /// The change as a diff, and the check's list where asked; write
+    /// nothing.
+    Diff { check: Option<CheckRule> },
+    /// Write the corrected program.
+    Write(Destination),
+}
+
+/// Where a corrected program goes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Destination {
+    /// One file (one input).
+    File(PathBuf),
+    /// Standard output (one input).
+    Stdout,
+    /// Over the inputs themselves, each original kept as FILE + `backup`
+    /// where given.
+    InPlace { backup: Option<String> },
+}
+
+/// The model a run uses.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModelSource {
+    /// The embedded IRB 140 model and heating profile.
+    Default,
+    /// An embedded model by name (`default`, `base`).
+    Named(String),
+    /// A model file.
+    File(PathBuf),
+}

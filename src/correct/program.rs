@@ -1,0 +1,794 @@
+//! Correcting a whole program, the one way it is done whatever its size:
+//! the jointtargets and the robtargets moved to with several tools or
+//! work objects first (few, and what they decide is written where they
+//! are), then every other robtarget in file order, a chunk at a time on
+//! every core (`pass`), each file written as its chunks come, in order,
+//! through the caller's writer (the corrected file of a million targets
+//! is never held in memory), and the report's rows kept only where the
+//! caller keeps them. Every target is tried: a run reports every target
+//! it refuses, each cause once. A program its marker says is corrected
+//! already is written as it is.
+
+use super::context::Run;
+use super::joints::{correct_jointtarget, JointSolved};
+use super::moments::check_schedule_names;
+use super::options::{Options, Untrusted, When};
+use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
+use super::pass::{tallied, Done, Pass, Tallied};
+use super::progress::Progress;
+use super::splice::{write_error, Splice};
+use super::target::{correct_robtarget, with_others, Solved};
+use super::{derived, expressions, marker, shared};
+use crate::error::{Error, ErrorKind, Result};
+use crate::model::WarmRobot;
+use crate::rapid::numprint::NumberPrint;
+use crate::rapid::rewrite::Edit;
+use crate::rapid::{Program, TargetKind};
+use std::collections::{HashMap, HashSet};
+use std::io::Write;
+
+/// Targets corrected between two writes: what memory holds at once.
+const BATCH: usize = 65_536;
+/// Targets one core takes at a time.
+const CHUNK: usize = 4_096;
+
+/// Correct every target of `program` (which keeps the bytes it was parsed
+/// from: the corrected files are those bytes with new numbers), every
+/// report row kept and every file's new bytes in the outcome. `progress`
+/// is called with (done, total) now and then, in targets solved: (0,
+/// total) when the first is started, (total, total) when the last is
+/// done.
+pub fn correct(
+    program: &Program,
+    warm: &WarmRobot,
+    options: &Options,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Outcome> {
+    let mut bufs: Vec<Vec<u8>> = (0..program.files.len())
+        .map(|f| Vec::with_capacity(program.source(f).len()))
+        .collect();
+    let corrected = {
+        let mut outs: Vec<&mut (dyn Write + Send)> = bufs
+            .iter_mut()
+            .map(|b| b as &mut (dyn Write + Send))
+            .collect();
+        correct_into(program, warm, options, (&mut outs, Keep::Rows), progress)?
+    };
+    let mut outcome = corrected.outcome;
+    for (f, buf) in bufs.iter_mut().enumerate() {
+        if !corrected.changed[f] {
+            *buf = program.source(f).to_vec();
+        }
+    }
+    outcome.outputs = bufs;
+    Ok(outcome)
+}
+
+/// Which of a run's report rows are kept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Keep {
+    /// Every target's (a report, a check, pictures).
+    Rows,
+    /// The summary's figures alone (a file written: a million rows is
+    /// what the run need not hold).
+    Summary,
+}
+
+/// A run corrected into its writers.
+pub struct Corrected {
+    /// What it found (no outputs: they went to the writers; rows as
+    /// kept).
+    pub outcome: Outcome,
+    /// Whether each file changes. Where one does not, what was written
+    /// to its writer is not its output: the file is as it was (and gets
+    /// no marker).
+    pub changed: Vec<bool>,
+}
+
+/// [`correct`], each file's corrected bytes written to `outs` (one writer
+/// per file, in the program's file order) as they are made, the rows kept
+/// as `keep` says. On an error, what was written is to be thrown away.
+pub fn correct_into(
+    program: &Program,
+    warm: &WarmRobot,
+    options: &Options,
+    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Corrected> {
+    correct_all(program, warm, options, (outs, keep), progress).map_err(|e| with_source(e, program))
+}
+
+fn correct_all(
+    program: &Program,
+    warm: &WarmRobot,
+    options: &Options,
+    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Corrected> {
+    let basis = options.when.basis();
+    let distrust = marker::find(program).and_then(|_| marker::untrusted(program));
+    if let Some(u) = &distrust {
+        if options.untrusted == Untrusted::Refuse {
+            return Err(marker::refuse_untrusted(program, u));
+        }
+    }
+    if let (Some(found), None) = (marker::find(program), &distrust) {
+        let wanted = marker::for_run(&basis, &options.model_label, options.split_shared, b"");
+        if !found.marker.same_correction(&wanted) {
+            return Err(marker::refuse(program, &found, &wanted));
+        }
+        for (f, out) in outs.iter_mut().enumerate() {
+            out.write_all(program.source(f)).map_err(write_error)?;
+        }
+        return Ok(Corrected {
+            outcome: already_corrected(program, &found, options),
+            changed: vec![false; program.files.len()],
+        });
+    }
+    let run = Run::new(program, warm, options)?;
+    if let When::Schedule {
+        schedule,
+        joints,
+        of_program: false,
+        ..
+    } = &options.when
+    {
+        check_schedule_names(program, schedule)?;
+        if let Some(j) = joints {
+            check_schedule_names(program, j)?;
+        }
+    }
+    let targets = program.targets();
+    let costly_joints = program
+        .jointtargets()
+        .iter()
+        .filter(|jt| jt.kind != TargetKind::Derived)
+        .count();
+    let mut progress = Progress::new(targets.len() + costly_joints, progress);
+    // Every target is tried: a run reports all the targets it refuses, not
+    // only the first (robtargets in order, then jointtargets).
+    let mut errors: Vec<(usize, Error)> = Vec::new();
+    let joints = correct_joints(&run, &mut progress);
+    let early = solve_shared(&run, &mut errors)?;
+    let bases = derived_bases(&run);
+    let mut fixed: Vec<Vec<Edit>> = vec![Vec::new(); program.files.len()];
+    for (f, e) in joints.edits.iter().chain(&early.more) {
+        if let Some(list) = fixed.get_mut(*f) {
+            list.push(e.clone());
+        }
+    }
+    let pass = Pass {
+        run: &run,
+        keep_rows: keep == Keep::Rows,
+        write: true,
+        early: &early.rows,
+        bases: &bases,
+    };
+    let mut found = Found::default();
+    let mut changed = Vec::with_capacity(program.files.len());
+    for (f, out) in outs.iter_mut().enumerate() {
+        let mut fixed = std::mem::take(&mut fixed[f]);
+        for rows in early.rows.values() {
+            for e in rows
+                .iter()
+                .filter(|r| r.file_index == f)
+                .flat_map(|r| &r.edits)
+            {
+                fixed.push(e.clone());
+            }
+        }
+        let file_changed = write_file(
+            &pass,
+            (f, &basis),
+            fixed,
+            &mut **out,
+            (&mut found, &mut progress),
+        )?;
+        changed.push(file_changed);
+    }
+    errors.append(&mut found.errors);
+    errors.sort_by_key(|e| e.0);
+    errors.extend(joints.errors);
+    // Only the errors shown get their line's text (each a walk through
+    // their file): the rest are counted.
+    if let Some(e) = Error::many(
+        same_cause(errors.into_iter().map(|(_, e)| e).collect())
+            .into_iter()
+            .enumerate()
+            .map(|(k, e)| match k <= crate::error::MAX_RELATED {
+                true => with_source(e, program),
+                false => e,
+            })
+            .collect(),
+    ) {
+        return Err(e);
+    }
+    let early_error = early.error;
+    if let Some(e) = early_error {
+        return Err(e);
+    }
+    // Derived targets: left as written, their bases' corrections carry
+    // them; what remains at each is its residual.
+    let index_of = program.target_index(|t| t.kind != TargetKind::Inline);
+    let lookup = (&run.frames, &run.uses, &index_of);
+    let derived: Vec<Derived> = found
+        .derived
+        .iter()
+        .map(|&i| {
+            progress.step();
+            let target = targets.at(i);
+            let mut report = derived_report(program, &target, &found.rows);
+            report.residual_mm = derived::residual(
+                program,
+                i,
+                &run.calls,
+                &lookup,
+                &found.rows,
+                warm,
+                &run.states,
+                &|e| run.eval(&target, e),
+            );
+            report
+        })
+        .collect();
+    progress.finish();
+    let mut corrections = found.rows;
+    let mut tally = found.tally;
+    for c in joints.rows {
+        tally.push(tallied(&c));
+        corrections.push(c);
+    }
+    if keep == Keep::Summary {
+        // Only the derived targets' bases were kept, for their residuals.
+        corrections.clear();
+    }
+    let mut left_alone: Vec<LeftAlone> = found.left.into_iter().map(|(_, l)| l).collect();
+    left_alone.extend(joints.left);
+    left_alone.extend(expressions::jointtarget_expressions(program));
+    let summary = summary(
+        &tally,
+        derived.len(),
+        left_alone.len(),
+        (early.lines.len(), early.splits.len()),
+    );
+    Ok(Corrected {
+        outcome: Outcome {
+            corrections,
+            derived,
+            left_alone,
+            residuals: joints.residuals,
+            shared: early.lines,
+            splits: early.splits,
+            already_corrected: None,
+            notes: distrust
+                .iter()
+                .map(|u| marker::untrusted_note(program, u))
+                .chain(run.notes())
+                .collect(),
+            summary,
+            outputs: Vec::new(),
+        },
+        changed,
+    })
+}
+
+/// What the pass over the files found, in order.
+#[derive(Default)]
+struct Found {
+    rows: Vec<Correction>,
+    tally: Vec<Tallied>,
+    left: Vec<(usize, LeftAlone)>,
+    derived: Vec<usize>,
+    errors: Vec<(usize, Error)>,
+}
+
+/// File `f` written through `out`: its bytes up to its first target with
+/// the marker (under its module header, written as if the file changes:
+/// the caller throws the output away where it does not), then its
+/// robtargets a batch at a time, each batch written while the next is
+/// corrected. Whether the file changes.
+fn write_file(
+    pass: &Pass,
+    (f, basis): (usize, &str),
+    mut fixed: Vec<Edit>,
+    out: &mut (dyn Write + Send),
+    (found, progress): (&mut Found, &mut Progress),
+) -> Result<bool> {
+    // Every byte up to the numbers' line goes through the fingerprint of
+    // the numbers, the marker's proof: it is of what is written.
+    let src = pass.run.program.source(f);
+    let end = marker::numbers_at(src);
+    let mut printed = Printed {
+        out,
+        print: NumberPrint::new(),
+        held: Vec::with_capacity(PRINT_PIECE),
+    };
+    let changed = write_numbers(
+        pass,
+        (f, basis),
+        &mut fixed,
+        &mut printed,
+        end,
+        (found, progress),
+    )?;
+    let Printed {
+        out,
+        mut print,
+        held,
+    } = printed;
+    print.feed(&held);
+    out.write_all(&marker::numbers_line(src, end, &print.finish()))
+        .map_err(write_error)?;
+    // What follows the last ENDMODULE (edits there too, should any be).
+    let rest: Vec<&Edit> = fixed.iter().filter(|e| e.span.start >= end).collect();
+    let mut splice = Splice { src, at: end, out };
+    let mut rest = rest.into_iter().peekable();
+    splice.finish_at(&mut rest, src.len())?;
+    out_flush(splice.out)?;
+    Ok(changed)
+}
+
+fn out_flush(out: &mut dyn Write) -> Result<()> {
+    out.flush().map_err(write_error)
+}
+
+/// A writer that reads the numbers of what it writes: what is written
+/// (a number's new text, the bytes between two) is read a piece of
+/// [`PRINT_PIECE`] at a time, so that few tokens are cut between pieces.
+struct Printed<'w> {
+    out: &'w mut (dyn Write + Send),
+    print: NumberPrint,
+    held: Vec<u8>,
+}
+
+/// How much the fingerprint reads at a time.
+const PRINT_PIECE: usize = 1 << 16;
+
+impl Printed<'_> {
+    /// A chunk's bytes, whose tokens were read on its core where given.
+    fn chunk(&mut self, bytes: &[u8], tokens: Option<&[u8]>) -> std::io::Result<()> {
+        self.out.write_all(bytes)?;
+        self.print.feed(&self.held);
+        self.held.clear();
+        if !tokens.is_some_and(|t| self.print.absorb(t)) {
+            self.print.feed(bytes);
+        }
+        Ok(())
+    }
+}
+
+impl Write for Printed<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.out.write(buf)?;
+        self.held.extend_from_slice(&buf[..n]);
+        if self.held.len() >= PRINT_PIECE {
+            self.print.feed(&self.held);
+            self.held.clear();
+        }
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
+/// The file's bytes up to `end` (the numbers' line's place) with the
+/// marker and the new numbers.
+fn write_numbers(
+    pass: &Pass,
+    (f, basis): (usize, &str),
+    fixed: &mut Vec<Edit>,
+    out: &mut Printed,
+    end: usize,
+    (found, progress): (&mut Found, &mut Progress),
+) -> Result<bool> {
+    let run = pass.run;
+    let program = run.program;
+    let src = program.source(f);
+    let targets = program.targets();
+    let changed_before = !fixed.is_empty();
+    fixed.sort_by_key(|e| (e.span.start, e.span.end));
+    // The file's targets: its stretch of the numbering (targets are in
+    // file order).
+    let file_of = |i: usize| targets.place(i).map_or(usize::MAX, |p| p.0);
+    let (lo, hi) = (
+        first_where(targets.len(), |i| file_of(i) >= f),
+        first_where(targets.len(), |i| file_of(i) > f),
+    );
+    let place = |i: usize| targets.place(i).map_or(src.len(), |p| p.1);
+    let head_end = if lo < hi { place(lo) } else { end };
+    let mut changed = changed_before;
+    let mut ready: Vec<Result<Done>> = Vec::new();
+    let put_head = |out: &mut Printed, fixed: &[Edit]| -> Result<()> {
+        let m = marker::for_run(
+            basis,
+            &run.options.model_label,
+            run.options.split_shared,
+            src,
+        );
+        let mark = marker::insert(program, f, &m);
+        // The marker goes into the module's header, before every target.
+        if mark.as_ref().is_some_and(|e| e.span.start > head_end) {
+            return Err(Error::input(
+                "internal: the marker's place lies after the file's first target",
+            ));
+        }
+        let mut edits: Vec<&Edit> = fixed
+            .iter()
+            .take_while(|x| x.span.start < head_end)
+            .chain(&mark)
+            .collect();
+        edits.sort_by_key(|e| (e.span.start, e.span.end));
+        let mut splice = Splice { src, at: 0, out };
+        let mut edits = edits.into_iter().peekable();
+        splice.finish_at(&mut edits, head_end)
+    };
+    let batches: Vec<std::ops::Range<usize>> = (lo..hi)
+        .step_by(BATCH)
+        .map(|b| b..(b + BATCH).min(hi))
+        .collect();
+    if batches.is_empty() {
+        put_head(out, fixed)?;
+    }
+    for (k, batch) in batches.iter().enumerate() {
+        let chunks: Vec<std::ops::Range<usize>> = batch
+            .clone()
+            .step_by(CHUNK)
+            .map(|c| c..(c + CHUNK).min(batch.end))
+            .collect();
+        let previous = std::mem::take(&mut ready);
+        let fixed_ref = &fixed;
+        let (done, put) = rayon::join(
+            || {
+                use rayon::prelude::*;
+                chunks
+                    .into_par_iter()
+                    .map(|c| {
+                        let to = if c.end < hi { place(c.end) } else { end };
+                        pass.chunk(src, c.clone(), place(c.start)..to, fixed_ref)
+                    })
+                    .collect::<Vec<_>>()
+            },
+            || -> Result<(bool, usize)> {
+                match k {
+                    0 => put_head(out, fixed_ref).map(|_| (false, 0)),
+                    _ => put_out(out, previous, found),
+                }
+            },
+        );
+        let (c, steps) = put?;
+        changed |= c;
+        progress.add(steps);
+        ready = done;
+    }
+    let (c, steps) = put_out(out, ready, found)?;
+    changed |= c;
+    progress.add(steps);
+    out.flush().map_err(write_error)?;
+    Ok(changed)
+}
+
+/// The first of `0..n` where `pred`, which holds from there on.
+fn first_where(n: usize, pred: impl Fn(usize) -> bool) -> usize {
+    let (mut lo, mut hi) = (0, n);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if pred(mid) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo
+}
+
+/// Put a batch's chunks out in file order, keeping what they found;
+/// whether any of them changes the file, and how many targets they
+/// solved.
+fn put_out(out: &mut Printed, done: Vec<Result<Done>>, found: &mut Found) -> Result<(bool, usize)> {
+    let (mut changed, mut steps) = (false, 0);
+    for d in done {
+        let d = d?;
+        out.chunk(&d.bytes, d.tokens.as_deref())
+            .map_err(write_error)?;
+        changed |= d.changed;
+        steps += d.steps;
+        found.rows.extend(d.rows);
+        found.tally.extend(d.tally);
+        found.left.extend(d.left);
+        found.derived.extend(d.derived);
+        found.errors.extend(d.errors);
+    }
+    Ok((changed, steps))
+}
+
+/// The jointtargets' corrections, done before the robtargets' (their
+/// rows come after theirs in the report).
+#[derive(Default)]
+struct Joints {
+    rows: Vec<Correction>,
+    residuals: Vec<Residual>,
+    left: Vec<LeftAlone>,
+    errors: Vec<(usize, Error)>,
+    /// Edits of their numbers, by file.
+    edits: Vec<(usize, Edit)>,
+}
+
+fn correct_joints(run: &Run, progress: &mut Progress) -> Joints {
+    let mut j = Joints::default();
+    for jt in run.program.jointtargets() {
+        if jt.kind == TargetKind::Derived {
+            continue;
+        }
+        progress.step();
+        match correct_jointtarget(run, jt) {
+            Ok(JointSolved::Corrected(c, r)) => {
+                j.edits
+                    .extend(c.edits.iter().map(|e| (c.file_index, e.clone())));
+                j.rows.push(*c);
+                j.residuals.extend(r);
+            }
+            Ok(JointSolved::LeftAlone(s)) => j.left.push(s),
+            Err(e) => j.errors.push((usize::MAX, e)),
+        }
+    }
+    j
+}
+
+/// The robtargets moved to with several tools or work objects, solved
+/// before the pass: what their other uses come to (and, asked for, their
+/// copies) decides edits anywhere in the program.
+#[derive(Default)]
+struct Early {
+    /// By target: its row, then its copies'.
+    rows: HashMap<usize, Vec<Correction>>,
+    lines: Vec<crate::correct::SharedUse>,
+    splits: Vec<crate::correct::Split>,
+    /// Edits beyond the numbers (copies, renamed arguments), by file.
+    more: Vec<(usize, Edit)>,
+    /// Why the copies could not be made, where they could not (said
+    /// when no target is refused).
+    error: Option<Error>,
+}
+
+fn solve_shared(run: &Run, errors: &mut Vec<(usize, Error)>) -> Result<Early> {
+    let program = run.program;
+    let targets = program.targets();
+    let mut pending = Vec::new();
+    let mut corrections: Vec<Correction> = Vec::new();
+    let mut owners: Vec<usize> = Vec::new();
+    for i in run.uses.targets() {
+        if !run.uses.several_frames(i) {
+            continue;
+        }
+        let t = targets.at(i);
+        if t.kind == TargetKind::Derived && !t.written_with_expressions() {
+            continue;
+        }
+        match correct_robtarget(run, i, &t) {
+            Ok(Solved::Corrected(found)) => match with_others(run, i, &t, &found) {
+                Ok((c, pairs)) => {
+                    if !pairs.is_empty() {
+                        pending.push(shared::Pending {
+                            correction: corrections.len(),
+                            pairs,
+                        });
+                    }
+                    corrections.push(c);
+                    owners.push(i);
+                }
+                Err(e) => errors.push((i, e)),
+            },
+            // Left alone, it is the pass's to report.
+            Ok(Solved::LeftAlone(_)) => {}
+            Err(e) => errors.push((i, e)),
+        }
+    }
+    let mut early = Early::default();
+    if corrections.is_empty() {
+        return Ok(early);
+    }
+    let originals: Vec<String> = corrections.iter().map(|c| c.id.clone()).collect();
+    let done = match shared::finish(run, pending, &mut corrections) {
+        Ok(d) => d,
+        Err(e) => {
+            early.error = Some(e);
+            return Ok(early);
+        }
+    };
+    // Each copy follows its original in `corrections` (a copy has a name
+    // of its own).
+    let (mut k, mut owner) = (0, None);
+    for c in corrections {
+        if originals.get(k) == Some(&c.id) {
+            owner = owners.get(k).copied();
+            k += 1;
+        }
+        if let Some(o) = owner {
+            early.rows.entry(o).or_default().push(c);
+        }
+    }
+    early.lines = done.lines;
+    early.splits = done.splits;
+    early.more = done.edits;
+    Ok(early)
+}
+
+/// The targets whose rows a derived target's residual reads: its bases.
+fn derived_bases(run: &Run) -> HashSet<usize> {
+    let program = run.program;
+    let derived: Vec<String> = program
+        .targets()
+        .one_by_one_all()
+        .filter(|(_, t)| t.kind == TargetKind::Derived && !t.written_with_expressions())
+        .flat_map(|(_, t)| {
+            t.derived
+                .iter()
+                .flat_map(|d| d.bases.clone())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    if derived.is_empty() {
+        return HashSet::new();
+    }
+    let index = program.target_index(|t| t.kind != TargetKind::Inline);
+    derived.iter().filter_map(|b| index.get(b)).collect()
+}
+
+/// The summary of the corrections tallied (in the report's order), and
+/// the counts of the rest.
+fn summary(
+    tally: &[Tallied],
+    derived: usize,
+    left_alone: usize,
+    (shared, split): (usize, usize),
+) -> Summary {
+    let robtargets: Vec<&Tallied> = tally.iter().filter(|t| t.robtarget).collect();
+    let n = robtargets.len();
+    let sum_sq: f64 = robtargets.iter().map(|t| t.norm.powi(2)).sum();
+    Summary {
+        corrected: tally.len(),
+        rewritten: tally.iter().filter(|t| t.rewritten).count(),
+        max_mm: robtargets.iter().map(|t| t.norm).fold(0.0, f64::max),
+        rms_mm: if n > 0 {
+            (sum_sq / n as f64).sqrt()
+        } else {
+            0.0
+        },
+        max_drift_mm: tally.iter().map(|t| t.drift).fold(0.0, f64::max),
+        derived,
+        left_alone,
+        shared,
+        split,
+    }
+}
+
+/// The outcome of a run on a program its marker says is corrected on the
+/// run's basis: nothing to do, every file as it is. A split asked of a
+/// program corrected without one is not made (its numbers are no longer
+/// the cold ones), and a note says so.
+fn already_corrected(program: &Program, found: &marker::Found, options: &Options) -> Outcome {
+    let m = &found.marker;
+    let how = format!(
+        "{} line {} says it was corrected by rapidtherm {} for {} with {} (cold original {})",
+        program.files[found.file], found.line, m.version, m.basis, m.model, m.cold
+    );
+    let mut notes = Vec::new();
+    if options.split_shared && !m.split {
+        let uses = crate::resolve::uses(program);
+        let targets = program.targets();
+        let mut shared: Vec<String> = uses
+            .targets()
+            .into_iter()
+            .filter(|&i| uses.several_frames(i))
+            .filter_map(|i| targets.get(i).map(|t| t.id.clone()))
+            .collect();
+        shared.sort_unstable();
+        if !shared.is_empty() {
+            notes.push(format!(
+                "it was corrected without splitting the targets moved to with several tools or work objects ({}): each is right for its first use only; a split starts from the cold original ({})",
+                shared.join(", "),
+                m.cold
+            ));
+        }
+    }
+    Outcome {
+        corrections: Vec::new(),
+        derived: Vec::new(),
+        left_alone: Vec::new(),
+        residuals: Vec::new(),
+        shared: Vec::new(),
+        splits: Vec::new(),
+        already_corrected: Some(how),
+        notes,
+        summary: summary(&[], 0, 0, (0, 0)),
+        outputs: (0..program.files.len())
+            .map(|f| program.source(f).to_vec())
+            .collect(),
+    }
+}
+
+/// Errors with one cause shown once: the targets refused for the same
+/// reason (`minute 200 is outside the recording`) are named in a note of
+/// the first, not repeated with their own carets. Errors about a target
+/// are told apart by their kind and cause (their message, which does not
+/// name the target: see [`Subject`](crate::error::Subject)).
+fn same_cause(errors: Vec<Error>) -> Vec<Error> {
+    // Grouped through a map: a program for another arm can have every one
+    // of a million targets refused for the same cause.
+    let mut out: Vec<(Error, Vec<String>, usize)> = Vec::new();
+    let mut by_cause: HashMap<(ErrorKind, String), usize> = HashMap::new();
+    for e in errors {
+        if let Some(subject) = &e.subject {
+            let key = (e.kind, e.message.clone());
+            if let Some(&i) = by_cause.get(&key) {
+                let (_, names, count) = &mut out[i];
+                *count += 1;
+                if names.len() < NAMED_PER_CAUSE {
+                    names.push(subject.to_string());
+                }
+                continue;
+            }
+            by_cause.insert(key, out.len());
+        }
+        out.push((e, Vec::new(), 0));
+    }
+    out.into_iter()
+        .map(|(e, names, count)| match count {
+            0 => e,
+            n if n > names.len() => {
+                e.with_note(format!("the same for {n} more: {}, ...", names.join(", ")))
+            }
+            n => e.with_note(format!("the same for {n} more: {}", names.join(", "))),
+        })
+        .collect()
+}
+
+/// How many other targets a grouped error names; the rest are counted.
+const NAMED_PER_CAUSE: usize = 10;
+
+/// Errors located in the program gain the source line and caret.
+fn with_source(e: Error, program: &Program) -> Error {
+    let Some(loc) = &e.location else { return e };
+    if !loc.line_text.is_empty() {
+        return e;
+    }
+    let Some(file) = program.files.iter().position(|f| *f == loc.file) else {
+        return e;
+    };
+    let src = program.source(file);
+    let line_start = src
+        .split_inclusive(|&b| b == b'\n')
+        .take(loc.line.saturating_sub(1))
+        .map(<[u8]>::len)
+        .sum::<usize>();
+    let line_text = crate::error::Location::from_offset(&loc.file, src, line_start).line_text;
+    let location = crate::error::Location {
+        line_text,
+        ..(**loc).clone()
+    };
+    e.at(location)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_cause_is_shown_once_with_its_targets_counted() {
+        let about = |id: &str| crate::error::Subject::Target(id.to_string());
+        let errors: Vec<Error> = (0..25)
+            .map(|i| Error::input("unknown tool `t`").about(about(&format!("p{i}"))))
+            .chain([Error::input("another cause").about(about("q"))])
+            .chain([Error::input("unknown tool `t`")])
+            .collect();
+        let grouped = same_cause(errors);
+        // An error about no target is never grouped.
+        assert_eq!(grouped.len(), 3);
+        assert_eq!(
+            grouped[0].notes,
+            ["the same for 24 more: target p1, target p2, target p3, target p4, target p5, target p6, target p7, target p8, target p9, target p10, ..."]
+        );
+        assert!(grouped[1].notes.is_empty());
+    }
+}

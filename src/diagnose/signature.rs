@@ -1,0 +1,159 @@
+//! Signatures of what the library lacks, tested like its effects: here a
+//! growth with the square of the links' temperature rise (a structure whose
+//! expansion coefficient grows with temperature, or a warm-up that heats
+//! the castings faster than the motors say), which the library's linear
+//! expansion only half-follows. It is tested over time, with each pose's
+//! own offset, beyond the thermal effects found; the effects that add
+//! nothing significant beyond it are not named (they only stood in for it).
+
+use super::fit::{fit, Problem};
+use super::forward::TestNoise;
+use super::stats::{Test, LEVEL};
+use crate::model::{Effect, EffectKind};
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+/// A growth with the square of the link temperatures found over time.
+#[derive(Debug, Clone, Serialize)]
+pub struct QuadraticGrowth {
+    /// RMS of what it adds over time, mm.
+    pub rms_mm: f64,
+    /// Its F test beyond the thermal effects found.
+    pub test: Test,
+    /// Thermal effects that add nothing significant beyond it, and so are
+    /// not named.
+    pub replaces: Vec<EffectKind>,
+}
+
+/// Columns of the residual's derivative along each link's expansion, each
+/// row's entry times that link's temperature rise over 10 K: a length that
+/// grows with the square of the rise. Centred by pose when the problem is.
+fn quadratic_columns(problem: &Problem, rows: &[usize]) -> DMatrix<f64> {
+    let plain = Problem {
+        centre_poses: false,
+        ..problem.clone()
+    };
+    let w = plain.width();
+    let r0 = plain.residuals(&[], rows);
+    let th = &plain.base.thermal;
+    let mut q = DMatrix::zeros(r0.len(), 4);
+    for link in 0..4 {
+        let mut e = Effect::zero(EffectKind::ExpansionScale);
+        let h = 1e-2;
+        e.params[link] = h;
+        let r1 = plain.residuals(&[e], rows);
+        for (k, &i) in rows.iter().enumerate() {
+            let rise = th.link_temps(&plain.rows[i].temps)[link] - th.t_ref;
+            for d in 0..w {
+                q[(k * w + d, link)] = (r1[k * w + d] - r0[k * w + d]) / h * rise / 10.0;
+            }
+        }
+    }
+    if problem.centre_poses {
+        problem.centre_columns(&mut q, rows);
+    }
+    q
+}
+
+/// The numeric Jacobian of the residual along every parameter of
+/// `effects` at their values.
+pub(crate) fn effects_jacobian(
+    problem: &Problem,
+    effects: &[Effect],
+    rows: &[usize],
+) -> DMatrix<f64> {
+    let r0 = problem.residuals(effects, rows);
+    let mut cols = Vec::new();
+    for (ei, e) in effects.iter().enumerate() {
+        for p in 0..e.params.len() {
+            let h = e.kind.step(p, e.params[p]);
+            let mut moved = effects.to_vec();
+            moved[ei].params[p] += h;
+            cols.push((problem.residuals(&moved, rows) - &r0) / h);
+        }
+    }
+    if cols.is_empty() {
+        DMatrix::zeros(r0.len(), 0)
+    } else {
+        DMatrix::from_columns(&cols)
+    }
+}
+
+/// Residual sum of squares of `r` less its least-squares fit on `a`.
+pub(crate) fn rss_after(a: &DMatrix<f64>, r: &DVector<f64>) -> f64 {
+    if a.ncols() == 0 {
+        return r.norm_squared();
+    }
+    // Columns scaled to unit norm: the parameters' units differ by orders.
+    let norms: Vec<f64> = a.column_iter().map(|c| c.norm().max(1e-300)).collect();
+    let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, c| a[(i, c)] / norms[c]);
+    let svd = scaled.clone().svd(true, true);
+    let smax = svd.singular_values.max();
+    match svd.solve(r, 1e-9 * smax) {
+        Ok(x) => (r - scaled * x).norm_squared(),
+        Err(_) => r.norm_squared(),
+    }
+}
+
+/// Test a growth with the square of the link temperatures beyond the
+/// thermal `effects` fitted on the (pose-centred) `problem`, linearised at
+/// their values. `None` where it is not significant at the stage's level.
+pub fn quadratic_growth(
+    problem: &Problem,
+    effects: &[Effect],
+    noise: &TestNoise,
+) -> Option<QuadraticGrowth> {
+    let rows: Vec<usize> = (0..problem.rows.len()).collect();
+    let r = problem.residuals(effects, &rows);
+    let q = quadratic_columns(problem, &rows);
+    let j = effects_jacobian(problem, effects, &rows);
+    let with_q = |j: &DMatrix<f64>| {
+        let mut cols: Vec<DVector<f64>> = j.column_iter().map(|c| c.into_owned()).collect();
+        cols.extend(q.column_iter().map(|c| c.into_owned()));
+        DMatrix::from_columns(&cols)
+    };
+    let rss_model = rss_after(&j, &r);
+    let rss_full = rss_after(&with_q(&j), &r);
+    let test = Test::nested(rss_model, rss_full, 4, noise.sigma2, noise.dof, LEVEL);
+    if !test.significant() {
+        return None;
+    }
+    // What the quadratic part adds: the fit on the full design less the
+    // fit on the effects alone, over the rows.
+    let rms_mm = ((rss_model - rss_full).max(0.0) / rows.len().max(1) as f64).sqrt();
+    // Each effect against the others refitted with the growth: one that
+    // adds nothing significant beyond them only stood in for it.
+    let mut replaces = Vec::new();
+    for e in effects {
+        let others: Vec<EffectKind> = effects
+            .iter()
+            .map(|x| x.kind)
+            .filter(|k| *k != e.kind)
+            .collect();
+        let refitted = match others.as_slice() {
+            [] => Vec::new(),
+            kinds => match fit(problem, &rows, kinds) {
+                Ok(f) => f.effects,
+                Err(_) => continue,
+            },
+        };
+        let r_others = problem.residuals(&refitted, &rows);
+        let j_others = effects_jacobian(problem, &refitted, &rows);
+        let t = Test::nested(
+            rss_after(&with_q(&j_others), &r_others),
+            rss_full,
+            e.params.len(),
+            noise.sigma2,
+            noise.dof,
+            LEVEL,
+        );
+        if !t.significant() {
+            replaces.push(e.kind);
+        }
+    }
+    Some(QuadraticGrowth {
+        rms_mm,
+        test,
+        replaces,
+    })
+}

@@ -1,0 +1,124 @@
+//! One name, one thing. RAPID refuses a program that declares a name
+//! twice in one scope: twice among a module's data, twice among a
+//! routine's data and parameters, or twice among the data every module of
+//! a task sees (declared without `LOCAL`). A routine's own data may share
+//! a name with a module's: it shadows it within the routine. A second
+//! declaration would otherwise leave a move bound to whichever came
+//! first, and the other corrected as if unused.
+
+use crate::error::{Error, ErrorKind, Location, Result};
+use crate::rapid::values::Scope;
+use crate::rapid::Program;
+use std::collections::HashMap;
+
+/// Where a declaration is: its file and byte offset, and its line.
+#[derive(Clone, Copy)]
+struct At {
+    file: usize,
+    offset: usize,
+    line: u32,
+}
+
+/// The scopes a name is declared in.
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Space {
+    /// Every module of the task (data declared without `LOCAL`).
+    Task,
+    /// One module's (its `LOCAL` data, and all its data besides).
+    Module(usize),
+    /// One routine's data and parameters: (module, routine).
+    Routine(usize, usize),
+}
+
+/// Refuse every name declared twice in one scope, each at its second
+/// declaration, naming the first.
+pub(super) fn refuse_duplicates(prog: &Program, refs: &[(&str, &[u8])]) -> Result<()> {
+    let mut first: HashMap<(Space, String), At> = HashMap::new();
+    let mut errors = Vec::new();
+    let mut declare = |spaces: &[Space], name: &str, at: At, what: &str| {
+        let key = name.to_ascii_lowercase();
+        for space in spaces {
+            match first.get(&(space.clone(), key.clone())) {
+                Some(seen) => {
+                    let (file, src) = refs.get(at.file).copied().unwrap_or(("", &[]));
+                    let seen_file = refs.get(seen.file).map_or("", |r| r.0);
+                    let scope = match space {
+                        Space::Task => "the task (neither is LOCAL)",
+                        Space::Module(_) => "its module",
+                        Space::Routine(..) => "its routine",
+                    };
+                    errors.push(
+                        Error::new(
+                            ErrorKind::Syntax,
+                            format!(
+                                "{what} {name} is declared twice in {scope}: also at {seen_file}:{}; RAPID refuses the program, and a move would be bound to one of them",
+                                seen.line
+                            ),
+                        )
+                        .at(Location::from_offset(file, src, at.offset)),
+                    );
+                    return;
+                }
+                None => {
+                    first.insert((space.clone(), key.clone()), at);
+                }
+            }
+        }
+    };
+    for (mi, m) in prog.modules.iter().enumerate() {
+        let spaces = |scope: Option<Scope>| -> Vec<Space> {
+            match scope {
+                Some(Scope::Local) => vec![Space::Module(mi)],
+                _ => vec![Space::Module(mi), Space::Task],
+            }
+        };
+        for d in &m.data {
+            let at = At {
+                file: m.file,
+                offset: d.pos.offset,
+                line: d.pos.line,
+            };
+            declare(&spaces(d.scope), &d.name, at, "data");
+        }
+        for &r in &m.decl_runs {
+            let Some(run) = prog.runs.decls.get(r) else {
+                continue;
+            };
+            let src = refs.get(run.file).map_or(&[][..], |x| x.1);
+            for item in &run.items {
+                let Some(name) = run.name_of(src, item) else {
+                    continue;
+                };
+                let at = At {
+                    file: run.file,
+                    offset: item.at as usize + usize::from(item.name.0),
+                    line: item.line,
+                };
+                declare(&spaces(run.scope), name, at, "data");
+            }
+        }
+        for (ri, routine) in m.routines.iter().enumerate() {
+            let space = [Space::Routine(mi, ri)];
+            for p in &routine.params {
+                let at = At {
+                    file: m.file,
+                    offset: routine.pos.offset,
+                    line: routine.pos.line,
+                };
+                declare(&space, &p.name, at, "parameter");
+            }
+            for d in &routine.data {
+                let at = At {
+                    file: m.file,
+                    offset: d.pos.offset,
+                    line: d.pos.line,
+                };
+                declare(&space, &d.name, at, "data");
+            }
+        }
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}

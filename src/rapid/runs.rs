@@ -1,0 +1,518 @@
+//! Runs: statements and declarations the fast lane read, one after
+//! another, held compactly (a few numbers each, the rest read again from
+//! the file when asked for) rather than as a statement, a declaration
+//! and a target each: a program of a million moves holds a million of
+//! these. Each is made, on demand, into exactly what the grammar makes of
+//! it: one target at a time ([`Program::targets`](super::Program::targets)), one move at a time
+//! ([`MoveRef`]), or the whole program
+//! ([`Program::expanded`](super::Program::expanded)).
+
+use super::lane::{Cursor, Seen};
+use super::place::pos_on;
+use super::source::Source;
+use super::syntax::{Arg, Call, DataDecl, Expr, Statement, StatementKind};
+use super::values::{Origin, Pos, RobTargetValue, Scope, Storage, Target, TargetKind};
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+/// No name (a move without a work object).
+pub(crate) const NONE: u16 = u16::MAX;
+
+/// Everything the lane read, held compactly.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Runs {
+    /// Names met in the runs' moves (instructions, speeds, zones, tools,
+    /// work objects and the `WObj` argument's name as written), interned.
+    pub names: Vec<Arc<str>>,
+    pub moves: Vec<MoveRun>,
+    pub decls: Vec<DeclRun>,
+    pub arrays: Vec<ArrayRun>,
+}
+
+/// Moves one after another in one list of statements of one routine.
+#[derive(Debug, Clone)]
+pub(crate) struct MoveRun {
+    pub file: usize,
+    pub module: Arc<str>,
+    pub routine: Arc<str>,
+    /// The prefix of its literals' identifiers: the routine's name, with
+    /// its module where identifiers are qualified (`M1:main`).
+    pub prefix: Arc<str>,
+    /// Robtarget literals per move (1, or 2 for a circular move); 0 for
+    /// moves to a target by name.
+    pub literals: u8,
+    /// The routine's inline literals before the run's first.
+    pub first: u32,
+    /// The program's number of the run's first literal.
+    pub base: usize,
+    pub items: Vec<MoveItem>,
+}
+
+/// One move of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct MoveItem {
+    /// Where the statement starts, and its line.
+    pub at: u32,
+    pub line: u32,
+    /// Instruction, speed, zone, tool, the `WObj` argument's name as
+    /// written and the work object (into [`Runs::names`]; [`NONE`]).
+    pub names: [u16; 6],
+    /// Each literal's `[` after `at`, or the target's name (after `at`,
+    /// and its length) for a move by name.
+    pub parts: [u16; 2],
+}
+
+/// Declarations of robtargets with a literal value, one after another in
+/// one module, alike in scope, storage and type name as written.
+#[derive(Debug, Clone)]
+pub(crate) struct DeclRun {
+    pub file: usize,
+    pub module: Arc<str>,
+    pub scope: Option<Scope>,
+    pub storage: Storage,
+    pub type_name: Arc<str>,
+    /// The program's number of the run's first target.
+    pub base: usize,
+    pub items: Vec<DeclItem>,
+}
+
+/// One declaration of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct DeclItem {
+    pub at: u32,
+    pub line: u32,
+    /// The declared name (after `at`, and its length), and the literal's
+    /// `[` after `at`.
+    pub name: (u16, u8),
+    pub literal: u16,
+    /// Its identifier is qualified with its module (its name is declared
+    /// in another module of the run too).
+    pub qualified: bool,
+}
+
+/// The robtarget literals of one declared array (`pScan{N} := [...]`).
+#[derive(Debug, Clone)]
+pub(crate) struct ArrayRun {
+    pub file: usize,
+    pub module: Arc<str>,
+    pub routine: Option<Arc<str>>,
+    /// The declared name as written, and its identifiers' prefix (the
+    /// name, with its module where qualified).
+    pub name: Arc<str>,
+    pub prefix: Arc<str>,
+    pub storage: Storage,
+    /// The program's number of its first element.
+    pub base: usize,
+    /// Each literal's `[`, and its line.
+    pub elements: Vec<u32>,
+    pub lines: Vec<u32>,
+    /// Where the array's value is, from its `[` through its `]`.
+    pub span: std::ops::Range<usize>,
+}
+
+impl Runs {
+    pub fn name(&self, id: u16) -> Option<&Arc<str>> {
+        self.names.get(usize::from(id))
+    }
+}
+
+/// The robtarget literal at `at` of `src`, read again with its values
+/// (the lane read it once, so it reads again); `lines`: one of an
+/// array's, whose line ends are blanks.
+pub(crate) fn literal_at(src: &[u8], at: usize, lines: bool) -> Option<RobTargetValue> {
+    let mut seen = Seen::default();
+    let mut c = Cursor {
+        s: src,
+        p: at,
+        values: true,
+        lines,
+        seen: &mut seen,
+    };
+    c.robtarget().map(|(_, v)| v)
+}
+
+impl MoveRun {
+    /// The move holding literal `k` of the run, and which of its literals
+    /// it is.
+    pub fn move_of(&self, k: usize) -> (usize, usize) {
+        let n = usize::from(self.literals.max(1));
+        (k / n, k % n)
+    }
+
+    /// How many targets (literals) the run holds.
+    pub fn targets(&self) -> usize {
+        self.items.len() * usize::from(self.literals)
+    }
+
+    /// The identifier of literal `k` into `id` (its numbers not read).
+    pub fn id_into(&self, k: usize, id: &mut String) {
+        id.clear();
+        let _ = write!(id, "{}#{}", self.prefix, self.first as usize + k + 1);
+    }
+
+    /// Literal `k` of the run into `t`, as the grammar makes it (its
+    /// allocations reused); `false` where the file no longer reads so.
+    pub fn fill(&self, runs: &Runs, src: &[u8], k: usize, t: &mut Target) -> bool {
+        let (m, j) = self.move_of(k);
+        let Some(item) = self.items.get(m) else {
+            return false;
+        };
+        let at = item.at as usize + usize::from(item.parts[j]);
+        let Some(value) = literal_at(src, at, false) else {
+            return false;
+        };
+        self.id_into(k, &mut t.id);
+        t.kind = TargetKind::Inline;
+        set_origin(
+            &mut t.origin,
+            self.file,
+            &self.module,
+            Some(&self.routine),
+            pos_on(src, at, item.line),
+        );
+        t.name = None;
+        t.storage = None;
+        t.value = Some(value);
+        let name = |i: usize| runs.name(item.names[i]).cloned();
+        renew(&mut t.instruction, name(0));
+        renew(&mut t.tool, name(3));
+        renew(&mut t.wobj, name(5));
+        t.derived = None;
+        true
+    }
+
+    /// Move `m` of the run as the grammar makes it: the call, its
+    /// literals numbered from `base`.
+    pub fn statement(&self, runs: &Runs, src: &[u8], m: usize) -> Option<Statement> {
+        let item = self.items.get(m)?;
+        let name = |i: usize| runs.name(item.names[i]).cloned();
+        let literals = usize::from(self.literals);
+        let first = self.base + m * literals;
+        let mut args = Vec::with_capacity(literals + 4);
+        let targets: Vec<usize> = (first..first + literals).collect();
+        for &i in &targets {
+            args.push(positional(Expr::Target(i)));
+        }
+        if literals == 0 {
+            let (at, len) = named_span(item);
+            let text = std::str::from_utf8(src.get(at..at + len)?).ok()?;
+            args.push(positional(Expr::Name(runs.intern_like(text))));
+        }
+        for i in [1, 2, 3] {
+            args.push(positional(Expr::Name(name(i)?)));
+        }
+        if let (Some(word), Some(w)) = (name(4), name(5)) {
+            args.push(Arg {
+                optional: true,
+                name: Some(word),
+                value: Some(Expr::Name(w)),
+            });
+        }
+        Some(Statement {
+            pos: pos_on(src, item.at as usize, item.line),
+            kind: StatementKind::Call(Call {
+                name: name(0)?,
+                late_bound: false,
+                args,
+                targets,
+                jointtargets: Vec::new(),
+            }),
+        })
+    }
+}
+
+/// Where a move by name names its target.
+pub(crate) fn named_span(item: &MoveItem) -> (usize, usize) {
+    (
+        item.at as usize + usize::from(item.parts[0]),
+        usize::from(item.parts[1]),
+    )
+}
+
+impl Runs {
+    /// `text` as a name: the interned one where it is among the runs'
+    /// names (the same `Arc`), else a new one.
+    fn intern_like(&self, text: &str) -> Arc<str> {
+        self.names
+            .iter()
+            .find(|n| &***n == text)
+            .cloned()
+            .unwrap_or_else(|| Arc::from(text))
+    }
+}
+
+fn positional(value: Expr) -> Arg {
+    Arg {
+        optional: false,
+        name: None,
+        value: Some(value),
+    }
+}
+
+impl DeclRun {
+    /// Target `k` of the run into `t`, as the grammar makes it.
+    pub fn fill(&self, src: &[u8], k: usize, t: &mut Target) -> bool {
+        let Some(item) = self.items.get(k) else {
+            return false;
+        };
+        let at = item.at as usize + usize::from(item.literal);
+        let Some(value) = literal_at(src, at, false) else {
+            return false;
+        };
+        let Some(name) = self.name_of(src, item) else {
+            return false;
+        };
+        self.id_of(item, name, &mut t.id);
+        t.kind = TargetKind::Declared;
+        set_origin(
+            &mut t.origin,
+            self.file,
+            &self.module,
+            None,
+            pos_on(src, at, item.line),
+        );
+        match &mut t.name {
+            Some(n) => {
+                n.clear();
+                n.push_str(name);
+            }
+            None => t.name = Some(name.to_string()),
+        }
+        t.storage = Some(self.storage);
+        t.value = Some(value);
+        t.instruction = None;
+        t.tool = None;
+        t.wobj = None;
+        t.derived = None;
+        true
+    }
+
+    /// The identifier of target `k` into `id` (its numbers not read);
+    /// `false` where the run has none.
+    pub fn id_into(&self, src: &[u8], k: usize, id: &mut String) -> bool {
+        let Some(item) = self.items.get(k) else {
+            return false;
+        };
+        let Some(name) = self.name_of(src, item) else {
+            return false;
+        };
+        self.id_of(item, name, id);
+        true
+    }
+
+    /// The identifier of an item declared `name`: the name, qualified
+    /// with the module where the run's identifiers are.
+    fn id_of(&self, item: &DeclItem, name: &str, id: &mut String) {
+        id.clear();
+        if item.qualified {
+            let _ = write!(id, "{}:", self.module);
+        }
+        id.push_str(name);
+    }
+
+    /// The declared name of an item.
+    pub fn name_of<'s>(&self, src: &'s [u8], item: &DeclItem) -> Option<&'s str> {
+        let at = item.at as usize + usize::from(item.name.0);
+        std::str::from_utf8(src.get(at..at + usize::from(item.name.1))?).ok()
+    }
+
+    /// Declaration `k` as the grammar makes it, its target numbered
+    /// `base + k`.
+    pub fn declaration(&self, src: &[u8], k: usize) -> Option<DataDecl> {
+        let item = self.items.get(k)?;
+        Some(DataDecl {
+            scope: self.scope,
+            storage: self.storage,
+            type_name: self.type_name.to_string(),
+            name: self.name_of(src, item)?.to_string(),
+            dims: Vec::new(),
+            init: Some(Expr::Target(self.base + k)),
+            pos: pos_on(src, item.at as usize, item.line),
+        })
+    }
+}
+
+impl ArrayRun {
+    /// The identifier of element `k` into `id` (its numbers not read).
+    pub fn id_into(&self, k: usize, id: &mut String) {
+        id.clear();
+        let _ = write!(id, "{}{{{}}}", self.prefix, k + 1);
+    }
+
+    /// Element `k` into `t`, as the grammar makes it.
+    pub fn fill(&self, src: &[u8], k: usize, t: &mut Target) -> bool {
+        let (Some(&at), Some(&line)) = (self.elements.get(k), self.lines.get(k)) else {
+            return false;
+        };
+        let Some(value) = literal_at(src, at as usize, true) else {
+            return false;
+        };
+        self.id_into(k, &mut t.id);
+        t.kind = TargetKind::ArrayElement;
+        set_origin(
+            &mut t.origin,
+            self.file,
+            &self.module,
+            self.routine.as_ref(),
+            pos_on(src, at as usize, line),
+        );
+        match &mut t.name {
+            Some(n) if **n == *self.name => {}
+            _ => t.name = Some(self.name.to_string()),
+        }
+        t.storage = Some(self.storage);
+        t.value = Some(value);
+        t.instruction = None;
+        t.tool = None;
+        t.wobj = None;
+        t.derived = None;
+        true
+    }
+}
+
+/// A target's origin set in place (the names' `Arc`s kept where the same).
+fn set_origin(
+    o: &mut Origin,
+    file: usize,
+    module: &Arc<str>,
+    routine: Option<&Arc<str>>,
+    pos: Pos,
+) {
+    o.file = file;
+    if !Arc::ptr_eq(&o.module, module) {
+        o.module = module.clone();
+    }
+    match (routine, &o.routine) {
+        (Some(r), Some(have)) if Arc::ptr_eq(r, have) => {}
+        _ => o.routine = routine.cloned(),
+    }
+    o.pos = pos;
+}
+
+/// Set a name, keeping the one it holds when it is the same.
+fn renew(slot: &mut Option<Arc<str>>, name: Option<Arc<str>>) {
+    match (&*slot, &name) {
+        (Some(a), Some(b)) if Arc::ptr_eq(a, b) => {}
+        _ => *slot = name,
+    }
+}
+
+/// An empty target, to be filled.
+pub(crate) fn blank_target() -> Target {
+    Target {
+        id: String::new(),
+        kind: TargetKind::Inline,
+        origin: Origin {
+            file: 0,
+            module: Arc::from(""),
+            routine: None,
+            pos: Pos::default(),
+        },
+        name: None,
+        storage: None,
+        value: None,
+        instruction: None,
+        tool: None,
+        wobj: None,
+        derived: None,
+    }
+}
+
+/// One move of a run, as the walks of the program see it.
+#[derive(Clone, Copy)]
+pub struct MoveRef<'p> {
+    runs: &'p Runs,
+    sources: &'p [Source],
+    run: &'p MoveRun,
+    m: usize,
+}
+
+impl<'p> MoveRef<'p> {
+    pub(crate) fn new(runs: &'p Runs, sources: &'p [Source], run: &'p MoveRun, m: usize) -> Self {
+        MoveRef {
+            runs,
+            sources,
+            run,
+            m,
+        }
+    }
+
+    fn item(&self) -> &'p MoveItem {
+        &self.run.items[self.m]
+    }
+
+    fn name(&self, i: usize) -> Option<&'p Arc<str>> {
+        self.runs.name(self.item().names[i])
+    }
+
+    fn src(&self) -> &'p [u8] {
+        self.sources.get(self.run.file).map_or(&[], Source::bytes)
+    }
+
+    pub fn instruction(&self) -> &'p Arc<str> {
+        self.name(0).expect("a run's move has its instruction")
+    }
+    pub fn speed(&self) -> Option<&'p Arc<str>> {
+        self.name(1)
+    }
+    pub fn zone(&self) -> Option<&'p Arc<str>> {
+        self.name(2)
+    }
+    pub fn tool(&self) -> Option<&'p Arc<str>> {
+        self.name(3)
+    }
+    pub fn wobj(&self) -> Option<&'p Arc<str>> {
+        self.name(5)
+    }
+    /// The program's numbers of its robtarget literals (CirPoint before
+    /// ToPoint); empty for a move to a target by name.
+    pub fn targets(&self) -> std::ops::Range<usize> {
+        let n = usize::from(self.run.literals);
+        let first = self.run.base + self.m * n;
+        first..first + n
+    }
+    /// The target's name, for a move to one by name.
+    pub fn named(&self) -> Option<&'p str> {
+        if self.run.literals > 0 {
+            return None;
+        }
+        let (at, len) = named_span(self.item());
+        std::str::from_utf8(self.src().get(at..at + len)?).ok()
+    }
+    pub fn file(&self) -> usize {
+        self.run.file
+    }
+    pub fn module(&self) -> &'p Arc<str> {
+        &self.run.module
+    }
+    pub fn routine(&self) -> &'p Arc<str> {
+        &self.run.routine
+    }
+    /// Where the statement starts.
+    pub fn offset(&self) -> usize {
+        self.item().at as usize
+    }
+    pub fn line(&self) -> u32 {
+        self.item().line
+    }
+    /// The statement as the grammar makes it.
+    pub fn statement(&self) -> Option<Statement> {
+        self.run.statement(self.runs, self.src(), self.m)
+    }
+}
+
+/// The moves of move run `run` of `runs`.
+pub(crate) fn moves_of<'p>(
+    runs: &'p Runs,
+    sources: &'p [Source],
+    run: usize,
+) -> impl Iterator<Item = MoveRef<'p>> + 'p {
+    runs.moves.get(run).into_iter().flat_map(move |r| {
+        (0..r.items.len()).map(move |m| MoveRef {
+            runs,
+            sources,
+            run: r,
+            m,
+        })
+    })
+}

@@ -1,0 +1,402 @@
+//! Every robtarget of a program, numbered in file and source order,
+//! whether it is held one by one or in a run of the fast lane's: a
+//! target of a run is made when asked for, exactly as the grammar makes
+//! it. The numbers are those of [`Expr::Target`](super::Expr::Target)
+//! and every list of targets the library keeps.
+
+use super::runs::{blank_target, MoveRef, Runs};
+use super::source::Source;
+use super::values::{Target, TargetKind};
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+
+/// An empty target, to be filled ([`Targets::fill`]).
+pub fn blank() -> Target {
+    blank_target()
+}
+
+/// Where a stretch of the targets' numbers is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Held {
+    /// One by one, from this index of the program's own list.
+    OneByOne(usize),
+    /// In the move run of this number (its literals).
+    Moves(usize),
+    /// In the declaration run of this number.
+    Decls(usize),
+    /// In the array run of this number (its elements).
+    Array(usize),
+}
+
+/// A stretch of the targets' numbers: from `start`, `len` of them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Segment {
+    pub start: usize,
+    pub len: usize,
+    pub held: Held,
+}
+
+/// Every robtarget of a program, in file and source order (see
+/// [`Program::targets`](super::Program::targets)).
+#[derive(Clone, Copy)]
+pub struct Targets<'p> {
+    pub(crate) one_by_one: &'p [Target],
+    pub(crate) runs: &'p Runs,
+    pub(crate) segments: &'p [Segment],
+    pub(crate) sources: &'p [Source],
+}
+
+impl<'p> Targets<'p> {
+    fn src(&self, file: usize) -> &'p [u8] {
+        self.sources.get(file).map_or(&[], Source::bytes)
+    }
+
+    pub fn len(&self) -> usize {
+        match self.segments.last() {
+            Some(s) => s.start + s.len,
+            None => self.one_by_one.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Where target `i` is held, and its place in that holder.
+    fn locate(&self, i: usize) -> Option<(Held, usize)> {
+        if self.segments.is_empty() {
+            return (i < self.one_by_one.len()).then_some((Held::OneByOne(0), i));
+        }
+        let s = self.segments.partition_point(|s| s.start <= i);
+        let seg = self.segments.get(s.checked_sub(1)?)?;
+        let k = i - seg.start;
+        (k < seg.len).then_some((seg.held, k))
+    }
+
+    /// Target `i`, held one by one: borrowed.
+    pub fn one_by_one(&self, i: usize) -> Option<&'p Target> {
+        match self.locate(i)? {
+            (Held::OneByOne(first), k) => self.one_by_one.get(first + k),
+            _ => None,
+        }
+    }
+
+    /// Target `i`: borrowed where it is held one by one, made where it is
+    /// in a run.
+    pub fn get(&self, i: usize) -> Option<Cow<'p, Target>> {
+        if let Some(t) = self.one_by_one(i) {
+            return Some(Cow::Borrowed(t));
+        }
+        let mut t = blank_target();
+        self.fill(i, &mut t).then_some(Cow::Owned(t))
+    }
+
+    /// Target `i`, which the caller knows the program has.
+    ///
+    /// # Panics
+    /// Where it has no target `i` (as indexing a list would).
+    pub fn at(&self, i: usize) -> Cow<'p, Target> {
+        match self.get(i) {
+            Some(t) => t,
+            None => panic!("target {i} of a program of {} targets", self.len()),
+        }
+    }
+
+    /// Target `i` into `t` (its allocations reused: a loop over a million
+    /// targets of a run makes no million targets); `false` where the
+    /// program has none.
+    pub fn fill(&self, i: usize, t: &mut Target) -> bool {
+        let Some((held, k)) = self.locate(i) else {
+            return false;
+        };
+        let runs: &Runs = self.runs;
+        match held {
+            Held::OneByOne(first) => match self.one_by_one.get(first + k) {
+                Some(one) => {
+                    t.clone_from(one);
+                    true
+                }
+                None => false,
+            },
+            Held::Moves(r) => runs
+                .moves
+                .get(r)
+                .is_some_and(|run| run.fill(runs, self.src(run.file), k, t)),
+            Held::Decls(r) => runs
+                .decls
+                .get(r)
+                .is_some_and(|run| run.fill(self.src(run.file), k, t)),
+            Held::Array(r) => runs
+                .arrays
+                .get(r)
+                .is_some_and(|run| run.fill(self.src(run.file), k, t)),
+        }
+    }
+
+    /// The identifier of target `i` into `id`, and whether it has a value
+    /// (a target of a run always has its literal's), without reading its
+    /// numbers: a check of a million identifiers reads no million
+    /// literals. `None` where the program has no target `i`.
+    pub fn id_into(&self, i: usize, id: &mut String) -> Option<bool> {
+        let (held, k) = self.locate(i)?;
+        let runs: &Runs = self.runs;
+        match held {
+            Held::OneByOne(first) => {
+                let one = self.one_by_one.get(first + k)?;
+                id.clone_from(&one.id);
+                Some(one.value.is_some())
+            }
+            Held::Moves(r) => {
+                let run = runs.moves.get(r)?;
+                (k < run.targets()).then(|| run.id_into(k, id))?;
+                Some(true)
+            }
+            Held::Decls(r) => {
+                let run = runs.decls.get(r)?;
+                run.id_into(self.src(run.file), k, id).then_some(true)
+            }
+            Held::Array(r) => {
+                let run = runs.arrays.get(r)?;
+                (k < run.elements.len()).then(|| run.id_into(k, id))?;
+                Some(true)
+            }
+        }
+    }
+
+    /// The targets held one by one, each with its number, in order.
+    pub fn one_by_one_all(&self) -> impl Iterator<Item = (usize, &'p Target)> + 'p {
+        let loose = self.one_by_one;
+        let plain = self
+            .segments
+            .is_empty()
+            .then(|| loose.iter().enumerate())
+            .into_iter()
+            .flatten();
+        let held = self.segments.iter().flat_map(move |s| match s.held {
+            Held::OneByOne(first) => {
+                let end = (first + s.len).min(loose.len());
+                let start = s.start;
+                loose[first.min(end)..end]
+                    .iter()
+                    .enumerate()
+                    .map(move |(k, t)| (start + k, t))
+                    .collect::<Vec<_>>()
+            }
+            _ => Vec::new(),
+        });
+        plain.chain(held)
+    }
+
+    /// Every target, in order (those of runs made one at a time).
+    pub fn iter(&self) -> impl Iterator<Item = Cow<'p, Target>> + 'p {
+        let t = *self;
+        (0..t.len()).filter_map(move |i| t.get(i))
+    }
+
+    /// Target `i`'s kind, without making it.
+    pub fn kind(&self, i: usize) -> Option<TargetKind> {
+        Some(match self.locate(i)? {
+            (Held::OneByOne(first), k) => self.one_by_one.get(first + k)?.kind,
+            (Held::Moves(_), _) => TargetKind::Inline,
+            (Held::Decls(_), _) => TargetKind::Declared,
+            (Held::Array(_), _) => TargetKind::ArrayElement,
+        })
+    }
+
+    /// Target `i`'s file and byte offset, without making it.
+    pub fn place(&self, i: usize) -> Option<(usize, usize)> {
+        let runs = self.runs;
+        Some(match self.locate(i)? {
+            (Held::OneByOne(first), k) => {
+                let t = self.one_by_one.get(first + k)?;
+                (t.origin.file, t.origin.pos.offset)
+            }
+            (Held::Moves(r), k) => {
+                let run = runs.moves.get(r)?;
+                let (m, j) = run.move_of(k);
+                let item = run.items.get(m)?;
+                (run.file, item.at as usize + usize::from(item.parts[j]))
+            }
+            (Held::Decls(r), k) => {
+                let run = runs.decls.get(r)?;
+                let item = run.items.get(k)?;
+                (run.file, item.at as usize + usize::from(item.literal))
+            }
+            (Held::Array(r), k) => {
+                let run = runs.arrays.get(r)?;
+                (run.file, *run.elements.get(k)? as usize)
+            }
+        })
+    }
+
+    /// How many targets are held in runs (the fast lane's work).
+    pub fn in_runs(&self) -> usize {
+        self.len() - self.one_by_one.len()
+    }
+
+    /// The move whose literal target `i` is, where a run of moves holds
+    /// it.
+    pub fn move_of(&self, i: usize) -> Option<MoveRef<'p>> {
+        match self.locate(i)? {
+            (Held::Moves(r), k) => {
+                let run = self.runs.moves.get(r)?;
+                let (m, _) = run.move_of(k);
+                Some(MoveRef::new(self.runs, self.sources, run, m))
+            }
+            _ => None,
+        }
+    }
+
+    /// The stretches of targets that are literals of runs of moves.
+    pub fn move_literals(&self) -> impl Iterator<Item = std::ops::Range<usize>> + 'p {
+        self.segments
+            .iter()
+            .filter(|s| matches!(s.held, Held::Moves(_)) && s.len > 0)
+            .map(|s| s.start..s.start + s.len)
+    }
+
+    /// How many of the targets held in runs are literals of moves.
+    pub fn moves_in_runs(&self) -> usize {
+        self.segments
+            .iter()
+            .filter(|s| matches!(s.held, Held::Moves(_)))
+            .map(|s| s.len)
+            .sum()
+    }
+}
+
+impl<'p> IntoIterator for Targets<'p> {
+    type Item = Cow<'p, Target>;
+    type IntoIter = Box<dyn Iterator<Item = Cow<'p, Target>> + 'p>;
+    fn into_iter(self) -> Self::IntoIter {
+        Box::new(self.iter())
+    }
+}
+
+/// A name compared without regard to case, as RAPID compares names.
+#[derive(Clone, Copy, Debug)]
+struct NoCase<'a>(&'a [u8]);
+
+impl Hash for NoCase<'_> {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        // FNV-1a over the lower-case bytes, handed on as one number.
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for &b in self.0 {
+            h = (h ^ u64::from(b.to_ascii_lowercase())).wrapping_mul(0x100_0000_01b3);
+        }
+        state.write_u64(h);
+    }
+}
+
+impl PartialEq for NoCase<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.eq_ignore_ascii_case(other.0)
+    }
+}
+
+impl Eq for NoCase<'_> {}
+
+/// The program's targets by identifier (compared without regard to
+/// case): those held one by one that `keep` keeps, every declared target
+/// and array element of the runs; built once for many lookups.
+pub struct TargetIndex<'p> {
+    one_by_one: HashMap<String, usize>,
+    declared: foldhash::HashMap<NoCase<'p>, usize>,
+    qualified: HashMap<String, usize>,
+    /// Array runs by their identifiers' prefix, lower case.
+    arrays: HashMap<String, (usize, usize)>,
+}
+
+impl<'p> TargetIndex<'p> {
+    /// The targets of `targets` by identifier; see [`TargetIndex`].
+    pub(crate) fn new(targets: Targets<'p>, keep: impl Fn(&Target) -> bool) -> TargetIndex<'p> {
+        let mut one_by_one = HashMap::new();
+        for (i, t) in targets.one_by_one.iter().enumerate() {
+            if keep(t) {
+                let global = targets.global_of_one_by_one(i);
+                one_by_one
+                    .entry(t.id.to_ascii_lowercase())
+                    .or_insert(global);
+            }
+        }
+        let mut declared = foldhash::HashMap::default();
+        let mut qualified = HashMap::new();
+        for run in &targets.runs.decls {
+            let src = targets.src(run.file);
+            declared.reserve(run.items.len());
+            for (k, item) in run.items.iter().enumerate() {
+                let Some(name) = run.name_of(src, item) else {
+                    continue;
+                };
+                if item.qualified {
+                    qualified
+                        .entry(format!("{}:{name}", run.module).to_ascii_lowercase())
+                        .or_insert(run.base + k);
+                } else {
+                    declared
+                        .entry(NoCase(name.as_bytes()))
+                        .or_insert(run.base + k);
+                }
+            }
+        }
+        let arrays = targets
+            .runs
+            .arrays
+            .iter()
+            .map(|a| (a.prefix.to_ascii_lowercase(), (a.base, a.elements.len())))
+            .collect();
+        TargetIndex {
+            one_by_one,
+            declared,
+            qualified,
+            arrays,
+        }
+    }
+}
+
+impl Targets<'_> {
+    /// The number of the target held one by one at `i` of the program's
+    /// own list.
+    pub(crate) fn global_of_one_by_one(&self, i: usize) -> usize {
+        if self.segments.is_empty() {
+            return i;
+        }
+        self.segments
+            .iter()
+            .find_map(|s| match s.held {
+                Held::OneByOne(first) if (first..first + s.len).contains(&i) => {
+                    Some(s.start + i - first)
+                }
+                _ => None,
+            })
+            .unwrap_or(i)
+    }
+}
+
+impl TargetIndex<'_> {
+    /// The target with identifier `id`.
+    pub fn get(&self, id: &str) -> Option<usize> {
+        if let Some(&i) = self.declared.get(&NoCase(id.as_bytes())) {
+            return Some(i);
+        }
+        let lower = id.to_ascii_lowercase();
+        if let Some(&i) = self.one_by_one.get(&lower) {
+            return Some(i);
+        }
+        if let Some(&i) = self.qualified.get(&lower) {
+            return Some(i);
+        }
+        // An element of an array run: `name{k}`.
+        let (prefix, rest) = lower.split_once('{')?;
+        let k: usize = rest.strip_suffix('}')?.parse().ok()?;
+        let &(base, len) = self.arrays.get(prefix)?;
+        (1..=len).contains(&k).then_some(base + k - 1)
+    }
+
+    /// The targets of the array run whose identifiers start `prefix{`
+    /// (lower case), where one is: the first's number and how many.
+    pub fn array(&self, prefix: &str) -> Option<(usize, usize)> {
+        self.arrays.get(&prefix.to_ascii_lowercase()).copied()
+    }
+}

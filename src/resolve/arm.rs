@@ -1,0 +1,319 @@
+//! The arm a task moves and where it stands: the arm named for the task
+//! (a URDF file or an arm of the catalogue), else the robot type its
+//! backup's MOC.cfg names, else the embedded IRB 140; and its base frame
+//! in the world. Which arm was chosen, and why, is returned as data
+//! ([`ChosenBy`]) for the caller to say.
+
+use crate::digest::fingerprint;
+use crate::error::{Error, ErrorKind, Remedy, Result};
+use crate::rapid::task::placement::Unknown;
+use crate::rapid::task::Task;
+use crate::robot::abb::{self, AbbArm};
+use crate::robot::{irb140_opw, Robot};
+use std::path::{Path, PathBuf};
+
+/// Where an arm named by the user comes from.
+#[derive(Debug, Clone)]
+pub enum ArmSource {
+    /// A URDF file, read when the arm is resolved.
+    Urdf(PathBuf),
+    /// An arm of the catalogue.
+    Catalogue(&'static AbbArm),
+}
+
+/// An arm named for every task (`task` `None`) or for one task of a
+/// backup, and how it was written (for messages).
+#[derive(Debug, Clone)]
+pub struct ArmSpec {
+    pub task: Option<String>,
+    pub source: ArmSource,
+    pub written: String,
+}
+
+/// Whether an arm's name is a URDF file's (a file that exists, or a path
+/// ending in `.urdf`) rather than a catalogue name.
+pub fn names_a_file(spec: &Path) -> bool {
+    spec.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+        || spec.is_file()
+}
+
+/// What chose a task's arm.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ChosenBy {
+    /// The arm named for every task, as written.
+    Spec(String),
+    /// The arm named for this task (`TASK=ARM`), as written after the `=`.
+    TaskSpec { task: String, spec: String },
+    /// The robot type of the backup's MOC.cfg.
+    RobotType(String),
+    /// Nothing named one: the embedded IRB 140.
+    Default,
+    /// The URDF file a model file names (its effects are written on that
+    /// arm's joints).
+    ModelUrdf,
+}
+
+/// The arm a task moves, and how the marker of a corrected file names it.
+#[derive(Debug, Clone)]
+pub struct Arm {
+    pub robot: Robot,
+    /// For the marker: "embedded IRB 140", a catalogue name, or a URDF
+    /// file's fingerprint.
+    pub label: String,
+    /// Whether the arm is the IRB 140 the embedded thermal defaults were
+    /// calibrated on (its geometry, whatever file it came from).
+    pub is_irb140: bool,
+    /// The URDF file it was read from; `None`: the catalogue.
+    pub urdf: Option<String>,
+    pub chosen_by: ChosenBy,
+}
+
+/// Every arm named for a task (`TASK=ARM`) names a task of the run: a
+/// misspelt task, or a task name given for single files (which have no
+/// task names), would otherwise leave the arm silently unused.
+pub fn check_task_specs(specs: &[ArmSpec], tasks: &[Task]) -> Result<()> {
+    let names: Vec<&str> = tasks.iter().filter_map(|t| t.name.as_deref()).collect();
+    let mut errors = Vec::new();
+    for s in specs {
+        let Some(t) = s.task.as_deref() else { continue };
+        if names.iter().any(|n| n.eq_ignore_ascii_case(t)) {
+            continue;
+        }
+        let why = if names.is_empty() {
+            "the files of this run are one program, not a backup's tasks: name the arm alone"
+                .to_string()
+        } else {
+            format!("its tasks are {}", names.join(", "))
+        };
+        errors.push(Error::usage(format!(
+            "`{t}={}` names task {t}, which this run does not have ({why})",
+            s.written
+        )));
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Whether a task whose backup does not say what its robot is, or where
+/// it stands, may take the default: the arm named (else the IRB 140) at
+/// the world origin. A backup copied by hand or cut short must not move a
+/// correction by where the robot happens not to be: only the user says so.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Placing {
+    /// The backup places the robot, or the run is refused.
+    #[default]
+    FromBackup,
+    /// The user accepted the default placement (`--accept-default-placement`).
+    AcceptDefault,
+}
+
+/// Refuse `task` where its backup leaves unknown what the run needs: where
+/// the robot stands, and which arm it is unless one was named (by
+/// `--robot` or a model file). Every such gap is one error, at its file
+/// and line.
+pub fn check_placement(task: &Task, arm: &Arm, placing: Placing) -> Result<()> {
+    if placing == Placing::AcceptDefault {
+        return Ok(());
+    }
+    let named = !matches!(arm.chosen_by, ChosenBy::Default | ChosenBy::RobotType(_));
+    let mut errors: Vec<Error> = task
+        .gaps
+        .iter()
+        .filter(|g| !(named && g.kind.unknown() == Unknown::Type))
+        .map(|g| g.to_error(&task.label()))
+        .collect();
+    // The remedy once, after the last gap.
+    if let Some(last) = errors.pop() {
+        errors.push(last.with_remedy(Remedy::AcceptDefaultPlacement));
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// The arm of `task`: the one named for it (`TASK=ARM`), else the one
+/// named for all, else the robot type the backup's MOC.cfg names, else
+/// the embedded IRB 140.
+pub fn arm_for(task: &Task, specs: &[ArmSpec]) -> Result<Arm> {
+    let own = specs.iter().rev().find(|s| {
+        s.task
+            .as_deref()
+            .zip(task.name.as_deref())
+            .is_some_and(|(t, n)| t.eq_ignore_ascii_case(n))
+    });
+    let general = specs.iter().rev().find(|s| s.task.is_none());
+    let (mut arm, chosen_by) = match (own, general) {
+        (Some(s), _) => (
+            arm_of(&s.source)?,
+            ChosenBy::TaskSpec {
+                task: task.label(),
+                spec: s.written.clone(),
+            },
+        ),
+        (None, Some(s)) => (arm_of(&s.source)?, ChosenBy::Spec(s.written.clone())),
+        (None, None) => match &task.robot_type {
+            Some(rt) => (
+                arm_of_robot_type(rt).ok_or_else(|| {
+                    Error::usage(format!(
+                        "task {}: the backup's SYSPAR/MOC.cfg says it moves a {rt}, which rapidtherm has no description of",
+                        task.label()
+                    ))
+                    .with_remedy(Remedy::NameTheArm)
+                })??,
+                ChosenBy::RobotType(rt.clone()),
+            ),
+            None => (embedded_irb140()?, ChosenBy::Default),
+        },
+    };
+    arm.chosen_by = chosen_by;
+    Ok(arm)
+}
+
+/// The embedded IRB 140, the arm the thermal defaults were measured on.
+fn embedded_irb140() -> Result<Arm> {
+    abb::find("irb140").map(catalogue_arm)
+}
+
+fn catalogue_arm(arm: &AbbArm) -> Arm {
+    let is_irb140 = arm.is_embedded_irb140();
+    Arm {
+        robot: arm.robot(),
+        label: if is_irb140 {
+            "embedded IRB 140".to_string()
+        } else {
+            arm.name.clone()
+        },
+        is_irb140,
+        urdf: None,
+        chosen_by: ChosenBy::Default,
+    }
+}
+
+/// The arm of a source: a catalogue arm, or a URDF file read.
+pub fn arm_of(source: &ArmSource) -> Result<Arm> {
+    match source {
+        ArmSource::Catalogue(arm) => Ok(catalogue_arm(arm)),
+        ArmSource::Urdf(path) => {
+            // Read once: the same bytes are the arm and its fingerprint.
+            let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+            let name = path.display().to_string();
+            let text = std::str::from_utf8(&bytes)
+                .map_err(|_| Error::input(format!("{name}: a URDF file must be UTF-8")))?;
+            let robot = Robot::from_urdf_str(&name, text)?;
+            let is_irb140 = same_geometry_as_irb140(&robot);
+            Ok(Arm {
+                robot,
+                label: fingerprint(&bytes),
+                is_irb140,
+                urdf: Some(name),
+                chosen_by: ChosenBy::Default,
+            })
+        }
+    }
+}
+
+/// The catalogue arm of a controller robot type, as MOC.cfg writes it:
+/// `ROB1_140_0.81_6` is robot 1, an IRB 140 of 0.81 m reach and 6 kg;
+/// `ROB1_6700_LeanID_2.65_220` has a variant word. `None` when no arm of
+/// the catalogue has that family, payload and reach (within 0.05 m: types
+/// write the reach to two decimals, designations to one or two).
+fn arm_of_robot_type(robot_type: &str) -> Option<Result<Arm>> {
+    let parts: Vec<&str> = robot_type.split('_').skip(1).collect();
+    let family = parts.first()?;
+    let numbers: Vec<f64> = parts[1..].iter().filter_map(|p| p.parse().ok()).collect();
+    let words: Vec<&str> = parts[1..]
+        .iter()
+        .filter(|p| p.parse::<f64>().is_err())
+        .copied()
+        .collect();
+    let [reach, payload] = numbers[..] else {
+        return None;
+    };
+    let squash = |s: &str| -> String {
+        s.chars()
+            .filter(char::is_ascii_alphanumeric)
+            .flat_map(|c| c.to_lowercase())
+            .collect()
+    };
+    let want_family = squash(&format!("irb{family}"));
+    let fits: Vec<&AbbArm> = abb::catalogue()
+        .iter()
+        .filter(|a| squash(&a.family) == want_family)
+        .filter(|a| (a.payload_kg - payload).abs() < 0.5 && (a.reach_m - reach).abs() < 0.05)
+        .filter(|a| words.iter().all(|w| squash(&a.name).contains(&squash(w))))
+        .collect();
+    match fits.as_slice() {
+        [one] => Some(Ok(catalogue_arm(one))),
+        // Some designations name a payload class, not the rated payload
+        // (the IRB 2400-10 carries 12 kg): try the designation itself.
+        [] if words.is_empty() => [
+            format!("irb{family}-{payload}/{reach}"),
+            format!("irb{family}-{payload}"),
+        ]
+        .iter()
+        .find_map(|name| abb::find(name).ok())
+        .map(|arm| Ok(catalogue_arm(arm))),
+        _ => None,
+    }
+}
+
+/// The embedded thermal defaults were calibrated on the IRB 140: an arm of
+/// the same geometry (within a micrometre) can use them.
+fn same_geometry_as_irb140(robot: &Robot) -> bool {
+    let Ok(arm) = &robot.opw else { return false };
+    let (a, b) = (arm.geom, irb140_opw());
+    [
+        (a.c1, b.c1),
+        (a.a1, b.a1),
+        (a.c2, b.c2),
+        (a.c3, b.c3),
+        (a.c4, b.c4),
+        (a.a2, b.a2),
+        (a.b, b.b),
+    ]
+    .iter()
+    .all(|(x, y)| (x - y).abs() < 1e-3)
+}
+
+/// Whether two arms have the same chain (joint origins and axes within
+/// 1e-6 mm and rad, the same tool0), whatever their names.
+pub fn same_chain(a: &Robot, b: &Robot) -> bool {
+    let close = |x: &nalgebra::Isometry3<f64>, y: &nalgebra::Isometry3<f64>| {
+        (x.translation.vector - y.translation.vector).norm() < 1e-6
+            && x.rotation.angle_to(&y.rotation) < 1e-6
+    };
+    a.chain.coupling == b.chain.coupling
+        && close(&a.chain.tip, &b.chain.tip)
+        && a.chain.joints.iter().zip(&b.chain.joints).all(|(x, y)| {
+            close(&x.origin, &y.origin) && (x.axis.into_inner() - y.axis.into_inner()).norm() < 1e-6
+        })
+}
+
+/// Where a task's robot stands in the world, from the backup's MOC.cfg; a
+/// robot whose base rides on another unit (a track) is refused: its base
+/// is somewhere else at every target.
+pub fn base_frame(task: &Task) -> Result<Option<nalgebra::Isometry3<f64>>> {
+    if let Some(unit) = &task.base_moved_by {
+        return Err(Error::new(
+            ErrorKind::Unsupported,
+            format!(
+                "task {}: its robot's base frame moves with {unit} (SYSPAR/MOC.cfg, a track or a carrier): rapidtherm cannot place the arm for its targets",
+                task.label()
+            ),
+        ));
+    }
+    task.base_frame
+        .map(|(pos, rot)| crate::robot::frames::pose_from_rapid(pos, rot))
+        .transpose()
+        .map_err(|e| {
+            Error::input(format!(
+                "task {}: the base frame in SYSPAR/MOC.cfg: {}",
+                task.label(),
+                e.message
+            ))
+        })
+}

@@ -1,0 +1,294 @@
+//! The moves that reach each target, held compactly: a program of a
+//! million declared targets has a million moves by name, one use each,
+//! and an array walked by a FOR loop a million elements reached by one
+//! move. Each move is a [`Site`] (its tool, work object, instruction and
+//! routine interned as numbers); a target's uses are the sites of its own
+//! entries, merged with those reaching a whole stretch of targets (an
+//! array's elements through `arr{i}`), in program order. A [`Usage`] is
+//! made of a site when a caller asks for one.
+//!
+//! A literal of a run of moves (`MoveL [[...]], ...` the fast lane read)
+//! has no entry: its own move is its one use, read from the run when
+//! asked for.
+
+use super::{Through, Usage};
+use crate::rapid::Targets;
+use std::collections::HashMap;
+use std::ops::Range;
+use std::sync::Arc;
+
+/// Where a move is and what it moves with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Site {
+    pub through: Through,
+    /// Tool and work object as written (into [`Uses::names`]); `NONE`:
+    /// the move names none.
+    pub tool: u32,
+    pub wobj: u32,
+    pub instruction: u32,
+    pub routine: u32,
+    pub line: u32,
+    pub file: u32,
+    pub offset: usize,
+}
+
+/// No name.
+const NONE: u32 = u32::MAX;
+
+/// Every target's uses; see the module doc.
+#[derive(Clone, Default)]
+pub struct Uses<'p> {
+    names: Vec<Arc<str>>,
+    sites: Vec<Site>,
+    /// (target, site), by target, each target's in program order.
+    pairs: Vec<(usize, u32)>,
+    /// Sites reaching every target of a stretch, in program order.
+    spans: Vec<(Range<usize>, u32)>,
+    /// The program's targets, for the literals of its runs of moves.
+    lane: Option<Targets<'p>>,
+}
+
+/// Makes [`Uses`]: sites interned, entries gathered, then ordered.
+#[derive(Default)]
+pub(crate) struct UsesBuilder<'p> {
+    uses: Uses<'p>,
+    by_name: HashMap<Arc<str>, u32>,
+}
+
+impl<'p> UsesBuilder<'p> {
+    /// The uses of `targets`' literals of runs of moves are their moves.
+    pub fn new(targets: Targets<'p>) -> Self {
+        let mut b = UsesBuilder::default();
+        b.uses.lane = Some(targets);
+        b
+    }
+
+    /// The number of `name`.
+    pub fn name(&mut self, name: Option<&str>) -> u32 {
+        let Some(name) = name else { return NONE };
+        if let Some(&id) = self.by_name.get(name) {
+            return id;
+        }
+        let id = self.uses.names.len() as u32;
+        let a: Arc<str> = Arc::from(name);
+        self.uses.names.push(a.clone());
+        self.by_name.insert(a, id);
+        id
+    }
+
+    /// A site; its number.
+    pub fn site(&mut self, site: Site) -> u32 {
+        // Consecutive entries of one move share its site.
+        if let Some(last) = self.uses.sites.last() {
+            if *last == site {
+                return self.uses.sites.len() as u32 - 1;
+            }
+        }
+        self.uses.sites.push(site);
+        self.uses.sites.len() as u32 - 1
+    }
+
+    /// Target `target` reached at site `site`.
+    pub fn reach(&mut self, target: usize, site: u32) {
+        self.uses.pairs.push((target, site));
+    }
+
+    /// Every target of `targets` reached at site `site`.
+    pub fn reach_all(&mut self, targets: Range<usize>, site: u32) {
+        self.uses.spans.push((targets, site));
+    }
+
+    pub fn finish(mut self) -> Uses<'p> {
+        // By target, each in program order (the sites were made so); a use
+        // made twice (one move reaching a target twice) kept once.
+        let sites = &self.uses.sites;
+        self.uses.pairs.sort_by_key(|&(t, s)| (t, s));
+        self.uses
+            .pairs
+            .dedup_by(|a, b| a.0 == b.0 && sites[a.1 as usize] == sites[b.1 as usize]);
+        self.uses
+    }
+}
+
+/// One use of a target: a move, with what it moves.
+#[derive(Clone, Copy)]
+pub struct UseRef<'u> {
+    through: Through,
+    tool: Option<&'u str>,
+    wobj: Option<&'u str>,
+    instruction: &'u str,
+    routine: &'u str,
+    line: u32,
+    file: usize,
+    offset: usize,
+}
+
+impl<'u> UseRef<'u> {
+    pub fn through(&self) -> Through {
+        self.through
+    }
+    /// The tool as written; `None` where the move names none.
+    pub fn tool(&self) -> Option<&'u str> {
+        self.tool
+    }
+    pub fn wobj(&self) -> Option<&'u str> {
+        self.wobj
+    }
+    /// The tool's name as written (`tool0` where the move names none).
+    pub fn tool_name(&self) -> &'u str {
+        self.tool().unwrap_or("tool0")
+    }
+    pub fn wobj_name(&self) -> &'u str {
+        self.wobj().unwrap_or("wobj0")
+    }
+    pub fn file(&self) -> usize {
+        self.file
+    }
+    /// Where the move's statement starts.
+    pub fn offset(&self) -> usize {
+        self.offset
+    }
+    /// Whether two uses move with the same tool and work object (by name,
+    /// as RAPID compares names: case-insensitively).
+    pub fn same_frames(&self, other: &UseRef) -> bool {
+        self.tool_name().eq_ignore_ascii_case(other.tool_name())
+            && self.wobj_name().eq_ignore_ascii_case(other.wobj_name())
+    }
+    /// The use as a [`Usage`].
+    pub fn to_usage(&self) -> Usage {
+        Usage {
+            through: self.through,
+            tool: self.tool.map(str::to_string),
+            wobj: self.wobj.map(str::to_string),
+            instruction: self.instruction.to_string(),
+            routine: self.routine.to_string(),
+            line: self.line,
+            file: self.file,
+            offset: self.offset,
+        }
+    }
+}
+
+impl<'p> Uses<'p> {
+    fn name(&self, id: u32) -> Option<&str> {
+        (id != NONE).then(|| &*self.names[id as usize])
+    }
+
+    fn at(&self, site: u32) -> UseRef<'_> {
+        let s = &self.sites[site as usize];
+        UseRef {
+            through: s.through,
+            tool: self.name(s.tool),
+            wobj: self.name(s.wobj),
+            instruction: self.name(s.instruction).unwrap_or(""),
+            routine: self.name(s.routine).unwrap_or(""),
+            line: s.line,
+            file: s.file as usize,
+            offset: s.offset,
+        }
+    }
+
+    /// The move of target `i`, where it is a literal of a run of moves.
+    fn own_move(&self, i: usize) -> Option<UseRef<'p>> {
+        let m = self.lane?.move_of(i)?;
+        Some(UseRef {
+            through: Through::Direct,
+            tool: m.tool().map(|t| &**t),
+            wobj: m.wobj().map(|w| &**w),
+            instruction: m.instruction(),
+            routine: m.routine(),
+            line: m.line(),
+            file: m.file(),
+            offset: m.offset(),
+        })
+    }
+
+    /// The sites of target `i`, in program order.
+    fn sites_of(&self, i: usize) -> impl Iterator<Item = u32> + '_ {
+        let lo = self.pairs.partition_point(|p| p.0 < i);
+        let hi = lo + self.pairs[lo..].partition_point(|p| p.0 <= i);
+        let own = self.pairs[lo..hi].iter().map(|p| p.1);
+        let spans = self
+            .spans
+            .iter()
+            .filter(move |(r, _)| r.contains(&i))
+            .map(|s| s.1);
+        Merged {
+            a: own.peekable(),
+            b: spans.peekable(),
+        }
+    }
+
+    /// The uses of target `i`, in program order.
+    pub fn of(&self, i: usize) -> impl Iterator<Item = UseRef<'_>> + '_ {
+        self.own_move(i)
+            .into_iter()
+            .chain(self.sites_of(i).map(move |s| self.at(s)))
+    }
+
+    /// Its first use in program order: the one a target is corrected for.
+    pub fn first(&self, i: usize) -> Option<UseRef<'_>> {
+        self.of(i).next()
+    }
+
+    /// Whether any move reaches target `i`.
+    pub fn contains(&self, i: usize) -> bool {
+        self.first(i).is_some()
+    }
+
+    /// The uses of target `i` as [`Usage`]s (none: an empty list).
+    pub fn usages(&self, i: usize) -> Vec<Usage> {
+        self.of(i).map(|u| u.to_usage()).collect()
+    }
+
+    /// Whether some use of target `i` moves with another tool or work
+    /// object than its first.
+    pub fn several_frames(&self, i: usize) -> bool {
+        let mut all = self.of(i);
+        let Some(first) = all.next() else {
+            return false;
+        };
+        all.any(|u| !u.same_frames(&first))
+    }
+
+    /// The targets with an entry of their own or in a stretch, in order
+    /// (each once).
+    pub fn targets(&self) -> Vec<usize> {
+        let mut out: Vec<usize> = self.pairs.iter().map(|p| p.0).collect();
+        for (r, _) in &self.spans {
+            out.extend(r.clone());
+        }
+        for r in self.lane.iter().flat_map(|t| t.move_literals()) {
+            out.extend(r);
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// Every target's uses as [`Usage`]s, by target: the form callers that
+    /// walk few targets take.
+    pub fn to_map(&self) -> HashMap<usize, Vec<Usage>> {
+        self.targets()
+            .into_iter()
+            .map(|i| (i, self.usages(i)))
+            .collect()
+    }
+}
+
+/// Two ascending sequences of sites merged in order.
+struct Merged<A: Iterator<Item = u32>, B: Iterator<Item = u32>> {
+    a: std::iter::Peekable<A>,
+    b: std::iter::Peekable<B>,
+}
+
+impl<A: Iterator<Item = u32>, B: Iterator<Item = u32>> Iterator for Merged<A, B> {
+    type Item = u32;
+    fn next(&mut self) -> Option<u32> {
+        match (self.a.peek(), self.b.peek()) {
+            (Some(&x), Some(&y)) if y < x => self.b.next(),
+            (Some(_), _) => self.a.next(),
+            (None, _) => self.b.next(),
+        }
+    }
+}

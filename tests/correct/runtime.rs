@@ -57,7 +57,12 @@ fn running_in_steps_follows_the_heating_curves_and_stopping_cools() {
     let t = temps(&s, &x);
     for a in 0..6 {
         let curve = s.curves[a].eval(180.0);
-        assert!((t[a] - curve).abs() < 1e-9, "axis {}: {} vs {curve}", a + 1, t[a]);
+        assert!(
+            (t[a] - curve).abs() < 1e-9,
+            "axis {}: {} vs {curve}",
+            a + 1,
+            t[a]
+        );
     }
     // A night's stop: back to the cold start's temperatures.
     advance(&s, &mut x, 16.0 * 60.0, false);
@@ -89,8 +94,8 @@ fn the_drift_is_the_warm_arms_on_every_closed_form_arm() {
         }
         for _ in 0..200 {
             let q = random_q(robot, &mut rng);
-            let want = robot.fk_scaled(&q, &scales).translation.vector
-                - robot.fk(&q).translation.vector;
+            let want =
+                robot.fk_scaled(&q, &scales).translation.vector - robot.fk(&q).translation.vector;
             let got = drift_base(&s, &q.map(f64::to_degrees), &g);
             assert!(
                 (got - want).norm() < 1e-9,
@@ -119,10 +124,7 @@ fn the_first_order_correction_is_right_to_far_below_a_micrometre() {
         // What the module does: the drift at the target's nominal joints,
         // taken off the target.
         let d = drift_base(&s, &q.map(f64::to_degrees), &g);
-        let moved = Isometry3::from_parts(
-            (target.translation.vector - d).into(),
-            target.rotation,
-        );
+        let moved = Isometry3::from_parts((target.translation.vector - d).into(), target.rotation);
         let Ok(sols) = robot.ik(&moved) else { continue };
         let Some(sol) = sols.iter().find(|x| x.conf == conf) else {
             continue;
@@ -137,7 +139,10 @@ fn the_first_order_correction_is_right_to_far_below_a_micrometre() {
     // move it makes: ~1e-5 mm over most of the space, up to 0.3 µm near
     // the wrist's singularity (500 random poses at steady state), within
     // the micrometre the static correction is held to.
-    assert!(worst < 5e-4, "worst miss {worst} mm (drift up to {largest} mm)");
+    assert!(
+        worst < 5e-4,
+        "worst miss {worst} mm (drift up to {largest} mm)"
+    );
 }
 
 #[test]
@@ -156,7 +161,10 @@ fn the_module_is_read_by_the_projects_grammar() {
     assert_eq!(program.source(0), text.as_bytes());
     let m = &program.modules[0];
     assert_eq!(&*m.name, "RtWarm");
-    assert!(m.attributes.iter().any(|a| a.eq_ignore_ascii_case("SYSMODULE")));
+    assert!(m
+        .attributes
+        .iter()
+        .any(|a| a.eq_ignore_ascii_case("SYSMODULE")));
     for r in [
         "RtWarm",
         "RtWarmJ",
@@ -167,10 +175,7 @@ fn the_module_is_read_by_the_projects_grammar() {
         "RtNow",
         "RtAdvance",
     ] {
-        assert!(
-            m.routines.iter().any(|x| &*x.name == r),
-            "{r} missing"
-        );
+        assert!(m.routines.iter().any(|x| &*x.name == r), "{r} missing");
     }
     // The state is PERS, the arm's numbers CONST.
     let pers: Vec<&str> = m

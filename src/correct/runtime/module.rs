@@ -56,7 +56,10 @@ pub fn module_text(spec: &RuntimeSpec, opts: &ModuleOptions) -> String {
     };
     line(&format!("MODULE {}(SYSMODULE,NOSTEPIN)", opts.name));
     for l in [
-        format!("  ! Written by rapidtherm {} for the {}: corrects targets for the", opts.version, spec.arm),
+        format!(
+            "  ! Written by rapidtherm {} for the {}: corrects targets for the",
+            opts.version, spec.arm
+        ),
         "  ! arm's thermal drift when the program reaches them, from a heating".to_string(),
         "  ! state carried through running and stopped spans. Write it again with".to_string(),
         "  ! `rapidtherm correct --runtime`; do not edit. See docs/runtime.md.".to_string(),
@@ -78,14 +81,20 @@ pub fn module_text(spec: &RuntimeSpec, opts: &ModuleOptions) -> String {
         line(&format!("  CONST num {n} := {};", num(v)));
     }
     line(&format!("  CONST num rtSign{{6}} := {};", list(spec.signs)));
-    line(&format!("  CONST num rtOffset{{6}} := {};", list(spec.offsets_deg)));
+    line(&format!(
+        "  CONST num rtOffset{{6}} := {};",
+        list(spec.offsets_deg)
+    ));
     line("  ! Each link (base, lower arm, upper arm, wrist) grows by rtGrow (1/degC)");
     line("  ! times its temperature above rtTref, the mean of the motors marked 1.");
     line(&format!(
         "  CONST num rtGrow{{4}} := {};",
         list(spec.links.iter().map(|l| l.per_degree))
     ));
-    line(&format!("  CONST num rtLinkMotor{{4,6}} := [{}];", motors.join(",")));
+    line(&format!(
+        "  CONST num rtLinkMotor{{4,6}} := [{}];",
+        motors.join(",")
+    ));
     line(&format!("  CONST num rtTref := {};", num(spec.t_ref)));
     line("  ! Motor temperature = rtT0 + the rises of its terms; a rise tends to rtRise");
     line("  ! while the program runs and to 0 while the robot stands, with time");
@@ -97,7 +106,10 @@ pub fn module_text(spec: &RuntimeSpec, opts: &ModuleOptions) -> String {
     line(&format!("  CONST num rtRise{{6,{MAX_TERMS}}} := {rises};"));
     line(&format!("  CONST num rtTau{{6,{MAX_TERMS}}} := {taus};"));
     line("  ! Longer than this (min) between two corrections: the robot stood, and cooled.");
-    line(&format!("  CONST num rtStopGap := {};", num(spec.stop_gap_min)));
+    line(&format!(
+        "  CONST num rtStopGap := {};",
+        num(spec.stop_gap_min)
+    ));
     line("  ! The robot's base frame in the world (its rotation: a drift is a direction).");
     line(&format!(
         "  CONST orient rtBaseRot := [{},{},{},{}];",

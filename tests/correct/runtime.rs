@@ -39,8 +39,8 @@ fn the_day_number_is_the_calendars() {
 
 #[test]
 fn the_series_keeps_the_digits_exp_would_lose() {
-    for u in [1e-7, 1e-4, 0.005, 0.0099, 0.01, 0.5, 3.0, 40.0] {
-        let exact = -(-u as f64).exp_m1();
+    for u in [1e-7f64, 1e-4, 0.005, 0.0099, 0.01, 0.5, 3.0, 40.0] {
+        let exact = -(-u).exp_m1();
         assert!(((grown(u) - exact) / exact).abs() < 1e-9, "u = {u}");
     }
 }
@@ -55,20 +55,15 @@ fn running_in_steps_follows_the_heating_curves_and_stopping_cools() {
         advance(&s, &mut x, step, true);
     }
     let t = temps(&s, &x);
-    for a in 0..6 {
-        let curve = s.curves[a].eval(180.0);
-        assert!(
-            (t[a] - curve).abs() < 1e-9,
-            "axis {}: {} vs {curve}",
-            a + 1,
-            t[a]
-        );
+    for (a, (t, c)) in t.iter().zip(&s.curves).enumerate() {
+        let curve = c.eval(180.0);
+        assert!((t - curve).abs() < 1e-9, "axis {}: {t} vs {curve}", a + 1);
     }
     // A night's stop: back to the cold start's temperatures.
     advance(&s, &mut x, 16.0 * 60.0, false);
     let cold = temps(&s, &x);
-    for a in 0..6 {
-        assert!((cold[a] - s.curves[a].t0).abs() < 0.01, "axis {}", a + 1);
+    for (a, (t, c)) in cold.iter().zip(&s.curves).enumerate() {
+        assert!((t - c.t0).abs() < 0.01, "axis {}", a + 1);
     }
 }
 

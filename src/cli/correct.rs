@@ -55,6 +55,10 @@ pub enum AcceptArg {
     Unused,
     /// Targets in a work object moved by a mechanical unit.
     Coordinated,
+    /// Moves to a procedure's parameter that its calls do not settle.
+    Parameter,
+    /// Moves to targets declared in none of the files read.
+    Undeclared,
     /// Moves to a target with another tool or work object than the one it
     /// is corrected for (its first use's).
     SharedFrames,
@@ -67,6 +71,8 @@ impl From<AcceptArg> for Reason {
             AcceptArg::Expression => Reason::Expression,
             AcceptArg::Unused => Reason::Unused,
             AcceptArg::Coordinated => Reason::Coordinated,
+            AcceptArg::Parameter => Reason::Parameter,
+            AcceptArg::Undeclared => Reason::Undeclared,
             AcceptArg::SharedFrames => Reason::SharedFrames,
         }
     }

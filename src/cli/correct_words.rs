@@ -71,6 +71,14 @@ pub fn summary_text(outcome: &Outcome) -> String {
         text.push_str(&format!("; {} split", s.split));
     }
     text.push('\n');
+    // Every move instruction, by where it ends.
+    let m = &s.moves;
+    if m.moves > 0 {
+        text.push_str(&format!(
+            "{} move instruction(s): {} corrected, {} derived, {} left alone\n",
+            m.moves, m.corrected, m.derived, m.left_alone
+        ));
+    }
     for l in &outcome.left_alone {
         let level = if l.reason.leaves_target_cold() {
             "warning"

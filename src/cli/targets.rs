@@ -7,7 +7,7 @@ use rapidtherm::report::{
     render_csv, render_table, shortest, shortest_of_literal, shortest_to_4_places, write_table,
     Align, Rows,
 };
-use rapidtherm::resolve::{self, Usage};
+use rapidtherm::resolve::{self, Usage, UseRef};
 use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::pose_from_rapid;
 use rayon::prelude::*;
@@ -73,25 +73,70 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
     Ok(Status::Success)
 }
 
-/// The tool/work-object pairs a target is moved to with, as
-/// [`resolve::uses_by_frames`] groups them: in program order of each
-/// pair's first use, so the first is the one `correct` corrects it for.
-/// Names as written, `tool0`/`wobj0` where the move names none (RAPID's
-/// defaults). Empty: no move instruction reaches the target.
-fn pairs<'a>(t: &'a Target, uses: Option<&'a Vec<Usage>>) -> Vec<(&'a str, &'a str)> {
-    match uses {
-        Some(u) if !u.is_empty() => resolve::uses_by_frames(u)
-            .iter()
-            .map(|g| (g[0].tool_name(), g[0].wobj_name()))
-            .collect(),
+/// One move that reaches a target, as the listing shows it: borrowed
+/// from the program's uses, so that a million targets are listed without
+/// a copy of each use's names.
+#[derive(Clone, Copy)]
+pub(super) struct Use<'a> {
+    tool: &'a str,
+    wobj: &'a str,
+    instruction: &'a str,
+    routine: &'a str,
+    line: u32,
+}
+
+impl<'a> From<UseRef<'a>> for Use<'a> {
+    fn from(u: UseRef<'a>) -> Use<'a> {
+        Use {
+            tool: u.tool_name(),
+            wobj: u.wobj_name(),
+            instruction: u.instruction(),
+            routine: u.routine(),
+            line: u.line(),
+        }
+    }
+}
+
+impl<'a> From<&'a Usage> for Use<'a> {
+    fn from(u: &'a Usage) -> Use<'a> {
+        Use {
+            tool: u.tool_name(),
+            wobj: u.wobj_name(),
+            instruction: &u.instruction,
+            routine: &u.routine,
+            line: u.line,
+        }
+    }
+}
+
+/// The tool/work-object pairs a target is moved to with, grouped as
+/// [`resolve::uses_by_frames`] groups them (names compared as RAPID
+/// compares them): in program order of each pair's first use, so the
+/// first is the one `correct` corrects it for. Names as written,
+/// `tool0`/`wobj0` where the move names none (RAPID's defaults). Empty: no
+/// move instruction reaches the target.
+fn pairs<'a>(t: &'a Target, uses: &[Use<'a>]) -> Vec<(&'a str, &'a str)> {
+    if uses.is_empty() {
         // A derived target written in a move (`MoveL Offs(p10, ...)`):
         // its bases carry the uses, the target the move's own names.
-        _ if t.instruction.is_some() => vec![(
-            t.tool.as_deref().unwrap_or("tool0"),
-            t.wobj.as_deref().unwrap_or("wobj0"),
-        )],
-        _ => Vec::new(),
+        return match t.instruction {
+            Some(_) => vec![(
+                t.tool.as_deref().unwrap_or("tool0"),
+                t.wobj.as_deref().unwrap_or("wobj0"),
+            )],
+            None => Vec::new(),
+        };
     }
+    let mut out: Vec<(&'a str, &'a str)> = Vec::new();
+    for u in uses {
+        let same = |p: &&(&str, &str)| {
+            p.0.eq_ignore_ascii_case(u.tool) && p.1.eq_ignore_ascii_case(u.wobj)
+        };
+        if !out.iter().any(|p| same(&p)) {
+            out.push((u.tool, u.wobj));
+        }
+    }
+    out
 }
 
 /// RobotStudio's RX, RY, RZ of a target's quaternion (degrees); `None`
@@ -128,18 +173,19 @@ fn listing(
         .map(|c| {
             let mut slot = rapidtherm::rapid::targets::blank();
             let mut sink = lister.sink();
+            let mut reach: Vec<Use> = Vec::new();
             for i in c * CHUNK..((c + 1) * CHUNK).min(all.len()) {
                 let t: &Target = match all.one_by_one(i) {
                     Some(t) => t,
                     None if all.fill(i, &mut slot) => &slot,
                     None => continue,
                 };
-                let own = uses.usages(i);
-                let u = match own.is_empty() {
-                    true => derived.get(&i),
-                    false => Some(&own),
-                };
-                lister.add(&mut sink, t, u, prog.source(t.origin.file));
+                reach.clear();
+                reach.extend(uses.of(i).map(Use::from));
+                if reach.is_empty() {
+                    reach.extend(derived.get(&i).into_iter().flatten().map(Use::from));
+                }
+                lister.add(&mut sink, t, &reach, prog.source(t.origin.file));
             }
             sink
         })
@@ -235,7 +281,7 @@ impl Lister<'_> {
 
     /// The row of target `t`, reached by the moves `uses`, its numbers
     /// written in `src`.
-    pub fn add(&self, sink: &mut Sink, t: &Target, uses: Option<&Vec<Usage>>, src: &[u8]) {
+    pub fn add(&self, sink: &mut Sink, t: &Target, uses: &[Use], src: &[u8]) {
         let prog = self.prog;
         match sink {
             Sink::Table {
@@ -453,7 +499,7 @@ fn join<'a>(rows: &mut Rows, parts: impl Iterator<Item = &'a str>, sep: &str) {
 }
 
 /// The JSON object of one target.
-fn json_item(prog: &Program, t: &Target, uses: Option<&Vec<Usage>>) -> serde_json::Value {
+fn json_item(prog: &Program, t: &Target, uses: &[Use]) -> serde_json::Value {
     let v = t.value.as_ref();
     let p = pairs(t, uses);
     let first = p.first();
@@ -467,17 +513,8 @@ fn json_item(prog: &Program, t: &Target, uses: Option<&Vec<Usage>>) -> serde_jso
         })
     };
     let mut listed: Vec<serde_json::Value> = uses
-        .into_iter()
-        .flatten()
-        .map(|u| {
-            use_json(
-                u.tool_name(),
-                u.wobj_name(),
-                &u.instruction,
-                Some(u.routine.as_str()),
-                u.line,
-            )
-        })
+        .iter()
+        .map(|u| use_json(u.tool, u.wobj, u.instruction, Some(u.routine), u.line))
         .collect();
     // A derived target written in a move: that move.
     if let (true, Some(instruction), Some((tool, wobj))) =
@@ -519,10 +556,10 @@ fn json_item(prog: &Program, t: &Target, uses: Option<&Vec<Usage>>) -> serde_jso
 
 /// How many move instructions reach a target (a derived target written
 /// in a move: its own).
-fn moves(t: &Target, uses: Option<&Vec<Usage>>) -> usize {
-    match uses {
-        Some(u) if !u.is_empty() => u.len(),
-        _ => usize::from(t.instruction.is_some()),
+fn moves(t: &Target, uses: &[Use]) -> usize {
+    match uses.len() {
+        0 => usize::from(t.instruction.is_some()),
+        n => n,
     }
 }
 

@@ -4,12 +4,13 @@
 use super::derived::calls_by_offset;
 use super::expressions::Expressions;
 use super::names::Names;
-use super::options::{Options, When};
-use crate::error::Result;
+use super::options::{Options, ScheduleSource, When};
+use crate::error::{Location, Result};
 use crate::model::{States, WarmRobot};
 use crate::rapid::constants::{Constants, Site};
 use crate::rapid::{Expr, FunctionCall, Program, Target};
 use crate::resolve::dataflow::{runtime_writes, Write};
+use crate::resolve::monitoring::{Monitor, Monitoring};
 use crate::resolve::{uses, Frames, Uses};
 use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
@@ -23,7 +24,14 @@ pub(super) struct Run<'a> {
     pub options: &'a Options,
     pub frames: Frames,
     pub uses: Uses<'a>,
-    pub conf_off: bool,
+    /// Configuration monitoring at every move (`ConfL`, `ConfJ`).
+    pub monitoring: Monitoring,
+    /// The targets no move of which runs with configuration monitoring
+    /// on for certain, by (file, byte offset) of the target: `Off` where
+    /// every move runs with it off (the controller does not hold them to
+    /// their robconf), `Unsettled` where the walk cannot tell for some
+    /// (held, and said so).
+    pub unmonitored: HashMap<(usize, usize), Monitor>,
     /// Robtarget and jointtarget variables the run writes, by lower-case
     /// name.
     pub writes: HashMap<String, Write>,
@@ -48,6 +56,17 @@ impl<'a> Run<'a> {
         if let When::At(m) = options.when {
             let _ = states.remember(m);
         }
+        let uses = uses(program);
+        let entry = match &options.when {
+            When::Schedule {
+                source: ScheduleSource::Estimate(request),
+                ..
+            } => request.entry.as_str(),
+            _ => "main",
+        };
+        let monitoring = Monitoring::of(program, entry);
+        let unmonitored = unmonitored_targets(program, &uses, &monitoring);
+        let run_notes = unsettled_note(program, &monitoring, entry);
         Ok(Run {
             program,
             warm,
@@ -57,13 +76,14 @@ impl<'a> Run<'a> {
                 Some(base) => Frames::of_program(program)?.placed(base),
                 None => Frames::of_program(program)?,
             },
-            uses: uses(program),
-            conf_off: configuration_monitoring_off(program),
+            uses,
+            monitoring,
+            unmonitored,
             writes: runtime_writes(program),
             constants: Constants::of(program),
             calls: calls_by_offset(program),
             expressions: Expressions::of(program),
-            notes: Mutex::new(Vec::new()),
+            notes: Mutex::new(run_notes),
             names: OnceLock::new(),
         })
     }
@@ -99,22 +119,59 @@ impl<'a> Run<'a> {
     }
 }
 
-/// Whether the program switches configuration monitoring off
-/// (`ConfL \Off`, `ConfJ \Off`): then the controller does not hold targets
-/// to their robconf.
-pub(super) fn configuration_monitoring_off(program: &Program) -> bool {
-    let mut off = false;
-    for module in &program.modules {
-        for routine in &module.routines {
-            crate::resolve::walk_calls(&routine.body, &mut |call, _| {
-                let name = call.name.as_ref();
-                if (name.eq_ignore_ascii_case("ConfL") || name.eq_ignore_ascii_case("ConfJ"))
-                    && call.optional("Off").is_some()
-                {
-                    off = true;
-                }
+/// The targets every move of which runs with configuration monitoring
+/// off (none where nothing switches it off).
+fn unmonitored_targets(
+    program: &Program,
+    uses: &Uses,
+    monitoring: &Monitoring,
+) -> HashMap<(usize, usize), Monitor> {
+    let mut out = HashMap::new();
+    if !monitoring.ever_off() {
+        return out;
+    }
+    for (i, target) in program.targets().iter().enumerate() {
+        // One move with monitoring on holds the robconf: the target is
+        // monitored whatever its other moves do.
+        let mut held: Option<Monitor> = None;
+        for u in uses.of(i) {
+            let m = monitoring
+                .at(u.file(), u.offset(), u.instruction())
+                .unwrap_or(Monitor::On);
+            held = Some(match (held, m) {
+                (_, Monitor::On) | (Some(Monitor::On), _) => Monitor::On,
+                (Some(Monitor::Unsettled), _) | (_, Monitor::Unsettled) => Monitor::Unsettled,
+                _ => Monitor::Off,
             });
         }
+        if let Some(m @ (Monitor::Off | Monitor::Unsettled)) = held {
+            out.insert((target.origin.file, target.origin.pos.offset), m);
+        }
     }
-    off
+    out
+}
+
+/// The note of a run where the walk cannot settle configuration
+/// monitoring at some moves: they are taken as monitored.
+fn unsettled_note(
+    program: &Program,
+    monitoring: &Monitoring,
+    entry: &str,
+) -> Vec<((usize, usize), String)> {
+    let unsettled = monitoring.unsettled(program);
+    let Some((file, offset, instruction)) = unsettled.first() else {
+        return Vec::new();
+    };
+    let at = Location::from_offset(&program.files[*file], program.source(*file), *offset);
+    let more = match unsettled.len() - 1 {
+        0 => String::new(),
+        n => format!(" and {n} more move(s)"),
+    };
+    vec![(
+        (*file, *offset),
+        format!(
+            "configuration monitoring at {instruction} ({} line {}){more} cannot be settled by a walk from {entry}: ConfL/ConfJ \\Off is in effect on some paths to it only, so it is taken as on (the robconf is held)",
+            at.file, at.line
+        ),
+    )]
 }

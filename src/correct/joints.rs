@@ -2,9 +2,14 @@
 //! with the joints nearest the ones written.
 //!
 //! Rules:
-//! - The warm joints are the solution in the written joints' configuration,
-//!   each axis taken within ±180° of its written value (the controller
-//!   moves the axes, it does not wrap them).
+//! - A jointtarget has no robconf: its joints are the truth. The warm
+//!   joints are the warm solution nearest the written ones, each axis
+//!   taken within ±180° of its written value (the controller moves the
+//!   axes, it does not wrap them), whatever configuration that solution
+//!   has: a warm axis 6 crossing 90°, or an elbow bending off a stretched
+//!   arm, is no reason to refuse.
+//! - Refused only where an axis lies beyond the arm's limits (as written,
+//!   or in the warm solution), naming the axis, its value and the limit.
 //! - At a wrist singularity (axis 5 written as 0) axes 4 and 6 turn about
 //!   one line and only their sum is fixed by the pose: any split is "the
 //!   same pose", but the arm would turn them by up to 180° differently.
@@ -18,13 +23,12 @@ use super::context::Run;
 use super::moments::{joint_moments_of, minute_of, pick};
 use super::outcome::{Correction, Frame, Kind, LeftAlone, Reason, Residual};
 use crate::error::{Error, ErrorKind, Result, Subject};
-use crate::model::warm::pose_error;
+use crate::model::warm::{pose_error, wrap_near};
 use crate::model::State;
 use crate::rapid::rewrite::jointtarget_edits;
 use crate::rapid::{JointTarget, Storage};
-use crate::robot::Joints;
+use crate::robot::{degrees_text, Joints, Violation};
 use nalgebra::{Isometry3, Matrix6x5, Vector5, Vector6};
-use std::f64::consts::TAU;
 
 /// RAPID's "no value" for an axis: `9E+09`, as the controller keeps it in
 /// single precision (a relative step of 6e-8), so within a millionth.
@@ -119,33 +123,52 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
         }
     }
     let q: Joints = degrees.map(f64::to_radians);
-    let flange = warm.nominal.fk(&q);
-    let conf = warm.nominal.conf_of(&q);
+    let nominal = &warm.nominal;
+    // Written beyond a limit, the controller refuses the move itself: its
+    // joints are the truth, so no other configuration stands in for it.
+    if let Some(v) = nominal.outside_limits(&q).first() {
+        return Err(located(beyond_limit(&nominal.name, v, "")));
+    }
+    let flange = nominal.fk(&q);
     let moments = joint_moments_of(&options.when, &jt.id).map_err(located)?;
     let moment = pick(&moments, options.visit);
     let state = states.at(moment).map_err(located)?;
-    let mut q_warm = warm.joints_for(&flange, &conf, &state).map_err(located)?;
-    for (w, o) in q_warm.iter_mut().zip(&q) {
-        *w += TAU * ((o - *w) / TAU).round();
+    let singular = degrees[4].abs() < SINGULAR_DEG;
+    let mut q_warm = warm
+        .joints_near(&flange, &q, singular, &state)
+        .map_err(located)?;
+    if singular {
+        q_warm = keep_axis_4(run, &flange, &q, &q_warm, &state);
     }
     let mut residual = None;
-    if degrees[4].abs() < SINGULAR_DEG {
-        q_warm = keep_axis_4(run, &flange, &q, &q_warm, &state);
-        let r = pose_error(&flange, &warm.flange(&q_warm, &state));
-        let (position_mm, angle_deg) = (
-            r.fixed_rows::<3>(0).norm(),
-            r.fixed_rows::<3>(3).norm().to_degrees(),
-        );
-        if position_mm > 1e-6 || angle_deg > 1e-6 {
-            residual = Some(Residual {
-                id: jt.id.clone(),
-                file: location.file.clone(),
-                line: jt.origin.pos.line,
-                position_mm,
-                angle_deg,
-                rule: "wrist singular (axis 5 at 0): axis 4 kept as written".to_string(),
-            });
-        }
+    let r = pose_error(&flange, &warm.flange(&q_warm, &state));
+    let (position_mm, angle_deg) = (
+        r.fixed_rows::<3>(0).norm(),
+        r.fixed_rows::<3>(3).norm().to_degrees(),
+    );
+    if position_mm > 1e-6 || angle_deg > 1e-6 {
+        let rule = if singular {
+            "wrist singular (axis 5 at 0): axis 4 kept as written"
+        } else {
+            "the warm model's joints nearest the written ones reach no nearer"
+        };
+        residual = Some(Residual {
+            id: jt.id.clone(),
+            file: location.file.clone(),
+            line: jt.origin.pos.line,
+            position_mm,
+            angle_deg,
+            rule: rule.to_string(),
+        });
+    }
+    // The warm arm needs an axis past its limit: the one refusal a
+    // jointtarget can meet (no configuration boundary is one).
+    if let Some(v) = nominal.outside_limits(&q_warm).first() {
+        return Err(located(beyond_limit(
+            &nominal.name,
+            v,
+            " on the warm robot (written within its limits)",
+        )));
     }
     if q_warm.iter().any(|x| !x.is_finite()) {
         return Err(located(Error::new(
@@ -272,7 +295,25 @@ fn weighted(r: &Vector6<f64>) -> Vector6<f64> {
     w
 }
 
-/// `a` plus whole turns, within half a turn of `near`.
-fn wrap_near(a: f64, near: f64) -> f64 {
-    a + TAU * ((near - a) / TAU).round()
+/// The refusal of a jointtarget whose axis lies past a limit: "axis 3 at
+/// 54.5° beyond the IRB 140's +50°", the limit passed named with its sign.
+fn beyond_limit(arm: &str, v: &Violation, whose: &str) -> Error {
+    let (axis, q, (lo, hi)) = *v;
+    let limit = if q > hi { hi } else { lo };
+    Error::new(
+        ErrorKind::Unreachable,
+        format!(
+            "axis {} at {}°{whose} beyond the {arm}'s {}{}°",
+            axis + 1,
+            degrees_text(q),
+            if limit >= 0.0 { "+" } else { "" },
+            degrees_text(limit),
+        ),
+    )
+    .with_note(format!(
+        "the {arm}'s axis {} turns from {}° to +{}°; a jointtarget's joints are what the controller moves to, so no other configuration stands in for them",
+        axis + 1,
+        degrees_text(lo),
+        degrees_text(hi)
+    ))
 }

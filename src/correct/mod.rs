@@ -32,6 +32,7 @@ mod context;
 pub mod derived;
 mod edits;
 mod expressions;
+mod fate;
 pub mod job;
 mod joints;
 pub mod marker;
@@ -52,9 +53,9 @@ mod target;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
-    Correction, Derived, Frame, FramesUse, Kind, LeftAlone, Outcome, Reason, Residual, SharedUse,
-    Split, Summary,
+    Correction, Derived, Fate, Frame, FramesUse, Kind, LeftAlone, MoveCounts, MoveFate, Outcome,
+    Reason, Residual, SharedUse, Split, Summary,
 };
 
-pub use options::{Options, Untrusted, When};
+pub use options::{Options, ScheduleSource, Untrusted, When, ESTIMATE_ENCODING};
 pub use program::{correct, correct_into, Corrected, Keep};

@@ -4,7 +4,7 @@
 
 use crate::digest::Encoder;
 use crate::model::Moment;
-use crate::schedule::{Schedule, Visit, SCHEDULE_ENCODING};
+use crate::schedule::{EstimateOptions, Schedule, Visit, SCHEDULE_ENCODING};
 
 /// When the targets are reached.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,12 +19,26 @@ pub enum When {
         /// their own name space); `None`: looked up in `schedule`.
         joints: Option<Schedule>,
         default: Option<Moment>,
-        /// The schedules were made by walking the program being
-        /// corrected (the estimate of `--start`): they name only its
-        /// targets, and are not checked against them again (a check of a
-        /// million names, a tenth of such a run). A schedule file is.
-        of_program: bool,
+        /// Where the schedules come from: a file, or the estimate of the
+        /// program being corrected.
+        source: ScheduleSource,
     },
+}
+
+/// Where a run's schedule comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ScheduleSource {
+    /// The user's schedule file: it is checked against the program's
+    /// targets, and the marker records the schedule itself.
+    File,
+    /// The estimate of `--start`, made by walking the program being
+    /// corrected with these options: it names only the program's
+    /// targets, so it is not checked against them again (a check of a
+    /// million names, a tenth of such a run). The marker records the
+    /// request, not the times: walked again on the corrected program the
+    /// times differ by the corrections' microseconds, and a second run
+    /// must still recognise its own output.
+    Estimate(Box<EstimateOptions>),
 }
 
 /// How one run corrects.
@@ -90,12 +104,62 @@ impl When {
             When::At(Moment::Minute(t)) => format!("minute {t}"),
             When::At(Moment::Steady) => "steady state".to_string(),
             When::Schedule {
+                source: ScheduleSource::Estimate(request),
+                default,
+                ..
+            } => estimate_basis(request, default),
+            When::Schedule {
                 schedule,
                 joints,
                 default,
                 ..
             } => schedule_basis(|e| schedule.encode(e), joints, default),
         }
+    }
+}
+
+/// [`When::basis`] of an estimate, `estimate v1 sha256:…`: the
+/// fingerprint of the request's byte encoding, version 1 (tag
+/// [`ESTIMATE_ENCODING`] and a zero byte; the start minute's f64 bits;
+/// the entry routine in lower case as a text; the cycles (u32); the base
+/// frame: a byte 0 for none, else 1 and its translation x, y, z (mm) and
+/// quaternion w, x, y, z as f64 bits; the default moment as in
+/// [`schedule_basis`]). The program's own bytes are not in it: the
+/// marker's cold fingerprint holds them. Documented in `docs/correct.md`;
+/// `tests/correct/marker.rs` pins it.
+pub(crate) fn estimate_basis(request: &EstimateOptions, default: &Option<Moment>) -> String {
+    let mut e = Encoder::new(ESTIMATE_ENCODING);
+    e.f64(request.start_min);
+    e.text(&request.entry.to_lowercase());
+    e.u32(request.cycles);
+    match &request.base_frame {
+        None => e.u8(0),
+        Some(base) => {
+            e.u8(1);
+            let t = base.translation.vector;
+            let q = base.rotation.quaternion();
+            for v in [t.x, t.y, t.z, q.w, q.i, q.j, q.k] {
+                e.f64(v);
+            }
+        }
+    }
+    encode_default(&mut e, default);
+    format!("estimate v1 {}", e.finish())
+}
+
+/// The name and version of [`estimate_basis`]'s encoding.
+pub const ESTIMATE_ENCODING: &str = "rapidtherm estimate 1";
+
+/// A default moment: a byte 0 for none, 1 and the minute's f64 bits, or
+/// 2 for the steady state.
+fn encode_default(e: &mut Encoder, default: &Option<Moment>) {
+    match default {
+        None => e.u8(0),
+        Some(Moment::Minute(t)) => {
+            e.u8(1);
+            e.f64(*t);
+        }
+        Some(Moment::Steady) => e.u8(2),
     }
 }
 
@@ -123,13 +187,6 @@ pub(crate) fn schedule_basis(
             j.encode(&mut e);
         }
     }
-    match default {
-        None => e.u8(0),
-        Some(Moment::Minute(t)) => {
-            e.u8(1);
-            e.f64(*t);
-        }
-        Some(Moment::Steady) => e.u8(2),
-    }
+    encode_default(&mut e, default);
     format!("schedule v1 {}", e.finish())
 }

@@ -86,6 +86,11 @@ pub enum Kind {
     Expression,
     #[serde(rename = "jointtarget")]
     JointTarget,
+    /// A move's target argument that reaches no target of the files read
+    /// (a parameter, a variable filled at run time, a name declared
+    /// elsewhere): reported by the move's place.
+    #[serde(rename = "argument")]
+    Argument,
 }
 
 impl Kind {
@@ -100,6 +105,7 @@ impl Kind {
             Kind::Derived => "derived",
             Kind::Expression => "expression",
             Kind::JointTarget => "jointtarget",
+            Kind::Argument => "argument",
         }
     }
 
@@ -121,7 +127,7 @@ impl Kind {
 
     /// Whether the target is a robtarget (not a jointtarget).
     pub fn is_robtarget(self) -> bool {
-        self != Kind::JointTarget
+        !matches!(self, Kind::JointTarget | Kind::Argument)
     }
 }
 
@@ -175,6 +181,13 @@ pub enum Reason {
     /// A jointtarget without robot axes (all `9E+09`): a positioner's or
     /// an external axis's, nothing of the arm to correct.
     NoRobotAxes,
+    /// A move's target argument is a parameter of its procedure that the
+    /// calls do not settle (one passes a literal, a function's result, or
+    /// no call passes anything the files read declare).
+    Parameter,
+    /// A move's target is declared in none of the files read (another
+    /// module of the task).
+    Undeclared,
     /// Not a target left alone but one use of a corrected target: moved to
     /// with another tool or work object than the one it is corrected for
     /// (its first use's), so at this use it is not right warm.
@@ -190,6 +203,8 @@ impl Reason {
             Reason::Unused => "unused",
             Reason::Coordinated => "coordinated",
             Reason::NoRobotAxes => "no-robot-axes",
+            Reason::Parameter => "parameter",
+            Reason::Undeclared => "undeclared",
             Reason::SharedFrames => "shared-frames",
         }
     }
@@ -346,12 +361,17 @@ pub struct Summary {
     pub shared: usize,
     /// Copies written for targets split by tool and work object.
     pub split: usize,
+    /// The program's move instructions by where they end.
+    pub moves: MoveCounts,
 }
 
 /// The outcome of correcting a program: the per-target report and the new
 /// bytes of each file.
 #[derive(Debug, Clone, Serialize)]
 pub struct Outcome {
+    /// Every move instruction of the program and where it ends (kept
+    /// where the run keeps its rows).
+    pub moves: Vec<MoveFate>,
     pub corrections: Vec<Correction>,
     pub derived: Vec<Derived>,
     pub left_alone: Vec<LeftAlone>,
@@ -413,5 +433,87 @@ pub(super) fn leave(
         reason,
         detail: detail.into(),
         world_mm: None,
+    }
+}
+
+/// What became of one move instruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(tag = "fate", content = "reason", rename_all = "kebab-case")]
+pub enum Fate {
+    /// Its target is corrected (for this move's tool and work object, or
+    /// it is one of the target's other uses, reported as such).
+    Corrected,
+    /// Its target is derived from corrected targets at run time (Offs,
+    /// RelTool, a variable assigned from them): their corrections carry it.
+    Derived,
+    /// Its target is left as written, for this reason.
+    LeftAlone(Reason),
+    /// The run is refused over it: its error names the place, and nothing
+    /// is written. A refused run has no report, so no row carries this;
+    /// it completes the rule.
+    Refused,
+}
+
+impl Fate {
+    /// The fate's name in reports.
+    pub fn code(self) -> &'static str {
+        match self {
+            Fate::Corrected => "corrected",
+            Fate::Derived => "derived",
+            Fate::LeftAlone(_) => "left-alone",
+            Fate::Refused => "refused",
+        }
+    }
+
+    /// The worse of two fates: a move is only as right as its worst
+    /// target.
+    pub(super) fn worst(self, other: Fate) -> Fate {
+        let rank = |f: Fate| match f {
+            Fate::Corrected => 0,
+            Fate::Derived => 1,
+            Fate::LeftAlone(_) => 2,
+            Fate::Refused => 3,
+        };
+        if rank(other) > rank(self) {
+            other
+        } else {
+            self
+        }
+    }
+}
+
+/// One move instruction and its fate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MoveFate {
+    pub instruction: String,
+    pub file: String,
+    pub line: u32,
+    pub col: u32,
+    pub routine: String,
+    /// Its target argument as written (a name, a target's identifier, a
+    /// function call); the CirPoint first for circular moves.
+    pub target: String,
+    #[serde(flatten)]
+    pub fate: Fate,
+}
+
+/// How many move instructions ended in each place.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct MoveCounts {
+    pub moves: usize,
+    pub corrected: usize,
+    pub derived: usize,
+    pub left_alone: usize,
+}
+
+impl MoveCounts {
+    pub(super) fn add(&mut self, fate: Fate) {
+        self.moves += 1;
+        match fate {
+            Fate::Corrected => self.corrected += 1,
+            Fate::Derived => self.derived += 1,
+            Fate::LeftAlone(_) => self.left_alone += 1,
+            Fate::Refused => {}
+        }
     }
 }

@@ -38,9 +38,6 @@ pub(super) struct Tallied {
     pub norm: f64,
     pub drift: f64,
     pub rewritten: bool,
-    /// A robtarget (not a jointtarget): its correction counts in the
-    /// summary's largest and RMS correction.
-    pub robtarget: bool,
 }
 
 /// One chunk done.
@@ -161,7 +158,6 @@ impl Pass<'_, '_> {
                         norm: (new - found.pose.translation.vector).norm(),
                         drift: n.drift.norm(),
                         rewritten,
-                        robtarget: true,
                     });
                     if self.keep_rows || self.bases.contains(&i) {
                         let mut r = row(
@@ -201,7 +197,6 @@ pub(super) fn tallied(r: &Correction) -> Tallied {
         norm: r.correction_norm_mm,
         drift: r.drift_norm_mm,
         rewritten: r.rewritten,
-        robtarget: r.kind.is_robtarget(),
     }
 }
 

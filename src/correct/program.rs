@@ -12,13 +12,13 @@
 use super::context::Run;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
-use super::options::{Options, Untrusted, When};
+use super::options::{Options, ScheduleSource, Untrusted, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
 use super::pass::{tallied, Done, Pass, Tallied};
 use super::progress::Progress;
 use super::splice::{write_error, Splice};
 use super::target::{correct_robtarget, with_others, Solved};
-use super::{derived, expressions, marker, shared};
+use super::{derived, expressions, fate, marker, shared};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::WarmRobot;
 use crate::rapid::numprint::NumberPrint;
@@ -129,7 +129,7 @@ fn correct_all(
     if let When::Schedule {
         schedule,
         joints,
-        of_program: false,
+        source: ScheduleSource::File,
         ..
     } = &options.when
     {
@@ -242,17 +242,32 @@ fn correct_all(
         // Only the derived targets' bases were kept, for their residuals.
         corrections.clear();
     }
+    let by_index = fate::left_by_index(&found.left);
     let mut left_alone: Vec<LeftAlone> = found.left.into_iter().map(|(_, l)| l).collect();
     left_alone.extend(joints.left);
     left_alone.extend(expressions::jointtarget_expressions(program));
-    let summary = summary(
+    // Every move instruction accounted for: its fate read from its
+    // targets', and a row for each argument that reaches none.
+    let (moves, move_counts, unread) = fate::fates(
+        program,
+        &fate::Decided {
+            robtargets: &by_index,
+            others: &left_alone,
+            frames: &run.frames,
+        },
+        keep == Keep::Rows,
+    );
+    left_alone.extend(unread);
+    let mut summary = summary(
         &tally,
         derived.len(),
         left_alone.len(),
         (early.lines.len(), early.splits.len()),
     );
+    summary.moves = move_counts;
     Ok(Corrected {
         outcome: Outcome {
+            moves,
             corrections,
             derived,
             left_alone,
@@ -636,20 +651,20 @@ fn derived_bases(run: &Run) -> HashSet<usize> {
 }
 
 /// The summary of the corrections tallied (in the report's order), and
-/// the counts of the rest.
+/// the counts of the rest. Every row counts in the largest and RMS
+/// correction: a jointtarget's at the flange, as its row shows it.
 fn summary(
     tally: &[Tallied],
     derived: usize,
     left_alone: usize,
     (shared, split): (usize, usize),
 ) -> Summary {
-    let robtargets: Vec<&Tallied> = tally.iter().filter(|t| t.robtarget).collect();
-    let n = robtargets.len();
-    let sum_sq: f64 = robtargets.iter().map(|t| t.norm.powi(2)).sum();
+    let n = tally.len();
+    let sum_sq: f64 = tally.iter().map(|t| t.norm.powi(2)).sum();
     Summary {
         corrected: tally.len(),
         rewritten: tally.iter().filter(|t| t.rewritten).count(),
-        max_mm: robtargets.iter().map(|t| t.norm).fold(0.0, f64::max),
+        max_mm: tally.iter().map(|t| t.norm).fold(0.0, f64::max),
         rms_mm: if n > 0 {
             (sum_sq / n as f64).sqrt()
         } else {
@@ -660,6 +675,7 @@ fn summary(
         left_alone,
         shared,
         split,
+        moves: super::outcome::MoveCounts::default(),
     }
 }
 
@@ -693,6 +709,7 @@ fn already_corrected(program: &Program, found: &marker::Found, options: &Options
         }
     }
     Outcome {
+        moves: Vec::new(),
         corrections: Vec::new(),
         derived: Vec::new(),
         left_alone: Vec::new(),

@@ -33,6 +33,7 @@ use super::solve::{at_target, corrected, nearest_solution, prefix, Meant};
 use crate::error::{ErrorKind, Result};
 use crate::rapid::rewrite::{apply_edits, statement_words, Edit};
 use crate::rapid::{Expr, Program, Storage, Target, TargetKind};
+use crate::resolve::monitoring::Monitor;
 use crate::resolve::{frames_named, uses_by_frames, Through, Usage};
 use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use nalgebra::Isometry3;
@@ -197,7 +198,10 @@ fn landed(
         Ok(q) => q,
         // As the correction does: with configuration monitoring off the
         // controller takes the nearest solution.
-        Err(e) if run.conf_off && e.kind == ErrorKind::Unreachable => {
+        Err(e)
+            if run.monitoring.at(u.file, u.offset, &u.instruction) == Some(Monitor::Off)
+                && e.kind == ErrorKind::Unreachable =>
+        {
             match nearest_solution(warm, &flange, &meant.conf) {
                 Some(q) => q,
                 None => return Err(at_target(program, target, prefix_use(e, u))),

@@ -11,6 +11,7 @@ use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::model::{Moment, State, WarmRobot};
 use crate::rapid::rewrite::{robtarget_edits, Edit};
 use crate::rapid::{Program, Target, TargetKind};
+use crate::resolve::monitoring::Monitor;
 use crate::resolve::{frames_for, target_pose};
 use crate::robot::conf::{quadrant_distance, RobConf};
 use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
@@ -278,12 +279,22 @@ pub(super) fn solve(
     state: &State,
     moment: Moment,
 ) -> Result<Solution> {
-    let Run {
-        program,
-        warm,
-        conf_off,
-        ..
-    } = run;
+    let Run { program, warm, .. } = run;
+    let held = run
+        .unmonitored
+        .get(&(target.origin.file, target.origin.pos.offset))
+        .copied();
+    let conf_off = held == Some(Monitor::Off);
+    // Where the walk cannot tell, the refusal says that it took
+    // monitoring as on.
+    let prefix = |e: Error, context: &str| {
+        let e = prefix(e, context);
+        if held == Some(Monitor::Unsettled) {
+            e.with_note("configuration monitoring at its move cannot be settled (ConfL/ConfJ \\Off is in effect on some paths to it only): taken as on, so its robconf is held")
+        } else {
+            e
+        }
+    };
     let flange = match flange_of_target(pose, tool, wobj) {
         Ok(f) => f,
         Err(e) => return Err(at_target(program, target, e)),
@@ -294,12 +305,12 @@ pub(super) fn solve(
         // solution nearest the robot's current one and ignores the
         // robconf; the nearest-quadrant solution stands for it, and a
         // correction of tenths of a millimetre keeps that branch.
-        Err(e) if *conf_off && e.kind == ErrorKind::Unreachable => {
+        Err(e) if conf_off && e.kind == ErrorKind::Unreachable => {
             match nearest_solution(warm, &flange, conf) {
                 Some(q) => {
                     let nearest = warm.nominal.conf_of(&q);
                     let note = format!(
-                        "target {} (line {}): robconf {conf} matches no solution; configuration monitoring is off (ConfL/ConfJ \\Off), so it is corrected on the nearest configuration {nearest}",
+                        "target {} (line {}): robconf {conf} matches no solution; configuration monitoring is off at every move to it (ConfL/ConfJ \\Off), so it is corrected on the nearest configuration {nearest}",
                         target.id, target.origin.pos.line
                     );
                     run.note((target.origin.file, target.origin.pos.offset), note);

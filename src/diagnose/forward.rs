@@ -398,7 +398,26 @@ pub fn forward(
     let fit = if selected.is_empty() {
         None
     } else {
-        Some(fit::fit_plausible(problem, &all, &selected).map_err(|e| {
+        // From the selection's own converged fit (remembered from the
+        // backward pass), else from the last fit the forward pass made.
+        let converged = fit::fit(problem, &all, &selected).ok();
+        let start = converged
+            .as_ref()
+            .or(current_fit.as_ref())
+            .map(|f| f.effects.clone());
+        let reported = match &start {
+            Some(s) => fit::fit_plausible_from(problem, &all, &selected, s),
+            None => fit::fit_plausible(problem, &all, &selected),
+        };
+        // Where the reported fit creeps on without converging, the
+        // selection's converged fit with its implausible values held.
+        let reported = match (reported, &converged) {
+            (Err(e), Some(c)) if e.kind == ErrorKind::NoConvergence => {
+                Ok(fit::held_implausible(problem, &all, c))
+            }
+            (r, _) => r,
+        };
+        Some(reported.map_err(|e| {
             if e.kind == ErrorKind::NoConvergence {
                 Error::new(
                     ErrorKind::NoConvergence,
@@ -436,6 +455,23 @@ pub fn forward(
 }
 
 impl Forward {
+    /// Nothing selected on `problem`: its residual as the model in use
+    /// leaves it.
+    pub fn empty(problem: &Problem) -> Forward {
+        let all: Vec<usize> = (0..problem.rows.len()).collect();
+        Forward {
+            selected: Vec::new(),
+            cv0: f64::NAN,
+            cv: f64::NAN,
+            fit: None,
+            rss0: problem.residuals(&[], &all).norm_squared(),
+            free0: 0,
+            steps: Vec::new(),
+            candidates: Vec::new(),
+            ambiguities: Vec::new(),
+        }
+    }
+
     /// The fitted effects of the selected kinds (the base left out).
     pub fn effects(&self) -> Vec<crate::model::Effect> {
         self.fit

@@ -6,6 +6,7 @@ use super::detect;
 use super::fit::{self, Problem};
 use super::forward::{forward, params_out, Forward, Joint, TestNoise};
 use super::gap::{gap_stats, noise_level, orientation_weight, Noise, NoiseSource};
+use super::joint_signature::{self, JointSignature};
 use super::knock;
 use super::locate::{self, Where};
 use super::prepare::Prepared;
@@ -154,10 +155,18 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         static_judged,
         static_held_out,
     };
-    let (stages, final_problem, parts, knock, quadratic) = if repeats_over_time(problem) {
-        let (stages, held, first, knock, quadratic) =
+    let (stages, final_problem, parts, knock, quadratic, joint_sig) = if repeats_over_time(problem)
+    {
+        let (stages, held, first, knock, quadratic, joint_sig) =
             two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
-        (stages, held, [first, Part::Static], knock, quadratic)
+        (
+            stages,
+            held,
+            [first, Part::Static],
+            knock,
+            quadratic,
+            joint_sig,
+        )
     } else {
         let one = ctx.select(problem, &[], &pool, static_held_out, None)?;
         let (rss, free) = one.rss();
@@ -178,6 +187,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             }],
             problem.clone(),
             [Part::All, Part::All],
+            None,
             None,
             None,
         )
@@ -309,6 +319,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         where_after,
         left_over_time: time_left,
         quadratic_growth: quadratic,
+        joint_signature: joint_sig,
         detection_limits,
         registration: prepared.registration.clone(),
         stages: stages
@@ -469,6 +480,7 @@ type Staged = (
     Part,
     Option<locate::Step>,
     Option<QuadraticGrowth>,
+    Option<JointSignature>,
 );
 
 /// A knock as a step between the measurement times around it.
@@ -561,16 +573,28 @@ fn two_stages(
     // A step of the whole robot (a knock, a loosened foot) is no effect of
     // the library: where what the thermal effects leave over time holds a
     // significant one, it is removed from the data (every row after it
-    // shifted back) and the thermal effects are selected again, so that
-    // neither a thermal effect that half-followed it nor, later, a static
-    // one that took up its mean is named.
-    // The step and the thermal effects are found in turn (each given the
-    // other, as a joint fit would), a few rounds at most.
+    // shifted back) and the thermal effects are selected on what is left,
+    // so that neither a thermal effect that half-follows it nor, later, a
+    // static one that takes up its mean is named. Once a step shows, it is
+    // taken whole, as the change over time alone shows it, before the
+    // thermal effects are selected again: the step found beyond a mount
+    // drift or a scaled expansion is only what they left of it, and the
+    // data corrected by that part still held a step for them to follow.
+    // The step and the thermal effects are then found in turn (each given
+    // the other, as a joint fit would), a few rounds at most; where the
+    // thermal effects found explain the change without a step, the data go
+    // back as measured.
     let original = centred.clone();
+    let as_measured = thermal.clone();
+    if significant_step(&original, &thermal, &ctx.noise).is_some() {
+        thermal = Forward::empty(&original);
+    }
     let mut knocked = None;
     for _ in 0..3 {
         let Some(k) = significant_step(&original, &thermal, &ctx.noise) else {
-            if knocked.take().is_some() {
+            if knocked.is_none() {
+                thermal = as_measured;
+            } else if knocked.take().is_some() {
                 // The thermal effects found on the corrected data explain
                 // the change without a step: back to the data as measured.
                 problem = ctx.problem.clone();
@@ -668,23 +692,26 @@ fn two_stages(
     // cannot be told from the arm's own geometry: it would only take up
     // part of that geometry. Said, not named.
     let mut ambiguous_sag = None;
-    if !ctx.static_judged && statics.selected.contains(&EffectKind::GravitySag) {
-        let without: Vec<EffectKind> = static_pool
-            .iter()
-            .copied()
-            .filter(|k| *k != EffectKind::GravitySag)
-            .collect();
-        let sag_cv = statics.cv;
-        statics = ctx.select(
-            &held,
+    let without_sag: Vec<EffectKind> = static_pool
+        .iter()
+        .copied()
+        .filter(|k| *k != EffectKind::GravitySag)
+        .collect();
+    let select_without_sag = |held: &Problem| {
+        ctx.select(
+            held,
             &[],
-            &without,
+            &without_sag,
             ctx.static_held_out,
             Some(Joint {
                 problem: &problem,
                 kinds: &thermal.selected,
             }),
-        )?;
+        )
+    };
+    if !ctx.static_judged && statics.selected.contains(&EffectKind::GravitySag) {
+        let sag_cv = statics.cv;
+        statics = select_without_sag(&held)?;
         ambiguous_sag = Some(Ambiguity {
             pair: ["geometry-offset".into(), "gravity-sag".into()],
             correlation: None,
@@ -695,6 +722,24 @@ fn two_stages(
         });
     }
     statics.ambiguities.extend(ambiguous_sag);
+    // A joint's own error the library lacks (a cyclic error of its angle,
+    // backlash), tested beyond the full calibration where the poses allow
+    // one: the omnibus lack-of-fit test spreads its power over every
+    // direction the calibration leaves, and a calibration from 12-20 poses
+    // takes up most of such an error. Gravity sag that adds nothing beyond
+    // the calibration and the signature only stood in for it.
+    let joint_sig = if ctx.static_judged {
+        joint_signature::find(&held, &statics.selected, &ctx.noise)
+    } else {
+        None
+    };
+    if joint_sig
+        .as_ref()
+        .and_then(|s| s.sag_beyond)
+        .is_some_and(|t| !t.significant())
+    {
+        statics = select_without_sag(&held)?;
+    }
     // Structure over time, each pose's own offset taken out.
     let over_time_where = locate::locate(
         &centred,
@@ -713,22 +758,13 @@ fn two_stages(
     if knocked.is_some() || quadratic.is_some() {
         // The step or the growth itself is what no effect of the library
         // explains.
-        thermal_verdict = match thermal_verdict {
-            Verdict::ExplainedBy { effects, .. } => Verdict::ExplainedBy {
-                effects,
-                remainder: true,
-            },
-            Verdict::Ambiguous { effects, .. } => Verdict::Ambiguous {
-                effects,
-                remainder: true,
-            },
-            _ => Verdict::Unexplained {
-                partial: Vec::new(),
-            },
-        };
+        thermal_verdict = with_remainder(thermal_verdict);
     }
     let static_lof = ctx.static_lack_of_fit(&problem, &thermal, &held, &statics);
-    let static_verdict = ctx.judge(&statics, static_lof, ctx.structured);
+    let mut static_verdict = ctx.judge(&statics, static_lof, ctx.structured);
+    if joint_sig.is_some() {
+        static_verdict = with_remainder(static_verdict);
+    }
     Ok((
         vec![
             Stage {
@@ -748,7 +784,25 @@ fn two_stages(
         first,
         knocked.map(|k| step_of(&problem, &k)),
         quadratic,
+        joint_sig,
     ))
+}
+
+/// `verdict` with a remainder the library does not explain.
+fn with_remainder(verdict: Verdict) -> Verdict {
+    match verdict {
+        Verdict::ExplainedBy { effects, .. } => Verdict::ExplainedBy {
+            effects,
+            remainder: true,
+        },
+        Verdict::Ambiguous { effects, .. } => Verdict::Ambiguous {
+            effects,
+            remainder: true,
+        },
+        _ => Verdict::Unexplained {
+            partial: Vec::new(),
+        },
+    }
 }
 
 /// Whether the parameter `name` (`effect.param`) has a place on the arm

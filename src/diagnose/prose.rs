@@ -4,6 +4,7 @@
 //! the library's default names none.
 
 use super::gap::NoiseSource;
+use super::joint_signature::JointShape;
 use super::verdict::{Advice, Diagnosis, Part, Verdict};
 use serde::Serializer;
 
@@ -84,9 +85,12 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     format!(", which explain only part of it: {}", partial.join(", "))
                 }
             ));
-            words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(false)));
+            let after = !partial.is_empty() && !d.where_after.words.is_empty();
+            if !(after && grows_after(d)) {
+                words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(false)));
+            }
             words.extend(d.where_.words.iter().cloned());
-            if !partial.is_empty() && !d.where_after.words.is_empty() {
+            if after {
                 words.push(format!("What {} leaves:", partial.join(" + ")));
                 words.extend(after_words(&d.where_after));
             }
@@ -94,7 +98,9 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         Verdict::ExplainedBy { remainder, .. } | Verdict::Ambiguous { remainder, .. } => {
             words.push(format!("Verdict: {}.", d.verdict.labels().join(" + ")));
             let thermal = d.verdict.effects().iter().any(|k| k.is_thermal());
-            words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(thermal)));
+            if !(*remainder && grows_after(d)) {
+                words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(thermal)));
+            }
             words.extend(d.where_.words.iter().cloned());
             for s in &d.steps {
                 let stage = match s.part {
@@ -137,13 +143,41 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             q.test.f,
             q.test.df1,
             q.test.p_value,
-            if replaced.is_empty() {
-                String::new()
-            } else {
-                format!(
+            match (&q.alike, replaced.is_empty()) {
+                (_, true) => String::new(),
+                (Some(t), false) => format!(
+                    "; {} fit the change about as well with more parameters (F = {:.1} beyond it, p = {:.1e}), and are the other candidate",
+                    replaced.join(" + "),
+                    t.f,
+                    t.p_value
+                ),
+                (None, false) => format!(
                     "; {} added nothing beyond it and is not named",
                     replaced.join(", ")
-                )
+                ),
+            }
+        ));
+    }
+    if let Some(j) = &d.joint_signature {
+        let size = match j.shape {
+            JointShape::Cyclic { .. } => format!("amplitude {:.3} mrad", j.amplitude_mrad),
+            JointShape::Backlash { lags } => format!(
+                "play {:.3} mrad, the axis stopping {} where it was sent",
+                j.amplitude_mrad,
+                if lags { "short of" } else { "beyond" }
+            ),
+        };
+        words.push(format!(
+            "Beyond a full kinematic calibration, the static gap follows {} ({size} from the fit): {:.3} mm RMS (F = {:.1} on {} parameters, p = {:.1e}); no effect of the library has this shape{}.",
+            j.follows(),
+            j.rms_mm,
+            j.test.f,
+            j.test.df1,
+            j.test.p_value,
+            if j.sag_beyond.is_some_and(|t| !t.significant()) {
+                "; gravity-sag added nothing beyond it and is not named"
+            } else {
+                ""
             }
         ));
     }
@@ -183,6 +217,17 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         ));
     }
     words
+}
+
+/// Whether what is left is said to change over time ([`after_words`]):
+/// then that is the one description of the change over time, and the whole
+/// gap's is not said beside it.
+fn grows_after(d: &Diagnosis) -> bool {
+    d.where_after
+        .time_shape
+        .as_ref()
+        .and_then(|t| t.words(true))
+        .is_some()
 }
 
 /// Where what is left lies, indented under the sentence that introduces

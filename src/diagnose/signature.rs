@@ -23,6 +23,11 @@ pub struct QuadraticGrowth {
     /// Thermal effects that add nothing significant beyond it, and so are
     /// not named.
     pub replaces: Vec<EffectKind>,
+    /// Where the growth adds nothing significant beyond the thermal effects
+    /// found either, but takes fewer parameters: their F test beyond it.
+    /// The two fit about equally well; both are candidates, and the one
+    /// with fewer parameters is taken.
+    pub alike: Option<Test>,
 }
 
 /// Columns of the residual's derivative along each link's expansion, each
@@ -81,18 +86,34 @@ pub(crate) fn effects_jacobian(
 
 /// Residual sum of squares of `r` less its least-squares fit on `a`.
 pub(crate) fn rss_after(a: &DMatrix<f64>, r: &DVector<f64>) -> f64 {
+    lstsq(a, r).1
+}
+
+/// Least squares of `r` on `a`: the coefficients and the residual sum of
+/// squares. Columns are scaled to unit norm (the parameters' units differ
+/// by orders), and directions the data cannot tell apart are left out.
+pub(crate) fn lstsq(a: &DMatrix<f64>, r: &DVector<f64>) -> (DVector<f64>, f64) {
     if a.ncols() == 0 {
-        return r.norm_squared();
+        return (DVector::zeros(0), r.norm_squared());
     }
-    // Columns scaled to unit norm: the parameters' units differ by orders.
     let norms: Vec<f64> = a.column_iter().map(|c| c.norm().max(1e-300)).collect();
     let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, c| a[(i, c)] / norms[c]);
     let svd = scaled.clone().svd(true, true);
     let smax = svd.singular_values.max();
     match svd.solve(r, 1e-9 * smax) {
-        Ok(x) => (r - scaled * x).norm_squared(),
-        Err(_) => r.norm_squared(),
+        Ok(x) => {
+            let rss = (r - &scaled * &x).norm_squared();
+            (DVector::from_fn(x.len(), |c, _| x[c] / norms[c]), rss)
+        }
+        Err(_) => (DVector::zeros(a.ncols()), r.norm_squared()),
     }
+}
+
+/// `a` with the columns `extra` after its own.
+pub(crate) fn hcat(a: &DMatrix<f64>, extra: &[DVector<f64>]) -> DMatrix<f64> {
+    let mut cols: Vec<DVector<f64>> = a.column_iter().map(|c| c.into_owned()).collect();
+    cols.extend(extra.iter().cloned());
+    DMatrix::from_columns(&cols)
 }
 
 /// Test a growth with the square of the link temperatures beyond the
@@ -107,16 +128,47 @@ pub fn quadratic_growth(
     let r = problem.residuals(effects, &rows);
     let q = quadratic_columns(problem, &rows);
     let j = effects_jacobian(problem, effects, &rows);
-    let with_q = |j: &DMatrix<f64>| {
-        let mut cols: Vec<DVector<f64>> = j.column_iter().map(|c| c.into_owned()).collect();
-        cols.extend(q.column_iter().map(|c| c.into_owned()));
-        DMatrix::from_columns(&cols)
-    };
+    let q_cols: Vec<DVector<f64>> = q.column_iter().map(|c| c.into_owned()).collect();
+    let with_q = |j: &DMatrix<f64>| hcat(j, &q_cols);
     let rss_model = rss_after(&j, &r);
     let rss_full = rss_after(&with_q(&j), &r);
-    let test = Test::nested(rss_model, rss_full, 4, noise.sigma2, noise.dof, LEVEL);
+    let test = Test::nested(
+        rss_model,
+        rss_full,
+        q.ncols(),
+        noise.sigma2,
+        noise.dof,
+        LEVEL,
+    );
     if !test.significant() {
-        return None;
+        // The other way round: the thermal effects found against the growth
+        // alone (linear in its parameters at zero). Neither adding anything
+        // beyond the other, the one with fewer parameters is taken, and the
+        // other named beside it: a scaled expansion with a lag follows a
+        // square of a saturating warm-up closely.
+        if effects.is_empty() || j.ncols() <= q.ncols() {
+            return None;
+        }
+        let r0 = problem.residuals(&[], &rows);
+        let rss_q = rss_after(&q, &r0);
+        let alike = Test::nested(rss_q, rss_full, j.ncols(), noise.sigma2, noise.dof, LEVEL);
+        let alone = Test::nested(
+            r0.norm_squared(),
+            rss_q,
+            q.ncols(),
+            noise.sigma2,
+            noise.dof,
+            LEVEL,
+        );
+        if alike.significant() || !alone.significant() {
+            return None;
+        }
+        return Some(QuadraticGrowth {
+            rms_mm: ((r0.norm_squared() - rss_q).max(0.0) / rows.len().max(1) as f64).sqrt(),
+            test: alone,
+            replaces: effects.iter().map(|e| e.kind).collect(),
+            alike: Some(alike),
+        });
     }
     // What the quadratic part adds: the fit on the full design less the
     // fit on the effects alone, over the rows.
@@ -155,5 +207,6 @@ pub fn quadratic_growth(
         rms_mm,
         test,
         replaces,
+        alike: None,
     })
 }

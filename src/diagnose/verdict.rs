@@ -4,6 +4,7 @@
 
 use super::detect::DetectionLimit;
 use super::gap::{GapStats, Noise};
+use super::joint_signature::JointSignature;
 use super::locate::Where;
 use super::prepare::Registration;
 use super::signature::QuadraticGrowth;
@@ -217,6 +218,10 @@ pub struct Diagnosis {
     /// A growth with the square of the link temperatures over time, which
     /// no effect of the library has.
     pub quadratic_growth: Option<QuadraticGrowth>,
+    /// A joint's own error beyond the static calibration (a cyclic error
+    /// of its angle, backlash), which no effect of the library has.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joint_signature: Option<JointSignature>,
     /// For every effect of the library, the smallest size these poses,
     /// times and noise would have revealed.
     pub detection_limits: Vec<DetectionLimit>,

@@ -11,6 +11,7 @@ use crate::robot::conf::RobConf;
 use crate::robot::{Joints, LinkScales, Robot};
 use crate::thermal::{HeatingProfile, MotorTemps, TempHistory};
 use nalgebra::{Isometry3, Matrix6, Vector6};
+use std::f64::consts::TAU;
 use std::sync::Arc;
 
 /// When the robot is at a target: a minute of the warm-up, or the
@@ -155,34 +156,94 @@ impl WarmRobot {
         conf: &RobConf,
         state: &State,
     ) -> Result<Joints> {
-        let mut q = self.nominal.ik_conf_scaled(flange, conf, &state.scales)?;
+        let q = self.nominal.ik_conf_scaled(flange, conf, &state.scales)?;
         if self.is_pure_expansion() {
             return Ok(q);
         }
+        match self.newton(flange, q, state, |j, r| j.lu().solve(r)) {
+            Newton::Reached(q) => Ok(q),
+            Newton::Stuck(_) => Err(Error::new(
+                ErrorKind::NoConvergence,
+                "the warm model's Jacobian is singular at this pose (a wrist or shoulder singularity)",
+            )),
+            Newton::NotReached(_) => Err(Error::new(
+                ErrorKind::NoConvergence,
+                format!(
+                    "Newton did not reach the target within {NEWTON_MAX_STEPS} steps on the warm model"
+                ),
+            )),
+        }
+    }
+
+    /// Newton's method on the warm model from `q` toward the flange pose
+    /// `flange`, each step `step(J, r)` from the Jacobian and the pose
+    /// error.
+    fn newton(
+        &self,
+        flange: &Isometry3<f64>,
+        mut q: Joints,
+        state: &State,
+        step: impl Fn(Matrix6<f64>, &Vector6<f64>) -> Option<Vector6<f64>>,
+    ) -> Newton {
         for _ in 0..NEWTON_MAX_STEPS {
             let r = pose_error(flange, &self.flange(&q, state));
             if r.fixed_rows::<3>(0).norm() < NEWTON_POSITION_MM
                 && r.fixed_rows::<3>(3).norm() < NEWTON_ROTATION_RAD
             {
-                return Ok(q);
+                return Newton::Reached(q);
             }
-            let j = self.jacobian(&q, state);
-            let dq = j.lu().solve(&r).ok_or_else(|| {
-                Error::new(
-                    ErrorKind::NoConvergence,
-                    "the warm model's Jacobian is singular at this pose (a wrist or shoulder singularity)",
-                )
-            })?;
+            let Some(dq) = step(self.jacobian(&q, state), &r) else {
+                return Newton::Stuck(q);
+            };
             for (qi, d) in q.iter_mut().zip(dq.iter()) {
                 *qi += d;
             }
         }
-        Err(Error::new(
-            ErrorKind::NoConvergence,
-            format!(
-                "Newton did not reach the target within {NEWTON_MAX_STEPS} steps on the warm model"
-            ),
-        ))
+        Newton::NotReached(q)
+    }
+
+    /// The warm joints that put the flange at `flange`, nearest `near`:
+    /// the branch whose joints lie nearest (axes 1, 2, 3 and 5 only where
+    /// `free_wrist`, the wrist singularity, splits axes 4 and 6 freely),
+    /// each axis taken within half a turn of its value in `near` (the
+    /// controller moves the axes, it does not wrap them). The joint limits
+    /// are not applied: the caller judges them on the joints it gets.
+    pub fn joints_near(
+        &self,
+        flange: &Isometry3<f64>,
+        near: &Joints,
+        free_wrist: bool,
+        state: &State,
+    ) -> Result<Joints> {
+        let branches = self.nominal.branches_scaled(flange, &state.scales)?;
+        let axes: &[usize] = if free_wrist {
+            &[0, 1, 2, 4]
+        } else {
+            &[0, 1, 2, 3, 4, 5]
+        };
+        let distance = |q: &Joints| axes.iter().map(|&j| (q[j] - near[j]).powi(2)).sum::<f64>();
+        let q = branches
+            .iter()
+            .map(|b| std::array::from_fn(|j| wrap_near(b[j], near[j])))
+            .min_by(|a: &Joints, b: &Joints| distance(a).total_cmp(&distance(b)))
+            .ok_or_else(|| {
+                Error::new(
+                    ErrorKind::Unreachable,
+                    "the warm arm has no branch at this pose",
+                )
+            })?;
+        if self.is_pure_expansion() {
+            return Ok(q);
+        }
+        // The effects beyond expansion move the solution by a little:
+        // Newton from the expanded arm's branch, in the least-squares
+        // sense so that a singular wrist does not stop it; what it cannot
+        // reach the caller reports as the residual.
+        let (Newton::Reached(q) | Newton::Stuck(q) | Newton::NotReached(q)) =
+            self.newton(flange, q, state, |j, r| {
+                j.svd(true, true).solve(r, 1e-9).ok()
+            });
+        Ok(q)
     }
 
     /// d(pose)/dq by central differences (the effects' kinematics are not
@@ -249,6 +310,19 @@ impl States<'_> {
             }
         }
     }
+}
+
+/// Where Newton's method ended: at the pose, where no step could be
+/// taken (a singular Jacobian), or after its last step.
+enum Newton {
+    Reached(Joints),
+    Stuck(Joints),
+    NotReached(Joints),
+}
+
+/// `a` plus whole turns, within half a turn of `near`.
+pub fn wrap_near(a: f64, near: f64) -> f64 {
+    a + TAU * ((near - a) / TAU).round()
 }
 
 /// `goal ⊖ at`: position difference (mm) and rotation vector (rad) taking

@@ -48,6 +48,7 @@ pub mod constants;
 mod expand;
 mod lane;
 mod motion;
+mod nocase;
 pub mod numprint;
 mod parse;
 mod place;

@@ -185,25 +185,25 @@ impl NumberPrint {
     fn token(&mut self, s: &[u8], mut i: usize) -> Option<usize> {
         let b = s[i];
         match CLASS[usize::from(b)] {
-            OTHER => {
+            Class::Other => {
                 i += 1;
-                while i < s.len() && CLASS[usize::from(s[i])] == OTHER {
+                while i < s.len() && CLASS[usize::from(s[i])] == Class::Other {
                     i += 1;
                 }
                 Some(i)
             }
-            WORD => {
+            Class::Word => {
                 i += 1;
                 while i < s.len() && is_word(s[i]) {
                     i += 1;
                 }
                 (i < s.len()).then_some(i)
             }
-            COMMENT => {
+            Class::Comment => {
                 let end = memchr::memchr2(b'\n', b'\r', &s[i..])?;
                 Some(i + end)
             }
-            QUOTE => {
+            Class::Quote => {
                 let mut j = i + 1;
                 loop {
                     j += memchr::memchr(b'"', &s[j..])?;
@@ -216,12 +216,12 @@ impl NumberPrint {
                     }
                 }
             }
-            SIGN => {
+            Class::Sign => {
                 self.op(b);
                 Some(i + 1)
             }
-            DOT if !s.get(i + 1)?.is_ascii_digit() => Some(i + 1),
-            _ => self.number(s, i),
+            Class::Dot if !s.get(i + 1)?.is_ascii_digit() => Some(i + 1),
+            Class::Dot | Class::Digit => self.number(s, i),
         }
     }
 
@@ -470,33 +470,37 @@ impl NumberPrint {
 const PAGE: usize = 1 << 16;
 
 /// What a byte starts outside any token.
-const OTHER: u8 = 0;
-const DIGIT: u8 = 1;
-const WORD: u8 = 2;
-const COMMENT: u8 = 3;
-const QUOTE: u8 = 4;
-const DOT: u8 = 5;
-const SIGN: u8 = 6;
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Class {
+    Other,
+    Digit,
+    Word,
+    Comment,
+    Quote,
+    Dot,
+    Sign,
+}
 
-static CLASS: [u8; 256] = {
-    let mut t = [OTHER; 256];
+/// Each byte's [`Class`], looked up rather than worked out per byte.
+static CLASS: [Class; 256] = {
+    let mut t = [Class::Other; 256];
     let mut b = 0;
     while b < 256 {
         let c = b as u8;
         t[b] = if c.is_ascii_digit() {
-            DIGIT
+            Class::Digit
         } else if c.is_ascii_alphabetic() || c == b'_' || c >= 0x80 {
-            WORD
+            Class::Word
         } else if c == b'!' {
-            COMMENT
+            Class::Comment
         } else if c == b'"' {
-            QUOTE
+            Class::Quote
         } else if c == b'.' {
-            DOT
+            Class::Dot
         } else if c == b'-' || c == b'+' {
-            SIGN
+            Class::Sign
         } else {
-            OTHER
+            Class::Other
         };
         b += 1;
     }
@@ -504,11 +508,11 @@ static CLASS: [u8; 256] = {
 };
 
 fn is_word_start(b: u8) -> bool {
-    b.is_ascii_alphabetic() || b == b'_' || b >= 0x80
+    CLASS[usize::from(b)] == Class::Word
 }
 
 fn is_word(b: u8) -> bool {
-    is_word_start(b) || b.is_ascii_digit()
+    matches!(CLASS[usize::from(b)], Class::Word | Class::Digit)
 }
 
 #[cfg(test)]

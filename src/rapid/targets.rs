@@ -4,12 +4,12 @@
 //! it. The numbers are those of [`Expr::Target`](super::Expr::Target)
 //! and every list of targets the library keeps.
 
+use super::nocase::NoCase;
 use super::runs::{blank_target, MoveRef, Runs};
 use super::source::Source;
 use super::values::{Target, TargetKind};
 use std::borrow::Cow;
 use std::collections::HashMap;
-use std::hash::{Hash, Hasher};
 
 /// An empty target, to be filled ([`Targets::fill`]).
 pub fn blank() -> Target {
@@ -274,29 +274,6 @@ impl<'p> IntoIterator for Targets<'p> {
     }
 }
 
-/// A name compared without regard to case, as RAPID compares names.
-#[derive(Clone, Copy, Debug)]
-struct NoCase<'a>(&'a [u8]);
-
-impl Hash for NoCase<'_> {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        // FNV-1a over the lower-case bytes, handed on as one number.
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for &b in self.0 {
-            h = (h ^ u64::from(b.to_ascii_lowercase())).wrapping_mul(0x100_0000_01b3);
-        }
-        state.write_u64(h);
-    }
-}
-
-impl PartialEq for NoCase<'_> {
-    fn eq(&self, other: &Self) -> bool {
-        self.0.eq_ignore_ascii_case(other.0)
-    }
-}
-
-impl Eq for NoCase<'_> {}
-
 /// The program's targets by identifier (compared without regard to
 /// case): those held one by one that `keep` keeps, every declared target
 /// and array element of the runs; built once for many lookups.
@@ -306,6 +283,11 @@ pub struct TargetIndex<'p> {
     qualified: HashMap<String, usize>,
     /// Array runs by their identifiers' prefix, lower case.
     arrays: HashMap<String, (usize, usize)>,
+    /// Whether some identifier carries its routine (`r1/pA`): only then
+    /// is a routine-scoped key worth building for a lookup.
+    scoped: bool,
+    /// Whether some identifier carries its module (`M:p10`).
+    module_keyed: bool,
 }
 
 impl<'p> TargetIndex<'p> {
@@ -345,12 +327,23 @@ impl<'p> TargetIndex<'p> {
             .arrays
             .iter()
             .map(|a| (a.prefix.to_ascii_lowercase(), (a.base, a.elements.len())))
-            .collect();
+            .collect::<HashMap<_, _>>();
+        let scoped = one_by_one
+            .keys()
+            .chain(arrays.keys())
+            .any(|k| k.contains('/'));
+        let module_keyed = !qualified.is_empty()
+            || one_by_one
+                .keys()
+                .chain(arrays.keys())
+                .any(|k| k.contains(':'));
         TargetIndex {
             one_by_one,
             declared,
             qualified,
             arrays,
+            scoped,
+            module_keyed,
         }
     }
 }
@@ -392,6 +385,19 @@ impl TargetIndex<'_> {
         let k: usize = rest.strip_suffix('}')?.parse().ok()?;
         let &(base, len) = self.arrays.get(prefix)?;
         (1..=len).contains(&k).then_some(base + k - 1)
+    }
+
+    /// Whether some identifier is scoped to its routine (`r1/pA`, where a
+    /// routine's data shadows a name declared elsewhere too). Lookups skip
+    /// the routine-scoped keys where none is: most programs, and every
+    /// move by name pays for them otherwise.
+    pub fn has_routine_scoped(&self) -> bool {
+        self.scoped
+    }
+
+    /// Whether some identifier is qualified by its module (`M:p10`).
+    pub fn has_qualified(&self) -> bool {
+        self.module_keyed
     }
 
     /// The targets of the array run whose identifiers start `prefix{`

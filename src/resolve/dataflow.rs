@@ -52,7 +52,7 @@ pub fn runtime_writes(program: &Program) -> HashMap<String, Write> {
         }
     };
     for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in bodies(routine) {
+        for body in super::routine_bodies(routine) {
             walk_statements(body, &mut |s: &Statement| match &s.kind {
                 StatementKind::Assign { target, .. } => {
                     if let Some(root) = root_name(target) {
@@ -101,7 +101,7 @@ pub fn aliases(program: &Program) -> HashMap<String, Vec<String>> {
     let robtargets = robtarget_variables(program);
     let mut direct: HashMap<String, Vec<String>> = HashMap::new();
     for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in bodies(routine) {
+        for body in super::routine_bodies(routine) {
             walk_statements(body, &mut |s: &Statement| {
                 let StatementKind::Assign { target, value } = &s.kind else {
                     return;
@@ -225,17 +225,6 @@ fn writable_parameters(program: &Program) -> HashMap<String, Vec<usize>> {
         }
     }
     out
-}
-
-fn bodies(routine: &Routine) -> impl Iterator<Item = &Vec<Statement>> {
-    [
-        Some(&routine.body),
-        routine.backward.as_ref(),
-        routine.undo.as_ref(),
-        routine.error.as_ref().map(|(_, s)| s),
-    ]
-    .into_iter()
-    .flatten()
 }
 
 /// The variable an assignment or argument writes: `p` of `p`,

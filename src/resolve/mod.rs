@@ -17,8 +17,17 @@ use nalgebra::Isometry3;
 use std::collections::HashMap;
 
 pub mod arm;
+mod calls;
 pub mod dataflow;
+mod frame_vars;
+pub mod monitoring;
+mod moves;
+mod params;
 mod uses;
+
+pub use frame_vars::frame_variables;
+pub use moves::{each_move_instruction, Move, Point};
+pub use params::settled_parameters;
 
 use uses::{Site, UsesBuilder};
 pub use uses::{UseRef, Uses};
@@ -224,44 +233,92 @@ pub enum Through {
 /// (`Offs(p10, ...)`) the moves to the derived pose, since the offset is
 /// taken in the same frame.
 pub fn uses(program: &Program) -> Uses<'_> {
-    let index = program.target_index(|t| {
-        t.kind != TargetKind::Inline
-            && (t.kind != TargetKind::Derived || t.written_with_expressions())
-    });
-    let aliases = dataflow::aliases(program);
-    let refs = Refs {
-        program,
-        index: &index,
-        aliases: &aliases,
-        derived_at: program
-            .targets()
-            .one_by_one_all()
-            .filter(|(_, t)| t.kind == TargetKind::Derived)
-            .map(|(i, t)| (t.origin.pos.offset, i))
-            .collect(),
-    };
+    let (index, aliases) = (move_index(program), aliases_and_parameters(program));
+    let refs = Refs::new(program, &index, &aliases);
     let mut b = UsesBuilder::new(program.targets());
+    // A tool or work object assigned at run time moves with each tool or
+    // work object it is assigned from.
+    let frame_vars = frame_variables(program);
+    let sources = |name: Option<&str>| match (name, frame_vars.is_empty()) {
+        (Some(n), false) => frame_vars.get(&n.to_ascii_lowercase()),
+        _ => None,
+    };
     each_move(program, &mut |module, reach, at| {
-        let mut site = Site {
-            through: Through::Direct,
-            tool: b.name(at.tool),
-            wobj: b.name(at.wobj),
-            instruction: b.name(Some(at.instruction)),
-            routine: b.name(Some(at.routine)),
-            line: at.line,
-            file: at.file as u32,
-            offset: at.offset,
+        let reached = refs.targets(reach, (module, at.routine));
+        if reached.is_empty() {
+            return;
+        }
+        let (one_tool, one_wobj) = ([at.tool], [at.wobj]);
+        let (many_tools, many_wobjs): (Vec<Option<&str>>, Vec<Option<&str>>);
+        let tools: &[Option<&str>] = match sources(at.tool) {
+            Some(list) => {
+                many_tools = list.iter().map(|s| Some(s.as_str())).collect();
+                &many_tools
+            }
+            None => &one_tool,
         };
-        for (reached, through) in refs.targets(reach, (module, at.routine)) {
-            site.through = through;
-            let s = b.site(site);
-            match reached {
-                Reached::One(i) => b.reach(i, s),
-                Reached::All(r) => b.reach_all(r, s),
+        let wobjs: &[Option<&str>] = match sources(at.wobj) {
+            Some(list) => {
+                many_wobjs = list.iter().map(|s| Some(s.as_str())).collect();
+                &many_wobjs
+            }
+            None => &one_wobj,
+        };
+        for &tool in tools {
+            for &wobj in wobjs {
+                let mut site = Site {
+                    through: Through::Direct,
+                    tool: b.name(tool),
+                    wobj: b.name(wobj),
+                    instruction: b.name(Some(at.instruction)),
+                    routine: b.name(Some(at.routine)),
+                    line: at.line,
+                    file: at.file as u32,
+                    offset: at.offset,
+                };
+                for (reached, through) in &reached {
+                    site.through = *through;
+                    let s = b.site(site);
+                    match reached {
+                        Reached::One(i) => b.reach(*i, s),
+                        Reached::All(r) => b.reach_all(r.clone(), s),
+                    }
+                }
             }
         }
     });
     b.finish()
+}
+
+/// The targets a move can name: every one but inline literals and
+/// derived expressions (whose bases are reached instead).
+fn move_index(program: &Program) -> TargetIndex<'_> {
+    program.target_index(|t| {
+        t.kind != TargetKind::Inline
+            && (t.kind != TargetKind::Derived || t.written_with_expressions())
+    })
+}
+
+/// A routine's statement lists: its body, and its backward, undo and
+/// error handlers.
+pub(crate) fn routine_bodies(routine: &rapid::Routine) -> impl Iterator<Item = &Vec<Statement>> {
+    [
+        Some(&routine.body),
+        routine.backward.as_ref(),
+        routine.undo.as_ref(),
+        routine.error.as_ref().map(|(_, s)| s),
+    ]
+    .into_iter()
+    .flatten()
+}
+
+/// What a variable is assigned from ([`dataflow::aliases`]), and what
+/// the calls of a routine pass for its settled robtarget parameters
+/// ([`settled_parameters`], by `routine/parameter`).
+fn aliases_and_parameters(program: &Program) -> HashMap<String, Vec<String>> {
+    let mut aliases = dataflow::aliases(program);
+    aliases.extend(settled_parameters(program));
+    aliases
 }
 
 /// For every target of the program (by its number), the motion
@@ -349,13 +406,7 @@ impl MoveAt<'_> {
 fn each_move(program: &Program, visit: &mut dyn FnMut(&str, Reach, &MoveAt)) {
     for module in &program.modules {
         for routine in &module.routines {
-            let bodies = [
-                Some(&routine.body),
-                routine.backward.as_ref(),
-                routine.undo.as_ref(),
-                routine.error.as_ref().map(|(_, s)| s),
-            ];
-            for body in bodies.into_iter().flatten() {
+            for body in routine_bodies(routine) {
                 walk_statements(body, &mut |s| match &s.kind {
                     StatementKind::Call(call) => {
                         let Some(m) = call.motion() else { return };
@@ -463,16 +514,48 @@ enum Reached {
     All(std::ops::Range<usize>),
 }
 
-impl Refs<'_> {
+impl<'a> Refs<'a> {
+    fn new(
+        program: &'a Program,
+        index: &'a TargetIndex<'a>,
+        aliases: &'a HashMap<String, Vec<String>>,
+    ) -> Refs<'a> {
+        Refs {
+            program,
+            index,
+            aliases,
+            derived_at: program
+                .targets()
+                .one_by_one_all()
+                .filter(|(_, t)| t.kind == TargetKind::Derived)
+                .map(|(i, t)| (t.origin.pos.offset, i))
+                .collect(),
+        }
+    }
+
     /// The target a name reads in `routine` of `module`: the routine's own
     /// data first (its identifier carries the routine where the name is
     /// declared elsewhere too), then the module's, then the task's.
     fn lookup(&self, id: &str, (module, routine): Scope) -> Option<usize> {
-        let own = format!("{routine}/{id}");
-        self.index
-            .get(&own)
-            .or_else(|| self.index.get(&format!("{module}:{own}")))
-            .or_else(|| self.index.get(&format!("{module}:{id}")))
+        // The scoped and qualified keys are built only where the index
+        // holds such identifiers: a move by name is looked up a million
+        // times on a large program, and three allocations each showed.
+        let scoped = self.index.has_routine_scoped();
+        let qualified = self.index.has_qualified();
+        let own = || format!("{routine}/{id}");
+        scoped
+            .then(|| self.index.get(&own()))
+            .flatten()
+            .or_else(|| {
+                (scoped && qualified)
+                    .then(|| self.index.get(&format!("{module}:{}", own())))
+                    .flatten()
+            })
+            .or_else(|| {
+                qualified
+                    .then(|| self.index.get(&format!("{module}:{id}")))
+                    .flatten()
+            })
             .or_else(|| self.index.get(id))
     }
 
@@ -484,7 +567,13 @@ impl Refs<'_> {
             .map(|i| (Reached::One(i), through))
             .into_iter()
             .collect();
-        if let Some(bases) = self.aliases.get(&name.to_ascii_lowercase()) {
+        if self.aliases.is_empty() {
+            return out;
+        }
+        // A variable's assignments, and a parameter's calls (by routine).
+        let own = format!("{}/{name}", module.1).to_ascii_lowercase();
+        let assigned = self.aliases.get(&name.to_ascii_lowercase());
+        for bases in assigned.into_iter().chain(self.aliases.get(&own)) {
             out.extend(
                 bases
                     .iter()
@@ -523,7 +612,25 @@ impl Refs<'_> {
                 }
             }
             Expr::Call(c) => match self.derived_at.get(&c.span.start) {
-                Some(&i) => self.targets(Reach::Expr(&Expr::Target(i)), module),
+                Some(&i) => {
+                    let mut out = self.targets(Reach::Expr(&Expr::Target(i)), module);
+                    if out.is_empty() && !self.aliases.is_empty() {
+                        // A base the reader does not hold as a target: a
+                        // parameter its calls settle (`Offs(pAt, ...)`).
+                        for n in c.args.iter().filter(|a| !a.optional) {
+                            let Some(n) = n.value.as_ref().and_then(Expr::as_name) else {
+                                continue;
+                            };
+                            let own = format!("{}/{n}", module.1).to_ascii_lowercase();
+                            for b in self.aliases.get(&own).into_iter().flatten() {
+                                if let Some(j) = self.lookup(b, module) {
+                                    out.push((Reached::One(j), Through::Derived(i)));
+                                }
+                            }
+                        }
+                    }
+                    out
+                }
                 None => Vec::new(),
             },
             Expr::Name(n) => self.named(n, module, Through::Direct),

@@ -12,6 +12,7 @@ use super::urdf::{self, IRB140_URDF};
 use super::{Joints, LinkScales, Opw};
 use crate::error::{Error, ErrorKind, Result};
 use nalgebra::Isometry3;
+use std::f64::consts::PI;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -181,6 +182,32 @@ impl Robot {
             }
         }
         out
+    }
+
+    /// Every arm branch of a flange pose on the arm with its segments
+    /// scaled, whatever the joint limits say: the joints (each axis within
+    /// [-180°, 180°] on the OPW form) from which a caller picks the branch
+    /// nearest given joints and judges the limits itself. A jointtarget
+    /// needs this: its written joints name the branch, and a limit is a
+    /// reason to refuse only for that branch.
+    pub fn branches_scaled(
+        &self,
+        pose: &Isometry3<f64>,
+        scales: &LinkScales,
+    ) -> Result<Vec<Joints>> {
+        if self.opw.is_err() {
+            let sols = self.chain_solve(pose, Some(scales))?;
+            return Ok(sols
+                .iter()
+                .map(|s| s.q)
+                .chain(sols.dropped().map(|d| d.q))
+                .collect());
+        }
+        let arm = self.checked_arm(pose, Some(scales))?;
+        // One turn each way: every branch's wrapped joints lie inside.
+        let open = [(-PI - LIMIT_EPS, PI + LIMIT_EPS); 6];
+        let sols = arm.solve(pose, &open, None).map_err(|f| self.failure(f))?;
+        Ok(sols.iter().map(|s| s.q).collect())
     }
 
     /// The solution with robconf `conf` (exactly, or within
@@ -360,14 +387,15 @@ pub fn describe_violation(v: &Violation) -> String {
     format!(
         "axis {} at {}° is outside its limits [{}°, {}°]",
         axis + 1,
-        degrees(q),
-        degrees(lo),
-        degrees(hi)
+        degrees_text(q),
+        degrees_text(lo),
+        degrees_text(hi)
     )
 }
 
-/// An angle (rad) in degrees to 0.001°, without trailing zeros.
-fn degrees(rad: f64) -> String {
+/// An angle (rad) in degrees to 0.001°, without trailing zeros: the
+/// way the messages about joints write an angle.
+pub fn degrees_text(rad: f64) -> String {
     let s = format!("{:.3}", rad.to_degrees());
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" {

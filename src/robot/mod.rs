@@ -40,10 +40,10 @@ mod lanes;
 pub mod urdf;
 pub mod urdf_scan;
 
-pub use arm::{describe_violation, irb140_opw, Robot};
+pub use arm::{degrees_text, describe_violation, irb140_opw, Robot};
 pub use conf::RobConf;
 pub use frames::{ToolData, WobjData};
-pub use ik::{Dropped, Solution, Solutions};
+pub use ik::{Dropped, Solution, Solutions, Violation};
 
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};

@@ -436,14 +436,43 @@ fn a_file_read_by_two_tasks_is_refused() {
 }
 
 /// `--start` on the backup: the FOR loop over the scan array reads its
-/// index at run time, so the walk gives its 20,000 elements no time. That
-/// is one cause, said once with the others counted (before, each was its
-/// own error, and finding each one's source line took the run 24 s).
+/// bounds and so its index at run time; the move to `pScan{i}` visits every
+/// element in order, so each of the 20,000 gets a time and the run checks
+/// them (before, the walk gave them none and the run was refused).
+#[test]
+fn a_scan_array_indexed_at_run_time_is_timed_element_by_element() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let out = rapidtherm(
+        &[
+            "correct", "bk", "--task", "T_ROB1", "--start", "0", "--check",
+        ],
+        dir.path(),
+    );
+    let log = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{log}");
+    assert!(
+        log.contains("its 20000 elements are visited in order, each timed"),
+        "{log}"
+    );
+    assert!(!log.contains("the schedule has no time"), "{log}");
+}
+
+/// Targets the walk gives no time (here the scan array, once the call of
+/// its routine is never taken) are one cause, said once with the others
+/// counted (before, each was its own error, and finding each one's source
+/// line took the run 24 s).
 #[test]
 fn targets_the_walk_cannot_time_are_one_error_counted() {
     let dir = tempfile::tempdir().unwrap();
     let bk = dir.path().join("bk");
     copy_tree(&sample(), &bk);
+    let main = bk.join("RAPID/TASK1/PROGMOD/MainModule.mod");
+    let text_of = std::fs::read_to_string(&main).unwrap();
+    let cut = text_of.replace("    rScan;", "    IF FALSE rScan;");
+    assert_ne!(cut, text_of);
+    std::fs::write(&main, cut).unwrap();
     let out = rapidtherm(
         &[
             "correct", "bk", "--task", "T_ROB1", "--start", "0", "--check",

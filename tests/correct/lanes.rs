@@ -290,13 +290,16 @@ pub(super) fn same_both_ways(src: &[u8], options: &Options) -> Result<usize, Tes
                 "streamed bytes differ:\n{}",
                 String::from_utf8_lossy(bytes)
             );
-            // Streamed, the run keeps the summary and what is said about
-            // targets, not every target's row.
+            // Streamed, the run keeps the summary (its count of moves by
+            // fate among it) and what is said about targets, not every
+            // target's or move's row.
             let mut whole = whole;
+            whole.moves.clear();
             whole.corrections.clear();
             whole.derived.clear();
             whole.residuals.clear();
             let mut streamed = streamed.outcome;
+            streamed.moves.clear();
             streamed.corrections.clear();
             streamed.derived.clear();
             streamed.residuals.clear();

@@ -4,6 +4,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod accounted;
 mod backup;
 mod cli;
 mod lanes;

@@ -3,9 +3,11 @@
 //! a type's derive or of the code turns every corrected file into one
 //! "corrected for another basis".
 
-use rapidtherm::correct::When;
+use nalgebra::Isometry3;
+use rapidtherm::correct::{ScheduleSource, When};
 use rapidtherm::digest::fingerprint;
 use rapidtherm::model::Moment;
+use rapidtherm::schedule::EstimateOptions;
 use rapidtherm::schedule::Schedule;
 
 #[test]
@@ -20,7 +22,7 @@ fn a_schedules_basis_is_pinned() {
         schedule: robtargets,
         joints: Some(joints),
         default: Some(Moment::Minute(60.0)),
-        of_program: false,
+        source: ScheduleSource::File,
     };
     // The bytes, as docs/correct.md writes them down.
     let mut b = b"rapidtherm schedule 1\0".to_vec();
@@ -45,6 +47,50 @@ fn a_schedules_basis_is_pinned() {
     b.extend_from_slice(&60.0f64.to_bits().to_le_bytes());
     assert_eq!(when.basis(), format!("schedule v1 {}", fingerprint(&b)));
     assert_eq!(when.basis(), "schedule v1 sha256:110f3f31e3cd1de4");
+}
+
+/// An estimate's basis is its request, not its times: a second `--start`
+/// run on the corrected program (whose times differ by microseconds)
+/// recognises its own output.
+#[test]
+fn an_estimates_basis_is_its_request_pinned() {
+    let mut times = Schedule::new();
+    times.visit("p10", 60.5);
+    let request = EstimateOptions {
+        entry: "Main".to_string(),
+        start_min: 60.0,
+        cycles: 2,
+        base_frame: Some(Isometry3::translation(100.0, 0.0, 0.0)),
+    };
+    let when = |schedule: Schedule| When::Schedule {
+        schedule,
+        joints: Some(Schedule::new()),
+        default: Some(Moment::Steady),
+        source: ScheduleSource::Estimate(Box::new(request.clone())),
+    };
+    // The bytes, as docs/correct.md writes them down.
+    let mut b = b"rapidtherm estimate 1\0".to_vec();
+    b.extend_from_slice(&60.0f64.to_bits().to_le_bytes());
+    b.extend_from_slice(&4u32.to_le_bytes());
+    b.extend_from_slice(b"main");
+    b.extend_from_slice(&2u32.to_le_bytes());
+    b.push(1);
+    for v in [100.0f64, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0] {
+        b.extend_from_slice(&v.to_bits().to_le_bytes());
+    }
+    b.push(2);
+    assert_eq!(
+        when(times.clone()).basis(),
+        format!("estimate v1 {}", fingerprint(&b))
+    );
+    assert_eq!(
+        when(times.clone()).basis(),
+        "estimate v1 sha256:ff86e2502ac9adbd"
+    );
+    // Other times, the same request: the same basis.
+    let mut later = Schedule::new();
+    later.visit("p10", 60.500001);
+    assert_eq!(when(later).basis(), when(times).basis());
 }
 
 #[test]
@@ -105,6 +151,32 @@ mod proof {
         let out = rapidtherm(&["correct", name, "--at", "120", "--in-place"], dir);
         assert_eq!(out.status.code(), Some(2), "{name}: {}", text(&out));
         assert_eq!(std::fs::read(dir.join(name)).unwrap(), before);
+    }
+
+    /// `--start 60 --in-place` run twice: the second run recognises its
+    /// own output and leaves it byte for byte (before, it refused it as
+    /// corrected "for another basis": the estimate walked on the corrected
+    /// numbers differs by microseconds). Another start is still refused.
+    #[test]
+    fn a_start_run_twice_does_nothing_the_second_time() {
+        let dir = tempfile::tempdir().unwrap();
+        let cold = include_str!("../cmd/correct_data/glue_bead.mod");
+        std::fs::write(dir.path().join("glue.mod"), cold).unwrap();
+        let args = ["correct", "glue.mod", "--start", "60", "--in-place"];
+        let out = rapidtherm(&args, dir.path());
+        assert!(out.status.success(), "{}", text(&out));
+        let once = std::fs::read(dir.path().join("glue.mod")).unwrap();
+        assert_ne!(once, cold.as_bytes(), "the first run corrects");
+        let out = rapidtherm(&args, dir.path());
+        assert!(out.status.success(), "{}", text(&out));
+        assert!(text(&out).contains("nothing to do"), "{}", text(&out));
+        assert_eq!(std::fs::read(dir.path().join("glue.mod")).unwrap(), once);
+        let out = rapidtherm(
+            &["correct", "glue.mod", "--start", "30", "--in-place"],
+            dir.path(),
+        );
+        assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+        assert_eq!(std::fs::read(dir.path().join("glue.mod")).unwrap(), once);
     }
 
     #[test]

@@ -8,7 +8,7 @@
 use super::rapidtherm;
 use quick_xml::events::Event;
 use rapidtherm::correct::plot::{pictures, scale_colour, Picture, FILES};
-use rapidtherm::correct::{correct, Options, Outcome, When};
+use rapidtherm::correct::{correct, Options, Outcome, ScheduleSource, When};
 use rapidtherm::model::{Model, Moment, WarmRobot};
 use rapidtherm::rapid;
 use rapidtherm::robot::Robot;
@@ -236,7 +236,7 @@ fn the_drift_runs_along_the_schedules_minutes() {
         schedule,
         joints: None,
         default: None,
-        of_program: false,
+        source: ScheduleSource::File,
     });
     let all = pictures(&out, "m.mod").unwrap();
     let drift = picture(&all, "drift.svg");

@@ -244,7 +244,9 @@ fn a_split_corrects_each_copy_for_its_own_pair() {
     assert!(why("pBead{1}").contains("array"));
     assert!(why("pApproach").contains("Offs(pApproach,0,0,50)"));
     assert!(why("pService").contains("global PERS"));
-    assert!(why("pPurge").contains("passed to Purge"));
+    // pPurge is passed to Purge, whose one call settles its parameter:
+    // the move there reaches pPurge through Offs(pAt, ...).
+    assert!(why("pPurge").contains("also reached through Offs(pAt,0,0,20)"));
 
     // Nothing else changed: without the copies' lines and with their
     // names taken back, the split program is the first-use correction

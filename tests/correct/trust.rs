@@ -54,6 +54,11 @@ fn programs() -> Vec<(String, Vec<u8>)> {
                 "not_an_angle",
                 "_at60",
                 "_at120",
+                "_start60",
+                "beyond_limit",
+                "confl_joint_move",
+                "confl_uncalled",
+                "confl_unsettled",
             ]
             .iter()
             .any(|k| name.contains(k));

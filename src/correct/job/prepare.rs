@@ -5,7 +5,7 @@
 
 use super::host::{Event, Host};
 use crate::correct::plan::{Action, CorrectPlan, ModelSource, TimeBasis};
-use crate::correct::{Options, Untrusted, When};
+use crate::correct::{Options, ScheduleSource, Untrusted, When};
 use crate::digest::fingerprint;
 use crate::error::{Error, Remedy, Result};
 use crate::model::{Model, Moment, WarmRobot};
@@ -123,7 +123,7 @@ pub fn when_and_notes(
                 schedule: Schedule::read(&name, &bytes)?,
                 joints: None,
                 default: *default,
-                of_program: false,
+                source: ScheduleSource::File,
             };
             (when, Vec::new())
         }
@@ -134,7 +134,7 @@ pub fn when_and_notes(
                 schedule: estimate.schedule,
                 joints: Some(estimate.joint_schedule),
                 default: *default,
-                of_program: true,
+                source: ScheduleSource::Estimate(Box::new(opts)),
             };
             (when, estimate.notes)
         }

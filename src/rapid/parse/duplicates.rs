@@ -7,9 +7,9 @@
 //! first, and the other corrected as if unused.
 
 use crate::error::{Error, ErrorKind, Location, Result};
+use crate::rapid::nocase::NoCase;
 use crate::rapid::values::Scope;
 use crate::rapid::Program;
-use std::collections::HashMap;
 
 /// Where a declaration is: its file and byte offset, and its line.
 #[derive(Clone, Copy)]
@@ -20,7 +20,7 @@ struct At {
 }
 
 /// The scopes a name is declared in.
-#[derive(Clone, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
 enum Space {
     /// Every module of the task (data declared without `LOCAL`).
     Task,
@@ -32,44 +32,78 @@ enum Space {
 
 /// Refuse every name declared twice in one scope, each at its second
 /// declaration, naming the first.
-pub(super) fn refuse_duplicates(prog: &Program, refs: &[(&str, &[u8])]) -> Result<()> {
-    let mut first: HashMap<(Space, String), At> = HashMap::new();
+pub(super) fn refuse_duplicates<'a>(prog: &'a Program, refs: &[(&str, &'a [u8])]) -> Result<()> {
+    // A name declared twice in one scope is declared twice in the task, so
+    // a first pass finds the names declared more than once anywhere, with
+    // one borrowed key each (a large program declares a million names, and
+    // a lower-case copy per name and scope was most of this check's time);
+    // the scopes are compared for those names alone.
+    let names: usize = prog.runs.decls.iter().map(|r| r.items.len()).sum();
+    let mut seen: foldhash::HashMap<NoCase<'a>, bool> =
+        foldhash::HashMap::with_capacity_and_hasher(names, Default::default());
+    each_declaration(prog, refs, |_, name, _, _| {
+        seen.entry(NoCase(name.as_bytes()))
+            .and_modify(|twice| *twice = true)
+            .or_insert(false);
+    });
+    let twice: foldhash::HashSet<NoCase<'a>> = seen
+        .into_iter()
+        .filter_map(|(name, twice)| twice.then_some(name))
+        .collect();
+    if twice.is_empty() {
+        return Ok(());
+    }
+    let mut first: foldhash::HashMap<(Space, NoCase<'a>), At> = Default::default();
     let mut errors = Vec::new();
-    let mut declare = |spaces: &[Space], name: &str, at: At, what: &str| {
-        let key = name.to_ascii_lowercase();
-        for space in spaces {
-            match first.get(&(space.clone(), key.clone())) {
-                Some(seen) => {
-                    let (file, src) = refs.get(at.file).copied().unwrap_or(("", &[]));
-                    let seen_file = refs.get(seen.file).map_or("", |r| r.0);
-                    let scope = match space {
-                        Space::Task => "the task (neither is LOCAL)",
-                        Space::Module(_) => "its module",
-                        Space::Routine(..) => "its routine",
-                    };
-                    errors.push(
-                        Error::new(
-                            ErrorKind::Syntax,
-                            format!(
-                                "{what} {name} is declared twice in {scope}: also at {seen_file}:{}; RAPID refuses the program, and a move would be bound to one of them",
-                                seen.line
-                            ),
-                        )
-                        .at(Location::from_offset(file, src, at.offset)),
-                    );
-                    return;
-                }
-                None => {
-                    first.insert((space.clone(), key.clone()), at);
-                }
-            }
+    each_declaration(prog, refs, |spaces, name, at, what| {
+        let key = NoCase(name.as_bytes());
+        if !twice.contains(&key) {
+            return;
         }
-    };
+        for &space in spaces {
+            let Some(seen) = first.get(&(space, key)).copied() else {
+                first.insert((space, key), at);
+                continue;
+            };
+            let (file, src) = refs.get(at.file).copied().unwrap_or(("", &[]));
+            let seen_file = refs.get(seen.file).map_or("", |r| r.0);
+            let scope = match space {
+                Space::Task => "the task (neither is LOCAL)",
+                Space::Module(_) => "its module",
+                Space::Routine(..) => "its routine",
+            };
+            errors.push(
+                Error::new(
+                    ErrorKind::Syntax,
+                    format!(
+                        "{what} {name} is declared twice in {scope}: also at {seen_file}:{}; RAPID refuses the program, and a move would be bound to one of them",
+                        seen.line
+                    ),
+                )
+                .at(Location::from_offset(file, src, at.offset)),
+            );
+            return;
+        }
+    });
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Every declaration of the program, in order: the scopes its name is
+/// declared in, the name, where, and what it is (data or a parameter).
+fn each_declaration<'a>(
+    prog: &'a Program,
+    refs: &[(&str, &'a [u8])],
+    mut declare: impl FnMut(&[Space], &'a str, At, &'static str),
+) {
     for (mi, m) in prog.modules.iter().enumerate() {
-        let spaces = |scope: Option<Scope>| -> Vec<Space> {
+        let module_and_task = [Space::Module(mi), Space::Task];
+        let spaces = |scope: Option<Scope>| -> &[Space] {
             match scope {
-                Some(Scope::Local) => vec![Space::Module(mi)],
-                _ => vec![Space::Module(mi), Space::Task],
+                Some(Scope::Local) => &module_and_task[..1],
+                _ => &module_and_task[..],
             }
         };
         for d in &m.data {
@@ -78,7 +112,7 @@ pub(super) fn refuse_duplicates(prog: &Program, refs: &[(&str, &[u8])]) -> Resul
                 offset: d.pos.offset,
                 line: d.pos.line,
             };
-            declare(&spaces(d.scope), &d.name, at, "data");
+            declare(spaces(d.scope), &d.name, at, "data");
         }
         for &r in &m.decl_runs {
             let Some(run) = prog.runs.decls.get(r) else {
@@ -94,7 +128,7 @@ pub(super) fn refuse_duplicates(prog: &Program, refs: &[(&str, &[u8])]) -> Resul
                     offset: item.at as usize + usize::from(item.name.0),
                     line: item.line,
                 };
-                declare(&spaces(run.scope), name, at, "data");
+                declare(spaces(run.scope), name, at, "data");
             }
         }
         for (ri, routine) in m.routines.iter().enumerate() {
@@ -116,9 +150,5 @@ pub(super) fn refuse_duplicates(prog: &Program, refs: &[(&str, &[u8])]) -> Resul
                 declare(&space, &d.name, at, "data");
             }
         }
-    }
-    match Error::many(errors) {
-        Some(e) => Err(e),
-        None => Ok(()),
     }
 }

@@ -124,16 +124,26 @@ impl<'p> Walker<'p> {
         (module, routine): (usize, Option<&str>),
     ) -> Result<Value> {
         let lower = path.to_ascii_lowercase();
-        let module_name = self
-            .program
-            .modules
-            .get(module)
-            .map(|m| m.name.to_ascii_lowercase())
-            .unwrap_or_default();
-        let own = routine.map(|r| format!("{}/{lower}", r.to_ascii_lowercase()));
-        let own_qualified = own.as_ref().map(|o| format!("{module_name}:{o}"));
-        let qualified = format!("{module_name}:{lower}");
-        let candidates = || own.iter().chain(&own_qualified).chain([&qualified, &lower]);
+        let module_name = match self.program.modules.get(module) {
+            Some(m) if self.ids_qualified => m.name.to_ascii_lowercase(),
+            _ => String::new(),
+        };
+        // Scoped and qualified keys only where some id has them: this runs
+        // for every move by name.
+        let own = routine
+            .filter(|_| self.ids_scoped)
+            .map(|r| format!("{}/{lower}", r.to_ascii_lowercase()));
+        let own_qualified = own
+            .as_ref()
+            .filter(|_| self.ids_qualified)
+            .map(|o| format!("{module_name}:{o}"));
+        let qualified = self.ids_qualified.then(|| format!("{module_name}:{lower}"));
+        let candidates = || {
+            own.iter()
+                .chain(&own_qualified)
+                .chain(&qualified)
+                .chain([&lower])
+        };
         let hit = candidates().find_map(|k| self.target_ids.get(k)).copied();
         if let Some(i) = hit {
             if let Some(t) = self.program.targets().get(i) {

@@ -6,6 +6,7 @@
 //! time ([`instant`]).
 
 mod check;
+mod ends;
 mod eval;
 mod instant;
 mod moves;
@@ -104,6 +105,11 @@ pub(super) struct Walker<'p> {
     /// Non-inline robtarget ids (lower case) → index.
     pub(super) target_ids: FastMap<String, usize>,
     pub(super) joint_ids: FastMap<String, usize>,
+    /// Whether some id of `target_ids` or `joint_ids` carries its routine
+    /// (`r1/pa`) or its module (`m:pa`): only then does a name's lookup
+    /// build those keys.
+    pub(super) ids_scoped: bool,
+    pub(super) ids_qualified: bool,
     /// (file, byte offset) of a derived expression → its target.
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
@@ -211,6 +217,10 @@ impl<'p> Walker<'p> {
             .filter(|(_, j)| j.kind != TargetKind::Inline)
             .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
             .collect();
+        let joint_ids: FastMap<String, usize> = joint_ids;
+        let keys = || target_ids.keys().chain(joint_ids.keys());
+        let ids_scoped = keys().any(|k| k.contains('/'));
+        let ids_qualified = keys().any(|k| k.contains(':'));
         let mut decls: FastMap<String, Vec<(usize, Decl)>> = FastMap::default();
         let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
         for (mi, m) in program.modules.iter().enumerate() {
@@ -244,6 +254,8 @@ impl<'p> Walker<'p> {
                 Some(base) => Frames::of_program(program)?.placed(base),
                 None => Frames::of_program(program)?,
             },
+            ids_scoped,
+            ids_qualified,
             target_ids,
             joint_ids,
             derived_at,
@@ -516,6 +528,16 @@ impl<'p> Walker<'p> {
                             } else {
                                 format!("ELSEIF #{i}")
                             };
+                            if self.list_ends(body, frame.module, 0) {
+                                self.note(
+                                    frame,
+                                    line,
+                                    format!(
+                                        "IF: condition known only at run time; the {which} branch ends the program (EXIT), so the walk takes its condition as false"
+                                    ),
+                                );
+                                continue;
+                            }
                             self.note(
                                 frame,
                                 line,
@@ -535,6 +557,14 @@ impl<'p> Walker<'p> {
             StatementKind::CompactIf { cond, then } => match self.eval(cond, frame)?.boolean() {
                 Some(false) => Ok(Flow::Normal),
                 Some(true) => self.exec(then, frame),
+                None if self.ends_program(then, frame.module) => {
+                    self.note(
+                        frame,
+                        line,
+                        "IF: condition known only at run time; the statement ends the program (EXIT), so the walk carries on past it",
+                    );
+                    Ok(Flow::Normal)
+                }
                 None => {
                     self.note(
                         frame,
@@ -819,6 +849,23 @@ impl<'p> Walker<'p> {
                     frame,
                     line,
                     format!("{}: waits on a run-time condition, taken as 0 s", call.name),
+                );
+                return Ok(Flow::Normal);
+            }
+            // MultiMove: the task waits for the others at its
+            // synchronisation point, with its robot at rest (the
+            // instructions need a stop point before them); the other
+            // tasks' time is not modelled here.
+            "syncmoveon" | "syncmoveoff" | "syncmoveundo" | "syncmovesuspend"
+            | "syncmoveresume" => {
+                self.clock = self.clock.max(self.robot_free);
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "{}: waits for the other motion tasks (MultiMove), taken as 0 s",
+                        call.name
+                    ),
                 );
                 return Ok(Flow::Normal);
             }

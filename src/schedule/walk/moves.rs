@@ -200,6 +200,71 @@ impl<'p> Walker<'p> {
         s: &Statement,
         frame: &mut Frame<'p>,
     ) -> Result<()> {
+        if let Some(Expr::Index(b)) = m.to {
+            if let Some((base, elements)) = self.unsettled_elements(m.to, b, frame)? {
+                self.note(
+                    frame,
+                    s.pos.line,
+                    format!(
+                        "{}: the index into {base} is known only at run time: its {} elements are visited in order, each timed",
+                        call.name,
+                        elements.len()
+                    ),
+                );
+                for v in elements {
+                    self.exec_move_to(call, m, s, frame, Some(v))?;
+                }
+                return Ok(());
+            }
+        }
+        self.exec_move_to(call, m, s, frame, None)
+    }
+
+    /// The elements of the target array a move indexes where the walk
+    /// cannot settle the index (`pScan{i}` in a loop whose bounds come
+    /// at run time), with the array's name: the move may go to any of
+    /// them, and a raster program goes to all in turn, so each is visited
+    /// (and timed) in order. `None` where the index is settled, the array
+    /// is not one of targets, or it has more than one dimension.
+    fn unsettled_elements(
+        &mut self,
+        whole: Option<&Expr>,
+        (base, index): &(Expr, Vec<Expr>),
+        frame: &mut Frame<'p>,
+    ) -> Result<Option<(String, Vec<Value>)>> {
+        if index.len() != 1 {
+            return Ok(None);
+        }
+        if let Some(e) = whole {
+            if self.path_of(e, frame)?.is_some() {
+                return Ok(None);
+            }
+        }
+        let Some(base) = self.path_of(base, frame)? else {
+            return Ok(None);
+        };
+        let routine = frame.routine.map(|r| &*r.name);
+        let mut elements = Vec::new();
+        for k in 1.. {
+            let v = self.path_value(&format!("{base}{{{k}}}"), (frame.module, routine))?;
+            if matches!(v, Value::Unknown) {
+                break;
+            }
+            elements.push(v);
+        }
+        Ok((!elements.is_empty()).then_some((base, elements)))
+    }
+
+    /// One move, to `to` where it is given (an element of an array the
+    /// move indexes), else to the value of its target argument.
+    fn exec_move_to<'c>(
+        &mut self,
+        call: &'c Call,
+        m: &Motion<'c>,
+        s: &Statement,
+        frame: &mut Frame<'p>,
+        to: Option<Value>,
+    ) -> Result<()> {
         let line = s.pos.line;
         let kind = m.signature.kind;
         if kind == MotionKind::ExtJoint {
@@ -222,9 +287,10 @@ impl<'p> Walker<'p> {
         let ov = self.velset.0;
         let frames = self.frame_names(m.tool, m.wobj, frame, line)?;
         let (tool, wobj) = (&frames.0, &frames.1);
-        let to = match m.to {
-            Some(e) => self.eval(e, frame)?,
-            None => Value::Unknown,
+        let to = match (to, m.to) {
+            (Some(v), _) => v,
+            (None, Some(e)) => self.eval(e, frame)?,
+            (None, None) => Value::Unknown,
         };
         let from = target_of_flange(&self.arm.flange, tool, wobj);
         let max_speed = self.robot.max_speed_deg_s.map(|v| v * ov);

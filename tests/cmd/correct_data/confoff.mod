@@ -5,6 +5,7 @@ MODULE Cell
     CONST robtarget p20:=[[150,250,380],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
     PROC main()
         ConfL \Off;
+        ConfJ \Off;
         MoveJ p10, v1000, z10, tGrip\WObj:=wTable;
         MoveL p20, v100, fine, tGrip\WObj:=wTable;
         MoveL [[450,100,500],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;

@@ -1,0 +1,376 @@
+//! Where every move instruction of a program ends: its target corrected,
+//! derived from corrected targets (Offs, RelTool, a variable assigned
+//! from them), left alone for a reason, or the run refused. One rule for
+//! every report (text, JSON, `--check`, the summary): a move the run
+//! cannot account for is never dropped in silence.
+//!
+//! A move's fate is its targets' (the worst of them: left alone before
+//! derived before corrected). A move whose argument reaches no target the
+//! files read is left alone, and why is read from the program: a
+//! parameter its calls do not settle, a variable of the routine or one
+//! declared without a value (both filled at run time), a literal reading
+//! variables, or a name declared nowhere in the files read.
+
+use super::outcome::{Fate, Kind, LeftAlone, MoveCounts, MoveFate, Reason};
+use crate::rapid::{Expr, Program, Routine, TargetKind};
+use crate::resolve::{each_move_instruction, Frames, Move, Point, Through};
+use std::collections::HashMap;
+
+/// What the run decided of its targets, which the moves' fates are read
+/// from.
+pub(super) struct Decided<'d> {
+    /// Robtargets left alone, by index.
+    pub robtargets: &'d HashMap<usize, Reason>,
+    /// Jointtargets and other rows left alone, by (file, line, column).
+    pub others: &'d [LeftAlone],
+    /// The program's tools and work objects, to say which of an
+    /// undeclared target's are missing too.
+    pub frames: &'d Frames,
+}
+
+/// Every move instruction's fate (its rows where `rows`), their counts,
+/// and a left-alone row for each target argument that reaches no target
+/// (one per name and reason: the first move's place, with the count).
+pub(super) fn fates(
+    program: &Program,
+    decided: &Decided,
+    rows: bool,
+) -> (Vec<MoveFate>, MoveCounts, Vec<LeftAlone>) {
+    let left_joints: HashMap<(&str, u32, u32), Reason> = decided
+        .others
+        .iter()
+        .map(|l| ((l.file.as_str(), l.line, l.col), l.reason))
+        .collect();
+    let left_by_id: HashMap<String, Reason> = decided
+        .others
+        .iter()
+        .map(|l| (l.id.to_ascii_lowercase(), l.reason))
+        .collect();
+    let routines: HashMap<(&str, &str), &Routine> = program
+        .modules
+        .iter()
+        .flat_map(|m| m.routines.iter().map(move |r| ((&*m.name, &*r.name), r)))
+        .collect();
+    let declared = module_data(program);
+    let assigned = crate::resolve::frame_variables(program);
+    let targets = program.targets();
+    let mut out = Vec::new();
+    let mut counts = MoveCounts::default();
+    let mut unread: Vec<LeftAlone> = Vec::new();
+    let mut unread_at: HashMap<(String, Reason), (usize, usize)> = HashMap::new();
+    each_move_instruction(program, &mut |m: &Move| {
+        let routine = routines.get(&(m.module, m.routine)).copied();
+        let mut fate = Fate::Corrected;
+        let mut names = Vec::new();
+        for p in &m.points {
+            // The argument's text names a row or an unread name only: a
+            // streamed run keeps no rows, and a million moves need not
+            // copy it.
+            let text = || argument_text(program, m.file, p);
+            let reaches = if m.joints {
+                !p.jointtargets.is_empty()
+            } else {
+                !p.robtargets.is_empty()
+            };
+            let known = p
+                .expr
+                .and_then(Expr::as_name)
+                .or(p.name)
+                .and_then(|n| left_by_id.get(&n.to_ascii_lowercase()));
+            let f = if let (false, Some(&r)) = (reaches, known) {
+                // Reported as a target already (a jointtarget written with
+                // expressions).
+                Fate::LeftAlone(r)
+            } else if !reaches {
+                let (reason, detail) =
+                    unread_reason(m, p, routine, (&declared, decided.frames, &assigned));
+                let text = text();
+                let key = (text.to_ascii_lowercase(), reason);
+                match unread_at.get_mut(&key) {
+                    Some(seen) => seen.1 += 1,
+                    None => {
+                        unread_at.insert(key, (unread.len(), 1));
+                        unread.push(LeftAlone {
+                            id: text.clone(),
+                            kind: Kind::Argument,
+                            file: program.file_name(m.file).to_string(),
+                            line: m.line,
+                            col: m.col,
+                            reason,
+                            detail,
+                            world_mm: None,
+                        });
+                    }
+                }
+                Fate::LeftAlone(reason)
+            } else if m.joints {
+                let mut f = Fate::Corrected;
+                for &j in &p.jointtargets {
+                    let jt = &program.jointtargets()[j];
+                    let key = (
+                        program.file_name(jt.origin.file),
+                        jt.origin.pos.line,
+                        jt.origin.pos.col,
+                    );
+                    f = f.worst(match left_joints.get(&key) {
+                        Some(&r) => Fate::LeftAlone(r),
+                        None if jt.kind == TargetKind::Derived => Fate::Derived,
+                        None => Fate::Corrected,
+                    });
+                }
+                f
+            } else {
+                let parameter = p
+                    .expr
+                    .and_then(Expr::as_name)
+                    .or(p.name)
+                    .is_some_and(|n| routine.is_some_and(|r| is_parameter(r, n)));
+                let mut f = Fate::Corrected;
+                for (range, through) in &p.robtargets {
+                    for i in range.clone() {
+                        let one = match decided.robtargets.get(&i) {
+                            Some(&r) => Fate::LeftAlone(r),
+                            None if targets.get(i).is_some_and(|t| {
+                                t.kind == TargetKind::Derived && !t.written_with_expressions()
+                            }) =>
+                            {
+                                Fate::Derived
+                            }
+                            // What a variable is assigned from carries it at
+                            // run time; what a settled parameter is passed
+                            // is the target itself.
+                            None if *through == Through::Variable && !parameter => Fate::Derived,
+                            // Reached through Offs/RelTool of it.
+                            None if matches!(through, Through::Derived(_)) => Fate::Derived,
+                            None => Fate::Corrected,
+                        };
+                        f = f.worst(one);
+                    }
+                }
+                f
+            };
+            fate = fate.worst(f);
+            if rows {
+                names.push(text());
+            }
+        }
+        counts.add(fate);
+        if rows {
+            out.push(MoveFate {
+                instruction: m.instruction.to_string(),
+                file: program.file_name(m.file).to_string(),
+                line: m.line,
+                col: m.col,
+                routine: m.routine.to_string(),
+                target: names.join(", "),
+                fate,
+            });
+        }
+    });
+    // A name moved to more than once says how often, on its one row.
+    for (k, n) in unread_at.values() {
+        if *n > 1 {
+            unread[*k].detail.push_str(&format!(" ({n} moves)"));
+        }
+    }
+    (out, counts, unread)
+}
+
+/// Module data by lower-case name: (type, whether it has a value, line).
+type Declared = HashMap<String, (String, bool, u32)>;
+
+fn module_data(program: &Program) -> Declared {
+    let mut out = Declared::new();
+    for m in &program.modules {
+        for d in &m.data {
+            out.entry(d.name.to_ascii_lowercase()).or_insert((
+                d.type_name.clone(),
+                d.init.is_some(),
+                d.pos.line,
+            ));
+        }
+    }
+    out
+}
+
+fn is_parameter(routine: &Routine, name: &str) -> bool {
+    routine
+        .params
+        .iter()
+        .any(|p| p.name.eq_ignore_ascii_case(name))
+}
+
+/// Why a move's target argument reaches no target, and the words.
+fn unread_reason(
+    m: &Move,
+    p: &Point,
+    routine: Option<&Routine>,
+    (declared, frames, assigned): (&Declared, &Frames, &HashMap<String, Vec<String>>),
+) -> (Reason, String) {
+    let root = match (p.expr, p.name) {
+        (_, Some(n)) => Some(n.to_string()),
+        (Some(e), _) => root_name(e),
+        _ => None,
+    };
+    match p.expr {
+        Some(Expr::Aggregate(_)) => {
+            return (
+                Reason::Expression,
+                "a literal that reads variables: only the run knows its value".to_string(),
+            )
+        }
+        Some(Expr::Call(c)) if root.is_none() => {
+            return (
+                Reason::Runtime,
+                format!("the result of {}, known only at run time", c.name),
+            )
+        }
+        _ => {}
+    }
+    let Some(name) = root else {
+        return (
+            Reason::Expression,
+            "an expression only the run can value".to_string(),
+        );
+    };
+    if let Some(r) = routine {
+        if is_parameter(r, &name) {
+            return (
+                Reason::Parameter,
+                format!(
+                    "{name} is a parameter of {}, and its calls do not settle it (each must pass a target declared in the files read)",
+                    r.name
+                ),
+            );
+        }
+        if let Some(d) = r.data.iter().find(|d| d.name.eq_ignore_ascii_case(&name)) {
+            return (
+                Reason::Runtime,
+                format!(
+                    "{name} is a {} {} of routine {} (line {}): the run fills it",
+                    storage_word(d.storage),
+                    d.type_name,
+                    r.name,
+                    d.pos.line
+                ),
+            );
+        }
+    }
+    if let Some((type_name, has_value, line)) = declared.get(&name.to_ascii_lowercase()) {
+        let how = if *has_value {
+            "whose value is decided at run time"
+        } else {
+            "declared without a value"
+        };
+        return (
+            Reason::Runtime,
+            format!("{name} is a {type_name} {how} (line {line}): the run fills it"),
+        );
+    }
+    let mut detail = format!(
+        "{name} is declared in none of the files read: read the whole task (its folder or backup)"
+    );
+    let missing: Vec<String> = [
+        ("tool", m.tool.as_deref()),
+        ("work object", m.wobj.as_deref()),
+    ]
+    .into_iter()
+    .filter_map(|(what, n)| {
+        let n = n?;
+        let known = match what {
+            "tool" => frames.tool(Some(n)).is_some(),
+            _ => frames.wobj(Some(n)).is_some(),
+        } || assigned.contains_key(&n.to_ascii_lowercase());
+        (!known).then(|| format!("its {what} {n}"))
+    })
+    .collect();
+    if !missing.is_empty() {
+        detail.push_str(&format!("; nor is {}", missing.join(" or ")));
+    }
+    (Reason::Undeclared, detail)
+}
+
+fn storage_word(s: crate::rapid::Storage) -> &'static str {
+    match s {
+        crate::rapid::Storage::Var => "VAR",
+        crate::rapid::Storage::Pers => "PERS",
+        crate::rapid::Storage::Const => "CONST",
+    }
+}
+
+/// The variable an argument reads: its name, an array's or record's
+/// root, the first name a function is given (`Offs(pHome, ...)`).
+fn root_name(e: &Expr) -> Option<String> {
+    match e {
+        Expr::Name(n) => Some(n.to_string()),
+        Expr::Index(b) => root_name(&b.0),
+        Expr::Component(b) => root_name(&b.0),
+        Expr::Call(c) => c
+            .args
+            .iter()
+            .filter(|a| !a.optional)
+            .find_map(|a| a.value.as_ref().and_then(Expr::as_name))
+            .map(str::to_string),
+        _ => None,
+    }
+}
+
+/// A target argument as written, for the report.
+fn argument_text(program: &Program, file: usize, p: &Point) -> String {
+    if let Some(n) = p.name {
+        return n.to_string();
+    }
+    let Some(e) = p.expr else {
+        return p
+            .robtargets
+            .first()
+            .and_then(|(r, _)| program.targets().get(r.start).map(|t| t.id.clone()))
+            .unwrap_or_default();
+    };
+    let src = program.source(file);
+    let span = |r: &std::ops::Range<usize>| {
+        src.get(r.clone())
+            .map(|b| b.iter().map(|&c| c as char).collect::<String>())
+    };
+    match e {
+        Expr::Name(n) => n.to_string(),
+        Expr::Target(i) => program
+            .targets()
+            .get(*i)
+            .map(|t| t.id.clone())
+            .unwrap_or_default(),
+        Expr::JointTarget(i) => program
+            .jointtargets()
+            .get(*i)
+            .map(|t| t.id.clone())
+            .unwrap_or_default(),
+        Expr::Call(c) => span(&c.span).unwrap_or_else(|| c.name.to_string()),
+        Expr::Aggregate(a) => span(&a.span).unwrap_or_default(),
+        Expr::Index(_) | Expr::Component(_) => access_text(e),
+        _ => "an expression".to_string(),
+    }
+}
+
+fn access_text(e: &Expr) -> String {
+    match e {
+        Expr::Name(n) => n.to_string(),
+        Expr::Index(b) => {
+            let idx: Vec<String> =
+                b.1.iter()
+                    .map(|x| match (x.as_num(), x.as_name()) {
+                        (Some(v), _) => format!("{v}"),
+                        (_, Some(n)) => n.to_string(),
+                        _ => "…".to_string(),
+                    })
+                    .collect();
+            format!("{}{{{}}}", access_text(&b.0), idx.join(","))
+        }
+        Expr::Component(b) => format!("{}.{}", access_text(&b.0), b.1),
+        _ => "…".to_string(),
+    }
+}
+
+/// The robtargets left alone, by index, of the pass's rows.
+pub(super) fn left_by_index(left: &[(usize, LeftAlone)]) -> HashMap<usize, Reason> {
+    left.iter().map(|(i, l)| (*i, l.reason)).collect()
+}

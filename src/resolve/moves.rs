@@ -1,0 +1,189 @@
+//! Every move instruction of a program, one at a time, with what each of
+//! its target arguments reads: the robtargets it reaches (as [`uses`]
+//! finds them: by name, literal, array element, the bases of a derived
+//! expression, what a variable or a settled parameter is assigned from)
+//! and the jointtarget it names. The job decides each move's fate from
+//! this; a move whose argument reaches nothing is the job's to explain.
+//!
+//! [`uses`]: super::uses
+
+use super::{Reach, Reached, Refs, Through};
+use crate::rapid::{Expr, Program, StatementKind, TargetKind};
+use std::collections::HashMap;
+
+/// One target argument of a move (its ToPoint, or the CirPoint of a
+/// circular move).
+pub struct Point<'a> {
+    /// The argument as written: an expression of a statement, or a plain
+    /// name (a move of a run the fast lane read).
+    pub expr: Option<&'a Expr>,
+    pub name: Option<&'a str>,
+    /// The robtargets it reaches, and how.
+    pub robtargets: Vec<(std::ops::Range<usize>, Through)>,
+    /// The jointtargets it names (MoveAbsJ, MoveExtJ): one, or every
+    /// element of an array its index reads at run time.
+    pub jointtargets: Vec<usize>,
+}
+
+/// One move instruction.
+pub struct Move<'a> {
+    pub instruction: &'a str,
+    pub module: &'a str,
+    pub routine: &'a str,
+    pub file: usize,
+    pub line: u32,
+    pub col: u32,
+    /// Where the instruction starts in its file.
+    pub offset: usize,
+    /// Tool and work object as written (`None`: the move names none).
+    pub tool: Option<String>,
+    pub wobj: Option<String>,
+    /// Whether it moves to a jointtarget (its targets are joints).
+    pub joints: bool,
+    pub points: Vec<Point<'a>>,
+}
+
+/// Every move instruction of `program`, in program order (module by
+/// module, routine by routine, statements in source order).
+pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
+    let (index, aliases) = (
+        super::move_index(program),
+        super::aliases_and_parameters(program),
+    );
+    let refs = Refs::new(program, &index, &aliases);
+    let joints: HashMap<String, usize> = program
+        .jointtargets()
+        .iter()
+        .enumerate()
+        .filter(|(_, j)| j.kind != TargetKind::Inline)
+        .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
+        .collect();
+    let joint_named = |name: &str, (module, routine): (&str, &str)| {
+        let name = name.to_ascii_lowercase();
+        let (module, routine) = (module.to_ascii_lowercase(), routine.to_ascii_lowercase());
+        [
+            format!("{routine}/{name}"),
+            format!("{module}:{routine}/{name}"),
+            format!("{module}:{name}"),
+            name,
+        ]
+        .iter()
+        .find_map(|k| joints.get(k).copied())
+    };
+    // `jCalib{k}`, `cell.park`: the elements the access path can read.
+    let joint_elements = |e: &Expr| -> Vec<usize> {
+        let Some(pattern) = super::access_pattern(e) else {
+            return Vec::new();
+        };
+        program
+            .jointtargets()
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| {
+                matches!(j.kind, TargetKind::ArrayElement | TargetKind::RecordField)
+                    && super::glob_match(&pattern, &j.id)
+            })
+            .map(|(i, _)| i)
+            .collect()
+    };
+    let reached = |reach: Reach, scope: (&str, &str)| -> Vec<(std::ops::Range<usize>, Through)> {
+        refs.targets(reach, scope)
+            .into_iter()
+            .map(|(r, through)| match r {
+                Reached::One(i) => (i..i + 1, through),
+                Reached::All(r) => (r, through),
+            })
+            .collect()
+    };
+    for module in &program.modules {
+        let src = program.source(module.file);
+        for routine in &module.routines {
+            let scope = (module.name.as_ref(), routine.name.as_ref());
+            for body in super::routine_bodies(routine) {
+                super::walk_statements(body, &mut |s| match &s.kind {
+                    StatementKind::Call(call) => {
+                        let Some(m) = call.motion() else { return };
+                        let joints = m.signature.robtargets.is_empty();
+                        let points = [m.via, m.to]
+                            .into_iter()
+                            .flatten()
+                            .map(|e| Point {
+                                expr: Some(e),
+                                name: None,
+                                robtargets: if joints {
+                                    Vec::new()
+                                } else {
+                                    reached(Reach::Expr(e), scope)
+                                },
+                                jointtargets: match e {
+                                    _ if !joints => Vec::new(),
+                                    Expr::JointTarget(i) => vec![*i],
+                                    Expr::Name(n) => joint_named(n, scope).into_iter().collect(),
+                                    _ => joint_elements(e),
+                                },
+                            })
+                            .collect();
+                        visit(&Move {
+                            instruction: &call.name,
+                            module: scope.0,
+                            routine: scope.1,
+                            file: module.file,
+                            line: s.pos.line,
+                            col: s.pos.col,
+                            offset: s.pos.offset,
+                            tool: m.tool.map(super::describe),
+                            wobj: m.wobj.map(super::describe),
+                            joints,
+                            points,
+                        });
+                    }
+                    StatementKind::Moves(run) => {
+                        for mv in program.moves(*run) {
+                            let points = match mv.named() {
+                                Some(name) => vec![Point {
+                                    expr: None,
+                                    name: Some(name),
+                                    robtargets: reached(Reach::Name(name), scope),
+                                    jointtargets: Vec::new(),
+                                }],
+                                None => mv
+                                    .targets()
+                                    .map(|i| Point {
+                                        expr: None,
+                                        name: None,
+                                        robtargets: vec![(i..i + 1, Through::Direct)],
+                                        jointtargets: Vec::new(),
+                                    })
+                                    .collect(),
+                            };
+                            visit(&Move {
+                                instruction: mv.instruction(),
+                                module: scope.0,
+                                routine: scope.1,
+                                file: module.file,
+                                line: mv.line(),
+                                col: col_of(src, mv.offset()),
+                                offset: mv.offset(),
+                                tool: mv.tool().map(|t| t.to_string()),
+                                wobj: mv.wobj().map(|w| w.to_string()),
+                                joints: false,
+                                points,
+                            });
+                        }
+                    }
+                    _ => {}
+                });
+            }
+        }
+    }
+}
+
+/// The column (1-based, in bytes: RAPID is written in Latin-1) of byte
+/// `offset` of `src`.
+fn col_of(src: &[u8], offset: usize) -> u32 {
+    let start = src[..offset.min(src.len())]
+        .iter()
+        .rposition(|&b| b == b'\n' || b == b'\r')
+        .map_or(0, |p| p + 1);
+    (offset - start + 1) as u32
+}

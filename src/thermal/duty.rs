@@ -113,6 +113,38 @@ impl DutyProfile {
         })
     }
 
+    /// The curves of `profile` driven by `changes`; an error where the
+    /// profile has no curves whose state can be carried (a polynomial, a
+    /// recording).
+    pub fn over(profile: &dyn HeatingProfile, changes: &[DutyChange]) -> Result<DutyProfile> {
+        let curves = profile.curves().ok_or_else(|| {
+            Error::usage(
+                "idle spans need a heating model that cools: the heating curves in use have no state to carry through a stop (fit a saturating one: heating fit --model two-tau)",
+            )
+        })?;
+        DutyProfile::new(curves, changes)
+    }
+
+    /// The changes of duty of idle spans `[from, to)`, in increasing time:
+    /// idle from each span's start, running again from its end.
+    pub fn spans_to_changes(spans: impl IntoIterator<Item = (f64, f64)>) -> Vec<DutyChange> {
+        spans
+            .into_iter()
+            .flat_map(|(from, to)| {
+                [
+                    DutyChange {
+                        from_min: from,
+                        duty: Duty::Idle,
+                    },
+                    DutyChange {
+                        from_min: to,
+                        duty: Duty::Running,
+                    },
+                ]
+            })
+            .collect()
+    }
+
     /// The state at `t_min`, with the duty then.
     pub fn state_at(&self, t_min: f64) -> HeatState {
         // The last change at or before t (binary search: a day may have

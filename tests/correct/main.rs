@@ -7,6 +7,7 @@ mod common;
 mod accounted;
 mod backup;
 mod cli;
+mod idle;
 mod lanes;
 mod marker;
 mod plot;

@@ -7,8 +7,10 @@
 //! is the same arithmetic in Rust, which tests hold to the project's warm
 //! arm and heating curves.
 
+pub mod job;
 pub mod mirror;
 pub mod module;
+pub mod rewrite;
 pub mod spec;
 
 pub use module::{module_text, ModuleOptions};

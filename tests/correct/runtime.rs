@@ -181,3 +181,209 @@ fn the_module_is_read_by_the_projects_grammar() {
         .collect();
     assert_eq!(pers, ["rtX", "rtDay", "rtMinute"], "{pers:?}");
 }
+
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), &target).unwrap();
+        }
+    }
+}
+
+fn root() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The lines of `after` that are not in `before`, and the reverse.
+fn changed_lines(before: &str, after: &str) -> (Vec<String>, Vec<String>) {
+    let b: Vec<&str> = before.lines().collect();
+    let a: Vec<&str> = after.lines().collect();
+    let gone = b
+        .iter()
+        .filter(|l| !a.contains(l))
+        .map(|l| l.to_string())
+        .collect();
+    let new = a
+        .iter()
+        .filter(|l| !b.contains(l))
+        .map(|l| l.to_string())
+        .collect();
+    (gone, new)
+}
+
+#[test]
+fn runtime_rewrites_only_the_moves_and_writes_the_module_beside() {
+    let dir = tempfile::tempdir().unwrap();
+    let cold = std::fs::read(root().join("samples/fixtures.mod")).unwrap();
+    std::fs::write(dir.path().join("fixtures.mod"), &cold).unwrap();
+    std::fs::create_dir(dir.path().join("warm")).unwrap();
+    let out = super::rapidtherm(
+        &[
+            "correct",
+            "fixtures.mod",
+            "--runtime",
+            "-o",
+            "warm/fixtures.mod",
+        ],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let written = std::fs::read(dir.path().join("warm/fixtures.mod")).unwrap();
+    let module = std::fs::read(dir.path().join("warm/RtWarm.sys")).unwrap();
+    // Both read by the project's own grammar, byte for byte.
+    for (name, bytes) in [("fixtures.mod", &written), ("RtWarm.sys", &module)] {
+        let p = rapidtherm::rapid::parse(name, bytes).unwrap();
+        assert_eq!(p.source(0), bytes.as_slice());
+    }
+    let (before, after) = (
+        String::from_utf8_lossy(&cold),
+        String::from_utf8_lossy(&written),
+    );
+    let (gone, new) = changed_lines(&before, &after);
+    // Every line that changed is a move now calling the module, plus the
+    // marker's two lines; the declarations keep their cold numbers.
+    let program = rapidtherm::rapid::parse("fixtures.mod", &cold).unwrap();
+    let moves = {
+        let mut n = 0;
+        rapidtherm::resolve::each_move_instruction(&program, &mut |_| n += 1);
+        n
+    };
+    assert!(moves > 5, "{moves} moves");
+    assert_eq!(gone.len(), new.len() - 2, "{gone:?}\n{new:?}");
+    assert!(new.iter().any(|l| l.contains("basis=runtime RtWarm")));
+    assert!(new.iter().any(|l| l.contains("rapidtherm numbers v1")));
+    let calls = new.iter().filter(|l| l.contains("RtWarm")).count();
+    assert_eq!(calls, gone.len() + 1, "{new:?}");
+    for l in &gone {
+        assert!(
+            rapidtherm::rapid::motion_signature(l.split_whitespace().next().unwrap()).is_some(),
+            "only moves change: {l}"
+        );
+    }
+    // A second run changes nothing; a static correction of the result
+    // is refused (it would correct twice).
+    let again = super::rapidtherm(
+        &["correct", "warm/fixtures.mod", "--runtime", "--diff"],
+        dir.path(),
+    );
+    assert_eq!(
+        again.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert!(again.stdout.is_empty());
+    let twice = super::rapidtherm(
+        &["correct", "warm/fixtures.mod", "--at", "60", "--diff"],
+        dir.path(),
+    );
+    assert_eq!(twice.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&twice.stderr).contains("second correction"));
+}
+
+#[test]
+fn runtime_on_a_backup_changes_only_moves_and_adds_the_module_to_each_motion_task() {
+    let dir = tempfile::tempdir().unwrap();
+    let backup = dir.path().join("backup");
+    copy_dir(&root().join("samples/backup_multimove"), &backup);
+    let out = super::rapidtherm(
+        &["correct", "backup", "--runtime", "--in-place"],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut modules = 0;
+    for task in ["TASK1", "TASK2", "TASK3"] {
+        let sysmod = backup.join("RAPID").join(task).join("SYSMOD/RtWarm.sys");
+        if sysmod.exists() {
+            modules += 1;
+            let text = std::fs::read(&sysmod).unwrap();
+            rapidtherm::rapid::parse("RtWarm.sys", &text).unwrap();
+        }
+        for f in ["PROGMOD", "SYSMOD"] {
+            let src_dir = root()
+                .join("samples/backup_multimove/RAPID")
+                .join(task)
+                .join(f);
+            for e in std::fs::read_dir(&src_dir).unwrap() {
+                let e = e.unwrap();
+                let before = std::fs::read_to_string(e.path()).unwrap();
+                let after = std::fs::read_to_string(
+                    backup.join("RAPID").join(task).join(f).join(e.file_name()),
+                )
+                .unwrap();
+                let (gone, _) = changed_lines(&before, &after);
+                for l in &gone {
+                    assert!(
+                        rapidtherm::rapid::motion_signature(l.split_whitespace().next().unwrap())
+                            .is_some(),
+                        "{task}/{f}: only moves change: {l}"
+                    );
+                }
+            }
+        }
+    }
+    // The backup's two robots' tasks (the third moves none).
+    assert_eq!(modules, 2);
+    let again = super::rapidtherm(&["correct", "backup", "--runtime", "--diff"], dir.path());
+    assert_eq!(
+        again.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert!(
+        again.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&again.stdout)
+    );
+}
+
+#[test]
+fn runtime_refuses_what_the_module_cannot_carry_with_the_reason() {
+    // A recording has no state to carry through a stop.
+    let dir = tempfile::tempdir().unwrap();
+    let out = super::rapidtherm(
+        &[
+            "correct".as_ref(),
+            root().join("tests/cmd/correct_data/cell.mod").as_os_str(),
+            "--runtime".as_ref(),
+            "--diff".as_ref(),
+            "--model".as_ref(),
+            root()
+                .join("tests/cmd/correct_data/recorded.toml")
+                .as_os_str(),
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("heating fit --model two-tau"), "{err}");
+    // A parallel-arm robot, typed.
+    let parallel = rapidtherm::robot::abb::catalogue()
+        .iter()
+        .map(|a| a.robot())
+        .find(|r| r.opw.as_ref().is_ok_and(|o| o.coupling != 0.0))
+        .expect("the catalogue has a parallel-arm robot");
+    let e = RuntimeSpec::new(&parallel, &Model::default(), UnitQuaternion::identity()).unwrap_err();
+    assert!(e.message.contains("parallel-arm"), "{}", e.message);
+    // A bad module name is a usage error before anything is read.
+    let bad = super::rapidtherm(
+        &["correct", "x.mod", "--runtime", "--runtime-module", "9x"],
+        dir.path(),
+    );
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("a RAPID name"));
+}

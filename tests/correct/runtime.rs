@@ -180,6 +180,12 @@ fn the_module_is_read_by_the_projects_grammar() {
         .map(|d| d.name.as_str())
         .collect();
     assert_eq!(pers, ["rtX", "rtDay", "rtMinute"], "{pers:?}");
+    // Task-local: the robots of a MultiMove system warm apart.
+    assert!(m
+        .data
+        .iter()
+        .filter(|d| d.storage == rapidtherm::rapid::Storage::Pers)
+        .all(|d| d.scope == Some(rapidtherm::rapid::Scope::Task)));
 }
 
 fn copy_dir(from: &std::path::Path, to: &std::path::Path) {

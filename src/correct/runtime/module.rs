@@ -119,14 +119,15 @@ pub fn module_text(spec: &RuntimeSpec, opts: &ModuleOptions) -> String {
         num(b.k)
     ));
     line("");
-    line("  ! The state: kept through program restarts and power failures.");
+    line("  ! The state: kept through program restarts and power failures. TASK PERS:");
+    line("  ! each motion task (each robot of a MultiMove system) keeps its own.");
     line(&format!(
-        "  PERS num rtX{{6,{MAX_TERMS}}} := {};",
+        "  TASK PERS num rtX{{6,{MAX_TERMS}}} := {};",
         terms(&|_, _| 0.0)
     ));
     line("  ! Day (since 2000-01-01) and minute of the day of the last update; -1: cold.");
-    line("  PERS num rtDay := -1;");
-    line("  PERS num rtMinute := 0;");
+    line("  TASK PERS num rtDay := -1;");
+    line("  TASK PERS num rtMinute := 0;");
     s.push_str(BODY);
     s.push_str("ENDMODULE\r\n");
     s

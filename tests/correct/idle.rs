@@ -155,12 +155,7 @@ fn correct_schedule_reads_the_idle_spans_and_the_marker_records_them() {
         &["correct", "idle.mod", "--schedule", "idle.csv", "--check"],
         dir.path(),
     );
-    assert_eq!(
-        again.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&again.stderr)
-    );
+    super::assert_exit(&again, 0);
 }
 
 #[test]

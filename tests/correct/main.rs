@@ -28,3 +28,13 @@ fn rapidtherm<S: AsRef<std::ffi::OsStr>>(args: &[S], dir: &Path) -> Output {
         .output()
         .unwrap()
 }
+
+/// The run exited with `code` (its messages shown where it did not).
+fn assert_exit(out: &Output, code: i32) {
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

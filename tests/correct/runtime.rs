@@ -281,12 +281,7 @@ fn runtime_rewrites_only_the_moves_and_writes_the_module_beside() {
         &["correct", "warm/fixtures.mod", "--runtime", "--diff"],
         dir.path(),
     );
-    assert_eq!(
-        again.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&again.stderr)
-    );
+    super::assert_exit(&again, 0);
     assert!(again.stdout.is_empty());
     let twice = super::rapidtherm(
         &["correct", "warm/fixtures.mod", "--at", "60", "--diff"],
@@ -344,12 +339,7 @@ fn runtime_on_a_backup_changes_only_moves_and_adds_the_module_to_each_motion_tas
     // The backup's two robots' tasks (the third moves none).
     assert_eq!(modules, 2);
     let again = super::rapidtherm(&["correct", "backup", "--runtime", "--diff"], dir.path());
-    assert_eq!(
-        again.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&again.stderr)
-    );
+    super::assert_exit(&again, 0);
     assert!(
         again.stdout.is_empty(),
         "{}",
@@ -392,4 +382,26 @@ fn runtime_refuses_what_the_module_cannot_carry_with_the_reason() {
     );
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("a RAPID name"));
+}
+
+#[test]
+fn at_minute_zero_the_module_moves_no_target() {
+    // A cold state (what a freshly written module and RtWarmReset hold):
+    // the motors at the curves' T0, which the embedded model taught its
+    // targets at, so every link's growth and every drift is zero.
+    let robot = Robot::irb140();
+    let s = spec(&robot);
+    let x: Rises = [[0.0; 2]; 6];
+    let g = growth(&s, &temps(&s, &x));
+    assert_eq!(g, [0.0; 4]);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0);
+    for _ in 0..100 {
+        let q = random_q(&robot, &mut rng);
+        assert_eq!(drift_base(&s, &q.map(f64::to_degrees), &g).norm(), 0.0);
+    }
+    // And it warms from there: after an hour running, a drift.
+    let mut warm = x;
+    advance(&s, &mut warm, 60.0, true);
+    let q = random_q(&robot, &mut rng).map(f64::to_degrees);
+    assert!(drift_base(&s, &q, &growth(&s, &temps(&s, &warm))).norm() > 0.01);
 }

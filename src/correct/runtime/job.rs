@@ -149,13 +149,13 @@ fn rewrite_task(
         // header; the numbers' fingerprint above the last ENDMODULE.
         let m = marker::for_run(&basis(module), &label, false, src);
         fixed.extend(marker::insert(&program, f, &m));
-        let body = program.apply_edits(f, &fixed)?;
+        let mut body = program.apply_edits(f, &fixed)?;
+        drop(fixed);
         let end = marker::numbers_at(&body);
         let print = NumberPrint::of(&body[..end]);
-        let mut out = body[..end].to_vec();
-        out.extend(marker::numbers_line(&body, end, &print));
-        out.extend_from_slice(&body[end..]);
-        outputs.push(out);
+        let line = marker::numbers_line(&body, end, &print);
+        body.splice(end..end, line);
+        outputs.push(body);
     }
     let already = found.is_some() && tally.wrapped == 0;
     Ok(RuntimeRan {

@@ -50,7 +50,11 @@ pub fn move_edits(program: &Program, func: &str) -> (Vec<Vec<Edit>>, MoveTally) 
             match w {
                 Wrap::Already => tally.already += 1,
                 Wrap::Edit(e) => {
-                    tally.wrapped += 1;
+                    // Each argument is two insertions: its call opened
+                    // before it and closed after it.
+                    if e.new.ends_with(b"(") {
+                        tally.wrapped += 1;
+                    }
                     edits[m.file].push(e);
                 }
             }
@@ -98,19 +102,18 @@ fn wrap(src: &[u8], m: &Move, func: &str, joint_func: &str) -> Option<Vec<Wrap>>
             out.push(Wrap::Already);
             continue;
         }
-        let new = if sig.robtargets.is_empty() {
-            format!("{name}({written})")
+        // Two insertions, before and after the argument: its own bytes are
+        // not copied (a CAM program's million inline targets).
+        let close = if sig.robtargets.is_empty() {
+            ")".to_string()
         } else {
             match &wobj {
-                Some(w) => format!("{name}({written}, {tool} \\WObj:={w})"),
-                None => format!("{name}({written}, {tool})"),
+                Some(w) => format!(", {tool} \\WObj:={w})"),
+                None => format!(", {tool})"),
             }
         };
-        out.push(Wrap::Edit(Edit {
-            expected_old: src[head.clone()].to_vec(),
-            span: head,
-            new: new.into_bytes(),
-        }));
+        out.push(Wrap::Edit(insert(head.start, format!("{name}("))));
+        out.push(Wrap::Edit(insert(head.end, close)));
     }
     Some(out)
 }
@@ -121,6 +124,14 @@ fn calls(written: &str, name: &str) -> bool {
     written.len() > name.len()
         && written.as_bytes()[..name.len()].eq_ignore_ascii_case(name.as_bytes())
         && written[name.len()..].trim_start().starts_with('(')
+}
+
+fn insert(at: usize, text: String) -> Edit {
+    Edit {
+        span: at..at,
+        expected_old: Vec::new(),
+        new: text.into_bytes(),
+    }
 }
 
 fn text(src: &[u8], r: Range<usize>) -> String {

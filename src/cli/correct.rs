@@ -11,6 +11,7 @@ use super::events::Said;
 use super::messages::{self, note};
 use super::output::FileSink;
 use super::tasks;
+use super::unified_diff::unified_diff;
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::correct::check::{counts, CheckRule, Finding, FindingStatus};
@@ -203,6 +204,18 @@ pub struct CorrectArgs {
     /// missing): top.svg, side.svg, drift.svg (see docs/plot.md).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    /// Correct on the controller instead, all day: write a RAPID system
+    /// module (NAME.sys, beside the output) that carries the arm's heating
+    /// state through running and stopped spans and corrects any target
+    /// when the program reaches it, and rewrite every move to call it.
+    /// The declarations keep their cold numbers; no --at, --schedule or
+    /// --start (docs/runtime.md).
+    #[arg(long, group = "when", conflicts_with_all = ["default_time", "check", "split_shared", "expand_expressions", "plot"])]
+    pub runtime: bool,
+    /// With --runtime: the module's name (a RAPID identifier); its
+    /// jointtarget function is NAME and `J`.
+    #[arg(long, value_name = "NAME", default_value = "RtWarm")]
+    pub runtime_module: String,
     /// Format of the per-target report (printed when no output is chosen);
     /// with --check also github or junit, for CI (docs/ci.md).
     #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
@@ -261,6 +274,9 @@ fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
         .map(|t| moment(t, "--default-time"))
         .transpose()?;
     let when = match (&args.when.at, &args.when.schedule, args.when.start) {
+        // The module times itself by the controller's clock: the basis is
+        // not read (--runtime is one of clap's group of time bases).
+        _ if args.runtime => TimeBasis::At(Moment::Steady),
         (Some(at), _, _) => TimeBasis::At(moment(at, "--at")?),
         (None, Some(file), _) => TimeBasis::Schedule {
             file: file.clone(),
@@ -318,9 +334,24 @@ fn one_file() -> Error {
     Error::usage("-o writes one file: give one input, or use --in-place for several")
 }
 
+/// What `--runtime` reads of the arguments.
+fn runtime_args(args: &CorrectArgs) -> super::correct_runtime::RuntimeArgs<'_> {
+    super::correct_runtime::RuntimeArgs {
+        module: &args.runtime_module,
+        output: args.output.as_deref(),
+        backup: args.backup.clone(),
+    }
+}
+
 pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let plan = plan(&args)?;
+    if args.runtime {
+        super::correct_runtime::check_args(&runtime_args(&args))?;
+    }
     let found = tasks::select(&args.files, &args.pick)?;
+    if args.runtime {
+        return super::correct_runtime::run(&runtime_args(&args), &plan, found);
+    }
     // What the plan asks of the tasks found: known once they are.
     let motion: Vec<&rapidtherm::rapid::task::Task> =
         found.iter().filter(|t| moves_a_robot(t)).collect();
@@ -616,37 +647,4 @@ fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
         ));
     }
     text
-}
-
-/// A unified diff of two versions of a file, in the file's own bytes: a
-/// Latin-1 file's diff is Latin-1, so that `patch` applies it to the
-/// original.
-fn unified_diff(name: &str, before: &[u8], after: &[u8]) -> Vec<u8> {
-    if before == after {
-        return Vec::new();
-    }
-    let utf8 = std::str::from_utf8(before).is_ok() && std::str::from_utf8(after).is_ok();
-    // Latin-1: each byte one char, and back.
-    let text = |b: &[u8]| -> String {
-        if utf8 {
-            String::from_utf8_lossy(b).into_owned()
-        } else {
-            b.iter().map(|&c| char::from(c)).collect()
-        }
-    };
-    let (a, b) = (text(before), text(after));
-    let body = similar::TextDiff::from_lines(&a, &b)
-        .unified_diff()
-        .context_radius(1)
-        .to_string();
-    let mut out = format!("--- a/{name}\n+++ b/{name}\n").into_bytes();
-    if utf8 {
-        out.extend(body.into_bytes());
-    } else {
-        out.extend(
-            body.chars()
-                .map(|c| u8::try_from(u32::from(c)).unwrap_or(b'?')),
-        );
-    }
-    out
 }

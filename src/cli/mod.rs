@@ -14,6 +14,7 @@ mod ci_suite;
 mod compare;
 mod correct;
 mod correct_report;
+mod correct_runtime;
 mod correct_words;
 mod diagnose;
 mod diagnose_args;
@@ -32,6 +33,7 @@ mod plot;
 mod schedule;
 mod targets;
 mod tasks;
+mod unified_diff;
 
 pub use format::{Format, Status};
 pub use io::{read_input, write_stdout, Inputs};

@@ -45,6 +45,7 @@ pub mod plan;
 pub mod plot;
 mod program;
 mod progress;
+pub mod runtime;
 mod shared;
 mod solve;
 mod splice;

@@ -4,7 +4,7 @@
 
 use crate::digest::Encoder;
 use crate::model::Moment;
-use crate::schedule::{EstimateOptions, Schedule, Visit, SCHEDULE_ENCODING};
+use crate::schedule::{EstimateOptions, IdleSpan, Schedule, Visit, SCHEDULE_ENCODING};
 
 /// When the targets are reached.
 #[derive(Debug, Clone, PartialEq)]
@@ -113,7 +113,12 @@ impl When {
                 joints,
                 default,
                 ..
-            } => schedule_basis(|e| schedule.encode(e), joints, default),
+            } => schedule_basis(
+                |e| schedule.encode(e),
+                joints,
+                default,
+                schedule.idle_spans(),
+            ),
         }
     }
 }
@@ -169,7 +174,10 @@ fn encode_default(e: &mut Encoder, default: &Option<Moment>) {
 /// `robtargets` writes them, [`encode_visits`]; a byte 0 where the
 /// jointtargets' times are looked up among the robtargets', else 1 and
 /// their visits likewise; the default moment: a byte 0 for none, 1 and
-/// the minute's f64 bits, or 2 for the steady state). Documented in
+/// the minute's f64 bits, or 2 for the steady state; then, only where
+/// the schedule has idle spans, their number (u32) and each span's start
+/// and end minute as f64 bits, in increasing time: a schedule without
+/// them encodes as before they existed). Documented in
 /// `docs/correct.md`; `tests/correct/marker.rs` pins it.
 ///
 /// [`encode_visits`]: crate::schedule::encode_visits
@@ -177,6 +185,7 @@ pub(crate) fn schedule_basis(
     robtargets: impl FnOnce(&mut Encoder),
     joints: &Option<Schedule>,
     default: &Option<Moment>,
+    idle: &[IdleSpan],
 ) -> String {
     let mut e = Encoder::new(SCHEDULE_ENCODING);
     robtargets(&mut e);
@@ -188,5 +197,12 @@ pub(crate) fn schedule_basis(
         }
     }
     encode_default(&mut e, default);
+    if !idle.is_empty() {
+        e.u32(u32::try_from(idle.len()).unwrap_or(u32::MAX));
+        for span in idle {
+            e.f64(span.from_min);
+            e.f64(span.to_min);
+        }
+    }
     format!("schedule v1 {}", e.finish())
 }

@@ -65,13 +65,24 @@ impl WarmRobot {
     /// controller uses). `horizon_min`: the latest minute that will be
     /// asked for (the thermal lag integrates the history up to it).
     pub fn new(robot: Robot, model: &Model, horizon_min: f64) -> Result<WarmRobot> {
+        WarmRobot::with_profile(robot, model, model.profile()?, horizon_min)
+    }
+
+    /// The warm robot of `model` with its motor temperatures from
+    /// `profile` in place of the model's own (a day of running and
+    /// stops, `thermal::duty`, made from the model's curves).
+    pub fn with_profile(
+        robot: Robot,
+        model: &Model,
+        profile: Box<dyn HeatingProfile>,
+        horizon_min: f64,
+    ) -> Result<WarmRobot> {
         // A tracker frame describes the instrument a diagnosis measured
         // with, not the robot: moving every target by it would be wrong.
         let (effects, instrument): (Vec<Effect>, Vec<Effect>) = model
             .effects()?
             .into_iter()
             .partition(|e| e.kind != EffectKind::TrackerFrame);
-        let profile = model.profile()?;
         let history = match lag_taus(&effects) {
             Some(_) => Some(TempHistory::from_profile(
                 profile.as_ref(),

@@ -2,7 +2,7 @@
 //! the `target,time_min` CSV file of `docs/formats.md`, and which
 //! visit a correction is for.
 
-use crate::csv_table::CsvTable;
+use crate::csv_table::{CsvRow, CsvTable};
 use crate::digest::Encoder;
 use crate::error::{Error, Result};
 use std::borrow::Cow;
@@ -39,9 +39,6 @@ pub(super) fn lower(id: &str) -> Cow<'_, str> {
     }
 }
 
-/// When each target is reached: every visit of every target, in minutes.
-/// Keys are target identifiers as written (lookups ignore case, as RAPID
-/// does).
 /// `f` of `id` in lower case, lowered on the stack where it is short: a
 /// million targets looked up by a RobotStudio-style name (`Target_10`)
 /// made a million copies.
@@ -58,6 +55,17 @@ fn with_lower<R>(id: &str, f: impl FnOnce(&str) -> R) -> R {
     f(&lower(id))
 }
 
+/// A span of time over which the robot stands (no program running, the
+/// motors cooling): `[from_min, to_min)` since the cold start.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IdleSpan {
+    pub from_min: f64,
+    pub to_min: f64,
+}
+
+/// When each target is reached: every visit of every target, in minutes,
+/// and the spans over which the robot stood. Keys are target identifiers
+/// as written (lookups ignore case, as RAPID does).
 #[derive(Clone, Default, PartialEq)]
 pub struct Schedule {
     /// By lower-case identifier (hashed: a schedule of a million targets
@@ -68,6 +76,9 @@ pub struct Schedule {
     /// targets, `main#1234`), so that a target's first visit allocates
     /// once, not three times (a third of timing a CAM program).
     order: Vec<Arc<str>>,
+    /// The idle spans, in increasing time, none overlapping another and
+    /// none holding a visit (a robot that stands reaches no target).
+    idle: Vec<IdleSpan>,
 }
 
 /// A target's visit times: most targets are visited once.
@@ -179,6 +190,28 @@ impl Schedule {
         self.order.is_empty()
     }
 
+    /// The spans over which the robot stood, in increasing time.
+    pub fn idle_spans(&self) -> &[IdleSpan] {
+        &self.idle
+    }
+
+    /// Add the idle spans `spans` (checked as [`Schedule::read`] checks a
+    /// file's: in increasing time, not overlapping, holding no visit).
+    pub fn set_idle_spans(&mut self, spans: Vec<IdleSpan>) -> Result<()> {
+        check_spans(&spans)?;
+        for (id, t) in self
+            .order
+            .iter()
+            .flat_map(|id| self.times(id).unwrap_or(&[]).iter().map(move |&t| (id, t)))
+        {
+            if let Some(span) = span_holding(&spans, t) {
+                return Err(visit_in_span(id, t, span));
+            }
+        }
+        self.idle = spans;
+        Ok(())
+    }
+
     /// The schedule in its byte encoding ([`encode_visits`]).
     pub fn encode(&self, e: &mut Encoder) {
         let visits = self
@@ -193,20 +226,29 @@ impl Schedule {
         self.visits.values().map(|t| t.as_slice().len()).sum()
     }
 
-    /// Read a schedule file (`target,time_min`). Several rows may name one
-    /// target: each is a visit.
+    /// Read a schedule file (`target,time_min[,kind][,end_min]`). Several
+    /// rows may name one target: each is a visit. A row of kind `idle` is
+    /// a span over which the robot stood, from `time_min` to `end_min`
+    /// (its target left empty).
     pub fn read(file: &str, bytes: &[u8]) -> Result<Schedule> {
         let table = CsvTable::parse(file, bytes)?;
         let target = table.require("target")?;
         let time = table.require("time_min")?;
+        let kind = table.column("kind");
+        let end = table.column("end_min");
         let mut schedule = Schedule::new();
-        for row in &table.rows {
-            let name = table.text(row, target)?;
-            if name.is_empty() {
-                return Err(
-                    Error::input("empty target identifier").at(table.field_location(row, target))
-                );
+        // Each idle span with the row it came from, for the errors of
+        // the checks that need every span and visit.
+        let mut spans: Vec<(IdleSpan, usize)> = Vec::new();
+        let mut visits: Vec<(usize, f64)> = Vec::new();
+        let end_of = |row: &CsvRow| -> Result<Option<f64>> {
+            match end {
+                Some(e) if !field(row, end).is_empty() => table.number(row, e).map(Some),
+                _ => Ok(None),
             }
+        };
+        for (r, row) in table.rows.iter().enumerate() {
+            let name = table.text(row, target)?;
             let t = table.number(row, time)?;
             if t < 0.0 {
                 return Err(Error::input(format!(
@@ -214,8 +256,75 @@ impl Schedule {
                 ))
                 .at(table.field_location(row, time)));
             }
-            schedule.visit(name, t);
+            let row_kind = RowKind::parse(field(row, kind)).ok_or_else(|| {
+                Error::input(format!(
+                    "unknown kind `{}` (known: idle, robtarget, jointtarget, or empty for a visit)",
+                    field(row, kind)
+                ))
+                .at(table.field_location(row, kind.unwrap_or(target)))
+            })?;
+            match row_kind {
+                RowKind::Idle => {
+                    if !name.is_empty() {
+                        return Err(Error::input(
+                            "an idle span names no target (leave `target` empty)",
+                        )
+                        .at(table.field_location(row, target)));
+                    }
+                    let to = end_of(row)?.ok_or_else(|| {
+                        Error::input("an idle span needs its end, `end_min`")
+                            .at(table.field_location(row, end.unwrap_or(time)))
+                    })?;
+                    if to <= t {
+                        return Err(Error::input(format!(
+                            "an idle span ends at minute {to}, not after its start {t}"
+                        ))
+                        .at(table.field_location(row, end.unwrap_or(time))));
+                    }
+                    spans.push((
+                        IdleSpan {
+                            from_min: t,
+                            to_min: to,
+                        },
+                        r,
+                    ));
+                }
+                RowKind::Visit => {
+                    if name.is_empty() {
+                        return Err(Error::input("empty target identifier")
+                            .at(table.field_location(row, target)));
+                    }
+                    if let (Some(e), Some(_)) = (end, end_of(row)?) {
+                        return Err(Error::input(
+                            "a visit has no end: `end_min` belongs to idle spans",
+                        )
+                        .at(table.field_location(row, e)));
+                    }
+                    schedule.visit(name, t);
+                    visits.push((r, t));
+                }
+            }
         }
+        spans.sort_by(|a, b| a.0.from_min.total_cmp(&b.0.from_min));
+        for pair in spans.windows(2) {
+            if pair[1].0.from_min < pair[0].0.to_min {
+                let row = &table.rows[pair[1].1];
+                return Err(Error::input(format!(
+                    "this idle span (from minute {}) overlaps the one from minute {} to {}",
+                    pair[1].0.from_min, pair[0].0.from_min, pair[0].0.to_min
+                ))
+                .at(table.field_location(row, time)));
+            }
+        }
+        let only: Vec<IdleSpan> = spans.iter().map(|(s, _)| *s).collect();
+        for (r, t) in visits {
+            if let Some(span) = span_holding(&only, t) {
+                let row = &table.rows[r];
+                let name = table.text(row, target)?;
+                return Err(visit_in_span(name, t, span).at(table.field_location(row, time)));
+            }
+        }
+        schedule.idle = only;
         Ok(schedule)
     }
 
@@ -228,8 +337,88 @@ impl Schedule {
                 rows.extend(times.iter().map(|&t| (t, i, &**name)));
             }
         }
-        csv_of(rows)
+        let visits = csv_of(rows);
+        if self.idle.is_empty() {
+            return visits;
+        }
+        // With stops, the two columns that say them; the visits' rows
+        // leave them empty.
+        let mut out = String::from("target,time_min,kind,end_min\n");
+        for line in visits.lines().skip(1) {
+            out.push_str(line);
+            out.push_str(",,\n");
+        }
+        for s in &self.idle {
+            out.push_str(&format!(",{:.4},idle,{:.4}\n", s.from_min, s.to_min));
+        }
+        out
     }
+}
+
+/// An optional column's field, trimmed; empty where the column is absent
+/// or the row ends before it (`p10,1.5` in a file whose header names it).
+fn field(row: &CsvRow, col: Option<usize>) -> &str {
+    col.and_then(|c| row.fields.get(c)).map_or("", |f| f.trim())
+}
+
+/// What a schedule row is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RowKind {
+    /// A visit of a target (no kind, or the target's kind).
+    Visit,
+    /// A span over which the robot stood.
+    Idle,
+}
+
+impl RowKind {
+    fn parse(text: &str) -> Option<RowKind> {
+        let t = text.trim();
+        if t.is_empty()
+            || t.eq_ignore_ascii_case("robtarget")
+            || t.eq_ignore_ascii_case("jointtarget")
+        {
+            Some(RowKind::Visit)
+        } else if t.eq_ignore_ascii_case("idle") {
+            Some(RowKind::Idle)
+        } else {
+            None
+        }
+    }
+}
+
+/// Spans in increasing time, none overlapping the next.
+fn check_spans(spans: &[IdleSpan]) -> Result<()> {
+    for s in spans {
+        if !(s.from_min >= 0.0 && s.to_min > s.from_min && s.to_min.is_finite()) {
+            return Err(Error::input(format!(
+                "an idle span from minute {} to {} is not a span after the cold start",
+                s.from_min, s.to_min
+            )));
+        }
+    }
+    for pair in spans.windows(2) {
+        if pair[1].from_min < pair[0].to_min {
+            return Err(Error::input(format!(
+                "the idle span from minute {} overlaps the one from minute {} to {}",
+                pair[1].from_min, pair[0].from_min, pair[0].to_min
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The span that holds minute `t` strictly inside (a visit at a span's
+/// start or end is the last before the stop or the first after it).
+fn span_holding(spans: &[IdleSpan], t: f64) -> Option<IdleSpan> {
+    let k = spans.partition_point(|s| s.from_min < t);
+    k.checked_sub(1).map(|i| spans[i]).filter(|s| t < s.to_min)
+}
+
+fn visit_in_span(target: &str, t: f64, span: IdleSpan) -> Error {
+    Error::input(format!(
+        "target `{target}` is reached at minute {t}, while the robot stands (idle from minute {} to {})",
+        span.from_min, span.to_min
+    ))
 }
 
 /// The `target,time_min` file of visits (minutes, the target's place in

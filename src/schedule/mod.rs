@@ -22,7 +22,7 @@ mod timing;
 mod walk;
 
 pub use estimate::{estimate, Estimate, EstimateOptions};
-pub use file::{encode_visits, Schedule, Visit, SCHEDULE_ENCODING};
+pub use file::{encode_visits, IdleSpan, Schedule, Visit, SCHEDULE_ENCODING};
 pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, SpeedData};
 
 #[cfg(test)]
@@ -100,6 +100,62 @@ mod tests {
         assert_eq!(grid_back.times("pgrid{2,1}").unwrap(), &[1.5]);
         let ids: Vec<&str> = back.targets().iter().map(|id| &**id).collect();
         assert_eq!(ids, ["p10", "main#3"]);
+    }
+
+    #[test]
+    fn idle_spans_are_read_checked_and_written_back() {
+        let csv =
+            "target,time_min,kind,end_min\np10,40\n,120,idle,180\np20,180,,\nj1,200,jointtarget,\n";
+        let s = Schedule::read("s.csv", csv.as_bytes()).unwrap();
+        assert_eq!(
+            s.idle_spans(),
+            &[IdleSpan {
+                from_min: 120.0,
+                to_min: 180.0
+            }]
+        );
+        assert_eq!(s.times("p20").unwrap(), &[180.0]);
+        assert_eq!(s.times("j1").unwrap(), &[200.0]);
+        let back = Schedule::read("s.csv", s.to_csv().as_bytes()).unwrap();
+        assert_eq!(back, s);
+        // Each mistake named where it is.
+        for (bad, line, says) in [
+            (
+                "target,time_min,kind,end_min\np10,150\n,120,idle,180\n",
+                2,
+                "while the robot stands",
+            ),
+            ("target,time_min,kind\n,120,idle\n", 2, "needs its end"),
+            (
+                "target,time_min,kind,end_min\n,120,idle,100\n",
+                2,
+                "not after its start",
+            ),
+            (
+                "target,time_min,kind,end_min\np10,120,idle,180\n",
+                2,
+                "names no target",
+            ),
+            (
+                "target,time_min,kind,end_min\n,100,idle,180\n,150,idle,200\n",
+                3,
+                "overlaps",
+            ),
+            (
+                "target,time_min,kind,end_min\np10,1,,5\n",
+                2,
+                "belongs to idle spans",
+            ),
+            ("target,time_min,kind\np10,1,stop\n", 2, "unknown kind"),
+        ] {
+            let e = Schedule::read("s.csv", bad.as_bytes()).unwrap_err();
+            assert!(e.message.contains(says), "{bad}: {}", e.message);
+            assert_eq!(e.location.unwrap().line, line, "{bad}");
+        }
+        // A visit at a span's ends is the last before the stop or the
+        // first after it.
+        let edge = "target,time_min,kind,end_min\np10,120\n,120,idle,180\np20,180\n";
+        assert!(Schedule::read("s.csv", edge.as_bytes()).is_ok());
     }
 
     #[test]

@@ -12,12 +12,15 @@
 //! - [`profile`]: profiles from fitted curves and [`default_profile`].
 //! - [`plot`]: SVG of measured and fitted curves.
 //! - [`table`]: fit results as the paper-like table, CSV and JSON.
+//! - [`duty`]: warm-up and cool-down over a day of running and stops,
+//!   the exact update of saturating curves.
 //! - [`lag`]: a structure's temperature behind its motors' (first-order
 //!   lag), one discretisation for every job.
 //!
 //! Owns temperatures over time. May import the shared `error`,
 //! `csv_table` and `report`; never `robot`, `model` or anything above.
 
+pub mod duty;
 pub mod fit;
 pub mod lag;
 pub mod plausible;
@@ -56,6 +59,13 @@ pub trait HeatingProfile: Send + Sync {
             "this heating model has no steady state (a polynomial or a recording does not saturate)",
         )
         .with_remedy(crate::error::Remedy::GiveMinute))
+    }
+
+    /// The saturating curve of each axis, where the profile is one: the
+    /// only kind with a state that can be carried forward through running
+    /// and stopped spans ([`duty`]). `None` for polynomials and recordings.
+    fn curves(&self) -> Option<[saturating::SatCurve; 6]> {
+        None
     }
 }
 

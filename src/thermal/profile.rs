@@ -93,6 +93,18 @@ impl HeatingProfile for FittedProfile {
         }
         Ok(out)
     }
+
+    fn curves(&self) -> Option<[SatCurve; 6]> {
+        let mut out: [Option<SatCurve>; 6] = Default::default();
+        for (o, c) in out.iter_mut().zip(&self.axes) {
+            *o = match c {
+                Curve::Saturating(s) => Some(s.clone()),
+                Curve::Poly(_) => return None,
+            };
+        }
+        let [a, b, c, d, e, f] = out;
+        Some([a?, b?, c?, d?, e?, f?])
+    }
 }
 
 /// Saturating curves on all six axes: defined and bounded for every t ≥ 0.
@@ -113,6 +125,10 @@ impl HeatingProfile for SaturatingProfile {
 
     fn steady(&self) -> Result<MotorTemps> {
         Ok(std::array::from_fn(|i| self.axes[i].steady()))
+    }
+
+    fn curves(&self) -> Option<[SatCurve; 6]> {
+        Some(self.axes.clone())
     }
 }
 

@@ -7,9 +7,11 @@ mod common;
 mod accounted;
 mod backup;
 mod cli;
+mod idle;
 mod lanes;
 mod marker;
 mod plot;
+mod runtime;
 mod samples;
 mod shared;
 mod streaming;
@@ -25,4 +27,14 @@ fn rapidtherm<S: AsRef<std::ffi::OsStr>>(args: &[S], dir: &Path) -> Output {
         .current_dir(dir)
         .output()
         .unwrap()
+}
+
+/// The run exited with `code` (its messages shown where it did not).
+fn assert_exit(out: &Output, code: i32) {
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

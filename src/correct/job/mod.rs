@@ -15,7 +15,7 @@ mod ran;
 mod shared;
 
 pub use host::{Event, Host, Output, Sink};
-pub use prepare::load_model;
+pub use prepare::{checked_arm, load_model, model_label, warm_robot};
 pub use ran::{Inputs, Ran, Way};
 
 use super::plan::{Action, CorrectPlan, Destination};
@@ -26,7 +26,7 @@ use crate::rapid::task::Task;
 use crate::rapid::{self, ParseOptions, Program, Source};
 use crate::resolve::arm::base_frame;
 use host::took;
-use prepare::{checked_arm, warm_run, when_and_notes};
+use prepare::{warm_run, when_and_notes};
 use std::io::Write;
 use std::path::Path;
 

@@ -16,6 +16,7 @@ use crate::resolve::arm::{
 };
 use crate::robot::Robot;
 use crate::schedule::{self, EstimateOptions, Schedule};
+use crate::thermal::duty::DutyProfile;
 
 /// The model a plan names.
 pub fn load_model(source: &ModelSource) -> Result<Model> {
@@ -30,7 +31,8 @@ pub fn load_model(source: &ModelSource) -> Result<Model> {
 
 /// The model and arm a run uses, as the marker of a corrected file names
 /// them: the embedded ones by name, files by their fingerprint.
-fn model_label(source: &ModelSource, arm: &str) -> Result<String> {
+/// The model and arm as the marker names them.
+pub fn model_label(source: &ModelSource, arm: &str) -> Result<String> {
     let model = match source {
         ModelSource::Named(name) => format!("embedded {}", name.to_ascii_lowercase()),
         ModelSource::File(path) => {
@@ -175,6 +177,24 @@ pub fn estimate_options(
     }
 }
 
+/// The warm robot of `model` on `robot` for a run `when`, until minute
+/// `horizon`: where a schedule has idle spans, the model's heating curves
+/// driven through them, cooling in each (the exact update of
+/// `thermal::duty`, the one the controller module runs); an error where
+/// the curves cannot cool (a polynomial, a recording).
+pub fn warm_robot(robot: Robot, model: &Model, when: &When, horizon: f64) -> Result<WarmRobot> {
+    match when {
+        When::Schedule { schedule, .. } if !schedule.idle_spans().is_empty() => {
+            let changes = DutyProfile::spans_to_changes(
+                schedule.idle_spans().iter().map(|s| (s.from_min, s.to_min)),
+            );
+            let duty = DutyProfile::over(model.profile()?.as_ref(), &changes)?;
+            WarmRobot::with_profile(robot, model, Box::new(duty), horizon)
+        }
+        _ => WarmRobot::new(robot, model, horizon),
+    }
+}
+
 /// The warm robot a task's run needs until `when`'s last minute (or
 /// `later`, where targets `when` does not hold are reached later: a
 /// streamed estimate's cut literals), and the run's options: (arm name,
@@ -211,7 +231,7 @@ pub fn warm_run(
     };
     let arm_name = arm.robot.name.clone();
     let label = task.label();
-    let warm = WarmRobot::new(arm.robot, model, horizon)?;
+    let warm = warm_robot(arm.robot, model, &when, horizon)?;
     if warm.instrument_left_out() {
         host.event(Event::InstrumentLeftOut { task: &label });
     }

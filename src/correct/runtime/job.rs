@@ -1,0 +1,170 @@
+//! `correct --runtime` run on the tasks the user named: for each task
+//! that moves a robot, the module written from its arm and the model, and
+//! its files with every move wrapped in the module's function. Every task
+//! is tried before anything is written.
+
+use super::rewrite::{move_edits, MoveTally};
+use super::{module_text, ModuleOptions, RuntimeSpec};
+use crate::correct::job::{checked_arm, load_model, model_label, moves_a_robot, read_task};
+use crate::correct::job::{Event, Host, Inputs};
+use crate::correct::marker;
+use crate::correct::plan::{CorrectPlan, ModelSource};
+use crate::error::{Error, Errors, Result};
+use crate::rapid::numprint::NumberPrint;
+use crate::rapid::task::Task;
+use crate::resolve::arm::base_frame;
+use nalgebra::UnitQuaternion;
+use std::path::{Path, PathBuf};
+
+/// The marker's basis of a run-time rewrite: the module's name, so that
+/// a static correction of the rewritten program is refused (it would
+/// correct twice), and a second `--runtime` run recognises its output.
+pub fn basis(module: &str) -> String {
+    format!("runtime {module}")
+}
+
+/// One task rewritten.
+#[derive(Debug)]
+pub struct RuntimeRan {
+    pub task: Task,
+    pub arm: String,
+    pub inputs: Inputs,
+    /// Each input's new bytes (its own where nothing changed).
+    pub outputs: Vec<Vec<u8>>,
+    /// The module's file name (`NAME.sys`) and bytes.
+    pub module: (String, Vec<u8>),
+    pub tally: MoveTally,
+    /// A former `--runtime` run made these files: nothing was changed.
+    pub already: bool,
+}
+
+impl RuntimeRan {
+    /// Whether any of its program files changes.
+    pub fn changed(&self) -> bool {
+        self.outputs
+            .iter()
+            .zip(&self.inputs)
+            .any(|(after, (_, before))| after.as_slice() != before.bytes())
+    }
+
+    /// The folder the module goes in beside `program`: a task's SYSMOD
+    /// where its program sits in PROGMOD (a backup's layout), else the
+    /// program's own folder.
+    pub fn module_dir(program: &Path) -> PathBuf {
+        let dir = program.parent().unwrap_or(Path::new("")).to_path_buf();
+        let is_progmod = dir
+            .file_name()
+            .is_some_and(|n| n.eq_ignore_ascii_case("PROGMOD"));
+        match dir.parent().map(|p| p.join("SYSMOD")) {
+            Some(sys) if is_progmod && sys.is_dir() => sys,
+            _ => dir,
+        }
+    }
+}
+
+/// Rewrite the tasks (those that move no robot are said and left alone)
+/// for a module named `module`.
+pub fn run(
+    plan: &CorrectPlan,
+    module: &str,
+    tasks: Vec<Task>,
+    host: &mut dyn Host,
+) -> Result<Vec<RuntimeRan>> {
+    crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
+    let model = load_model(&plan.model)?;
+    let mut runs = Vec::new();
+    let mut errors = Errors::default();
+    for task in tasks {
+        if !moves_a_robot(&task) {
+            host.event(Event::NotMotion {
+                task: &task.label(),
+            });
+            continue;
+        }
+        match rewrite_task(plan, &model, module, task, host) {
+            Ok(r) => runs.push(r),
+            Err(e) => errors.push(e),
+        }
+    }
+    if let Some(e) = errors.into_error(|n| {
+        Error::input(format!(
+            "{n} tasks cannot be rewritten for the controller; nothing was written"
+        ))
+    }) {
+        return Err(e);
+    }
+    Ok(runs)
+}
+
+fn rewrite_task(
+    plan: &CorrectPlan,
+    model: &crate::model::Model,
+    module: &str,
+    task: Task,
+    host: &mut dyn Host,
+) -> Result<RuntimeRan> {
+    let arm = checked_arm(plan, &task, model, host)?;
+    let base = base_frame(&task)?.map_or(UnitQuaternion::identity(), |f| f.rotation);
+    let spec = RuntimeSpec::new(&arm.robot, model, base)?;
+    let label = model_label(&plan.model, &arm.label)?;
+    let opts = ModuleOptions {
+        name: module.to_string(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        heating_source: match &plan.model {
+            ModelSource::File(p) => format!("the model file {}", p.display()),
+            ModelSource::Named(n) => format!("the embedded model {n}"),
+            ModelSource::Default => "the embedded default (IRB 140, 60 % speed)".to_string(),
+        },
+    };
+    let text = module_text(&spec, &opts).into_bytes();
+    let (inputs, program) = read_task(&task, host)?;
+    let wanted = marker::for_run(&basis(module), &label, false, b"");
+    if let Some(u) = marker::untrusted(&program) {
+        return Err(marker::refuse_untrusted(&program, &u));
+    }
+    let found = marker::find(&program);
+    if let Some(f) = &found {
+        if !f.marker.same_correction(&wanted) {
+            return Err(marker::refuse(&program, f, &wanted));
+        }
+    }
+    let (edits, tally) = move_edits(&program, module);
+    let mut outputs = Vec::with_capacity(program.files.len());
+    for (f, mut fixed) in edits.into_iter().enumerate() {
+        let src = program.source(f);
+        if fixed.is_empty() {
+            outputs.push(src.to_vec());
+            continue;
+        }
+        if found.is_some() {
+            // Moves written after the first rewrite: its marker's
+            // fingerprints are of the file as it was then.
+            return Err(Error::input(format!(
+                "{}: a former --runtime run rewrote this program, and {} move(s) were added since; rewrite its cold original",
+                program.file_name(f),
+                fixed.len()
+            )));
+        }
+        // The marker, with the cold file's fingerprint, under the module
+        // header; the numbers' fingerprint above the last ENDMODULE.
+        let m = marker::for_run(&basis(module), &label, false, src);
+        fixed.extend(marker::insert(&program, f, &m));
+        let mut body = program.apply_edits(f, &fixed)?;
+        drop(fixed);
+        let end = marker::numbers_at(&body);
+        let print = NumberPrint::of(&body[..end]);
+        let line = marker::numbers_line(&body, end, &print);
+        body.splice(end..end, line);
+        outputs.push(body);
+    }
+    let already = found.is_some() && tally.wrapped == 0;
+    Ok(RuntimeRan {
+        task,
+        arm: arm.robot.name.clone(),
+        inputs,
+        outputs,
+        module: (format!("{module}.sys"), text),
+        tally,
+        already,
+    })
+}

@@ -1,0 +1,285 @@
+//! The program rewritten to call the controller module: every move's
+//! target argument wrapped in the module's correcting function, with the
+//! move's own tool and work object, so that the target is corrected when
+//! the program reaches it. Targets computed at run time (a camera's
+//! variable, `Offs` of a variable) are covered too, which a rewrite of
+//! numbers never can. Nothing else changes: the declarations keep their
+//! cold numbers.
+//!
+//! ```text
+//! MoveL p10, v100, z1, tGlue\WObj:=wTable;
+//! MoveL RtWarm(p10, tGlue \WObj:=wTable), v100, z1, tGlue\WObj:=wTable;
+//! MoveAbsJ jHome\NoEOffs, v1000, fine, tool0;
+//! MoveAbsJ RtWarmJ(jHome)\NoEOffs, v1000, fine, tool0;
+//! ```
+//!
+//! A move already wrapped is left as it is: a second run changes nothing.
+
+use crate::rapid::rewrite::Edit;
+use crate::rapid::Program;
+use crate::rapid::{motion_signature, ArgAt};
+use crate::resolve::{each_move_instruction, Move};
+use std::ops::Range;
+
+/// How many moves the rewrite touched, per file and in all.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MoveTally {
+    /// Target arguments wrapped by this run.
+    pub wrapped: usize,
+    /// Target arguments a former run wrapped already.
+    pub already: usize,
+    /// Move instructions of no robot (MoveExtJ), or written so that the
+    /// rewrite cannot find their arguments (a late-bound call): left.
+    pub left: usize,
+}
+
+/// The edits that wrap every move of `program` (by file), and the tally.
+/// `func` is the module's robtarget function; its jointtarget function is
+/// `func` and `J`.
+pub fn move_edits(program: &Program, func: &str) -> (Vec<Vec<Edit>>, MoveTally) {
+    let mut edits: Vec<Vec<Edit>> = vec![Vec::new(); program.files.len()];
+    let mut tally = MoveTally::default();
+    let joint_func = format!("{func}J");
+    each_move_instruction(program, &mut |m: &Move| {
+        let src = program.source(m.file);
+        let Some(found) = wrap(src, m, func, &joint_func) else {
+            tally.left += 1;
+            return;
+        };
+        for w in found {
+            match w {
+                Wrap::Already => tally.already += 1,
+                Wrap::Edit(e) => {
+                    // Each argument is two insertions: its call opened
+                    // before it and closed after it.
+                    if e.new.ends_with(b"(") {
+                        tally.wrapped += 1;
+                    }
+                    edits[m.file].push(e);
+                }
+            }
+        }
+    });
+    for e in &mut edits {
+        e.sort_by_key(|e| e.span.start);
+    }
+    (edits, tally)
+}
+
+enum Wrap {
+    Already,
+    Edit(Edit),
+}
+
+/// The wraps of one move's target arguments; `None` where the move moves
+/// no robot or its arguments cannot be read from its text.
+fn wrap(src: &[u8], m: &Move, func: &str, joint_func: &str) -> Option<Vec<Wrap>> {
+    let sig = motion_signature(m.instruction)?;
+    sig.tool?;
+    let args = arguments(src, m.offset)?;
+    // The positional arguments: those not starting with `\`; each one's
+    // expression ends where its first optional argument starts.
+    let positional: Vec<&Arg> = args.iter().filter(|a| !a.optional).collect();
+    let tool_at = match sig.tool? {
+        ArgAt::Index(i) => i,
+        ArgAt::FromEnd(k) => positional.len().checked_sub(k)?,
+    };
+    let tool = text(src, positional.get(tool_at)?.head.clone());
+    let wobj = args
+        .iter()
+        .find_map(|a| a.wobj.clone())
+        .map(|r| text(src, r));
+    let (places, name) = if sig.robtargets.is_empty() {
+        (sig.jointtargets, joint_func)
+    } else {
+        (sig.robtargets, func)
+    };
+    let mut out = Vec::new();
+    for &i in places {
+        let head = positional.get(i)?.head.clone();
+        let written = text(src, head.clone());
+        if calls(&written, name) {
+            out.push(Wrap::Already);
+            continue;
+        }
+        // Two insertions, before and after the argument: its own bytes are
+        // not copied (a CAM program's million inline targets).
+        let close = if sig.robtargets.is_empty() {
+            ")".to_string()
+        } else {
+            match &wobj {
+                Some(w) => format!(", {tool} \\WObj:={w})"),
+                None => format!(", {tool})"),
+            }
+        };
+        out.push(Wrap::Edit(insert(head.start, format!("{name}("))));
+        out.push(Wrap::Edit(insert(head.end, close)));
+    }
+    Some(out)
+}
+
+/// Whether `written` is a call of `name` (as RAPID reads names: without
+/// regard to case).
+fn calls(written: &str, name: &str) -> bool {
+    written.len() > name.len()
+        && written.as_bytes()[..name.len()].eq_ignore_ascii_case(name.as_bytes())
+        && written[name.len()..].trim_start().starts_with('(')
+}
+
+fn insert(at: usize, text: String) -> Edit {
+    Edit {
+        span: at..at,
+        expected_old: Vec::new(),
+        new: text.into_bytes(),
+    }
+}
+
+fn text(src: &[u8], r: Range<usize>) -> String {
+    // RAPID is Latin-1: each byte one character.
+    src[r].iter().map(|&b| b as char).collect()
+}
+
+/// One comma-separated argument of an instruction.
+struct Arg {
+    /// Starts with `\` (an optional argument on its own).
+    optional: bool,
+    /// The argument's expression, trimmed, up to its first optional
+    /// argument.
+    head: Range<usize>,
+    /// The value of a `\WObj:=` among its optional arguments.
+    wobj: Option<Range<usize>>,
+}
+
+/// The arguments of the instruction at `offset` (its name first), up to
+/// its `;`: split at the commas outside brackets, parentheses and
+/// strings. `None` where the statement does not end (a damaged file the
+/// parser took anyway) or starts with no name.
+fn arguments(src: &[u8], offset: usize) -> Option<Vec<Arg>> {
+    let mut i = offset;
+    let name_end = src[i..]
+        .iter()
+        .position(|b| !(b.is_ascii_alphanumeric() || *b == b'_'))
+        .map(|p| i + p)?;
+    if name_end == i {
+        return None;
+    }
+    i = name_end;
+    let mut pieces: Vec<Range<usize>> = Vec::new();
+    let (mut depth, mut start) = (0i32, i);
+    loop {
+        let b = *src.get(i)?;
+        match b {
+            b'"' => {
+                i += 1;
+                while *src.get(i)? != b'"' {
+                    i += 1;
+                }
+            }
+            b'!' if depth == 0 => {
+                // A comment runs to the line's end.
+                while !matches!(src.get(i), Some(b'\n') | None) {
+                    i += 1;
+                }
+                continue;
+            }
+            b'(' | b'[' | b'{' => depth += 1,
+            b')' | b']' | b'}' => depth -= 1,
+            b',' if depth == 0 => {
+                pieces.push(start..i);
+                start = i + 1;
+            }
+            b';' if depth == 0 => {
+                pieces.push(start..i);
+                break;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    Some(pieces.into_iter().map(|r| split_optional(src, r)).collect())
+}
+
+/// An argument's expression and the `\WObj:=` among the optional
+/// arguments that follow it.
+fn split_optional(src: &[u8], r: Range<usize>) -> Arg {
+    let trimmed = trim(src, r.clone());
+    let optional = src.get(trimmed.start) == Some(&b'\\');
+    // The first `\` outside brackets and strings ends the expression.
+    let mut cuts = Vec::new();
+    let (mut depth, mut in_str) = (0i32, false);
+    for i in r.clone() {
+        match src[i] {
+            b'"' => in_str = !in_str,
+            _ if in_str => {}
+            b'(' | b'[' | b'{' => depth += 1,
+            b')' | b']' | b'}' => depth -= 1,
+            b'\\' if depth == 0 => cuts.push(i),
+            _ => {}
+        }
+    }
+    let head_end = cuts.first().copied().unwrap_or(r.end);
+    let mut wobj = None;
+    for (k, &c) in cuts.iter().enumerate() {
+        let end = cuts.get(k + 1).copied().unwrap_or(r.end);
+        let part = trim(src, c + 1..end);
+        let t = &src[part.clone()];
+        if t.len() > 4 && t[..4].eq_ignore_ascii_case(b"wobj") {
+            let rest = &src[part.start + 4..part.end];
+            if let Some(p) = rest.windows(2).position(|w| w == b":=") {
+                wobj = Some(trim(src, part.start + 4 + p + 2..part.end));
+            }
+        }
+    }
+    Arg {
+        optional,
+        head: trim(src, r.start..head_end),
+        wobj,
+    }
+}
+
+fn trim(src: &[u8], r: Range<usize>) -> Range<usize> {
+    let mut a = r.start;
+    let mut b = r.end;
+    while a < b && src[a].is_ascii_whitespace() {
+        a += 1;
+    }
+    while b > a && src[b - 1].is_ascii_whitespace() {
+        b -= 1;
+    }
+    a..b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rewrite(text: &str) -> (String, MoveTally) {
+        let program = crate::rapid::parse("t.mod", text.as_bytes()).unwrap();
+        let (edits, tally) = move_edits(&program, "RtWarm");
+        let mut out = text.as_bytes().to_vec();
+        for e in edits[0].iter().rev() {
+            out.splice(e.span.clone(), e.new.iter().copied());
+        }
+        (String::from_utf8(out).unwrap(), tally)
+    }
+
+    #[test]
+    fn every_kind_of_move_is_wrapped_once() {
+        let text = "MODULE M\n  PROC main()\n    MoveL p10, v100, z1, tGlue\\WObj:=wTable;\n    MoveJ \\Conc, Offs(pCam, x, y, 0), v1000, z50, tool0;\n    MoveC p1, p2, v100, z1, t1 \\WObj:=w1 \\TLoad:=l;\n    MoveAbsJ jHome\\NoEOffs, v1000, fine, tool0;\n    SearchL \\Stop, di1, pFound, pEnd, v100, tool0;\n    MoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
+        let (out, tally) = rewrite(text);
+        for want in [
+            "MoveL RtWarm(p10, tGlue \\WObj:=wTable), v100, z1, tGlue\\WObj:=wTable;",
+            "MoveJ \\Conc, RtWarm(Offs(pCam, x, y, 0), tool0), v1000, z50, tool0;",
+            "MoveC RtWarm(p1, t1 \\WObj:=w1), RtWarm(p2, t1 \\WObj:=w1), v100, z1, t1 \\WObj:=w1 \\TLoad:=l;",
+            "MoveAbsJ RtWarmJ(jHome)\\NoEOffs, v1000, fine, tool0;",
+            "SearchL \\Stop, di1, pFound, RtWarm(pEnd, tool0), v100, tool0;",
+            "MoveL RtWarm([[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], tool0), v100, fine, tool0;",
+        ] {
+            assert!(out.contains(want), "{want}\nin\n{out}");
+        }
+        assert_eq!(tally.wrapped, 7);
+        let (again, tally) = rewrite(&out);
+        assert_eq!(again, out, "a second run changes nothing");
+        assert_eq!((tally.wrapped, tally.already), (0, 7));
+    }
+}

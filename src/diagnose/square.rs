@@ -122,6 +122,13 @@ pub fn choose(
     else {
         return Ok(Choice::Beside(beyond_chosen));
     };
+    // Taken in place of effects only where it leaves fewer of the
+    // library's to name (its four parameters for theirs): where as many or
+    // more are selected beyond it, the square only adds to the first
+    // choice and is reported beside it, the data as measured.
+    if again.selected.len() >= thermal.selected.len() && !thermal.selected.is_empty() {
+        return Ok(Choice::Beside(beyond_chosen));
+    }
     if beyond_again.alike.is_some() && !again.selected.is_empty() {
         // The effects selected beyond the square fit alike without it: the
         // first choice stands, with the square reported beside it.

@@ -100,11 +100,13 @@ fn approach(problem: &Problem) -> [Vec<f64>; 6] {
 /// are small (tenths of a mm and of a mrad): linear at zero to well within
 /// the noise, so every model here is fitted by linear least squares on the
 /// Jacobians at zero, and the models tested are nested exactly. `None`
-/// where none is significant, or the problem keeps no Jacobians at zero.
+/// where none is significant at `level` (the family's, shared among the
+/// signatures tried), or the problem keeps no Jacobians at zero.
 pub fn find(
     problem: &Problem,
     statics: &[EffectKind],
     noise: &TestNoise,
+    level: f64,
 ) -> Option<JointSignature> {
     let all: Vec<usize> = (0..problem.rows.len()).collect();
     let w = problem.width();
@@ -151,7 +153,7 @@ pub fn find(
             vec![times(&|i| dir[i])],
         ));
     }
-    let level = LEVEL / tried.len().max(1) as f64;
+    let level = level / tried.len().max(1) as f64;
     let mut best: Option<(f64, JointSignature, Vec<DVector<f64>>)> = None;
     for (axis, shape, cols) in tried {
         let (coef, rss_full) = lstsq(&hcat(&base, &cols), &r);

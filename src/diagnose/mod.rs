@@ -52,6 +52,7 @@ pub mod sanity;
 pub mod select;
 pub mod signature;
 pub mod simulate;
+pub mod square;
 pub mod stats;
 pub mod unidentified;
 pub mod verdict;

@@ -11,7 +11,8 @@ use super::knock;
 use super::locate::{self, Where};
 use super::prepare::Prepared;
 use super::select;
-use super::signature::{self, QuadraticGrowth};
+use super::signature::QuadraticGrowth;
+use super::square;
 use super::stats::{Test, LEVEL};
 use super::verdict::{
     Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
@@ -375,6 +376,20 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
+    /// The level of each family of tests that can call something
+    /// `unexplained` in the two stages, where the set's verdict is
+    /// `unexplained` when any of them rejects: the lack of fit over time, a
+    /// step in time and the growth with the square, and where the static
+    /// stage is judged its lack of fit and the joint signatures. The
+    /// family-wise level over the tests actually run is [`LEVEL`]
+    /// (Bonferroni; for the one question "is anything unexplained" Holm's
+    /// first step is the same). Each family shares its own level among its
+    /// members as before (the splits of a step, the signatures tried).
+    fn remainder_level(&self) -> f64 {
+        let families = if self.static_judged { 5 } else { 3 };
+        LEVEL / families as f64
+    }
+
     fn judge(&self, f: &Forward, lof: Option<Test>, structured: bool) -> Verdict {
         judge(&Scores {
             selected: &f.selected,
@@ -466,7 +481,7 @@ impl Ctx<'_> {
                 dof,
                 self.noise.sigma2,
                 self.noise.dof,
-                LEVEL,
+                self.remainder_level(),
             )
         })
     }
@@ -513,6 +528,7 @@ fn significant_step(
     centred: &Problem,
     thermal: &Forward,
     noise: &TestNoise,
+    level: f64,
 ) -> Option<knock::Knock> {
     let all: Vec<usize> = (0..centred.rows.len()).collect();
     let gaps = centred.position_gaps(&thermal.effects(), &all);
@@ -523,7 +539,7 @@ fn significant_step(
         3,
         noise.sigma2,
         noise.dof,
-        LEVEL / tried.max(1) as f64,
+        level / tried.max(1) as f64,
     );
     t.significant().then_some(k)
 }
@@ -586,12 +602,18 @@ fn two_stages(
     // back as measured.
     let original = centred.clone();
     let as_measured = thermal.clone();
-    if significant_step(&original, &thermal, &ctx.noise).is_some() {
+    // The held-out gap over time before anything is that of the data as
+    // measured, whatever is later removed from them (a step, a growth with
+    // the square): else the stage's shrink would be measured from data
+    // already corrected.
+    let cv0_measured = thermal.cv0;
+    if significant_step(&original, &thermal, &ctx.noise, ctx.remainder_level()).is_some() {
         thermal = Forward::empty(&original);
     }
     let mut knocked = None;
     for _ in 0..3 {
-        let Some(k) = significant_step(&original, &thermal, &ctx.noise) else {
+        let Some(k) = significant_step(&original, &thermal, &ctx.noise, ctx.remainder_level())
+        else {
             if knocked.is_none() {
                 thermal = as_measured;
             } else if knocked.take().is_some() {
@@ -620,9 +642,33 @@ fn two_stages(
         }
         thermal = over_time(&centred)?;
     }
-    // A growth with the square of the temperatures, beyond the thermal
-    // effects found: what it replaces is not named.
-    let quadratic = signature::quadratic_growth(&centred, &thermal.effects(), &ctx.noise);
+    if knocked.is_some() {
+        thermal.cv0 = cv0_measured;
+    }
+    // A growth with the square of the temperatures, a candidate beside the
+    // thermal effects (`square.rs`): where it is taken, it is removed from
+    // the data and the effects are those selected beyond it; else it may
+    // still be reported beside them, and what it replaces is not named.
+    let mut square_params = 0;
+    let quadratic = match square::choose(
+        &problem,
+        &centred,
+        &thermal,
+        &ctx.noise,
+        ctx.remainder_level(),
+        over_time,
+    )? {
+        square::Choice::Taken(t) => {
+            let t = *t;
+            problem = t.problem;
+            centred = centred_of(&problem);
+            thermal = t.thermal;
+            square_params = 4;
+            Some(t.growth)
+        }
+        square::Choice::Beside(q) => Some(q),
+        square::Choice::Absent => None,
+    };
     if let Some(q) = &quadratic {
         thermal.selected.retain(|k| !q.replaces.contains(k));
         thermal
@@ -729,7 +775,7 @@ fn two_stages(
     // takes up most of such an error. Gravity sag that adds nothing beyond
     // the calibration and the signature only stood in for it.
     let joint_sig = if ctx.static_judged {
-        joint_signature::find(&held, &statics.selected, &ctx.noise)
+        joint_signature::find(&held, &statics.selected, &ctx.noise, ctx.remainder_level())
     } else {
         None
     };
@@ -751,9 +797,16 @@ fn two_stages(
     let time_dof = centred
         .residuals(&[], &all)
         .len()
-        .saturating_sub(centred.width() * ctx.n_poses + free);
-    let time_lof = (first == Part::OverTime)
-        .then(|| Test::lack_of_fit(rss, time_dof, ctx.noise.sigma2, ctx.noise.dof, LEVEL));
+        .saturating_sub(centred.width() * ctx.n_poses + free + square_params);
+    let time_lof = (first == Part::OverTime).then(|| {
+        Test::lack_of_fit(
+            rss,
+            time_dof,
+            ctx.noise.sigma2,
+            ctx.noise.dof,
+            ctx.remainder_level(),
+        )
+    });
     let mut thermal_verdict = ctx.judge(&thermal, time_lof, over_time_where.has_structure());
     if knocked.is_some() || quadratic.is_some() {
         // The step or the growth itself is what no effect of the library

@@ -33,7 +33,17 @@ pub struct QuadraticGrowth {
 /// Columns of the residual's derivative along each link's expansion, each
 /// row's entry times that link's temperature rise over 10 K: a length that
 /// grows with the square of the rise. Centred by pose when the problem is.
-fn quadratic_columns(problem: &Problem, rows: &[usize]) -> DMatrix<f64> {
+pub(crate) fn quadratic_columns(problem: &Problem, rows: &[usize]) -> DMatrix<f64> {
+    let mut q = plain_quadratic_columns(problem, rows);
+    if problem.centre_poses {
+        problem.centre_columns(&mut q, rows);
+    }
+    q
+}
+
+/// [`quadratic_columns`] never centred: what the growth adds to each row's
+/// residual itself, zero at the reference temperature.
+pub(crate) fn plain_quadratic_columns(problem: &Problem, rows: &[usize]) -> DMatrix<f64> {
     let plain = Problem {
         centre_poses: false,
         ..problem.clone()
@@ -53,9 +63,6 @@ fn quadratic_columns(problem: &Problem, rows: &[usize]) -> DMatrix<f64> {
                 q[(k * w + d, link)] = (r1[k * w + d] - r0[k * w + d]) / h * rise / 10.0;
             }
         }
-    }
-    if problem.centre_poses {
-        problem.centre_columns(&mut q, rows);
     }
     q
 }
@@ -118,11 +125,14 @@ pub(crate) fn hcat(a: &DMatrix<f64>, extra: &[DVector<f64>]) -> DMatrix<f64> {
 
 /// Test a growth with the square of the link temperatures beyond the
 /// thermal `effects` fitted on the (pose-centred) `problem`, linearised at
-/// their values. `None` where it is not significant at the stage's level.
+/// their values. `None` where it is not significant at `level` (the
+/// family's: it names `unexplained`); the library's effects against it are
+/// tested at the stage's [`LEVEL`].
 pub fn quadratic_growth(
     problem: &Problem,
     effects: &[Effect],
     noise: &TestNoise,
+    level: f64,
 ) -> Option<QuadraticGrowth> {
     let rows: Vec<usize> = (0..problem.rows.len()).collect();
     let r = problem.residuals(effects, &rows);
@@ -138,7 +148,7 @@ pub fn quadratic_growth(
         q.ncols(),
         noise.sigma2,
         noise.dof,
-        LEVEL,
+        level,
     );
     if !test.significant() {
         // The other way round: the thermal effects found against the growth
@@ -158,7 +168,7 @@ pub fn quadratic_growth(
             q.ncols(),
             noise.sigma2,
             noise.dof,
-            LEVEL,
+            level,
         );
         if alike.significant() || !alone.significant() {
             return None;

@@ -270,7 +270,7 @@ pub fn evaluate(per_class: usize, seed0: u64) -> Outcome {
             }
             if std::env::var_os("DIAG_VERBOSE").is_some() {
                 eprintln!(
-                    "{} {} (seed {}, {} poses, noise {:.3}, temps {}): {:?}, held-out {:.4} -> {:.4}, quadratic {:?}",
+                    "{} {} (seed {}, {} poses, noise {:.3}, temps {}): {:?}, held-out {:.4} -> {:.4}, stages {:?}, shrink {:?}, quadratic {:?}",
                     if ok { "ok  " } else { "FAIL" },
                     class.name(),
                     spec.seed,
@@ -280,6 +280,11 @@ pub fn evaluate(per_class: usize, seed0: u64) -> Outcome {
                     d.verdict.labels(),
                     d.gap_before_mm,
                     d.gap_after_mm,
+                    d.stages
+                        .iter()
+                        .map(|s| format!("{:?} {:.4} -> {:.4}", s.part, s.gap_before_mm, s.gap_after_mm))
+                        .collect::<Vec<_>>(),
+                    shrink(&d, thermal),
                     d.quadratic_growth.as_ref().map(|q| (q.test.p_value, &q.replaces))
                 );
             }

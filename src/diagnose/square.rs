@@ -1,0 +1,155 @@
+//! A growth with the square of the links' temperature rise as a candidate
+//! of the selection over time, beside the library's thermal effects.
+//!
+//! Tested only after the selection, beyond the effects it had chosen, the
+//! square lost to them twice: a scaled expansion with a lag follows most of
+//! a square of a saturating warm-up, so both were significant beyond the
+//! other and the library's effects were named beside `unexplained`; and
+//! the growth stayed in the data, where the static stage took its mean
+//! over the session for geometry. Here the square competes as a candidate
+//! does: fitted alone (it is linear in its four parameters), and where it
+//! is significant beyond the effects chosen without it, it is removed from
+//! the data and the library's effects are selected again beyond it by the
+//! same nested F tests. An effect named then adds significantly beyond the
+//! square; one chosen before only for want of it is not named.
+
+use super::fit::Problem;
+use super::forward::{Forward, TestNoise};
+use super::signature::{self, lstsq, plain_quadratic_columns, QuadraticGrowth};
+use crate::error::Result;
+use crate::model::EffectKind;
+use nalgebra::{DVector, UnitQuaternion, Vector3};
+
+/// What became of the square over time.
+pub enum Choice {
+    /// Taken: the data without it, the effects selected beyond it.
+    Taken(Box<Taken>),
+    /// Not taken, but it adds beyond the effects chosen without it (or
+    /// they add nothing beyond it): reported beside them.
+    Beside(QuadraticGrowth),
+    /// Nothing significant.
+    Absent,
+}
+
+/// The square taken: the data without it, the thermal effects selected
+/// beyond it, and its report.
+pub struct Taken {
+    /// The data (not centred) with the growth removed.
+    pub problem: Problem,
+    pub thermal: Forward,
+    pub growth: QuadraticGrowth,
+}
+
+/// The growth's four coefficients fitted alone over time (on the
+/// pose-centred `centred`).
+fn alone(centred: &Problem) -> DVector<f64> {
+    let rows: Vec<usize> = (0..centred.rows.len()).collect();
+    let q = signature::quadratic_columns(centred, &rows);
+    lstsq(&q, &centred.residuals(&[], &rows)).0
+}
+
+/// `problem` with the growth of coefficients `coeffs` taken out of every
+/// measured pose (positions, and orientations where they are fitted).
+fn removed(problem: &Problem, coeffs: &DVector<f64>) -> Problem {
+    let rows: Vec<usize> = (0..problem.rows.len()).collect();
+    let add = plain_quadratic_columns(problem, &rows) * coeffs;
+    let w = problem.width();
+    let mut out = problem.clone();
+    for (k, r) in out.rows.iter_mut().enumerate() {
+        r.position -= Vector3::new(add[k * w], add[k * w + 1], add[k * w + 2]);
+        if w == 6 && problem.w_ori > 0.0 {
+            // The orientation residual is the rotation from the predicted
+            // to the measured orientation, in mrad times the weight.
+            let g = Vector3::new(add[k * w + 3], add[k * w + 4], add[k * w + 5])
+                / (1e3 * problem.w_ori);
+            if let Some(m) = &mut r.orientation {
+                *m *= UnitQuaternion::from_scaled_axis(-g);
+            }
+        }
+    }
+    // The memo keys every fit by the rows' data, so it is shared safely.
+    out
+}
+
+/// The square as a candidate over time. `thermal` is the selection made
+/// without it on `centred` (the pose-centred `problem`), and `select` the
+/// same selection on other data. Where the square adds significantly
+/// beyond the effects chosen without it (or they add nothing beyond it),
+/// it is taken: removed from the data, the effects selected again beyond
+/// it, and kept where it still adds significantly beyond those. `level`:
+/// that of the square's own tests (it names `unexplained`).
+pub fn choose(
+    problem: &Problem,
+    centred: &Problem,
+    thermal: &Forward,
+    noise: &TestNoise,
+    level: f64,
+    select: impl Fn(&Problem) -> Result<Forward>,
+) -> Result<Choice> {
+    let Some(beyond_chosen) =
+        signature::quadratic_growth(centred, &thermal.effects(), noise, level)
+    else {
+        return Ok(Choice::Absent);
+    };
+    let centred_of = |p: &Problem| Problem {
+        centre_poses: true,
+        ..p.clone()
+    };
+    let mut corrected = removed(problem, &alone(centred));
+    let mut again = select(&centred_of(&corrected))?;
+    if !again.selected.is_empty() {
+        // The square fitted alone took up part of what the effects then
+        // selected follow: fitted again together with them (linearised at
+        // their fit), taken out again, and the effects selected once more,
+        // as a joint fit would.
+        let rows: Vec<usize> = (0..centred.rows.len()).collect();
+        let effects = again.effects();
+        let q = signature::quadratic_columns(centred, &rows);
+        let design = signature::hcat(
+            &signature::effects_jacobian(centred, &effects, &rows),
+            &q.column_iter().map(|c| c.into_owned()).collect::<Vec<_>>(),
+        );
+        let coeffs = lstsq(&design, &centred.residuals(&effects, &rows)).0;
+        let beta = coeffs
+            .rows(coeffs.len() - q.ncols(), q.ncols())
+            .into_owned();
+        corrected = removed(problem, &beta);
+        again = select(&centred_of(&corrected))?;
+    }
+    // Still needed beyond what was selected on top of it (tested on the
+    // data as measured, the effects linearised at their fit).
+    let Some(beyond_again) = signature::quadratic_growth(centred, &again.effects(), noise, level)
+    else {
+        return Ok(Choice::Beside(beyond_chosen));
+    };
+    // Taken in place of effects only where it leaves fewer of the
+    // library's to name (its four parameters for theirs): where as many or
+    // more are selected beyond it, the square only adds to the first
+    // choice and is reported beside it, the data as measured.
+    if again.selected.len() >= thermal.selected.len() && !thermal.selected.is_empty() {
+        return Ok(Choice::Beside(beyond_chosen));
+    }
+    if beyond_again.alike.is_some() && !again.selected.is_empty() {
+        // The effects selected beyond the square fit alike without it: the
+        // first choice stands, with the square reported beside it.
+        return Ok(Choice::Beside(beyond_chosen));
+    }
+    // The gap before anything, over time, is that of the data as measured.
+    again.cv0 = thermal.cv0;
+    let replaces: Vec<EffectKind> = thermal
+        .selected
+        .iter()
+        .copied()
+        .filter(|k| !again.selected.contains(k))
+        .collect();
+    Ok(Choice::Taken(Box::new(Taken {
+        problem: corrected,
+        thermal: again,
+        growth: QuadraticGrowth {
+            rms_mm: beyond_again.rms_mm,
+            test: beyond_again.test,
+            replaces,
+            alike: beyond_chosen.alike,
+        },
+    })))
+}

@@ -39,6 +39,7 @@ pub mod forward;
 pub mod gap;
 pub mod instrument;
 pub mod joint_signature;
+mod judge;
 pub mod knock;
 pub mod locate;
 pub mod measurements;

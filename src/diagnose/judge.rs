@@ -1,0 +1,135 @@
+//! From the stages' tests to the verdict and the advice: a stage's verdict
+//! by its lack-of-fit test against the noise, the stages' verdicts made
+//! one, and what the user is advised to do.
+
+use super::gap::{Noise, NoiseSource};
+use super::locate::Where;
+use super::stats::Test;
+use super::verdict::{Advice, Verdict};
+use crate::model::EffectKind;
+
+/// One verdict from the stages': every effect named, in stage order; an
+/// unexplained remainder anywhere is one.
+pub(super) fn combine(verdicts: Vec<Verdict>) -> Verdict {
+    let mut effects = Vec::new();
+    let mut partial = Vec::new();
+    let mut remainder = false;
+    let mut unexplained = false;
+    let mut ambiguous = false;
+    for v in verdicts {
+        match v {
+            Verdict::None => {}
+            Verdict::ExplainedBy {
+                effects: e,
+                remainder: r,
+            } => {
+                effects.extend(e);
+                remainder |= r;
+            }
+            Verdict::Ambiguous {
+                effects: e,
+                remainder: r,
+            } => {
+                effects.extend(e);
+                remainder |= r;
+                ambiguous = true;
+            }
+            Verdict::Unexplained { partial: p } => {
+                partial.extend(p);
+                unexplained = true;
+            }
+        }
+    }
+    if unexplained && effects.is_empty() {
+        Verdict::Unexplained { partial }
+    } else if effects.is_empty() {
+        Verdict::None
+    } else {
+        effects.extend(partial);
+        let remainder = remainder || unexplained;
+        if ambiguous {
+            Verdict::Ambiguous { effects, remainder }
+        } else {
+            Verdict::ExplainedBy { effects, remainder }
+        }
+    }
+}
+
+/// What the verdict is judged on.
+pub(super) struct Scores<'a> {
+    /// Effects forward selection added, in order.
+    pub(super) selected: &'a [EffectKind],
+    /// The test of what the selected effects leave against the noise;
+    /// `None` where no degrees of freedom are left to judge it.
+    pub(super) lack_of_fit: Option<Test>,
+    /// The noise level is the instrument's default, not measured.
+    pub(super) noise_assumed: bool,
+    /// The current model's gap shows structure (see [`Where::has_structure`]).
+    pub(super) structured: bool,
+    /// A selected effect has a runner-up the data cannot tell from it.
+    pub(super) ambiguous: bool,
+}
+
+/// The verdict of one stage. `none` only where what is left is within the
+/// noise by the lack-of-fit test at the stated level (the residual sum of
+/// squares over its degrees of freedom against the noise variance, an F
+/// test); above it `unexplained`, beside the effects named. Without a
+/// measured noise level (no repeated poses), a gap above the assumed level
+/// may just be a noisier instrument: it is called unexplained only with
+/// evidence of structure.
+pub(super) fn judge(s: &Scores) -> Verdict {
+    let above =
+        s.lack_of_fit.is_some_and(|t| t.significant()) && (!s.noise_assumed || s.structured);
+    if s.selected.is_empty() {
+        if above {
+            Verdict::Unexplained {
+                partial: Vec::new(),
+            }
+        } else {
+            Verdict::None
+        }
+    } else {
+        let effects = s.selected.to_vec();
+        if s.ambiguous {
+            Verdict::Ambiguous {
+                effects,
+                remainder: above,
+            }
+        } else {
+            Verdict::ExplainedBy {
+                effects,
+                remainder: above,
+            }
+        }
+    }
+}
+
+pub(super) fn advise(
+    verdict: &Verdict,
+    cv0: f64,
+    cv: f64,
+    noise: &Noise,
+    wheres: [&Where; 2],
+) -> Advice {
+    match verdict {
+        // `none` above an assumed (not measured) noise level: the
+        // instrument may be noisier than assumed.
+        Verdict::None if noise.source == NoiseSource::Default && cv0 > 1.5 * noise.rms_mm => {
+            Advice::CheckNoise {
+                assumed_mm: noise.per_axis_mm,
+            }
+        }
+        Verdict::None => Advice::Nothing,
+        Verdict::Unexplained { .. } => Advice::LookThere {
+            axis: wheres.iter().find_map(|w| w.joint.as_ref()).map(|j| j.axis),
+            step_min: wheres
+                .iter()
+                .find_map(|w| w.step.as_ref())
+                .map(|s| (s.before_min, s.after_min)),
+        },
+        Verdict::ExplainedBy { .. } | Verdict::Ambiguous { .. } => Advice::SaveModel {
+            from_mm: cv0,
+            to_mm: cv,
+        },
+    }
+}

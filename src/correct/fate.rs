@@ -97,21 +97,14 @@ pub(super) fn fates(
                 ),
             );
             fate = Fate::LeftAlone(Reason::Instruction);
-            counts.add(fate);
             if rows {
-                out.push(MoveFate {
-                    instruction: m.instruction.to_string(),
-                    file: program.file_name(m.file).to_string(),
-                    line: m.line,
-                    col: m.col,
-                    routine: m.routine.to_string(),
-                    target: text,
-                    fate,
-                });
+                names.push(text);
             }
-            return;
         }
-        for p in &m.points {
+        // An unknown instruction's arguments are not judged one by one:
+        // what it does with them is unknown.
+        let points: &[Point] = if m.known { &m.points } else { &[] };
+        for p in points {
             // The argument's text names a row or an unread name only: a
             // streamed run keeps no rows, and a million moves need not
             // copy it.

@@ -54,6 +54,16 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
     let tasks = super::tasks::select(&args.files, &args.pick)?;
     let refs: Vec<&rapidtherm::rapid::task::Task> = tasks.iter().collect();
     let labels = super::tasks::labels(&refs);
+    // One task's listing is written as it is put together: a million
+    // targets make 150 MB of text, which need not be held whole first.
+    if let ([task], None, false) = (tasks.as_slice(), &labels, args.joints) {
+        let (inputs, prog) = super::tasks::read(task)?;
+        let (lister, parts) = listing_parts(&args, &inputs, &prog);
+        let mut out = std::io::BufWriter::with_capacity(1 << 20, std::io::stdout().lock());
+        let written = lister.finish(parts, &mut out).and_then(|_| out.flush());
+        super::io::stdout_written(written)?;
+        return Ok(Status::Success);
+    }
     let mut texts = Vec::new();
     for task in &tasks {
         let (inputs, prog) = super::tasks::read(task)?;
@@ -153,6 +163,20 @@ fn listing(
     inputs: &super::Inputs,
     prog: &rapidtherm::rapid::Program,
 ) -> Result<String> {
+    let (lister, parts) = listing_parts(args, inputs, prog);
+    let mut out = Vec::new();
+    // Writing to a Vec cannot fail.
+    let _ = lister.finish(parts, &mut out);
+    Ok(String::from_utf8(out).unwrap_or_default())
+}
+
+/// The listing's rows, a chunk of targets at a time, and the lister that
+/// writes them.
+fn listing_parts<'p>(
+    args: &TargetsArgs,
+    inputs: &super::Inputs,
+    prog: &'p rapidtherm::rapid::Program,
+) -> (Lister<'p>, Vec<Sink>) {
     let lister = Lister {
         prog,
         several: inputs.len() > 1,
@@ -190,10 +214,7 @@ fn listing(
             sink
         })
         .collect();
-    let mut out = Vec::new();
-    // Writing to a Vec cannot fail.
-    let _ = lister.finish(parts, &mut out);
-    Ok(String::from_utf8(out).unwrap_or_default())
+    (lister, parts)
 }
 
 /// Targets one core lists at a time.

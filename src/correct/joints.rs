@@ -295,21 +295,25 @@ fn weighted(r: &Vector6<f64>) -> Vector6<f64> {
     w
 }
 
+/// An axis past a limit in words: "axis 3 at 54.5°{whose} beyond the IRB
+/// 140's +50°", the limit passed named with its sign.
+pub(super) fn limit_words(arm: &str, v: &Violation, whose: &str) -> String {
+    let (axis, q, (lo, hi)) = *v;
+    let limit = if q > hi { hi } else { lo };
+    format!(
+        "axis {} at {}°{whose} beyond the {arm}'s {}{}°",
+        axis + 1,
+        degrees_text(q),
+        if limit >= 0.0 { "+" } else { "" },
+        degrees_text(limit),
+    )
+}
+
 /// The refusal of a jointtarget whose axis lies past a limit: "axis 3 at
 /// 54.5° beyond the IRB 140's +50°", the limit passed named with its sign.
 fn beyond_limit(arm: &str, v: &Violation, whose: &str) -> Error {
-    let (axis, q, (lo, hi)) = *v;
-    let limit = if q > hi { hi } else { lo };
-    Error::new(
-        ErrorKind::Unreachable,
-        format!(
-            "axis {} at {}°{whose} beyond the {arm}'s {}{}°",
-            axis + 1,
-            degrees_text(q),
-            if limit >= 0.0 { "+" } else { "" },
-            degrees_text(limit),
-        ),
-    )
+    let (axis, _, (lo, hi)) = *v;
+    Error::new(ErrorKind::Unreachable, limit_words(arm, v, whose))
     .with_note(format!(
         "the {arm}'s axis {} turns from {}° to +{}°; a jointtarget's joints are what the controller moves to, so no other configuration stands in for them",
         axis + 1,

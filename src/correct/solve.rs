@@ -406,7 +406,7 @@ pub(super) fn solve(
 }
 
 /// Why no warm solution lies within the limits, where the one nearest the
-/// cold joints `near` passes one: "axis 3 at 50.0005° (49.9925° cold)
+/// cold joints `near` passes one: "axis 3 at 50.001° (49.992° cold)
 /// beyond the IRB 140's +50°".
 fn beyond_warm_limit(
     warm: &WarmRobot,
@@ -415,20 +415,12 @@ fn beyond_warm_limit(
     state: &State,
 ) -> Option<Error> {
     let q = warm.joints_near(flange, near, false, state).ok()?;
-    let (axis, at, (lo, hi)) = *warm.nominal.outside_limits(&q).first()?;
-    let limit = if at > hi { hi } else { lo };
+    let v = *warm.nominal.outside_limits(&q).first()?;
+    let cold = format!(" ({}° cold)", crate::robot::degrees_text(near[v.0]));
     Some(
         Error::new(
             ErrorKind::Unreachable,
-            format!(
-                "axis {} at {:.4}° ({:.4}° cold) beyond the {}'s {}{}°",
-                axis + 1,
-                at.to_degrees(),
-                near[axis].to_degrees(),
-                warm.nominal.name,
-                if limit >= 0.0 { "+" } else { "" },
-                crate::robot::arm::degrees_text(limit)
-            ),
+            super::joints::limit_words(&warm.nominal.name, &v, &cold),
         )
         .with_note("the pose is taught at the limit: the warm arm needs the axis past it, on this configuration and on every other (configuration monitoring is off, so any would do)"),
     )

@@ -121,7 +121,6 @@ const READ_TARGETS_WITHOUT_MOVING: &[&str] = &[
     "stoolrotcalib",
     "mtooltcpcalib",
     "mtoolrotcalib",
-    "stoolcalib",
 ];
 
 /// Whether `name` is a built-in instruction that reads targets without

@@ -49,6 +49,7 @@ mod expand;
 mod lane;
 mod motion;
 mod nocase;
+pub(crate) use nocase::NoCase;
 pub mod numprint;
 mod parse;
 mod place;

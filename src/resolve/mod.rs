@@ -10,7 +10,9 @@
 use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::rapid::targets::TargetIndex;
 use crate::rapid::visit::{walk_statement, Visit};
-use crate::rapid::{self, Call, Expr, Program, Statement, StatementKind, Target, TargetKind};
+use crate::rapid::{
+    self, Call, Expr, NoCase, Program, Statement, StatementKind, Target, TargetKind,
+};
 use crate::robot::conf::RobConf;
 use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
 use nalgebra::Isometry3;
@@ -588,7 +590,7 @@ struct Refs<'a> {
     /// Robtarget parameters and routine data without a value, by
     /// (routine, name), lower case: inside their routine they hide a
     /// module's or the task's target of the same name.
-    hiding: std::collections::HashSet<(String, String)>,
+    hiding: std::collections::HashSet<(NoCase<'a>, NoCase<'a>)>,
 }
 
 /// Where a name is read: its module and routine.
@@ -629,7 +631,7 @@ impl<'a> Refs<'a> {
                         .map(|d| &d.name);
                     params
                         .chain(unset)
-                        .map(|n| (r.name.to_ascii_lowercase(), n.to_ascii_lowercase()))
+                        .map(|n| (NoCase(r.name.as_bytes()), NoCase(n.as_bytes())))
                 })
                 .collect(),
         }
@@ -644,10 +646,11 @@ impl<'a> Refs<'a> {
         // times on a large program, and three allocations each showed.
         // A parameter or a routine's own variable of that name hides the
         // module's and the task's: the move goes where the run puts it.
-        if !self.hiding.is_empty()
-            && self
-                .hiding
-                .contains(&(routine.to_ascii_lowercase(), id.to_ascii_lowercase()))
+        // Names borrowed, not lowered: a million moves look their
+        // targets up here.
+        let hiding: &std::collections::HashSet<(NoCase, NoCase)> = &self.hiding;
+        if !hiding.is_empty()
+            && hiding.contains(&(NoCase(routine.as_bytes()), NoCase(id.as_bytes())))
         {
             return None;
         }

@@ -14,7 +14,7 @@ use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
 use super::options::{Options, ScheduleSource, Untrusted, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
-use super::pass::{tallied, Done, Pass, Tallied};
+use super::pass::{tallied, Done, Pass, Tally};
 use super::progress::Progress;
 use super::splice::{write_error, Splice};
 use super::target::{correct_robtarget, with_others, Solved};
@@ -28,7 +28,7 @@ use std::collections::{HashMap, HashSet};
 use std::io::Write;
 
 /// Targets corrected between two writes: what memory holds at once.
-const BATCH: usize = 65_536;
+const BATCH: usize = 16_384;
 /// Targets one core takes at a time.
 const CHUNK: usize = 4_096;
 
@@ -247,7 +247,7 @@ fn correct_all(
     let mut corrections = found.rows;
     let mut tally = found.tally;
     for c in joints.rows {
-        tally.push(tallied(&c));
+        tally.add(tallied(&c));
         corrections.push(c);
     }
     if keep == Keep::Summary {
@@ -303,7 +303,7 @@ fn correct_all(
 #[derive(Default)]
 struct Found {
     rows: Vec<Correction>,
-    tally: Vec<Tallied>,
+    tally: Tally,
     left: Vec<(usize, LeftAlone)>,
     derived: Vec<usize>,
     errors: Vec<(usize, Error)>,
@@ -521,7 +521,9 @@ fn put_out(out: &mut Printed, done: Vec<Result<Done>>, found: &mut Found) -> Res
         changed |= d.changed;
         steps += d.steps;
         found.rows.extend(d.rows);
-        found.tally.extend(d.tally);
+        for t in d.tally {
+            found.tally.add(t);
+        }
         found.left.extend(d.left);
         found.derived.extend(d.derived);
         found.errors.extend(d.errors);
@@ -666,23 +668,17 @@ fn derived_bases(run: &Run) -> HashSet<usize> {
 /// the counts of the rest. Every row counts in the largest and RMS
 /// correction: a jointtarget's at the flange, as its row shows it.
 fn summary(
-    tally: &[Tallied],
+    tally: &Tally,
     derived: usize,
     left_alone: usize,
     (shared, split): (usize, usize),
 ) -> Summary {
-    let n = tally.len();
-    let sum_sq: f64 = tally.iter().map(|t| t.norm.powi(2)).sum();
     Summary {
-        corrected: tally.len(),
-        rewritten: tally.iter().filter(|t| t.rewritten).count(),
-        max_mm: tally.iter().map(|t| t.norm).fold(0.0, f64::max),
-        rms_mm: if n > 0 {
-            (sum_sq / n as f64).sqrt()
-        } else {
-            0.0
-        },
-        max_drift_mm: tally.iter().map(|t| t.drift).fold(0.0, f64::max),
+        corrected: tally.corrected,
+        rewritten: tally.rewritten,
+        max_mm: tally.max_mm,
+        rms_mm: tally.rms_mm(),
+        max_drift_mm: tally.max_drift_mm,
         derived,
         left_alone,
         shared,
@@ -730,7 +726,7 @@ fn already_corrected(program: &Program, found: &marker::Found, options: &Options
         splits: Vec::new(),
         already_corrected: Some(how),
         notes,
-        summary: summary(&[], 0, 0, (0, 0)),
+        summary: summary(&Tally::default(), 0, 0, (0, 0)),
         outputs: (0..program.files.len())
             .map(|f| program.source(f).to_vec())
             .collect(),

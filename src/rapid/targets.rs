@@ -194,6 +194,19 @@ impl<'p> Targets<'p> {
         (0..t.len()).filter_map(move |i| t.get(i))
     }
 
+    /// Whether target `i` has numbers (a target of a run always has its
+    /// literal's), without reading them.
+    pub fn has_value(&self, i: usize) -> bool {
+        match self.locate(i) {
+            Some((Held::OneByOne(first), k)) => self
+                .one_by_one
+                .get(first + k)
+                .is_some_and(|t| t.value.is_some()),
+            Some(_) => true,
+            None => false,
+        }
+    }
+
     /// Target `i`'s kind, without making it.
     pub fn kind(&self, i: usize) -> Option<TargetKind> {
         Some(match self.locate(i)? {
@@ -279,7 +292,12 @@ impl<'p> IntoIterator for Targets<'p> {
 /// and array element of the runs; built once for many lookups.
 pub struct TargetIndex<'p> {
     one_by_one: HashMap<String, usize>,
-    declared: foldhash::HashMap<NoCase<'p>, usize>,
+    /// The declared targets of runs, by number alone: the name is read
+    /// from the run where a lookup compares it. Four programs' worth of
+    /// these tables are alive at once in a correction, and a map holding
+    /// each name borrowed took 25 bytes a target where this takes 5.
+    declared: hashbrown::HashTable<u32>,
+    targets: Targets<'p>,
     qualified: HashMap<String, usize>,
     /// Array runs by their identifiers' prefix, lower case.
     arrays: HashMap<String, (usize, usize)>,
@@ -302,11 +320,16 @@ impl<'p> TargetIndex<'p> {
                     .or_insert(global);
             }
         }
-        let mut declared = foldhash::HashMap::default();
+        let mut declared = hashbrown::HashTable::new();
+        // Room for all at once: growing a table of a million by doubling
+        // holds the old and the new one together.
+        declared.reserve(
+            targets.runs.decls.iter().map(|r| r.items.len()).sum(),
+            |&i: &u32| targets.name_hash(i as usize),
+        );
         let mut qualified = HashMap::new();
         for run in &targets.runs.decls {
             let src = targets.src(run.file);
-            declared.reserve(run.items.len());
             for (k, item) in run.items.iter().enumerate() {
                 let Some(name) = run.name_of(src, item) else {
                     continue;
@@ -315,10 +338,17 @@ impl<'p> TargetIndex<'p> {
                     qualified
                         .entry(format!("{}:{name}", run.module).to_ascii_lowercase())
                         .or_insert(run.base + k);
-                } else {
-                    declared
-                        .entry(NoCase(name.as_bytes()))
-                        .or_insert(run.base + k);
+                    continue;
+                }
+                // Targets are numbered below 2^32: the lane's offsets are
+                // 32-bit, so no run holds more.
+                let Ok(number) = u32::try_from(run.base + k) else {
+                    continue;
+                };
+                let hash = name_hash(name.as_bytes());
+                let same = |&j: &u32| targets.same_name(j as usize, name.as_bytes());
+                if declared.find(hash, same).is_none() {
+                    declared.insert_unique(hash, number, |&j: &u32| targets.name_hash(j as usize));
                 }
             }
         }
@@ -340,6 +370,7 @@ impl<'p> TargetIndex<'p> {
         TargetIndex {
             one_by_one,
             declared,
+            targets,
             qualified,
             arrays,
             scoped,
@@ -348,7 +379,36 @@ impl<'p> TargetIndex<'p> {
     }
 }
 
+/// The hash of a name as RAPID compares names (without regard to case).
+fn name_hash(name: &[u8]) -> u64 {
+    use std::hash::BuildHasher;
+    foldhash::fast::FixedState::default().hash_one(NoCase(name))
+}
+
 impl Targets<'_> {
+    /// The name of declared target `i` of a run, as written.
+    fn declared_name(&self, i: usize) -> Option<&[u8]> {
+        match self.locate(i)? {
+            (Held::Decls(r), k) => {
+                let run = self.runs.decls.get(r)?;
+                let item = run.items.get(k)?;
+                run.name_of(self.src(run.file), item).map(str::as_bytes)
+            }
+            _ => None,
+        }
+    }
+
+    fn name_hash(&self, i: usize) -> u64 {
+        name_hash(self.declared_name(i).unwrap_or_default())
+    }
+
+    /// Whether declared target `i` of a run is named `name`, as RAPID
+    /// compares names.
+    fn same_name(&self, i: usize, name: &[u8]) -> bool {
+        self.declared_name(i)
+            .is_some_and(|n| n.eq_ignore_ascii_case(name))
+    }
+
     /// The number of the target held one by one at `i` of the program's
     /// own list.
     pub(crate) fn global_of_one_by_one(&self, i: usize) -> usize {
@@ -370,8 +430,9 @@ impl Targets<'_> {
 impl TargetIndex<'_> {
     /// The target with identifier `id`.
     pub fn get(&self, id: &str) -> Option<usize> {
-        if let Some(&i) = self.declared.get(&NoCase(id.as_bytes())) {
-            return Some(i);
+        let same = |&j: &u32| self.targets.same_name(j as usize, id.as_bytes());
+        if let Some(&i) = self.declared.find(name_hash(id.as_bytes()), same) {
+            return Some(i as usize);
         }
         let lower = id.to_ascii_lowercase();
         if let Some(&i) = self.one_by_one.get(&lower) {

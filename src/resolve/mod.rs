@@ -33,7 +33,7 @@ pub use moves::{each_move_instruction, Move, Point};
 pub use params::settled_parameters;
 pub use per_call::unsettled_frame_parameters;
 
-use uses::{Site, UsesBuilder};
+use uses::{offset32, Packed, Site, UsesBuilder};
 pub use uses::{UseRef, Uses};
 
 /// The tools and work objects a program declares, by lower-case name, with
@@ -299,14 +299,14 @@ pub fn uses(program: &Program) -> Uses<'_> {
                             }
                             pairs.push((t, w));
                             let site = Site {
-                                through: *through,
+                                through: Packed::from(*through),
                                 tool: t,
                                 wobj: w,
                                 instruction: b.name(Some(at.instruction)),
                                 routine: b.name(Some(at.routine)),
                                 line: at.line,
                                 file: at.file as u32,
-                                offset: at.offset,
+                                offset: offset32(at.offset),
                             };
                             let s = b.site(site);
                             match reached {
@@ -338,17 +338,17 @@ pub fn uses(program: &Program) -> Uses<'_> {
         for &tool in tools {
             for &wobj in wobjs {
                 let mut site = Site {
-                    through: Through::Direct,
+                    through: Packed::from(Through::Direct),
                     tool: b.name(tool),
                     wobj: b.name(wobj),
                     instruction: b.name(Some(at.instruction)),
                     routine: b.name(Some(at.routine)),
                     line: at.line,
                     file: at.file as u32,
-                    offset: at.offset,
+                    offset: offset32(at.offset),
                 };
                 for (reached, through) in &reached {
-                    site.through = *through;
+                    site.through = Packed::from(*through);
                     let s = b.site(site);
                     match reached {
                         Reached::One(i) => b.reach(*i, s),

@@ -17,10 +17,11 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::Arc;
 
-/// Where a move is and what it moves with.
+/// Where a move is and what it moves with: 32 bytes, since a program of
+/// a million moves by name holds a million of them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Site {
-    pub through: Through,
+    pub through: Packed,
     /// Tool and work object as written (into [`Uses::names`]); `NONE`:
     /// the move names none.
     pub tool: u32,
@@ -29,7 +30,44 @@ pub(crate) struct Site {
     pub routine: u32,
     pub line: u32,
     pub file: u32,
-    pub offset: usize,
+    /// Where the move's statement starts ([`offset32`]).
+    pub offset: u32,
+}
+
+/// A [`Through`] in four bytes: a derived expression's target number,
+/// or one of the two values above every number a program can have.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Packed(u32);
+
+const DIRECT: u32 = u32::MAX;
+const VARIABLE: u32 = u32::MAX - 1;
+
+impl From<Through> for Packed {
+    fn from(t: Through) -> Packed {
+        Packed(match t {
+            Through::Direct => DIRECT,
+            Through::Variable => VARIABLE,
+            // Targets are numbered below 2^32 - 2: each has a statement
+            // of its own in a file the lane addresses with 32-bit offsets.
+            Through::Derived(i) => u32::try_from(i).unwrap_or(VARIABLE - 1).min(VARIABLE - 1),
+        })
+    }
+}
+
+impl From<Packed> for Through {
+    fn from(p: Packed) -> Through {
+        match p.0 {
+            DIRECT => Through::Direct,
+            VARIABLE => Through::Variable,
+            i => Through::Derived(i as usize),
+        }
+    }
+}
+
+/// A statement's byte offset in 32 bits: the lane's runs address files
+/// so, and a RAPID file of 4 GB is beyond what the controller loads.
+pub(crate) fn offset32(offset: usize) -> u32 {
+    u32::try_from(offset).unwrap_or(u32::MAX)
 }
 
 /// No name.
@@ -40,8 +78,9 @@ const NONE: u32 = u32::MAX;
 pub struct Uses<'p> {
     names: Vec<Arc<str>>,
     sites: Vec<Site>,
-    /// (target, site), by target, each target's in program order.
-    pairs: Vec<(usize, u32)>,
+    /// (target, site), by target, each target's in program order (the
+    /// target's number in 32 bits, as [`Packed`] holds it).
+    pairs: Vec<(u32, u32)>,
     /// Where each target's entries start in `pairs` (the next target's
     /// start ends them): a target's uses are found in constant time, where
     /// two binary searches of a million pairs showed for every target.
@@ -94,7 +133,10 @@ impl<'p> UsesBuilder<'p> {
 
     /// Target `target` reached at site `site`.
     pub fn reach(&mut self, target: usize, site: u32) {
-        self.uses.pairs.push((target, site));
+        // Numbered below 2^32 as [`Packed`] says.
+        self.uses
+            .pairs
+            .push((u32::try_from(target).unwrap_or(u32::MAX), site));
     }
 
     /// Every target of `targets` reached at site `site`.
@@ -111,11 +153,11 @@ impl<'p> UsesBuilder<'p> {
             .pairs
             .dedup_by(|a, b| a.0 == b.0 && sites[a.1 as usize] == sites[b.1 as usize]);
         let pairs = &self.uses.pairs;
-        let targets = pairs.last().map_or(0, |p| p.0 + 1);
+        let targets = pairs.last().map_or(0, |p| p.0 as usize + 1);
         let mut starts = Vec::with_capacity(targets + 1);
         let mut k = 0;
         for t in 0..=targets {
-            while k < pairs.len() && pairs[k].0 < t {
+            while k < pairs.len() && (pairs[k].0 as usize) < t {
                 k += 1;
             }
             starts.push(k as u32);
@@ -204,14 +246,14 @@ impl<'p> Uses<'p> {
     fn at(&self, site: u32) -> UseRef<'_> {
         let s = &self.sites[site as usize];
         UseRef {
-            through: s.through,
+            through: Through::from(s.through),
             tool: self.name(s.tool),
             wobj: self.name(s.wobj),
             instruction: self.name(s.instruction).unwrap_or(""),
             routine: self.name(s.routine).unwrap_or(""),
             line: s.line,
             file: s.file as usize,
-            offset: s.offset,
+            offset: s.offset as usize,
         }
     }
 
@@ -284,7 +326,7 @@ impl<'p> Uses<'p> {
     /// The targets with an entry of their own or in a stretch, in order
     /// (each once).
     pub fn targets(&self) -> Vec<usize> {
-        let mut out: Vec<usize> = self.pairs.iter().map(|p| p.0).collect();
+        let mut out: Vec<usize> = self.pairs.iter().map(|p| p.0 as usize).collect();
         for (r, _) in &self.spans {
             out.extend(r.clone());
         }

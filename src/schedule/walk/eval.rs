@@ -150,12 +150,12 @@ impl<'p> Walker<'p> {
                 .chain(&qualified)
                 .chain([&lower])
         };
-        let hit = candidates().find_map(|k| self.target_ids.get(k)).copied();
+        let hit = candidates().find_map(|k| self.target_ids.get(k));
         if let Some(i) = hit {
-            if let Some(t) = self.program.targets().get(i) {
-                if t.value.is_some() {
-                    return self.target_value(i);
-                }
+            // Whether it has numbers, without reading them: the value
+            // reads them next.
+            if self.program.targets().has_value(i) {
+                return self.target_value(i);
             }
         }
         let jhit = candidates().find_map(|k| self.joint_ids.get(k)).copied();
@@ -183,7 +183,7 @@ impl<'p> Walker<'p> {
             "false" => return Ok(Value::Bool(false)),
             _ => {}
         }
-        let decl = self.decls.get(&key).and_then(|list| {
+        let decl = self.decls.get(&NoCase(key.as_bytes())).and_then(|list| {
             list.iter()
                 .find(|(m, _)| *m == frame.module)
                 .or_else(|| list.iter().find(|(_, d)| !d.local()))
@@ -358,7 +358,7 @@ impl<'p> Walker<'p> {
                             .map(|d| (frame.module, d))
                     })
                     .or_else(|| {
-                        self.decls.get(&n.to_ascii_lowercase()).and_then(|l| {
+                        self.decls.get(&NoCase(n.as_bytes())).and_then(|l| {
                             l.iter()
                                 .find(|(m, _)| *m == frame.module)
                                 .or_else(|| l.first())

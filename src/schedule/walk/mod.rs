@@ -18,8 +18,8 @@ use super::timing::*;
 use super::Schedule;
 use crate::error::{Error, ErrorKind, Errors, Remedy, Result};
 use crate::rapid::{
-    self, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Motion, MotionKind, Program, Routine,
-    RoutineKind, Statement, StatementKind, TargetKind, UnaryOp,
+    self, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Motion, MotionKind, NoCase, Program,
+    Routine, RoutineKind, Statement, StatementKind, TargetKind, UnaryOp,
 };
 use crate::resolve::{target_pose, Frames};
 use crate::robot::frames::{flange_of_target, target_of_flange};
@@ -102,8 +102,8 @@ pub(super) struct Walker<'p> {
     pub(super) program: &'p Program,
     pub(super) robot: &'p Robot,
     pub(super) frames: Frames,
-    /// Non-inline robtarget ids (lower case) → index.
-    pub(super) target_ids: FastMap<String, usize>,
+    /// Non-inline robtargets by identifier (compared without case).
+    pub(super) target_ids: crate::rapid::targets::TargetIndex<'p>,
     pub(super) joint_ids: FastMap<String, usize>,
     /// Whether some id of `target_ids` or `joint_ids` carries its routine
     /// (`r1/pa`) or its module (`m:pa`): only then does a name's lookup
@@ -113,7 +113,7 @@ pub(super) struct Walker<'p> {
     /// (file, byte offset) of a derived expression → its target.
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
-    pub(super) decls: FastMap<String, Vec<(usize, Decl<'p>)>>,
+    pub(super) decls: FastMap<NoCase<'p>, Vec<(usize, Decl<'p>)>>,
     /// Procedures and functions by lower-case name: (module, routine).
     pub(super) routines: FastMap<String, Vec<(usize, &'p Routine)>>,
     /// Robtarget variables assigned during the walk (module data).
@@ -204,17 +204,18 @@ impl<'p> Walker<'p> {
         robot: &'p Robot,
         base_frame: Option<&nalgebra::Isometry3<f64>>,
     ) -> Result<Walker<'p>> {
-        let mut target_ids = FastMap::default();
-        let mut derived_at = HashMap::new();
-        for (i, t) in program.targets().iter().enumerate() {
-            if t.kind == TargetKind::Derived {
-                derived_at.insert((t.origin.file, t.origin.pos.offset), i);
-            }
-            if t.kind != TargetKind::Inline && !(t.kind == TargetKind::Derived && t.name.is_none())
-            {
-                target_ids.entry(t.id.to_ascii_lowercase()).or_insert(i);
-            }
-        }
+        // Identifiers only, and those of the fast lane's runs borrowed:
+        // making every target to learn its identifier read each literal's
+        // numbers once more (a tenth of timing a declared program).
+        let target_ids = program.target_index(|t| {
+            t.kind != TargetKind::Inline && !(t.kind == TargetKind::Derived && t.name.is_none())
+        });
+        let derived_at = program
+            .targets()
+            .one_by_one_all()
+            .filter(|(_, t)| t.kind == TargetKind::Derived)
+            .map(|(i, t)| ((t.origin.file, t.origin.pos.offset), i))
+            .collect();
         let joint_ids = program
             .jointtargets()
             .iter()
@@ -223,15 +224,18 @@ impl<'p> Walker<'p> {
             .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
             .collect();
         let joint_ids: FastMap<String, usize> = joint_ids;
-        let keys = || target_ids.keys().chain(joint_ids.keys());
-        let ids_scoped = keys().any(|k| k.contains('/'));
-        let ids_qualified = keys().any(|k| k.contains(':'));
-        let mut decls: FastMap<String, Vec<(usize, Decl)>> = FastMap::default();
+        let ids_scoped =
+            target_ids.has_routine_scoped() || joint_ids.keys().any(|k| k.contains('/'));
+        let ids_qualified = target_ids.has_qualified() || joint_ids.keys().any(|k| k.contains(':'));
+        // Borrowed names, compared as RAPID compares them: a lower-case
+        // copy of each of a million declared names cost as much as the
+        // rest of this table.
+        let mut decls: FastMap<NoCase<'p>, Vec<(usize, Decl)>> = FastMap::default();
         let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
         for (mi, m) in program.modules.iter().enumerate() {
             for d in &m.data {
                 decls
-                    .entry(d.name.to_ascii_lowercase())
+                    .entry(NoCase(d.name.as_bytes()))
                     .or_default()
                     .push((mi, Decl::Tree(d)));
             }
@@ -239,7 +243,7 @@ impl<'p> Walker<'p> {
                 let local = program.declared_scope(run) == Some(rapid::Scope::Local);
                 for (name, _, target) in program.declared_names(run) {
                     decls
-                        .entry(name.to_ascii_lowercase())
+                        .entry(NoCase(name.as_bytes()))
                         .or_default()
                         .push((mi, Decl::Run { local, target }));
                 }

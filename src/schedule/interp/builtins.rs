@@ -15,17 +15,8 @@ impl Interp {
     /// interpreter does not know.
     pub(super) fn builtin(&mut self, c: &FunctionCall) -> Result<Option<Value>> {
         let name = c.name.to_ascii_lowercase();
-        let exprs: Vec<&Expr> = c
-            .args
-            .iter()
-            .filter(|a| !a.optional)
-            .filter_map(|a| a.value.as_ref())
-            .collect();
-        let switch = |s: &str| {
-            c.args
-                .iter()
-                .any(|a| a.optional && a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(s)))
-        };
+        let exprs: Vec<&Expr> = c.positional().collect();
+        let switch = |s: &str| c.optional(s).is_some();
         // Functions that read a parameter, not a value.
         match name.as_str() {
             "present" => {
@@ -63,9 +54,7 @@ impl Interp {
             args.push(self.eval(e)?);
         }
         let mut opt = |n: &str| -> Result<Option<Value>> {
-            let given = c.args.iter().find(|a| {
-                a.optional && a.name.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(n))
-            });
+            let given = c.optional(n);
             match given.and_then(|a| a.value.as_ref()) {
                 Some(e) => Ok(Some(self.eval(e)?)),
                 None => Ok(None),

@@ -5,6 +5,7 @@
 use super::super::estimate::{STACK_RED_ZONE, STACK_SEGMENT};
 use super::kin;
 use super::place::Slot;
+use super::value::compare;
 use super::{Interp, Precision, Value};
 use crate::error::{Error, Result};
 use crate::rapid::{BinaryOp, Expr, FunctionCall, RoutineKind, UnaryOp};
@@ -93,17 +94,7 @@ impl Interp {
     /// A function call: `Present`, a FUNC of the program, a built-in.
     fn call_function(&mut self, c: &FunctionCall) -> Result<Value> {
         if self.routines.contains_key(&c.name.to_ascii_lowercase()) {
-            let from = self.frames.last().map(|f| f.module);
-            let (m, k) = self.routine_named(&c.name, from)?;
-            let program = self.program.clone();
-            let routine = &program.modules[m].routines[k];
-            if routine.kind != RoutineKind::Func {
-                return Err(Error::input(format!("`{}` is not a FUNC", c.name)));
-            }
-            let vars = self.bind(routine, &c.args)?;
-            let at = self.at;
-            let v = self.run_routine(m, k, vars)?;
-            self.at = at;
+            let v = self.call_routine(&c.name, &c.args, RoutineKind::Func)?;
             return v.ok_or_else(|| Error::input(format!("`{}` returned no value", c.name)));
         }
         self.ops.builtins += 1;
@@ -111,6 +102,27 @@ impl Interp {
             Some(v) => Ok(v),
             None => Err(self.unsupported(format!("the function `{}`", c.name))),
         }
+    }
+
+    /// Calls routine `name` of `kind` from the running routine.
+    pub(super) fn call_routine(
+        &mut self,
+        name: &str,
+        args: &[crate::rapid::Arg],
+        kind: RoutineKind,
+    ) -> Result<Option<Value>> {
+        let from = self.frames.last().map(|f| f.module);
+        let (m, k) = self.routine_named(name, from)?;
+        let program = self.program.clone();
+        let routine = &program.modules[m].routines[k];
+        if routine.kind != kind {
+            return Err(Error::input(format!("`{name}` is not a {kind:?}")));
+        }
+        let vars = self.bind(routine, args)?;
+        let at = self.at;
+        let v = self.run_routine(m, k, vars)?;
+        self.at = at;
+        Ok(v)
     }
 
     /// The parameters of `routine` bound to the arguments of a call made
@@ -257,13 +269,9 @@ fn binary(op: BinaryOp, l: Value, r: Value) -> Result<Value> {
                 // Truncated toward zero, as RAPID's DIV and MOD.
                 IntDiv => Value::Num((int(a)? / int(b)?).trunc()),
                 Mod => Value::Num(int(a)? % int(b)?),
-                Lt => Value::Bool(a < b),
-                Le => Value::Bool(a <= b),
-                Eq => Value::Bool(a == b),
-                Ne => Value::Bool(a != b),
-                Ge => Value::Bool(a >= b),
-                Gt => Value::Bool(a > b),
-                And | Or | Xor => return Err(Error::input(format!("{op:?} of two nums"))),
+                op => Value::Bool(
+                    compare(op, a, b).ok_or_else(|| Error::input(format!("{op:?} of two nums")))?,
+                ),
             }
         }
         (And, Value::Bool(a), Value::Bool(b)) => Value::Bool(*a && *b),

@@ -168,17 +168,7 @@ impl Interp {
             return Err(self.unsupported("a late-bound call"));
         }
         if self.routines.contains_key(&c.name.to_ascii_lowercase()) {
-            let from = self.frames.last().map(|f| f.module);
-            let (m, k) = self.routine_named(&c.name, from)?;
-            let program = self.program.clone();
-            let routine = &program.modules[m].routines[k];
-            if routine.kind != RoutineKind::Proc {
-                return Err(Error::input(format!("`{}` is not a PROC", c.name)));
-            }
-            let vars = self.bind(routine, &c.args)?;
-            let at = self.at;
-            self.run_routine(m, k, vars)?;
-            self.at = at;
+            self.call_routine(&c.name, &c.args, RoutineKind::Proc)?;
             return Ok(Flow::Normal);
         }
         self.ops.builtins += 1;

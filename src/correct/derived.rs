@@ -107,12 +107,7 @@ fn offsets(
     eval: &dyn Fn(&Expr) -> Option<f64>,
 ) -> Option<(Function, [f64; 3], [f64; 3])> {
     let literal = eval;
-    let positional: Vec<&Expr> = call
-        .args
-        .iter()
-        .filter(|a| !a.optional)
-        .filter_map(|a| a.value.as_ref())
-        .collect();
+    let positional: Vec<&Expr> = call.positional().collect();
     if positional.len() != 4 {
         return None;
     }

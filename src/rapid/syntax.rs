@@ -163,20 +163,38 @@ pub struct Call {
 impl Call {
     /// Required (positional) arguments in order.
     pub fn positional(&self) -> impl Iterator<Item = &Expr> {
-        self.args
-            .iter()
-            .filter(|a| !a.optional)
-            .filter_map(|a| a.value.as_ref())
+        positional(&self.args)
     }
     /// The optional argument `\name` (case-insensitive), if present.
     pub fn optional(&self, name: &str) -> Option<&Arg> {
-        self.args.iter().find(|a| {
-            a.optional
-                && a.name
-                    .as_deref()
-                    .is_some_and(|n| n.eq_ignore_ascii_case(name))
-        })
+        optional(&self.args, name)
     }
+}
+
+impl FunctionCall {
+    /// Required (positional) arguments in order.
+    pub fn positional(&self) -> impl Iterator<Item = &Expr> {
+        positional(&self.args)
+    }
+    /// The optional argument `\name` (case-insensitive), if present.
+    pub fn optional(&self, name: &str) -> Option<&Arg> {
+        optional(&self.args, name)
+    }
+}
+
+fn positional(args: &[Arg]) -> impl Iterator<Item = &Expr> {
+    args.iter()
+        .filter(|a| !a.optional)
+        .filter_map(|a| a.value.as_ref())
+}
+
+fn optional<'a>(args: &'a [Arg], name: &str) -> Option<&'a Arg> {
+    args.iter().find(|a| {
+        a.optional
+            && a.name
+                .as_deref()
+                .is_some_and(|n| n.eq_ignore_ascii_case(name))
+    })
 }
 
 /// One argument: `p10`, `\WObj:=wobj1`, `\Conc` (a switch: no value).

@@ -18,6 +18,7 @@
 
 mod estimate;
 mod file;
+pub mod interp;
 mod timing;
 mod walk;
 

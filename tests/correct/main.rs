@@ -8,6 +8,8 @@ mod accounted;
 mod backup;
 mod cli;
 mod idle;
+mod interp;
+mod interp_targets;
 mod lanes;
 mod marker;
 mod plot;

@@ -11,13 +11,7 @@ use nalgebra::Vector3;
 /// module's `RtDays` computes it with RAPID's integer `DIV`
 /// (days-from-civil after H. Hinnant, shifted to 2000).
 pub fn days_since_2000(y: i64, m: i64, d: i64) -> i64 {
-    let y = if m <= 2 { y - 1 } else { y };
-    let era = y.div_euclid(400);
-    let yoe = y - era * 400;
-    let mp = if m > 2 { m - 3 } else { m + 9 };
-    let doy = (153 * mp + 2) / 5 + d - 1;
-    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    era * 146_097 + doe - 730_425
+    crate::schedule::interp::clock::days_from_civil(y, m, d)
 }
 
 /// 1 − e^(−u) as the module computes it: by its series below 0.01, where

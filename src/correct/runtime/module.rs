@@ -291,24 +291,24 @@ const BODY: &str = "\r
 \r
   ! A robtarget corrected for the arm's warmth now: the target that makes\r
   ! the warm robot reach what the cold one meant.\r
-  FUNC robtarget RtWarm(robtarget p, PERS tooldata t \\PERS wobjdata w)\r
+  FUNC robtarget RtWarm(robtarget p, PERS tooldata t \\PERS wobjdata WObj)\r
     VAR jointtarget j;\r
     VAR pos d;\r
     VAR pose obj;\r
     VAR robtarget out;\r
     RtWarmUpdate;\r
-    ! A work object the robot holds, or one a mechanical unit moves: left as\r
-    ! it is (docs/runtime.md).\r
-    IF t.robhold RETURN p;\r
-    IF Present(w) THEN\r
-      IF w.robhold OR NOT w.ufprog RETURN p;\r
-      j := CalcJointT(p, t \\WObj:=w);\r
+    ! A stationary tool, a work object the robot holds or one a mechanical\r
+    ! unit moves: the target is left as it is (docs/runtime.md).\r
+    IF NOT t.robhold RETURN p;\r
+    IF Present(WObj) THEN\r
+      IF WObj.robhold OR NOT WObj.ufprog RETURN p;\r
+      j := CalcJointT(p, t \\WObj:=WObj);\r
     ELSE\r
       j := CalcJointT(p, t);\r
     ENDIF\r
     d := RtWorld(RtDrift(j));\r
-    IF Present(w) THEN\r
-      obj := PoseMult(w.uframe, w.oframe);\r
+    IF Present(WObj) THEN\r
+      obj := PoseMult(WObj.uframe, WObj.oframe);\r
       obj.trans := [0, 0, 0];\r
       d := PoseVect(PoseInv(obj), d);\r
     ENDIF\r

@@ -61,6 +61,7 @@ impl FileParser<'_, '_> {
         let mut operands: Vec<Expr> = Vec::new();
         let mut ops: Vec<BinaryOp> = Vec::new();
         let mut prefixes: Vec<(UnaryOp, usize)> = Vec::new();
+        let mut pending: Vec<(UnaryOp, usize)> = Vec::new();
         let mut current: Option<Expr> = None;
         let mut last_prefix_end = 0usize;
         for c in pair.into_inner() {
@@ -88,7 +89,7 @@ impl FileParser<'_, '_> {
                     let Some(e) = current.take() else {
                         return Err(self.err(start, "expected an expression"));
                     };
-                    operands.push(e);
+                    operands.push(signed(e, &mut pending, &mut last_prefix_end));
                     if ops.len() >= MAX_OPERATORS {
                         return Err(self.err(
                             start,
@@ -98,29 +99,18 @@ impl FileParser<'_, '_> {
                     ops.push(binary_op(c.as_str()));
                 }
                 _ => {
-                    let mut e = self.primary(c, base)?;
-                    // Fold a sign written against a number into the literal,
-                    // so that its span covers the sign.
-                    while let Some((op, at)) = prefixes.pop() {
-                        e = match (op, e) {
-                            (UnaryOp::Neg, Expr::Num(n)) if n.span().start == last_prefix_end => {
-                                Expr::Num(Number::new(-n.value, at..n.span().end))
-                            }
-                            (UnaryOp::Plus, Expr::Num(n)) if n.span().start == last_prefix_end => {
-                                Expr::Num(Number::new(n.value, at..n.span().end))
-                            }
-                            (op, e) => Expr::Unary(op, Box::new(e)),
-                        };
-                        last_prefix_end = usize::MAX;
-                    }
-                    current = Some(e);
+                    // The signs and NOTs before an operand apply to it with
+                    // its indexes and components (`NOT t.robhold`, `-x{2}`):
+                    // they are applied when the operand ends.
+                    pending = std::mem::take(&mut prefixes);
+                    current = Some(self.primary(c, base)?);
                 }
             }
         }
         let Some(last) = current else {
             return Err(self.err(start, "expected an expression"));
         };
-        operands.push(last);
+        operands.push(signed(last, &mut pending, &mut last_prefix_end));
         Ok(climb(operands, ops))
     }
 
@@ -270,4 +260,23 @@ pub(super) fn format_num(v: f64) -> String {
     } else {
         format!("{v}")
     }
+}
+
+/// An operand with the signs and NOTs written before it, innermost last;
+/// a sign written against a number is folded into the literal, so that
+/// its span covers the sign.
+fn signed(mut e: Expr, prefixes: &mut Vec<(UnaryOp, usize)>, last_prefix_end: &mut usize) -> Expr {
+    while let Some((op, at)) = prefixes.pop() {
+        e = match (op, e) {
+            (UnaryOp::Neg, Expr::Num(n)) if n.span().start == *last_prefix_end => {
+                Expr::Num(Number::new(-n.value, at..n.span().end))
+            }
+            (UnaryOp::Plus, Expr::Num(n)) if n.span().start == *last_prefix_end => {
+                Expr::Num(Number::new(n.value, at..n.span().end))
+            }
+            (op, e) => Expr::Unary(op, Box::new(e)),
+        };
+        *last_prefix_end = usize::MAX;
+    }
+    e
 }

@@ -2,6 +2,7 @@
 //! functions (Offs, RelTool, CRobT, user FUNCs) as far as timing needs.
 
 use super::*;
+use crate::schedule::interp::value::compare;
 
 impl<'p> Walker<'p> {
     pub(super) fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
@@ -251,12 +252,7 @@ impl<'p> Walker<'p> {
 
     pub(super) fn call_value(&mut self, c: &FunctionCall, frame: &mut Frame<'p>) -> Result<Value> {
         let name = c.name.to_ascii_lowercase();
-        let positional: Vec<&Expr> = c
-            .args
-            .iter()
-            .filter(|a| !a.optional)
-            .filter_map(|a| a.value.as_ref())
-            .collect();
+        let positional: Vec<&Expr> = c.positional().collect();
         let optional = |n: &str| {
             c.args.iter().find(|a| {
                 a.optional && a.name.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(n))
@@ -432,13 +428,7 @@ fn binary(op: BinaryOp, l: &Value, r: &Value) -> Value {
                 Div if b != 0.0 => Value::Num(a / b),
                 IntDiv if b != 0.0 => Value::Num((a / b).trunc()),
                 Mod if b != 0.0 => Value::Num(a % b),
-                Lt => Value::Bool(a < b),
-                Le => Value::Bool(a <= b),
-                Eq => Value::Bool(a == b),
-                Ne => Value::Bool(a != b),
-                Ge => Value::Bool(a >= b),
-                Gt => Value::Bool(a > b),
-                _ => Value::Unknown,
+                op => compare(op, a, b).map_or(Value::Unknown, Value::Bool),
             }
         }
         (Value::Bool(a), Value::Bool(b)) => match op {

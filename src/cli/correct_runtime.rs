@@ -74,8 +74,8 @@ pub fn run(args: &RuntimeArgs, plan: &CorrectPlan, found: Vec<Task>) -> Result<S
         Action::Diff { .. } => {
             let mut text = Vec::new();
             for r in &runs {
-                for ((name, before), after) in r.inputs.iter().zip(&r.outputs) {
-                    text.extend(unified_diff(name, before.bytes(), after));
+                for (f, (name, before)) in r.inputs.iter().enumerate() {
+                    text.extend(unified_diff(name, before.bytes(), &r.file_bytes(f)));
                 }
                 let path = module_path(&r.task.modules[0], &r.module.0);
                 let before = std::fs::read(&path).unwrap_or_default();
@@ -130,18 +130,28 @@ fn write(dest: &Destination, runs: &[RuntimeRan], sink: &mut FileSink) -> Result
             .map_err(|e| Error::io(Path::new(name), &e))?;
         Ok(o)
     };
+    // A program file written as the rewrite makes it, through a buffer.
+    let put_file = |sink: &mut FileSink, name: &str, r: &RuntimeRan, f: usize| -> Result<_> {
+        let mut o = sink.create(name)?;
+        let mut buffered = std::io::BufWriter::with_capacity(1 << 20, &mut o);
+        r.write_file(f, &mut buffered)
+            .and_then(|_| buffered.flush())
+            .map_err(|e| Error::io(Path::new(name), &e))?;
+        drop(buffered);
+        Ok(o)
+    };
     match dest {
         Destination::File(out) => {
-            outputs.push(put(sink, &out.display().to_string(), &runs[0].outputs[0])?);
+            outputs.push(put_file(sink, &out.display().to_string(), &runs[0], 0)?);
         }
         Destination::Stdout => {
             return Err(Error::usage("--runtime cannot write to standard output"))
         }
         Destination::InPlace { .. } => {
             for r in runs {
-                for ((name, before), after) in r.inputs.iter().zip(&r.outputs) {
-                    if after.as_slice() != before.bytes() {
-                        outputs.push(put(sink, name, after)?);
+                for (f, (name, _)) in r.inputs.iter().enumerate() {
+                    if r.file_changed(f) {
+                        outputs.push(put_file(sink, name, r, f)?);
                     }
                 }
             }

@@ -3,14 +3,14 @@
 //! its files with every move wrapped in the module's function. Every task
 //! is tried before anything is written.
 
-use super::rewrite::{move_edits, MoveTally};
+use super::rewrite::{move_insertions, write_rewritten, Insertions, MoveTally};
 use super::{module_text, ModuleOptions, RuntimeSpec};
 use crate::correct::job::{checked_arm, load_model, model_label, moves_a_robot, read_task};
 use crate::correct::job::{Event, Host, Inputs};
 use crate::correct::marker;
 use crate::correct::plan::{CorrectPlan, ModelSource};
 use crate::error::{Error, Errors, Result};
-use crate::rapid::numprint::NumberPrint;
+use crate::rapid::rewrite::Edit;
 use crate::rapid::task::Task;
 use crate::resolve::arm::base_frame;
 use nalgebra::UnitQuaternion;
@@ -29,8 +29,9 @@ pub struct RuntimeRan {
     pub task: Task,
     pub arm: String,
     pub inputs: Inputs,
-    /// Each input's new bytes (its own where nothing changed).
-    pub outputs: Vec<Vec<u8>>,
+    /// Each input's rewrite (`None`: it stays as it is), written out by
+    /// [`RuntimeRan::write_file`] as it is made.
+    rewrites: Vec<Option<FileRewrite>>,
     /// The module's file name (`NAME.sys`) and bytes.
     pub module: (String, Vec<u8>),
     pub tally: MoveTally,
@@ -38,13 +39,42 @@ pub struct RuntimeRan {
     pub already: bool,
 }
 
+/// What a file's rewrite inserts: the moves' calls and the marker.
+#[derive(Debug)]
+struct FileRewrite {
+    calls: Insertions,
+    marker: Option<Edit>,
+}
+
 impl RuntimeRan {
     /// Whether any of its program files changes.
     pub fn changed(&self) -> bool {
-        self.outputs
-            .iter()
-            .zip(&self.inputs)
-            .any(|(after, (_, before))| after.as_slice() != before.bytes())
+        (0..self.inputs.len()).any(|f| self.file_changed(f))
+    }
+
+    /// Whether input `f` changes.
+    pub fn file_changed(&self, f: usize) -> bool {
+        self.rewrites.get(f).is_some_and(Option::is_some)
+    }
+
+    /// Input `f` as the rewrite makes it, written to `out` as it is made
+    /// (a program of a million moves is never held whole).
+    pub fn write_file(&self, f: usize, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+        let Some((_, source)) = self.inputs.get(f) else {
+            return Ok(());
+        };
+        match self.rewrites.get(f).and_then(Option::as_ref) {
+            Some(r) => write_rewritten(source.bytes(), &r.calls, r.marker.as_ref(), out),
+            None => out.write_all(source.bytes()),
+        }
+    }
+
+    /// Input `f` as the rewrite makes it, whole (for a diff).
+    pub fn file_bytes(&self, f: usize) -> Vec<u8> {
+        let mut out = Vec::new();
+        // Writing to a Vec cannot fail.
+        let _ = self.write_file(f, &mut out);
+        out
     }
 
     /// The folder the module goes in beside `program`: a task's SYSMOD
@@ -128,41 +158,38 @@ fn rewrite_task(
             return Err(marker::refuse(&program, f, &wanted));
         }
     }
-    let (edits, tally) = move_edits(&program, module);
-    let mut outputs = Vec::with_capacity(program.files.len());
-    for (f, mut fixed) in edits.into_iter().enumerate() {
-        let src = program.source(f);
-        if fixed.is_empty() {
-            outputs.push(src.to_vec());
+    let (calls, tally) = move_insertions(&program, module);
+    let mut rewrites = Vec::with_capacity(program.files.len());
+    for (f, calls) in calls.into_iter().enumerate() {
+        if calls.is_empty() {
+            rewrites.push(None);
             continue;
         }
         if found.is_some() {
             // Moves written after the first rewrite: its marker's
             // fingerprints are of the file as it was then.
             return Err(Error::input(format!(
-                "{}: a former --runtime run rewrote this program, and {} move(s) were added since; rewrite its cold original",
+                "{}: a former --runtime run rewrote this program, and {} target argument(s) of moves were added since; rewrite its cold original",
                 program.file_name(f),
-                fixed.len()
+                // Two insertions wrap each argument.
+                calls.len() / 2
             )));
         }
         // The marker, with the cold file's fingerprint, under the module
-        // header; the numbers' fingerprint above the last ENDMODULE.
-        let m = marker::for_run(&basis(module), &label, false, src);
-        fixed.extend(marker::insert(&program, f, &m));
-        let mut body = program.apply_edits(f, &fixed)?;
-        drop(fixed);
-        let end = marker::numbers_at(&body);
-        let print = NumberPrint::of(&body[..end]);
-        let line = marker::numbers_line(&body, end, &print);
-        body.splice(end..end, line);
-        outputs.push(body);
+        // header; the numbers' fingerprint goes above the last ENDMODULE
+        // as the file is written.
+        let m = marker::for_run(&basis(module), &label, false, program.source(f));
+        rewrites.push(Some(FileRewrite {
+            calls,
+            marker: marker::insert(&program, f, &m),
+        }));
     }
     let already = found.is_some() && tally.wrapped == 0;
     Ok(RuntimeRan {
         task,
         arm: arm.robot.name.clone(),
         inputs,
-        outputs,
+        rewrites,
         module: (format!("{module}.sys"), text),
         tally,
         already,

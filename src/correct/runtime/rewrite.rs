@@ -15,10 +15,13 @@
 //!
 //! A move already wrapped is left as it is: a second run changes nothing.
 
+use crate::rapid::numprint::NumberPrint;
 use crate::rapid::rewrite::Edit;
 use crate::rapid::Program;
 use crate::rapid::{motion_signature, ArgAt};
 use crate::resolve::{each_move_instruction, Move};
+use std::collections::HashMap;
+use std::io::Write;
 use std::ops::Range;
 
 /// How many moves the rewrite touched, per file and in all.
@@ -33,11 +36,54 @@ pub struct MoveTally {
     pub left: usize,
 }
 
-/// The edits that wrap every move of `program` (by file), and the tally.
-/// `func` is the module's robtarget function; its jointtarget function is
-/// `func` and `J`.
-pub fn move_edits(program: &Program, func: &str) -> (Vec<Vec<Edit>>, MoveTally) {
-    let mut edits: Vec<Vec<Edit>> = vec![Vec::new(); program.files.len()];
+/// One file's insertions, held compactly: a million moves are two
+/// million insertions of a handful of distinct texts (the call opened,
+/// and closed with each tool and work object), so each is a place and
+/// the number of its text. As edits with bytes of their own they took
+/// four times the file in memory.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Insertions {
+    /// (byte offset in the file, text number), in file order.
+    at: Vec<(usize, u32)>,
+    texts: Vec<Box<[u8]>>,
+}
+
+impl Insertions {
+    pub fn is_empty(&self) -> bool {
+        self.at.is_empty()
+    }
+
+    pub fn len(&self) -> usize {
+        self.at.len()
+    }
+
+    /// Where each insertion goes and its text, in file order.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, &[u8])> + '_ {
+        self.at
+            .iter()
+            .map(|&(at, t)| (at, self.texts.get(t as usize).map_or(&[][..], |b| &b[..])))
+    }
+
+    fn push(&mut self, at: usize, text: &[u8], known: &mut HashMap<Vec<u8>, u32>) {
+        let n = match known.get(text) {
+            Some(&n) => n,
+            None => {
+                let n = self.texts.len() as u32;
+                self.texts.push(text.into());
+                known.insert(text.to_vec(), n);
+                n
+            }
+        };
+        self.at.push((at, n));
+    }
+}
+
+/// The insertions that wrap every move of `program` (by file), and the
+/// tally. `func` is the module's robtarget function; its jointtarget
+/// function is `func` and `J`.
+pub fn move_insertions(program: &Program, func: &str) -> (Vec<Insertions>, MoveTally) {
+    let mut out: Vec<Insertions> = vec![Insertions::default(); program.files.len()];
+    let mut known: Vec<HashMap<Vec<u8>, u32>> = vec![HashMap::new(); program.files.len()];
     let mut tally = MoveTally::default();
     let joint_func = format!("{func}J");
     each_move_instruction(program, &mut |m: &Move| {
@@ -55,15 +101,61 @@ pub fn move_edits(program: &Program, func: &str) -> (Vec<Vec<Edit>>, MoveTally) 
                     if e.new.ends_with(b"(") {
                         tally.wrapped += 1;
                     }
-                    edits[m.file].push(e);
+                    out[m.file].push(e.span.start, &e.new, &mut known[m.file]);
                 }
             }
         }
     });
-    for e in &mut edits {
-        e.sort_by_key(|e| e.span.start);
+    for ins in &mut out {
+        // Stable: the call opened before an argument stays before the
+        // close of one that ends where it starts.
+        ins.at.sort_by_key(|&(at, _)| at);
     }
-    (edits, tally)
+    (out, tally)
+}
+
+/// `src` with the insertions and `marker` (an insertion too: the line
+/// under the module header) written to `out` as it goes, and the
+/// numbers' fingerprint line above the last `ENDMODULE`, taken of the
+/// rewritten bytes before it: the file is never held whole.
+pub fn write_rewritten(
+    src: &[u8],
+    ins: &Insertions,
+    marker: Option<&Edit>,
+    out: &mut dyn Write,
+) -> std::io::Result<()> {
+    let end = crate::correct::marker::numbers_at(src);
+    let mut print = NumberPrint::new();
+    // The marker goes under the module header, before every move.
+    let marker = marker.map(|m| (m.span.start, &m.new[..]));
+    let mut from = 0;
+    for (at, text) in marker.into_iter().chain(ins.iter()) {
+        let at = at.min(src.len());
+        // The source up to the insertion: the part before the last
+        // ENDMODULE line counts in the fingerprint.
+        if at > from {
+            let cut = at.min(end).max(from);
+            print.feed(&src[from..cut]);
+            out.write_all(&src[from..at])?;
+            from = at;
+        }
+        // As the whole rewritten file's fingerprint would: an insertion
+        // on the ENDMODULE line's start is on that line.
+        if at < end || end == src.len() {
+            print.feed(text);
+        }
+        out.write_all(text)?;
+    }
+    if from < end {
+        print.feed(&src[from..end]);
+        out.write_all(&src[from..end])?;
+        from = end;
+    }
+    // The rewritten body's line ends and last line are the source's:
+    // the insertions add neither.
+    let line = crate::correct::marker::numbers_line(src, end, &print.finish());
+    out.write_all(&line)?;
+    out.write_all(&src[from..])
 }
 
 enum Wrap {
@@ -255,10 +347,11 @@ mod tests {
 
     fn rewrite(text: &str) -> (String, MoveTally) {
         let program = crate::rapid::parse("t.mod", text.as_bytes()).unwrap();
-        let (edits, tally) = move_edits(&program, "RtWarm");
+        let (ins, tally) = move_insertions(&program, "RtWarm");
         let mut out = text.as_bytes().to_vec();
-        for e in edits[0].iter().rev() {
-            out.splice(e.span.clone(), e.new.iter().copied());
+        let places: Vec<(usize, &[u8])> = ins[0].iter().collect();
+        for (at, t) in places.into_iter().rev() {
+            out.splice(at..at, t.iter().copied());
         }
         (String::from_utf8(out).unwrap(), tally)
     }

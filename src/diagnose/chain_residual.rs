@@ -3,8 +3,9 @@
 //! follows one joint's angle or the measurement order. Each share is the
 //! part of the gap's mean square a small least-squares model explains.
 
+use super::finding::Principal;
 use super::gap::{gap_stats, GapStats};
-use super::locate::{principal_words, split_at_median, Region};
+use super::locate::{split_at_median, Region};
 use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
@@ -104,11 +105,12 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
         gap.axis_rms_mm[0],
         gap.axis_rms_mm[1],
         gap.axis_rms_mm[2],
-        principal_words(
+        Principal::of(
             &dominant,
             &(mean / gaps.len().max(1) as f64),
             (eig.eigenvalues[imax] / gaps.len().max(1) as f64).max(0.0).sqrt()
-        ),
+        )
+        .words(),
         100.0 * dominant_share,
         if dominant_share < 0.5 {
             " (no single direction)"

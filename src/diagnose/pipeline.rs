@@ -299,7 +299,14 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     } else {
         locate::locate(problem, &gaps_after, &prepared.pose_names, noise.rms_mm)
     };
-    let advice = advise(&verdict, cv0, cur_cv, &noise, [&where_, &where_after]);
+    let advice = advise(
+        &verdict,
+        cv0,
+        cur_cv,
+        &noise,
+        [&where_, &where_after],
+        joint_sig.as_ref().map(|s| s.axis),
+    );
     let partial = match &verdict {
         Verdict::Unexplained { partial } => partial.iter().map(|k| k.name().to_string()).collect(),
         _ => Vec::new(),

@@ -72,7 +72,7 @@ fn summary(d: &Diagnosis) -> String {
         d.gap_after_mm,
         d.ambiguous,
         d.partial,
-        d.where_after.words
+        d.where_after.words()
     )
 }
 

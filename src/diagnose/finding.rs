@@ -242,3 +242,107 @@ impl Finding {
 pub fn serialize_words<S: Serializer>(findings: &[Finding], s: S) -> Result<S::Ok, S::Error> {
     s.collect_seq(findings.iter().map(Finding::words))
 }
+
+impl Split {
+    /// The names of the lower and upper half in a chain calibration's
+    /// remainder (`near`, `far`; `low`, `high`).
+    pub fn short_names(self) -> (&'static str, &'static str) {
+        match self {
+            Split::Reach => ("near", "far"),
+            Split::Height => ("low", "high"),
+        }
+    }
+}
+
+/// One thing the remainder of a chain calibration shows
+/// ([`super::chain_residual`]): every share is the part of its mean square
+/// a small least-squares model explains.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RemainderFinding {
+    /// RMS per base axis, and the principal direction with its share.
+    Axes {
+        axis_rms_mm: [f64; 3],
+        direction: Principal,
+        share: f64,
+    },
+    /// The rows with the largest gap (pose label, mm; at most three).
+    LargestAt { poses: Vec<(String, f64)> },
+    /// The RMS of the two halves of the workspace split at the median.
+    ByRegion {
+        split: Split,
+        median_mm: f64,
+        lower_mm: f64,
+        upper_mm: f64,
+    },
+    /// The joint whose angle (one and two cycles per turn) explains most.
+    Joint { axis: usize, share: f64 },
+    /// A smooth trend over the measurement order.
+    Order { share: f64 },
+}
+
+impl RemainderFinding {
+    /// The finding in a sentence.
+    pub fn words(&self) -> String {
+        match self {
+            RemainderFinding::Axes {
+                axis_rms_mm,
+                direction,
+                share,
+            } => format!(
+                "Per base axis x, y, z: {:.3}, {:.3}, {:.3} mm RMS; the largest direction, {}, carries {:.0} % of it{}.",
+                axis_rms_mm[0],
+                axis_rms_mm[1],
+                axis_rms_mm[2],
+                direction.words(),
+                100.0 * share,
+                if *share < 0.5 {
+                    " (no single direction)"
+                } else {
+                    ""
+                }
+            ),
+            RemainderFinding::LargestAt { poses } => {
+                let list: Vec<String> = poses
+                    .iter()
+                    .map(|(pose, mm)| format!("{pose} ({mm:.3} mm)"))
+                    .collect();
+                format!("Largest at poses {}.", list.join(", "))
+            }
+            RemainderFinding::ByRegion {
+                split,
+                median_mm,
+                lower_mm,
+                upper_mm,
+            } => {
+                let (what, ..) = split.names();
+                let (lo, hi) = split.short_names();
+                format!(
+                    "By {what} (split at {median_mm:.0} mm): {lower_mm:.3} mm {lo}, {upper_mm:.3} mm {hi}."
+                )
+            }
+            RemainderFinding::Joint { axis, share } => format!(
+                "The angle of axis {axis} (one and two cycles per turn) explains {:.0} % of it{}.",
+                100.0 * share,
+                if *share < 0.2 {
+                    "; no joint dominates"
+                } else {
+                    ""
+                }
+            ),
+            RemainderFinding::Order { share } => format!(
+                "A smooth trend over the measurement order explains {:.0} % of it{}.",
+                100.0 * share,
+                if *share < 0.1 { ": nothing drifts" } else { "" }
+            ),
+        }
+    }
+}
+
+/// Serialise a remainder's findings as their sentences (the JSON field
+/// `words` of a chain calibration's remainder).
+pub fn serialize_remainder_words<S: Serializer>(
+    findings: &[RemainderFinding],
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.collect_seq(findings.iter().map(RemainderFinding::words))
+}

@@ -658,6 +658,24 @@ fn two_stages(
     // the data and the effects are those selected beyond it; else it may
     // still be reported beside them, and what it replaces is not named.
     let mut square_params = 0;
+    thermal = square::library_first(
+        &centred,
+        thermal,
+        &ctx.noise,
+        ctx.remainder_level(),
+        |alt| {
+            forward(
+                &centred,
+                &time_folds,
+                alt,
+                &[],
+                &ctx.noise,
+                ctx.max_effects,
+                Some(0.0),
+                None,
+            )
+        },
+    )?;
     let quadratic = match square::choose(
         &problem,
         &centred,

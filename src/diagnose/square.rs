@@ -14,7 +14,7 @@
 //! square; one chosen before only for want of it is not named.
 
 use super::fit::Problem;
-use super::forward::{params_out, Forward, TestNoise};
+use super::forward::{mark_selected, Forward, TestNoise};
 use super::signature::{self, lstsq, plain_quadratic_columns, QuadraticGrowth};
 use crate::error::Result;
 use crate::model::EffectKind;
@@ -224,17 +224,7 @@ pub fn library_first(
             s.gap_after_mm = f.cv;
         }
         let mut candidates = thermal.candidates.clone();
-        let finals = params_out(&fit);
-        for c in &mut candidates {
-            c.selected = alt.iter().any(|k| k.name() == c.name);
-            if c.selected {
-                c.params = finals
-                    .iter()
-                    .filter(|p| p.name.starts_with(&format!("{}.", c.name)))
-                    .cloned()
-                    .collect();
-            }
-        }
+        mark_selected(&mut candidates, &alt, &fit);
         return Ok(Forward {
             cv0: thermal.cv0,
             rss0: thermal.rss0,

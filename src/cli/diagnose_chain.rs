@@ -277,7 +277,7 @@ fn table(d: &ChainDiagnosis) -> String {
     }
     if let Some(r) = &d.holdout_remainder {
         s.push_str("\nOn the held-out set:\n");
-        for w in &r.words {
+        for w in &r.words() {
             s.push_str(w);
             s.push('\n');
         }

@@ -294,7 +294,7 @@ pub fn diagnose_chain(
             .map(|r| format!(", {:.3} mm on the held-out set", r.gap.rms_mm))
             .unwrap_or_default()
     ));
-    words.extend(remainder_fit.words.iter().cloned());
+    words.extend(remainder_fit.words());
     Ok(ChainDiagnosis {
         robot: setup.robot.clone(),
         point: setup.point_name.clone(),

@@ -3,8 +3,9 @@
 //! follows one joint's angle or the measurement order. Each share is the
 //! part of the gap's mean square a small least-squares model explains.
 
+use super::finding::{Principal, RemainderFinding, Split};
 use super::gap::{gap_stats, GapStats};
-use super::locate::{principal_words, split_at_median, Region};
+use super::locate::{split_at_median, Region};
 use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
@@ -46,7 +47,19 @@ pub struct Remainder {
     pub joint: Option<Share>,
     /// A smooth trend over the measurement order (quadratic).
     pub order: Share,
-    pub words: Vec<String>,
+    /// What is said about it, in order (the JSON gives their sentences).
+    #[serde(
+        rename = "words",
+        serialize_with = "super::finding::serialize_remainder_words"
+    )]
+    pub findings: Vec<RemainderFinding>,
+}
+
+impl Remainder {
+    /// The findings in sentences.
+    pub fn words(&self) -> Vec<String> {
+        self.findings.iter().map(RemainderFinding::words).collect()
+    }
 }
 
 /// Share of the mean square of `gaps` that a least-squares fit of each
@@ -84,7 +97,7 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
     let gaps: Vec<Vector3<f64>> = rows.iter().map(|r| r.gap).collect();
     let gap = gap_stats(&gaps);
     let n = rows.len();
-    let mut words = Vec::new();
+    let mut findings = Vec::new();
 
     let mut second = Matrix3::zeros();
     let mut mean = Vector3::zeros();
@@ -99,23 +112,17 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
         dominant = -dominant;
     }
     let dominant_share = (eig.eigenvalues[imax] / second.trace().max(1e-300)).clamp(0.0, 1.0);
-    words.push(format!(
-        "Per base axis x, y, z: {:.3}, {:.3}, {:.3} mm RMS; the largest direction, {}, carries {:.0} % of it{}.",
-        gap.axis_rms_mm[0],
-        gap.axis_rms_mm[1],
-        gap.axis_rms_mm[2],
-        principal_words(
+    findings.push(RemainderFinding::Axes {
+        axis_rms_mm: gap.axis_rms_mm,
+        direction: Principal::of(
             &dominant,
             &(mean / gaps.len().max(1) as f64),
-            (eig.eigenvalues[imax] / gaps.len().max(1) as f64).max(0.0).sqrt()
+            (eig.eigenvalues[imax] / gaps.len().max(1) as f64)
+                .max(0.0)
+                .sqrt(),
         ),
-        100.0 * dominant_share,
-        if dominant_share < 0.5 {
-            " (no single direction)"
-        } else {
-            ""
-        }
-    ));
+        share: dominant_share,
+    });
 
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &b| gaps[b].norm().total_cmp(&gaps[a].norm()));
@@ -128,36 +135,39 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
         })
         .collect();
     if !worst_poses.is_empty() {
-        let list: Vec<String> = worst_poses
-            .iter()
-            .take(3)
-            .map(|p| format!("{} ({:.3} mm)", p.pose, p.gap_mm))
-            .collect();
-        words.push(format!("Largest at poses {}.", list.join(", ")));
+        findings.push(RemainderFinding::LargestAt {
+            poses: worst_poses
+                .iter()
+                .take(3)
+                .map(|p| (p.pose.clone(), p.gap_mm))
+                .collect(),
+        });
     }
 
     let mut regions = Vec::new();
     let reach: Vec<f64> = rows.iter().map(|r| r.at.xy().norm()).collect();
     let height: Vec<f64> = rows.iter().map(|r| r.at.z).collect();
-    for (what, vals, lo_name, hi_name) in [
-        ("reach", &reach, "near", "far"),
-        ("height", &height, "low", "high"),
-    ] {
+    for (split, vals) in [(Split::Reach, &reach), (Split::Height, &height)] {
+        let (what, ..) = split.names();
+        let (lo_name, hi_name) = split.short_names();
         let Some((med, [low, high])) = split_at_median(what, vals, lo_name, hi_name, &gaps) else {
             continue;
         };
         let (rl, rh) = (low.rms_mm, high.rms_mm);
         regions.extend([low, high]);
         if rh > 1.3 * rl || rl > 1.3 * rh {
-            words.push(format!(
-                "By {what} (split at {med:.0} mm): {rl:.3} mm {lo_name}, {rh:.3} mm {hi_name}."
-            ));
+            findings.push(RemainderFinding::ByRegion {
+                split,
+                median_mm: med,
+                lower_mm: rl,
+                upper_mm: rh,
+            });
         }
     }
 
     // Two harmonics of each joint's angle; four columns per component, so
     // that chance alone explains about 4/n of it.
-    let mut joint: Option<Share> = None;
+    let mut joint: Option<(usize, Share)> = None;
     if n >= 20 {
         for k in 0..6 {
             let basis = DMatrix::from_fn(n, 4, |i, c| {
@@ -169,25 +179,22 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
                 }
             });
             let share = explained(&basis, &gaps);
-            if joint.as_ref().is_none_or(|j| share > j.share) {
-                joint = Some(Share {
-                    what: format!("axis {}", k + 1),
-                    share,
-                });
+            if joint.as_ref().is_none_or(|(_, j)| share > j.share) {
+                joint = Some((
+                    k + 1,
+                    Share {
+                        what: format!("axis {}", k + 1),
+                        share,
+                    },
+                ));
             }
         }
     }
-    if let Some(j) = &joint {
-        words.push(format!(
-            "The angle of {} (one and two cycles per turn) explains {:.0} % of it{}.",
-            j.what,
-            100.0 * j.share,
-            if j.share < 0.2 {
-                "; no joint dominates"
-            } else {
-                ""
-            }
-        ));
+    if let Some((axis, j)) = &joint {
+        findings.push(RemainderFinding::Joint {
+            axis: *axis,
+            share: j.share,
+        });
     }
     let (t0, t1) = rows
         .iter()
@@ -206,23 +213,17 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
             0.0
         },
     };
-    words.push(format!(
-        "A smooth trend over the measurement order explains {:.0} % of it{}.",
-        100.0 * order_share.share,
-        if order_share.share < 0.1 {
-            ": nothing drifts"
-        } else {
-            ""
-        }
-    ));
+    findings.push(RemainderFinding::Order {
+        share: order_share.share,
+    });
     Remainder {
         gap,
         dominant: [dominant.x, dominant.y, dominant.z],
         dominant_share,
         worst_poses,
         regions,
-        joint,
+        joint: joint.map(|(_, j)| j),
         order: order_share,
-        words,
+        findings,
     }
 }

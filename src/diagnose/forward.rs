@@ -429,17 +429,7 @@ pub fn forward(
         })?)
     };
     if let Some(f) = &fit {
-        let finals = params_out(f);
-        for c in &mut candidates {
-            c.selected = selected[base.len()..].iter().any(|k| k.name() == c.name);
-            if c.selected {
-                c.params = finals
-                    .iter()
-                    .filter(|p| p.name.starts_with(&format!("{}.", c.name)))
-                    .cloned()
-                    .collect();
-            }
-        }
+        mark_selected(&mut candidates, &selected[base.len()..], f);
     }
     Ok(Forward {
         selected: selected[base.len()..].to_vec(),
@@ -452,6 +442,22 @@ pub fn forward(
         candidates,
         ambiguities,
     })
+}
+
+/// Mark the `candidates` that are `selected`, each with its parameters of
+/// the final `fit` (a candidate's own fit alone is what it was scored by).
+pub fn mark_selected(candidates: &mut [CandidateOut], selected: &[EffectKind], fit: &fit::Fit) {
+    let finals = params_out(fit);
+    for c in candidates {
+        c.selected = selected.iter().any(|k| k.name() == c.name);
+        if c.selected {
+            c.params = finals
+                .iter()
+                .filter(|p| p.name.starts_with(&format!("{}.", c.name)))
+                .cloned()
+                .collect();
+        }
+    }
 }
 
 impl Forward {

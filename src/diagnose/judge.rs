@@ -104,12 +104,17 @@ pub(super) fn judge(s: &Scores) -> Verdict {
     }
 }
 
+/// What the user is advised to do. `signature_axis`: the axis of a joint
+/// signature tested beyond a full calibration, which the advice names
+/// before the axis a localisation of the raw gap follows (one joint's
+/// error, one axis in the report).
 pub(super) fn advise(
     verdict: &Verdict,
     cv0: f64,
     cv: f64,
     noise: &Noise,
     wheres: [&Where; 2],
+    signature_axis: Option<usize>,
 ) -> Advice {
     match verdict {
         // `none` above an assumed (not measured) noise level: the
@@ -121,7 +126,8 @@ pub(super) fn advise(
         }
         Verdict::None => Advice::Nothing,
         Verdict::Unexplained { .. } => Advice::LookThere {
-            axis: wheres.iter().find_map(|w| w.joint.as_ref()).map(|j| j.axis),
+            axis: signature_axis
+                .or_else(|| wheres.iter().find_map(|w| w.joint.as_ref()).map(|j| j.axis)),
             step_min: wheres
                 .iter()
                 .find_map(|w| w.step.as_ref())

@@ -2,6 +2,8 @@
 //! directions, at which poses and workspace regions, and whether it follows
 //! one joint's angle (a harmonic of that angle: gear or encoder errors).
 
+pub use super::finding::{direction_words, JointFollow, PoseGap, Step, TimeShape};
+use super::finding::{Finding, Principal, Split};
 use super::fit::Problem;
 use crate::robot::Joints;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -29,50 +31,10 @@ pub struct Direction {
 }
 
 #[derive(Debug, Clone, Serialize)]
-pub struct PoseGap {
-    pub pose: String,
-    pub rms_mm: f64,
-    pub n: usize,
-}
-
-#[derive(Debug, Clone, Serialize)]
 pub struct Region {
     pub name: String,
     pub rms_mm: f64,
     pub n: usize,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct JointFollow {
-    /// 1-based axis.
-    pub axis: usize,
-    /// Cycles per turn of the axis.
-    pub harmonic: usize,
-    pub amplitude_mrad: f64,
-    /// Share of the gap's mean square this harmonic explains.
-    pub share: f64,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct Step {
-    /// Last measurement time before the step and first after, minutes.
-    pub before_min: f64,
-    pub after_min: f64,
-    pub size_mm: f64,
-    pub direction: [f64; 3],
-}
-
-impl Step {
-    /// The step in a sentence.
-    pub fn words(&self) -> String {
-        format!(
-            "A step of {:.3} mm along {} between minute {} and {}.",
-            self.size_mm,
-            direction_words(&Vector3::from(self.direction)),
-            fmt_min(self.before_min),
-            fmt_min(self.after_min)
-        )
-    }
 }
 
 impl Where {
@@ -80,7 +42,7 @@ impl Where {
     /// is stronger evidence than the trend test).
     pub fn with_step(mut self, step: Step) -> Where {
         if self.step.is_none() {
-            self.words.push(step.words());
+            self.findings.push(Finding::Step(step.clone()));
             self.step = Some(step);
         }
         self
@@ -102,7 +64,9 @@ pub struct Where {
     pub regions: Vec<Region>,
     pub joint: Option<JointFollow>,
     pub step: Option<Step>,
-    pub words: Vec<String>,
+    /// What is said about it, in order (the JSON gives their sentences).
+    #[serde(rename = "words", serialize_with = "super::finding::serialize_words")]
+    pub findings: Vec<Finding>,
 }
 
 impl Where {
@@ -122,41 +86,18 @@ impl Where {
     }
 }
 
+impl Where {
+    /// The findings in sentences.
+    pub fn words(&self) -> Vec<String> {
+        self.findings.iter().map(Finding::words).collect()
+    }
+}
+
 fn rms(v: &[Vector3<f64>]) -> f64 {
     if v.is_empty() {
         return 0.0;
     }
     (v.iter().map(|g| g.norm_squared()).sum::<f64>() / v.len() as f64).sqrt()
-}
-
-/// Describe a unit direction in words: `+z`, or components.
-/// A principal direction of gaps in words: signed (`+y`) when their mean
-/// runs along it by a fifth of their RMS along it or more, else as the line
-/// it is (`±y`): an eigenvector's sign is arbitrary, and a sign the data
-/// do not give would flip with the last digit of any input.
-pub fn principal_words(d: &Vector3<f64>, mean: &Vector3<f64>, rms_along: f64) -> String {
-    let along = d.dot(mean);
-    if along.abs() >= 0.2 * rms_along && along != 0.0 {
-        return direction_words(&(d * along.signum()));
-    }
-    let d = d * d[d.iamax()].signum();
-    format!("±{}", direction_words(&d).trim_start_matches('+'))
-}
-
-pub fn direction_words(d: &Vector3<f64>) -> String {
-    let names = ["x", "y", "z"];
-    let (i, v) = d.iter().copied().enumerate().fold((0, 0.0), |a, (i, v)| {
-        if v.abs() > f64::abs(a.1) {
-            (i, v)
-        } else {
-            a
-        }
-    });
-    if v.abs() > 0.9 {
-        format!("{}{}", if v > 0.0 { "+" } else { "-" }, names[i])
-    } else {
-        format!("({:+.2}, {:+.2}, {:+.2})", d.x, d.y, d.z)
-    }
 }
 
 /// Localise `gaps` (one per row of `problem`, mm). `pose_names` labels pose
@@ -170,7 +111,7 @@ pub fn locate(
     let rows = &problem.rows;
     let n = gaps.len().min(rows.len());
     let total = rms(&gaps[..n]);
-    let mut words = Vec::new();
+    let mut findings = Vec::new();
 
     // Over time.
     let (tmin, tmax) = rows
@@ -214,9 +155,7 @@ pub fn locate(
     let temperature_correlation = pearson(&rise, &size);
     if let Some(c) = temperature_correlation {
         if c > 0.8 && total > 1.5 * noise_rms {
-            words.push(format!(
-                "Its size follows the motor temperature rise (correlation {c:.2})."
-            ));
+            findings.push(Finding::FollowsTemperature { correlation: c });
         }
     }
 
@@ -248,11 +187,10 @@ pub fn locate(
     let trace = second.trace().max(1e-300);
     let share = (lmax / trace).clamp(0.0, 1.0);
     if share > 0.6 && total > 1.5 * noise_rms {
-        words.push(format!(
-            "Mostly along {} ({:.0} % of it).",
-            principal_words(&dominant, &mean, (lmax / nf).max(0.0).sqrt()),
-            share * 100.0
-        ));
+        findings.push(Finding::Along {
+            direction: Principal::of(&dominant, &mean, (lmax / nf).max(0.0).sqrt()),
+            share,
+        });
     }
     let direction = Direction {
         mean_mm: [mean.x, mean.y, mean.z],
@@ -280,12 +218,9 @@ pub fn locate(
     worst_poses.sort_by(|a, b| b.rms_mm.total_cmp(&a.rms_mm));
     worst_poses.truncate(5);
     if worst_poses.len() > 1 && total > 1.5 * noise_rms {
-        let list: Vec<String> = worst_poses
-            .iter()
-            .take(3)
-            .map(|p| format!("{} ({:.3} mm)", p.pose, p.rms_mm))
-            .collect();
-        words.push(format!("Largest at poses {}.", list.join(", ")));
+        findings.push(Finding::LargestAt {
+            poses: worst_poses.iter().take(3).cloned().collect(),
+        });
     }
 
     // Workspace regions: reach and height split at their medians.
@@ -301,10 +236,8 @@ pub fn locate(
         .collect();
     let height: Vec<f64> = flange.iter().map(|p| p.z).collect();
     let mut regions = Vec::new();
-    for (what, vals, lo_name, hi_name) in [
-        ("reach", &reach, "near reach", "far reach"),
-        ("height", &height, "low", "high"),
-    ] {
+    for (split, vals) in [(Split::Reach, &reach), (Split::Height, &height)] {
+        let (what, lo_name, hi_name) = split.names();
         let Some((med, [low, high])) = split_at_median(what, vals, lo_name, hi_name, &gaps[..n])
         else {
             continue;
@@ -312,32 +245,25 @@ pub fn locate(
         let (rl, rh) = (low.rms_mm, high.rms_mm);
         regions.extend([low, high]);
         if total > 1.5 * noise_rms && (rh > 1.5 * rl || rl > 1.5 * rh) {
-            let (big, small, name) = if rh > rl {
-                (rh, rl, hi_name)
-            } else {
-                (rl, rh, lo_name)
-            };
-            words.push(format!(
-                "Larger at {name} ({what} split at {med:.0} mm): {big:.3} mm vs {small:.3} mm."
-            ));
+            findings.push(Finding::LargerAt {
+                split,
+                upper: rh > rl,
+                median_mm: med,
+                larger_mm: rh.max(rl),
+                smaller_mm: rh.min(rl),
+            });
         }
     }
 
     let joint = follow_joint(problem, &gaps[..n]);
     if let Some(j) = &joint {
         if j.share > 0.3 && total > 1.5 * noise_rms {
-            words.push(format!(
-                "It follows the angle of axis {}: {} cycle(s) per turn, amplitude {:.3} mrad ({:.0} % of it).",
-                j.axis,
-                j.harmonic,
-                j.amplitude_mrad,
-                j.share * 100.0
-            ));
+            findings.push(Finding::FollowsJoint(j.clone()));
         }
     }
     let step = find_step(problem, &gaps[..n], noise_rms);
     if let Some(s) = &step {
-        words.push(s.words());
+        findings.push(Finding::Step(s.clone()));
     }
     Where {
         rms_mm: total,
@@ -349,48 +275,7 @@ pub fn locate(
         regions,
         joint: joint.filter(|j| j.share > 0.3),
         step,
-        words,
-    }
-}
-
-/// How a gap changes over the warm-up, judged on its change since the
-/// cold start (each pose's gap less its own in the first time bin), not on
-/// the raw gap, so that static error does not read as growth or hide it.
-#[derive(Debug, Clone, Serialize)]
-#[serde(tag = "shape", rename_all = "kebab-case")]
-pub enum TimeShape {
-    /// The change since the cold start reaches `late_mm` RMS in the last
-    /// time bin (minutes `late_min`), above 1.5 times the noise.
-    Grows { late_mm: f64, late_min: [f64; 2] },
-    /// There at the cold start (`early_mm` RMS in the first bin), and its
-    /// change by the last bin (`late_mm`) within 1.5 times the noise.
-    FromColdStart {
-        early_mm: f64,
-        early_min: [f64; 2],
-        late_mm: f64,
-    },
-}
-
-impl TimeShape {
-    /// The shape in a sentence. `thermal_named`: the verdict names a
-    /// thermal effect, beside which a gap is never called static (a small
-    /// change can be significant and still within 1.5 times the noise).
-    pub fn words(&self, thermal_named: bool) -> Option<String> {
-        match self {
-            TimeShape::Grows { late_mm, late_min } => Some(format!(
-                "It grows with the warm-up: its change since the cold start is {:.3} mm RMS in minutes {:.0}–{:.0}.",
-                late_mm, late_min[0], late_min[1]
-            )),
-            TimeShape::FromColdStart { .. } if thermal_named => None,
-            TimeShape::FromColdStart {
-                early_mm,
-                early_min,
-                late_mm,
-            } => Some(format!(
-                "It is there from the cold start on: {:.3} mm RMS in minutes {:.0}–{:.0}, and changes by {:.3} mm RMS over the warm-up, within the noise.",
-                early_mm, early_min[0], early_min[1], late_mm
-            )),
-        }
+        findings,
     }
 }
 
@@ -476,14 +361,6 @@ pub(super) fn split_at_median(
             },
         ],
     ))
-}
-
-fn fmt_min(t: f64) -> String {
-    if (t - t.round()).abs() < 1e-6 {
-        format!("{t:.0}")
-    } else {
-        format!("{t:.1}")
-    }
 }
 
 /// The upper median (0 for no values).

@@ -21,10 +21,11 @@
 //! Files: [`mod@prepare`] (measurements + model → fit problem, instrument
 //! frame), [`mod@gap`] (gap statistics, noise level), [`fit`] (the fit of
 //! effects), [`select`] (folds, candidate scores), [`locate`] (where a gap
-//! lies), [`pipeline`] (the diagnosis and its verdict), [`verdict`] (the
-//! result as data), [`prose`] (the result in sentences), [`instrument`]
-//! (noise levels and the ISO cube from `data/instrument.toml`), [`sanity`]
-//! (sets a diagnosis cannot mean anything on), [`arm`],
+//! lies, as typed [`finding`]s, each worded in one place), [`pipeline`]
+//! (the diagnosis and its verdict), [`verdict`] (the result as data),
+//! [`prose`] (the result in sentences), [`instrument`] (noise levels and
+//! the ISO cube from `data/instrument.toml`), [`sanity`] (sets a diagnosis
+//! cannot mean anything on), [`arm`],
 //! [`measurements`], [`simulate`], [`plot`].
 
 pub mod arm;
@@ -32,6 +33,7 @@ pub mod chain_calib;
 pub mod chain_diagnose;
 pub mod chain_residual;
 pub mod detect;
+pub mod finding;
 pub mod fit;
 mod fit_key;
 mod fit_steps;

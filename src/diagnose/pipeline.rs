@@ -299,7 +299,14 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     } else {
         locate::locate(problem, &gaps_after, &prepared.pose_names, noise.rms_mm)
     };
-    let advice = advise(&verdict, cv0, cur_cv, &noise, [&where_, &where_after]);
+    let advice = advise(
+        &verdict,
+        cv0,
+        cur_cv,
+        &noise,
+        [&where_, &where_after],
+        joint_sig.as_ref().map(|s| s.axis),
+    );
     let partial = match &verdict {
         Verdict::Unexplained { partial } => partial.iter().map(|k| k.name().to_string()).collect(),
         _ => Vec::new(),
@@ -651,6 +658,24 @@ fn two_stages(
     // the data and the effects are those selected beyond it; else it may
     // still be reported beside them, and what it replaces is not named.
     let mut square_params = 0;
+    thermal = square::library_first(
+        &centred,
+        thermal,
+        &ctx.noise,
+        ctx.remainder_level(),
+        |alt| {
+            forward(
+                &centred,
+                &time_folds,
+                alt,
+                &[],
+                &ctx.noise,
+                ctx.max_effects,
+                Some(0.0),
+                None,
+            )
+        },
+    )?;
     let quadratic = match square::choose(
         &problem,
         &centred,

@@ -3,6 +3,7 @@
 //! of acting on the advice ([`Remedies`]): a command line names its flags,
 //! the library's default names none.
 
+use super::finding::Finding;
 use super::gap::NoiseSource;
 use super::joint_signature::JointShape;
 use super::verdict::{Advice, Diagnosis, Part, Verdict};
@@ -85,14 +86,14 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     format!(", which explain only part of it: {}", partial.join(", "))
                 }
             ));
-            let after = !partial.is_empty() && !d.where_after.words.is_empty();
+            let after = !partial.is_empty() && !d.where_after.findings.is_empty();
             if !(after && grows_after(d)) {
                 words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(false)));
             }
-            words.extend(d.where_.words.iter().cloned());
+            words.extend(whole_words(d, after));
             if after {
                 words.push(format!("What {} leaves:", partial.join(" + ")));
-                words.extend(after_words(&d.where_after));
+                words.extend(after_words(d));
             }
         }
         Verdict::ExplainedBy { remainder, .. } | Verdict::Ambiguous { remainder, .. } => {
@@ -101,7 +102,7 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             if !(*remainder && grows_after(d)) {
                 words.extend(d.where_.time_shape.as_ref().and_then(|t| t.words(thermal)));
             }
-            words.extend(d.where_.words.iter().cloned());
+            words.extend(whole_words(d, *remainder));
             for s in &d.steps {
                 let stage = match s.part {
                     Part::OverTime => "Over time (each pose's own offset fitted), adding",
@@ -125,13 +126,13 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
                     "What changes over time and they leave ({over_time:.3} mm held-out with each pose's own offset, noise {:.3} mm) is not explained by the library:",
                     noise.rms_mm
                 ));
-                words.extend(after_words(&d.where_after));
+                words.extend(after_words(d));
             } else if *remainder {
                 words.push(format!(
                     "What they leave ({:.3} mm held-out, noise {:.3} mm) is not explained by the library:",
                     cv, noise.rms_mm
                 ));
-                words.extend(after_words(&d.where_after));
+                words.extend(after_words(d));
             }
         }
     }
@@ -230,14 +231,54 @@ fn grows_after(d: &Diagnosis) -> bool {
         .is_some()
 }
 
+/// Whether the report says `f`: a joint's error is described once, by the
+/// joint signature where one was tested beyond a full calibration (the
+/// localisation's harmonic is fitted to the raw gap, geometry and all, and
+/// its amplitude is not the joint's).
+fn said(f: &Finding, d: &Diagnosis) -> bool {
+    !(matches!(f, Finding::FollowsJoint(_)) && d.joint_signature.is_some())
+}
+
+/// Whether `a` and `b` describe one thing (a step in time, the joint the
+/// gap follows), of which the report says one.
+fn one_thing(a: &Finding, b: &Finding) -> bool {
+    matches!(
+        (a, b),
+        (Finding::Step(_), Finding::Step(_)) | (Finding::FollowsJoint(_), Finding::FollowsJoint(_))
+    )
+}
+
+/// Where the whole gap lies. `after_said`: what the effects leave is
+/// described too; a step or a joint found there is said there only (it is
+/// the finding beyond the effects), not a second time with the whole gap's
+/// numbers.
+fn whole_words(d: &Diagnosis, after_said: bool) -> Vec<String> {
+    let after: Vec<&Finding> = if after_said {
+        d.where_after
+            .findings
+            .iter()
+            .filter(|f| said(f, d))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    d.where_
+        .findings
+        .iter()
+        .filter(|f| said(f, d) && !after.iter().any(|g| one_thing(f, g)))
+        .map(Finding::words)
+        .collect()
+}
+
 /// Where what is left lies, indented under the sentence that introduces
 /// it; its change over time said only where it grows (it is what is left).
-fn after_words(w: &super::locate::Where) -> Vec<String> {
+fn after_words(d: &Diagnosis) -> Vec<String> {
+    let w = &d.where_after;
     w.time_shape
         .as_ref()
         .and_then(|t| t.words(true))
         .into_iter()
-        .chain(w.words.iter().cloned())
+        .chain(w.findings.iter().filter(|f| said(f, d)).map(Finding::words))
         .map(|s| format!("  {s}"))
         .collect()
 }

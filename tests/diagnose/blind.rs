@@ -72,7 +72,7 @@ fn summary(d: &Diagnosis) -> String {
         d.gap_after_mm,
         d.ambiguous,
         d.partial,
-        d.where_after.words
+        d.where_after.words()
     )
 }
 
@@ -163,6 +163,41 @@ fn noise_only_gives_none() {
             (d.noise.per_axis_mm - NOISE).abs() < 0.2 * NOISE,
             "{:?}",
             d.noise
+        );
+    }
+}
+
+/// The detection limit means what it says: an effect at twice the size the
+/// report gives for a set is named on the same poses, times and noise (the
+/// limit is the size at which the test would reject with 90 % power; at
+/// twice it the power is all but certain). Below the limit no single set
+/// can show anything: whether a smaller effect is named is a matter of
+/// chance, and a seeded set with nothing in it may lie just short of the
+/// test's level.
+#[test]
+fn an_effect_at_twice_its_detection_limit_is_named() {
+    let profile = default_profile();
+    let seed = 1;
+    let quiet = run(&simulate(&spec(vec![], 12, 31, seed), &profile).unwrap());
+    assert_eq!(quiet.verdict.labels(), vec!["none"], "{}", summary(&quiet));
+    for kind in [EffectKind::ExpansionScale, EffectKind::MountDrift] {
+        let limit = quiet
+            .detection_limits
+            .iter()
+            .find(|l| l.effect == kind)
+            .unwrap_or_else(|| panic!("no detection limit for {}", kind.name()));
+        assert!(
+            limit.of_default.is_finite() && limit.of_default > 0.0 && limit.flange_mm > 0.0,
+            "{limit:?}"
+        );
+        let e = scaled(kind, 2.0 * limit.of_default);
+        let d = run(&simulate(&spec(vec![e], 12, 31, seed), &profile).unwrap());
+        assert!(
+            d.verdict.labels().iter().any(|l| l == kind.name()),
+            "{} at twice its detection limit ({:.4} mm): {}",
+            kind.name(),
+            limit.flange_mm,
+            summary(&d)
         );
     }
 }

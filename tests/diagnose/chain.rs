@@ -80,7 +80,7 @@ fn ur5_real_data_geometry_not_heat() {
     for x in &d.dropped {
         eprintln!("dropped {} {:?}", x.name, x.why);
     }
-    for w in &d.holdout_remainder.as_ref().unwrap().words {
+    for w in &d.holdout_remainder.as_ref().unwrap().words() {
         eprintln!("holdout: {w}");
     }
     // The known numbers of the data set's README.

@@ -272,8 +272,8 @@ fn one_case() {
     for c in &d.candidates {
         eprintln!("  {} {:.4} {:?}", c.name, c.cv_rms_mm, c.error);
     }
-    eprintln!("{:?}", d.where_.words);
-    eprintln!("{:?}", d.where_after.words);
+    eprintln!("{:?}", d.where_.words());
+    eprintln!("{:?}", d.where_after.words());
     for s in &d.stages {
         eprintln!("{s:?}");
     }
@@ -347,7 +347,8 @@ fn sweep() {
         if !ok && std::env::var_os("DIAG_VERBOSE").is_some() {
             eprintln!(
                 "    after: {:?} where: {:?}",
-                d.where_after.words, d.where_.step
+                d.where_after.words(),
+                d.where_.step
             );
             for c in &d.candidates {
                 eprintln!(

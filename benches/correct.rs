@@ -2,8 +2,8 @@
 //!
 //! - criterion: correcting the CAM sample (5,252 targets) in memory, and
 //!   one target through the warm robot;
-//! - end to end: `rapidtherm correct --at`, `correct --start` and
-//!   `rapidtherm targets` on generated programs of 1,000,000 targets in
+//! - end to end: `rapidtherm correct --at`, `correct --start`,
+//!   `correct --runtime` and `rapidtherm targets` on generated programs of 1,000,000 targets in
 //!   each of the three shapes large programs come in (CAM inline moves,
 //!   RobotStudio's declared targets, one array walked by a FOR loop;
 //!   written to a temporary folder, never committed), side by side with
@@ -99,7 +99,8 @@ fn median<T: PartialOrd + Copy>(mut v: Vec<T>) -> T {
 
 /// The three shapes of a million targets (`examples/gen_shapes.rs`), each
 /// beside `cp` of the same file: `correct --at 120 -o OUT`, `correct
-/// --start 0 -o OUT` and `targets` (to `/dev/null`), the four run in turn
+/// --start 0 -o OUT`, `correct --runtime -o OUT` (the controller module
+/// written beside OUT) and `targets` (to `/dev/null`), the five run in turn
 /// (`RAPIDTHERM_BENCH_RUNS` rounds, 3 by default) so that all see the same
 /// load; medians of the times and of the per-round ratios, each command's
 /// median peak memory, the load average.
@@ -131,8 +132,8 @@ fn end_to_end() {
         let copy = dir.path().join("copy.mod");
         let os = |s: &'static str| std::ffi::OsStr::new(s);
         let (inp, outp, cpp) = (input.as_os_str(), out.as_os_str(), copy.as_os_str());
-        let mut all: [Vec<Ran>; 4] = Default::default();
-        let (mut at_cp, mut start_at) = (Vec::new(), Vec::new());
+        let mut all: [Vec<Ran>; 5] = Default::default();
+        let (mut at_cp, mut start_at, mut rt_cp) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..rounds {
             let cp = run("cp", &[inp, cpp]);
             let at = run(
@@ -143,15 +144,17 @@ fn end_to_end() {
                 bin,
                 &[os("correct"), os("--start"), os("0"), os("-o"), outp, inp],
             );
+            let runtime = run(bin, &[os("correct"), os("--runtime"), os("-o"), outp, inp]);
             let list = run(bin, &[os("targets"), inp]);
             at_cp.push(at.wall.as_secs_f64() / cp.wall.as_secs_f64());
             start_at.push(start.wall.as_secs_f64() / at.wall.as_secs_f64());
-            for (k, r) in [cp, at, start, list].into_iter().enumerate() {
+            rt_cp.push(runtime.wall.as_secs_f64() / cp.wall.as_secs_f64());
+            for (k, r) in [cp, at, start, runtime, list].into_iter().enumerate() {
                 all[k].push(r);
             }
         }
         let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-        let [cp, at, start, list] = all.map(|runs| {
+        let [cp, at, start, runtime, list] = all.map(|runs| {
             (
                 median(runs.iter().map(|r| r.wall).collect()).as_secs_f64(),
                 median(runs.iter().map(|r| r.cpu).collect()).as_secs_f64(),
@@ -159,7 +162,7 @@ fn end_to_end() {
             )
         });
         eprintln!(
-            "{} shape, {n} targets ({size_mb:.1} MB, CRLF), medians of {rounds}, load average {}:\n  cp {:.3} s (peak {:.0} MB)\n  correct --at 120 -o OUT {:.2} s = {:.1} x cp (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.2} x the file\n  correct --start 0 -o OUT {:.2} s = {:.2} x --at (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.2} x the file\n  targets {:.2} s = {:.1} MB/s, CPU {:.2} s, peak {:.0} MB",
+            "{} shape, {n} targets ({size_mb:.1} MB, CRLF), medians of {rounds}, load average {}:\n  cp {:.3} s (peak {:.0} MB)\n  correct --at 120 -o OUT {:.2} s = {:.1} x cp (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.2} x the file\n  correct --start 0 -o OUT {:.2} s = {:.2} x --at (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.2} x the file\n  correct --runtime -o OUT {:.2} s = {:.1} x cp (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.2} x the file\n  targets {:.2} s = {:.1} MB/s, CPU {:.2} s, peak {:.0} MB",
             shape.name(),
             load.split_whitespace().take(3).collect::<Vec<_>>().join(" "),
             cp.0,
@@ -174,6 +177,11 @@ fn end_to_end() {
             start.1,
             start.2,
             start.2 / size_mb,
+            runtime.0,
+            median(rt_cp),
+            runtime.1,
+            runtime.2,
+            runtime.2 / size_mb,
             list.0,
             size_mb / list.0,
             list.1,

@@ -54,7 +54,15 @@ pub(super) struct Done {
     pub errors: Vec<(usize, Error)>,
     pub steps: usize,
     pub changed: bool,
+    /// Where the file's bytes after the chunk's last target start, where
+    /// the chunk leaves them to be written straight from the file (the
+    /// last chunk of a file: a program's declared targets come first, and
+    /// the million moves after them were copied whole into its buffer).
+    pub tail_from: Option<usize>,
 }
+
+/// The most a last chunk's buffer reserves at once (it grows as needed).
+const CHUNK_BYTES_HINT: usize = 1 << 22;
 
 impl Pass<'_, '_> {
     /// Targets `targets` of the file `src`: the bytes of `span` with their
@@ -63,14 +71,21 @@ impl Pass<'_, '_> {
         &self,
         src: &[u8],
         targets: Range<usize>,
-        span: Range<usize>,
+        (span, last): (Range<usize>, bool),
         fixed: &[Edit],
     ) -> Result<Done> {
         let run = self.run;
         let all = run.program.targets();
         let mut done = Done {
+            // The last chunk's span runs to the file's end, which it does
+            // not copy: room for its targets' share only.
             bytes: Vec::with_capacity(if self.write {
-                span.len() + span.len() / 8
+                let len = if last {
+                    span.len().min(CHUNK_BYTES_HINT)
+                } else {
+                    span.len()
+                };
+                len + len / 8
             } else {
                 0
             }),
@@ -182,7 +197,13 @@ impl Pass<'_, '_> {
                 Err(e) => done.errors.push((i, e)),
             }
         }
-        splice.finish_at(&mut fixed, span.end)?;
+        if last && self.write {
+            // The rest of the file is written from it, with its edits,
+            // once this chunk's bytes are out.
+            done.tail_from = Some(splice.at);
+        } else {
+            splice.finish_at(&mut fixed, span.end)?;
+        }
         if self.write {
             done.tokens = NumberPrint::tokens_of(&bytes);
         }

@@ -307,6 +307,9 @@ struct Found {
     left: Vec<(usize, LeftAlone)>,
     derived: Vec<usize>,
     errors: Vec<(usize, Error)>,
+    /// Where the last chunk of the file being written left the rest of
+    /// it ([`Done::tail_from`]).
+    tail_from: Option<usize>,
 }
 
 /// File `f` written through `out`: its bytes up to its first target with
@@ -471,8 +474,9 @@ fn write_numbers(
                 chunks
                     .into_par_iter()
                     .map(|c| {
-                        let to = if c.end < hi { place(c.end) } else { end };
-                        pass.chunk(src, c.clone(), place(c.start)..to, fixed_ref)
+                        let last = c.end >= hi;
+                        let to = if last { end } else { place(c.end) };
+                        pass.chunk(src, c.clone(), (place(c.start)..to, last), fixed_ref)
                     })
                     .collect::<Vec<_>>()
             },
@@ -491,6 +495,13 @@ fn write_numbers(
     let (c, steps) = put_out(out, ready, found)?;
     changed |= c;
     progress.add(steps);
+    if let Some(from) = found.tail_from.take() {
+        // After the last target, the file's bytes with the edits there,
+        // straight from the file.
+        let mut edits = fixed.iter().filter(|e| e.span.start >= from).peekable();
+        let mut splice = Splice { src, at: from, out };
+        splice.finish_at(&mut edits, end)?;
+    }
     out.flush().map_err(write_error)?;
     Ok(changed)
 }
@@ -527,6 +538,9 @@ fn put_out(out: &mut Printed, done: Vec<Result<Done>>, found: &mut Found) -> Res
         found.left.extend(d.left);
         found.derived.extend(d.derived);
         found.errors.extend(d.errors);
+        if d.tail_from.is_some() {
+            found.tail_from = d.tail_from;
+        }
     }
     Ok((changed, steps))
 }

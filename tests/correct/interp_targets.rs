@@ -185,3 +185,26 @@ fn what_the_interpreter_does_not_run_is_an_error_at_its_place() {
         assert!(e.message.contains(words), "{}", e.message);
     }
 }
+
+#[test]
+fn a_loop_that_never_ends_is_an_error_at_its_place_not_a_hang() {
+    let text = "MODULE M\n  PROC main()\n    VAR num x;\n    WHILE TRUE DO\n      x := x + 1;\n    ENDWHILE\n  ENDPROC\nENDMODULE\n";
+    let mut i = Interp::load(
+        &[("m.mod", text.as_bytes())],
+        Kinematics::new(Robot::irb140()),
+    )
+    .unwrap();
+    i.set_step_budget(1_000);
+    let e = i.call_proc("main", &[]).unwrap_err();
+    let at = e.location.as_ref().expect("a place");
+    assert_eq!((at.file.as_str(), at.line), ("m.mod", 5), "{e:?}");
+    assert!(e.message.contains("without ending"), "{}", e.message);
+    // The budget is a call's: the next call starts afresh and fails the
+    // same way, not at once.
+    let again = i.call_proc("main", &[]).unwrap_err();
+    assert!(
+        again.message.contains("1000 statements"),
+        "{}",
+        again.message
+    );
+}

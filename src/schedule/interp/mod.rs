@@ -124,6 +124,12 @@ pub struct Interp {
     clock: Clock,
     precision: Precision,
     ops: Ops,
+    /// The statement count when the call from outside began: a call
+    /// runs at most the walker's budget of statements (a WHILE that never
+    /// ends is an error, not a hang).
+    call_began: u64,
+    /// Statements one call may run ([`Interp::set_step_budget`]).
+    pub(super) step_budget: u64,
     moves: Vec<Moved>,
     /// The statement being executed: (file, place), for errors.
     at: Option<(usize, Pos)>,
@@ -172,6 +178,8 @@ impl Interp {
             clock: Clock::at(2000, 1, 1, 0, 0, 0),
             precision: Precision::Double,
             ops: Ops::default(),
+            call_began: 0,
+            step_budget: super::estimate::STEP_BUDGET,
             moves: Vec::new(),
             at: None,
         };
@@ -345,6 +353,12 @@ impl Interp {
         Ok(())
     }
 
+    /// How many statements one call from outside may run before it is an
+    /// error (the estimate walk's 50 million unless set).
+    pub fn set_step_budget(&mut self, statements: u64) {
+        self.step_budget = statements;
+    }
+
     /// Calls FUNC `name` with `args`: its value and what the call counted.
     pub fn call_func(&mut self, name: &str, args: &[Arg]) -> Result<(Value, Ops)> {
         let before = self.ops;
@@ -364,6 +378,7 @@ impl Interp {
 
     fn invoke_outside(&mut self, m: usize, k: usize, args: &[Arg]) -> Result<Option<Value>> {
         self.frames.clear();
+        self.call_began = self.ops.statements;
         let program = self.program.clone();
         let routine = &program.modules[m].routines[k];
         let mut vars = HashMap::new();

@@ -30,6 +30,12 @@ impl Interp {
     fn exec(&mut self, file: usize, s: &Statement) -> Result<Flow> {
         self.ops.statements += 1;
         self.at = Some((file, s.pos));
+        if self.ops.statements - self.call_began > self.step_budget {
+            return Err(self.locate(Error::input(format!(
+                "the call ran {} statements without ending (a loop that never ends?)",
+                self.step_budget
+            ))));
+        }
         self.exec_kind(file, s).map_err(|e| self.locate(e))
     }
 

@@ -65,7 +65,12 @@ pub(super) enum JointSolved {
     LeftAlone(LeftAlone),
 }
 
-pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSolved> {
+/// Jointtarget number `index` of the program, `jt`, corrected.
+pub(super) fn correct_jointtarget(
+    run: &Run,
+    index: usize,
+    jt: &JointTarget,
+) -> Result<JointSolved> {
     let Run {
         program,
         warm,
@@ -130,7 +135,7 @@ pub(super) fn correct_jointtarget(run: &Run, jt: &JointTarget) -> Result<JointSo
         return Err(located(beyond_limit(&nominal.name, v, "")));
     }
     let flange = nominal.fk(&q);
-    let moments = joint_moments_of(&options.when, &jt.id).map_err(located)?;
+    let moments = joint_moments_of(&options.when, index, &jt.id).map_err(located)?;
     let moment = pick(&moments, options.visit);
     let state = states.at(moment).map_err(located)?;
     let singular = degrees[4].abs() < SINGULAR_DEG;

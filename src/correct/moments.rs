@@ -9,16 +9,22 @@ use crate::schedule::{Schedule, Visit};
 
 /// The moments robtarget `index` (identifier `id`) is reached.
 pub(super) fn moments_of(when: &When, index: usize, id: &str) -> Result<Vec<Moment>> {
-    let _ = index;
-    moments_in(when, id, false)
+    moments_in(when, (index, id), false)
 }
 
-/// The moments a jointtarget is reached.
-pub(super) fn joint_moments_of(when: &When, id: &str) -> Result<Vec<Moment>> {
-    moments_in(when, id, true)
+/// The moments jointtarget `index` (identifier `id`) is reached.
+pub(super) fn joint_moments_of(when: &When, index: usize, id: &str) -> Result<Vec<Moment>> {
+    moments_in(when, (index, id), true)
 }
 
-pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Moment>> {
+/// The moments target `index` of its kind (a jointtarget's where `joint`)
+/// is reached: by its number where the schedule was recorded by number
+/// (an estimate's), else by its identifier `id`.
+pub(super) fn moments_in(
+    when: &When,
+    (index, id): (usize, &str),
+    joint: bool,
+) -> Result<Vec<Moment>> {
     match when {
         When::At(m) => Ok(vec![*m]),
         When::Schedule {
@@ -30,7 +36,7 @@ pub(super) fn moments_in(when: &When, id: &str, joint: bool) -> Result<Vec<Momen
             .as_ref()
             .filter(|_| joint)
             .unwrap_or(schedule)
-            .times(id)
+            .times_of(index, id)
         {
             Some(times) => Ok(times.iter().map(|&t| Moment::Minute(t)).collect()),
             // The target is the error's subject, not its message: a

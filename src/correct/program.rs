@@ -559,12 +559,12 @@ struct Joints {
 
 fn correct_joints(run: &Run, progress: &mut Progress) -> Joints {
     let mut j = Joints::default();
-    for jt in run.program.jointtargets() {
+    for (index, jt) in run.program.jointtargets().iter().enumerate() {
         if jt.kind == TargetKind::Derived {
             continue;
         }
         progress.step();
-        match correct_jointtarget(run, jt) {
+        match correct_jointtarget(run, index, jt) {
             Ok(JointSolved::Corrected(c, r)) => {
                 j.edits
                     .extend(c.edits.iter().map(|e| (c.file_index, e.clone())));

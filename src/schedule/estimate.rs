@@ -205,8 +205,30 @@ fn finished(w: &mut Walker, opts: &EstimateOptions) -> Result<Estimate> {
 /// A note for each jointtarget whose identifier is a robtarget's that
 /// `e`'s schedule holds.
 fn clashes(e: &mut Estimate) {
+    if e.joint_schedule.is_empty() {
+        return;
+    }
+    // The robtargets' identifiers scanned once against the few
+    // jointtargets': a table of a million robtarget names is not made
+    // for a home position's MoveAbsJ.
+    let joints: std::collections::HashSet<String> = e
+        .joint_schedule
+        .targets()
+        .iter()
+        .map(|id| id.to_ascii_lowercase())
+        .collect();
+    let mut both: std::collections::HashSet<String> = std::collections::HashSet::new();
+    let mut lowered = String::new();
+    for id in e.schedule.targets() {
+        lowered.clear();
+        lowered.push_str(id);
+        lowered.make_ascii_lowercase();
+        if joints.contains(&lowered) {
+            both.insert(lowered.clone());
+        }
+    }
     for id in e.joint_schedule.targets() {
-        if e.schedule.times(id).is_some() {
+        if both.contains(&id.to_ascii_lowercase()) {
             e.notes.push(format!(
                 "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV lists the robtarget's visits only"
             ));

@@ -5,8 +5,9 @@
 use crate::csv_table::{CsvRow, CsvTable};
 use crate::digest::Encoder;
 use crate::error::{Error, Result};
+use crate::rapid::NoCase;
 use std::borrow::Cow;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Which of a target's several visits its correction is computed for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -39,22 +40,6 @@ pub(super) fn lower(id: &str) -> Cow<'_, str> {
     }
 }
 
-/// `f` of `id` in lower case, lowered on the stack where it is short: a
-/// million targets looked up by a RobotStudio-style name (`Target_10`)
-/// made a million copies.
-fn with_lower<R>(id: &str, f: impl FnOnce(&str) -> R) -> R {
-    let mut buf = [0u8; 64];
-    if let Some(b) = buf.get_mut(..id.len()) {
-        b.copy_from_slice(id.as_bytes());
-        b.make_ascii_lowercase();
-        // Lowering ASCII letters keeps UTF-8 valid.
-        if let Ok(key) = std::str::from_utf8(b) {
-            return f(key);
-        }
-    }
-    f(&lower(id))
-}
-
 /// A span of time over which the robot stands (no program running, the
 /// motors cooling): `[from_min, to_min)` since the cold start.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,21 +49,34 @@ pub struct IdleSpan {
 }
 
 /// When each target is reached: every visit of every target, in minutes,
-/// and the spans over which the robot stood. Keys are target identifiers
-/// as written (lookups ignore case, as RAPID does).
-#[derive(Clone, Default, PartialEq)]
+/// and the spans over which the robot stood. Identifiers are kept as
+/// written (lookups ignore case, as RAPID does).
+#[derive(Clone, Default)]
 pub struct Schedule {
-    /// By lower-case identifier (hashed: a schedule of a million targets
-    /// spent most of its time comparing identifiers in a sorted map).
-    visits: foldhash::HashMap<Arc<str>, Times>,
-    /// Identifiers in first-visit order, for stable output: the map's key
-    /// itself where that is in lower case already (a program's inline
-    /// targets, `main#1234`), so that a target's first visit allocates
-    /// once, not three times (a third of timing a CAM program).
+    /// Identifiers in first-visit order, for stable output.
     order: Vec<Arc<str>>,
+    /// Each identifier's visits, place by place with `order`.
+    visits: Vec<Times>,
+    /// Places in `order` by identifier (compared without case), made when
+    /// a lookup by name first needs it: a schedule an estimate recorded
+    /// by target number is read by target number, and hashing its million
+    /// names five times over was a fifth of `--start`.
+    by_name: OnceLock<hashbrown::HashTable<u32>>,
+    /// A program's target number to its place in `order` plus one (0: not
+    /// visited): where the schedule was recorded by target number
+    /// ([`Schedule::visit_target`]).
+    by_target: Vec<u32>,
     /// The idle spans, in increasing time, none overlapping another and
     /// none holding a visit (a robot that stands reaches no target).
     idle: Vec<IdleSpan>,
+}
+
+/// Two schedules are equal when they hold the same visits in the same
+/// first-visit order and the same idle spans, however they were recorded.
+impl PartialEq for Schedule {
+    fn eq(&self, other: &Self) -> bool {
+        self.order == other.order && self.visits == other.visits && self.idle == other.idle
+    }
 }
 
 /// A target's visit times: most targets are visited once.
@@ -110,7 +108,7 @@ impl std::fmt::Debug for Schedule {
             .entries(
                 self.order
                     .iter()
-                    .map(|id| (id, self.times(id).unwrap_or(&[]))),
+                    .zip(self.visits.iter().map(Times::as_slice)),
             )
             .finish()
     }
@@ -143,47 +141,123 @@ pub fn encode_visits<'a>(
     }
 }
 
+/// The hash of an identifier as RAPID compares names.
+fn name_hash(id: &str) -> u64 {
+    use std::hash::BuildHasher;
+    foldhash::fast::FixedState::default().hash_one(NoCase(id.as_bytes()))
+}
+
+/// The table of places by identifier of `order`.
+fn name_table(order: &[Arc<str>]) -> hashbrown::HashTable<u32> {
+    let mut table = hashbrown::HashTable::with_capacity(order.len());
+    for (k, id) in order.iter().enumerate() {
+        // Places fit a u32: a schedule holds fewer targets than that.
+        table.insert_unique(name_hash(id), k as u32, |&j: &u32| {
+            name_hash(&order[j as usize])
+        });
+    }
+    table
+}
+
 impl Schedule {
     pub fn new() -> Schedule {
         Schedule::default()
     }
 
+    /// The place of identifier `id` in `order`.
+    fn place(&self, id: &str) -> Option<usize> {
+        let table = self.by_name.get_or_init(|| name_table(&self.order));
+        table
+            .find(name_hash(id), |&k| {
+                self.order[k as usize].eq_ignore_ascii_case(id)
+            })
+            .map(|&k| k as usize)
+    }
+
+    /// A new identifier at the end of `order`, with its first visit.
+    fn push_new(&mut self, id: Arc<str>, time_min: f64) -> usize {
+        let k = self.order.len();
+        if let Some(table) = self.by_name.get_mut() {
+            let order = &self.order;
+            table.insert_unique(name_hash(&id), k as u32, |&j: &u32| {
+                name_hash(&order[j as usize])
+            });
+        }
+        self.order.push(id);
+        self.visits.push(Times::One(time_min));
+        k
+    }
+
     /// Record one visit of `target` at `time_min`.
     pub fn visit(&mut self, target: &str, time_min: f64) {
-        let seen = with_lower(target, |key| match self.visits.get_mut(key) {
-            Some(entry) => {
-                entry.push(time_min);
-                true
+        match self.place(target) {
+            Some(k) => self.visits[k].push(time_min),
+            None => {
+                self.push_new(Arc::from(target), time_min);
             }
-            None => false,
-        });
-        if seen {
-            return;
         }
-        let key = lower(target);
-        let id: Arc<str> = Arc::from(target);
-        let key = match key {
-            Cow::Borrowed(_) => id.clone(),
-            Cow::Owned(key) => Arc::from(key),
-        };
-        self.visits.insert(key, Times::One(time_min));
-        self.order.push(id);
+    }
+
+    /// Record one visit of the program's target number `index`, whose
+    /// identifier `id` gives (asked for at its first visit only), at
+    /// `time_min`. The identifiers of a program's targets are unique in
+    /// it, so a schedule recorded this way is read by target number
+    /// ([`Schedule::times_of`]) without looking up names.
+    pub fn visit_target(&mut self, index: usize, time_min: f64, id: impl FnOnce() -> Arc<str>) {
+        if self.by_target.len() <= index {
+            self.by_target.resize(index + 1, 0);
+        }
+        match self.by_target[index] {
+            0 => {
+                let k = self.push_new(id(), time_min);
+                self.by_target[index] = k as u32 + 1;
+            }
+            k => self.visits[k as usize - 1].push(time_min),
+        }
     }
 
     /// Room for `n` more targets.
     pub(crate) fn reserve(&mut self, n: usize) {
-        self.visits.reserve(n);
         self.order.reserve(n);
+        self.visits.reserve(n);
     }
 
     /// All visit times of a target, in the order recorded.
     pub fn times(&self, target: &str) -> Option<&[f64]> {
-        with_lower(target, |key| self.visits.get(key).map(Times::as_slice))
+        self.place(target).map(|k| self.visits[k].as_slice())
+    }
+
+    /// All visit times of the program's target number `index`, whose
+    /// identifier is `id`: by number where the schedule was recorded by
+    /// number and the identifier there is the same (a schedule of another
+    /// program is read by name), else by name.
+    pub fn times_of(&self, index: usize, id: &str) -> Option<&[f64]> {
+        if let Some(&k) = self.by_target.get(index) {
+            let k = k as usize;
+            if k > 0 && self.order[k - 1].eq_ignore_ascii_case(id) {
+                return Some(self.visits[k - 1].as_slice());
+            }
+        }
+        self.times(id)
+    }
+
+    /// Every visit's minute, target by target.
+    pub fn all_times(&self) -> impl Iterator<Item = f64> + '_ {
+        self.visits
+            .iter()
+            .flat_map(|t| t.as_slice().iter().copied())
     }
 
     /// Target identifiers in the order they were first visited.
     pub fn targets(&self) -> &[Arc<str>] {
         &self.order
+    }
+
+    /// Identifiers in first-visit order, each with its visit times.
+    pub fn entries(&self) -> impl Iterator<Item = (&Arc<str>, &[f64])> + '_ {
+        self.order
+            .iter()
+            .zip(self.visits.iter().map(Times::as_slice))
     }
 
     pub fn is_empty(&self) -> bool {
@@ -200,9 +274,8 @@ impl Schedule {
     pub fn set_idle_spans(&mut self, spans: Vec<IdleSpan>) -> Result<()> {
         check_spans(&spans)?;
         for (id, t) in self
-            .order
-            .iter()
-            .flat_map(|id| self.times(id).unwrap_or(&[]).iter().map(move |&t| (id, t)))
+            .entries()
+            .flat_map(|(id, times)| times.iter().map(move |&t| (id, t)))
         {
             if let Some(span) = span_holding(&spans, t) {
                 return Err(visit_in_span(id, t, span));
@@ -214,16 +287,13 @@ impl Schedule {
 
     /// The schedule in its byte encoding ([`encode_visits`]).
     pub fn encode(&self, e: &mut Encoder) {
-        let visits = self
-            .order
-            .iter()
-            .map(|id| (&**id, self.times(id).unwrap_or(&[])));
+        let visits = self.entries().map(|(id, times)| (&**id, times));
         encode_visits(e, self.order.len(), visits);
     }
 
     /// Number of visits of all targets.
     pub fn visit_count(&self) -> usize {
-        self.visits.values().map(|t| t.as_slice().len()).sum()
+        self.visits.iter().map(|t| t.as_slice().len()).sum()
     }
 
     /// Read a schedule file (`target,time_min[,kind][,end_min]`). Several
@@ -332,10 +402,8 @@ impl Schedule {
     /// [`Schedule::read`] takes back.
     pub fn to_csv(&self) -> String {
         let mut rows: Vec<(f64, usize, &str)> = Vec::new();
-        for (i, name) in self.order.iter().enumerate() {
-            if let Some(times) = self.times(name) {
-                rows.extend(times.iter().map(|&t| (t, i, &**name)));
-            }
+        for (i, (name, times)) in self.entries().enumerate() {
+            rows.extend(times.iter().map(|&t| (t, i, &**name)));
         }
         let visits = csv_of(rows);
         if self.idle.is_empty() {

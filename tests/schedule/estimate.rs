@@ -705,3 +705,46 @@ fn every_unreachable_target_is_listed_once() {
         assert_eq!(r.location.as_ref().map(|l| l.line), Some(k + 2));
     }
 }
+
+/// An element `pA{i}` is the element of the array the name finds where a
+/// plain name would be found: the routine's own array before the
+/// module's, and a module's LOCAL array in that module only.
+#[test]
+fn array_elements_are_found_where_their_name_is() {
+    let (a1, a2, b1, b2) = (
+        down(500.0, 0.0, 400.0),
+        down(500.0, 300.0, 400.0),
+        down(500.0, 0.0, 300.0),
+        down(500.0, 10.0, 300.0),
+    );
+    let src = format!(
+        "MODULE T
+    CONST robtarget pA{{2}} := [{a1},{a2}];
+    PROC main()
+        CONST robtarget pA{{2}} := [{b1},{b2}];
+        VAR num i;
+        FOR i FROM 1 TO 2 DO
+            MoveL pA{{i}}, v100, fine, tool0;
+        ENDFOR
+        Other;
+    ENDPROC
+    PROC Other()
+        MoveL pA{{2}}, v100, fine, tool0;
+    ENDPROC
+ENDMODULE"
+    );
+    let e = run(&src, &main_opts());
+    let ids: Vec<&str> = e.schedule.targets().iter().map(|s| &**s).collect();
+    // main's own pA{1}, pA{2} (10 mm apart), then the module's pA{2}.
+    assert_eq!(ids.len(), 3, "{ids:?}");
+    let own1 = e.schedule.times(ids[0]).unwrap()[0];
+    let own2 = e.schedule.times(ids[1]).unwrap()[0];
+    let module2 = e.schedule.times(ids[2]).unwrap()[0];
+    assert!(ids[0].to_ascii_lowercase().contains("main"), "{ids:?}");
+    assert!(!ids[2].to_ascii_lowercase().contains("main"), "{ids:?}");
+    // 10 mm at 100 mm/s; then from main's pA{2} to the module's, 290 mm
+    // in y and 100 mm in z.
+    assert_abs_diff_eq!(secs(own1, own2), 0.1, epsilon = 1e-9);
+    let d = (290.0f64.powi(2) + 100.0f64.powi(2)).sqrt();
+    assert_abs_diff_eq!(secs(own2, module2), d / 100.0, epsilon = 1e-9);
+}

@@ -218,9 +218,7 @@ pub fn warm_run(
         } => {
             let latest = std::iter::once(schedule)
                 .chain(joints)
-                .flat_map(|s| s.targets().iter().filter_map(|id| s.times(id)))
-                .flatten()
-                .copied()
+                .flat_map(Schedule::all_times)
                 .fold(0.0, f64::max);
             let latest = latest.max(later);
             match default {

@@ -4,6 +4,21 @@
 use super::*;
 use crate::schedule::interp::value::compare;
 
+/// `f` of `name` in lower case, lowered on the stack where it is short
+/// (a lookup at every turn of a loop need not allocate).
+fn with_lower<R>(name: &str, f: impl FnOnce(&str) -> R) -> R {
+    let mut buf = [0u8; 64];
+    if let Some(b) = buf.get_mut(..name.len()) {
+        b.copy_from_slice(name.as_bytes());
+        b.make_ascii_lowercase();
+        // Lowering ASCII letters keeps UTF-8 valid.
+        if let Ok(key) = std::str::from_utf8(b) {
+            return f(key);
+        }
+    }
+    f(&name.to_ascii_lowercase())
+}
+
 impl<'p> Walker<'p> {
     pub(super) fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
         stacker::maybe_grow(STACK_RED_ZONE, STACK_SEGMENT, || self.eval_inner(e, frame))
@@ -21,13 +36,11 @@ impl<'p> Walker<'p> {
             Expr::Elements(_) => Value::Unknown,
             Expr::JointTarget(i) => self.joint_value(*i),
             Expr::Name(n) => self.name_value(n, frame)?,
-            Expr::Index(_) | Expr::Component(_) => match self.path_of(e, frame)? {
-                Some(path) => {
-                    let routine = frame.routine.map(|r| &*r.name);
-                    self.path_value(&path, (frame.module, routine))?
-                }
-                None => Value::Unknown,
+            Expr::Index(b) => match self.element_of(b, frame)? {
+                Some(i) => self.target_value(i)?,
+                None => self.by_path(e, frame)?,
             },
+            Expr::Component(_) => self.by_path(e, frame)?,
             Expr::Aggregate(a) => {
                 let mut items = Vec::with_capacity(a.items.len());
                 for it in &a.items {
@@ -52,6 +65,108 @@ impl<'p> Walker<'p> {
             }
             Expr::Call(c) => self.call_value(c, frame)?,
         })
+    }
+
+    /// The value of the data an access path names (`arr{2}`, `p.trans`).
+    fn by_path(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
+        Ok(match self.path_of(e, frame)? {
+            Some(path) => {
+                let routine = frame.routine.map(|r| &*r.name);
+                self.path_value(&path, (frame.module, routine))?
+            }
+            None => Value::Unknown,
+        })
+    }
+
+    /// The target number of `arr{k}`, an element of a declared
+    /// one-dimensional robtarget array with numbers, found through the
+    /// array's declaration (the routine's, the module's, the task's, as a
+    /// plain name is found) rather than by building and looking up the
+    /// element's identifier: a FOR loop over an array of a million targets
+    /// spent most of its walk making and hashing `pScan{k}`. `None` where
+    /// the path does not name such an element (the identifier's lookup
+    /// decides those).
+    pub(super) fn element_of(
+        &mut self,
+        (base, index): &(Expr, Vec<Expr>),
+        frame: &mut Frame<'p>,
+    ) -> Result<Option<usize>> {
+        let (Expr::Name(name), [k]) = (base, index.as_slice()) else {
+            return Ok(None);
+        };
+        let Some(d) = self.array_decl(name, frame) else {
+            return Ok(None);
+        };
+        let Some(k) = self.eval(k, frame)?.num() else {
+            return Ok(None);
+        };
+        if k.fract() != 0.0 || k < 1.0 {
+            return Ok(None);
+        }
+        // `k` is a whole number of at least 1 (below 2^53 as a float).
+        let k = k as usize - 1;
+        let element = match &d.init {
+            Some(Expr::Elements(run)) => {
+                let range = self.program.elements(*run);
+                (k < range.len()).then(|| range.start + k)
+            }
+            Some(Expr::Aggregate(a)) => match a.items.get(k) {
+                Some(Expr::Target(i)) => Some(*i),
+                _ => None,
+            },
+            _ => None,
+        };
+        let element = element.filter(|&i| self.program.targets().has_value(i));
+        debug_assert!(
+            element.is_none() || self.same_as_by_identifier(base, index, frame, element),
+            "the element of {name} found by its declaration is not the one its identifier names"
+        );
+        Ok(element)
+    }
+
+    /// Whether looking `base{index}` up by its identifier finds target
+    /// `element` (what [`Self::element_of`] is checked against in debug
+    /// builds, on every walk the tests make).
+    fn same_as_by_identifier(
+        &mut self,
+        base: &Expr,
+        index: &[Expr],
+        frame: &mut Frame<'p>,
+        element: Option<usize>,
+    ) -> bool {
+        let e = Expr::Index(Box::new((base.clone(), index.to_vec())));
+        match self.by_path(&e, frame) {
+            Ok(Value::Rob(r)) => r.id == element,
+            _ => false,
+        }
+    }
+
+    /// The declaration of the one-dimensional robtarget array `name`
+    /// where a plain name is looked up ([`Self::name_value`]), unless a
+    /// variable of the routine or a value the walk assigned stands for it.
+    fn array_decl(&self, name: &str, frame: &Frame<'p>) -> Option<&'p DataDecl> {
+        let shadowed = |key: &str| frame.vars.contains_key(key) || self.globals.contains_key(key);
+        if with_lower(name, shadowed) {
+            return None;
+        }
+        let decl = match frame
+            .routine
+            .and_then(|r| r.data.iter().find(|d| d.name.eq_ignore_ascii_case(name)))
+        {
+            Some(d) => d,
+            None => {
+                let list = self.decls.get(&NoCase(name.as_bytes()))?;
+                let found = list
+                    .iter()
+                    .find(|(m, _)| *m == frame.module)
+                    .or_else(|| list.iter().find(|(_, d)| !d.local()))?;
+                match found.1 {
+                    Decl::Tree(d) => d,
+                    Decl::Run { .. } => return None,
+                }
+            }
+        };
+        (decl.type_name.eq_ignore_ascii_case("robtarget") && decl.dims.len() == 1).then_some(decl)
     }
 
     pub(super) fn target_value(&self, i: usize) -> Result<Value> {
@@ -243,7 +358,7 @@ impl<'p> Walker<'p> {
         let mut f = Frame {
             module,
             routine,
-            vars: HashMap::new(),
+            vars: FastMap::default(),
         };
         let v = self.eval(init, &mut f);
         self.evaluating.remove(&key);
@@ -373,7 +488,7 @@ impl<'p> Walker<'p> {
                 let mut f = Frame {
                     module: m,
                     routine: None,
-                    vars: HashMap::new(),
+                    vars: FastMap::default(),
                 };
                 self.eval(dim, &mut f)
             }

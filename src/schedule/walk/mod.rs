@@ -88,7 +88,7 @@ pub(super) enum Flow {
 pub(super) struct Frame<'p> {
     module: usize,
     routine: Option<&'p Routine>,
-    vars: HashMap<String, Value>,
+    vars: FastMap<String, Value>,
 }
 
 /// Where the robot is.
@@ -131,9 +131,6 @@ pub(super) struct Walker<'p> {
     pub(super) joint_schedule: Schedule,
     /// Visits of bases through derived targets: (base, minutes).
     pub(super) base_visits: Vec<(usize, f64)>,
-    /// A visited target's identifier, read into one buffer for every
-    /// visit.
-    pub(super) id_buf: String,
     /// The target a move's literal is read into ([`Self::target_value`]).
     pub(super) slot: std::cell::RefCell<crate::rapid::Target>,
     pub(super) notes: Vec<String>,
@@ -290,7 +287,6 @@ impl<'p> Walker<'p> {
             },
             joint_schedule: Schedule::new(),
             base_visits: Vec::new(),
-            id_buf: String::new(),
             slot: std::cell::RefCell::new(crate::rapid::targets::blank()),
             notes: Vec::new(),
             noted: HashSet::new(),
@@ -331,31 +327,33 @@ impl<'p> Walker<'p> {
     /// a summary of targets never reached.
     pub(super) fn finish(&mut self) {
         let visits = std::mem::take(&mut self.base_visits);
+        let targets = self.program.targets();
+        let visited = |s: &Schedule, i: usize| {
+            let mut id = String::new();
+            targets.id_into(i, &mut id).is_some() && s.times_of(i, &id).is_some()
+        };
         let direct: HashSet<usize> = visits
             .iter()
             .map(|&(b, _)| b)
-            .filter(|&b| {
-                self.program
-                    .targets()
-                    .get(b)
-                    .is_some_and(|t| self.schedule.times(&t.id).is_some())
-            })
+            .filter(|&b| visited(&self.schedule, b))
             .collect();
         for (b, t) in visits {
-            if direct.contains(&b) {
+            if direct.contains(&b) || b >= targets.len() {
                 continue;
             }
-            if let Some(target) = self.program.targets().get(b) {
-                self.schedule.visit(&target.id, t);
-            }
+            self.schedule.visit_target(b, t, || {
+                let mut id = String::new();
+                targets.id_into(b, &mut id);
+                Arc::from(id)
+            });
         }
         let mut count = 0;
         let mut shown: Vec<String> = Vec::new();
         // Identifiers only: the targets' numbers are not read for this.
-        let targets = self.program.targets();
         let mut id = String::new();
         for i in 0..targets.len() {
-            if targets.id_into(i, &mut id) == Some(true) && self.schedule.times(&id).is_none() {
+            if targets.id_into(i, &mut id) == Some(true) && self.schedule.times_of(i, &id).is_none()
+            {
                 count += 1;
                 if shown.len() < SHOWN_MISSED {
                     shown.push(id.clone());

@@ -201,6 +201,11 @@ impl<'p> Walker<'p> {
         frame: &mut Frame<'p>,
     ) -> Result<()> {
         if let Some(Expr::Index(b)) = m.to {
+            // An element of a declared array, found by its declaration.
+            if let Some(i) = self.element_of(b, frame)? {
+                let to = self.target_value(i)?;
+                return self.exec_move_to(call, m, s, frame, Some(to));
+            }
             if let Some((base, elements)) = self.unsettled_elements(m.to, b, frame)? {
                 self.note(
                     frame,
@@ -308,9 +313,7 @@ impl<'p> Walker<'p> {
                             call.name
                         ),
                     );
-                    if let Some(jt) = id.and_then(|i| self.program.jointtargets().get(i)) {
-                        self.joint_schedule.visit(&jt.id, self.robot_free / 60.0);
-                    }
+                    self.visit_joint(id, self.robot_free / 60.0);
                     return Ok(());
                 }
                 if !self.check_joints(&q, id, call, frame, s) {
@@ -333,11 +336,7 @@ impl<'p> Walker<'p> {
                     joints: Some(q),
                     conf: self.robot.conf_of(&q),
                 };
-                if let Some(i) = id {
-                    if let Some(jt) = self.program.jointtargets().get(i) {
-                        self.joint_schedule.visit(&jt.id, self.robot_free / 60.0);
-                    }
-                }
+                self.visit_joint(id, self.robot_free / 60.0);
                 return Ok(());
             }
             (MotionKind::AbsJoint, _) => {
@@ -626,27 +625,36 @@ impl<'p> Walker<'p> {
         self.clock = if conc { start } else { self.robot_free };
     }
 
+    /// A visit of jointtarget number `id` (where the move names one) at
+    /// `t_min`.
+    fn visit_joint(&mut self, id: Option<usize>, t_min: f64) {
+        let program = self.program;
+        if let Some((i, jt)) = id.and_then(|i| Some((i, program.jointtargets().get(i)?))) {
+            self.joint_schedule
+                .visit_target(i, t_min, || Arc::from(jt.id.as_str()));
+        }
+    }
+
     pub(super) fn visit(&mut self, rob: &Rob, at_s: f64) {
         let t = at_s / 60.0;
         let targets = self.program.targets();
-        // The identifier alone: the whole target of a run, made again for
-        // every move, read its literal a second time.
-        let mut id = std::mem::take(&mut self.id_buf);
-        if rob
-            .id
-            .is_some_and(|i| targets.id_into(i, &mut id).is_some())
-        {
-            self.schedule.visit(&id, t);
-        } else if rob
-            .derived
-            .is_some_and(|i| targets.id_into(i, &mut id).is_some())
-        {
-            self.schedule.visit(&id, t);
+        // By target number: the identifier is read (from its literal, for
+        // a target of a run) at the first visit only.
+        let id = |i: usize| {
+            move || {
+                let mut id = String::new();
+                targets.id_into(i, &mut id);
+                Arc::<str>::from(id)
+            }
+        };
+        if let Some(i) = rob.id.filter(|&i| i < targets.len()) {
+            self.schedule.visit_target(i, t, id(i));
+        } else if let Some(i) = rob.derived.filter(|&i| i < targets.len()) {
+            self.schedule.visit_target(i, t, id(i));
             for &b in &rob.bases {
                 self.base_visits.push((b, t));
             }
         }
-        self.id_buf = id;
     }
 }
 

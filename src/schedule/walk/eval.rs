@@ -4,21 +4,6 @@
 use super::*;
 use crate::schedule::interp::value::compare;
 
-/// `f` of `name` in lower case, lowered on the stack where it is short
-/// (a lookup at every turn of a loop need not allocate).
-fn with_lower<R>(name: &str, f: impl FnOnce(&str) -> R) -> R {
-    let mut buf = [0u8; 64];
-    if let Some(b) = buf.get_mut(..name.len()) {
-        b.copy_from_slice(name.as_bytes());
-        b.make_ascii_lowercase();
-        // Lowering ASCII letters keeps UTF-8 valid.
-        if let Ok(key) = std::str::from_utf8(b) {
-            return f(key);
-        }
-    }
-    f(&name.to_ascii_lowercase())
-}
-
 impl<'p> Walker<'p> {
     pub(super) fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
         stacker::maybe_grow(STACK_RED_ZONE, STACK_SEGMENT, || self.eval_inner(e, frame))

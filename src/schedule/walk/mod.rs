@@ -31,6 +31,21 @@ use std::sync::Arc;
 /// Targets never reached that the walk's note names (the rest counted).
 const SHOWN_MISSED: usize = 8;
 
+/// `f` of `name` in lower case, lowered on the stack where it is short
+/// (a lookup at every turn of a loop need not allocate).
+pub(super) fn with_lower<R>(name: &str, f: impl FnOnce(&str) -> R) -> R {
+    let mut buf = [0u8; 64];
+    if let Some(b) = buf.get_mut(..name.len()) {
+        b.copy_from_slice(name.as_bytes());
+        b.make_ascii_lowercase();
+        // Lowering ASCII letters keeps UTF-8 valid.
+        if let Ok(key) = std::str::from_utf8(b) {
+            return f(key);
+        }
+    }
+    f(&name.to_ascii_lowercase())
+}
+
 /// Maps looked up at every statement of a walk (names: a fast hash).
 type FastMap<K, V> = foldhash::HashMap<K, V>;
 
@@ -300,11 +315,16 @@ impl<'p> Walker<'p> {
         })
     }
 
-    /// Whether plain names resolve to the program's declarations alone:
-    /// no routine parameter or variable and no data assigned in the walk
-    /// (which could shadow or change them) are in play.
-    pub(super) fn static_names(&self, frame: &Frame) -> bool {
-        frame.vars.is_empty() && self.globals.is_empty()
+    /// Whether the names of `at` resolve to the program's declarations
+    /// alone: none is a routine parameter or variable, or data assigned
+    /// in the walk (which could shadow or change it). A FOR loop's
+    /// variable shadows only its own name.
+    pub(super) fn static_names(&self, frame: &Frame, at: &NamesAt) -> bool {
+        at.names.iter().flatten().all(|name| {
+            !with_lower(name, |key| {
+                frame.vars.contains_key(key) || self.globals.contains_key(key)
+            })
+        })
     }
 
     pub(super) fn note(&mut self, frame: &Frame, line: u32, msg: impl Into<String>) {

@@ -24,7 +24,7 @@ impl<'p> Walker<'p> {
         frame: &mut Frame<'p>,
         line: u32,
     ) -> Result<SpeedData> {
-        let at = NamesAt::of(frame, [expr, None]).filter(|_| self.static_names(frame));
+        let at = NamesAt::of(frame, [expr, None]).filter(|at| self.static_names(frame, at));
         if let Some((last, speed)) = &self.last_speed {
             if at.as_ref() == Some(last) {
                 return Ok(*speed);
@@ -102,7 +102,7 @@ impl<'p> Walker<'p> {
         frame: &mut Frame<'p>,
         line: u32,
     ) -> Result<Rc<(ToolData, WobjData)>> {
-        let at = NamesAt::of(frame, [tool, wobj]).filter(|_| self.static_names(frame));
+        let at = NamesAt::of(frame, [tool, wobj]).filter(|at| self.static_names(frame, at));
         if let Some((last, frames)) = &self.last_frames {
             if at.as_ref() == Some(last) {
                 return Ok(frames.clone());

@@ -24,7 +24,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "model",
         &["error", "input", "csv_table", "robot", "thermal"],
     ),
-    ("resolve", &["error", "digest", "rapid", "robot"]),
+    ("resolve", &["error", "digest", "report", "rapid", "robot"]),
     (
         "schedule",
         &["error", "digest", "csv_table", "rapid", "robot", "resolve"],

@@ -8,13 +8,12 @@ use super::output::FileSink;
 use super::unified_diff::unified_diff;
 use super::write_stdout;
 use super::Status;
-use rapidtherm::correct::job::Sink;
-use rapidtherm::correct::plan::{Action, CorrectPlan, Destination};
-use rapidtherm::correct::runtime::job::{self, RuntimeRan};
+use rapidtherm::correct::plan::{Action, CorrectPlan};
+use rapidtherm::correct::runtime::job;
+use rapidtherm::correct::runtime::write::{self, module_path};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::task::Task;
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// What `--runtime` reads of `correct`'s arguments.
 pub struct RuntimeArgs<'a> {
@@ -27,15 +26,7 @@ pub struct RuntimeArgs<'a> {
 /// The uses of the flag the plan cannot see: a module name RAPID reads,
 /// and somewhere to put the module.
 pub fn check_args(args: &RuntimeArgs) -> Result<()> {
-    let name = args.module;
-    let ok = name.len() <= 31
-        && name.bytes().next().is_some_and(|b| b.is_ascii_alphabetic())
-        && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
-    if !ok {
-        return Err(Error::usage(format!(
-            "--runtime-module `{name}`: a RAPID name (a letter, then letters, digits or _; at most 31, its jointtarget function adds a J)"
-        )));
-    }
+    rapidtherm::correct::runtime::module::check_module_name(args.module)?;
     if args.output == Some(Path::new("-")) {
         return Err(Error::usage(
             "--runtime writes a module beside the program: give -o FILE, --in-place or --diff, not standard output",
@@ -67,7 +58,7 @@ pub fn run(args: &RuntimeArgs, plan: &CorrectPlan, found: Vec<Task>) -> Result<S
     match &plan.action {
         Action::Write(dest) => {
             let mut sink = FileSink::new(args.backup.clone());
-            write(dest, &runs, &mut sink)?;
+            write::write(dest, &runs, &mut sink)?;
             sink.commit()?;
             Ok(Status::Success)
         }
@@ -95,77 +86,4 @@ pub fn run(args: &RuntimeArgs, plan: &CorrectPlan, found: Vec<Task>) -> Result<S
         }
         Action::Check(_) | Action::Report => Ok(Status::Success),
     }
-}
-
-fn module_path(program: &Path, file: &str) -> PathBuf {
-    RuntimeRan::module_dir(program).join(file)
-}
-
-/// The programs where the plan says, and each task's module beside them
-/// (one module per folder: two tasks of one folder that need different
-/// modules are refused).
-fn write(dest: &Destination, runs: &[RuntimeRan], sink: &mut FileSink) -> Result<()> {
-    let mut modules: Vec<(PathBuf, &[u8])> = Vec::new();
-    for r in runs {
-        let beside = match dest {
-            Destination::File(out) => out.clone(),
-            _ => r.task.modules[0].clone(),
-        };
-        let path = module_path(&beside, &r.module.0);
-        if let Some((_, other)) = modules.iter().find(|(p, _)| *p == path) {
-            if *other != r.module.1.as_slice() {
-                return Err(Error::usage(format!(
-                    "{}: two tasks of one folder need different modules (different arms); rewrite one task at a time",
-                    path.display()
-                )));
-            }
-            continue;
-        }
-        modules.push((path, &r.module.1));
-    }
-    let mut outputs = Vec::new();
-    let put = |sink: &mut FileSink, name: &str, bytes: &[u8]| -> Result<_> {
-        let mut o = sink.create(name)?;
-        o.write_all(bytes)
-            .map_err(|e| Error::io(Path::new(name), &e))?;
-        Ok(o)
-    };
-    // A program file written as the rewrite makes it, through a buffer.
-    let put_file = |sink: &mut FileSink, name: &str, r: &RuntimeRan, f: usize| -> Result<_> {
-        let mut o = sink.create(name)?;
-        let mut buffered = std::io::BufWriter::with_capacity(1 << 20, &mut o);
-        r.write_file(f, &mut buffered)
-            .and_then(|_| buffered.flush())
-            .map_err(|e| Error::io(Path::new(name), &e))?;
-        drop(buffered);
-        Ok(o)
-    };
-    match dest {
-        Destination::File(out) => {
-            outputs.push(put_file(sink, &out.display().to_string(), &runs[0], 0)?);
-        }
-        Destination::Stdout => {
-            return Err(Error::usage("--runtime cannot write to standard output"))
-        }
-        Destination::InPlace { .. } => {
-            for r in runs {
-                for (f, (name, _)) in r.inputs.iter().enumerate() {
-                    if r.file_changed(f) {
-                        outputs.push(put_file(sink, name, r, f)?);
-                    }
-                }
-            }
-        }
-    }
-    for (path, bytes) in &modules {
-        // A module as it already is stays untouched (and gets no backup).
-        if std::fs::read(path).is_ok_and(|b| b == *bytes) {
-            continue;
-        }
-        outputs.push(put(sink, &path.display().to_string(), bytes)?);
-    }
-    for o in outputs {
-        o.finish(true)?;
-    }
-    Ok(())
 }

@@ -23,6 +23,7 @@ mod calls;
 pub mod dataflow;
 mod frame_vars;
 pub mod monitoring;
+pub mod listing;
 mod moves;
 mod params;
 mod per_call;

@@ -57,18 +57,26 @@ pub struct Schedule {
     order: Vec<Arc<str>>,
     /// Each identifier's visits, place by place with `order`.
     visits: Vec<Times>,
-    /// Places in `order` by identifier (compared without case), made when
-    /// a lookup by name first needs it: a schedule an estimate recorded
-    /// by target number is read by target number, and hashing its million
-    /// names five times over was a fifth of `--start`.
-    by_name: OnceLock<hashbrown::HashTable<u32>>,
-    /// A program's target number to its place in `order` plus one (0: not
-    /// visited): where the schedule was recorded by target number
-    /// ([`Schedule::visit_target`]).
-    by_target: Vec<u32>,
+    /// How a target's place in `order` is found (behind a pointer: a
+    /// run's time basis holds two schedules by value).
+    lookups: Box<Lookups>,
     /// The idle spans, in increasing time, none overlapping another and
     /// none holding a visit (a robot that stands reaches no target).
     idle: Vec<IdleSpan>,
+}
+
+/// How a target's place in a schedule's `order` is found.
+#[derive(Clone, Default)]
+struct Lookups {
+    /// Places by identifier (compared without case), made when a lookup
+    /// by name first needs it: a schedule an estimate recorded by target
+    /// number is read by target number, and hashing its million names
+    /// five times over was a fifth of `--start`.
+    by_name: OnceLock<hashbrown::HashTable<u32>>,
+    /// A program's target number to its place plus one (0: not visited):
+    /// where the schedule was recorded by target number
+    /// ([`Schedule::visit_target`]).
+    by_target: Vec<u32>,
 }
 
 /// Two schedules are equal when they hold the same visits in the same
@@ -166,7 +174,7 @@ impl Schedule {
 
     /// The place of identifier `id` in `order`.
     fn place(&self, id: &str) -> Option<usize> {
-        let table = self.by_name.get_or_init(|| name_table(&self.order));
+        let table = self.lookups.by_name.get_or_init(|| name_table(&self.order));
         table
             .find(name_hash(id), |&k| {
                 self.order[k as usize].eq_ignore_ascii_case(id)
@@ -177,7 +185,7 @@ impl Schedule {
     /// A new identifier at the end of `order`, with its first visit.
     fn push_new(&mut self, id: Arc<str>, time_min: f64) -> usize {
         let k = self.order.len();
-        if let Some(table) = self.by_name.get_mut() {
+        if let Some(table) = self.lookups.by_name.get_mut() {
             let order = &self.order;
             table.insert_unique(name_hash(&id), k as u32, |&j: &u32| {
                 name_hash(&order[j as usize])
@@ -204,13 +212,14 @@ impl Schedule {
     /// it, so a schedule recorded this way is read by target number
     /// ([`Schedule::times_of`]) without looking up names.
     pub fn visit_target(&mut self, index: usize, time_min: f64, id: impl FnOnce() -> Arc<str>) {
-        if self.by_target.len() <= index {
-            self.by_target.resize(index + 1, 0);
+        let by_target = &mut self.lookups.by_target;
+        if by_target.len() <= index {
+            by_target.resize(index + 1, 0);
         }
-        match self.by_target[index] {
+        match by_target[index] {
             0 => {
                 let k = self.push_new(id(), time_min);
-                self.by_target[index] = k as u32 + 1;
+                self.lookups.by_target[index] = k as u32 + 1;
             }
             k => self.visits[k as usize - 1].push(time_min),
         }
@@ -232,7 +241,7 @@ impl Schedule {
     /// number and the identifier there is the same (a schedule of another
     /// program is read by name), else by name.
     pub fn times_of(&self, index: usize, id: &str) -> Option<&[f64]> {
-        if let Some(&k) = self.by_target.get(index) {
+        if let Some(&k) = self.lookups.by_target.get(index) {
             let k = k as usize;
             if k > 0 && self.order[k - 1].eq_ignore_ascii_case(id) {
                 return Some(self.visits[k - 1].as_slice());

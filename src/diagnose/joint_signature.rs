@@ -79,12 +79,29 @@ impl JointSignature {
 pub struct JointLimit {
     /// 1-based axis.
     pub axis: usize,
-    /// The shape (a cycle's phase is that of the worst case: the limit
-    /// holds at any phase).
     #[serde(flatten)]
-    pub shape: JointShape,
-    /// Amplitude (cyclic) or play (backlash) of the joint angle, mrad.
+    pub shape: LimitShape,
+    /// Amplitude (cyclic, at its worst phase: the limit holds at any
+    /// phase) or play (backlash) of the joint angle, mrad.
     pub amplitude_mrad: f64,
+}
+
+/// The shape a [`JointLimit`] is of: a signature's shape without what only
+/// a fit gives (a phase, a sign).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum LimitShape {
+    Cyclic { cycles: u32 },
+    Backlash,
+}
+
+impl From<JointShape> for LimitShape {
+    fn from(shape: JointShape) -> Self {
+        match shape {
+            JointShape::Cyclic { cycles, .. } => LimitShape::Cyclic { cycles },
+            JointShape::Backlash { .. } => LimitShape::Backlash,
+        }
+    }
 }
 
 /// What the search for a joint signature found, and what it could have.
@@ -212,7 +229,7 @@ fn search(
         .iter()
         .map(|(axis, shape, cols)| JointLimit {
             axis: axis + 1,
-            shape: *shape,
+            shape: LimitShape::from(*shape),
             amplitude_mrad: limit(&base, cols, noise, level)
                 * if matches!(shape, JointShape::Backlash { .. }) {
                     2.0

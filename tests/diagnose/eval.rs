@@ -26,7 +26,7 @@ use nalgebra::Vector3;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rapidtherm::diagnose::finding::Finding;
-use rapidtherm::diagnose::joint_signature::JointShape;
+use rapidtherm::diagnose::joint_signature::LimitShape;
 use rapidtherm::diagnose::locate::Where;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::{diagnose, prepare, Advice, Diagnosis, Options, Part};
@@ -209,8 +209,8 @@ fn joint_limit(spec: &SetSpec, d: &Diagnosis) -> Option<(f64, f64)> {
         let limit = d.joint_limits.iter().find(|l| {
             l.axis == axis
                 && match l.shape {
-                    JointShape::Cyclic { cycles: n, .. } => Some(n) == cycles,
-                    JointShape::Backlash { .. } => cycles.is_none(),
+                    LimitShape::Cyclic { cycles: n } => Some(n) == cycles,
+                    LimitShape::Backlash => cycles.is_none(),
                 }
         })?;
         Some((size, limit.amplitude_mrad))
@@ -501,7 +501,7 @@ fn evaluation_seeded() {
     }
     let (r, n) = out.total();
     assert!(r * 4 >= n * 3, "{text}");
-    for (seed, bad) in &out.contradictions {
+    if let Some((seed, bad)) = out.contradictions.first() {
         let words = out
             .diagnoses
             .iter()

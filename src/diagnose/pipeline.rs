@@ -619,29 +619,29 @@ fn two_stages(
     // the square): else the stage's shrink would be measured from data
     // already corrected.
     let cv0_measured = thermal.cv0;
-    // The step is a candidate of the first step of the selection as the
-    // thermal effects are: where it passes its test beyond nothing (each
-    // pose's offset) and predicts the held-out spans better than the
-    // effect the selection took first, it goes first, and the thermal
-    // effects must then add significantly beyond it. Tested only beyond
-    // the effects selected, a mount drift that followed most of a knock
-    // early in the warm-up left too little of it to test.
+    // The step against the selection as measured. Tested only beyond the
+    // effects selected, a mount drift that followed most of a knock early
+    // in the warm-up left too little of it to test; tested first, a step
+    // takes up most of a smooth drift. Where the step passes its test
+    // beyond nothing (each pose's own offset) but not beyond the effects
+    // selected, the two are alternatives, and the one that predicts the
+    // held-out spans better is taken, as between candidates: the step
+    // then goes first, and the thermal effects must add significantly
+    // beyond it.
     let step_first = || {
-        let Some(first_cv) = thermal.steps.first().map(|s| s.gap_after_mm) else {
-            return false;
-        };
-        if significant_step(
-            &original,
-            &Forward::empty(&original),
-            &ctx.noise,
-            ctx.remainder_level(),
-        )
-        .is_none()
+        if thermal.selected.is_empty()
+            || significant_step(
+                &original,
+                &Forward::empty(&original),
+                &ctx.noise,
+                ctx.remainder_level(),
+            )
+            .is_none()
         {
             return false;
         }
         let gaps = original.position_gaps(&[], &all);
-        knock::score(&original, &time_folds, &gaps).is_some_and(|(cv, _)| cv < first_cv)
+        knock::score(&original, &time_folds, &gaps).is_some_and(|(cv, _)| cv < thermal.cv)
     };
     if significant_step(&original, &thermal, &ctx.noise, ctx.remainder_level()).is_some()
         || step_first()

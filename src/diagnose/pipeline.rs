@@ -12,6 +12,7 @@ use super::knock;
 use super::locate;
 use super::prepare::Prepared;
 use super::select;
+use super::separation::Separation;
 use super::signature::QuadraticGrowth;
 use super::square;
 use super::stats::{Test, LEVEL};
@@ -817,10 +818,10 @@ fn two_stages(
         ambiguous_sag = Some(Ambiguity {
             pair: ["geometry-offset".into(), "gravity-sag".into()],
             correlation: None,
-            separate_by: format!(
-                "measure more poses spread over the joint ranges (more numbers than a full kinematic calibration takes up: {} here), with the upper arm horizontal and vertical: from these, gravity-sag would take the static gap to {sag_cv:.3} mm held-out, but the arm's own geometry may explain it as well",
-                ctx.n_poses
-            ),
+            separate_by: Separation::CalibrationPoses {
+                poses: ctx.n_poses,
+                sag_cv_mm: sag_cv,
+            },
         });
     }
     statics.ambiguities.extend(ambiguous_sag);

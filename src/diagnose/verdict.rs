@@ -7,6 +7,7 @@ use super::gap::{GapStats, Noise};
 use super::joint_signature::{JointLimit, JointSignature};
 use super::locate::Where;
 use super::prepare::Registration;
+use super::separation::Separation;
 use super::signature::QuadraticGrowth;
 use super::stats::Test;
 use crate::model::{EffectEntry, EffectKind};
@@ -183,7 +184,7 @@ pub struct Ambiguity {
     /// one against the other; `None` where the tie showed only in the
     /// whole set (either in it scores alike).
     pub correlation: Option<f64>,
-    pub separate_by: String,
+    pub separate_by: Separation,
 }
 
 /// The whole diagnosis.

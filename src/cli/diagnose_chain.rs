@@ -217,7 +217,7 @@ fn stage_rows(d: &ChainDiagnosis) -> Vec<Vec<String>> {
         .iter()
         .map(|s| {
             vec![
-                s.name.clone(),
+                s.name.words().to_string(),
                 s.parameters.to_string(),
                 format!("{:.4}", s.fit.rms_mm),
                 opt(s.cv_rms_mm),

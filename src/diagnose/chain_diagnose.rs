@@ -11,10 +11,12 @@
 //! (time only an order, not a warm-up) no thermal effect can be named.
 
 use super::chain_calib::{self, Dropped, Group, Nominal, Param, Sample, N_RAW};
+use super::chain_finding::{named_words, ChainStage, ChainThermal};
 use super::chain_residual::{remainder, Remainder, ResidualRow};
 use super::gap::{gap_stats, GapStats};
 use super::instrument::default_noise_mm;
 use crate::error::{Error, Result};
+use crate::model::EffectKind;
 use crate::robot::chain::Chain;
 use nalgebra::{Isometry3, Vector3};
 use serde::Serialize;
@@ -56,7 +58,7 @@ impl Default for ChainOptions {
 /// folds and on the separate held-out set.
 #[derive(Debug, Clone, Serialize)]
 pub struct Stage {
-    pub name: String,
+    pub name: ChainStage,
     pub parameters: usize,
     pub fit: GapStats,
     pub cv_rms_mm: Option<f64>,
@@ -73,8 +75,8 @@ pub struct ChainDiagnosis {
     pub stages: Vec<Stage>,
     /// Effects the held-out evidence names, in the words of the effects
     /// spec (`tracker-frame`, `geometry-offset`).
-    pub named: Vec<String>,
-    pub thermal: String,
+    pub named: Vec<EffectKind>,
+    pub thermal: ChainThermal,
     pub parameters: Vec<Param>,
     pub dropped: Vec<Dropped>,
     /// Rank of the kept parameters' Jacobian columns, each scaled by its
@@ -192,14 +194,14 @@ pub fn diagnose_chain(
         |nom: &Nominal, x: &[f64], d: &ChainData| gap_stats(&chain_calib::gaps(nom, x, &d.samples));
     let mut stages = vec![
         Stage {
-            name: "nominal, as measured".into(),
+            name: ChainStage::AsMeasured,
             parameters: 0,
             fit: stats(&as_measured, &zero, data),
             cv_rms_mm: None,
             holdout: holdout.map(|h| stats(&as_measured, &zero, h)),
         },
         Stage {
-            name: "nominal, rigid instrument frame".into(),
+            name: ChainStage::RigidFrame,
             parameters: 6,
             fit: stats(&nominal, &zero, data),
             cv_rms_mm: None,
@@ -208,16 +210,16 @@ pub fn diagnose_chain(
     ];
     let frame_point = |g: Group| matches!(g, Group::Frame | Group::Point);
     let everything = |_: Group| true;
-    let scopes: [(&str, &dyn Fn(Group) -> bool); 2] = [
-        ("instrument frame + measured point", &frame_point),
-        ("+ joint offsets and origins (full geometry)", &everything),
+    let scopes: [(ChainStage, &dyn Fn(Group) -> bool); 2] = [
+        (ChainStage::FrameAndPoint, &frame_point),
+        (ChainStage::FullGeometry, &everything),
     ];
     let mut last = None;
     for (name, allow) in scopes {
         let cal = calibrate(&nominal, &data.samples, allow)?;
         let cv = cross_validate(&nominal, data, allow, opts.folds)?;
         stages.push(Stage {
-            name: name.into(),
+            name,
             parameters: cal.kept.len(),
             fit: stats(&nominal, &cal.fit.x, data),
             cv_rms_mm: Some(cv),
@@ -233,7 +235,7 @@ pub fn diagnose_chain(
     // The frame is named when the data are not in the robot base frame
     // already: the rigid fit takes a clear part of the gap as measured.
     if rigid.fit.rms_mm < 0.9 * raw.fit.rms_mm {
-        named.push("tracker-frame".to_string());
+        named.push(EffectKind::TrackerFrame);
     }
     let (cv_point, cv_geom) = (
         point.cv_rms_mm.unwrap_or(f64::INFINITY),
@@ -241,14 +243,13 @@ pub fn diagnose_chain(
     );
     let geometric = cv_point < 0.9 * rigid.fit.rms_mm || cv_geom < 0.9 * cv_point;
     if geometric {
-        named.push("geometry-offset".to_string());
+        named.push(EffectKind::GeometryOffset);
     }
     let thermal = if data.has_temps {
-        "The data have temperatures, but this is the geometric calibration only: no thermal effect was tried here (the effect diagnosis tries every effect on this chain)."
+        ChainThermal::NotTried
     } else {
-        "The data have no temperatures (time is only an order): no thermal effect can be named."
-    }
-    .to_string();
+        ChainThermal::NoTemperatures
+    };
     let full = &cal.fit;
     let rows = residual_rows(&nominal, full, data);
     let remainder_fit = remainder(&rows);
@@ -272,7 +273,7 @@ pub fn diagnose_chain(
             hg.n, hp.rms_mm, hg.rms_mm, hg.max_mm
         ));
     }
-    if named.iter().any(|n| n == "tracker-frame") {
+    if named.contains(&EffectKind::TrackerFrame) {
         let f = *full.geometry(&nominal).frame();
         words.push(format!(
             "The measured frame is off the nominal base by {:.3} mm and {:.3} mrad: position data cannot tell an instrument frame from the base mount or joint 1's origin.",
@@ -280,12 +281,8 @@ pub fn diagnose_chain(
             f.rotation.angle() * 1e3
         ));
     }
-    words.push(if named.is_empty() {
-        "Named: nothing (the calibration does not beat the rigid frame on held-out poses).".into()
-    } else {
-        format!("Named: {}.", named.join(", "))
-    });
-    words.push(thermal.clone());
+    words.push(named_words(&named));
+    words.push(thermal.words().into());
     words.push(format!(
         "Left over: {:.3} mm RMS on the fitted poses{}.",
         remainder_fit.gap.rms_mm,

@@ -11,6 +11,7 @@
 
 use super::fit::{self, Problem};
 use super::select::{self, Folds};
+use super::separation::Separation;
 use super::stats::{NoiseDof, Test, LEVEL};
 use super::verdict::{Ambiguity, CandidateOut, ParamOut, Part, StepOut};
 use crate::error::{Error, ErrorKind, Result};
@@ -390,7 +391,7 @@ pub fn forward(
                 correlation: best_contribution
                     .filter(|_| !runner.contribution.is_empty())
                     .map(|c| select::collinearity(&c, &runner.contribution)),
-                separate_by: select::separating_advice(chosen, runner.kind),
+                separate_by: Separation::of(chosen, runner.kind),
             });
         }
     }

@@ -12,9 +12,9 @@
 use super::fit::Problem;
 use super::forward::TestNoise;
 use super::signature::{hcat, lstsq};
-use super::stats::{Test, LEVEL};
+use super::stats::{detectable_noncentrality, Test, LEVEL, POWER};
 use crate::model::EffectKind;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 /// Most cycles per turn tried: gears and encoders of robot axes show their
@@ -72,6 +72,71 @@ impl JointSignature {
     }
 }
 
+/// The smallest joint signature of one shape these poses, times and noise
+/// would have revealed beyond the calibration, at the level its test is
+/// held to (shared among the signatures tried) with 90 % power.
+#[derive(Debug, Clone, Serialize)]
+pub struct JointLimit {
+    /// 1-based axis.
+    pub axis: usize,
+    #[serde(flatten)]
+    pub shape: LimitShape,
+    /// Amplitude (cyclic, at its worst phase: the limit holds at any
+    /// phase) or play (backlash) of the joint angle, mrad.
+    pub amplitude_mrad: f64,
+}
+
+/// The shape a [`JointLimit`] is of: a signature's shape without what only
+/// a fit gives (a phase, a sign).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum LimitShape {
+    Cyclic { cycles: u32 },
+    Backlash,
+}
+
+impl From<JointShape> for LimitShape {
+    fn from(shape: JointShape) -> Self {
+        match shape {
+            JointShape::Cyclic { cycles, .. } => LimitShape::Cyclic { cycles },
+            JointShape::Backlash { .. } => LimitShape::Backlash,
+        }
+    }
+}
+
+/// What the search for a joint signature found, and what it could have.
+#[derive(Debug, Clone, Default)]
+pub struct Searched {
+    /// The largest significant signature.
+    pub found: Option<JointSignature>,
+    /// The detection limit of every signature tried.
+    pub limits: Vec<JointLimit>,
+}
+
+/// The detection limit of one signature: `cols` (per mrad of the joint
+/// angle) less what `base` takes up of them, against the noise. A cycle's
+/// size depends on its phase; the limit is its worst phase's, the least
+/// eigenvalue of the columns' Gram matrix beyond the calibration (what the
+/// calibration cannot take up of any phase).
+fn limit(base: &DMatrix<f64>, cols: &[DVector<f64>], noise: &TestNoise, level: f64) -> f64 {
+    let own = |v: &DVector<f64>| lstsq(base, v).1;
+    let least = match cols {
+        [c] => own(c),
+        [s, c] => {
+            let (a, d) = (own(s), own(c));
+            let b = 0.5 * (own(&(s + c)) - a - d);
+            // The smaller eigenvalue of [[a, b], [b, d]].
+            0.5 * (a + d) - (0.25 * (a - d).powi(2) + b * b).sqrt()
+        }
+        _ => return f64::INFINITY,
+    };
+    let lambda = detectable_noncentrality(level, cols.len() as f64, POWER);
+    if least <= 1e-300 {
+        return f64::INFINITY;
+    }
+    (lambda * noise.sigma2 / least).sqrt()
+}
+
 /// Per joint, each row's direction of approach: +1 where it came from
 /// below (its angle rose since the row measured before it), −1 from above,
 /// 0 for the first row or a joint that did not move.
@@ -102,12 +167,16 @@ fn approach(problem: &Problem) -> [Vec<f64>; 6] {
 /// Jacobians at zero, and the models tested are nested exactly. `None`
 /// where none is significant at `level` (the family's, shared among the
 /// signatures tried), or the problem keeps no Jacobians at zero.
-pub fn find(
+pub fn find(problem: &Problem, statics: &[EffectKind], noise: &TestNoise, level: f64) -> Searched {
+    search(problem, statics, noise, level).unwrap_or_default()
+}
+
+fn search(
     problem: &Problem,
     statics: &[EffectKind],
     noise: &TestNoise,
     level: f64,
-) -> Option<JointSignature> {
+) -> Option<Searched> {
     let all: Vec<usize> = (0..problem.rows.len()).collect();
     let w = problem.width();
     let mut kinds = vec![EffectKind::GeometryOffset, EffectKind::TrackerFrame];
@@ -154,6 +223,21 @@ pub fn find(
         ));
     }
     let level = level / tried.len().max(1) as f64;
+    // Each signature's limit, in the size the report gives (a backlash's
+    // play is twice the fitted coefficient).
+    let limits = tried
+        .iter()
+        .map(|(axis, shape, cols)| JointLimit {
+            axis: axis + 1,
+            shape: LimitShape::from(*shape),
+            amplitude_mrad: limit(&base, cols, noise, level)
+                * if matches!(shape, JointShape::Backlash { .. }) {
+                    2.0
+                } else {
+                    1.0
+                },
+        })
+        .collect();
     let mut best: Option<(f64, JointSignature, Vec<DVector<f64>>)> = None;
     for (axis, shape, cols) in tried {
         let (coef, rss_full) = lstsq(&hcat(&base, &cols), &r);
@@ -203,7 +287,12 @@ pub fn find(
             cols,
         ));
     }
-    let (_, mut sig, cols) = best?;
+    let Some((_, mut sig, cols)) = best else {
+        return Some(Searched {
+            found: None,
+            limits,
+        });
+    };
     if sag {
         let without = problem.cached_jacobian(
             &[EffectKind::GeometryOffset, EffectKind::TrackerFrame],
@@ -221,5 +310,8 @@ pub fn find(
             LEVEL,
         ));
     }
-    Some(sig)
+    Some(Searched {
+        found: Some(sig),
+        limits,
+    })
 }

@@ -31,6 +31,7 @@
 pub mod arm;
 pub mod chain_calib;
 pub mod chain_diagnose;
+pub mod chain_finding;
 pub mod chain_residual;
 pub mod detect;
 pub mod finding;
@@ -53,6 +54,7 @@ pub mod prepare;
 pub mod prose;
 pub mod sanity;
 pub mod select;
+pub mod separation;
 pub mod signature;
 pub mod simulate;
 pub mod square;

@@ -6,12 +6,13 @@ use super::detect;
 use super::fit::{self, Problem};
 use super::forward::{forward, params_out, Forward, Joint, TestNoise};
 use super::gap::{gap_stats, noise_level, orientation_weight, NoiseSource};
-use super::joint_signature::{self, JointSignature};
+use super::joint_signature;
 use super::judge::{advise, combine, judge, Scores};
 use super::knock;
 use super::locate;
 use super::prepare::Prepared;
 use super::select;
+use super::separation::Separation;
 use super::signature::QuadraticGrowth;
 use super::square;
 use super::stats::{Test, LEVEL};
@@ -157,9 +158,8 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         static_judged,
         static_held_out,
     };
-    let (stages, final_problem, parts, knock, quadratic, joint_sig) = if repeats_over_time(problem)
-    {
-        let (stages, held, first, knock, quadratic, joint_sig) =
+    let (stages, final_problem, parts, knock, quadratic, searched) = if repeats_over_time(problem) {
+        let (stages, held, first, knock, quadratic, searched) =
             two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
         (
             stages,
@@ -167,7 +167,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             [first, Part::Static],
             knock,
             quadratic,
-            joint_sig,
+            searched,
         )
     } else {
         let one = ctx.select(problem, &[], &pool, static_held_out, None)?;
@@ -191,9 +191,13 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             [Part::All, Part::All],
             None,
             None,
-            None,
+            joint_signature::Searched::default(),
         )
     };
+    let joint_signature::Searched {
+        found: joint_sig,
+        limits: joint_limits,
+    } = searched;
     let last = stages.last().map(|s| &s.forward);
     // Before: the model in use, every position as measured (no pose
     // offsets), on the same held-out folds as the last stage's score.
@@ -329,6 +333,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         left_over_time: time_left,
         quadratic_growth: quadratic,
         joint_signature: joint_sig,
+        joint_limits,
         detection_limits,
         registration: prepared.registration.clone(),
         stages: stages
@@ -503,7 +508,7 @@ type Staged = (
     Part,
     Option<locate::Step>,
     Option<QuadraticGrowth>,
-    Option<JointSignature>,
+    joint_signature::Searched,
 );
 
 /// A knock as a step between the measurement times around it.
@@ -615,7 +620,33 @@ fn two_stages(
     // the square): else the stage's shrink would be measured from data
     // already corrected.
     let cv0_measured = thermal.cv0;
-    if significant_step(&original, &thermal, &ctx.noise, ctx.remainder_level()).is_some() {
+    // The step against the selection as measured. Tested only beyond the
+    // effects selected, a mount drift that followed most of a knock early
+    // in the warm-up left too little of it to test; tested first, a step
+    // takes up most of a smooth drift. Where the step passes its test
+    // beyond nothing (each pose's own offset) but not beyond the effects
+    // selected, the two are alternatives, and the one that predicts the
+    // held-out spans better is taken, as between candidates: the step
+    // then goes first, and the thermal effects must add significantly
+    // beyond it.
+    let step_first = || {
+        if thermal.selected.is_empty()
+            || significant_step(
+                &original,
+                &Forward::empty(&original),
+                &ctx.noise,
+                ctx.remainder_level(),
+            )
+            .is_none()
+        {
+            return false;
+        }
+        let gaps = original.position_gaps(&[], &all);
+        knock::score(&original, &time_folds, &gaps).is_some_and(|(cv, _)| cv < thermal.cv)
+    };
+    if significant_step(&original, &thermal, &ctx.noise, ctx.remainder_level()).is_some()
+        || step_first()
+    {
         thermal = Forward::empty(&original);
     }
     let mut knocked = None;
@@ -787,10 +818,10 @@ fn two_stages(
         ambiguous_sag = Some(Ambiguity {
             pair: ["geometry-offset".into(), "gravity-sag".into()],
             correlation: None,
-            separate_by: format!(
-                "measure more poses spread over the joint ranges (more numbers than a full kinematic calibration takes up: {} here), with the upper arm horizontal and vertical: from these, gravity-sag would take the static gap to {sag_cv:.3} mm held-out, but the arm's own geometry may explain it as well",
-                ctx.n_poses
-            ),
+            separate_by: Separation::CalibrationPoses {
+                poses: ctx.n_poses,
+                sag_cv_mm: sag_cv,
+            },
         });
     }
     statics.ambiguities.extend(ambiguous_sag);
@@ -800,12 +831,13 @@ fn two_stages(
     // direction the calibration leaves, and a calibration from 12-20 poses
     // takes up most of such an error. Gravity sag that adds nothing beyond
     // the calibration and the signature only stood in for it.
-    let joint_sig = if ctx.static_judged {
+    let searched = if ctx.static_judged {
         joint_signature::find(&held, &statics.selected, &ctx.noise, ctx.remainder_level())
     } else {
-        None
+        joint_signature::Searched::default()
     };
-    if joint_sig
+    if searched
+        .found
         .as_ref()
         .and_then(|s| s.sag_beyond)
         .is_some_and(|t| !t.significant())
@@ -841,7 +873,7 @@ fn two_stages(
     }
     let static_lof = ctx.static_lack_of_fit(&problem, &thermal, &held, &statics);
     let mut static_verdict = ctx.judge(&statics, static_lof, ctx.structured);
-    if joint_sig.is_some() {
+    if searched.found.is_some() {
         static_verdict = with_remainder(static_verdict);
     }
     Ok((
@@ -863,7 +895,7 @@ fn two_stages(
         first,
         knocked.map(|k| step_of(&problem, &k)),
         quadratic,
-        joint_sig,
+        searched,
     ))
 }
 

@@ -207,6 +207,9 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             list.join(", ")
         ));
     }
+    if let Some(limits) = joint_limit_words(d) {
+        words.push(limits);
+    }
     for a in &d.ambiguities {
         let why = match a.correlation {
             Some(c) => format!("correlation {c:.2}"),
@@ -214,10 +217,36 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         };
         words.push(format!(
             "{} and {} are nearly indistinguishable on these poses ({why}): {}.",
-            a.pair[0], a.pair[1], a.separate_by
+            a.pair[0],
+            a.pair[1],
+            a.separate_by.words()
         ));
     }
     words
+}
+
+/// Where the static stage looked for a joint's own error and found none,
+/// what it would have seen: per axis, the largest of its signatures'
+/// limits (any number of cycles tried, at the worst phase, or backlash).
+fn joint_limit_words(d: &Diagnosis) -> Option<String> {
+    if d.joint_signature.is_some() || d.joint_limits.is_empty() {
+        return None;
+    }
+    let mut per_axis: Vec<(usize, f64)> = Vec::new();
+    for l in &d.joint_limits {
+        match per_axis.iter_mut().find(|(a, _)| *a == l.axis) {
+            Some((_, m)) => *m = m.max(l.amplitude_mrad),
+            None => per_axis.push((l.axis, l.amplitude_mrad)),
+        }
+    }
+    let list: Vec<String> = per_axis
+        .iter()
+        .map(|(axis, m)| format!("axis {axis} above {m:.3} mrad"))
+        .collect();
+    Some(format!(
+        "Beyond a full kinematic calibration, a cyclic error of a joint angle (1 to 4 cycles per turn, at any phase) or backlash would have been seen (at the level its test is held to, with 90 % power): {}.",
+        list.join(", ")
+    ))
 }
 
 /// Whether what is left is said to change over time ([`after_words`]):

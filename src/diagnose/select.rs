@@ -313,28 +313,3 @@ pub fn collinearity(a: &[f64], b: &[f64]) -> f64 {
         (dot / (na * nb)).abs()
     }
 }
-
-/// Measurements that would tell two effects apart.
-pub fn separating_advice(a: EffectKind, b: EffectKind) -> String {
-    use EffectKind::*;
-    let pair = |x: EffectKind, y: EffectKind| (a == x && b == y) || (a == y && b == x);
-    if a.is_thermal() != b.is_thermal() {
-        return "measure the same poses at the cold start (t = 0) and again warm: static effects are there from the start, thermal ones are not".into();
-    }
-    if pair(ExpansionScale, ThermalLag) || (a == ThermalLag || b == ThermalLag) {
-        return "measure densely in the first hour of the warm-up and after the robot stops: a lag trails the motor temperatures, a scaled expansion follows them".into();
-    }
-    if pair(ArmBending, JointOffsetDrift) {
-        return "measure, at one temperature, poses with the arm folded and stretched: a bent arm turns the flange about the middle of the link, a drifting joint about the joint".into();
-    }
-    if a == MountDrift || b == MountDrift {
-        return "measure poses at widely different reach and height at the same temperature: a moving base shifts them all alike".into();
-    }
-    if pair(GeometryOffset, TrackerFrame) {
-        return "measure poses over a wide range of axes 2 and 3 (arm folded and stretched, high and low): frame errors move all points rigidly, length and zero errors do not".into();
-    }
-    if a == GravitySag || b == GravitySag {
-        return "measure poses with the upper arm horizontal and vertical at the same temperature: sag is largest with the arm stretched out horizontally".into();
-    }
-    "measure more poses spread over the joint ranges, at the cold start and warm".into()
-}

@@ -136,12 +136,23 @@ pub fn choose(
     }
     // The gap before anything, over time, is that of the data as measured.
     again.cv0 = thermal.cv0;
+    // Replaced: what the selection beyond the square no longer holds, and
+    // what it holds but adds nothing significant beyond the square and the
+    // rest refitted together (the same nested test: selected on the data
+    // with the square fitted alone taken out, an effect may follow what
+    // that fit left of the growth).
     let replaces: Vec<EffectKind> = thermal
         .selected
         .iter()
+        .chain(&again.selected)
         .copied()
-        .filter(|k| !again.selected.contains(k))
-        .collect();
+        .filter(|k| !again.selected.contains(k) || beyond_again.replaces.contains(k))
+        .fold(Vec::new(), |mut v, k| {
+            if !v.contains(&k) {
+                v.push(k);
+            }
+            v
+        });
     Ok(Choice::Taken(Box::new(Taken {
         problem: corrected,
         thermal: again,

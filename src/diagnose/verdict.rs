@@ -4,9 +4,10 @@
 
 use super::detect::DetectionLimit;
 use super::gap::{GapStats, Noise};
-use super::joint_signature::JointSignature;
+use super::joint_signature::{JointLimit, JointSignature};
 use super::locate::Where;
 use super::prepare::Registration;
+use super::separation::Separation;
 use super::signature::QuadraticGrowth;
 use super::stats::Test;
 use crate::model::{EffectEntry, EffectKind};
@@ -183,7 +184,7 @@ pub struct Ambiguity {
     /// one against the other; `None` where the tie showed only in the
     /// whole set (either in it scores alike).
     pub correlation: Option<f64>,
-    pub separate_by: String,
+    pub separate_by: Separation,
 }
 
 /// The whole diagnosis.
@@ -222,6 +223,11 @@ pub struct Diagnosis {
     /// of its angle, backlash), which no effect of the library has.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub joint_signature: Option<JointSignature>,
+    /// Where the static stage is judged, the detection limit of every
+    /// joint signature tried (a missed cyclic error or backlash below it
+    /// was within what the data could show).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub joint_limits: Vec<JointLimit>,
     /// For every effect of the library, the smallest size these poses,
     /// times and noise would have revealed.
     pub detection_limits: Vec<DetectionLimit>,

@@ -3,7 +3,9 @@
 
 use rapidtherm::diagnose::chain_calib::{self, Nominal, Sample};
 use rapidtherm::diagnose::chain_diagnose::{diagnose_chain, ChainData, ChainOptions, ChainSetup};
+use rapidtherm::diagnose::chain_finding::ChainThermal;
 use rapidtherm::diagnose::measurements::Measurements;
+use rapidtherm::model::EffectKind;
 use rapidtherm::robot::urdf;
 use std::path::Path;
 
@@ -100,11 +102,11 @@ fn ur5_real_data_geometry_not_heat() {
     // named, and geometry; nothing thermal.
     assert_eq!(
         d.named,
-        ["tracker-frame", "geometry-offset"],
+        [EffectKind::TrackerFrame, EffectKind::GeometryOffset],
         "{:?}",
         d.named
     );
-    assert!(d.thermal.contains("no temperatures"), "{}", d.thermal);
+    assert_eq!(d.thermal, ChainThermal::NoTemperatures);
     // Position-only data cannot see the first joint's origin apart from the
     // frame, nor an origin's turn about its own axis apart from the offset.
     for name in [

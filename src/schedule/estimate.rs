@@ -1,7 +1,7 @@
 //! The estimate: walk the program's entry routine from a start time and
 //! time each move, for when the user has no schedule of the real run.
 
-use super::walk::{Flow, Walker};
+use super::walk::{Flow, TargetPoses, Walker};
 use super::Schedule;
 use crate::error::{Error, ErrorKind, Remedy, Result};
 use crate::rapid::{Program, Routine, RoutineKind};
@@ -113,8 +113,10 @@ pub(super) const FALLBACK_SPEED: &str = "v1000";
 pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Result<Estimate> {
     start_checked(opts)?;
     let (module, routine) = find_entry(program, &opts.entry)?;
+    let poses = std::sync::Arc::new(TargetPoses::read(program));
     let walk = |defer: bool| -> Result<Walker> {
         let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
+        w.poses = poses.clone();
         if defer {
             w.deferred = Some(Vec::new());
         }

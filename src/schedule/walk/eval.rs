@@ -155,6 +155,15 @@ impl<'p> Walker<'p> {
     }
 
     pub(super) fn target_value(&self, i: usize) -> Result<Value> {
+        if let Some((pose, conf)) = self.poses.get(i) {
+            return Ok(Value::Rob(Box::new(Rob {
+                pose,
+                conf,
+                id: Some(i),
+                derived: None,
+                bases: Vec::new(),
+            })));
+        }
         // A target of a run is read into one slot, not made anew for every
         // move (a million moves made a million targets).
         let targets = self.program.targets();

@@ -384,8 +384,13 @@ impl<'p> Walker<'p> {
     /// Bases reached only through derived targets get those visits;
     /// a summary of targets never reached.
     pub(super) fn finish(&mut self) {
-        let visits = std::mem::take(&mut self.base_visits);
         let targets = self.program.targets();
+        self.schedule.name_targets(|i| {
+            let mut id = String::new();
+            targets.id_into(i, &mut id);
+            Arc::from(id)
+        });
+        let visits = std::mem::take(&mut self.base_visits);
         let visited = |s: &Schedule, i: usize| {
             let mut id = String::new();
             targets.id_into(i, &mut id).is_some() && s.times_of(i, &id).is_some()
@@ -791,7 +796,14 @@ impl<'p> Walker<'p> {
                 while (st > 0.0 && v <= b) || (st < 0.0 && v >= b) {
                     let before = self.steps;
                     self.count_step(frame, s)?;
-                    frame.vars.insert(key.clone(), Value::Num(v));
+                    // The loop's variable set in place: a million turns
+                    // made a million copies of its name.
+                    match frame.vars.get_mut(&key) {
+                        Some(slot) => *slot = Value::Num(v),
+                        None => {
+                            frame.vars.insert(key.clone(), Value::Num(v));
+                        }
+                    }
                     match self.exec_list(body, frame)? {
                         Flow::Normal => {}
                         other => {

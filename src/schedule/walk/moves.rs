@@ -637,20 +637,13 @@ impl<'p> Walker<'p> {
 
     pub(super) fn visit(&mut self, rob: &Rob, at_s: f64) {
         let t = at_s / 60.0;
-        let targets = self.program.targets();
-        // By target number: the identifier is read (from its literal, for
-        // a target of a run) at the first visit only.
-        let id = |i: usize| {
-            move || {
-                let mut id = String::new();
-                targets.id_into(i, &mut id);
-                Arc::<str>::from(id)
-            }
-        };
-        if let Some(i) = rob.id.filter(|&i| i < targets.len()) {
-            self.schedule.visit_target(i, t, id(i));
-        } else if let Some(i) = rob.derived.filter(|&i| i < targets.len()) {
-            self.schedule.visit_target(i, t, id(i));
+        let n = self.program.targets().len();
+        // By number: the identifiers are read after the walk
+        // ([`Walker::finish`]), on every core.
+        if let Some(i) = rob.id.filter(|&i| i < n) {
+            self.schedule.visit_number(i, t);
+        } else if let Some(i) = rob.derived.filter(|&i| i < n) {
+            self.schedule.visit_number(i, t);
             for &b in &rob.bases {
                 self.base_visits.push((b, t));
             }

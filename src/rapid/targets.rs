@@ -380,7 +380,7 @@ impl<'p> TargetIndex<'p> {
 }
 
 /// The hash of a name as RAPID compares names (without regard to case).
-fn name_hash(name: &[u8]) -> u64 {
+pub(crate) fn name_hash(name: &[u8]) -> u64 {
     use std::hash::BuildHasher;
     foldhash::fast::FixedState::default().hash_one(NoCase(name))
 }

@@ -1,6 +1,7 @@
 //! The estimate: walk the program's entry routine from a start time and
 //! time each move, for when the user has no schedule of the real run.
 
+use super::file::lower;
 use super::walk::{Flow, TargetPoses, Walker};
 use super::Schedule;
 use crate::error::{Error, ErrorKind, Remedy, Result};
@@ -211,26 +212,24 @@ fn clashes(e: &mut Estimate) {
         return;
     }
     // The robtargets' identifiers scanned once against the few
-    // jointtargets': a table of a million robtarget names is not made
-    // for a home position's MoveAbsJ.
+    // jointtargets': no table of a million robtarget names is made for a
+    // home position's MoveAbsJ.
     let joints: std::collections::HashSet<String> = e
         .joint_schedule
         .targets()
         .iter()
-        .map(|id| id.to_ascii_lowercase())
+        .map(|id| lower(id).into_owned())
         .collect();
-    let mut both: std::collections::HashSet<String> = std::collections::HashSet::new();
-    let mut lowered = String::new();
-    for id in e.schedule.targets() {
-        lowered.clear();
-        lowered.push_str(id);
-        lowered.make_ascii_lowercase();
-        if joints.contains(&lowered) {
-            both.insert(lowered.clone());
-        }
-    }
+    let both: std::collections::HashSet<String> = e
+        .schedule
+        .targets()
+        .iter()
+        .map(|id| lower(id))
+        .filter(|id| joints.contains(id.as_ref()))
+        .map(|id| id.into_owned())
+        .collect();
     for id in e.joint_schedule.targets() {
-        if both.contains(&id.to_ascii_lowercase()) {
+        if both.contains(lower(id).as_ref()) {
             e.notes.push(format!(
                 "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV lists the robtarget's visits only"
             ));

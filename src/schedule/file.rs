@@ -5,7 +5,6 @@
 use crate::csv_table::{CsvRow, CsvTable};
 use crate::digest::Encoder;
 use crate::error::{Error, Result};
-use crate::rapid::NoCase;
 use std::borrow::Cow;
 use std::sync::{Arc, OnceLock};
 
@@ -162,10 +161,10 @@ pub fn encode_visits<'a>(
     }
 }
 
-/// The hash of an identifier as RAPID compares names.
+/// The hash of an identifier as RAPID compares names (the program's own
+/// table of names hashes alike).
 fn name_hash(id: &str) -> u64 {
-    use std::hash::BuildHasher;
-    foldhash::fast::FixedState::default().hash_one(NoCase(id.as_bytes()))
+    crate::rapid::targets::name_hash(id.as_bytes())
 }
 
 /// The table of places by identifier of `order`.

@@ -139,17 +139,10 @@ impl<'p> Walker<'p> {
             .and_then(|r| r.data.iter().find(|d| d.name.eq_ignore_ascii_case(name)))
         {
             Some(d) => d,
-            None => {
-                let list = self.decls.get(&NoCase(name.as_bytes()))?;
-                let found = list
-                    .iter()
-                    .find(|(m, _)| *m == frame.module)
-                    .or_else(|| list.iter().find(|(_, d)| !d.local()))?;
-                match found.1 {
-                    Decl::Tree(d) => d,
-                    Decl::Run { .. } => return None,
-                }
-            }
+            None => match self.module_decl(name, frame.module)? {
+                (_, Decl::Tree(d)) => d,
+                (_, Decl::Run { .. }) => return None,
+            },
         };
         (decl.type_name.eq_ignore_ascii_case("robtarget") && decl.dims.len() == 1).then_some(decl)
     }
@@ -293,17 +286,21 @@ impl<'p> Walker<'p> {
             "false" => return Ok(Value::Bool(false)),
             _ => {}
         }
-        let decl = self.decls.get(&NoCase(key.as_bytes())).and_then(|list| {
-            list.iter()
-                .find(|(m, _)| *m == frame.module)
-                .or_else(|| list.iter().find(|(_, d)| !d.local()))
-                .copied()
-        });
-        match decl {
+        match self.module_decl(name, frame.module) {
             Some((m, Decl::Tree(d))) => self.decl_value(m, None, d),
             Some((_, Decl::Run { target, .. })) => self.target_value(target),
             None => Ok(Value::Ref(name.to_string())),
         }
+    }
+
+    /// The module data `name` names, seen from module `module`: that
+    /// module's own, else a task-wide one (not LOCAL elsewhere).
+    fn module_decl(&self, name: &str, module: usize) -> Option<(usize, Decl<'p>)> {
+        let list = self.decls.get(&NoCase(name.as_bytes()))?;
+        list.iter()
+            .find(|(m, _)| *m == module)
+            .or_else(|| list.iter().find(|(_, d)| !d.local()))
+            .copied()
     }
 
     pub(super) fn decl_value(

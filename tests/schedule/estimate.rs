@@ -748,3 +748,34 @@ ENDMODULE"
     let d = (290.0f64.powi(2) + 100.0f64.powi(2)).sqrt();
     assert_abs_diff_eq!(secs(own2, module2), d / 100.0, epsilon = 1e-9);
 }
+
+/// An inline robtarget and an inline jointtarget get the same identifier
+/// (`main#1`, two name spaces): the estimate says so, once, and its CSV
+/// lists the robtarget's visits only.
+#[test]
+fn an_identifier_of_both_kinds_is_noted() {
+    let src = format!(
+        "MODULE T
+    PROC main()
+        MoveL {}, v100, fine, tool0;
+        MoveAbsJ [[0,0,0,0,30,0],{EAX}], v100, fine, tool0;
+    ENDPROC
+ENDMODULE",
+        down(500.0, 0.0, 400.0)
+    );
+    let e = run(&src, &main_opts());
+    let clash: Vec<&String> = e
+        .notes
+        .iter()
+        .filter(|n| n.contains("two name spaces"))
+        .collect();
+    assert_eq!(clash.len(), 1, "{:?}", e.notes);
+    assert!(clash[0].contains("jointtarget main#1"), "{}", clash[0]);
+    assert_eq!(
+        e.to_csv()
+            .lines()
+            .filter(|l| l.starts_with("main#1"))
+            .count(),
+        1
+    );
+}

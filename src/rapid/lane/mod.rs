@@ -6,6 +6,7 @@
 //! and stays the authority on what is RAPID. A statement it began and
 //! left to the grammar is counted with its reason ([`Decline`]).
 
+mod array;
 mod cursor;
 mod decline;
 mod statement;

@@ -236,18 +236,25 @@ fn decl_rest(
             c.blank();
             let open = c.p;
             c.byte(b'[')?;
-            let mut elements = Vec::new();
-            loop {
-                elements.push(c.robtarget()?.0);
-                c.blank();
-                match c.s.get(c.p) {
-                    Some(b',') => c.p += 1,
-                    Some(b']') => break,
-                    _ => return None,
+            // A large value is read on every core; where that does not
+            // read it whole, in order (which finds where it fails).
+            let (elements, close) = match super::array::elements(c.s, c.p) {
+                Some(read) => read,
+                None => {
+                    let mut elements = Vec::new();
+                    loop {
+                        elements.push(c.robtarget()?.0);
+                        c.blank();
+                        match c.s.get(c.p) {
+                            Some(b',') => c.p += 1,
+                            Some(b']') => break,
+                            _ => return None,
+                        }
+                    }
+                    (elements, c.p)
                 }
-            }
-            let close = c.p;
-            c.p += 1;
+            };
+            c.p = close + 1;
             Value::Array {
                 size,
                 open,

@@ -122,9 +122,9 @@ pub fn write_table(
         align,
     };
     let mut buf = String::new();
-    layout.line(&mut buf, &mut header.iter().copied());
+    layout.line(&mut buf, header.iter().copied());
     let rule: Vec<String> = width.iter().map(|w| "-".repeat(*w)).collect();
-    layout.line(&mut buf, &mut rule.iter().map(String::as_str));
+    layout.line(&mut buf, rule.iter().map(String::as_str));
     out.write_all(buf.as_bytes())?;
     for group in parts.chunks(2 * rayon::current_num_threads().max(1)) {
         let texts: Vec<String> = group
@@ -132,7 +132,7 @@ pub fn write_table(
             .map(|part| {
                 let mut text = String::with_capacity(part.text.len() * 3 / 2);
                 for i in 0..part.len() {
-                    layout.line(&mut text, &mut part.row(i));
+                    layout.line(&mut text, part.row(i));
                 }
                 text
             })
@@ -153,7 +153,7 @@ struct Layout<'a> {
 impl Layout<'_> {
     /// One line of `cells` at the end of `out`: padded, two spaces apart,
     /// no blanks at its end.
-    fn line(&self, out: &mut String, cells: &mut dyn Iterator<Item = &str>) {
+    fn line<'c>(&self, out: &mut String, cells: impl Iterator<Item = &'c str>) {
         const SPACES: &str = "                                                                ";
         let pad = |out: &mut String, mut n: usize| {
             while n > 0 {
@@ -224,22 +224,29 @@ pub fn shortest(buf: &mut String, v: f64) {
 /// is the one shortest text of its value. `false` (nothing written)
 /// otherwise.
 pub fn shortest_of_literal(buf: &mut String, text: &str) -> bool {
-    let (negative, digits) = match text.as_bytes().first() {
+    shortest_of_literal_bytes(buf, text.as_bytes())
+}
+
+/// [`shortest_of_literal`] of a literal's bytes as the file holds them
+/// (a listing reads its numbers' text from the file).
+pub fn shortest_of_literal_bytes(buf: &mut String, text: &[u8]) -> bool {
+    let (negative, digits) = match text.first() {
         Some(b'-') => (true, &text[1..]),
         Some(b'+') => (false, &text[1..]),
         _ => (false, text),
     };
-    let (int, frac) = match digits.bytes().position(|c| c == b'.') {
+    let (int, frac) = match digits.iter().position(|&c| c == b'.') {
         Some(p) => (&digits[..p], &digits[p + 1..]),
-        None => (digits, ""),
+        None => (digits, &digits[digits.len()..]),
     };
     if int.is_empty() && frac.is_empty()
-        || !int.bytes().chain(frac.bytes()).all(|c| c.is_ascii_digit())
+        || !int.iter().all(u8::is_ascii_digit)
+        || !frac.iter().all(u8::is_ascii_digit)
     {
         return false;
     }
-    let int = int.trim_start_matches('0');
-    let frac = frac.trim_end_matches('0');
+    let int = &int[int.iter().position(|&c| c != b'0').unwrap_or(int.len())..];
+    let frac = &frac[..frac.iter().rposition(|&c| c != b'0').map_or(0, |p| p + 1)];
     if int.len() + frac.len() > 15 {
         return false;
     }
@@ -253,12 +260,17 @@ pub fn shortest_of_literal(buf: &mut String, text: &str) -> bool {
     if int.is_empty() {
         buf.push('0');
     }
-    buf.push_str(int);
+    buf.push_str(ascii(int));
     if !frac.is_empty() {
         buf.push('.');
-        buf.push_str(frac);
+        buf.push_str(ascii(frac));
     }
     true
+}
+
+/// Digits, checked to be: ASCII.
+fn ascii(digits: &[u8]) -> &str {
+    std::str::from_utf8(digits).unwrap_or_default()
 }
 
 /// [`shortest`] of `(v * 1e4).round() / 1e4`, what a listing shows of an
@@ -267,7 +279,6 @@ pub fn shortest_of_literal(buf: &mut String, text: &str) -> bool {
 /// digits) prints as it: written from the integer, without formatting a
 /// float.
 pub fn shortest_to_4_places(buf: &mut String, v: f64) {
-    use std::fmt::Write as _;
     let r = (v * 1e4).round();
     if r.is_nan() || r.abs() >= 1e15 {
         shortest(buf, r / 1e4);
@@ -278,14 +289,20 @@ pub fn shortest_to_4_places(buf: &mut String, v: f64) {
         buf.push('-');
     }
     let (int, mut frac) = (k.unsigned_abs() / 10_000, k.unsigned_abs() % 10_000);
-    let _ = write!(buf, "{int}");
+    buf.push_str(itoa::Buffer::new().format(int));
     if frac > 0 {
         let mut places = 4;
         while frac % 10 == 0 {
             frac /= 10;
             places -= 1;
         }
-        let _ = write!(buf, ".{frac:0places$}");
+        buf.push('.');
+        let mut digits = itoa::Buffer::new();
+        let digits = digits.format(frac);
+        for _ in digits.len()..places {
+            buf.push('0');
+        }
+        buf.push_str(digits);
     }
 }
 

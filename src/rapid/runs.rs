@@ -147,7 +147,9 @@ impl MoveRun {
     /// The identifier of literal `k` into `id` (its numbers not read).
     pub fn id_into(&self, k: usize, id: &mut String) {
         id.clear();
-        let _ = write!(id, "{}#{}", self.prefix, self.first as usize + k + 1);
+        id.push_str(&self.prefix);
+        id.push('#');
+        id.push_str(itoa::Buffer::new().format(self.first as usize + k + 1));
     }
 
     /// Literal `k` of the run into `t`, as the grammar makes it (its
@@ -336,7 +338,10 @@ impl ArrayRun {
     /// The identifier of element `k` into `id` (its numbers not read).
     pub fn id_into(&self, k: usize, id: &mut String) {
         id.clear();
-        let _ = write!(id, "{}{{{}}}", self.prefix, k + 1);
+        id.push_str(&self.prefix);
+        id.push('{');
+        id.push_str(itoa::Buffer::new().format(k + 1));
+        id.push('}');
     }
 
     /// Element `k` into `t`, as the grammar makes it.

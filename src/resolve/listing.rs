@@ -7,8 +7,8 @@
 use super::{declared_derived_usages, uses, Usage, UseRef};
 use crate::rapid::{Number, Program, Target};
 use crate::report::{
-    render_csv, render_table, shortest, shortest_of_literal, shortest_to_4_places, write_table,
-    Align, Rows,
+    render_csv, render_table, shortest, shortest_of_literal_bytes, shortest_to_4_places,
+    write_table, Align, Rows,
 };
 use crate::robot::euler::euler_zyx_deg;
 use crate::robot::frames::pose_from_rapid;
@@ -34,9 +34,9 @@ fn n(v: f64) -> String {
 /// [`n`] of a number of the source `src`, written at the end of `buf`:
 /// from its text where that gives the same.
 fn num(buf: &mut String, x: &Number, src: &[u8]) {
-    let text = x.text(src);
-    let same_sign = text.starts_with('-') == x.value.is_sign_negative();
-    if !(same_sign && shortest_of_literal(buf, text)) {
+    let text = src.get(x.span()).unwrap_or_default();
+    let same_sign = (text.first() == Some(&b'-')) == x.value.is_sign_negative();
+    if !(same_sign && shortest_of_literal_bytes(buf, text)) {
         shortest(buf, x.value);
     }
 }
@@ -265,11 +265,14 @@ impl Lister<'_> {
                 rows.cell(&t.id);
                 rows.cell(t.kind.as_str());
                 let (line, col) = (t.origin.pos.line, t.origin.pos.col);
-                let _ = if self.several {
-                    write!(rows.text(), "{}:{line}:{col}", prog.files[t.origin.file])
-                } else {
-                    write!(rows.text(), "{line}:{col}")
-                };
+                let at = rows.text();
+                if self.several {
+                    at.push_str(&prog.files[t.origin.file]);
+                    at.push(':');
+                }
+                at.push_str(itoa::Buffer::new().format(line));
+                at.push(':');
+                at.push_str(itoa::Buffer::new().format(col));
                 rows.end_cell();
                 match &t.derived {
                     Some(d) if t.value.is_none() => {

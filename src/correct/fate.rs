@@ -155,9 +155,13 @@ pub(super) fn fates(
                     for i in range.clone() {
                         let one = match decided.robtargets.get(&i) {
                             Some(&r) => Fate::LeftAlone(r),
-                            None if targets.get(i).is_some_and(|t| {
-                                t.kind == TargetKind::Derived && !t.written_with_expressions()
-                            }) =>
+                            // A derived target is held one by one: a run's
+                            // (a million elements of an array a loop moves
+                            // to) is never made just to be told it is not.
+                            None if targets.kind(i) == Some(TargetKind::Derived)
+                                && targets
+                                    .one_by_one(i)
+                                    .is_some_and(|t| !t.written_with_expressions()) =>
                             {
                                 Fate::Derived
                             }

@@ -2,7 +2,7 @@
 //! time each move, for when the user has no schedule of the real run.
 
 use super::file::lower;
-use super::walk::{Flow, TargetPoses, Walker};
+use super::walk::{Flow, ReachAhead, TargetPoses, Walker};
 use super::Schedule;
 use crate::error::{Error, ErrorKind, Remedy, Result};
 use crate::rapid::{Program, Routine, RoutineKind};
@@ -115,22 +115,25 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
     start_checked(opts)?;
     let (module, routine) = find_entry(program, &opts.entry)?;
     let poses = std::sync::Arc::new(TargetPoses::read(program));
-    let walk = |defer: bool| -> Result<Walker> {
+    let walk = |ahead: Option<ReachAhead>| -> Result<Walker> {
         let mut w = Walker::new(program, robot, opts.base_frame.as_ref())?;
         w.poses = poses.clone();
-        if defer {
-            w.deferred = Some(Vec::new());
-        }
+        w.deferred = ahead;
         walk_cycles(&mut w, (module, routine), opts)?;
         Ok(w)
     };
-    // Whether each target can be reached is asked of the arm after the
-    // walk, on every core; should one not be, the walk is taken again
-    // asking at each move, which finds it (and every other) in its place
-    // and does not time its move, as the controller would not run it.
-    let mut w = walk(true)?;
-    if !w.deferred.take().is_some_and(|d| all_reachable(robot, &d)) {
-        w = walk(false)?;
+    // Whether each target can be reached is asked of the arm on another
+    // core while the walk goes on (what is left after it, on every
+    // core); should one not be, the walk is taken again asking at each
+    // move, which finds it (and every other) in its place and does not
+    // time its move, as the controller would not run it.
+    let (mut w, reached) = std::thread::scope(|scope| -> Result<(Walker, bool)> {
+        let mut w = walk(Some(ReachAhead::start(scope, robot)))?;
+        let reached = w.deferred.take().is_some_and(|d| d.finish(robot));
+        Ok((w, reached))
+    })?;
+    if !reached {
+        w = walk(None)?;
     }
     let errors = std::mem::take(&mut w.errors);
     if let Some(e) = errors.into_error(|n| {
@@ -235,18 +238,6 @@ fn clashes(e: &mut Estimate) {
             ));
         }
     }
-}
-
-/// Whether the arm reaches each flange pose (in the robconf of its
-/// target, else in any).
-fn all_reachable(
-    robot: &Robot,
-    poses: &[(nalgebra::Isometry3<f64>, crate::robot::RobConf)],
-) -> bool {
-    use rayon::prelude::*;
-    poses.par_iter().all(|(flange, conf)| {
-        robot.reaches_with(flange, conf) || robot.ik(flange).is_ok_and(|s| !s.is_empty())
-    })
 }
 
 pub(super) fn find_entry<'p>(program: &'p Program, entry: &str) -> Result<(usize, &'p Routine)> {

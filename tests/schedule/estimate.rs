@@ -706,6 +706,29 @@ fn every_unreachable_target_is_listed_once() {
     }
 }
 
+/// A target out of reach is found wherever its move falls among the
+/// poses the walk leaves to another core: in the first chunk of
+/// thousands (answered by that core while the walk goes on) or the last
+/// (answered when the walk ends). Were either answer lost, the estimate
+/// would time the move as if reached and return `Ok`.
+#[test]
+fn a_target_out_of_reach_is_found_in_any_chunk_of_poses() {
+    let near = down(500.0, 0.0, 400.0);
+    let far = down(3000.0, 0.0, 400.0);
+    for far_first in [true, false] {
+        let far_move = "  MoveL pFar, v100, fine, tool0;\n";
+        let src = format!(
+            "MODULE T\n CONST robtarget pFar := {far};\n CONST robtarget pNear := {near};\n PROC main()\n{}  FOR i FROM 1 TO 10000 DO\n   MoveL pNear, v100, fine, tool0;\n  ENDFOR\n{} ENDPROC\nENDMODULE\n",
+            if far_first { far_move } else { "" },
+            if far_first { "" } else { far_move },
+        );
+        let program = rapid::parse("t.mod", src.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        let e = estimate(&program, &Robot::irb140(), &main_opts()).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Unreachable, "{e}");
+        assert!(e.message.contains("pFar "), "{e}");
+    }
+}
+
 /// An element `pA{i}` is the element of the array the name finds where a
 /// plain name would be found: the routine's own array before the
 /// module's, and a module's LOCAL array in that module only.

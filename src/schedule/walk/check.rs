@@ -4,7 +4,7 @@
 //! target is recorded once ([`Walker::errors`]) and its move skipped, so
 //! that the walk finds them all and the estimate lists them together.
 //! Reach is the costly question (an IK per pose): a first walk defers it
-//! ([`Walker::deferred`]) to be asked on every core after, and only when
+//! ([`Walker::deferred`]) to be asked on another core as it goes, and only when
 //! a pose is out of reach is the walk taken again asking at each move.
 
 use super::*;

@@ -11,8 +11,10 @@ mod eval;
 mod instant;
 mod moves;
 mod poses;
+mod reach;
 
 pub use poses::TargetPoses;
+pub(crate) use reach::ReachAhead;
 
 use instant::is_instant_builtin;
 
@@ -167,9 +169,9 @@ pub(super) struct Walker<'p> {
     /// a million times.
     pub(super) last_speed: Option<(NamesAt, SpeedData)>,
     pub(super) last_frames: Option<(NamesAt, std::rc::Rc<(ToolData, WobjData)>)>,
-    /// Flange poses whose reach is asked after the walk, and the robconf
-    /// of their targets; `None`: asked at each move.
-    pub(super) deferred: Option<Vec<(Isometry3<f64>, RobConf)>>,
+    /// Flange poses whose reach is asked on another core, and the
+    /// robconf of their targets; `None`: asked at each move.
+    pub(super) deferred: Option<ReachAhead>,
     /// Each robtarget's pose and robconf, read before the walk on every
     /// core ([`TargetPoses::read`]); empty: read as the walk meets them.
     pub(super) poses: std::sync::Arc<TargetPoses>,

@@ -8,6 +8,7 @@
 
 use crate::error::{Error, ErrorKind, Location, Result};
 use crate::rapid::nocase::NoCase;
+use crate::rapid::targets::name_hash;
 use crate::rapid::values::Scope;
 use crate::rapid::Program;
 
@@ -34,32 +35,35 @@ enum Space {
 /// declaration, naming the first.
 pub(super) fn refuse_duplicates<'a>(prog: &'a Program, refs: &[(&str, &'a [u8])]) -> Result<()> {
     // A name declared twice in one scope is declared twice in the task, so
-    // a first pass finds the names declared more than once anywhere, with
-    // one borrowed key each (a large program declares a million names, and
-    // a lower-case copy per name and scope was most of this check's time);
-    // the scopes are compared for those names alone.
+    // a first pass finds the names that may be declared more than once
+    // anywhere, and the scopes are compared for those names alone. It
+    // sorts the names' hashes (as RAPID compares names) on every core:
+    // counting a million names in a table was a cache miss per name, on
+    // one core. Two names alike have one hash; two hashes alike make
+    // candidates, which the second pass compares as names.
+    use rayon::slice::ParallelSliceMut;
     let names: usize = prog.runs.decls.iter().map(|r| r.items.len()).sum();
-    let mut seen: foldhash::HashMap<NoCase<'a>, bool> =
-        foldhash::HashMap::with_capacity_and_hasher(names, Default::default());
+    let mut hashes: Vec<u64> = Vec::with_capacity(names);
     each_declaration(prog, refs, |_, name, _, _| {
-        seen.entry(NoCase(name.as_bytes()))
-            .and_modify(|twice| *twice = true)
-            .or_insert(false);
+        hashes.push(name_hash(name.as_bytes()));
     });
-    let twice: foldhash::HashSet<NoCase<'a>> = seen
-        .into_iter()
-        .filter_map(|(name, twice)| twice.then_some(name))
+    hashes.par_sort_unstable();
+    let twice: foldhash::HashSet<u64> = hashes
+        .windows(2)
+        .filter(|w| w[0] == w[1])
+        .map(|w| w[0])
         .collect();
+    drop(hashes);
     if twice.is_empty() {
         return Ok(());
     }
     let mut first: foldhash::HashMap<(Space, NoCase<'a>), At> = Default::default();
     let mut errors = Vec::new();
     each_declaration(prog, refs, |spaces, name, at, what| {
-        let key = NoCase(name.as_bytes());
-        if !twice.contains(&key) {
+        if !twice.contains(&name_hash(name.as_bytes())) {
             return;
         }
+        let key = NoCase(name.as_bytes());
         for &space in spaces {
             let Some(seen) = first.get(&(space, key)).copied() else {
                 first.insert((space, key), at);

@@ -11,7 +11,7 @@ use crate::rapid::constants::{Constants, Site};
 use crate::rapid::{Expr, FunctionCall, Program, Target};
 use crate::resolve::dataflow::{runtime_writes, Write};
 use crate::resolve::monitoring::{Monitor, Monitoring};
-use crate::resolve::{uses, Frames, Uses};
+use crate::resolve::{uses_with, Frames, MoveLookup, Uses};
 use std::collections::{HashMap, HashSet};
 use std::sync::{Mutex, OnceLock};
 
@@ -23,6 +23,9 @@ pub(super) struct Run<'a> {
     pub states: States<'a>,
     pub options: &'a Options,
     pub frames: Frames,
+    /// What the moves' target arguments are looked up in (built once for
+    /// the uses here and the moves' fates).
+    pub lookup: MoveLookup<'a>,
     pub uses: Uses<'a>,
     /// Configuration monitoring at every move (`ConfL`, `ConfJ`).
     pub monitoring: Monitoring,
@@ -60,7 +63,8 @@ impl<'a> Run<'a> {
         if let When::At(m) = options.when {
             let _ = states.remember(m);
         }
-        let uses = uses(program);
+        let lookup = MoveLookup::new(program);
+        let uses = uses_with(program, &lookup);
         let entry = match &options.when {
             When::Schedule {
                 source: ScheduleSource::Estimate(request),
@@ -80,6 +84,7 @@ impl<'a> Run<'a> {
                 Some(base) => Frames::of_program(program)?.placed(base),
                 None => Frames::of_program(program)?,
             },
+            lookup,
             uses,
             monitoring,
             unmonitored,

@@ -13,7 +13,7 @@
 
 use super::outcome::{Fate, Kind, LeftAlone, MoveCounts, MoveFate, Reason};
 use crate::rapid::{Expr, Program, Routine, TargetKind};
-use crate::resolve::{each_move_instruction, Frames, Move, Point, Through};
+use crate::resolve::{each_move_instruction_with, Frames, Move, MoveLookup, Point, Through};
 use std::collections::HashMap;
 
 /// What the run decided of its targets, which the moves' fates are read
@@ -31,8 +31,9 @@ pub(super) struct Decided<'d> {
 /// Every move instruction's fate (its rows where `rows`), their counts,
 /// and a left-alone row for each target argument that reaches no target
 /// (one per name and reason: the first move's place, with the count).
-pub(super) fn fates(
-    program: &Program,
+pub(super) fn fates<'p>(
+    program: &'p Program,
+    lookup: &MoveLookup<'p>,
     decided: &Decided,
     rows: bool,
 ) -> (Vec<MoveFate>, MoveCounts, Vec<LeftAlone>) {
@@ -58,7 +59,7 @@ pub(super) fn fates(
     let mut counts = MoveCounts::default();
     let mut unread: Vec<LeftAlone> = Vec::new();
     let mut unread_at: HashMap<(String, Reason), (usize, usize)> = HashMap::new();
-    each_move_instruction(program, &mut |m: &Move| {
+    each_move_instruction_with(program, lookup, &mut |m: &Move| {
         let routine = routines.get(&(m.module, m.routine)).copied();
         // One row per name and reason: the first move's place, with the
         // count of moves.

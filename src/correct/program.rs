@@ -209,16 +209,22 @@ fn correct_all(
     }
     // Derived targets: left as written, their bases' corrections carry
     // them; what remains at each is its residual.
-    let index_of = program.target_index(|t| t.kind != TargetKind::Inline);
-    let lookup = (&run.frames, &run.uses, &index_of);
+    // The index by name is built only for them: a million declared
+    // targets made it a second's work on one core.
+    let index_of = match found.derived.is_empty() {
+        true => None,
+        false => Some(program.target_index(|t| t.kind != TargetKind::Inline)),
+    };
     let passed = match found.derived.is_empty() {
         true => HashMap::new(),
         false => crate::resolve::settled_parameters(program),
     };
-    let derived: Vec<Derived> = found
-        .derived
-        .iter()
-        .map(|&i| {
+    let lookup = index_of
+        .as_ref()
+        .map(|index| (&run.frames, &run.uses, index));
+    let derived: Vec<Derived> = (found.derived.iter())
+        .filter_map(|&i| Some((i, lookup?)))
+        .map(|(i, lookup)| {
             progress.step();
             let target = targets.at(i);
             let reads: Vec<&str> = match passed.is_empty() {
@@ -262,6 +268,7 @@ fn correct_all(
     // targets', and a row for each argument that reaches none.
     let (moves, move_counts, unread) = fate::fates(
         program,
+        &run.lookup,
         &fate::Decided {
             robtargets: &by_index,
             others: &left_alone,

@@ -21,6 +21,7 @@ use std::collections::HashMap;
 pub mod arm;
 mod calls;
 pub mod dataflow;
+mod each_move;
 mod frame_vars;
 pub mod listing;
 pub mod monitoring;
@@ -30,10 +31,11 @@ mod per_call;
 mod uses;
 
 pub use frame_vars::frame_variables;
-pub use moves::{each_move_instruction, Move, Point};
+pub use moves::{each_move_instruction, each_move_instruction_with, Move, Point};
 pub use params::settled_parameters;
 pub use per_call::unsettled_frame_parameters;
 
+use each_move::{each_move, reached_by_routine};
 use uses::{offset32, Packed, Site, UsesBuilder};
 pub use uses::{UseRef, Uses};
 
@@ -238,8 +240,32 @@ pub enum Through {
 /// (`Offs(p10, ...)`) the moves to the derived pose, since the offset is
 /// taken in the same frame.
 pub fn uses(program: &Program) -> Uses<'_> {
-    let (index, aliases) = (move_index(program), aliases_and_parameters(program));
-    let refs = Refs::new(program, &index, &aliases);
+    uses_with(program, &MoveLookup::new(program))
+}
+
+/// What a move's target argument is looked up in: the targets a move can
+/// name by identifier, and what variables and settled parameters are
+/// assigned from. A job that goes over the moves more than once ([`uses`],
+/// then [`each_move_instruction`]) builds it once: for a million declared
+/// targets each build was a second on one core.
+pub struct MoveLookup<'p> {
+    index: TargetIndex<'p>,
+    aliases: HashMap<String, Vec<String>>,
+}
+
+impl<'p> MoveLookup<'p> {
+    pub fn new(program: &'p Program) -> MoveLookup<'p> {
+        MoveLookup {
+            index: move_index(program),
+            aliases: aliases_and_parameters(program),
+        }
+    }
+}
+
+/// [`uses`], looked up in `lookup` (built for `program`).
+pub fn uses_with<'p>(program: &'p Program, lookup: &MoveLookup<'p>) -> Uses<'p> {
+    let (index, aliases) = (&lookup.index, &lookup.aliases);
+    let refs = Refs::new(program, index, aliases);
     let mut b = UsesBuilder::new(program.targets());
     // A tool or work object assigned at run time moves with each tool or
     // work object it is assigned from.
@@ -249,8 +275,9 @@ pub fn uses(program: &Program) -> Uses<'_> {
         _ => None,
     };
     let pairing = per_call::Pairing::new(program);
+    let mut reached_all = reached_by_routine(program, &refs);
     each_move(program, &mut |module, reach, at| {
-        let reached = refs.targets(reach, (module, at.routine));
+        let reached = reached_all.next().unwrap_or_default();
         if reached.is_empty() {
             return;
         }
@@ -456,81 +483,6 @@ enum Reach<'a> {
     Expr(&'a Expr),
     /// A plain name (a run's move by name).
     Name(&'a str),
-}
-
-/// Where a move is, and what it moves with.
-struct MoveAt<'a> {
-    tool: Option<&'a str>,
-    wobj: Option<&'a str>,
-    instruction: &'a str,
-    routine: &'a str,
-    line: u32,
-    file: usize,
-    offset: usize,
-}
-
-impl MoveAt<'_> {
-    fn usage(&self, through: Through) -> Usage {
-        Usage {
-            through,
-            tool: self.tool.map(str::to_string),
-            wobj: self.wobj.map(str::to_string),
-            instruction: self.instruction.to_string(),
-            routine: self.routine.to_string(),
-            line: self.line,
-            file: self.file,
-            offset: self.offset,
-        }
-    }
-}
-
-/// Every target argument of every move instruction (ToPoint, and the
-/// CirPoint of circular moves) with its module's name and where the move
-/// is: the statements of every routine, and the moves by name of the
-/// runs (a run's literals are reached by their own move alone, and left
-/// out).
-fn each_move(program: &Program, visit: &mut dyn FnMut(&str, Reach, &MoveAt)) {
-    for module in &program.modules {
-        for routine in &module.routines {
-            for body in routine_bodies(routine) {
-                walk_statements(body, &mut |s| match &s.kind {
-                    StatementKind::Call(call) => {
-                        let Some(m) = call.motion() else { return };
-                        let tool = m.tool.map(describe);
-                        let wobj = m.wobj.map(describe);
-                        let at = MoveAt {
-                            tool: tool.as_deref(),
-                            wobj: wobj.as_deref(),
-                            instruction: &call.name,
-                            routine: &routine.name,
-                            line: s.pos.line,
-                            file: module.file,
-                            offset: s.pos.offset,
-                        };
-                        for expr in [m.via, m.to].into_iter().flatten() {
-                            visit(module.name.as_ref(), Reach::Expr(expr), &at);
-                        }
-                    }
-                    StatementKind::Moves(run) => {
-                        for mv in program.moves(*run) {
-                            let Some(name) = mv.named() else { continue };
-                            let at = MoveAt {
-                                tool: mv.tool().map(|t| &**t),
-                                wobj: mv.wobj().map(|w| &**w),
-                                instruction: mv.instruction(),
-                                routine: &routine.name,
-                                line: mv.line(),
-                                file: module.file,
-                                offset: mv.offset(),
-                            };
-                            visit(module.name.as_ref(), Reach::Name(name), &at);
-                        }
-                    }
-                    _ => {}
-                });
-            }
-        }
-    }
 }
 
 /// Every statement of a list, nested ones included, in source order: the

@@ -7,7 +7,7 @@
 //!
 //! [`uses`]: super::uses
 
-use super::{Reach, Reached, Refs, Through};
+use super::{MoveLookup, Reach, Reached, Refs, Through};
 use crate::rapid::{Expr, Program, StatementKind, TargetKind};
 use std::collections::HashMap;
 
@@ -54,11 +54,17 @@ pub struct Move<'a> {
 /// Every move instruction of `program`, in program order (module by
 /// module, routine by routine, statements in source order).
 pub fn each_move_instruction(program: &Program, visit: &mut dyn FnMut(&Move)) {
-    let (index, aliases) = (
-        super::move_index(program),
-        super::aliases_and_parameters(program),
-    );
-    let refs = Refs::new(program, &index, &aliases);
+    each_move_instruction_with(program, &MoveLookup::new(program), visit);
+}
+
+/// [`each_move_instruction`], looked up in `lookup` (built for `program`).
+pub fn each_move_instruction_with<'p>(
+    program: &'p Program,
+    lookup: &MoveLookup<'p>,
+    visit: &mut dyn FnMut(&Move),
+) {
+    let (index, aliases) = (&lookup.index, &lookup.aliases);
+    let refs = Refs::new(program, index, aliases);
     let joints: HashMap<String, usize> = program
         .jointtargets()
         .iter()

@@ -9,6 +9,7 @@
 
 use super::{MoveLookup, Reach, Reached, Refs, Through};
 use crate::rapid::{Expr, Program, StatementKind, TargetKind};
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// One target argument of a move (its ToPoint, or the CirPoint of a
@@ -248,40 +249,57 @@ pub fn each_move_instruction_with<'p>(
                         });
                     }
                     StatementKind::Moves(run) => {
-                        for mv in program.moves(*run) {
-                            let points = match mv.named() {
-                                Some(name) => vec![Point {
-                                    expr: None,
-                                    name: Some(name),
-                                    robtargets: reached(Reach::Name(name), scope),
-                                    jointtargets: Vec::new(),
-                                    unread_passed: unread(None, Some(name), false, scope),
-                                }],
-                                None => mv
-                                    .targets()
-                                    .map(|i| Point {
+                        // The targets a run's moves name are looked up a
+                        // window at a time on every core: a million names
+                        // among a million targets, a cache miss each,
+                        // were most of this walk on one core.
+                        let mut moves = program.moves(*run);
+                        let mut window = Vec::with_capacity(WINDOW);
+                        loop {
+                            window.clear();
+                            window.extend(moves.by_ref().take(WINDOW));
+                            if window.is_empty() {
+                                break;
+                            }
+                            let found: Vec<Option<Vec<_>>> = (window.par_iter())
+                                .with_min_len(256)
+                                .map(|mv| mv.named().map(|n| reached(Reach::Name(n), scope)))
+                                .collect();
+                            for (mv, found) in window.iter().zip(found) {
+                                let points = match (mv.named(), found) {
+                                    (Some(name), Some(robtargets)) => vec![Point {
                                         expr: None,
-                                        name: None,
-                                        robtargets: vec![(i..i + 1, Through::Direct)],
+                                        name: Some(name),
+                                        robtargets,
                                         jointtargets: Vec::new(),
-                                        unread_passed: Vec::new(),
-                                    })
-                                    .collect(),
-                            };
-                            visit(&Move {
-                                instruction: mv.instruction(),
-                                module: scope.0,
-                                routine: scope.1,
-                                file: module.file,
-                                line: mv.line(),
-                                col: col_of(src, mv.offset()),
-                                offset: mv.offset(),
-                                tool: mv.tool().map(|t| t.to_string()),
-                                wobj: mv.wobj().map(|w| w.to_string()),
-                                joints: false,
-                                known: true,
-                                points,
-                            });
+                                        unread_passed: unread(None, Some(name), false, scope),
+                                    }],
+                                    _ => mv
+                                        .targets()
+                                        .map(|i| Point {
+                                            expr: None,
+                                            name: None,
+                                            robtargets: vec![(i..i + 1, Through::Direct)],
+                                            jointtargets: Vec::new(),
+                                            unread_passed: Vec::new(),
+                                        })
+                                        .collect(),
+                                };
+                                visit(&Move {
+                                    instruction: mv.instruction(),
+                                    module: scope.0,
+                                    routine: scope.1,
+                                    file: module.file,
+                                    line: mv.line(),
+                                    col: col_of(src, mv.offset()),
+                                    offset: mv.offset(),
+                                    tool: mv.tool().map(|t| t.to_string()),
+                                    wobj: mv.wobj().map(|w| w.to_string()),
+                                    joints: false,
+                                    known: true,
+                                    points,
+                                });
+                            }
                         }
                     }
                     _ => {}
@@ -290,6 +308,9 @@ pub fn each_move_instruction_with<'p>(
         }
     }
 }
+
+/// Moves of a run looked up at once, on every core.
+const WINDOW: usize = 1 << 16;
 
 /// The column (1-based, in bytes: RAPID is written in Latin-1) of byte
 /// `offset` of `src`.

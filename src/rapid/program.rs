@@ -152,6 +152,11 @@ impl Program {
         self.runs.decls.get(run).and_then(|r| r.scope)
     }
 
+    /// How many declarations declaration run `run` holds.
+    pub fn declared_count(&self, run: usize) -> usize {
+        self.runs.decls.get(run).map_or(0, |r| r.items.len())
+    }
+
     /// The declared names of declaration run `run` as written, each with
     /// the byte offset of its declaration and its target's number.
     pub fn declared_names(&self, run: usize) -> Vec<(&str, usize, usize)> {

@@ -133,7 +133,7 @@ pub(super) struct Walker<'p> {
     /// (file, byte offset) of a derived expression → its target.
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
-    pub(super) decls: FastMap<NoCase<'p>, Vec<(usize, Decl<'p>)>>,
+    pub(super) decls: FastMap<NoCase<'p>, DeclList<'p>>,
     /// Procedures and functions by lower-case name: (module, routine).
     pub(super) routines: FastMap<String, Vec<(usize, &'p Routine)>>,
     /// Robtarget variables assigned during the walk (module data).
@@ -178,6 +178,10 @@ pub(super) struct Walker<'p> {
 }
 
 /// Names as written, in a module and routine.
+/// The declarations of one name, with their modules' numbers, in the
+/// program's order: nearly always one.
+pub(super) type DeclList<'p> = smallvec::SmallVec<[(usize, Decl<'p>); 1]>;
+
 /// A module's declaration: in the tree, or a robtarget of a run of the
 /// fast lane's (its target's number).
 #[derive(Debug, Clone, Copy)]
@@ -250,7 +254,21 @@ impl<'p> Walker<'p> {
         // Borrowed names, compared as RAPID compares them: a lower-case
         // copy of each of a million declared names cost as much as the
         // rest of this table.
-        let mut decls: FastMap<NoCase<'p>, Vec<(usize, Decl)>> = FastMap::default();
+        // Room for every name at once: growing the table hashed each name
+        // again at every doubling, reading it from the source, and was a
+        // second of a million declared targets' walk. A name declared once
+        // keeps its one declaration in the entry, with no vector of its
+        // own to make and free.
+        let names = (program.modules.iter())
+            .map(|m| {
+                m.data.len()
+                    + (m.decl_runs.iter())
+                        .map(|&r| program.declared_count(r))
+                        .sum::<usize>()
+            })
+            .sum();
+        let mut decls: FastMap<NoCase<'p>, DeclList<'p>> =
+            FastMap::with_capacity_and_hasher(names, Default::default());
         let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
         for (mi, m) in program.modules.iter().enumerate() {
             for d in &m.data {

@@ -536,7 +536,10 @@ fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {
 /// A step in time in what `thermal` leaves over time (each pose's own
 /// offset taken out), when it is significant: an F test of its three
 /// components against the noise, at the level shared among the splits
-/// tried.
+/// tried. Where a growth with the square of the temperatures adds
+/// significantly beyond `thermal` (at `level`), the step is tested beyond
+/// both (`square::left_beyond`): the growth is a candidate too, and the
+/// part of it the effects leave is no step.
 fn significant_step(
     centred: &Problem,
     thermal: &Forward,
@@ -544,7 +547,9 @@ fn significant_step(
     level: f64,
 ) -> Option<knock::Knock> {
     let all: Vec<usize> = (0..centred.rows.len()).collect();
-    let gaps = centred.position_gaps(&thermal.effects(), &all);
+    let effects = thermal.effects();
+    let gaps = square::left_beyond(centred, &effects, noise, level)
+        .unwrap_or_else(|| centred.position_gaps(&effects, &all));
     let (k, rss0, rss1, tried) = knock::best(centred, &all, &gaps)?;
     let t = Test::nested(
         rss0,

@@ -16,7 +16,7 @@ use super::plausible;
 use super::unidentified::Unidentified;
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::effects::GEOMETRY_ORIGINS_FROM;
-use crate::model::{predict, Base, Effect, EffectKind, LinkLags, RowState};
+use crate::model::{Base, Effect, EffectKind, LinkLags, RowFree, RowState};
 use crate::robot::Joints;
 use crate::thermal::MotorTemps;
 use crate::thermal::TempHistory;
@@ -221,6 +221,7 @@ impl Problem {
         rows: &[usize],
         lagged: Option<&[[MotorTemps; 4]]>,
     ) -> Vec<nalgebra::Isometry3<f64>> {
+        let free = RowFree::new(all);
         rows.iter()
             .filter_map(|&i| self.rows.get(i))
             .enumerate()
@@ -230,7 +231,7 @@ impl Problem {
                     temps: r.temps,
                     lagged: lagged.and_then(|l| l.get(k).copied()),
                 };
-                predict(&self.base, all, &state)
+                crate::model::predict_with(&self.base, all, &free, &state)
             })
             .collect()
     }

@@ -24,6 +24,7 @@ pub use effects::{Effect, EffectKind};
 pub use expansion::{LinkThermal, ThermalExpansion};
 pub use file::{EffectEntry, HeatingSection, Model, RobotSection};
 pub use perturb::{
-    fk_perturbed, lag_taus, perturbation, predict, Base, Geometry, LinkLags, RowState, Warm,
+    fk_perturbed, lag_taus, perturbation, perturbation_with, predict, predict_with, Base, Geometry,
+    LinkLags, RowFree, RowState, Warm,
 };
 pub use warm::{Moment, State, States, WarmRobot};

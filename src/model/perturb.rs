@@ -113,8 +113,64 @@ pub struct RowState {
     pub lagged: Option<[MotorTemps; 4]>,
 }
 
+/// What `effects` make of every row alike, computed once for many rows: a
+/// geometry offset's joint-origin transforms and a tracker frame's
+/// transform, per effect (in its order). Evaluating a fit's rows, they were
+/// a third of the chain's cost when made again for each row.
+pub struct RowFree {
+    per_effect: Vec<Fixed>,
+}
+
+enum Fixed {
+    None,
+    Origins(Box<[Isometry3<f64>; 6]>),
+    Frame(Isometry3<f64>),
+}
+
+impl RowFree {
+    pub fn new(effects: &[Effect]) -> RowFree {
+        let small = |e: &Effect, k: usize| {
+            Isometry3::from_parts(
+                Translation3::new(e.get(k), e.get(k + 1), e.get(k + 2)),
+                UnitQuaternion::from_scaled_axis(
+                    Vector3::new(e.get(k + 3), e.get(k + 4), e.get(k + 5)) * 1e-3,
+                ),
+            )
+        };
+        let per_effect = effects
+            .iter()
+            .map(|e| match e.kind {
+                EffectKind::GeometryOffset => {
+                    let g = super::effects::GEOMETRY_ORIGINS_FROM;
+                    // Joint origins only where they are not all zero: the
+                    // products they add are a third of the chain's cost.
+                    if (g..g + 36).any(|k| e.get(k) != 0.0) {
+                        Fixed::Origins(Box::new(std::array::from_fn(|j| small(e, g + 6 * j))))
+                    } else {
+                        Fixed::None
+                    }
+                }
+                EffectKind::TrackerFrame => Fixed::Frame(small(e, 0)),
+                _ => Fixed::None,
+            })
+            .collect();
+        RowFree { per_effect }
+    }
+}
+
 /// The expanded base geometry of a row and the perturbation of `effects`.
 pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Warm, Perturbation) {
+    perturbation_with(base, effects, &RowFree::new(effects), row)
+}
+
+/// [`perturbation`] with what the effects make of every row alike computed
+/// before (`free`, of these `effects`).
+pub fn perturbation_with(
+    base: &Base,
+    effects: &[Effect],
+    free: &RowFree,
+    row: &RowState,
+) -> (Warm, Perturbation) {
     let th = &base.thermal;
     let [l_lower, l_upper] = base.nominal.arm_lengths();
     let mut pert = Perturbation {
@@ -135,7 +191,7 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Warm, P
     };
     let mut scale = [1.0; 4];
     let mut thermal_lengths = false;
-    for e in effects {
+    for (ei, e) in effects.iter().enumerate() {
         match e.kind {
             EffectKind::ExpansionScale => {
                 thermal_lengths = true;
@@ -188,32 +244,19 @@ pub fn perturbation(base: &Base, effects: &[Effect], row: &RowState) -> (Warm, P
                 }
                 pert.dlen[5] += e.get(11);
                 pert.dlen[6] += e.get(12);
-                let g = super::effects::GEOMETRY_ORIGINS_FROM;
-                // Joint origins only where they are not all zero: the
-                // products they add are a third of the chain's cost.
-                if (g..g + 36).any(|k| e.get(k) != 0.0) {
+                if let Some(Fixed::Origins(small)) = free.per_effect.get(ei) {
                     let origins = pert.origin.get_or_insert([Isometry3::identity(); 6]);
-                    for (j, o) in origins.iter_mut().enumerate() {
-                        let k = g + 6 * j;
-                        let small = Isometry3::from_parts(
-                            Translation3::new(e.get(k), e.get(k + 1), e.get(k + 2)),
-                            UnitQuaternion::from_scaled_axis(
-                                Vector3::new(e.get(k + 3), e.get(k + 4), e.get(k + 5)) * 1e-3,
-                            ),
-                        );
-                        *o = small * *o;
+                    for (o, s) in origins.iter_mut().zip(small.iter()) {
+                        *o = s * *o;
                     }
                 }
+                let g = super::effects::GEOMETRY_ORIGINS_FROM;
                 pert.point += Vector3::new(e.get(g + 36), e.get(g + 37), e.get(g + 38));
             }
             EffectKind::TrackerFrame => {
-                let t = Translation3::new(e.get(0), e.get(1), e.get(2));
-                let r = UnitQuaternion::from_scaled_axis(Vector3::new(
-                    e.get(3) * 1e-3,
-                    e.get(4) * 1e-3,
-                    e.get(5) * 1e-3,
-                ));
-                pert.frame = Isometry3::from_parts(t, r) * pert.frame;
+                if let Some(Fixed::Frame(f)) = free.per_effect.get(ei) {
+                    pert.frame = f * pert.frame;
+                }
             }
         }
     }
@@ -266,7 +309,18 @@ pub fn fk_perturbed(base: &Base, warm: &Warm, q: &Joints, pert: &Perturbation) -
 
 /// Flange pose of a row with `effects` added to the base model.
 pub fn predict(base: &Base, effects: &[Effect], row: &RowState) -> Isometry3<f64> {
-    let (warm, pert) = perturbation(base, effects, row);
+    predict_with(base, effects, &RowFree::new(effects), row)
+}
+
+/// [`predict`] with what the effects make of every row alike computed
+/// before (`free`, of these `effects`).
+pub fn predict_with(
+    base: &Base,
+    effects: &[Effect],
+    free: &RowFree,
+    row: &RowState,
+) -> Isometry3<f64> {
+    let (warm, pert) = perturbation_with(base, effects, free, row);
     fk_perturbed(base, &warm, &row.q, &pert)
 }
 

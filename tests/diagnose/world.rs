@@ -309,8 +309,17 @@ fn lagged_rises(heat: &Heat, logged: bool, times: &[f64], tau: f64) -> Vec<[f64;
     result
 }
 
-/// Generate one data set.
-pub fn generate(spec: &SetSpec) -> DataSet {
+/// What a set's seed draws before its effects act: the real robot's fixed
+/// departures, its warm-up and its poses, and the generator's state after
+/// them (the noise and the visiting order come from it).
+struct World {
+    rng: ChaCha8Rng,
+    geometry: Geometry,
+    heat: Heat,
+    poses: Vec<[f64; 6]>,
+}
+
+fn draw_world(spec: &SetSpec) -> World {
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
     let n = |rng: &mut ChaCha8Rng, s: f64| Normal::new(0.0, s).unwrap().sample(rng);
     let small = |rng: &mut ChaCha8Rng| {
@@ -353,6 +362,51 @@ pub fn generate(spec: &SetSpec) -> DataSet {
             Arm::Ur5 => super::world_ur5::random_pose(&mut rng),
         })
         .collect();
+    World {
+        rng,
+        geometry,
+        heat,
+        poses,
+    }
+}
+
+/// The amplitude (rad) of a cyclic error of `axis` (1-based), `cycles` per
+/// turn at `phase`, that moves the measured point over the poses of `spec`
+/// by `ratio` times the set's noise per axis, RMS: computed from the
+/// generator's own chain (the real robot's geometry, cold), so that the
+/// error is in the data by a known margin whatever the axis's lever on
+/// these poses. The displacement is linear in the amplitude at these sizes
+/// (a microradian's move, scaled).
+pub fn cyclic_amplitude(spec: &SetSpec, axis: usize, cycles: f64, phase: f64, ratio: f64) -> f64 {
+    let world = draw_world(spec);
+    let i = axis - 1;
+    let eps = 1e-6;
+    let at = |q: &[f64; 6], dq: f64| {
+        let mut s = State::cold();
+        s.dq[i] = dq;
+        match spec.arm {
+            Arm::Irb140 => position(&world.geometry, &s, q),
+            Arm::Ur5 => super::world_ur5::position(&world.geometry, &s, q),
+        }
+    };
+    let sum: f64 = world
+        .poses
+        .iter()
+        .map(|q| (at(q, eps * (cycles * q[i] + phase).sin()) - at(q, 0.0)).norm_squared())
+        .sum();
+    // Per axis: the squared move shared among the three axes.
+    let per_axis = (sum / (3.0 * world.poses.len().max(1) as f64)).sqrt() / eps;
+    ratio * spec.noise_mm / per_axis.max(1e-9)
+}
+
+/// Generate one data set.
+pub fn generate(spec: &SetSpec) -> DataSet {
+    let World {
+        mut rng,
+        geometry,
+        heat,
+        poses,
+    } = draw_world(spec);
     let lag_tau = spec.effects.iter().find_map(|e| match e {
         Effect::ThermalLag(t) => Some(*t),
         _ => None,

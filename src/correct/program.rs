@@ -211,19 +211,15 @@ fn correct_all(
     // them; what remains at each is its residual.
     // The index by name is built only for them: a million declared
     // targets made it a second's work on one core.
-    let index_of = match found.derived.is_empty() {
-        true => None,
-        false => Some(program.target_index(|t| t.kind != TargetKind::Inline)),
-    };
+    let index_of =
+        (!found.derived.is_empty()).then(|| program.target_index(|t| t.kind != TargetKind::Inline));
     let passed = match found.derived.is_empty() {
         true => HashMap::new(),
         false => crate::resolve::settled_parameters(program),
     };
-    let lookup = index_of
-        .as_ref()
-        .map(|index| (&run.frames, &run.uses, index));
-    let derived: Vec<Derived> = (found.derived.iter())
-        .filter_map(|&i| Some((i, lookup?)))
+    // No derived targets: no index, and nothing below runs.
+    let lookups = index_of.iter().map(|index| (&run.frames, &run.uses, index));
+    let derived: Vec<Derived> = (lookups.flat_map(|l| found.derived.iter().map(move |&i| (i, l))))
         .map(|(i, lookup)| {
             progress.step();
             let target = targets.at(i);

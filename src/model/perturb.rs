@@ -171,6 +171,9 @@ pub fn perturbation_with(
     free: &RowFree,
     row: &RowState,
 ) -> (Warm, Perturbation) {
+    // `free` is made of these effects: an effect without its entry would
+    // lose its origins or frame without a word.
+    debug_assert_eq!(free.per_effect.len(), effects.len());
     let th = &base.thermal;
     let [l_lower, l_upper] = base.nominal.arm_lengths();
     let mut pert = Perturbation {

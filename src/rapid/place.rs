@@ -2,10 +2,28 @@
 
 use super::values::Pos;
 
-/// Where each line of `src` starts.
+/// Where each line of `src` starts: found a megabyte at a time on every
+/// core, then gathered into a list made at its full size (a file of two
+/// million lines took a tenth of a second on one core, its list growing
+/// by copies).
 pub(crate) fn line_starts(src: &[u8]) -> Vec<usize> {
-    let mut v = vec![0];
-    v.extend(memchr::memchr_iter(b'\n', src).map(|i| i + 1));
+    use rayon::prelude::*;
+    const PIECE: usize = 1 << 20;
+    let pieces: Vec<Vec<usize>> = src
+        .par_chunks(PIECE)
+        .enumerate()
+        .map(|(k, piece)| {
+            let at = k * PIECE;
+            memchr::memchr_iter(b'\n', piece)
+                .map(|i| at + i + 1)
+                .collect()
+        })
+        .collect();
+    let mut v = Vec::with_capacity(1 + pieces.iter().map(Vec::len).sum::<usize>());
+    v.push(0);
+    for p in &pieces {
+        v.extend_from_slice(p);
+    }
     v
 }
 
@@ -40,4 +58,33 @@ pub(crate) fn column(prefix: &[u8]) -> u32 {
         Err(_) => prefix.len(),
     };
     1 + n as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lines of a file of several pieces, cut anywhere (a CRLF across
+    /// a piece's end), as one scan finds them.
+    #[test]
+    fn line_starts_across_pieces() {
+        let mut text = Vec::new();
+        let mut k = 0usize;
+        while text.len() < 3 * (1 << 20) + 17 {
+            text.extend_from_slice(b"MoveL p;");
+            text.extend(std::iter::repeat_n(b'x', k % 97));
+            text.extend_from_slice(if k.is_multiple_of(3) { b"\n" } else { b"\r\n" });
+            k += 1;
+        }
+        let mut one = vec![0];
+        one.extend(
+            text.iter()
+                .enumerate()
+                .filter(|(_, &b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        assert_eq!(line_starts(&text), one);
+        assert_eq!(line_starts(b""), vec![0]);
+        assert_eq!(line_starts(b"a\nb"), vec![0, 2]);
+    }
 }

@@ -330,26 +330,48 @@ impl<'p> TargetIndex<'p> {
         let mut qualified = HashMap::new();
         for run in &targets.runs.decls {
             let src = targets.src(run.file);
-            for (k, item) in run.items.iter().enumerate() {
-                let Some(name) = run.name_of(src, item) else {
-                    continue;
-                };
-                if item.qualified {
+            for (k, item) in run.items.iter().enumerate().filter(|(_, i)| i.qualified) {
+                if let Some(name) = run.name_of(src, item) {
                     qualified
                         .entry(format!("{}:{name}", run.module).to_ascii_lowercase())
                         .or_insert(run.base + k);
-                    continue;
                 }
-                // Targets are numbered below 2^32: the lane's offsets are
-                // 32-bit, so no run holds more.
-                let Ok(number) = u32::try_from(run.base + k) else {
-                    continue;
-                };
-                let hash = name_hash(name.as_bytes());
-                let same = |&j: &u32| targets.same_name(j as usize, name.as_bytes());
-                if declared.find(hash, same).is_none() {
-                    declared.insert_unique(hash, number, |&j: &u32| targets.name_hash(j as usize));
-                }
+            }
+        }
+        // The names hashed on every core, then entered in order (the first
+        // of two alike stays): a million names read and hashed on one core
+        // were most of the table's build.
+        let hashed: Vec<Vec<(u64, u32)>> = {
+            use rayon::prelude::*;
+            targets
+                .runs
+                .decls
+                .par_iter()
+                .map(|run| {
+                    let src = targets.src(run.file);
+                    run.items
+                        .par_iter()
+                        .enumerate()
+                        .filter(|(_, item)| !item.qualified)
+                        .filter_map(|(k, item)| {
+                            let name = run.name_of(src, item)?;
+                            // Targets are numbered below 2^32: the lane's
+                            // offsets are 32-bit, so no run holds more.
+                            let number = u32::try_from(run.base + k).ok()?;
+                            Some((name_hash(name.as_bytes()), number))
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        for &(hash, number) in hashed.iter().flatten() {
+            // The name read again only where a tag matches.
+            let same = |&j: &u32| {
+                (targets.declared_name(number as usize))
+                    .is_some_and(|n| targets.same_name(j as usize, n))
+            };
+            if declared.find(hash, same).is_none() {
+                declared.insert_unique(hash, number, |&j: &u32| targets.name_hash(j as usize));
             }
         }
         let arrays = targets

@@ -14,6 +14,8 @@ pub(super) struct MoveAt<'a> {
     pub line: u32,
     pub file: usize,
     pub offset: usize,
+    /// A run's move by name: the run's number and the move's place in it.
+    pub run_move: Option<(usize, usize)>,
 }
 
 impl MoveAt<'_> {
@@ -54,6 +56,7 @@ pub(super) fn each_move(program: &Program, visit: &mut dyn FnMut(&str, Reach, &M
 pub(super) fn reached_by_routine<'a>(
     program: &'a Program,
     refs: &'a Refs<'a>,
+    named: &'a [Named],
 ) -> impl Iterator<Item = Vec<(Reached, Through)>> + 'a {
     use rayon::prelude::*;
     let routines: Vec<(&Module, &Routine)> = (program.modules.iter())
@@ -66,14 +69,49 @@ pub(super) fn reached_by_routine<'a>(
             .par_iter()
             .map(|&(module, routine)| {
                 let mut out = Vec::new();
+                // The run being read, and the targets its moves' names reach.
+                let mut run: Option<(usize, Vec<u32>)> = None;
                 each_move_of(program, module, routine, &mut |m, reach, at| {
-                    out.push(refs.targets(reach, (m, at.routine)));
+                    let found = refs.targets(reach, (m, at.routine));
+                    if let Some((r, k)) = at.run_move {
+                        if run.as_ref().map(|x| x.0) != Some(r) {
+                            keep_named(named, run.take());
+                            let len = program.runs.moves.get(r).map_or(0, |x| x.items.len());
+                            run = Some((r, vec![NOT_KEPT; len]));
+                        }
+                        if let (Some((_, kept)), [(Reached::One(i), Through::Direct)]) =
+                            (&mut run, found.as_slice())
+                        {
+                            if let (Some(slot), Ok(i)) = (kept.get_mut(k), u32::try_from(*i)) {
+                                *slot = i;
+                            }
+                        }
+                    }
+                    out.push(found);
                 });
+                keep_named(named, run);
                 out
             })
             .collect();
         found.into_iter().flatten()
     })
+}
+
+/// What a run's moves by name reach, kept for a second walk over the
+/// moves: for each move, the one target its name reaches directly, or
+/// [`NOT_KEPT`] (anything else: looked up again).
+pub type Named = std::sync::OnceLock<Box<[u32]>>;
+
+/// A move whose answer is not kept.
+pub const NOT_KEPT: u32 = u32::MAX;
+
+fn keep_named(named: &[Named], run: Option<(usize, Vec<u32>)>) {
+    if let Some((r, kept)) = run {
+        if let Some(slot) = named.get(r) {
+            // A run is in one routine, read once: set at most once.
+            let _ = slot.set(kept.into_boxed_slice());
+        }
+    }
 }
 
 /// [`each_move`] in one routine.
@@ -97,13 +135,14 @@ fn each_move_of(
                     line: s.pos.line,
                     file: module.file,
                     offset: s.pos.offset,
+                    run_move: None,
                 };
                 for expr in [m.via, m.to].into_iter().flatten() {
                     visit(module.name.as_ref(), Reach::Expr(expr), &at);
                 }
             }
             StatementKind::Moves(run) => {
-                for mv in program.moves(*run) {
+                for (k, mv) in program.moves(*run).enumerate() {
                     let Some(name) = mv.named() else { continue };
                     let at = MoveAt {
                         tool: mv.tool().map(|t| &**t),
@@ -113,6 +152,7 @@ fn each_move_of(
                         line: mv.line(),
                         file: module.file,
                         offset: mv.offset(),
+                        run_move: Some((*run, k)),
                     };
                     visit(module.name.as_ref(), Reach::Name(name), &at);
                 }

@@ -251,6 +251,11 @@ pub fn uses(program: &Program) -> Uses<'_> {
 pub struct MoveLookup<'p> {
     index: TargetIndex<'p>,
     aliases: HashMap<String, Vec<String>>,
+    /// What the moves by name of each run reach, kept by the first walk
+    /// ([`uses_with`]) for the next ([`each_move_instruction_with`]): a
+    /// million names looked up among a million targets, a cache miss
+    /// each, once instead of twice.
+    named: Vec<each_move::Named>,
 }
 
 impl<'p> MoveLookup<'p> {
@@ -258,7 +263,15 @@ impl<'p> MoveLookup<'p> {
         MoveLookup {
             index: move_index(program),
             aliases: aliases_and_parameters(program),
+            named: (0..program.runs.moves.len())
+                .map(|_| Default::default())
+                .collect(),
         }
+    }
+
+    /// How many runs' answers are kept.
+    pub fn runs_kept(&self) -> usize {
+        self.named.iter().filter(|n| n.get().is_some()).count()
     }
 }
 
@@ -275,7 +288,7 @@ pub fn uses_with<'p>(program: &'p Program, lookup: &MoveLookup<'p>) -> Uses<'p> 
         _ => None,
     };
     let pairing = per_call::Pairing::new(program);
-    let mut reached_all = reached_by_routine(program, &refs);
+    let mut reached_all = reached_by_routine(program, &refs, &lookup.named);
     each_move(program, &mut |module, reach, at| {
         let reached = reached_all.next().unwrap_or_default();
         if reached.is_empty() {

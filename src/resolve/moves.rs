@@ -7,6 +7,7 @@
 //!
 //! [`uses`]: super::uses
 
+use super::each_move::NOT_KEPT;
 use super::{MoveLookup, Reach, Reached, Refs, Through};
 use crate::rapid::{Expr, Program, StatementKind, TargetKind};
 use rayon::prelude::*;
@@ -255,16 +256,30 @@ pub fn each_move_instruction_with<'p>(
                         // were most of this walk on one core.
                         let mut moves = program.moves(*run);
                         let mut window = Vec::with_capacity(WINDOW);
+                        // What the uses found for the run's names, kept.
+                        let kept = lookup.named.get(*run).and_then(|n| n.get());
+                        let mut taken = 0;
                         loop {
                             window.clear();
                             window.extend(moves.by_ref().take(WINDOW));
                             if window.is_empty() {
                                 break;
                             }
-                            let found: Vec<Option<Vec<_>>> = (window.par_iter())
+                            let found: Vec<Option<Vec<_>>> = (window.par_iter().enumerate())
                                 .with_min_len(256)
-                                .map(|mv| mv.named().map(|n| reached(Reach::Name(n), scope)))
+                                .map(|(j, mv)| {
+                                    let name = mv.named()?;
+                                    let kept = kept.and_then(|k| k.get(taken + j));
+                                    Some(match kept.copied().filter(|&i| i != NOT_KEPT) {
+                                        Some(i) => {
+                                            let i = i as usize;
+                                            vec![(i..i + 1, Through::Direct)]
+                                        }
+                                        None => reached(Reach::Name(name), scope),
+                                    })
+                                })
                                 .collect();
+                            taken += window.len();
                             for (mv, found) in window.iter().zip(found) {
                                 let points = match (mv.named(), found) {
                                     (Some(name), Some(robtargets)) => vec![Point {

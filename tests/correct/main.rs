@@ -12,6 +12,7 @@ mod interp;
 mod interp_targets;
 mod lanes;
 mod marker;
+mod named;
 mod plot;
 mod runtime;
 mod samples;

@@ -59,8 +59,22 @@ pub(super) fn fates<'p>(
     let mut counts = MoveCounts::default();
     let mut unread: Vec<LeftAlone> = Vec::new();
     let mut unread_at: HashMap<(String, Reason), (usize, usize)> = HashMap::new();
+    // The routine of the last move: a million moves of a few routines
+    // each look theirs up once.
+    let mut last: Option<(*const str, *const str, Option<&Routine>)> = None;
     each_move_instruction_with(program, lookup, &mut |m: &Move| {
-        let routine = routines.get(&(m.module, m.routine)).copied();
+        let routine = match last {
+            Some((module, routine, r))
+                if std::ptr::eq(module, m.module) && std::ptr::eq(routine, m.routine) =>
+            {
+                r
+            }
+            _ => {
+                let r = routines.get(&(m.module, m.routine)).copied();
+                last = Some((m.module, m.routine, r));
+                r
+            }
+        };
         // One row per name and reason: the first move's place, with the
         // count of moves.
         let mut record = |text: String, reason: Reason, detail: String| {

@@ -115,14 +115,21 @@ impl Frames {
 
     /// The tooldata of this name (`tool0` when `None`).
     pub fn tool(&self, name: Option<&str>) -> Option<&ToolData> {
-        self.tools
-            .get(&name.unwrap_or("tool0").to_ascii_lowercase())
+        by_name(&self.tools, name.unwrap_or("tool0"))
     }
 
     /// The wobjdata of this name (`wobj0` when `None`).
     pub fn wobj(&self, name: Option<&str>) -> Option<&WobjData> {
-        self.wobjs
-            .get(&name.unwrap_or("wobj0").to_ascii_lowercase())
+        by_name(&self.wobjs, name.unwrap_or("wobj0"))
+    }
+}
+
+/// `name` in a map by lower-case name: copied to lower case only where it
+/// is not (each of a million targets asks for its tool and work object).
+fn by_name<'m, T>(map: &'m HashMap<String, T>, name: &str) -> Option<&'m T> {
+    match name.bytes().any(|b| b.is_ascii_uppercase()) {
+        true => map.get(&name.to_ascii_lowercase()),
+        false => map.get(name),
     }
 }
 

@@ -11,6 +11,7 @@ use super::each_move::NOT_KEPT;
 use super::{MoveLookup, Reach, Reached, Refs, Through};
 use crate::rapid::{Expr, Program, StatementKind, TargetKind};
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 /// One target argument of a move (its ToPoint, or the CirPoint of a
@@ -41,9 +42,10 @@ pub struct Move<'a> {
     pub col: u32,
     /// Where the instruction starts in its file.
     pub offset: usize,
-    /// Tool and work object as written (`None`: the move names none).
-    pub tool: Option<String>,
-    pub wobj: Option<String>,
+    /// Tool and work object as written (`None`: the move names none):
+    /// borrowed from a run's names (a million moves copy none).
+    pub tool: Option<Cow<'a, str>>,
+    pub wobj: Option<Cow<'a, str>>,
     /// Whether it moves to a jointtarget (its targets are joints).
     pub joints: bool,
     /// Whether the instruction is one the reader knows the arguments of;
@@ -242,8 +244,8 @@ pub fn each_move_instruction_with<'p>(
                             line: s.pos.line,
                             col: s.pos.col,
                             offset: s.pos.offset,
-                            tool: m.tool.map(super::describe),
-                            wobj: m.wobj.map(super::describe),
+                            tool: m.tool.map(|t| Cow::Owned(super::describe(t))),
+                            wobj: m.wobj.map(|w| Cow::Owned(super::describe(w))),
                             joints,
                             known: true,
                             points,
@@ -308,8 +310,8 @@ pub fn each_move_instruction_with<'p>(
                                     line: mv.line(),
                                     col: col_of(src, mv.offset()),
                                     offset: mv.offset(),
-                                    tool: mv.tool().map(|t| t.to_string()),
-                                    wobj: mv.wobj().map(|w| w.to_string()),
+                                    tool: mv.tool().map(|t| Cow::Borrowed(&**t)),
+                                    wobj: mv.wobj().map(|w| Cow::Borrowed(&**w)),
                                     joints: false,
                                     known: true,
                                     points,

@@ -9,7 +9,20 @@ use super::runs::{blank_target, MoveRef, Runs};
 use super::source::Source;
 use super::values::{Target, TargetKind};
 use std::borrow::Cow;
+use std::cell::Cell;
 use std::collections::HashMap;
+
+thread_local! {
+    /// The declared target after the one this thread's last lookup found
+    /// ([`TargetIndex::get`]); `u32::MAX`: none.
+    static NEXT: Cell<u32> = const { Cell::new(u32::MAX) };
+}
+
+#[cfg(test)]
+thread_local! {
+    /// How many lookups this thread answered by the guess.
+    static GUESSED: Cell<usize> = const { Cell::new(0) };
+}
 
 /// An empty target, to be filled ([`Targets::fill`]).
 pub fn blank() -> Target {
@@ -297,6 +310,9 @@ pub struct TargetIndex<'p> {
     /// these tables are alive at once in a correction, and a map holding
     /// each name borrowed took 25 bytes a target where this takes 5.
     declared: hashbrown::HashTable<u32>,
+    /// Declared targets of runs whose name another of the table's has
+    /// too: the table answers the first, so a guess may not.
+    shadowed: std::collections::HashSet<u32>,
     targets: Targets<'p>,
     qualified: HashMap<String, usize>,
     /// Array runs by their identifiers' prefix, lower case.
@@ -364,14 +380,21 @@ impl<'p> TargetIndex<'p> {
                 })
                 .collect()
         };
+        let mut shadowed = std::collections::HashSet::new();
         for &(hash, number) in hashed.iter().flatten() {
             // The name read again only where a tag matches.
             let same = |&j: &u32| {
                 (targets.declared_name(number as usize))
                     .is_some_and(|n| targets.same_name(j as usize, n))
             };
-            if declared.find(hash, same).is_none() {
-                declared.insert_unique(hash, number, |&j: &u32| targets.name_hash(j as usize));
+            match declared.find(hash, same) {
+                Some(&first) => {
+                    shadowed.insert(first);
+                    shadowed.insert(number);
+                }
+                None => {
+                    declared.insert_unique(hash, number, |&j: &u32| targets.name_hash(j as usize));
+                }
             }
         }
         let arrays = targets
@@ -392,6 +415,7 @@ impl<'p> TargetIndex<'p> {
         TargetIndex {
             one_by_one,
             declared,
+            shadowed,
             targets,
             qualified,
             arrays,
@@ -452,8 +476,21 @@ impl Targets<'_> {
 impl TargetIndex<'_> {
     /// The target with identifier `id`.
     pub fn get(&self, id: &str) -> Option<usize> {
+        // The target after the one this thread found last, asked first: a
+        // RobotStudio export moves to its targets in the order it declares
+        // them, and the table's answer is a cache miss or two (most of
+        // looking a million names up). Taken only where the table would
+        // give it: a declared target of a run whose name no other has.
+        let guess = NEXT.with(Cell::get);
+        if guess != u32::MAX && self.declared_alone(guess, id.as_bytes()) {
+            NEXT.with(|n| n.set(guess.wrapping_add(1)));
+            #[cfg(test)]
+            GUESSED.with(|g| g.set(g.get() + 1));
+            return Some(guess as usize);
+        }
         let same = |&j: &u32| self.targets.same_name(j as usize, id.as_bytes());
         if let Some(&i) = self.declared.find(name_hash(id.as_bytes()), same) {
+            NEXT.with(|n| n.set(i.wrapping_add(1)));
             return Some(i as usize);
         }
         let lower = id.to_ascii_lowercase();
@@ -468,6 +505,25 @@ impl TargetIndex<'_> {
         let k: usize = rest.strip_suffix('}')?.parse().ok()?;
         let &(base, len) = self.arrays.get(prefix)?;
         (1..=len).contains(&k).then_some(base + k - 1)
+    }
+
+    /// Whether target `i` is a declared target of a run in the table,
+    /// named `name`, whose name no other target of the table has: what
+    /// the table answers for `name`.
+    fn declared_alone(&self, i: u32, name: &[u8]) -> bool {
+        let Some((Held::Decls(r), k)) = self.targets.locate(i as usize) else {
+            return false;
+        };
+        let Some(run) = self.targets.runs.decls.get(r) else {
+            return false;
+        };
+        run.items.get(k).is_some_and(|item| {
+            !item.qualified
+                && run
+                    .name_of(self.targets.src(run.file), item)
+                    .is_some_and(|n| n.as_bytes().eq_ignore_ascii_case(name))
+                && !self.shadowed.contains(&i)
+        })
     }
 
     /// Whether some identifier is scoped to its routine (`r1/pA`, where a
@@ -487,5 +543,55 @@ impl TargetIndex<'_> {
     /// (lower case), where one is: the first's number and how many.
     pub fn array(&self, prefix: &str) -> Option<(usize, usize)> {
         self.arrays.get(&prefix.to_ascii_lowercase()).copied()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each name looked up in order (the guess taken), in reverse (the
+    /// table asked), and with the guess pointing at a declaration the
+    /// table does not hold (a LOCAL one another module declares too,
+    /// known by its module):
+    /// the same answers as the table's alone.
+    #[test]
+    fn the_next_target_guessed_gives_the_tables_answer() {
+        let decl = |local: &str, name: String| {
+            format!("  {local}CONST robtarget {name}:=[[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n")
+        };
+        let mut src = String::from("MODULE A\n");
+        (0..200).for_each(|k| src.push_str(&decl("", format!("a{k}"))));
+        (0..200).for_each(|k| src.push_str(&decl("LOCAL ", format!("T{k}"))));
+        src.push_str("ENDMODULE\nMODULE B\n");
+        src.push_str(&decl("", "u0".to_string()));
+        (0..200).for_each(|k| src.push_str(&decl("LOCAL ", format!("T{k}"))));
+        src.push_str("ENDMODULE\n");
+        let p = crate::rapid::parse::parse("m.mod", src.as_bytes()).unwrap();
+        let index = p.target_index(|_| true);
+        let names: Vec<String> = (0..200)
+            .map(|k| format!("a{k}"))
+            .chain(["u0".to_string(), "t0".to_string(), "B:T0".to_string()])
+            .collect();
+        // The table alone: no guess before each lookup.
+        let alone: Vec<Option<usize>> = names
+            .iter()
+            .map(|n| {
+                NEXT.with(|x| x.set(u32::MAX));
+                index.get(n)
+            })
+            .collect();
+        assert!(alone[..201].iter().all(Option::is_some));
+        GUESSED.with(|g| g.set(0));
+        let in_order: Vec<Option<usize>> = names.iter().map(|n| index.get(n)).collect();
+        assert_eq!(in_order, alone);
+        // a1..a199 at least were guessed.
+        assert!(GUESSED.with(Cell::get) >= 199);
+        let reversed: Vec<Option<usize>> = names.iter().rev().map(|n| index.get(n)).collect();
+        assert_eq!(reversed.into_iter().rev().collect::<Vec<_>>(), alone);
+        // After u0 the guess is B's LOCAL T0, which the table does not
+        // hold (A has a T0 too): it is not taken for `t0`.
+        index.get("u0");
+        assert_eq!(index.get("t0"), alone[201]);
     }
 }

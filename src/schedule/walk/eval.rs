@@ -129,6 +129,12 @@ impl<'p> Walker<'p> {
         let e = Expr::Index(Box::new((base.clone(), index.to_vec())));
         match self.by_path(&e, frame) {
             Ok(Value::Rob(r)) => r.id == element,
+            // Numbers that make no pose (a robconf not whole): the error
+            // of the same target, found either way.
+            Err(by_id) => element.is_some_and(|i| {
+                (self.target_value(i).err())
+                    .is_some_and(|e| format!("{e:?}") == format!("{by_id:?}"))
+            }),
             _ => false,
         }
     }

@@ -183,6 +183,13 @@ impl MoveRun {
         true
     }
 
+    /// The numbers of literal `k` alone, as [`MoveRun::fill`] reads them.
+    pub fn value(&self, src: &[u8], k: usize) -> Option<RobTargetValue> {
+        let (m, j) = self.move_of(k);
+        let item = self.items.get(m)?;
+        literal_at(src, item.at as usize + usize::from(item.parts[j]), false)
+    }
+
     /// Move `m` of the run as the grammar makes it: the call, its
     /// literals numbered from `base`.
     pub fn statement(&self, runs: &Runs, src: &[u8], m: usize) -> Option<Statement> {
@@ -252,6 +259,13 @@ fn positional(value: Expr) -> Arg {
 }
 
 impl DeclRun {
+    /// The numbers of target `k` alone, where [`DeclRun::fill`] makes it.
+    pub fn value(&self, src: &[u8], k: usize) -> Option<RobTargetValue> {
+        let item = self.items.get(k)?;
+        let value = literal_at(src, item.at as usize + usize::from(item.literal), false)?;
+        self.name_of(src, item).map(|_| value)
+    }
+
     /// Target `k` of the run into `t`, as the grammar makes it.
     pub fn fill(&self, src: &[u8], k: usize, t: &mut Target) -> bool {
         let Some(item) = self.items.get(k) else {
@@ -335,6 +349,12 @@ impl DeclRun {
 }
 
 impl ArrayRun {
+    /// The numbers of element `k` alone, as [`ArrayRun::fill`] reads them.
+    pub fn value(&self, src: &[u8], k: usize) -> Option<RobTargetValue> {
+        self.lines.get(k)?;
+        literal_at(src, *self.elements.get(k)? as usize, true)
+    }
+
     /// The identifier of element `k` into `id` (its numbers not read).
     pub fn id_into(&self, k: usize, id: &mut String) {
         id.clear();

@@ -7,7 +7,7 @@
 use super::nocase::NoCase;
 use super::runs::{blank_target, MoveRef, Runs};
 use super::source::Source;
-use super::values::{Target, TargetKind};
+use super::values::{RobTargetValue, Target, TargetKind};
 use std::borrow::Cow;
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -144,6 +144,35 @@ impl<'p> Targets<'p> {
                 .arrays
                 .get(r)
                 .is_some_and(|run| run.fill(self.src(run.file), k, t)),
+        }
+    }
+
+    /// The numbers of target `i` alone, read as [`Targets::fill`] reads
+    /// them, where it makes the target with a value: all a pose is made
+    /// of, without the identifier, place and names a target carries (a
+    /// read of a million poses made a million of those).
+    pub fn value(&self, i: usize) -> Option<Cow<'p, RobTargetValue>> {
+        let (held, k) = self.locate(i)?;
+        let runs: &Runs = self.runs;
+        match held {
+            Held::OneByOne(first) => self
+                .one_by_one
+                .get(first + k)?
+                .value
+                .as_ref()
+                .map(Cow::Borrowed),
+            Held::Moves(r) => {
+                let run = runs.moves.get(r)?;
+                run.value(self.src(run.file), k).map(Cow::Owned)
+            }
+            Held::Decls(r) => {
+                let run = runs.decls.get(r)?;
+                run.value(self.src(run.file), k).map(Cow::Owned)
+            }
+            Held::Array(r) => {
+                let run = runs.arrays.get(r)?;
+                run.value(self.src(run.file), k).map(Cow::Owned)
+            }
         }
     }
 

@@ -280,6 +280,13 @@ impl Schedule {
         self.place(target).map(|k| self.visits[k].as_slice())
     }
 
+    /// Whether the program's target number `index` was visited as such
+    /// ([`Schedule::visit_target`], [`Schedule::visit_number`]): once its
+    /// identifier is given, [`Schedule::times_of`] finds its visits.
+    pub(crate) fn has_number(&self, index: usize) -> bool {
+        self.lookups.by_target.get(index).is_some_and(|&k| k > 0)
+    }
+
     /// All visit times of the program's target number `index`, whose
     /// identifier is `id`: by number where the schedule was recorded by
     /// number and the identifier there is the same (a schedule of another

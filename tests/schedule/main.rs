@@ -6,3 +6,4 @@ mod encoding;
 mod estimate;
 mod lanes;
 mod props;
+mod settled;

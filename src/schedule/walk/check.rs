@@ -61,7 +61,9 @@ impl<'p> Walker<'p> {
             let r = flange.rotation.coords;
             [v.x, v.y, v.z, r.w, r.x, r.y, r.z].map(f64::to_bits)
         };
-        if self.reachable.contains(&key) {
+        // A walk that defers the question keeps no answers: nothing to
+        // hash the pose for.
+        if !self.reachable.is_empty() && self.reachable.contains(&key) {
             return true;
         }
         if let Some(poses) = &mut self.deferred {

@@ -21,7 +21,7 @@ impl<'p> Walker<'p> {
             Expr::Elements(_) => Value::Unknown,
             Expr::JointTarget(i) => self.joint_value(*i),
             Expr::Name(n) => self.name_value(n, frame)?,
-            Expr::Index(b) => match self.element_of(b, frame)? {
+            Expr::Index(b) => match self.element_of(b, frame, None)? {
                 Some(i) => self.target_value(i)?,
                 None => self.by_path(e, frame)?,
             },
@@ -70,16 +70,23 @@ impl<'p> Walker<'p> {
     /// element's identifier: a FOR loop over an array of a million targets
     /// spent most of its walk making and hashing `pScan{k}`. `None` where
     /// the path does not name such an element (the identifier's lookup
-    /// decides those).
+    /// decides those). `settled`: where the move statement keeps the
+    /// array's declaration (see [`settled`]), taken from there where kept.
     pub(super) fn element_of(
         &mut self,
         (base, index): &(Expr, Vec<Expr>),
         frame: &mut Frame<'p>,
+        settled: Option<&mut Option<Option<&'p DataDecl>>>,
     ) -> Result<Option<usize>> {
         let (Expr::Name(name), [k]) = (base, index.as_slice()) else {
             return Ok(None);
         };
-        let Some(d) = self.array_decl(name, frame) else {
+        let decl = match settled {
+            Some(Some(d)) => *d,
+            Some(slot) => *slot.insert(self.array_decl(name, frame)),
+            None => self.array_decl(name, frame),
+        };
+        let Some(d) = decl else {
             return Ok(None);
         };
         let Some(k) = self.eval(k, frame)?.num() else {
@@ -122,6 +129,12 @@ impl<'p> Walker<'p> {
         let e = Expr::Index(Box::new((base.clone(), index.to_vec())));
         match self.by_path(&e, frame) {
             Ok(Value::Rob(r)) => r.id == element,
+            // Numbers that make no pose (a robconf not whole): the error
+            // of the same target, found either way.
+            Err(by_id) => element.is_some_and(|i| {
+                (self.target_value(i).err())
+                    .is_some_and(|e| format!("{e:?}") == format!("{by_id:?}"))
+            }),
             _ => false,
         }
     }
@@ -269,22 +282,25 @@ impl<'p> Walker<'p> {
     }
 
     pub(super) fn name_value(&mut self, name: &str, frame: &mut Frame<'p>) -> Result<Value> {
-        let key = name.to_ascii_lowercase();
-        if let Some(v) = frame.vars.get(&key) {
-            return Ok(v.clone());
+        // Lowered on the stack: a FOR loop's variable is read at every
+        // turn.
+        if let Some(v) = with_lower(name, |key| frame.vars.get(key).cloned()) {
+            return Ok(v);
         }
         if let Some(r) = frame.routine {
             if let Some(d) = r.data.iter().find(|d| d.name.eq_ignore_ascii_case(name)) {
                 return self.decl_value(frame.module, Some(r), d);
             }
         }
-        if let Some(v) = self.globals.get(&key) {
-            return Ok(v.clone());
-        }
-        match key.as_str() {
-            "true" => return Ok(Value::Bool(true)),
-            "false" => return Ok(Value::Bool(false)),
-            _ => {}
+        let global = with_lower(name, |key| {
+            self.globals.get(key).cloned().or(match key {
+                "true" => Some(Value::Bool(true)),
+                "false" => Some(Value::Bool(false)),
+                _ => None,
+            })
+        });
+        if let Some(v) = global {
+            return Ok(v);
         }
         match self.module_decl(name, frame.module) {
             Some((m, Decl::Tree(d))) => self.decl_value(m, None, d),
@@ -409,7 +425,7 @@ impl<'p> Walker<'p> {
             "crobt" => {
                 let tool = optional("Tool").and_then(|a| a.value.as_ref());
                 let wobj = optional("WObj").and_then(|a| a.value.as_ref());
-                let frames = self.frame_names(tool, wobj, frame, 0)?;
+                let frames = self.frame_names(tool, wobj, frame, 0, None)?;
                 Ok(
                     match target_of_flange(&self.arm.flange, &frames.0, &frames.1) {
                         Ok(pose) => Value::Rob(Box::new(Rob {

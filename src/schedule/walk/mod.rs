@@ -8,13 +8,16 @@
 mod check;
 mod ends;
 mod eval;
+mod for_loop;
 mod instant;
 mod moves;
 mod poses;
 mod reach;
+mod settled;
 
 pub use poses::TargetPoses;
 pub(crate) use reach::ReachAhead;
+use settled::{Settled, SettledSlot};
 
 use instant::is_instant_builtin;
 
@@ -175,6 +178,10 @@ pub(super) struct Walker<'p> {
     /// Each robtarget's pose and robconf, read before the walk on every
     /// core ([`TargetPoses::read`]); empty: read as the walk meets them.
     pub(super) poses: std::sync::Arc<TargetPoses>,
+    /// Bumped wherever a name may come to stand for something else (see
+    /// [`settled`]), and what each move statement settled (by address).
+    scope: u64,
+    settled: FastMap<*const Call, Box<Settled<'p>>>,
 }
 
 /// Names as written, in a module and routine.
@@ -339,6 +346,8 @@ impl<'p> Walker<'p> {
             last_frames: None,
             deferred: None,
             poses: std::sync::Arc::default(),
+            scope: 0,
+            settled: FastMap::default(),
         })
     }
 
@@ -404,6 +413,11 @@ impl<'p> Walker<'p> {
         // Identifiers only: the targets' numbers are not read for this.
         let mut id = String::new();
         for i in 0..targets.len() {
+            // Visited by number (nearly all): named above, found by
+            // number, with no identifier to make.
+            if self.schedule.has_number(i) {
+                continue;
+            }
             if targets.id_into(i, &mut id) == Some(true) && self.schedule.times_of(i, &id).is_none()
             {
                 count += 1;
@@ -442,6 +456,7 @@ impl<'p> Walker<'p> {
         vars: Vec<(String, Value)>,
         line: u32,
     ) -> Result<Flow> {
+        self.rescope();
         let mut frame = Frame {
             module,
             routine: Some(routine),
@@ -567,10 +582,13 @@ impl<'p> Walker<'p> {
                         Value::Rob(_) | Value::Joint(_) => v,
                         _ => Value::Unknown,
                     };
-                    if local {
-                        frame.vars.insert(key, v);
+                    let new = if local {
+                        frame.vars.insert(key, v)
                     } else {
-                        self.globals.insert(key, v);
+                        self.globals.insert(key, v)
+                    };
+                    if new.is_none() {
+                        self.rescope();
                     }
                 }
                 Ok(Flow::Normal)
@@ -754,96 +772,6 @@ impl<'p> Walker<'p> {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn exec_for(
-        &mut self,
-        var: &str,
-        from: &Expr,
-        to: &Expr,
-        step: Option<&Expr>,
-        body: &'p [Statement],
-        s: &Statement,
-        frame: &mut Frame<'p>,
-    ) -> Result<Flow> {
-        let key = var.to_ascii_lowercase();
-        let a = self.eval(from, frame)?.num();
-        let b = self.eval(to, frame)?.num();
-        let st = match step {
-            Some(e) => self.eval(e, frame)?.num(),
-            None => match (a, b) {
-                (Some(a), Some(b)) => Some(if b < a { -1.0 } else { 1.0 }),
-                _ => None,
-            },
-        };
-        let saved = frame.vars.remove(&key);
-        let flow = match (a, b, st) {
-            (Some(a), Some(b), Some(st)) if st != 0.0 => {
-                let mut v = a;
-                let mut flow = Flow::Normal;
-                let turns = ((b - a) / st).floor() + 1.0;
-                let mut first = true;
-                while (st > 0.0 && v <= b) || (st < 0.0 && v >= b) {
-                    let before = self.steps;
-                    self.count_step(frame, s)?;
-                    // The loop's variable set in place: a million turns
-                    // made a million copies of its name.
-                    match frame.vars.get_mut(&key) {
-                        Some(slot) => *slot = Value::Num(v),
-                        None => {
-                            frame.vars.insert(key.clone(), Value::Num(v));
-                        }
-                    }
-                    match self.exec_list(body, frame)? {
-                        Flow::Normal => {}
-                        other => {
-                            flow = other;
-                            break;
-                        }
-                    }
-                    // Every turn walks about what the first did: a loop
-                    // the budget cannot hold is refused now, not after
-                    // minutes.
-                    if first {
-                        first = false;
-                        let left = (self.steps - before) as f64 * (turns - 1.0);
-                        if self.steps as f64 + left > STEP_BUDGET as f64 {
-                            return Err(Error::new(
-                                ErrorKind::Unsupported,
-                                format!(
-                                    "FOR {var}: {turns} turns of {} statements each would pass the walk's limit of {STEP_BUDGET} statements",
-                                    self.steps - before
-                                ),
-                            )
-                            .with_remedy(Remedy::GiveSchedule)
-                            .at(self.location(frame, s)));
-                        }
-                    }
-                    v += st;
-                }
-                flow
-            }
-            _ => {
-                let why = if st == Some(0.0) {
-                    "STEP 0"
-                } else {
-                    "bounds known only at run time"
-                };
-                self.note(
-                    frame,
-                    s.pos.line,
-                    format!("FOR {var}: {why}, body timed once"),
-                );
-                frame.vars.insert(key.clone(), Value::Unknown);
-                self.exec_list(body, frame)?
-            }
-        };
-        frame.vars.remove(&key);
-        if let Some(v) = saved {
-            frame.vars.insert(key, v);
-        }
-        Ok(flow)
-    }
-
     pub(super) fn exec_call(
         &mut self,
         call: &'p Call,
@@ -851,8 +779,7 @@ impl<'p> Walker<'p> {
         frame: &mut Frame<'p>,
     ) -> Result<Flow> {
         let line = s.pos.line;
-        if let Some(m) = call.motion() {
-            self.exec_move(call, &m, s, frame)?;
+        if self.exec_settled(call, s, frame)? {
             return Ok(Flow::Normal);
         }
         let name = call.name.to_ascii_lowercase();

@@ -1,6 +1,7 @@
 //! Motion instructions in the walk: speeds, tools and work objects of a
 //! move, its goal on the nominal robot, and the time it takes.
 
+use super::settled::Found;
 use super::*;
 use std::rc::Rc;
 
@@ -18,15 +19,24 @@ pub(super) struct Goal<'a> {
 }
 
 impl<'p> Walker<'p> {
+    /// The speed `expr` names; `settled`: where the statement keeps it
+    /// (see [`settled`]), taken from there where kept.
     pub(super) fn speed_of(
         &mut self,
         expr: Option<&Expr>,
         frame: &mut Frame<'p>,
         line: u32,
+        settled: Option<&mut Option<SpeedData>>,
     ) -> Result<SpeedData> {
+        if let Some(Some(speed)) = settled.as_deref() {
+            return Ok(*speed);
+        }
         let at = NamesAt::of(frame, [expr, None]).filter(|at| self.static_names(frame, at));
         if let Some((last, speed)) = &self.last_speed {
             if at.as_ref() == Some(last) {
+                if let Some(slot) = settled {
+                    *slot = Some(*speed);
+                }
                 return Ok(*speed);
             }
         }
@@ -56,6 +66,9 @@ impl<'p> Walker<'p> {
                 // finds the same.
                 if let Some(at) = at {
                     self.last_speed = Some((at, s));
+                    if let Some(slot) = settled {
+                        *slot = Some(s);
+                    }
                 }
                 Ok(s)
             }
@@ -95,16 +108,26 @@ impl<'p> Walker<'p> {
             .or_else(|| predefined_speed(name))
     }
 
+    /// The tool and work object `tool` and `wobj` name; `settled`: where
+    /// the statement keeps them (see [`settled`]), taken from there where
+    /// kept.
     pub(super) fn frame_names(
         &mut self,
         tool: Option<&Expr>,
         wobj: Option<&Expr>,
         frame: &mut Frame<'p>,
         line: u32,
+        settled: Option<&mut Option<Rc<(ToolData, WobjData)>>>,
     ) -> Result<Rc<(ToolData, WobjData)>> {
+        if let Some(Some(frames)) = settled.as_deref() {
+            return Ok(frames.clone());
+        }
         let at = NamesAt::of(frame, [tool, wobj]).filter(|at| self.static_names(frame, at));
         if let Some((last, frames)) = &self.last_frames {
             if at.as_ref() == Some(last) {
+                if let Some(slot) = settled {
+                    *slot = Some(frames.clone());
+                }
                 return Ok(frames.clone());
             }
         }
@@ -156,6 +179,9 @@ impl<'p> Walker<'p> {
         // same.
         if let (Some(at), false) = (at, noted) {
             self.last_frames = Some((at, frames.clone()));
+            if let Some(slot) = settled {
+                *slot = Some(frames.clone());
+            }
         }
         Ok(frames)
     }
@@ -167,8 +193,9 @@ impl<'p> Walker<'p> {
         [speed_data, v, t]: [Option<&Expr>; 3],
         frame: &mut Frame<'p>,
         line: u32,
+        settled: Option<&mut Option<SpeedData>>,
     ) -> Result<(SpeedData, Option<f64>)> {
-        let mut speed = self.speed_of(speed_data, frame, line)?;
+        let mut speed = self.speed_of(speed_data, frame, line, settled)?;
         if let Some(v) = v {
             match self.eval(v, frame)?.num() {
                 Some(v) if !(v.is_finite() && v > 0.0) => return Err(not_positive("\\V", v)),
@@ -199,12 +226,14 @@ impl<'p> Walker<'p> {
         m: &Motion<'c>,
         s: &Statement,
         frame: &mut Frame<'p>,
+        mut settled: SettledSlot<'_, 'p>,
     ) -> Result<()> {
         if let Some(Expr::Index(b)) = m.to {
             // An element of a declared array, found by its declaration.
-            if let Some(i) = self.element_of(b, frame)? {
+            let array = settled.as_deref_mut().map(|st| &mut st.array);
+            if let Some(i) = self.element_of(b, frame, array)? {
                 let to = self.target_value(i)?;
-                return self.exec_move_to(call, m, s, frame, Some(to));
+                return self.exec_move_to(call, m, s, frame, Some(to), settled);
             }
             if let Some((base, elements)) = self.unsettled_elements(m.to, b, frame)? {
                 self.note(
@@ -217,12 +246,12 @@ impl<'p> Walker<'p> {
                     ),
                 );
                 for v in elements {
-                    self.exec_move_to(call, m, s, frame, Some(v))?;
+                    self.exec_move_to(call, m, s, frame, Some(v), settled.as_deref_mut())?;
                 }
                 return Ok(());
             }
         }
-        self.exec_move_to(call, m, s, frame, None)
+        self.exec_move_to(call, m, s, frame, None, settled)
     }
 
     /// The elements of the target array a move indexes where the walk
@@ -269,6 +298,7 @@ impl<'p> Walker<'p> {
         s: &Statement,
         frame: &mut Frame<'p>,
         to: Option<Value>,
+        settled: SettledSlot<'_, 'p>,
     ) -> Result<()> {
         let line = s.pos.line;
         let kind = m.signature.kind;
@@ -283,21 +313,24 @@ impl<'p> Walker<'p> {
             );
             return Ok(());
         }
-        let (speed, t_override) =
-            self.move_speed([m.speed, m.v, m.t], frame, line)
-                .map_err(|e| match e.location {
-                    Some(_) => e,
-                    None => e.at(self.location(frame, s)),
-                })?;
+        let (speed_slot, frames_slot) = match settled {
+            Some(st) => (Some(&mut st.speed), Some(&mut st.frames)),
+            None => (None, None),
+        };
+        let (speed, t_override) = self
+            .move_speed([m.speed, m.v, m.t], frame, line, speed_slot)
+            .map_err(|e| match e.location {
+                Some(_) => e,
+                None => e.at(self.location(frame, s)),
+            })?;
         let ov = self.velset.0;
-        let frames = self.frame_names(m.tool, m.wobj, frame, line)?;
+        let frames = self.frame_names(m.tool, m.wobj, frame, line, frames_slot)?;
         let (tool, wobj) = (&frames.0, &frames.1);
         let to = match (to, m.to) {
             (Some(v), _) => v,
             (None, Some(e)) => self.eval(e, frame)?,
             (None, None) => Value::Unknown,
         };
-        let from = target_of_flange(&self.arm.flange, tool, wobj);
         let max_speed = self.robot.max_speed_deg_s.map(|v| v * ov);
         match (kind, to) {
             (MotionKind::AbsJoint, Value::Joint(j)) => {
@@ -320,6 +353,9 @@ impl<'p> Walker<'p> {
                     return Ok(());
                 }
                 let q_from = self.current_joints();
+                // Where the move starts, in its frames (a move to a
+                // robtarget works it out itself).
+                let from = target_of_flange(&self.arm.flange, tool, wobj);
                 let flange = self.robot.fk(&q);
                 let tcp = match (&from, target_of_flange(&flange, tool, wobj)) {
                     (Ok(a), Ok(b)) => (b.translation.vector - a.translation.vector).norm(),
@@ -546,8 +582,15 @@ impl<'p> Walker<'p> {
     }
 
     /// The moves of a run the fast lane read, each as the grammar makes it.
+    /// A move naming the speed, tool and work object the one before it
+    /// named takes what that one found ([`settled`]): the run's names are
+    /// kept once each, so the same name is the same pointer, and the run's
+    /// moves are all of one routine, with no call between them to make a
+    /// variable (the scope is checked all the same).
     pub(super) fn exec_moves(&mut self, run: usize, frame: &mut Frame<'p>) -> Result<()> {
         let program = self.program;
+        let mut found = Found::default();
+        let mut last: Option<(u64, [NameKey; 3])> = None;
         for mv in program.moves(run) {
             let Some(s) = mv.statement() else {
                 continue;
@@ -557,7 +600,19 @@ impl<'p> Walker<'p> {
                 continue;
             };
             if let Some(m) = call.motion() {
-                self.exec_move(call, &m, &s, frame)?;
+                let keys = [name_key(m.speed), name_key(m.tool), name_key(m.wobj)];
+                let was = last
+                    .filter(|&(scope, _)| scope == self.scope)
+                    .map(|(_, k)| k);
+                if was.is_none_or(|k| k[0].is_none() || k[0] != keys[0]) {
+                    found.speed = None;
+                }
+                if was.is_none_or(|k| k[1].is_none() || k[2].is_none() || k[1..] != keys[1..]) {
+                    found.frames = None;
+                }
+                found.array = None;
+                last = Some((self.scope, keys));
+                self.exec_move(call, &m, &s, frame, Some(&mut found))?;
             }
         }
         Ok(())
@@ -692,4 +747,17 @@ fn not_positive(arg: &str, value: f64) -> Error {
         ErrorKind::Syntax,
         format!("{arg}:={value} is not {what} (it must be greater than 0)"),
     )
+}
+
+/// An argument of a move as a key of what it names: `Some(None)` absent,
+/// `Some(Some(p))` a plain name (its text's address), `None` anything else
+/// (never taken for another's).
+type NameKey = Option<Option<*const u8>>;
+
+fn name_key(e: Option<&Expr>) -> NameKey {
+    match e {
+        None => Some(None),
+        Some(Expr::Name(n)) => Some(Some(n.as_ptr())),
+        Some(_) => None,
+    }
 }

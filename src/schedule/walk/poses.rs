@@ -1,7 +1,8 @@
 //! Each robtarget's pose and robconf, read before the walk on every core.
 
 use crate::rapid::Program;
-use crate::resolve::target_pose;
+use crate::resolve::robconf_of;
+use crate::robot::frames::pose_from_rapid;
 use crate::robot::RobConf;
 use nalgebra::Isometry3;
 
@@ -14,20 +15,21 @@ use nalgebra::Isometry3;
 pub struct TargetPoses(Vec<Option<(Isometry3<f64>, RobConf)>>);
 
 impl TargetPoses {
-    /// Every robtarget of `program` read, a chunk at a time on every core.
+    /// Every robtarget of `program` read, a chunk at a time on every core:
+    /// its numbers alone, made into a pose and robconf as
+    /// [`crate::resolve::target_pose`] makes them (making each whole
+    /// target, identifier and place, for this was a third of the read).
     pub fn read(program: &Program) -> TargetPoses {
         use rayon::prelude::*;
         let targets = program.targets();
         let poses = (0..targets.len())
             .into_par_iter()
             .with_min_len(4096)
-            .map_init(crate::rapid::targets::blank, |slot, i| {
-                let t: &crate::rapid::Target = match targets.one_by_one(i) {
-                    Some(t) => t,
-                    None if targets.fill(i, slot) => slot,
-                    None => return None,
-                };
-                target_pose(program, t).ok().flatten()
+            .map(|i| {
+                let v = targets.value(i)?;
+                let pose = pose_from_rapid(v.trans_values(), v.rot_values()).ok()?;
+                let conf = robconf_of(v.robconf_values()).ok()?;
+                Some((pose, conf))
             })
             .collect();
         TargetPoses(poses)

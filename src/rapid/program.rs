@@ -159,6 +159,12 @@ impl Program {
 
     /// The declared names of declaration run `run` as written, each with
     /// the byte offset of its declaration and its target's number.
+    /// The name of declaration `k` of declaration run `run`, as written.
+    pub fn declared_name(&self, run: usize, k: usize) -> Option<&str> {
+        let r = self.runs.decls.get(run)?;
+        r.name_of(self.source(r.file), r.items.get(k)?)
+    }
+
     pub fn declared_names(&self, run: usize) -> Vec<(&str, usize, usize)> {
         let Some(r) = self.runs.decls.get(run) else {
             return Vec::new();

@@ -138,3 +138,34 @@ ENDMODULE",
     assert_abs_diff_eq!(secs(&est, "main#4", "main#5"), diagonal, epsilon = 1e-6);
     assert_abs_diff_eq!(secs(&est, "main#5", "main#6"), 1.0, epsilon = 1e-6);
 }
+
+/// A move by name after a move to another module's last declaration: the
+/// walk asks first for the declaration after the last one it found (a
+/// RobotStudio export moves in the order it declares). Here that is the
+/// other module's LOCAL `p0`, which this module's own `p0` hides: the
+/// move goes to this module's, 100 mm from `a49`, never to the other's.
+#[test]
+fn the_next_declaration_is_not_taken_where_another_hides_it() {
+    let decl = |local: &str, name: String, at: String| {
+        format!("    {local}CONST robtarget {name} := {at};\n")
+    };
+    let mut src = String::from("MODULE A\n");
+    (0..50).for_each(|k| src.push_str(&decl("", format!("a{k}"), down(500.0, k as f64, 400.0))));
+    (0..50).for_each(|k| src.push_str(&decl("LOCAL ", format!("p{k}"), down(300.0, 0.0, 700.0))));
+    src.push_str("ENDMODULE\nMODULE B\n");
+    (0..50).for_each(|k| {
+        src.push_str(&decl(
+            "LOCAL ",
+            format!("p{k}"),
+            down(500.0, 149.0 + k as f64, 400.0),
+        ))
+    });
+    src.push_str("    PROC main()\n        MoveL a49, v100, fine, tool0;\n");
+    (0..50).for_each(|k| src.push_str(&format!("        MoveL p{k}, v100, fine, tool0;\n")));
+    src.push_str("    ENDPROC\nENDMODULE\n");
+    let (_, est) = run(&src);
+    assert!(est.schedule.times("A:p0").is_none_or(|t| t.is_empty()));
+    // 100 mm at 100 mm/s.
+    assert_abs_diff_eq!(secs(&est, "a49", "B:p0"), 1.0, epsilon = 0.05);
+    assert_abs_diff_eq!(secs(&est, "B:p0", "B:p49"), 0.49, epsilon = 0.05);
+}

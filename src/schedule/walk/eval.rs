@@ -312,11 +312,54 @@ impl<'p> Walker<'p> {
     /// The module data `name` names, seen from module `module`: that
     /// module's own, else a task-wide one (not LOCAL elsewhere).
     fn module_decl(&self, name: &str, module: usize) -> Option<(usize, Decl<'p>)> {
+        // The declaration after the last one found, asked first: a
+        // RobotStudio export moves to its targets in the order it
+        // declares them, and the table's answer is a cache miss or two
+        // (most of walking a million moves by name).
+        let guess = self.next_decl.get();
+        if let Some(found) = self.guessed_decl(guess, name, module) {
+            self.next_decl.set(guess + 1);
+            return found;
+        }
         let list = self.decls.get(&NoCase(name.as_bytes()))?;
-        list.iter()
+        let found = list
+            .iter()
             .find(|(m, _)| *m == module)
             .or_else(|| list.iter().find(|(_, d)| !d.local()))
-            .copied()
+            .copied();
+        if let Some((_, Decl::Run { target, .. })) = found {
+            self.next_decl.set(target.saturating_add(1));
+        }
+        found
+    }
+
+    /// What [`Self::module_decl`] answers for `name` from `module`, where
+    /// target `t` is a declaration of a run named `name` and the only
+    /// declaration of that name (the table's list is that one): `None`
+    /// where it is not.
+    fn guessed_decl(
+        &self,
+        t: usize,
+        name: &str,
+        module: usize,
+    ) -> Option<Option<(usize, Decl<'p>)>> {
+        if t == usize::MAX || self.shadowed.contains(&t) {
+            return None;
+        }
+        let at = self
+            .run_decls
+            .partition_point(|r| r.0 <= t)
+            .checked_sub(1)?;
+        let &(first, len, m, local, run) = self.run_decls.get(at)?;
+        if t >= first + len {
+            return None;
+        }
+        let written = self.program.declared_name(run, t - first)?;
+        if !written.eq_ignore_ascii_case(name) {
+            return None;
+        }
+        let d = Decl::Run { local, target: t };
+        Some((m == module || !local).then_some((m, d)))
     }
 
     pub(super) fn decl_value(

@@ -137,6 +137,14 @@ pub(super) struct Walker<'p> {
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
     pub(super) decls: FastMap<NoCase<'p>, DeclList<'p>>,
+    /// The declaration runs by their first target: (first target, how
+    /// many, module, LOCAL, run), in target order.
+    pub(super) run_decls: Vec<(usize, usize, usize, bool, usize)>,
+    /// Targets of declaration runs whose name has another declaration.
+    pub(super) shadowed: std::collections::HashSet<usize>,
+    /// The target after the last declaration of a run a name was found
+    /// to be (`usize::MAX`: none): asked first ([`Walker::module_decl`]).
+    pub(super) next_decl: std::cell::Cell<usize>,
     /// Procedures and functions by lower-case name: (module, routine).
     pub(super) routines: FastMap<String, Vec<(usize, &'p Routine)>>,
     /// Robtarget variables assigned during the walk (module data).
@@ -277,6 +285,7 @@ impl<'p> Walker<'p> {
         let mut decls: FastMap<NoCase<'p>, DeclList<'p>> =
             FastMap::with_capacity_and_hasher(names, Default::default());
         let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
+        let mut run_decls = Vec::new();
         for (mi, m) in program.modules.iter().enumerate() {
             for d in &m.data {
                 decls
@@ -286,7 +295,11 @@ impl<'p> Walker<'p> {
             }
             for &run in &m.decl_runs {
                 let local = program.declared_scope(run) == Some(rapid::Scope::Local);
-                for (name, _, target) in program.declared_names(run) {
+                let names = program.declared_names(run);
+                if let (Some(first), Some(last)) = (names.first(), names.last()) {
+                    run_decls.push((first.2, last.2 + 1 - first.2, mi, local, run));
+                }
+                for (name, _, target) in names {
                     decls
                         .entry(NoCase(name.as_bytes()))
                         .or_default()
@@ -300,6 +313,20 @@ impl<'p> Walker<'p> {
                     .push((mi, r));
             }
         }
+        run_decls.sort_unstable();
+        // A run's targets are numbered in order: a run whose names did
+        // not all read (none does) is not guessed in.
+        run_decls.retain(|&(first, len, _, _, run)| {
+            program.declared_count(run) == len && len > 0 && first < usize::MAX - len
+        });
+        let shadowed = (decls.values())
+            .filter(|list| list.len() > 1)
+            .flat_map(|list| list.iter())
+            .filter_map(|(_, d)| match d {
+                Decl::Run { target, .. } => Some(*target),
+                Decl::Tree(_) => None,
+            })
+            .collect();
         let zero = [0.0; 6];
         Ok(Walker {
             program,
@@ -314,6 +341,9 @@ impl<'p> Walker<'p> {
             joint_ids,
             derived_at,
             decls,
+            run_decls,
+            shadowed,
+            next_decl: std::cell::Cell::new(usize::MAX),
             routines,
             globals: HashMap::new(),
             stack: Vec::new(),

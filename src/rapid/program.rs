@@ -159,6 +159,12 @@ impl Program {
 
     /// The declared names of declaration run `run` as written, each with
     /// the byte offset of its declaration and its target's number.
+    /// The number of the first target of declaration run `run` (its
+    /// declarations' targets follow in order).
+    pub fn declared_base(&self, run: usize) -> Option<usize> {
+        self.runs.decls.get(run).map(|r| r.base)
+    }
+
     /// The name of declaration `k` of declaration run `run`, as written.
     pub fn declared_name(&self, run: usize, k: usize) -> Option<&str> {
         let r = self.runs.decls.get(run)?;

@@ -348,18 +348,21 @@ impl<'p> Walker<'p> {
         }
         let at = self
             .run_decls
-            .partition_point(|r| r.0 <= t)
+            .partition_point(|r| r.first <= t)
             .checked_sub(1)?;
-        let &(first, len, m, local, run) = self.run_decls.get(at)?;
-        if t >= first + len {
+        let r = *self.run_decls.get(at)?;
+        if t >= r.first + r.len {
             return None;
         }
-        let written = self.program.declared_name(run, t - first)?;
+        let written = self.program.declared_name(r.run, t - r.first)?;
         if !written.eq_ignore_ascii_case(name) {
             return None;
         }
-        let d = Decl::Run { local, target: t };
-        Some((m == module || !local).then_some((m, d)))
+        let d = Decl::Run {
+            local: r.local,
+            target: t,
+        };
+        Some((r.module == module || !r.local).then_some((r.module, d)))
     }
 
     pub(super) fn decl_value(

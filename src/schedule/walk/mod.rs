@@ -137,9 +137,8 @@ pub(super) struct Walker<'p> {
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
     pub(super) decls: FastMap<NoCase<'p>, DeclList<'p>>,
-    /// The declaration runs by their first target: (first target, how
-    /// many, module, LOCAL, run), in target order.
-    pub(super) run_decls: Vec<(usize, usize, usize, bool, usize)>,
+    /// The declaration runs, in the order of their targets.
+    pub(super) run_decls: Vec<RunDecls>,
     /// Targets of declaration runs whose name has another declaration.
     pub(super) shadowed: std::collections::HashSet<usize>,
     /// The target after the last declaration of a run a name was found
@@ -196,6 +195,17 @@ pub(super) struct Walker<'p> {
 /// The declarations of one name, with their modules' numbers, in the
 /// program's order: nearly always one.
 pub(super) type DeclList<'p> = smallvec::SmallVec<[(usize, Decl<'p>); 1]>;
+
+/// A declaration run: its targets are `first..first + len`, declared in
+/// `module`, LOCAL or not.
+#[derive(Clone, Copy)]
+pub(super) struct RunDecls {
+    pub first: usize,
+    pub len: usize,
+    pub module: usize,
+    pub local: bool,
+    pub run: usize,
+}
 
 /// A module's declaration: in the tree, or a robtarget of a run of the
 /// fast lane's (its target's number).
@@ -295,11 +305,16 @@ impl<'p> Walker<'p> {
             }
             for &run in &m.decl_runs {
                 let local = program.declared_scope(run) == Some(rapid::Scope::Local);
-                let names = program.declared_names(run);
-                if let (Some(first), Some(last)) = (names.first(), names.last()) {
-                    run_decls.push((first.2, last.2 + 1 - first.2, mi, local, run));
+                if let Some(first) = program.declared_base(run) {
+                    run_decls.push(RunDecls {
+                        first,
+                        len: program.declared_count(run),
+                        module: mi,
+                        local,
+                        run,
+                    });
                 }
-                for (name, _, target) in names {
+                for (name, _, target) in program.declared_names(run) {
                     decls
                         .entry(NoCase(name.as_bytes()))
                         .or_default()
@@ -313,12 +328,7 @@ impl<'p> Walker<'p> {
                     .push((mi, r));
             }
         }
-        run_decls.sort_unstable();
-        // A run's targets are numbered in order: a run whose names did
-        // not all read (none does) is not guessed in.
-        run_decls.retain(|&(first, len, _, _, run)| {
-            program.declared_count(run) == len && len > 0 && first < usize::MAX - len
-        });
+        run_decls.sort_unstable_by_key(|r| r.first);
         let shadowed = (decls.values())
             .filter(|list| list.len() > 1)
             .flat_map(|list| list.iter())

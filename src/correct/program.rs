@@ -555,7 +555,7 @@ fn write_tail(
         let bytes = match lo == hi {
             true => Cow::Borrowed(&src[a..b]),
             false => {
-                let mut v = Vec::with_capacity(b - a + b / 64);
+                let mut v = Vec::with_capacity(b - a + (b - a) / 64);
                 let mut splice = Splice {
                     src,
                     at: a,

@@ -314,6 +314,8 @@ impl NumberPrint {
             (m, e.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
         };
         self.push_number(m, e);
+        #[cfg(test)]
+        READ_WHOLE.with(|n| n.set(n.get() + 1));
         Some(i)
     }
 
@@ -522,6 +524,12 @@ impl NumberPrint {
     }
 }
 
+#[cfg(test)]
+thread_local! {
+    /// How many numbers this thread read whole ([`NumberPrint::number`]).
+    static READ_WHOLE: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// Powers of ten that pad fewer than six digits to six.
 const POW10: [u32; DIGITS + 1] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
 
@@ -718,7 +726,11 @@ mod tests {
             text.push_str([",", " ", "]", "\r\n", "-", "+"][(r >> 60) as usize % 6]);
         }
         let bytes = text.as_bytes();
+        READ_WHOLE.with(|n| n.set(0));
         let whole = NumberPrint::of(bytes);
+        // The whole reading took (nearly) every number: all but those cut
+        // by the end of a page.
+        assert!(READ_WHOLE.with(std::cell::Cell::get) > 5_000);
         let mut p = NumberPrint::new();
         for b in bytes {
             p.feed(std::slice::from_ref(b));

@@ -6,27 +6,28 @@ use crate::error::{Error, Remedy, Result, Subject};
 use crate::model::Moment;
 use crate::rapid::Program;
 use crate::schedule::{Schedule, Visit};
+use smallvec::SmallVec;
+
+/// The moments a target is reached: most are reached at one (every one
+/// at a fixed moment), held without an allocation each.
+pub(super) type Moments = SmallVec<[Moment; 2]>;
 
 /// The moments robtarget `index` (identifier `id`) is reached.
-pub(super) fn moments_of(when: &When, index: usize, id: &str) -> Result<Vec<Moment>> {
+pub(super) fn moments_of(when: &When, index: usize, id: &str) -> Result<Moments> {
     moments_in(when, (index, id), false)
 }
 
 /// The moments jointtarget `index` (identifier `id`) is reached.
-pub(super) fn joint_moments_of(when: &When, index: usize, id: &str) -> Result<Vec<Moment>> {
+pub(super) fn joint_moments_of(when: &When, index: usize, id: &str) -> Result<Moments> {
     moments_in(when, (index, id), true)
 }
 
 /// The moments target `index` of its kind (a jointtarget's where `joint`)
 /// is reached: by its number where the schedule was recorded by number
 /// (an estimate's), else by its identifier `id`.
-pub(super) fn moments_in(
-    when: &When,
-    (index, id): (usize, &str),
-    joint: bool,
-) -> Result<Vec<Moment>> {
+pub(super) fn moments_in(when: &When, (index, id): (usize, &str), joint: bool) -> Result<Moments> {
     match when {
-        When::At(m) => Ok(vec![*m]),
+        When::At(m) => Ok(smallvec::smallvec![*m]),
         When::Schedule {
             schedule,
             joints,
@@ -42,7 +43,7 @@ pub(super) fn moments_in(
             // The target is the error's subject, not its message: a
             // schedule that misses 20,000 targets is one cause, said once
             // with the others counted.
-            None => default.map(|m| vec![m]).ok_or_else(|| {
+            None => default.map(|m| smallvec::smallvec![m]).ok_or_else(|| {
                 let subject = if joint {
                     Subject::JointTarget(id.to_string())
                 } else {
@@ -57,6 +58,10 @@ pub(super) fn moments_in(
 }
 
 pub(super) fn pick(moments: &[Moment], visit: Visit) -> Moment {
+    // One moment (every target of a run at a fixed moment): no list made.
+    if let [Moment::Minute(t)] = moments {
+        return Moment::Minute(visit.pick(&[*t]));
+    }
     let minutes: Vec<f64> = moments
         .iter()
         .filter_map(|m| match m {

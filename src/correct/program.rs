@@ -14,7 +14,7 @@ use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
 use super::options::{Options, ScheduleSource, Untrusted, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
-use super::pass::{tallied, Done, Pass, Tally};
+use super::pass::{tallied, Buffers, Done, Pass, Tally};
 use super::progress::Progress;
 use super::splice::{write_error, Splice};
 use super::target::{correct_robtarget, with_others, Solved};
@@ -164,6 +164,7 @@ fn correct_all(
         write: true,
         early: &early.rows,
         bases: &bases,
+        buffers: Default::default(),
     };
     let mut found = Found::default();
     let mut changed = Vec::with_capacity(program.files.len());
@@ -489,7 +490,7 @@ fn write_numbers(
             || -> Result<(bool, usize)> {
                 match k {
                     0 => put_head(out, fixed_ref).map(|_| (false, 0)),
-                    _ => put_out(out, previous, found),
+                    _ => put_out(out, previous, (found, &pass.buffers)),
                 }
             },
         );
@@ -498,7 +499,7 @@ fn write_numbers(
         progress.add(steps);
         ready = done;
     }
-    let (c, steps) = put_out(out, ready, found)?;
+    let (c, steps) = put_out(out, ready, (found, &pass.buffers))?;
     changed |= c;
     progress.add(steps);
     if let Some(from) = found.tail_from.take() {
@@ -605,12 +606,17 @@ fn first_where(n: usize, pred: impl Fn(usize) -> bool) -> usize {
 /// Put a batch's chunks out in file order, keeping what they found;
 /// whether any of them changes the file, and how many targets they
 /// solved.
-fn put_out(out: &mut Printed, done: Vec<Result<Done>>, found: &mut Found) -> Result<(bool, usize)> {
+fn put_out(
+    out: &mut Printed,
+    done: Vec<Result<Done>>,
+    (found, buffers): (&mut Found, &Buffers),
+) -> Result<(bool, usize)> {
     let (mut changed, mut steps) = (false, 0);
     for d in done {
-        let d = d?;
+        let mut d = d?;
         out.chunk(&d.bytes, d.tokens.as_deref())
             .map_err(write_error)?;
+        buffers.give(&mut d);
         changed |= d.changed;
         steps += d.steps;
         found.rows.extend(d.rows);

@@ -37,7 +37,7 @@ pub(super) struct Meant<'e> {
     /// numbers in its place).
     pub evaluated: Option<&'e Evaluated>,
     /// Every moment the target is reached, and the one picked.
-    pub moments: Vec<Moment>,
+    pub moments: super::moments::Moments,
     pub moment: Moment,
     pub state: State,
 }
@@ -289,21 +289,24 @@ pub(super) fn solve(
     // monitoring as on.
     // A target out of reach that carries external axis positions: the
     // arm may ride a track the files read do not place.
-    let track = target.value.as_ref().and_then(|v| {
-        let names = ["eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f"];
-        let set: Vec<String> = (v.extax_values().iter().zip(names))
-            .filter(|(x, _)| x.abs() > 1e-9 && x.abs() < 8.9e9)
-            .map(|(x, n)| format!("{n} = {x}"))
-            .collect();
-        (!set.is_empty()).then(|| set.join(", "))
-    });
+    // Read only where a refusal says it.
+    let track = || {
+        target.value.as_ref().and_then(|v| {
+            let names = ["eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f"];
+            let set: Vec<String> = (v.extax_values().iter().zip(names))
+                .filter(|(x, _)| x.abs() > 1e-9 && x.abs() < 8.9e9)
+                .map(|(x, n)| format!("{n} = {x}"))
+                .collect();
+            (!set.is_empty()).then(|| set.join(", "))
+        })
+    };
     let prefix = |e: Error, context: &str| {
         let e = prefix(e, context);
-        let e = match (&track, e.kind) {
-            (Some(axes), ErrorKind::Unreachable) => e.with_note(format!(
+        let e = match (e.kind == ErrorKind::Unreachable).then(track).flatten() {
+            Some(axes) => e.with_note(format!(
                 "the target carries external axis positions ({axes}): if the arm rides a track or stands on a moving base, read the task from its backup (its MOC.cfg places the base)"
             )),
-            _ => e,
+            None => e,
         };
         if held == Some(Monitor::Unsettled) {
             e.with_note("configuration monitoring at its move cannot be settled (ConfL/ConfJ \\Off is in effect on some paths to it only): taken as on, so its robconf is held")

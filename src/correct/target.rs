@@ -13,36 +13,38 @@ use super::solve::{at_target, corrected_numbers, edits_of, row, solve, Meant, Nu
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{Moment, State};
 use crate::rapid::{Expr, Storage, Target, TargetKind};
-use crate::resolve::{frames_for, target_pose, Through, Usage};
+use crate::resolve::{frames_named_in, target_pose, Through, Usage};
 use crate::robot::conf::RobConf;
-use crate::robot::frames::{flange_of_target, ToolData, WobjData};
+use crate::robot::frames::{check_setup, ToolData, WobjData};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+use std::borrow::Cow;
 
 /// What became of one robtarget: solved (its numbers, for its first
 /// use's tool and work object), or left alone.
-pub(super) enum Solved {
-    Corrected(Box<Found>),
+pub(super) enum Solved<'r> {
+    Corrected(Box<Found<'r>>),
     LeftAlone(LeftAlone),
 }
 
 /// A robtarget solved: what it means and when ([`Meant`]), its first
 /// pair's tool and work object, and its corrected numbers.
-pub(super) struct Found {
+pub(super) struct Found<'r> {
     pub evaluated: Option<Evaluated>,
     pub pose: Isometry3<f64>,
     pub conf: RobConf,
-    pub moments: Vec<Moment>,
+    pub moments: super::moments::Moments,
     pub moment: Moment,
     pub state: State,
-    pub frames: (ToolData, WobjData),
+    /// The run's frames by those names.
+    pub frames: (&'r ToolData, &'r WobjData),
     /// The tool's and work object's names as the report gives them.
-    pub names: [String; 2],
+    pub names: [Cow<'r, str>; 2],
     pub numbers: Numbers,
     /// Where the program first moves to it (file, byte offset).
     pub order: Option<(usize, usize)>,
 }
 
-impl Found {
+impl Found<'_> {
     pub fn meant(&self) -> Meant<'_> {
         Meant {
             pose: self.pose,
@@ -63,7 +65,7 @@ impl Found {
             run,
             target,
             &meant,
-            (&self.frames.0, &self.frames.1),
+            self.frames,
             [&self.names[0], &self.names[1]],
             &self.numbers,
             (!edits.is_empty(), edits),
@@ -156,7 +158,11 @@ fn unsettled_frames(run: &Run, index: usize, target: &Target) -> Option<LeftAlon
 /// those joints in the target's own tool and work object. A target moved
 /// to with several tools or work objects is corrected for its first use's
 /// pair ([`with_others`] says what its other pairs come to).
-pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Result<Solved> {
+pub(super) fn correct_robtarget<'r>(
+    run: &'r Run,
+    index: usize,
+    target: &Target,
+) -> Result<Solved<'r>> {
     let Run {
         program,
         states,
@@ -187,13 +193,27 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
             pc
         }
     };
-    let (tool, wobj, tool_name, wobj_name) =
-        frames_for(program, frames, target, first.map(|f| (f.tool(), f.wobj())))?;
+    // The names of the first move to it (borrowed from the run), else
+    // the target's own.
+    let [tool_name, wobj_name]: [Option<Cow<'r, str>>; 2] = match first {
+        Some(f) => [f.tool().map(Cow::Borrowed), f.wobj().map(Cow::Borrowed)],
+        None => [
+            target.tool.as_deref().map(|n| Cow::Owned(n.to_string())),
+            target.wobj.as_deref().map(|n| Cow::Owned(n.to_string())),
+        ],
+    };
+    let (tool, wobj) = frames_named_in(
+        program,
+        frames,
+        target,
+        tool_name.as_deref(),
+        wobj_name.as_deref(),
+    )?;
     let names = [
-        tool_name.unwrap_or_else(|| "tool0".to_string()),
-        wobj_name.unwrap_or_else(|| "wobj0".to_string()),
+        tool_name.unwrap_or(Cow::Borrowed("tool0")),
+        wobj_name.unwrap_or(Cow::Borrowed("wobj0")),
     ];
-    if let Err(e) = flange_of_target(&pose, &tool, &wobj) {
+    if let Err(e) = check_setup(tool, wobj) {
         if e.kind == ErrorKind::Unsupported {
             return Ok(Solved::LeftAlone(leave(
                 program,
@@ -227,11 +247,11 @@ pub(super) fn correct_robtarget(run: &Run, index: usize, target: &Target) -> Res
                 .filter(|u| u.same_frames(&f))
                 .map(|u| u.to_usage())
                 .collect();
-            by_derived_uses(run, target, Some(&first_pair), &meant, (&tool, &wobj))?
+            by_derived_uses(run, target, Some(&first_pair), &meant, (tool, wobj))?
         }
         _ => None,
     };
-    let numbers = corrected_numbers(run, target, &meant, (&tool, &wobj), exact)?;
+    let numbers = corrected_numbers(run, target, &meant, (tool, wobj), exact)?;
     let Meant { moments, .. } = meant;
     Ok(Solved::Corrected(Box::new(Found {
         evaluated,

@@ -334,11 +334,18 @@ impl NumberPrint {
     /// [`NumberPrint::absorb`]. `None` where it ends inside a comment or a
     /// string (the piece is then fed).
     pub fn tokens_of(piece: &[u8]) -> Option<Vec<u8>> {
+        // A file of numbers has more bytes of tokens (nine a number)
+        // than of text: room for them at once, not grown by copies.
+        Self::tokens_into(piece, Vec::with_capacity(piece.len() + piece.len() / 2))
+    }
+
+    /// [`NumberPrint::tokens_of`] into `buf` (emptied first): a buffer
+    /// used before, whose pages are already the program's.
+    pub fn tokens_into(piece: &[u8], mut buf: Vec<u8>) -> Option<Vec<u8>> {
+        buf.clear();
         let mut p = NumberPrint {
             sha: Sha256::new(),
-            // A file of numbers has more bytes of tokens (nine a number)
-            // than of text: room for them at once, not grown by copies.
-            buf: Vec::with_capacity(piece.len() + piece.len() / 2),
+            buf,
             state: State::Normal,
             num: Num::default(),
         };

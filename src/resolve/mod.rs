@@ -889,6 +889,19 @@ pub fn frames_named(
     tool_name: Option<&str>,
     wobj_name: Option<&str>,
 ) -> Result<(ToolData, WobjData)> {
+    let (tool, wobj) = frames_named_in(program, frames, target, tool_name, wobj_name)?;
+    Ok((tool.clone(), wobj.clone()))
+}
+
+/// [`frames_named`], the frames as the table holds them: what a million
+/// targets' corrections read, each without a copy.
+pub fn frames_named_in<'f>(
+    program: &Program,
+    frames: &'f Frames,
+    target: &Target,
+    tool_name: Option<&str>,
+    wobj_name: Option<&str>,
+) -> Result<(&'f ToolData, &'f WobjData)> {
     let unknown = |what: &str, data: &str, name: &str| {
         if is_plain_name(name) {
             located(
@@ -916,7 +929,7 @@ pub fn frames_named(
     let wobj = frames
         .wobj(wobj_name)
         .ok_or_else(|| unknown("work object", "wobjdata", wobj_name.unwrap_or("wobj0")))?;
-    Ok((tool.clone(), wobj.clone()))
+    Ok((tool, wobj))
 }
 
 /// Why a tool or work object is often missing: cells declare them in a

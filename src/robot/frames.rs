@@ -142,6 +142,12 @@ enum Setup {
     StationaryTool,
 }
 
+/// Whether `tool` and `wobj` make a set-up the frames can be solved in:
+/// the error [`flange_of_target`] gives, without its pose.
+pub fn check_setup(tool: &ToolData, wobj: &WobjData) -> Result<()> {
+    setup(tool, wobj).map(|_| ())
+}
+
 fn setup(tool: &ToolData, wobj: &WobjData) -> Result<Setup> {
     if !wobj.ufprog {
         let unit = if wobj.ufmec.is_empty() {

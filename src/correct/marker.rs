@@ -346,12 +346,18 @@ pub fn refuse(program: &Program, found: &Found, wanted: &Marker) -> Error {
 
 /// The marker's fields of a run, for a cold file's bytes.
 pub fn for_run(basis: &str, model: &str, split: bool, cold: &[u8]) -> Marker {
+    for_run_printed(basis, model, split, fingerprint(cold))
+}
+
+/// [`for_run`] with the cold file's fingerprint read before
+/// ([`crate::digest::fingerprint`]).
+pub fn for_run_printed(basis: &str, model: &str, split: bool, cold: String) -> Marker {
     let clean = |s: &str| s.replace(['\n', '\r', ';'], " ");
     Marker {
         version: env!("CARGO_PKG_VERSION").to_string(),
         basis: clean(basis),
         model: clean(model),
-        cold: fingerprint(cold),
+        cold,
         split,
     }
 }

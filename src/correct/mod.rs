@@ -33,6 +33,7 @@ pub mod derived;
 mod edits;
 mod expressions;
 mod fate;
+mod in_order;
 pub mod job;
 mod joints;
 pub mod marker;

@@ -10,6 +10,7 @@
 //! already is written as it is.
 
 use super::context::Run;
+use super::in_order::in_order;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
 use super::options::{Options, ScheduleSource, Untrusted, When};
@@ -28,10 +29,11 @@ use std::borrow::Cow;
 use std::collections::{HashMap, HashSet};
 use std::io::Write;
 
-/// Targets corrected between two writes: what memory holds at once.
-const BATCH: usize = 16_384;
 /// Targets one core takes at a time.
 const CHUNK: usize = 4_096;
+/// How many chunks the cores may correct ahead of the writing: what
+/// memory holds at once.
+const AHEAD: usize = 8;
 
 /// Correct every target of `program` (which keeps the bytes it was parsed
 /// from: the corrected files are those bytes with new numbers), every
@@ -126,7 +128,18 @@ fn correct_all(
             changed: vec![false; program.files.len()],
         });
     }
-    let run = Run::new(program, warm, options)?;
+    // Each file's fingerprint for its marker, read beside the run's
+    // set-up: the marker heads the file, and a file of 100 MB takes a
+    // tenth of a second to hash, which the cores once waited for.
+    let (colds, run) = rayon::join(
+        || {
+            (0..program.files.len())
+                .map(|f| crate::digest::fingerprint(program.source(f)))
+                .collect::<Vec<String>>()
+        },
+        || Run::new(program, warm, options),
+    );
+    let run = run?;
     if let When::Schedule {
         schedule,
         joints,
@@ -181,7 +194,7 @@ fn correct_all(
         }
         let file_changed = write_file(
             &pass,
-            (f, &basis),
+            (f, &basis, &colds[f]),
             fixed,
             &mut **out,
             (&mut found, &mut progress),
@@ -324,7 +337,7 @@ struct Found {
 /// corrected. Whether the file changes.
 fn write_file(
     pass: &Pass,
-    (f, basis): (usize, &str),
+    (f, basis, cold): (usize, &str, &str),
     mut fixed: Vec<Edit>,
     out: &mut (dyn Write + Send),
     (found, progress): (&mut Found, &mut Progress),
@@ -340,7 +353,7 @@ fn write_file(
     };
     let changed = write_numbers(
         pass,
-        (f, basis),
+        (f, basis, cold),
         &mut fixed,
         &mut printed,
         end,
@@ -413,7 +426,7 @@ impl Write for Printed<'_> {
 /// marker and the new numbers.
 fn write_numbers(
     pass: &Pass,
-    (f, basis): (usize, &str),
+    (f, basis, cold): (usize, &str, &str),
     fixed: &mut Vec<Edit>,
     out: &mut Printed,
     end: usize,
@@ -435,13 +448,12 @@ fn write_numbers(
     let place = |i: usize| targets.place(i).map_or(src.len(), |p| p.1);
     let head_end = if lo < hi { place(lo) } else { end };
     let mut changed = changed_before;
-    let mut ready: Vec<Result<Done>> = Vec::new();
     let put_head = |out: &mut Printed, fixed: &[Edit]| -> Result<()> {
-        let m = marker::for_run(
+        let m = marker::for_run_printed(
             basis,
             &run.options.model_label,
             run.options.split_shared,
-            src,
+            cold.to_string(),
         );
         let mark = marker::insert(program, f, &m);
         // The marker goes into the module's header, before every target.
@@ -460,48 +472,30 @@ fn write_numbers(
         let mut edits = edits.into_iter().peekable();
         splice.finish_at(&mut edits, head_end)
     };
-    let batches: Vec<std::ops::Range<usize>> = (lo..hi)
-        .step_by(BATCH)
-        .map(|b| b..(b + BATCH).min(hi))
+    put_head(out, fixed)?;
+    // The file's targets a chunk at a time, corrected on every core and
+    // written here in order as they come.
+    let chunks: Vec<std::ops::Range<usize>> = (lo..hi)
+        .step_by(CHUNK)
+        .map(|c| c..(c + CHUNK).min(hi))
         .collect();
-    if batches.is_empty() {
-        put_head(out, fixed)?;
-    }
-    for (k, batch) in batches.iter().enumerate() {
-        let chunks: Vec<std::ops::Range<usize>> = batch
-            .clone()
-            .step_by(CHUNK)
-            .map(|c| c..(c + CHUNK).min(batch.end))
-            .collect();
-        let previous = std::mem::take(&mut ready);
-        let fixed_ref = &fixed;
-        let (done, put) = rayon::join(
-            || {
-                use rayon::prelude::*;
-                chunks
-                    .into_par_iter()
-                    .map(|c| {
-                        let last = c.end >= hi;
-                        let to = if last { end } else { place(c.end) };
-                        pass.chunk(src, c.clone(), (place(c.start)..to, last), fixed_ref)
-                    })
-                    .collect::<Vec<_>>()
-            },
-            || -> Result<(bool, usize)> {
-                match k {
-                    0 => put_head(out, fixed_ref).map(|_| (false, 0)),
-                    _ => put_out(out, previous, (found, &pass.buffers)),
-                }
-            },
-        );
-        let (c, steps) = put?;
-        changed |= c;
-        progress.add(steps);
-        ready = done;
-    }
-    let (c, steps) = put_out(out, ready, (found, &pass.buffers))?;
-    changed |= c;
-    progress.add(steps);
+    let fixed_ref = &*fixed;
+    in_order(
+        chunks.len(),
+        (rayon::current_num_threads(), AHEAD),
+        |k| {
+            let c = chunks[k].clone();
+            let last = c.end >= hi;
+            let to = if last { end } else { place(c.end) };
+            pass.chunk(src, c.clone(), (place(c.start)..to, last), fixed_ref)
+        },
+        |_, done| -> Result<()> {
+            let (c, steps) = put_out(out, done, (found, &pass.buffers))?;
+            changed |= c;
+            progress.add(steps);
+            Ok(())
+        },
+    )?;
     if let Some(from) = found.tail_from.take() {
         write_tail(src, (from, end), fixed, out)?;
     }
@@ -603,34 +597,28 @@ fn first_where(n: usize, pred: impl Fn(usize) -> bool) -> usize {
     lo
 }
 
-/// Put a batch's chunks out in file order, keeping what they found;
-/// whether any of them changes the file, and how many targets they
-/// solved.
+/// Put a chunk out (chunks come in file order), keeping what it found;
+/// whether it changes the file, and how many targets it solved.
 fn put_out(
     out: &mut Printed,
-    done: Vec<Result<Done>>,
+    done: Result<Done>,
     (found, buffers): (&mut Found, &Buffers),
 ) -> Result<(bool, usize)> {
-    let (mut changed, mut steps) = (false, 0);
-    for d in done {
-        let mut d = d?;
-        out.chunk(&d.bytes, d.tokens.as_deref())
-            .map_err(write_error)?;
-        buffers.give(&mut d);
-        changed |= d.changed;
-        steps += d.steps;
-        found.rows.extend(d.rows);
-        for t in d.tally {
-            found.tally.add(t);
-        }
-        found.left.extend(d.left);
-        found.derived.extend(d.derived);
-        found.errors.extend(d.errors);
-        if d.tail_from.is_some() {
-            found.tail_from = d.tail_from;
-        }
+    let mut d = done?;
+    out.chunk(&d.bytes, d.tokens.as_deref())
+        .map_err(write_error)?;
+    buffers.give(&mut d);
+    found.rows.extend(d.rows);
+    for t in d.tally {
+        found.tally.add(t);
     }
-    Ok((changed, steps))
+    found.left.extend(d.left);
+    found.derived.extend(d.derived);
+    found.errors.extend(d.errors);
+    if d.tail_from.is_some() {
+        found.tail_from = d.tail_from;
+    }
+    Ok((d.changed, d.steps))
 }
 
 /// The jointtargets' corrections, done before the robtargets' (their

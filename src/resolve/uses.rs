@@ -95,7 +95,10 @@ pub struct Uses<'p> {
 #[derive(Default)]
 pub(crate) struct UsesBuilder<'p> {
     uses: Uses<'p>,
-    by_name: HashMap<Arc<str>, u32>,
+    by_name: foldhash::HashMap<Arc<str>, u32>,
+    /// The last two names numbered: a run's moves name one tool and one
+    /// work object over and over.
+    recent: [(Option<Arc<str>>, u32); 2],
 }
 
 impl<'p> UsesBuilder<'p> {
@@ -109,13 +112,23 @@ impl<'p> UsesBuilder<'p> {
     /// The number of `name`.
     pub fn name(&mut self, name: Option<&str>) -> u32 {
         let Some(name) = name else { return NONE };
-        if let Some(&id) = self.by_name.get(name) {
-            return id;
+        for (n, id) in &self.recent {
+            if n.as_deref() == Some(name) {
+                return *id;
+            }
         }
-        let id = self.uses.names.len() as u32;
-        let a: Arc<str> = Arc::from(name);
-        self.uses.names.push(a.clone());
-        self.by_name.insert(a, id);
+        let (a, id) = match self.by_name.get_key_value(name) {
+            Some((a, &id)) => (a.clone(), id),
+            None => {
+                let id = self.uses.names.len() as u32;
+                let a: Arc<str> = Arc::from(name);
+                self.uses.names.push(a.clone());
+                self.by_name.insert(a.clone(), id);
+                (a, id)
+            }
+        };
+        self.recent.swap(0, 1);
+        self.recent[0] = (Some(a), id);
         id
     }
 
@@ -362,5 +375,25 @@ impl<A: Iterator<Item = u32>, B: Iterator<Item = u32>> Iterator for Merged<A, B>
             (Some(_), _) => self.a.next(),
             (None, _) => self.b.next(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_name_keeps_its_number_however_often_it_comes_back() {
+        let mut b = UsesBuilder::default();
+        // Names as moves give them: tool and work object in turn, then
+        // others, then the first again past the two kept last.
+        let names = [
+            "tProbe", "wPart", "tProbe", "wPart", "tGrip", "wTable", "tProbe", "tprobe", "wPart",
+        ];
+        let ids: Vec<u32> = names.iter().map(|n| b.name(Some(n))).collect();
+        assert_eq!(ids, [0, 1, 0, 1, 2, 3, 0, 4, 1]);
+        let held: Vec<&str> = b.uses.names.iter().map(|n| &**n).collect();
+        assert_eq!(held, ["tProbe", "wPart", "tGrip", "wTable", "tprobe"]);
+        assert_eq!(b.name(None), NONE);
     }
 }

@@ -131,9 +131,19 @@ impl Frames {
 /// `name` in a map by lower-case name: copied to lower case only where it
 /// is not (each of a million targets asks for its tool and work object).
 fn by_name<'m, T>(map: &'m foldhash::HashMap<String, T>, name: &str) -> Option<&'m T> {
-    match name.bytes().any(|b| b.is_ascii_uppercase()) {
-        true => map.get(&name.to_ascii_lowercase()),
-        false => map.get(name),
+    if !name.bytes().any(|b| b.is_ascii_uppercase()) {
+        return map.get(name);
+    }
+    // A RAPID name has at most 32 characters: lowered on the stack, not
+    // in a string made for each target (`tProbe`, a million times).
+    let mut lower = [0u8; 32];
+    match lower.get_mut(..name.len()) {
+        Some(buf) => {
+            buf.copy_from_slice(name.as_bytes());
+            buf.make_ascii_lowercase();
+            map.get(std::str::from_utf8(buf).ok()?)
+        }
+        None => map.get(&name.to_ascii_lowercase()),
     }
 }
 

@@ -6,6 +6,7 @@
 //! time ([`instant`]).
 
 mod check;
+mod decls;
 mod ends;
 mod eval;
 mod for_loop;
@@ -15,6 +16,7 @@ mod poses;
 mod reach;
 mod settled;
 
+use decls::{Decl, DeclList, RunDecls};
 pub use poses::TargetPoses;
 pub(crate) use reach::ReachAhead;
 use settled::{Settled, SettledSlot};
@@ -136,9 +138,9 @@ pub(super) struct Walker<'p> {
     /// (file, byte offset) of a derived expression → its target.
     pub(super) derived_at: HashMap<(usize, usize), usize>,
     /// Module data by lower-case name: (module, declaration).
-    pub(super) decls: FastMap<NoCase<'p>, DeclList<'p>>,
+    decls: FastMap<NoCase<'p>, DeclList<'p>>,
     /// The declaration runs, in the order of their targets.
-    pub(super) run_decls: Vec<RunDecls>,
+    run_decls: Vec<RunDecls>,
     /// Targets of declaration runs whose name has another declaration.
     pub(super) shadowed: std::collections::HashSet<usize>,
     /// The target after the last declaration of a run a name was found
@@ -192,38 +194,6 @@ pub(super) struct Walker<'p> {
 }
 
 /// Names as written, in a module and routine.
-/// The declarations of one name, with their modules' numbers, in the
-/// program's order: nearly always one.
-pub(super) type DeclList<'p> = smallvec::SmallVec<[(usize, Decl<'p>); 1]>;
-
-/// A declaration run: its targets are `first..first + len`, declared in
-/// `module`, LOCAL or not.
-#[derive(Clone, Copy)]
-pub(super) struct RunDecls {
-    pub first: usize,
-    pub len: usize,
-    pub module: usize,
-    pub local: bool,
-    pub run: usize,
-}
-
-/// A module's declaration: in the tree, or a robtarget of a run of the
-/// fast lane's (its target's number).
-#[derive(Debug, Clone, Copy)]
-pub(super) enum Decl<'p> {
-    Tree(&'p DataDecl),
-    Run { local: bool, target: usize },
-}
-
-impl Decl<'_> {
-    pub(super) fn local(&self) -> bool {
-        match self {
-            Decl::Tree(d) => d.scope == Some(rapid::Scope::Local),
-            Decl::Run { local, .. } => *local,
-        }
-    }
-}
-
 #[derive(PartialEq)]
 pub(super) struct NamesAt {
     module: usize,
@@ -256,9 +226,17 @@ impl<'p> Walker<'p> {
         // Identifiers only, and those of the fast lane's runs borrowed:
         // making every target to learn its identifier read each literal's
         // numbers once more (a tenth of timing a declared program).
-        let target_ids = program.target_index(|t| {
-            t.kind != TargetKind::Inline && !(t.kind == TargetKind::Derived && t.name.is_none())
-        });
+        // The two tables by name, each a million entries of a declared
+        // program, filled on a core each.
+        let (target_ids, (decls, routines, run_decls)) = rayon::join(
+            || {
+                program.target_index(|t| {
+                    t.kind != TargetKind::Inline
+                        && !(t.kind == TargetKind::Derived && t.name.is_none())
+                })
+            },
+            || decls::declarations(program),
+        );
         let derived_at = program
             .targets()
             .one_by_one_all()
@@ -276,59 +254,6 @@ impl<'p> Walker<'p> {
         let ids_scoped =
             target_ids.has_routine_scoped() || joint_ids.keys().any(|k| k.contains('/'));
         let ids_qualified = target_ids.has_qualified() || joint_ids.keys().any(|k| k.contains(':'));
-        // Borrowed names, compared as RAPID compares them: a lower-case
-        // copy of each of a million declared names cost as much as the
-        // rest of this table.
-        // Room for every name at once: growing the table hashed each name
-        // again at every doubling, reading it from the source, and was a
-        // second of a million declared targets' walk. A name declared once
-        // keeps its one declaration in the entry, with no vector of its
-        // own to make and free.
-        let names = (program.modules.iter())
-            .map(|m| {
-                m.data.len()
-                    + (m.decl_runs.iter())
-                        .map(|&r| program.declared_count(r))
-                        .sum::<usize>()
-            })
-            .sum();
-        let mut decls: FastMap<NoCase<'p>, DeclList<'p>> =
-            FastMap::with_capacity_and_hasher(names, Default::default());
-        let mut routines: FastMap<String, Vec<(usize, &Routine)>> = FastMap::default();
-        let mut run_decls = Vec::new();
-        for (mi, m) in program.modules.iter().enumerate() {
-            for d in &m.data {
-                decls
-                    .entry(NoCase(d.name.as_bytes()))
-                    .or_default()
-                    .push((mi, Decl::Tree(d)));
-            }
-            for &run in &m.decl_runs {
-                let local = program.declared_scope(run) == Some(rapid::Scope::Local);
-                if let Some(first) = program.declared_base(run) {
-                    run_decls.push(RunDecls {
-                        first,
-                        len: program.declared_count(run),
-                        module: mi,
-                        local,
-                        run,
-                    });
-                }
-                for (name, _, target) in program.declared_names(run) {
-                    decls
-                        .entry(NoCase(name.as_bytes()))
-                        .or_default()
-                        .push((mi, Decl::Run { local, target }));
-                }
-            }
-            for r in &m.routines {
-                routines
-                    .entry(r.name.to_ascii_lowercase())
-                    .or_default()
-                    .push((mi, r));
-            }
-        }
-        run_decls.sort_unstable_by_key(|r| r.first);
         let shadowed = (decls.values())
             .filter(|list| list.len() > 1)
             .flat_map(|list| list.iter())

@@ -333,8 +333,8 @@ struct Found {
 /// File `f` written through `out`: its bytes up to its first target with
 /// the marker (under its module header, written as if the file changes:
 /// the caller throws the output away where it does not), then its
-/// robtargets a batch at a time, each batch written while the next is
-/// corrected. Whether the file changes.
+/// robtargets a chunk at a time, corrected on every core and written in
+/// order as they come ([`in_order`]). Whether the file changes.
 fn write_file(
     pass: &Pass,
     (f, basis, cold): (usize, &str, &str),

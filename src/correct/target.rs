@@ -13,7 +13,7 @@ use super::solve::{at_target, corrected_numbers, edits_of, row, solve, Meant, Nu
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{Moment, State};
 use crate::rapid::{Expr, Storage, Target, TargetKind};
-use crate::resolve::{frames_named_in, target_pose, Through, Usage};
+use crate::resolve::{frames_for_in, target_pose, Through, Usage};
 use crate::robot::conf::RobConf;
 use crate::robot::frames::{check_setup, ToolData, WobjData};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
@@ -195,20 +195,8 @@ pub(super) fn correct_robtarget<'r>(
     };
     // The names of the first move to it (borrowed from the run), else
     // the target's own.
-    let [tool_name, wobj_name]: [Option<Cow<'r, str>>; 2] = match first {
-        Some(f) => [f.tool().map(Cow::Borrowed), f.wobj().map(Cow::Borrowed)],
-        None => [
-            target.tool.as_deref().map(|n| Cow::Owned(n.to_string())),
-            target.wobj.as_deref().map(|n| Cow::Owned(n.to_string())),
-        ],
-    };
-    let (tool, wobj) = frames_named_in(
-        program,
-        frames,
-        target,
-        tool_name.as_deref(),
-        wobj_name.as_deref(),
-    )?;
+    let (tool, wobj, tool_name, wobj_name) =
+        frames_for_in(program, frames, target, first.map(|f| (f.tool(), f.wobj())))?;
     let names = [
         tool_name.unwrap_or(Cow::Borrowed("tool0")),
         wobj_name.unwrap_or(Cow::Borrowed("wobj0")),

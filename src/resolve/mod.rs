@@ -16,6 +16,7 @@ use crate::rapid::{
 use crate::robot::conf::RobConf;
 use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
 use nalgebra::Isometry3;
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 pub mod arm;
@@ -877,14 +878,31 @@ pub fn frames_for(
     target: &Target,
     first: Option<(Option<&str>, Option<&str>)>,
 ) -> Result<(ToolData, WobjData, Option<String>, Option<String>)> {
-    let (tool_name, wobj_name) = match first {
-        Some((tool, wobj)) => (tool.map(str::to_string), wobj.map(str::to_string)),
+    let (tool, wobj, tool_name, wobj_name) = frames_for_in(program, frames, target, first)?;
+    Ok((
+        tool.clone(),
+        wobj.clone(),
+        tool_name.map(Cow::into_owned),
+        wobj_name.map(Cow::into_owned),
+    ))
+}
+
+/// [`frames_for`] without a copy (a million targets ask): the table's
+/// frames, the first move's names (the target's own copied).
+pub fn frames_for_in<'f>(
+    program: &Program,
+    frames: &'f Frames,
+    target: &Target,
+    first: Option<(Option<&'f str>, Option<&'f str>)>,
+) -> Result<FramesFound<'f>> {
+    let (tool_name, wobj_name): (Option<Cow<'f, str>>, Option<Cow<'f, str>>) = match first {
+        Some((tool, wobj)) => (tool.map(Cow::Borrowed), wobj.map(Cow::Borrowed)),
         None => (
-            target.tool.as_deref().map(str::to_string),
-            target.wobj.as_deref().map(str::to_string),
+            target.tool.as_deref().map(|n| Cow::Owned(n.to_string())),
+            target.wobj.as_deref().map(|n| Cow::Owned(n.to_string())),
         ),
     };
-    let (tool, wobj) = frames_named(
+    let (tool, wobj) = frames_named_in(
         program,
         frames,
         target,
@@ -893,6 +911,14 @@ pub fn frames_for(
     )?;
     Ok((tool, wobj, tool_name, wobj_name))
 }
+
+/// A target's tool and work object, and their names where written.
+pub type FramesFound<'f> = (
+    &'f ToolData,
+    &'f WobjData,
+    Option<Cow<'f, str>>,
+    Option<Cow<'f, str>>,
+);
 
 /// The tooldata and wobjdata of these names (`tool0`/`wobj0` for `None`)
 /// for `target`; an unknown name is an error located at the target.

@@ -57,22 +57,19 @@ pub(super) fn in_order<T: Send, E>(
         let mut held: BTreeMap<usize, T> = BTreeMap::new();
         let mut expect = 0;
         let mut result = Ok(());
-        for (k, piece) in rx.iter() {
+        'received: for (k, piece) in rx.iter() {
             held.insert(k, piece);
             while let Some(piece) = held.remove(&expect) {
                 result = put(expect, piece);
                 expect += 1;
-                if result.is_err() {
-                    stop.store(true, Ordering::Relaxed);
-                }
+                // Set before the count moves: no worker the count lets
+                // through starts another piece.
+                stop.store(result.is_err(), Ordering::Relaxed);
                 *lock(&handed.0) = expect;
                 handed.1.notify_all();
                 if result.is_err() {
-                    break;
+                    break 'received;
                 }
-            }
-            if result.is_err() {
-                break;
             }
         }
         result

@@ -95,10 +95,9 @@ pub struct Uses<'p> {
 #[derive(Default)]
 pub(crate) struct UsesBuilder<'p> {
     uses: Uses<'p>,
+    /// Hashed fast: each of a million moves numbers its tool and work
+    /// object here.
     by_name: foldhash::HashMap<Arc<str>, u32>,
-    /// The last two names numbered: a run's moves name one tool and one
-    /// work object over and over.
-    recent: [(Option<Arc<str>>, u32); 2],
 }
 
 impl<'p> UsesBuilder<'p> {
@@ -112,23 +111,13 @@ impl<'p> UsesBuilder<'p> {
     /// The number of `name`.
     pub fn name(&mut self, name: Option<&str>) -> u32 {
         let Some(name) = name else { return NONE };
-        for (n, id) in &self.recent {
-            if n.as_deref() == Some(name) {
-                return *id;
-            }
+        if let Some(&id) = self.by_name.get(name) {
+            return id;
         }
-        let (a, id) = match self.by_name.get_key_value(name) {
-            Some((a, &id)) => (a.clone(), id),
-            None => {
-                let id = self.uses.names.len() as u32;
-                let a: Arc<str> = Arc::from(name);
-                self.uses.names.push(a.clone());
-                self.by_name.insert(a.clone(), id);
-                (a, id)
-            }
-        };
-        self.recent.swap(0, 1);
-        self.recent[0] = (Some(a), id);
+        let id = self.uses.names.len() as u32;
+        let a: Arc<str> = Arc::from(name);
+        self.uses.names.push(a.clone());
+        self.by_name.insert(a, id);
         id
     }
 

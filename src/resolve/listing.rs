@@ -83,19 +83,19 @@ impl<'a> From<&'a Usage> for Use<'a> {
 /// first is the one `correct` corrects it for. Names as written,
 /// `tool0`/`wobj0` where the move names none (RAPID's defaults). Empty: no
 /// move instruction reaches the target.
-fn pairs<'a>(t: &'a Target, uses: &[Use<'a>]) -> Vec<(&'a str, &'a str)> {
+fn pairs<'a>(t: &'a Target, uses: &[Use<'a>]) -> Pairs<'a> {
+    let mut out = Pairs::new();
     if uses.is_empty() {
         // A derived target written in a move (`MoveL Offs(p10, ...)`):
         // its bases carry the uses, the target the move's own names.
-        return match t.instruction {
-            Some(_) => vec![(
+        if t.instruction.is_some() {
+            out.push((
                 t.tool.as_deref().unwrap_or("tool0"),
                 t.wobj.as_deref().unwrap_or("wobj0"),
-            )],
-            None => Vec::new(),
-        };
+            ));
+        }
+        return out;
     }
-    let mut out: Vec<(&'a str, &'a str)> = Vec::new();
     for u in uses {
         let same = |p: &&(&str, &str)| {
             p.0.eq_ignore_ascii_case(u.tool) && p.1.eq_ignore_ascii_case(u.wobj)
@@ -106,6 +106,10 @@ fn pairs<'a>(t: &'a Target, uses: &[Use<'a>]) -> Vec<(&'a str, &'a str)> {
     }
     out
 }
+
+/// A target's tool/work-object pairs: nearly always one, held in place
+/// (a million rows made a million allocations otherwise).
+type Pairs<'a> = smallvec::SmallVec<[(&'a str, &'a str); 2]>;
 
 /// RobotStudio's RX, RY, RZ of a target's quaternion (degrees); `None`
 /// without numbers or for a quaternion that is not a rotation.
@@ -168,6 +172,11 @@ pub fn listing_parts(format: ListFormat, several: bool, prog: &Program) -> (List
         .collect();
     (lister, parts)
 }
+
+/// Bytes reserved for a table row's cells (a row of the CAM sample's
+/// listing is 129 characters laid out, its cells fewer): a part's text
+/// is made without growing.
+const ROW_BYTES: usize = 128;
 
 /// Targets one core lists at a time.
 const CHUNK: usize = 16_384;
@@ -237,7 +246,7 @@ impl Lister<'_> {
     pub fn part(&self) -> Part {
         match self.format {
             ListFormat::Table => Part::Table {
-                rows: Rows::default(),
+                rows: Rows::with_capacity(CHUNK, TABLE_HEADER.len(), CHUNK * ROW_BYTES),
                 several_pairs: false,
                 unused: false,
             },

@@ -77,6 +77,6 @@ pub use syntax::{
 };
 pub use targets::Targets;
 pub use values::{
-    Derivation, Flag, JointTarget, Number, Origin, Pos, RobTargetValue, Scope, SpeedData, Storage,
-    Target, TargetKind, ToolData, Warning, WobjData, ZoneData,
+    Derivation, Flag, JointTarget, Number, Origin, Pos, PoseNumbers, RobTargetValue, Scope,
+    SpeedData, Storage, Target, TargetKind, ToolData, Warning, WobjData, ZoneData,
 };

@@ -11,7 +11,7 @@ use super::lane::{Cursor, Seen};
 use super::place::pos_on;
 use super::source::Source;
 use super::syntax::{Arg, Call, DataDecl, Expr, Statement, StatementKind};
-use super::values::{Origin, Pos, RobTargetValue, Scope, Storage, Target, TargetKind};
+use super::values::{Origin, Pos, PoseNumbers, RobTargetValue, Scope, Storage, Target, TargetKind};
 use std::fmt::Write as _;
 use std::sync::Arc;
 
@@ -131,6 +131,21 @@ pub(crate) fn literal_at(src: &[u8], at: usize, lines: bool) -> Option<RobTarget
     c.robtarget().map(|(_, v)| v)
 }
 
+/// The pose numbers of the robtarget literal at `at` of `src`, which the
+/// lane read whole (its external axes not read again); `lines` as for
+/// [`literal_at`].
+pub(crate) fn pose_at(src: &[u8], at: usize, lines: bool) -> Option<PoseNumbers> {
+    let mut seen = Seen::default();
+    let mut c = Cursor {
+        s: src,
+        p: at,
+        values: true,
+        lines,
+        seen: &mut seen,
+    };
+    c.pose_numbers()
+}
+
 impl MoveRun {
     /// The move holding literal `k` of the run, and which of its literals
     /// it is.
@@ -183,11 +198,12 @@ impl MoveRun {
         true
     }
 
-    /// The numbers of literal `k` alone, as [`MoveRun::fill`] reads them.
-    pub fn value(&self, src: &[u8], k: usize) -> Option<RobTargetValue> {
+    /// The pose numbers of literal `k` alone, as [`MoveRun::fill`] reads
+    /// them.
+    pub fn pose(&self, src: &[u8], k: usize) -> Option<PoseNumbers> {
         let (m, j) = self.move_of(k);
         let item = self.items.get(m)?;
-        literal_at(src, item.at as usize + usize::from(item.parts[j]), false)
+        pose_at(src, item.at as usize + usize::from(item.parts[j]), false)
     }
 
     /// Move `m` of the run as the grammar makes it: the call, its
@@ -259,11 +275,12 @@ fn positional(value: Expr) -> Arg {
 }
 
 impl DeclRun {
-    /// The numbers of target `k` alone, where [`DeclRun::fill`] makes it.
-    pub fn value(&self, src: &[u8], k: usize) -> Option<RobTargetValue> {
+    /// The pose numbers of target `k` alone, where [`DeclRun::fill`]
+    /// makes it.
+    pub fn pose(&self, src: &[u8], k: usize) -> Option<PoseNumbers> {
         let item = self.items.get(k)?;
-        let value = literal_at(src, item.at as usize + usize::from(item.literal), false)?;
-        self.name_of(src, item).map(|_| value)
+        let pose = pose_at(src, item.at as usize + usize::from(item.literal), false)?;
+        self.name_of(src, item).map(|_| pose)
     }
 
     /// Target `k` of the run into `t`, as the grammar makes it.
@@ -349,10 +366,11 @@ impl DeclRun {
 }
 
 impl ArrayRun {
-    /// The numbers of element `k` alone, as [`ArrayRun::fill`] reads them.
-    pub fn value(&self, src: &[u8], k: usize) -> Option<RobTargetValue> {
+    /// The pose numbers of element `k` alone, as [`ArrayRun::fill`] reads
+    /// them.
+    pub fn pose(&self, src: &[u8], k: usize) -> Option<PoseNumbers> {
         self.lines.get(k)?;
-        literal_at(src, *self.elements.get(k)? as usize, true)
+        pose_at(src, *self.elements.get(k)? as usize, true)
     }
 
     /// The identifier of element `k` into `id` (its numbers not read).

@@ -7,7 +7,7 @@
 use super::nocase::NoCase;
 use super::runs::{blank_target, MoveRef, Runs};
 use super::source::Source;
-use super::values::{RobTargetValue, Target, TargetKind};
+use super::values::{PoseNumbers, Target, TargetKind};
 use std::borrow::Cow;
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -147,11 +147,12 @@ impl<'p> Targets<'p> {
         }
     }
 
-    /// The numbers of target `i` alone, read as [`Targets::fill`] reads
-    /// them, where it makes the target with a value: all a pose is made
-    /// of, without the identifier, place and names a target carries (a
-    /// read of a million poses made a million of those).
-    pub fn value(&self, i: usize) -> Option<Cow<'p, RobTargetValue>> {
+    /// The pose numbers of target `i` alone, read as [`Targets::fill`]
+    /// reads them, where it makes the target with a value: all a pose is
+    /// made of, without the identifier, place and names a target carries
+    /// (a read of a million poses made a million of those) nor its
+    /// external axes.
+    pub fn pose(&self, i: usize) -> Option<PoseNumbers> {
         let (held, k) = self.locate(i)?;
         let runs: &Runs = self.runs;
         match held {
@@ -160,18 +161,18 @@ impl<'p> Targets<'p> {
                 .get(first + k)?
                 .value
                 .as_ref()
-                .map(Cow::Borrowed),
+                .map(PoseNumbers::from),
             Held::Moves(r) => {
                 let run = runs.moves.get(r)?;
-                run.value(self.src(run.file), k).map(Cow::Owned)
+                run.pose(self.src(run.file), k)
             }
             Held::Decls(r) => {
                 let run = runs.decls.get(r)?;
-                run.value(self.src(run.file), k).map(Cow::Owned)
+                run.pose(self.src(run.file), k)
             }
             Held::Array(r) => {
                 let run = runs.arrays.get(r)?;
-                run.value(self.src(run.file), k).map(Cow::Owned)
+                run.pose(self.src(run.file), k)
             }
         }
     }

@@ -80,6 +80,26 @@ impl RobTargetValue {
     }
 }
 
+/// The numbers a robtarget's pose is made of: its position, orientation
+/// and robconf, without its external axes (which no pose needs: a read
+/// of a million poses read six numbers of seventeen for nothing).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PoseNumbers {
+    pub trans: [f64; 3],
+    pub rot: [f64; 4],
+    pub robconf: [f64; 4],
+}
+
+impl From<&RobTargetValue> for PoseNumbers {
+    fn from(v: &RobTargetValue) -> PoseNumbers {
+        PoseNumbers {
+            trans: v.trans_values(),
+            rot: v.rot_values(),
+            robconf: v.robconf_values(),
+        }
+    }
+}
+
 /// Where and how a target is written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TargetKind {

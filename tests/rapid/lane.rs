@@ -61,6 +61,13 @@ fn same_both_ways(src: &[u8]) -> Result<(usize, usize), TestCaseError> {
     }
     prop_assert_eq!(got.len(), want.len());
     let t = lane.targets();
+    // A target's pose numbers read alone (as the walk reads them, the
+    // external axes left out) are those of the target the grammar makes,
+    // wherever it has numbers.
+    for (i, g) in grammar.targets().iter().enumerate() {
+        let want = g.value.as_ref().map(rapid::PoseNumbers::from);
+        prop_assert_eq!(t.pose(i), want, "target {}", i);
+    }
     Ok((t.moves_in_runs(), t.in_runs() - t.moves_in_runs()))
 }
 

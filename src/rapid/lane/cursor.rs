@@ -5,7 +5,7 @@
 //! the grammar reads the statement.
 
 use super::decline::Found;
-use crate::rapid::{Number, RobTargetValue};
+use crate::rapid::{Number, PoseNumbers, RobTargetValue};
 
 /// Reads tokens from `p` on. Blanks are spaces and tabs, and line ends
 /// where `lines` (inside an array's value). Numbers are read with their
@@ -332,6 +332,23 @@ impl<'a, 'm> Cursor<'a, 'm> {
                 extax,
             },
         ))
+    }
+
+    /// The pose numbers of a robtarget literal the lane has read whole
+    /// before (its external axes, read then, are not read again).
+    pub fn pose_numbers(&mut self) -> Option<PoseNumbers> {
+        let values = |n: [Number; 4]| n.map(|x| x.value);
+        self.byte(b'[')?;
+        let trans = self.numbers::<3>()?.map(|x| x.value);
+        self.byte(b',')?;
+        let rot = values(self.numbers::<4>()?);
+        self.byte(b',')?;
+        let robconf = values(self.numbers::<4>()?);
+        Some(PoseNumbers {
+            trans,
+            rot,
+            robconf,
+        })
     }
 
     /// A jointtarget literal `[[r1..r6],[e1..e6]]`: where its `[` is, and

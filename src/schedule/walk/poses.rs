@@ -26,9 +26,9 @@ impl TargetPoses {
             .into_par_iter()
             .with_min_len(4096)
             .map(|i| {
-                let v = targets.value(i)?;
-                let pose = pose_from_rapid(v.trans_values(), v.rot_values()).ok()?;
-                let conf = robconf_of(v.robconf_values()).ok()?;
+                let v = targets.pose(i)?;
+                let pose = pose_from_rapid(v.trans, v.rot).ok()?;
+                let conf = robconf_of(v.robconf).ok()?;
                 Some((pose, conf))
             })
             .collect();

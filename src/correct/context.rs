@@ -12,6 +12,7 @@ use crate::rapid::{Expr, FunctionCall, Program, Target};
 use crate::resolve::dataflow::{runtime_writes, Write};
 use crate::resolve::monitoring::{Monitor, Monitoring};
 use crate::resolve::{uses_with, Frames, MoveLookup, Uses};
+use nalgebra::Isometry3;
 use std::collections::{HashMap, HashSet};
 use std::sync::{Mutex, OnceLock};
 
@@ -55,35 +56,61 @@ pub(super) struct Run<'a> {
     pub names: OnceLock<Names>,
 }
 
-impl<'a> Run<'a> {
-    pub fn new(program: &'a Program, warm: &'a WarmRobot, options: &'a Options) -> Result<Run<'a>> {
-        let mut states = warm.states();
-        // Every target at one moment: its state worked out once. (An
-        // error is said where a target asks for it, as before.)
-        if let When::At(m) = options.when {
-            let _ = states.remember(m);
-        }
+/// What a run shares that the program alone decides (its frames, the
+/// uses of its targets, configuration monitoring, constants, calls) and
+/// each file's cold fingerprint: made before the warm robot and the
+/// times are known, so that a `--start` run makes it beside its walk.
+pub(crate) struct Prepared<'a> {
+    program: &'a Program,
+    /// What it was made for: the entry routine and the base frame.
+    entry: String,
+    base_frame: Option<Isometry3<f64>>,
+    /// Each file's fingerprint, for its marker.
+    pub colds: Vec<String>,
+    frames: Frames,
+    lookup: MoveLookup<'a>,
+    uses: Uses<'a>,
+    monitoring: Monitoring,
+    unmonitored: HashMap<(usize, usize), Monitor>,
+    writes: HashMap<String, Write>,
+    unsettled_frames: HashSet<(String, String)>,
+    constants: Constants<'a>,
+    calls: HashMap<usize, &'a FunctionCall>,
+    expressions: Expressions<'a>,
+    notes: Vec<((usize, usize), String)>,
+}
+
+impl<'a> Prepared<'a> {
+    /// `program` walked from `entry`, its robot's base at `base_frame`
+    /// (the world origin: `None`); the files hashed beside it (a file of
+    /// 100 MB takes a tenth of a second to hash).
+    pub fn of(
+        program: &'a Program,
+        entry: &str,
+        base_frame: Option<&Isometry3<f64>>,
+    ) -> Result<Prepared<'a>> {
+        let (colds, frames) = rayon::join(
+            || {
+                (0..program.files.len())
+                    .map(|f| crate::digest::fingerprint(program.source(f)))
+                    .collect::<Vec<String>>()
+            },
+            || match base_frame {
+                Some(base) => Frames::of_program(program).map(|f| f.placed(base)),
+                None => Frames::of_program(program),
+            },
+        );
         let lookup = MoveLookup::new(program);
         let uses = uses_with(program, &lookup);
-        let entry = match &options.when {
-            When::Schedule {
-                source: ScheduleSource::Estimate(request),
-                ..
-            } => request.entry.as_str(),
-            _ => "main",
-        };
         let monitoring = Monitoring::of(program, entry);
         let unmonitored = unmonitored_targets(program, &uses, &monitoring);
-        let run_notes = unsettled_note(program, &monitoring, entry);
-        Ok(Run {
+        let notes = unsettled_note(program, &monitoring, entry);
+        Ok(Prepared {
             program,
-            warm,
-            states,
-            options,
-            frames: match &options.base_frame {
-                Some(base) => Frames::of_program(program)?.placed(base),
-                None => Frames::of_program(program)?,
-            },
+            entry: entry.to_string(),
+            base_frame: base_frame.copied(),
+            colds,
+            frames: frames?,
             lookup,
             uses,
             monitoring,
@@ -93,9 +120,72 @@ impl<'a> Run<'a> {
             constants: Constants::of(program),
             calls: calls_by_offset(program),
             expressions: Expressions::of(program),
-            notes: Mutex::new(run_notes),
-            names: OnceLock::new(),
+            notes,
         })
+    }
+
+    /// Whether it was made for a run of `program` with `options`.
+    pub fn fits(&self, program: &Program, options: &Options) -> bool {
+        std::ptr::eq(self.program, program)
+            && self.entry == entry_of(options)
+            && self.base_frame == options.base_frame
+    }
+}
+
+/// The routine a run's walk starts from: an estimate's, else `main`.
+pub(crate) fn entry_of(options: &Options) -> &str {
+    match &options.when {
+        When::Schedule {
+            source: ScheduleSource::Estimate(request),
+            ..
+        } => request.entry.as_str(),
+        _ => "main",
+    }
+}
+
+impl<'a> Run<'a> {
+    /// The run of `prepared`'s program with `warm` and `options` (which it
+    /// must fit: [`Prepared::fits`]).
+    pub fn with(prepared: Prepared<'a>, warm: &'a WarmRobot, options: &'a Options) -> Run<'a> {
+        let mut states = warm.states();
+        // Every target at one moment: its state worked out once. (An
+        // error is said where a target asks for it, as before.)
+        if let When::At(m) = options.when {
+            let _ = states.remember(m);
+        }
+        let Prepared {
+            program,
+            frames,
+            lookup,
+            uses,
+            monitoring,
+            unmonitored,
+            writes,
+            unsettled_frames,
+            constants,
+            calls,
+            expressions,
+            notes,
+            ..
+        } = prepared;
+        Run {
+            program,
+            warm,
+            states,
+            options,
+            frames,
+            lookup,
+            uses,
+            monitoring,
+            unmonitored,
+            writes,
+            unsettled_frames,
+            constants,
+            calls,
+            expressions,
+            notes: Mutex::new(notes),
+            names: OnceLock::new(),
+        }
     }
 
     /// A choice made for the target at `place` (file, byte offset) that
@@ -184,4 +274,52 @@ fn unsettled_note(
             at.file, at.line
         ),
     )]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::correct::program::{correct, correct_in_memory};
+    use crate::model::{Model, Moment};
+    use crate::robot::Robot;
+    use crate::schedule::{EstimateOptions, Schedule};
+
+    /// A preparation fits the run it was made for (an estimate's entry
+    /// routine, the base frame); one made for another is made again, and
+    /// the run corrects as one that made its own.
+    #[test]
+    fn a_preparation_made_for_other_options_is_made_again() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/two_modules.mod");
+        let bytes = std::fs::read(path).expect("sample");
+        let program = crate::rapid::parse("two_modules.mod", &bytes).expect("parses");
+        let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 120.0).expect("model");
+        let at = Options::new(When::At(Moment::Minute(120.0)));
+        let estimate = |entry: &str| {
+            Options::new(When::Schedule {
+                schedule: Schedule::default(),
+                joints: None,
+                default: Some(Moment::Minute(120.0)),
+                source: ScheduleSource::Estimate(Box::new(EstimateOptions {
+                    entry: entry.to_string(),
+                    ..EstimateOptions::default()
+                })),
+            })
+        };
+        let base = Isometry3::translation(0.0, 0.0, 250.0);
+        let made = |entry: &str, base: Option<&Isometry3<f64>>| {
+            Prepared::of(&program, entry, base).expect("prepared")
+        };
+        assert!(made("main", None).fits(&program, &at));
+        assert!(made("Cycle", None).fits(&program, &estimate("Cycle")));
+        assert!(!made("Cycle", None).fits(&program, &at));
+        assert!(!made("main", None).fits(&program, &estimate("Cycle")));
+        assert!(!made("main", Some(&base)).fits(&program, &at));
+        let own = correct(&program, &warm, &at, &mut |_, _| {}).expect("corrects");
+        for p in [made("main", None), made("Cycle", Some(&base))] {
+            let given = correct_in_memory(&program, (&warm, &at, Some(Ok(p))), &mut |_, _| {})
+                .expect("corrects");
+            assert_eq!(given.outputs, own.outputs);
+            assert_eq!(given.notes, own.notes);
+        }
+    }
 }

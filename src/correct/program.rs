@@ -9,7 +9,7 @@
 //! it refuses, each cause once. A program its marker says is corrected
 //! already is written as it is.
 
-use super::context::Run;
+use super::context::{entry_of, Prepared, Run};
 use super::in_order::in_order;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
@@ -47,6 +47,16 @@ pub fn correct(
     options: &Options,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
+    correct_in_memory(program, (warm, options, None), progress)
+}
+
+/// [`correct`] with what the program alone decides made before, or its
+/// error ([`correct_prepared`]).
+pub(crate) fn correct_in_memory<'p>(
+    program: &'p Program,
+    run: (&WarmRobot, &Options, Option<Result<Prepared<'p>>>),
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Outcome> {
     let mut bufs: Vec<Vec<u8>> = (0..program.files.len())
         .map(|f| Vec::with_capacity(program.source(f).len()))
         .collect();
@@ -55,7 +65,7 @@ pub fn correct(
             .iter_mut()
             .map(|b| b as &mut (dyn Write + Send))
             .collect();
-        correct_into(program, warm, options, (&mut outs, Keep::Rows), progress)?
+        correct_prepared(program, run, (&mut outs, Keep::Rows), progress)?
     };
     let mut outcome = corrected.outcome;
     for (f, buf) in bufs.iter_mut().enumerate() {
@@ -98,13 +108,24 @@ pub fn correct_into(
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
-    correct_all(program, warm, options, (outs, keep), progress).map_err(|e| with_source(e, program))
+    correct_prepared(program, (warm, options, None), (outs, keep), progress)
 }
 
-fn correct_all(
-    program: &Program,
-    warm: &WarmRobot,
-    options: &Options,
+/// [`correct_into`] with what the program alone decides made before
+/// (beside an estimate's walk), or its error.
+pub(crate) fn correct_prepared<'p>(
+    program: &'p Program,
+    (warm, options, prepared): (&WarmRobot, &Options, Option<Result<Prepared<'p>>>),
+    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Corrected> {
+    correct_all(program, (warm, options, prepared), (outs, keep), progress)
+        .map_err(|e| with_source(e, program))
+}
+
+fn correct_all<'p>(
+    program: &'p Program,
+    (warm, options, prepared): (&WarmRobot, &Options, Option<Result<Prepared<'p>>>),
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
@@ -128,18 +149,18 @@ fn correct_all(
             changed: vec![false; program.files.len()],
         });
     }
-    // Each file's fingerprint for its marker, read beside the run's
-    // set-up: the marker heads the file, and a file of 100 MB takes a
-    // tenth of a second to hash, which the cores once waited for.
-    let (colds, run) = rayon::join(
-        || {
-            (0..program.files.len())
-                .map(|f| crate::digest::fingerprint(program.source(f)))
-                .collect::<Vec<String>>()
-        },
-        || Run::new(program, warm, options),
-    );
-    let run = run?;
+    // What the program alone decides, with each file's fingerprint for
+    // its marker: made beside the walk where the caller had one to make
+    // (`Prepared`), else now. One made for other options is made again.
+    let mut prepared = match prepared {
+        Some(p) => p?,
+        None => Prepared::of(program, entry_of(options), options.base_frame.as_ref())?,
+    };
+    if !prepared.fits(program, options) {
+        prepared = Prepared::of(program, entry_of(options), options.base_frame.as_ref())?;
+    }
+    let colds = std::mem::take(&mut prepared.colds);
+    let run = Run::with(prepared, warm, options);
     if let When::Schedule {
         schedule,
         joints,

@@ -18,8 +18,11 @@ pub use host::{Event, Host, Output, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
 pub use ran::{Inputs, Ran, Way};
 
+use super::context::Prepared;
+use super::plan::TimeBasis;
 use super::plan::{Action, CorrectPlan, Destination};
-use super::{correct, correct_into, Keep, Outcome};
+use super::program::{correct_in_memory, correct_prepared};
+use super::{Keep, Outcome};
 use crate::error::{Error, Errors, Remedy, Result};
 use crate::model::{Model, WarmRobot};
 use crate::rapid::task::Task;
@@ -148,7 +151,23 @@ fn correct_task(
 ) -> Result<Ran> {
     let arm = checked_arm(plan, &task, model, host)?;
     let (inputs, program) = read_task(&task, host)?;
-    let (when, notes) = when_and_notes(plan, &program, &arm.robot, base_frame(&task)?)?;
+    let base = base_frame(&task)?;
+    // A `--start` run walks the program on one core (another answers
+    // each move's reach): what the program alone decides for the
+    // correction is made beside the walk, not after it.
+    let (when_notes, prepared) = std::thread::scope(|scope| {
+        let beside = match &plan.when {
+            TimeBasis::Start { entry, .. } => {
+                let program = &program;
+                Some(scope.spawn(move || Prepared::of(program, entry, base.as_ref())))
+            }
+            _ => None,
+        };
+        let when_notes = when_and_notes(plan, &program, &arm.robot, base);
+        // A thread that ended without its result: made again by the run.
+        (when_notes, beside.and_then(|h| h.join().ok()))
+    });
+    let (when, notes) = when_notes?;
     for note in &notes {
         host.event(Event::Note(note));
     }
@@ -157,12 +176,16 @@ fn correct_task(
     let mut progress = |done, total| host.event(Event::Progress { done, total });
     let (outcome, way) = match (to, &plan.action) {
         (Some(sink), Action::Write(dest)) => {
-            let (outcome, changed) =
-                correct_streamed(&program, (&warm, &options), (dest, sink), &mut progress)?;
+            let (outcome, changed) = correct_streamed(
+                &program,
+                (&warm, &options, prepared),
+                (dest, sink),
+                &mut progress,
+            )?;
             (outcome, Way::Streamed { changed })
         }
         _ => (
-            correct(&program, &warm, &options, &mut progress)?,
+            correct_in_memory(&program, (&warm, &options, prepared), &mut progress)?,
             Way::InMemory,
         ),
     };
@@ -185,9 +208,13 @@ fn correct_task(
 /// where they change it. Unchanged, a file written in place stays as it
 /// is (and gets no backup); another destination gets its bytes as they
 /// are.
-fn correct_streamed(
-    program: &Program,
-    (warm, options): (&WarmRobot, &crate::correct::Options),
+fn correct_streamed<'p>(
+    program: &'p Program,
+    (warm, options, prepared): (
+        &WarmRobot,
+        &crate::correct::Options,
+        Option<Result<Prepared<'p>>>,
+    ),
     (dest, sink): (&Destination, &mut dyn Sink),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(Outcome, Vec<bool>)> {
@@ -210,10 +237,9 @@ fn correct_streamed(
             .iter_mut()
             .map(|b| b as &mut (dyn Write + Send))
             .collect();
-        let c = correct_into(
+        let c = correct_prepared(
             program,
-            warm,
-            options,
+            (warm, options, prepared),
             (&mut writers, Keep::Summary),
             progress,
         )?;

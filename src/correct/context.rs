@@ -23,6 +23,29 @@ pub(super) struct Run<'a> {
     pub warm: &'a WarmRobot,
     pub states: States<'a>,
     pub options: &'a Options,
+    /// What the program alone decides: its frames, the uses of its
+    /// targets, configuration monitoring, constants and calls.
+    pub set: Prepared<'a>,
+    /// Choices made on the way that the user should know about, each with
+    /// the place of the target it was made for (the targets are solved
+    /// on every core: said in the program's order).
+    pub notes: Mutex<Vec<((usize, usize), String)>>,
+    /// Where names are declared and read, for splitting targets (built
+    /// when first needed).
+    pub names: OnceLock<Names>,
+}
+
+/// What a run shares that the program alone decides (its frames, the
+/// uses of its targets, configuration monitoring, constants, calls) and
+/// each file's cold fingerprint: made before the warm robot and the
+/// times are known, so that a `--start` run makes it beside its walk.
+pub(crate) struct Prepared<'a> {
+    program: &'a Program,
+    /// What it was made for: the entry routine and the base frame.
+    entry: String,
+    base_frame: Option<Isometry3<f64>>,
+    /// Each file's fingerprint, for its marker.
+    pub colds: Vec<String>,
     pub frames: Frames,
     /// What the moves' target arguments are looked up in (built once for
     /// the uses here and the moves' fates).
@@ -47,36 +70,7 @@ pub(super) struct Run<'a> {
     /// Every function call of the program by where it starts.
     pub calls: HashMap<usize, &'a FunctionCall>,
     pub expressions: Expressions<'a>,
-    /// Choices made on the way that the user should know about, each with
-    /// the place of the target it was made for (the targets are solved
-    /// on every core: said in the program's order).
-    pub notes: Mutex<Vec<((usize, usize), String)>>,
-    /// Where names are declared and read, for splitting targets (built
-    /// when first needed).
-    pub names: OnceLock<Names>,
-}
-
-/// What a run shares that the program alone decides (its frames, the
-/// uses of its targets, configuration monitoring, constants, calls) and
-/// each file's cold fingerprint: made before the warm robot and the
-/// times are known, so that a `--start` run makes it beside its walk.
-pub(crate) struct Prepared<'a> {
-    program: &'a Program,
-    /// What it was made for: the entry routine and the base frame.
-    entry: String,
-    base_frame: Option<Isometry3<f64>>,
-    /// Each file's fingerprint, for its marker.
-    pub colds: Vec<String>,
-    frames: Frames,
-    lookup: MoveLookup<'a>,
-    uses: Uses<'a>,
-    monitoring: Monitoring,
-    unmonitored: HashMap<(usize, usize), Monitor>,
-    writes: HashMap<String, Write>,
-    unsettled_frames: HashSet<(String, String)>,
-    constants: Constants<'a>,
-    calls: HashMap<usize, &'a FunctionCall>,
-    expressions: Expressions<'a>,
+    /// The notes of its making, for the run's.
     notes: Vec<((usize, usize), String)>,
 }
 
@@ -146,44 +140,20 @@ pub(crate) fn entry_of(options: &Options) -> &str {
 impl<'a> Run<'a> {
     /// The run of `prepared`'s program with `warm` and `options` (which it
     /// must fit: [`Prepared::fits`]).
-    pub fn with(prepared: Prepared<'a>, warm: &'a WarmRobot, options: &'a Options) -> Run<'a> {
+    pub fn with(mut prepared: Prepared<'a>, warm: &'a WarmRobot, options: &'a Options) -> Run<'a> {
         let mut states = warm.states();
         // Every target at one moment: its state worked out once. (An
         // error is said where a target asks for it, as before.)
         if let When::At(m) = options.when {
             let _ = states.remember(m);
         }
-        let Prepared {
-            program,
-            frames,
-            lookup,
-            uses,
-            monitoring,
-            unmonitored,
-            writes,
-            unsettled_frames,
-            constants,
-            calls,
-            expressions,
-            notes,
-            ..
-        } = prepared;
         Run {
-            program,
+            program: prepared.program,
             warm,
             states,
             options,
-            frames,
-            lookup,
-            uses,
-            monitoring,
-            unmonitored,
-            writes,
-            unsettled_frames,
-            constants,
-            calls,
-            expressions,
-            notes: Mutex::new(notes),
+            notes: Mutex::new(std::mem::take(&mut prepared.notes)),
+            set: prepared,
             names: OnceLock::new(),
         }
     }
@@ -215,7 +185,7 @@ impl<'a> Run<'a> {
             module: &target.origin.module,
             routine: target.origin.routine.as_deref(),
         };
-        self.constants.num(e, site)
+        self.set.constants.num(e, site)
     }
 }
 

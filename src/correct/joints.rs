@@ -117,7 +117,7 @@ pub(super) fn correct_jointtarget(
     }
     if matches!(jt.storage, Some(Storage::Var | Storage::Pers)) {
         let name = jt.name.as_deref().unwrap_or_default().to_lowercase();
-        if let Some(w) = run.writes.get(&name) {
+        if let Some(w) = run.set.writes.get(&name) {
             return Ok(leave(
                 Reason::Runtime,
                 format!(

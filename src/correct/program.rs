@@ -254,14 +254,16 @@ fn correct_all<'p>(
         false => crate::resolve::settled_parameters(program),
     };
     // No derived targets: no index, and nothing below runs.
-    let lookups = index_of.iter().map(|index| (&run.frames, &run.uses, index));
+    let lookups = index_of
+        .iter()
+        .map(|index| (&run.set.frames, &run.set.uses, index));
     let derived: Vec<Derived> = (lookups.flat_map(|l| found.derived.iter().map(move |&i| (i, l))))
         .map(|(i, lookup)| {
             progress.step();
             let target = targets.at(i);
             let reads: Vec<&str> = match passed.is_empty() {
                 true => Vec::new(),
-                false => (run.calls.get(&target.origin.pos.offset).into_iter())
+                false => (run.set.calls.get(&target.origin.pos.offset).into_iter())
                     .flat_map(|c| &c.args)
                     .filter(|a| !a.optional)
                     .filter_map(|a| a.value.as_ref().and_then(crate::rapid::Expr::as_name))
@@ -271,7 +273,7 @@ fn correct_all<'p>(
             report.residual_mm = derived::residual(
                 program,
                 i,
-                &run.calls,
+                &run.set.calls,
                 &lookup,
                 &found.rows,
                 warm,
@@ -300,11 +302,11 @@ fn correct_all<'p>(
     // targets', and a row for each argument that reaches none.
     let (moves, move_counts, unread) = fate::fates(
         program,
-        &run.lookup,
+        &run.set.lookup,
         &fate::Decided {
             robtargets: &by_index,
             others: &left_alone,
-            frames: &run.frames,
+            frames: &run.set.frames,
         },
         keep == Keep::Rows,
     );
@@ -697,8 +699,8 @@ fn solve_shared(run: &Run, errors: &mut Vec<(usize, Error)>) -> Result<Early> {
     let mut pending = Vec::new();
     let mut corrections: Vec<Correction> = Vec::new();
     let mut owners: Vec<usize> = Vec::new();
-    for i in run.uses.targets() {
-        if !run.uses.several_frames(i) {
+    for i in run.set.uses.targets() {
+        if !run.set.uses.several_frames(i) {
             continue;
         }
         let t = targets.at(i);

@@ -83,10 +83,10 @@ pub(super) fn other_pairs(
     meant: &Meant,
     correction: &Correction,
 ) -> Result<Vec<OtherPair>> {
-    if !run.uses.several_frames(index) {
+    if !run.set.uses.several_frames(index) {
         return Ok(Vec::new());
     }
-    let uses = &run.uses.usages(index);
+    let uses = &run.set.uses.usages(index);
     let groups = uses_by_frames(uses);
     let Some(exact) = correction.exact else {
         return Ok(Vec::new());
@@ -101,7 +101,7 @@ pub(super) fn other_pairs(
         let pair = group[0];
         let frames = frames_named(
             run.program,
-            &run.frames,
+            &run.set.frames,
             target,
             pair.tool.as_deref(),
             pair.wobj.as_deref(),
@@ -174,12 +174,16 @@ fn landed(
             // Constants as seen where the expression is written, as the
             // derived target's own residual reads them.
             let eval = |e: &Expr| run.eval(derived, e);
-            let poses = run.calls.get(&derived.origin.pos.offset).and_then(|call| {
-                Some((
-                    apply_with(call, &meant.pose, &eval)?,
-                    apply_with(call, exact, &eval)?,
-                ))
-            });
+            let poses = run
+                .set
+                .calls
+                .get(&derived.origin.pos.offset)
+                .and_then(|call| {
+                    Some((
+                        apply_with(call, &meant.pose, &eval)?,
+                        apply_with(call, exact, &eval)?,
+                    ))
+                });
             match poses {
                 Some(p) => p,
                 None => return Ok(Err("its offsets are known only at run time".to_string())),
@@ -199,7 +203,7 @@ fn landed(
         // As the correction does: with configuration monitoring off the
         // controller takes the nearest solution.
         Err(e)
-            if run.monitoring.at(u.file, u.offset, &u.instruction) == Some(Monitor::Off)
+            if run.set.monitoring.at(u.file, u.offset, &u.instruction) == Some(Monitor::Off)
                 && e.kind == ErrorKind::Unreachable =>
         {
             match nearest_solution(warm, &flange, &meant.conf) {

@@ -251,20 +251,21 @@ fn in_world(
 /// where they do not say (no move names its work object, no numbers, a
 /// work object a mechanical unit moves).
 pub(super) fn written_in_world(run: &Run, index: usize, target: &Target) -> Option<[f64; 3]> {
-    let first = run.uses.first(index);
+    let first = run.set.uses.first(index);
     if first.is_none() && target.kind != TargetKind::Inline {
         return None;
     }
     let (pose, _) = match &target.value {
         Some(_) => target_pose(run.program, target).ok()??,
         None => run
+            .set
             .expressions
-            .evaluate(&run.constants, target)?
+            .evaluate(&run.set.constants, target)?
             .pose_conf()
             .ok()?,
     };
     let first = first.map(|f| (f.tool(), f.wobj()));
-    let (tool, wobj, _, _) = frames_for(run.program, &run.frames, target, first).ok()?;
+    let (tool, wobj, _, _) = frames_for(run.program, &run.set.frames, target, first).ok()?;
     in_world(run, &pose, &tool, &wobj)
 }
 
@@ -281,6 +282,7 @@ pub(super) fn solve(
 ) -> Result<Solution> {
     let Run { program, warm, .. } = run;
     let held = run
+        .set
         .unmonitored
         .get(&(target.origin.file, target.origin.pos.offset))
         .copied();

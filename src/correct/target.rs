@@ -85,7 +85,7 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
     let variable = matches!(target.storage, Some(Storage::Var | Storage::Pers));
     if variable && target.kind != TargetKind::Assigned {
         let name = target.name.as_deref().unwrap_or_default().to_lowercase();
-        if let Some(w) = run.writes.get(&name) {
+        if let Some(w) = run.set.writes.get(&name) {
             return Some(leave(
                 program,
                 target,
@@ -107,12 +107,12 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
             }
         }
     }
-    if !run.unsettled_frames.is_empty() {
+    if !run.set.unsettled_frames.is_empty() {
         if let Some(left) = unsettled_frames(run, index, target) {
             return Some(left);
         }
     }
-    if target.kind != TargetKind::Inline && !run.uses.contains(index) {
+    if target.kind != TargetKind::Inline && !run.set.uses.contains(index) {
         return Some(leave(
             program,
             target,
@@ -127,11 +127,12 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
 /// parameter its calls do not settle: the frames it moves in are the
 /// run's, and correcting it for any one would be a guess.
 fn unsettled_frames(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
-    for u in run.uses.of(index) {
+    for u in run.set.uses.of(index) {
         let routine = u.routine().to_ascii_lowercase();
         for (what, name) in [("tool", u.tool()), ("work object", u.wobj())] {
             let Some(name) = name else { continue };
             if run
+                .set
                 .unsettled_frames
                 .contains(&(routine.clone(), name.to_ascii_lowercase()))
             {
@@ -167,10 +168,10 @@ pub(super) fn correct_robtarget<'r>(
         program,
         states,
         options,
-        frames,
-        uses,
+        set,
         ..
     } = run;
+    let (frames, uses) = (&set.frames, &set.uses);
     if let Some(left) = left_alone(run, index, target) {
         return Ok(Solved::LeftAlone(left));
     }
@@ -181,11 +182,12 @@ pub(super) fn correct_robtarget<'r>(
             at_target(program, target, Error::input("a robtarget without numbers"))
         })?,
         None => {
-            let value = run.expressions.evaluate(&run.constants, target);
+            let value = run.set.expressions.evaluate(&run.set.constants, target);
             let Some(v) = value.filter(|_| options.expand_expressions) else {
                 return Ok(Solved::LeftAlone(
-                    run.expressions
-                        .left_alone((run.program, &run.constants), target),
+                    run.set
+                        .expressions
+                        .left_alone((run.program, &run.set.constants), target),
                 ));
             };
             let pc = v.pose_conf().map_err(|e| at_target(program, target, e))?;
@@ -315,7 +317,7 @@ fn by_derived_uses(
         seen.push(i);
         let derived = run.program.targets().at(i);
         let derived = &*derived;
-        let Some(call) = run.calls.get(&derived.origin.pos.offset) else {
+        let Some(call) = run.set.calls.get(&derived.origin.pos.offset) else {
             continue;
         };
         let Some(meant) = super::derived::apply_with(call, pose, &eval) else {

@@ -116,10 +116,14 @@ impl Runs {
     }
 }
 
-/// The robtarget literal at `at` of `src`, read again with its values
-/// (the lane read it once, so it reads again); `lines`: one of an
-/// array's, whose line ends are blanks.
-pub(crate) fn literal_at(src: &[u8], at: usize, lines: bool) -> Option<RobTargetValue> {
+/// What `read` reads at `at` of `src`, numbers with their values;
+/// `lines`: inside an array, whose line ends are blanks.
+fn read_at<T>(
+    src: &[u8],
+    at: usize,
+    lines: bool,
+    read: impl FnOnce(&mut Cursor) -> Option<T>,
+) -> Option<T> {
     let mut seen = Seen::default();
     let mut c = Cursor {
         s: src,
@@ -128,22 +132,21 @@ pub(crate) fn literal_at(src: &[u8], at: usize, lines: bool) -> Option<RobTarget
         lines,
         seen: &mut seen,
     };
-    c.robtarget().map(|(_, v)| v)
+    read(&mut c)
+}
+
+/// The robtarget literal at `at` of `src`, read again with its values
+/// (the lane read it once, so it reads again); `lines`: one of an
+/// array's, whose line ends are blanks.
+pub(crate) fn literal_at(src: &[u8], at: usize, lines: bool) -> Option<RobTargetValue> {
+    read_at(src, at, lines, |c| c.robtarget().map(|(_, v)| v))
 }
 
 /// The pose numbers of the robtarget literal at `at` of `src`, which the
 /// lane read whole (its external axes not read again); `lines` as for
 /// [`literal_at`].
 pub(crate) fn pose_at(src: &[u8], at: usize, lines: bool) -> Option<PoseNumbers> {
-    let mut seen = Seen::default();
-    let mut c = Cursor {
-        s: src,
-        p: at,
-        values: true,
-        lines,
-        seen: &mut seen,
-    };
-    c.pose_numbers()
+    read_at(src, at, lines, |c| c.pose_numbers())
 }
 
 impl MoveRun {

@@ -166,7 +166,7 @@ pub fn write_table(
     out.write_all(buf.as_bytes())?;
     // The lines of a few parts at a time, laid out into buffers kept from
     // one group to the next: fresh ones were a page fault every 4 kB of a
-    // 150 MB listing (half of a million targets' page faults).
+    // 150 MB listing (a third of a million targets' page faults).
     let mut texts: Vec<String> = Vec::new();
     for group in parts.chunks(2 * rayon::current_num_threads().max(1)) {
         texts.resize_with(texts.len().max(group.len()), String::new);

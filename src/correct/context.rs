@@ -75,9 +75,10 @@ pub(crate) struct Prepared<'a> {
 }
 
 impl<'a> Prepared<'a> {
-    /// `program` walked from `entry`, its robot's base at `base_frame`
-    /// (the world origin: `None`); the files hashed beside it (a file of
-    /// 100 MB takes a tenth of a second to hash).
+    /// What `program` alone decides for a run whose walk starts at the
+    /// routine `entry`, its robot's base at `base_frame` (the world
+    /// origin: `None`); the files hashed beside it (a file of 100 MB takes
+    /// a tenth of a second to hash).
     pub fn of(
         program: &'a Program,
         entry: &str,

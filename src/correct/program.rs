@@ -152,13 +152,10 @@ fn correct_all<'p>(
     // What the program alone decides, with each file's fingerprint for
     // its marker: made beside the walk where the caller had one to make
     // (`Prepared`), else now. One made for other options is made again.
-    let mut prepared = match prepared {
-        Some(p) => p?,
-        None => Prepared::of(program, entry_of(options), options.base_frame.as_ref())?,
+    let mut prepared = match prepared.transpose()? {
+        Some(p) if p.fits(program, options) => p,
+        _ => Prepared::of(program, entry_of(options), options.base_frame.as_ref())?,
     };
-    if !prepared.fits(program, options) {
-        prepared = Prepared::of(program, entry_of(options), options.base_frame.as_ref())?;
-    }
     let colds = std::mem::take(&mut prepared.colds);
     let run = Run::with(prepared, warm, options);
     if let When::Schedule {

@@ -314,12 +314,7 @@ impl<'a, 'm> Cursor<'a, 'm> {
     pub fn robtarget(&mut self) -> Option<(usize, RobTargetValue)> {
         self.blank();
         let start = self.p;
-        self.byte(b'[')?;
-        let trans = self.numbers::<3>()?;
-        self.byte(b',')?;
-        let rot = self.numbers::<4>()?;
-        self.byte(b',')?;
-        let robconf = self.numbers::<4>()?;
+        let (trans, rot, robconf) = self.pose_groups()?;
         self.byte(b',')?;
         let extax = self.numbers::<6>()?;
         self.byte(b']')?;
@@ -337,18 +332,24 @@ impl<'a, 'm> Cursor<'a, 'm> {
     /// The pose numbers of a robtarget literal the lane has read whole
     /// before (its external axes, read then, are not read again).
     pub fn pose_numbers(&mut self) -> Option<PoseNumbers> {
-        let values = |n: [Number; 4]| n.map(|x| x.value);
-        self.byte(b'[')?;
-        let trans = self.numbers::<3>()?.map(|x| x.value);
-        self.byte(b',')?;
-        let rot = values(self.numbers::<4>()?);
-        self.byte(b',')?;
-        let robconf = values(self.numbers::<4>()?);
+        let (trans, rot, robconf) = self.pose_groups()?;
         Some(PoseNumbers {
-            trans,
-            rot,
-            robconf,
+            trans: trans.map(|x| x.value),
+            rot: rot.map(|x| x.value),
+            robconf: robconf.map(|x| x.value),
         })
+    }
+
+    /// A robtarget literal's `[` and its first three groups: position,
+    /// orientation, robconf.
+    fn pose_groups(&mut self) -> Option<([Number; 3], [Number; 4], [Number; 4])> {
+        self.byte(b'[')?;
+        let trans = self.numbers::<3>()?;
+        self.byte(b',')?;
+        let rot = self.numbers::<4>()?;
+        self.byte(b',')?;
+        let robconf = self.numbers::<4>()?;
+        Some((trans, rot, robconf))
     }
 
     /// A jointtarget literal `[[r1..r6],[e1..e6]]`: where its `[` is, and

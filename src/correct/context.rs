@@ -1,6 +1,7 @@
 //! What every target of a run shares: the program's frames, usages and
 //! constants, the warm robot's states, the options; built once per run.
 
+use super::colds::Colds;
 use super::derived::calls_by_offset;
 use super::expressions::Expressions;
 use super::names::Names;
@@ -36,16 +37,14 @@ pub(super) struct Run<'a> {
 }
 
 /// What a run shares that the program alone decides (its frames, the
-/// uses of its targets, configuration monitoring, constants, calls) and
-/// each file's cold fingerprint: made before the warm robot and the
-/// times are known, so that a `--start` run makes it beside its walk.
+/// uses of its targets, configuration monitoring, constants, calls):
+/// made before the warm robot and the times are known, so that a
+/// `--start` run makes it beside its walk.
 pub(crate) struct Prepared<'a> {
     program: &'a Program,
     /// What it was made for: the entry routine and the base frame.
     entry: String,
     base_frame: Option<Isometry3<f64>>,
-    /// Each file's fingerprint, for its marker.
-    pub colds: Vec<String>,
     pub frames: Frames,
     /// What the moves' target arguments are looked up in (built once for
     /// the uses here and the moves' fates).
@@ -77,24 +76,16 @@ pub(crate) struct Prepared<'a> {
 impl<'a> Prepared<'a> {
     /// What `program` alone decides for a run whose walk starts at the
     /// routine `entry`, its robot's base at `base_frame` (the world
-    /// origin: `None`); the files hashed beside it (a file of 100 MB takes
-    /// a tenth of a second to hash).
+    /// origin: `None`).
     pub fn of(
         program: &'a Program,
         entry: &str,
         base_frame: Option<&Isometry3<f64>>,
     ) -> Result<Prepared<'a>> {
-        let (colds, frames) = rayon::join(
-            || {
-                (0..program.files.len())
-                    .map(|f| crate::digest::fingerprint(program.source(f)))
-                    .collect::<Vec<String>>()
-            },
-            || match base_frame {
-                Some(base) => Frames::of_program(program).map(|f| f.placed(base)),
-                None => Frames::of_program(program),
-            },
-        );
+        let frames = match base_frame {
+            Some(base) => Frames::of_program(program).map(|f| f.placed(base)),
+            None => Frames::of_program(program),
+        };
         let lookup = MoveLookup::new(program);
         let uses = uses_with(program, &lookup);
         let monitoring = Monitoring::of(program, entry);
@@ -104,7 +95,6 @@ impl<'a> Prepared<'a> {
             program,
             entry: entry.to_string(),
             base_frame: base_frame.copied(),
-            colds,
             frames: frames?,
             lookup,
             uses,
@@ -124,6 +114,43 @@ impl<'a> Prepared<'a> {
         std::ptr::eq(self.program, program)
             && self.entry == entry_of(options)
             && self.base_frame == options.base_frame
+    }
+}
+
+/// What a caller made before a run: what the program alone decides
+/// (beside an estimate's walk, or its error) and each file's cold
+/// fingerprint (beside the parse). What is missing, or was made for
+/// another program or other options, the run makes itself.
+#[derive(Default)]
+pub(crate) struct Ahead<'a> {
+    pub prepared: Option<Result<Prepared<'a>>>,
+    pub colds: Option<Colds>,
+}
+
+impl<'a> Ahead<'a> {
+    /// The run's set-up and its files' fingerprints: as made ahead where
+    /// they fit, else made now (both on two cores where both are
+    /// missing: a file of 100 MB takes a twentieth of a second to hash).
+    pub fn made(
+        self,
+        program: &'a Program,
+        options: &Options,
+    ) -> Result<(Prepared<'a>, Vec<String>)> {
+        let prepared = match self.prepared.transpose()? {
+            Some(p) if p.fits(program, options) => Some(p),
+            _ => None,
+        };
+        let colds = self.colds.filter(|c| c.fits(program));
+        let make = || Prepared::of(program, entry_of(options), options.base_frame.as_ref());
+        match (prepared, colds) {
+            (Some(p), Some(c)) => Ok((p, c.into_prints())),
+            (Some(p), None) => Ok((p, Colds::of_program(program).into_prints())),
+            (None, Some(c)) => Ok((make()?, c.into_prints())),
+            (None, None) => {
+                let (p, c) = rayon::join(make, || Colds::of_program(program));
+                Ok((p?, c.into_prints()))
+            }
+        }
     }
 }
 
@@ -287,8 +314,19 @@ mod tests {
         assert!(!made("main", Some(&base)).fits(&program, &at));
         let own = correct(&program, &warm, &at, &mut |_, _| {}).expect("corrects");
         for p in [made("main", None), made("Cycle", Some(&base))] {
-            let given = correct_in_memory(&program, (&warm, &at, Some(Ok(p))), &mut |_, _| {})
-                .expect("corrects");
+            let given = correct_in_memory(
+                &program,
+                (
+                    &warm,
+                    &at,
+                    Ahead {
+                        prepared: Some(Ok(p)),
+                        colds: None,
+                    },
+                ),
+                &mut |_, _| {},
+            )
+            .expect("corrects");
             assert_eq!(given.outputs, own.outputs);
             assert_eq!(given.notes, own.notes);
         }

@@ -28,6 +28,7 @@
 //! or the CLI.
 
 pub mod check;
+mod colds;
 mod context;
 pub mod derived;
 mod edits;

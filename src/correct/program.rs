@@ -9,7 +9,7 @@
 //! it refuses, each cause once. A program its marker says is corrected
 //! already is written as it is.
 
-use super::context::{entry_of, Prepared, Run};
+use super::context::{Ahead, Run};
 use super::in_order::in_order;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::moments::check_schedule_names;
@@ -47,14 +47,14 @@ pub fn correct(
     options: &Options,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
-    correct_in_memory(program, (warm, options, None), progress)
+    correct_in_memory(program, (warm, options, Ahead::default()), progress)
 }
 
 /// [`correct`] with what the program alone decides made before, or its
 /// error ([`correct_prepared`]).
 pub(crate) fn correct_in_memory<'p>(
     program: &'p Program,
-    run: (&WarmRobot, &Options, Option<Result<Prepared<'p>>>),
+    run: (&WarmRobot, &Options, Ahead<'p>),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
     let mut bufs: Vec<Vec<u8>> = (0..program.files.len())
@@ -108,24 +108,30 @@ pub fn correct_into(
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
-    correct_prepared(program, (warm, options, None), (outs, keep), progress)
+    correct_prepared(
+        program,
+        (warm, options, Ahead::default()),
+        (outs, keep),
+        progress,
+    )
 }
 
-/// [`correct_into`] with what the program alone decides made before
-/// (beside an estimate's walk), or its error.
+/// [`correct_into`] with what was made ahead of it ([`Ahead`]): what the
+/// program alone decides (beside an estimate's walk, or its error) and
+/// each file's fingerprint (beside the parse).
 pub(crate) fn correct_prepared<'p>(
     program: &'p Program,
-    (warm, options, prepared): (&WarmRobot, &Options, Option<Result<Prepared<'p>>>),
+    (warm, options, ahead): (&WarmRobot, &Options, Ahead<'p>),
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
-    correct_all(program, (warm, options, prepared), (outs, keep), progress)
+    correct_all(program, (warm, options, ahead), (outs, keep), progress)
         .map_err(|e| with_source(e, program))
 }
 
 fn correct_all<'p>(
     program: &'p Program,
-    (warm, options, prepared): (&WarmRobot, &Options, Option<Result<Prepared<'p>>>),
+    (warm, options, ahead): (&WarmRobot, &Options, Ahead<'p>),
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
@@ -149,14 +155,9 @@ fn correct_all<'p>(
             changed: vec![false; program.files.len()],
         });
     }
-    // What the program alone decides, with each file's fingerprint for
-    // its marker: made beside the walk where the caller had one to make
-    // (`Prepared`), else now. One made for other options is made again.
-    let mut prepared = match prepared.transpose()? {
-        Some(p) if p.fits(program, options) => p,
-        _ => Prepared::of(program, entry_of(options), options.base_frame.as_ref())?,
-    };
-    let colds = std::mem::take(&mut prepared.colds);
+    // What the program alone decides, and each file's fingerprint for
+    // its marker: made ahead where the caller had them made, else now.
+    let (prepared, colds) = ahead.made(program, options)?;
     let run = Run::with(prepared, warm, options);
     if let When::Schedule {
         schedule,
@@ -696,10 +697,7 @@ fn solve_shared(run: &Run, errors: &mut Vec<(usize, Error)>) -> Result<Early> {
     let mut pending = Vec::new();
     let mut corrections: Vec<Correction> = Vec::new();
     let mut owners: Vec<usize> = Vec::new();
-    for i in run.set.uses.targets() {
-        if !run.set.uses.several_frames(i) {
-            continue;
-        }
+    for i in run.set.uses.of_several_frames() {
         let t = targets.at(i);
         if t.kind == TargetKind::Derived && !t.written_with_expressions() {
             continue;
@@ -812,9 +810,8 @@ fn already_corrected(program: &Program, found: &marker::Found, options: &Options
         let uses = crate::resolve::uses(program);
         let targets = program.targets();
         let mut shared: Vec<String> = uses
-            .targets()
+            .of_several_frames()
             .into_iter()
-            .filter(|&i| uses.several_frames(i))
             .filter_map(|i| targets.get(i).map(|t| t.id.clone()))
             .collect();
         shared.sort_unstable();

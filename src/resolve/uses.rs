@@ -325,6 +325,18 @@ impl<'p> Uses<'p> {
         all.any(|u| !u.same_frames(&first))
     }
 
+    /// The targets some use of which moves with another tool or work
+    /// object than their first ([`Uses::several_frames`]), in order:
+    /// asked on every core, as a program of a million targets asks a
+    /// million times.
+    pub fn of_several_frames(&self) -> Vec<usize> {
+        use rayon::prelude::*;
+        self.targets()
+            .into_par_iter()
+            .filter(|&i| self.several_frames(i))
+            .collect()
+    }
+
     /// The targets with an entry of their own or in a stretch, in order
     /// (each once).
     pub fn targets(&self) -> Vec<usize> {

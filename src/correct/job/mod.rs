@@ -18,7 +18,8 @@ pub use host::{Event, Host, Output, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
 pub use ran::{Inputs, Ran, Way};
 
-use super::context::Prepared;
+use super::colds::Colds;
+use super::context::{Ahead, Prepared};
 use super::plan::TimeBasis;
 use super::plan::{Action, CorrectPlan, Destination};
 use super::program::{correct_in_memory, correct_prepared};
@@ -101,13 +102,30 @@ pub fn announce(task: &Task, host: &mut dyn Host) {
 /// (the task's notes, its files, the reader's warnings) is told. A file
 /// is mapped into memory, not copied.
 pub fn read_task(task: &Task, host: &mut dyn Host) -> Result<(Inputs, Program)> {
+    read_task_beside(task, host, |_| ()).map(|(inputs, program, _)| (inputs, program))
+}
+
+/// [`read_task`], with `beside` run on the files' bytes on a thread of
+/// its own while they are parsed; its result, `None` where its thread
+/// ended without one.
+fn read_task_beside<T: Send>(
+    task: &Task,
+    host: &mut dyn Host,
+    beside: impl FnOnce(&Inputs) -> T + Send,
+) -> Result<(Inputs, Program, Option<T>)> {
     announce(task, host);
     let mut inputs = Vec::new();
     for f in &task.modules {
         inputs.push(read_source(f)?);
     }
     let started = std::time::Instant::now();
-    let program = rapid::parse_sources(inputs.clone(), ParseOptions::default())?;
+    let (program, made) = std::thread::scope(|scope| {
+        let inputs = &inputs;
+        let made = scope.spawn(move || beside(inputs));
+        let program = rapid::parse_sources(inputs.clone(), ParseOptions::default());
+        (program, made.join().ok())
+    });
+    let program = program?;
     took(host, "parsing", started);
     for w in &program.warnings {
         host.event(Event::Warning(w));
@@ -117,7 +135,7 @@ pub fn read_task(task: &Task, host: &mut dyn Host) -> Result<(Inputs, Program)> 
         files: &program.files,
         tally: &program.lane,
     });
-    Ok((inputs, program))
+    Ok((inputs, program, made))
 }
 
 /// A file's name in messages and its bytes: standard input for `-`, a
@@ -150,7 +168,11 @@ fn correct_task(
     to: Option<&mut dyn Sink>,
 ) -> Result<Ran> {
     let arm = checked_arm(plan, &task, model, host)?;
-    let (inputs, program) = read_task(&task, host)?;
+    // The files' fingerprints, for their markers, are hashed beside the
+    // parse: after it, the run waited for them with a core idle.
+    let (inputs, program, colds) = read_task_beside(&task, host, |inputs| {
+        Colds::of(inputs.iter().map(|(_, source)| source.bytes()))
+    })?;
     let base = base_frame(&task)?;
     // A `--start` run walks the program on one core (another answers
     // each move's reach): what the program alone decides for the
@@ -167,6 +189,8 @@ fn correct_task(
         // A thread that ended without its result: made again by the run.
         (when_notes, beside.and_then(|h| h.join().ok()))
     });
+    // What a thread ended without, the run makes itself.
+    let ahead = Ahead { prepared, colds };
     let (when, notes) = when_notes?;
     for note in &notes {
         host.event(Event::Note(note));
@@ -178,14 +202,14 @@ fn correct_task(
         (Some(sink), Action::Write(dest)) => {
             let (outcome, changed) = correct_streamed(
                 &program,
-                (&warm, &options, prepared),
+                (&warm, &options, ahead),
                 (dest, sink),
                 &mut progress,
             )?;
             (outcome, Way::Streamed { changed })
         }
         _ => (
-            correct_in_memory(&program, (&warm, &options, prepared), &mut progress)?,
+            correct_in_memory(&program, (&warm, &options, ahead), &mut progress)?,
             Way::InMemory,
         ),
     };
@@ -210,11 +234,7 @@ fn correct_task(
 /// are.
 fn correct_streamed<'p>(
     program: &'p Program,
-    (warm, options, prepared): (
-        &WarmRobot,
-        &crate::correct::Options,
-        Option<Result<Prepared<'p>>>,
-    ),
+    (warm, options, ahead): (&WarmRobot, &crate::correct::Options, Ahead<'p>),
     (dest, sink): (&Destination, &mut dyn Sink),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(Outcome, Vec<bool>)> {
@@ -239,7 +259,7 @@ fn correct_streamed<'p>(
             .collect();
         let c = correct_prepared(
             program,
-            (warm, options, prepared),
+            (warm, options, ahead),
             (&mut writers, Keep::Summary),
             progress,
         )?;

@@ -220,14 +220,12 @@ fn clashes(e: &mut Estimate) {
     let joints: std::collections::HashSet<String> = e
         .joint_schedule
         .targets()
-        .iter()
         .map(|id| lower(id).into_owned())
         .collect();
     let both: std::collections::HashSet<String> = e
         .schedule
         .targets()
-        .iter()
-        .map(|id| lower(id))
+        .map(lower)
         .filter(|id| joints.contains(id.as_ref()))
         .map(|id| id.into_owned())
         .collect();

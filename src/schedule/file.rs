@@ -52,8 +52,10 @@ pub struct IdleSpan {
 /// written (lookups ignore case, as RAPID does).
 #[derive(Clone, Default)]
 pub struct Schedule {
-    /// Identifiers in first-visit order, for stable output.
-    order: Vec<Arc<str>>,
+    /// Identifiers in first-visit order, for stable output; `None`: a
+    /// target recorded by number and not yet named
+    /// ([`Schedule::visit_number`]).
+    order: Vec<Option<Arc<str>>>,
     /// Each identifier's visits, place by place with `order`.
     visits: Vec<Times>,
     /// How a target's place in `order` is found (behind a pointer: a
@@ -76,9 +78,6 @@ struct Lookups {
     /// where the schedule was recorded by target number
     /// ([`Schedule::visit_target`]).
     by_target: Vec<u32>,
-    /// The identifier of a target recorded by number and not yet named
-    /// ([`Schedule::visit_number`]): one shared empty text.
-    blank: Arc<str>,
 }
 
 impl Default for Lookups {
@@ -86,7 +85,6 @@ impl Default for Lookups {
         Lookups {
             by_name: OnceLock::new(),
             by_target: Vec::new(),
-            blank: Arc::from(""),
         }
     }
 }
@@ -125,11 +123,7 @@ impl Times {
 impl std::fmt::Debug for Schedule {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_map()
-            .entries(
-                self.order
-                    .iter()
-                    .zip(self.visits.iter().map(Times::as_slice)),
-            )
+            .entries(self.targets().zip(self.visits.iter().map(Times::as_slice)))
             .finish()
     }
 }
@@ -167,13 +161,19 @@ fn name_hash(id: &str) -> u64 {
     crate::rapid::targets::name_hash(id.as_bytes())
 }
 
+/// The identifier at a place of `order` (a target not yet named: none,
+/// the empty text).
+fn id_of(place: &Option<Arc<str>>) -> &str {
+    place.as_deref().unwrap_or("")
+}
+
 /// The table of places by identifier of `order`.
-fn name_table(order: &[Arc<str>]) -> hashbrown::HashTable<u32> {
+fn name_table(order: &[Option<Arc<str>>]) -> hashbrown::HashTable<u32> {
     let mut table = hashbrown::HashTable::with_capacity(order.len());
     for (k, id) in order.iter().enumerate() {
         // Places fit a u32: a schedule holds fewer targets than that.
-        table.insert_unique(name_hash(id), k as u32, |&j: &u32| {
-            name_hash(&order[j as usize])
+        table.insert_unique(name_hash(id_of(id)), k as u32, |&j: &u32| {
+            name_hash(id_of(&order[j as usize]))
         });
     }
     table
@@ -189,18 +189,19 @@ impl Schedule {
         let table = self.lookups.by_name.get_or_init(|| name_table(&self.order));
         table
             .find(name_hash(id), |&k| {
-                self.order[k as usize].eq_ignore_ascii_case(id)
+                id_of(&self.order[k as usize]).eq_ignore_ascii_case(id)
             })
             .map(|&k| k as usize)
     }
 
-    /// A new identifier at the end of `order`, with its first visit.
-    fn push_new(&mut self, id: Arc<str>, time_min: f64) -> usize {
+    /// A new identifier at the end of `order` (none: to be named), with
+    /// its first visit.
+    fn push_new(&mut self, id: Option<Arc<str>>, time_min: f64) -> usize {
         let k = self.order.len();
         if let Some(table) = self.lookups.by_name.get_mut() {
             let order = &self.order;
-            table.insert_unique(name_hash(&id), k as u32, |&j: &u32| {
-                name_hash(&order[j as usize])
+            table.insert_unique(name_hash(id_of(&id)), k as u32, |&j: &u32| {
+                name_hash(id_of(&order[j as usize]))
             });
         }
         self.order.push(id);
@@ -213,7 +214,7 @@ impl Schedule {
         match self.place(target) {
             Some(k) => self.visits[k].push(time_min),
             None => {
-                self.push_new(Arc::from(target), time_min);
+                self.push_new(Some(Arc::from(target)), time_min);
             }
         }
     }
@@ -224,6 +225,12 @@ impl Schedule {
     /// it, so a schedule recorded this way is read by target number
     /// ([`Schedule::times_of`]) without looking up names.
     pub fn visit_target(&mut self, index: usize, time_min: f64, id: impl FnOnce() -> Arc<str>) {
+        self.visit_place(index, time_min, || Some(id()));
+    }
+
+    /// A visit of target number `index`, its identifier (where it has one
+    /// yet) asked for at its first visit only.
+    fn visit_place(&mut self, index: usize, time_min: f64, id: impl FnOnce() -> Option<Arc<str>>) {
         let by_target = &mut self.lookups.by_target;
         if by_target.len() <= index {
             by_target.resize(index + 1, 0);
@@ -243,8 +250,11 @@ impl Schedule {
     /// a tenth of a walk's time, on one core. Until then, the target is
     /// found by its number alone.
     pub(crate) fn visit_number(&mut self, index: usize, time_min: f64) {
-        let blank = self.lookups.blank.clone();
-        self.visit_target(index, time_min, || blank);
+        // No identifier, not a shared empty one: a clone of one `Arc` per
+        // visit waited for its count's cache line wherever another core
+        // touched a neighbour of it (a tenth of a walk, by chance of the
+        // heap's layout).
+        self.visit_place(index, time_min, || None);
     }
 
     /// The identifiers of the targets [`Schedule::visit_number`]
@@ -257,13 +267,12 @@ impl Schedule {
                 numbers[k as usize - 1] = i;
             }
         }
-        let blank = &self.lookups.blank;
         self.order
             .par_iter_mut()
             .zip(numbers.par_iter())
             .with_min_len(4096)
-            .filter(|(o, &i)| i != usize::MAX && Arc::ptr_eq(o, blank))
-            .for_each(|(o, &i)| *o = id(i));
+            .filter(|(o, &i)| i != usize::MAX && o.is_none())
+            .for_each(|(o, &i)| *o = Some(id(i)));
         if self.lookups.by_name.get().is_some() {
             self.lookups.by_name = OnceLock::new();
         }
@@ -294,7 +303,7 @@ impl Schedule {
     pub fn times_of(&self, index: usize, id: &str) -> Option<&[f64]> {
         if let Some(&k) = self.lookups.by_target.get(index) {
             let k = k as usize;
-            if k > 0 && self.order[k - 1].eq_ignore_ascii_case(id) {
+            if k > 0 && id_of(&self.order[k - 1]).eq_ignore_ascii_case(id) {
                 return Some(self.visits[k - 1].as_slice());
             }
         }
@@ -309,15 +318,13 @@ impl Schedule {
     }
 
     /// Target identifiers in the order they were first visited.
-    pub fn targets(&self) -> &[Arc<str>] {
-        &self.order
+    pub fn targets(&self) -> impl ExactSizeIterator<Item = &str> + '_ {
+        self.order.iter().map(id_of)
     }
 
     /// Identifiers in first-visit order, each with its visit times.
-    pub fn entries(&self) -> impl Iterator<Item = (&Arc<str>, &[f64])> + '_ {
-        self.order
-            .iter()
-            .zip(self.visits.iter().map(Times::as_slice))
+    pub fn entries(&self) -> impl Iterator<Item = (&str, &[f64])> + '_ {
+        self.targets().zip(self.visits.iter().map(Times::as_slice))
     }
 
     pub fn is_empty(&self) -> bool {
@@ -347,8 +354,7 @@ impl Schedule {
 
     /// The schedule in its byte encoding ([`encode_visits`]).
     pub fn encode(&self, e: &mut Encoder) {
-        let visits = self.entries().map(|(id, times)| (&**id, times));
-        encode_visits(e, self.order.len(), visits);
+        encode_visits(e, self.order.len(), self.entries());
     }
 
     /// Number of visits of all targets.
@@ -463,7 +469,7 @@ impl Schedule {
     pub fn to_csv(&self) -> String {
         let mut rows: Vec<(f64, usize, &str)> = Vec::new();
         for (i, (name, times)) in self.entries().enumerate() {
-            rows.extend(times.iter().map(|&t| (t, i, &**name)));
+            rows.extend(times.iter().map(|&t| (t, i, name)));
         }
         let visits = csv_of(rows);
         if self.idle.is_empty() {

@@ -99,7 +99,7 @@ mod tests {
         assert_eq!(grid.to_csv(), "target,time_min\n\"pGrid{2,1}\",1.5000\n");
         let grid_back = Schedule::read("s.csv", grid.to_csv().as_bytes()).unwrap();
         assert_eq!(grid_back.times("pgrid{2,1}").unwrap(), &[1.5]);
-        let ids: Vec<&str> = back.targets().iter().map(|id| &**id).collect();
+        let ids: Vec<&str> = back.targets().collect();
         assert_eq!(ids, ["p10", "main#3"]);
     }
 

@@ -40,7 +40,7 @@ fn when_of(program: &Program, entry: &str, partial: bool) -> Option<When> {
         });
     }
     let mut file = Schedule::new();
-    for id in est.schedule.targets().iter().step_by(2) {
+    for id in est.schedule.targets().step_by(2) {
         for &t in est.schedule.times(id).unwrap_or(&[]) {
             file.visit(id, t);
         }

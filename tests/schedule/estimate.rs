@@ -541,7 +541,7 @@ fn every_sample_schedules() {
 #[test]
 fn two_modules_follow_the_late_bound_call_into_the_local_main() {
     let est = estimate(&sample("two_modules.mod"), &Robot::irb140(), &main_opts()).unwrap();
-    let order: Vec<&str> = est.schedule.targets().iter().map(|id| &**id).collect();
+    let order: Vec<&str> = est.schedule.targets().collect();
     assert_eq!(
         order,
         [
@@ -757,7 +757,7 @@ fn array_elements_are_found_where_their_name_is() {
 ENDMODULE"
     );
     let e = run(&src, &main_opts());
-    let ids: Vec<&str> = e.schedule.targets().iter().map(|s| &**s).collect();
+    let ids: Vec<&str> = e.schedule.targets().collect();
     // main's own pA{1}, pA{2} (10 mm apart), then the module's pA{2}.
     assert_eq!(ids.len(), 3, "{ids:?}");
     let own1 = e.schedule.times(ids[0]).unwrap()[0];

@@ -11,7 +11,9 @@ use super::lane::{Cursor, Seen};
 use super::place::pos_on;
 use super::source::Source;
 use super::syntax::{Arg, Call, DataDecl, Expr, Statement, StatementKind};
-use super::values::{Origin, Pos, PoseNumbers, RobTargetValue, Scope, Storage, Target, TargetKind};
+use super::values::{
+    Number, Origin, Pos, PoseNumbers, RobTargetValue, Scope, Storage, Target, TargetKind,
+};
 use std::fmt::Write as _;
 use std::sync::Arc;
 
@@ -136,15 +138,26 @@ fn read_at<T>(
 }
 
 /// The robtarget literal at `at` of `src`, read again with its values
-/// (the lane read it once, so it reads again); `lines`: one of an
-/// array's, whose line ends are blanks.
-pub(crate) fn literal_at(src: &[u8], at: usize, lines: bool) -> Option<RobTargetValue> {
-    read_at(src, at, lines, |c| c.robtarget().map(|(_, v)| v))
+/// (the lane read its form), into `value` (in place where it holds one
+/// already); `lines`: one of an array's, whose line ends are blanks.
+/// `false` where the file no longer reads so (and `value` is then not
+/// to be read).
+fn literal_into(src: &[u8], at: usize, lines: bool, value: &mut Option<RobTargetValue>) -> bool {
+    let v = value.get_or_insert_with(|| {
+        let zero = || Number::new(0.0, 0..0);
+        RobTargetValue {
+            trans: std::array::from_fn(|_| zero()),
+            rot: std::array::from_fn(|_| zero()),
+            robconf: std::array::from_fn(|_| zero()),
+            extax: std::array::from_fn(|_| zero()),
+        }
+    });
+    read_at(src, at, lines, |c| c.robtarget_into(v)).is_some()
 }
 
 /// The pose numbers of the robtarget literal at `at` of `src`, which the
 /// lane read whole (its external axes not read again); `lines` as for
-/// [`literal_at`].
+/// [`literal_into`].
 pub(crate) fn pose_at(src: &[u8], at: usize, lines: bool) -> Option<PoseNumbers> {
     read_at(src, at, lines, |c| c.pose_numbers())
 }
@@ -178,9 +191,9 @@ impl MoveRun {
             return false;
         };
         let at = item.at as usize + usize::from(item.parts[j]);
-        let Some(value) = literal_at(src, at, false) else {
+        if !literal_into(src, at, false, &mut t.value) {
             return false;
-        };
+        }
         self.id_into(k, &mut t.id);
         t.kind = TargetKind::Inline;
         set_origin(
@@ -192,7 +205,6 @@ impl MoveRun {
         );
         t.name = None;
         t.storage = None;
-        t.value = Some(value);
         let name = |i: usize| runs.name(item.names[i]).cloned();
         renew(&mut t.instruction, name(0));
         renew(&mut t.tool, name(3));
@@ -292,9 +304,9 @@ impl DeclRun {
             return false;
         };
         let at = item.at as usize + usize::from(item.literal);
-        let Some(value) = literal_at(src, at, false) else {
+        if !literal_into(src, at, false, &mut t.value) {
             return false;
-        };
+        }
         let Some(name) = self.name_of(src, item) else {
             return false;
         };
@@ -315,7 +327,6 @@ impl DeclRun {
             None => t.name = Some(name.to_string()),
         }
         t.storage = Some(self.storage);
-        t.value = Some(value);
         t.instruction = None;
         t.tool = None;
         t.wobj = None;
@@ -390,9 +401,9 @@ impl ArrayRun {
         let (Some(&at), Some(&line)) = (self.elements.get(k), self.lines.get(k)) else {
             return false;
         };
-        let Some(value) = literal_at(src, at as usize, true) else {
+        if !literal_into(src, at as usize, true, &mut t.value) {
             return false;
-        };
+        }
         self.id_into(k, &mut t.id);
         t.kind = TargetKind::ArrayElement;
         set_origin(
@@ -407,7 +418,6 @@ impl ArrayRun {
             _ => t.name = Some(self.name.to_string()),
         }
         t.storage = Some(self.storage);
-        t.value = Some(value);
         t.instruction = None;
         t.tool = None;
         t.wobj = None;

@@ -80,7 +80,7 @@ fn piece(src: &[u8], p: usize, stop: Option<usize>) -> Option<(Vec<usize>, Optio
     c.lines = true;
     let mut found = Vec::new();
     loop {
-        found.push(c.robtarget()?.0);
+        found.push(c.literal()?);
         c.blank();
         match (c.s.get(c.p), stop) {
             (Some(b','), Some(stop)) => {
@@ -129,7 +129,7 @@ mod tests {
         c.lines = true;
         let mut found = Vec::new();
         loop {
-            found.push(c.robtarget()?.0);
+            found.push(c.literal()?);
             c.blank();
             match c.s.get(c.p) {
                 Some(b',') => c.p += 1,

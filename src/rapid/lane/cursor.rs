@@ -293,6 +293,64 @@ impl<'a, 'm> Cursor<'a, 'm> {
         Some(Number::new(if negative { -v } else { v }, start..p))
     }
 
+    /// `[n, n, ...]` of exactly `N` numbers, read and not kept.
+    fn skip_numbers<const N: usize>(&mut self) -> Option<()> {
+        self.byte(b'[')?;
+        for i in 0..N {
+            if i > 0 {
+                self.byte(b',')?;
+            }
+            self.number()?;
+        }
+        self.byte(b']')
+    }
+
+    /// A robtarget literal read for its form alone (what the parse's lane
+    /// reads: its numbers' values are read when a target is made of it):
+    /// where its `[` is.
+    pub fn literal(&mut self) -> Option<usize> {
+        self.blank();
+        let start = self.p;
+        self.byte(b'[')?;
+        self.skip_numbers::<3>()?;
+        self.byte(b',')?;
+        self.skip_numbers::<4>()?;
+        self.byte(b',')?;
+        self.skip_numbers::<4>()?;
+        self.byte(b',')?;
+        self.skip_numbers::<6>()?;
+        self.byte(b']')?;
+        Some(start)
+    }
+
+    /// `[n, n, ...]` of exactly `N` numbers, into `out` (partly written
+    /// where it fails).
+    fn numbers_into<const N: usize>(&mut self, out: &mut [Number; N]) -> Option<()> {
+        self.byte(b'[')?;
+        for (i, slot) in out.iter_mut().enumerate() {
+            if i > 0 {
+                self.byte(b',')?;
+            }
+            *slot = self.number()?;
+        }
+        self.byte(b']')
+    }
+
+    /// A robtarget literal's numbers into `v`, in place (a million
+    /// targets filled one after another copied each literal's 272 bytes
+    /// three times on its way); `v` partly written where it fails.
+    pub fn robtarget_into(&mut self, v: &mut RobTargetValue) -> Option<()> {
+        self.byte(b'[')?;
+        self.numbers_into(&mut v.trans)?;
+        self.byte(b',')?;
+        self.numbers_into(&mut v.rot)?;
+        self.byte(b',')?;
+        self.numbers_into(&mut v.robconf)?;
+        self.byte(b',')?;
+        self.numbers_into(&mut v.extax)?;
+        self.byte(b']')
+    }
+
     /// `[n, n, ...]` of exactly `N` numbers.
     pub fn numbers<const N: usize>(&mut self) -> Option<[Number; N]> {
         self.byte(b'[')?;
@@ -307,26 +365,6 @@ impl<'a, 'm> Cursor<'a, 'm> {
         }
         self.byte(b']')?;
         Some(out)
-    }
-
-    /// A robtarget literal `[[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],[e1..e6]]`:
-    /// where its `[` is, and its numbers.
-    pub fn robtarget(&mut self) -> Option<(usize, RobTargetValue)> {
-        self.blank();
-        let start = self.p;
-        let (trans, rot, robconf) = self.pose_groups()?;
-        self.byte(b',')?;
-        let extax = self.numbers::<6>()?;
-        self.byte(b']')?;
-        Some((
-            start,
-            RobTargetValue {
-                trans,
-                rot,
-                robconf,
-                extax,
-            },
-        ))
     }
 
     /// The pose numbers of a robtarget literal the lane has read whole

@@ -106,7 +106,7 @@ fn move_arguments(
                 if i > 0 {
                     c.byte(b',')?;
                 }
-                literals.push(c.robtarget()?.0);
+                literals.push(c.literal()?);
             }
         }
         c.byte(b',')?;
@@ -243,7 +243,7 @@ fn decl_rest(
                 None => {
                     let mut elements = Vec::new();
                     loop {
-                        elements.push(c.robtarget()?.0);
+                        elements.push(c.literal()?);
                         c.blank();
                         match c.s.get(c.p) {
                             Some(b',') => c.p += 1,
@@ -269,7 +269,7 @@ fn decl_rest(
             if joint {
                 c.jointtarget()?;
             } else {
-                c.robtarget()?;
+                c.literal()?;
             }
             Value::Literal(at)
         };

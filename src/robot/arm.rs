@@ -103,15 +103,7 @@ impl Robot {
 
     /// The OPW arm, with its segments scaled when `scales` are given.
     pub fn opw_arm(&self, scales: Option<&LinkScales>) -> Result<OpwArm> {
-        let arm = self.opw.as_ref().map_err(|why| {
-            Error::new(
-                ErrorKind::Unsupported,
-                format!(
-                    "{}: closed-form IK needs an arm with an offset shoulder and a spherical wrist: {why}",
-                    self.name
-                ),
-            )
-        })?;
+        let arm = self.opw_ref()?;
         Ok(match scales {
             Some(s) => OpwArm {
                 geom: arm.geom.scaled(s),
@@ -173,13 +165,14 @@ impl Robot {
         if self.opw.is_err() {
             return self.chain_solve(pose, scales);
         }
-        let arm = self.checked_arm(pose, scales)?;
         // Filled where it is returned from (a 4 kB buffer; see OpwArm::solve).
         let mut out = Ok(Solutions::default());
-        if let Ok(sols) = &mut out {
-            if let Err(f) = arm.solve_in(pose, &self.limits, None, sols) {
-                out = Err(self.failure(f));
-            }
+        let failed = self.on_arm(pose, scales, |arm| match &mut out {
+            Ok(sols) => arm.solve_in(pose, &self.limits, None, sols).err(),
+            Err(_) => None,
+        })?;
+        if let Some(f) = failed {
+            out = Err(self.failure(f));
         }
         out
     }
@@ -203,10 +196,11 @@ impl Robot {
                 .chain(sols.dropped().map(|d| d.q))
                 .collect());
         }
-        let arm = self.checked_arm(pose, Some(scales))?;
         // One turn each way: every branch's wrapped joints lie inside.
         let open = [(-PI - LIMIT_EPS, PI + LIMIT_EPS); 6];
-        let sols = arm.solve(pose, &open, None).map_err(|f| self.failure(f))?;
+        let sols = self
+            .on_arm(pose, Some(scales), |arm| arm.solve(pose, &open, None))?
+            .map_err(|f| self.failure(f))?;
         Ok(sols.iter().map(|s| s.q).collect())
     }
 
@@ -235,8 +229,10 @@ impl Robot {
     pub fn reaches_with(&self, pose: &Isometry3<f64>, conf: &RobConf) -> bool {
         CfxBits::from_cfx(conf.cfx).is_some()
             && self
-                .checked_arm(pose, None)
-                .is_ok_and(|arm| arm.solve_conf_direct(pose, &self.limits, conf).is_some())
+                .on_arm(pose, None, |arm| {
+                    arm.solve_conf_direct(pose, &self.limits, conf).is_some()
+                })
+                .unwrap_or(false)
     }
 
     /// [`Robot::ik_conf`] on the arm with its segments scaled.
@@ -263,14 +259,18 @@ impl Robot {
         if self.opw.is_err() {
             return self.chain_solve_conf(pose, conf, scales);
         }
-        let arm = self.checked_arm(pose, scales)?;
-        if let Some(s) = arm.solve_conf_direct(pose, &self.limits, conf) {
+        let direct = self.on_arm(pose, scales, |arm| {
+            arm.solve_conf_direct(pose, &self.limits, conf)
+        })?;
+        if let Some(s) = direct {
             return Ok(s.q);
         }
         // Everything else (the shoulder singularity, errors and their list
         // of configurations) as the enumeration decides it.
-        let (found, sols) = arm
-            .solve_conf_by_enumeration(pose, &self.limits, conf)
+        let (found, sols) = self
+            .on_arm(pose, scales, |arm| {
+                arm.solve_conf_by_enumeration(pose, &self.limits, conf)
+            })?
             .map_err(|f| self.failure(f))?;
         match found {
             Some(s) => Ok(s.q),
@@ -286,8 +286,29 @@ impl Robot {
         }
     }
 
-    /// The (scaled) OPW arm, after refusing non-finite input.
-    fn checked_arm(&self, pose: &Isometry3<f64>, scales: Option<&LinkScales>) -> Result<OpwArm> {
+    /// The OPW arm as the robot holds it.
+    fn opw_ref(&self) -> Result<&OpwArm> {
+        self.opw.as_ref().map_err(|why| {
+            Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "{}: closed-form IK needs an arm with an offset shoulder and a spherical wrist: {why}",
+                    self.name
+                ),
+            )
+        })
+    }
+
+    /// `f` of the OPW arm (its segments scaled by `scales`), after
+    /// refusing non-finite input: the arm lent, not copied (a million
+    /// targets' solves copied its 192 bytes twice each), a scaled one
+    /// made where it is used.
+    fn on_arm<T>(
+        &self,
+        pose: &Isometry3<f64>,
+        scales: Option<&LinkScales>,
+        f: impl FnOnce(&OpwArm) -> T,
+    ) -> Result<T> {
         let finite = pose.translation.vector.iter().all(|v| v.is_finite())
             && pose.rotation.coords.iter().all(|v| v.is_finite());
         if !finite {
@@ -298,7 +319,14 @@ impl Robot {
                 return Err(Error::input("motor temperatures are not finite"));
             }
         }
-        self.opw_arm(scales)
+        let arm = self.opw_ref()?;
+        Ok(match scales {
+            Some(s) => f(&OpwArm {
+                geom: arm.geom.scaled(s),
+                ..*arm
+            }),
+            None => f(arm),
+        })
     }
 
     pub(super) fn failure(&self, f: IkFailure) -> Error {

@@ -370,24 +370,30 @@ impl<'a, 'm> Cursor<'a, 'm> {
     /// The pose numbers of a robtarget literal the lane has read whole
     /// before (its external axes, read then, are not read again).
     pub fn pose_numbers(&mut self) -> Option<PoseNumbers> {
-        let (trans, rot, robconf) = self.pose_groups()?;
-        Some(PoseNumbers {
-            trans: trans.map(|x| x.value),
-            rot: rot.map(|x| x.value),
-            robconf: robconf.map(|x| x.value),
-        })
+        let mut p = PoseNumbers {
+            trans: [0.0; 3],
+            rot: [0.0; 4],
+            robconf: [0.0; 4],
+        };
+        self.byte(b'[')?;
+        self.values_into(&mut p.trans)?;
+        self.byte(b',')?;
+        self.values_into(&mut p.rot)?;
+        self.byte(b',')?;
+        self.values_into(&mut p.robconf)?;
+        Some(p)
     }
 
-    /// A robtarget literal's `[` and its first three groups: position,
-    /// orientation, robconf.
-    fn pose_groups(&mut self) -> Option<([Number; 3], [Number; 4], [Number; 4])> {
+    /// `[n, n, ...]` of exactly `N` numbers, their values into `out`.
+    fn values_into<const N: usize>(&mut self, out: &mut [f64; N]) -> Option<()> {
         self.byte(b'[')?;
-        let trans = self.numbers::<3>()?;
-        self.byte(b',')?;
-        let rot = self.numbers::<4>()?;
-        self.byte(b',')?;
-        let robconf = self.numbers::<4>()?;
-        Some((trans, rot, robconf))
+        for (i, slot) in out.iter_mut().enumerate() {
+            if i > 0 {
+                self.byte(b',')?;
+            }
+            *slot = self.number()?.value;
+        }
+        self.byte(b']')
     }
 
     /// A jointtarget literal `[[r1..r6],[e1..e6]]`: where its `[` is, and

@@ -293,15 +293,40 @@ impl<'a, 'm> Cursor<'a, 'm> {
         Some(Number::new(if negative { -v } else { v }, start..p))
     }
 
-    /// `[n, n, ...]` of exactly `N` numbers, read and not kept.
-    fn skip_numbers<const N: usize>(&mut self) -> Option<()> {
+    /// `[n, n, ...]` of exactly `N` numbers, each given to `put` with
+    /// its index: the one reading of a group, whatever is kept of it
+    /// (nothing, the numbers, their values).
+    fn each_number<const N: usize>(&mut self, mut put: impl FnMut(usize, Number)) -> Option<()> {
         self.byte(b'[')?;
         for i in 0..N {
             if i > 0 {
                 self.byte(b',')?;
             }
-            self.number()?;
+            put(i, self.number()?);
         }
+        self.byte(b']')
+    }
+
+    /// A robtarget literal's groups read in order (position,
+    /// orientation, robconf, external axes), each number given to `put`
+    /// with its group's index and its own; `whole`: all four and the
+    /// closing `]`, else the three a pose is made of.
+    fn robtarget_groups(
+        &mut self,
+        whole: bool,
+        mut put: impl FnMut(usize, usize, Number),
+    ) -> Option<()> {
+        self.byte(b'[')?;
+        self.each_number::<3>(|i, n| put(0, i, n))?;
+        self.byte(b',')?;
+        self.each_number::<4>(|i, n| put(1, i, n))?;
+        self.byte(b',')?;
+        self.each_number::<4>(|i, n| put(2, i, n))?;
+        if !whole {
+            return Some(());
+        }
+        self.byte(b',')?;
+        self.each_number::<6>(|i, n| put(3, i, n))?;
         self.byte(b']')
     }
 
@@ -311,59 +336,34 @@ impl<'a, 'm> Cursor<'a, 'm> {
     pub fn literal(&mut self) -> Option<usize> {
         self.blank();
         let start = self.p;
-        self.byte(b'[')?;
-        self.skip_numbers::<3>()?;
-        self.byte(b',')?;
-        self.skip_numbers::<4>()?;
-        self.byte(b',')?;
-        self.skip_numbers::<4>()?;
-        self.byte(b',')?;
-        self.skip_numbers::<6>()?;
-        self.byte(b']')?;
+        self.robtarget_groups(true, |_, _, _| ())?;
         Some(start)
     }
 
     /// `[n, n, ...]` of exactly `N` numbers, into `out` (partly written
     /// where it fails).
     fn numbers_into<const N: usize>(&mut self, out: &mut [Number; N]) -> Option<()> {
-        self.byte(b'[')?;
-        for (i, slot) in out.iter_mut().enumerate() {
-            if i > 0 {
-                self.byte(b',')?;
-            }
-            *slot = self.number()?;
-        }
-        self.byte(b']')
+        self.each_number::<N>(|i, n| out[i] = n)
     }
 
     /// A robtarget literal's numbers into `v`, in place (a million
     /// targets filled one after another copied each literal's 272 bytes
     /// three times on its way); `v` partly written where it fails.
     pub fn robtarget_into(&mut self, v: &mut RobTargetValue) -> Option<()> {
-        self.byte(b'[')?;
-        self.numbers_into(&mut v.trans)?;
-        self.byte(b',')?;
-        self.numbers_into(&mut v.rot)?;
-        self.byte(b',')?;
-        self.numbers_into(&mut v.robconf)?;
-        self.byte(b',')?;
-        self.numbers_into(&mut v.extax)?;
-        self.byte(b']')
+        self.robtarget_groups(true, |g, i, n| match g {
+            0 => v.trans[i] = n,
+            1 => v.rot[i] = n,
+            2 => v.robconf[i] = n,
+            _ => v.extax[i] = n,
+        })
     }
 
     /// `[n, n, ...]` of exactly `N` numbers.
     pub fn numbers<const N: usize>(&mut self) -> Option<[Number; N]> {
-        self.byte(b'[')?;
         // Filled in place: a million targets make four million groups,
         // and a vector each was an allocation each.
         let mut out = [(); N].map(|_| Number::new(0.0, 0..0));
-        for (i, slot) in out.iter_mut().enumerate() {
-            if i > 0 {
-                self.byte(b',')?;
-            }
-            *slot = self.number()?;
-        }
-        self.byte(b']')?;
+        self.numbers_into(&mut out)?;
         Some(out)
     }
 
@@ -375,25 +375,12 @@ impl<'a, 'm> Cursor<'a, 'm> {
             rot: [0.0; 4],
             robconf: [0.0; 4],
         };
-        self.byte(b'[')?;
-        self.values_into(&mut p.trans)?;
-        self.byte(b',')?;
-        self.values_into(&mut p.rot)?;
-        self.byte(b',')?;
-        self.values_into(&mut p.robconf)?;
+        self.robtarget_groups(false, |g, i, n| match g {
+            0 => p.trans[i] = n.value,
+            1 => p.rot[i] = n.value,
+            _ => p.robconf[i] = n.value,
+        })?;
         Some(p)
-    }
-
-    /// `[n, n, ...]` of exactly `N` numbers, their values into `out`.
-    fn values_into<const N: usize>(&mut self, out: &mut [f64; N]) -> Option<()> {
-        self.byte(b'[')?;
-        for (i, slot) in out.iter_mut().enumerate() {
-            if i > 0 {
-                self.byte(b',')?;
-            }
-            *slot = self.number()?.value;
-        }
-        self.byte(b']')
     }
 
     /// A jointtarget literal `[[r1..r6],[e1..e6]]`: where its `[` is, and

@@ -167,12 +167,13 @@ impl Robot {
         }
         // Filled where it is returned from (a 4 kB buffer; see OpwArm::solve).
         let mut out = Ok(Solutions::default());
-        let failed = self.on_arm(pose, scales, |arm| match &mut out {
-            Ok(sols) => arm.solve_in(pose, &self.limits, None, sols).err(),
-            Err(_) => None,
-        })?;
-        if let Some(f) = failed {
-            out = Err(self.failure(f));
+        if let Ok(sols) = &mut out {
+            let failed = self.on_arm(pose, scales, |arm| {
+                arm.solve_in(pose, &self.limits, None, sols).err()
+            })?;
+            if let Some(f) = failed {
+                out = Err(self.failure(f));
+            }
         }
         out
     }

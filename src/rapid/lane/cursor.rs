@@ -340,12 +340,6 @@ impl<'a, 'm> Cursor<'a, 'm> {
         Some(start)
     }
 
-    /// `[n, n, ...]` of exactly `N` numbers, into `out` (partly written
-    /// where it fails).
-    fn numbers_into<const N: usize>(&mut self, out: &mut [Number; N]) -> Option<()> {
-        self.each_number::<N>(|i, n| out[i] = n)
-    }
-
     /// A robtarget literal's numbers into `v`, in place (a million
     /// targets filled one after another copied each literal's 272 bytes
     /// three times on its way); `v` partly written where it fails.
@@ -363,7 +357,7 @@ impl<'a, 'm> Cursor<'a, 'm> {
         // Filled in place: a million targets make four million groups,
         // and a vector each was an allocation each.
         let mut out = [(); N].map(|_| Number::new(0.0, 0..0));
-        self.numbers_into(&mut out)?;
+        self.each_number::<N>(|i, n| out[i] = n)?;
         Some(out)
     }
 

@@ -13,6 +13,7 @@ use crate::rapid::{Expr, FunctionCall, Program, Target};
 use crate::resolve::dataflow::{runtime_writes, Write};
 use crate::resolve::monitoring::{Monitor, Monitoring};
 use crate::resolve::{uses_with, Frames, MoveLookup, Uses};
+use crate::schedule::ColdJoints;
 use nalgebra::Isometry3;
 use std::collections::{HashMap, HashSet};
 use std::sync::{Mutex, OnceLock};
@@ -34,6 +35,9 @@ pub(super) struct Run<'a> {
     /// Where names are declared and read, for splitting targets (built
     /// when first needed).
     pub names: OnceLock<Names>,
+    /// The cold joints the run's walk found, where it had one
+    /// ([`crate::schedule::estimate_with_joints`]).
+    pub cold_joints: Option<ColdJoints>,
 }
 
 /// What a run shares that the program alone decides (its frames, the
@@ -125,6 +129,8 @@ impl<'a> Prepared<'a> {
 pub(crate) struct Ahead<'a> {
     pub prepared: Option<Result<Prepared<'a>>>,
     pub colds: Option<Colds>,
+    /// The cold joints the walk that timed the run found.
+    pub cold_joints: Option<ColdJoints>,
 }
 
 impl<'a> Ahead<'a> {
@@ -183,6 +189,7 @@ impl<'a> Run<'a> {
             notes: Mutex::new(std::mem::take(&mut prepared.notes)),
             set: prepared,
             names: OnceLock::new(),
+            cold_joints: None,
         }
     }
 
@@ -282,6 +289,66 @@ mod tests {
     use crate::robot::Robot;
     use crate::schedule::{EstimateOptions, Schedule};
 
+    /// A `--start` correction with its walk's cold joints, and the
+    /// outputs of one that solves them itself.
+    fn with_and_without_joints(
+        tamper: bool,
+    ) -> (
+        crate::correct::outcome::Outcome,
+        crate::correct::outcome::Outcome,
+        usize,
+    ) {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cam_contour.mod");
+        let bytes = std::fs::read(path).expect("sample");
+        let program = crate::rapid::parse("cam_contour.mod", &bytes).expect("parses");
+        let robot = Robot::irb140();
+        let opts = EstimateOptions::default();
+        let (estimate, joints) =
+            crate::schedule::estimate_with_joints(&program, &robot, &opts).expect("walks");
+        let found = joints.found();
+        let joints = if tamper { joints.shifted() } else { joints };
+        let horizon = estimate.schedule.all_times().fold(0.0, f64::max);
+        let warm = WarmRobot::new(robot, &Model::default(), horizon).expect("model");
+        let options = Options::new(When::Schedule {
+            schedule: estimate.schedule,
+            joints: Some(estimate.joint_schedule),
+            default: None,
+            source: ScheduleSource::Estimate(Box::new(opts)),
+        });
+        let own = correct(&program, &warm, &options, &mut |_, _| {}).expect("corrects");
+        let ahead = Ahead {
+            prepared: None,
+            colds: None,
+            cold_joints: Some(joints),
+        };
+        let given = correct_in_memory(&program, (&warm, &options, ahead), &mut |_, _| {})
+            .expect("corrects");
+        (own, given, found)
+    }
+
+    /// The joints the walk found change nothing: the run corrects as one
+    /// that solves each target itself.
+    #[test]
+    fn the_walks_cold_joints_change_nothing() {
+        let (own, given, found) = with_and_without_joints(false);
+        assert!(found > 10, "the walk kept joints for {found} targets");
+        assert_eq!(given.outputs, own.outputs);
+        assert_eq!(given.notes, own.notes);
+    }
+
+    /// The run takes them: joints that are not the IK's are caught where
+    /// they are taken (a check of debug builds, the tests'; it stops the
+    /// run's workers, and so the run).
+    #[test]
+    #[cfg(debug_assertions)]
+    fn the_walks_cold_joints_are_taken() {
+        let run = std::panic::catch_unwind(|| with_and_without_joints(true));
+        assert!(
+            run.is_err(),
+            "joints turned by a milliradian were not taken"
+        );
+    }
+
     /// A preparation fits the run it was made for (an estimate's entry
     /// routine, the base frame); one made for another is made again, and
     /// the run corrects as one that made its own.
@@ -322,6 +389,7 @@ mod tests {
                     Ahead {
                         prepared: Some(Ok(p)),
                         colds: None,
+                        cold_joints: None,
                     },
                 ),
                 &mut |_, _| {},

@@ -157,8 +157,11 @@ fn correct_all<'p>(
     }
     // What the program alone decides, and each file's fingerprint for
     // its marker: made ahead where the caller had them made, else now.
+    let mut ahead = ahead;
+    let cold_joints = ahead.cold_joints.take().filter(|c| c.fits(program));
     let (prepared, colds) = ahead.made(program, options)?;
-    let run = Run::with(prepared, warm, options);
+    let mut run = Run::with(prepared, warm, options);
+    run.cold_joints = cold_joints;
     if let When::Schedule {
         schedule,
         joints,

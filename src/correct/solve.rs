@@ -54,7 +54,7 @@ pub(super) fn corrected(
     names: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
-    let numbers = corrected_numbers(run, target, meant, frames, exact)?;
+    let numbers = corrected_numbers(run, target, meant, frames, (exact, None))?;
     let src = run.program.source(target.origin.file);
     let edits = edits_of(src, target, meant, &numbers);
     Ok(row(
@@ -166,13 +166,14 @@ pub(super) struct Numbers {
 
 /// The solve of a target, or `exact` where it is already known,
 /// the drift over the target's moments, and what is to be written over
-/// the literal (the position of `exact`, and `turned`).
+/// the literal (the position of `exact`, and `turned`). `cold`: the cold
+/// joints of the meant pose in these frames, where already found.
 pub(super) fn corrected_numbers(
     run: &Run,
     target: &Target,
     meant: &Meant,
     (tool, wobj): (&ToolData, &WobjData),
-    exact: Option<Isometry3<f64>>,
+    (exact, cold): (Option<Isometry3<f64>>, Option<Joints>),
 ) -> Result<Numbers> {
     let Run {
         program,
@@ -188,7 +189,15 @@ pub(super) fn corrected_numbers(
         moment,
         state,
     } = meant;
-    let solution = solve(run, target, pose, conf, (tool, wobj), state, *moment)?;
+    let solution = solve(
+        run,
+        target,
+        pose,
+        (conf, cold),
+        (tool, wobj),
+        state,
+        *moment,
+    )?;
     let exact = exact.unwrap_or(solution.exact);
     let q_nominal = solution.q_nominal;
     let drift_at = |state: &State| -> Result<Vector3<f64>> {
@@ -270,12 +279,14 @@ pub(super) fn written_in_world(run: &Run, index: usize, target: &Target) -> Opti
 }
 
 /// The corrected target for one meant pose (TCP `pose` in its work object,
-/// robconf `conf`) at one thermal state.
+/// robconf `conf`) at one thermal state. `cold`: the pose's cold joints
+/// with `conf`, where already found (by the walk that timed the run, as
+/// [`crate::robot::Robot::ik_conf`] finds them).
 pub(super) fn solve(
     run: &Run,
     target: &Target,
     pose: &Isometry3<f64>,
-    conf: &RobConf,
+    (conf, cold): (&RobConf, Option<Joints>),
     (tool, wobj): (&ToolData, &WobjData),
     state: &State,
     moment: Moment,
@@ -320,7 +331,17 @@ pub(super) fn solve(
         Ok(f) => f,
         Err(e) => return Err(at_target(program, target, e)),
     };
-    let (q_nominal, conf) = match warm.nominal.ik_conf(&flange, conf) {
+    // Found already, they are what the solve would find: checked so in
+    // every test run.
+    debug_assert!(
+        cold.is_none_or(|q| warm.nominal.ik_conf(&flange, conf).ok() == Some(q)),
+        "cold joints given are not the IK's"
+    );
+    let cold = match cold {
+        Some(q) => Ok(q),
+        None => warm.nominal.ik_conf(&flange, conf),
+    };
+    let (q_nominal, conf) = match cold {
         Ok(q) => (q, *conf),
         // With configuration monitoring off the controller takes the
         // solution nearest the robot's current one and ignores the

@@ -241,7 +241,13 @@ pub(super) fn correct_robtarget<'r>(
         }
         _ => None,
     };
-    let numbers = corrected_numbers(run, target, &meant, (tool, wobj), exact)?;
+    // The cold joints the walk of a `--start` run found for this very
+    // literal in these very frames: the solve would find them again.
+    let cold = match (&target.value, &run.cold_joints) {
+        (Some(_), Some(r)) => r.joints(index, tool, wobj),
+        _ => None,
+    };
+    let numbers = corrected_numbers(run, target, &meant, (tool, wobj), (exact, cold))?;
     let Meant { moments, .. } = meant;
     Ok(Solved::Corrected(Box::new(Found {
         evaluated,
@@ -323,7 +329,7 @@ fn by_derived_uses(
         let Some(meant) = super::derived::apply_with(call, pose, &eval) else {
             continue;
         };
-        let sol = solve(run, derived, &meant, conf, frames, state, *moment)?;
+        let sol = solve(run, derived, &meant, (conf, None), frames, state, *moment)?;
         if let Some(base) = unapply_with(call, &sol.exact, &eval) {
             bases.push(base);
         }

@@ -228,12 +228,20 @@ impl Robot {
     /// did not find one (an arm without the OPW form, the shoulder
     /// singularity, another robconf): ask [`Robot::ik`].
     pub fn reaches_with(&self, pose: &Isometry3<f64>, conf: &RobConf) -> bool {
-        CfxBits::from_cfx(conf.cfx).is_some()
-            && self
-                .on_arm(pose, None, |arm| {
-                    arm.solve_conf_direct(pose, &self.limits, conf).is_some()
-                })
-                .unwrap_or(false)
+        self.joints_with(pose, conf).is_some()
+    }
+
+    /// The joints [`Robot::reaches_with`] found: where `Some`, exactly
+    /// what [`Robot::ik_conf`] gives (it takes the same direct path
+    /// first).
+    pub fn joints_with(&self, pose: &Isometry3<f64>, conf: &RobConf) -> Option<Joints> {
+        // A cfx this family does not have: no solution has it.
+        CfxBits::from_cfx(conf.cfx)?;
+        self.on_arm(pose, None, |arm| {
+            arm.solve_conf_direct(pose, &self.limits, conf).map(|s| s.q)
+        })
+        .ok()
+        .flatten()
     }
 
     /// [`Robot::ik_conf`] on the arm with its segments scaled.

@@ -1,6 +1,7 @@
 //! The estimate: walk the program's entry routine from a start time and
 //! time each move, for when the user has no schedule of the real run.
 
+use super::cold_joints::ColdJoints;
 use super::file::lower;
 use super::walk::{Flow, ReachAhead, TargetPoses, Walker};
 use super::Schedule;
@@ -112,6 +113,17 @@ pub(super) const FALLBACK_SPEED: &str = "v1000";
 /// the error lists every one (up to [`crate::error::MAX_RELATED`], each
 /// at its place) rather than timing any of them.
 pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Result<Estimate> {
+    estimate_with_joints(program, robot, opts).map(|(e, _)| e)
+}
+
+/// [`estimate`], with the cold joints its walk found for the literal
+/// targets it moved to: a correction of the same program takes them
+/// rather than solve each again.
+pub fn estimate_with_joints(
+    program: &Program,
+    robot: &Robot,
+    opts: &EstimateOptions,
+) -> Result<(Estimate, ColdJoints)> {
     start_checked(opts)?;
     let (module, routine) = find_entry(program, &opts.entry)?;
     let poses = std::sync::Arc::new(TargetPoses::read(program));
@@ -127,11 +139,20 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
     // core); should one not be, the walk is taken again asking at each
     // move, which finds it (and every other) in its place and does not
     // time its move, as the controller would not run it.
-    let (mut w, reached) = std::thread::scope(|scope| -> Result<(Walker, bool)> {
-        let mut w = walk(Some(ReachAhead::start(scope, robot)))?;
-        let reached = w.deferred.take().is_some_and(|d| d.finish(robot));
-        Ok((w, reached))
-    })?;
+    let (mut w, (reached, found)) =
+        std::thread::scope(|scope| -> Result<(Walker, (bool, Option<_>))> {
+            let slots = ColdJoints::slots(program);
+            let mut w = walk(Some(ReachAhead::start(scope, robot, slots)))?;
+            let answers = match w.deferred.take() {
+                Some(d) => d.finish(robot),
+                None => (false, None),
+            };
+            Ok((w, answers))
+        })?;
+    // The joints found stand whatever the walk finds next: each is the IK
+    // of its pose.
+    let pairs = std::mem::take(&mut w.pairs);
+    let found = found.map(|slots| ColdJoints::new(program, pairs, slots));
     if !reached {
         w = walk(None)?;
     }
@@ -146,7 +167,7 @@ pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Res
     }
     let mut estimate = finished(&mut w, opts)?;
     clashes(&mut estimate);
-    Ok(estimate)
+    Ok((estimate, found.unwrap_or_default()))
 }
 
 fn start_checked(opts: &EstimateOptions) -> Result<()> {

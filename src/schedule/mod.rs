@@ -16,13 +16,15 @@
 //! Owns timing. May import `rapid`, `robot`, `resolve` and the shared
 //! `error` and `csv_table`; never `model`, `correct` or `diagnose`.
 
+mod cold_joints;
 mod estimate;
 mod file;
 pub mod interp;
 mod timing;
 mod walk;
 
-pub use estimate::{estimate, Estimate, EstimateOptions};
+pub use cold_joints::ColdJoints;
+pub use estimate::{estimate, estimate_with_joints, Estimate, EstimateOptions};
 pub use file::{encode_visits, IdleSpan, Schedule, Visit, SCHEDULE_ENCODING};
 pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, SpeedData};
 

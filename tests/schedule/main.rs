@@ -2,6 +2,7 @@
 //! of them: a test binary per file made the clean build minutes longer.
 
 mod cli;
+mod cold_joints;
 mod encoding;
 mod estimate;
 mod lanes;

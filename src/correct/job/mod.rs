@@ -190,8 +190,12 @@ fn correct_task(
         (when_notes, beside.and_then(|h| h.join().ok()))
     });
     // What a thread ended without, the run makes itself.
-    let ahead = Ahead { prepared, colds };
-    let (when, notes) = when_notes?;
+    let (when, notes, cold_joints) = when_notes?;
+    let ahead = Ahead {
+        prepared,
+        colds,
+        cold_joints,
+    };
     for note in &notes {
         host.event(Event::Note(note));
     }

@@ -15,7 +15,7 @@ use crate::resolve::arm::{
     arm_for, arm_of, base_frame, check_placement, same_chain, Arm, ArmSource, ChosenBy,
 };
 use crate::robot::Robot;
-use crate::schedule::{self, EstimateOptions, Schedule};
+use crate::schedule::{self, ColdJoints, EstimateOptions, Schedule};
 use crate::thermal::duty::DutyProfile;
 
 /// The model a plan names.
@@ -109,16 +109,17 @@ fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> 
     Ok(arm)
 }
 
-/// When the targets are reached, from the plan's time basis, and the
-/// notes of the estimate (none for the others), not yet said.
+/// When the targets are reached, from the plan's time basis, the notes
+/// of the estimate (none for the others), not yet said, and the cold
+/// joints its walk found.
 pub fn when_and_notes(
     plan: &CorrectPlan,
     program: &Program,
     robot: &Robot,
     base_frame: Option<nalgebra::Isometry3<f64>>,
-) -> Result<(When, Vec<String>)> {
+) -> Result<(When, Vec<String>, Option<ColdJoints>)> {
     Ok(match &plan.when {
-        TimeBasis::At(moment) => (When::At(*moment), Vec::new()),
+        TimeBasis::At(moment) => (When::At(*moment), Vec::new(), None),
         TimeBasis::Schedule { file, default } => {
             let (name, bytes) = read_named(file)?;
             let when = When::Schedule {
@@ -127,18 +128,18 @@ pub fn when_and_notes(
                 default: *default,
                 source: ScheduleSource::File,
             };
-            (when, Vec::new())
+            (when, Vec::new(), None)
         }
         TimeBasis::Start { default, .. } => {
             let opts = estimate_options(plan, base_frame).unwrap_or_default();
-            let estimate = schedule::estimate(program, robot, &opts)?;
+            let (estimate, joints) = schedule::estimate_with_joints(program, robot, &opts)?;
             let when = When::Schedule {
                 schedule: estimate.schedule,
                 joints: Some(estimate.joint_schedule),
                 default: *default,
                 source: ScheduleSource::Estimate(Box::new(opts)),
             };
-            (when, estimate.notes)
+            (when, estimate.notes, Some(joints))
         }
     })
 }

@@ -9,11 +9,17 @@
 
 use super::*;
 use crate::robot::describe_violation;
+use crate::schedule::cold_joints::same_frames;
+use std::rc::Rc;
 
 /// Flange poses remembered as reachable (a target in a loop is checked
 /// once); beyond this many, each further pose is checked at every move
 /// (about 1 µs) rather than held in memory.
 const REACHABLE_CACHE: usize = 65_536;
+
+/// Pairs of tool and work object whose poses' joints are kept: each move
+/// looks its pair up among them.
+const PAIRS: usize = 64;
 
 impl<'p> Walker<'p> {
     /// Record a target that cannot be timed (once per place).
@@ -29,12 +35,13 @@ impl<'p> Walker<'p> {
     }
 
     /// A robtarget the robot can reach (its pose finite, its flange pose
-    /// with a solution within the joint limits); otherwise recorded, and
+    /// with a solution within the joint limits; `frames`: the tool and
+    /// work object that placed the flange); otherwise recorded, and
     /// `false`. A MoveJ's configuration is chosen later ([`Walker::joint_goal`]).
     pub(super) fn check_rob(
         &mut self,
         rob: &Rob,
-        flange: &Isometry3<f64>,
+        (flange, frames): (&Isometry3<f64>, &Rc<(ToolData, WobjData)>),
         call: &Call,
         frame: &Frame,
         s: &Statement,
@@ -66,8 +73,11 @@ impl<'p> Walker<'p> {
         if !self.reachable.is_empty() && self.reachable.contains(&key) {
             return true;
         }
-        if let Some(poses) = &mut self.deferred {
-            poses.push((*flange, rob.conf));
+        if self.deferred.is_some() {
+            let (index, pair) = self.literal_pair(rob, frames);
+            if let Some(poses) = &mut self.deferred {
+                poses.push((*flange, rob.conf, index, pair));
+            }
             return true;
         }
         // Most targets are reached with their own robconf: found so, a
@@ -94,6 +104,49 @@ impl<'p> Walker<'p> {
         let e = self.unreachable(rob, call, frame, s, why);
         self.fail_target(e);
         false
+    }
+
+    /// For a literal's own pose and robconf, its number and the number
+    /// (from 1) of the pair `frames` among those the walk moved in: what
+    /// the joints found for it are kept under ([`crate::schedule::ColdJoints`]).
+    /// `(0, 0)` for any other pose (derived, assigned, read at the move).
+    fn literal_pair(&mut self, rob: &Rob, frames: &Rc<(ToolData, WobjData)>) -> (u32, u32) {
+        // A value with a literal's number is that literal's pose and
+        // robconf, as read (values are never changed in place).
+        let literal = rob
+            .id
+            .filter(|_| rob.derived.is_none() && rob.bases.is_empty());
+        let Some(index) = literal.and_then(|i| u32::try_from(i).ok()) else {
+            return (0, 0);
+        };
+        // Mostly the very frames of the last move (a loop's move keeps
+        // them): known by address, with no comparison of their values
+        // (which cost what the joints kept saved).
+        if let Some((last, pair)) = &self.last_pair {
+            if Rc::ptr_eq(last, frames) {
+                return (index, *pair);
+            }
+        }
+        // A program moves in few pairs; one that moves in more than
+        // [`PAIRS`] keeps the joints of the first ones only (the rest
+        // are solved again, as before).
+        let k = match self
+            .pairs
+            .iter()
+            .position(|p| same_frames(p, (&frames.0, &frames.1)))
+        {
+            Some(k) => k,
+            None if self.pairs.len() < PAIRS => {
+                self.pairs.push((**frames).clone());
+                self.pairs.len() - 1
+            }
+            None => return (0, 0),
+        };
+        let Ok(pair) = u32::try_from(k + 1) else {
+            return (0, 0);
+        };
+        self.last_pair = Some((frames.clone(), pair));
+        (index, pair)
     }
 
     /// A jointtarget within the joint limits (taken literally, as the

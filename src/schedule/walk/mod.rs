@@ -65,7 +65,9 @@ pub(super) struct Rob {
     /// TCP in the work object (the robtarget's own frame).
     pub(super) pose: Isometry3<f64>,
     pub(super) conf: RobConf,
-    /// The literal target this value is (index into `Program::targets`).
+    /// The literal target this value is (index into `Program::targets`):
+    /// where set, `pose` and `conf` are that literal's as read
+    /// ([`crate::resolve::target_pose`]).
     pub(super) id: Option<usize>,
     /// The derived target that computed it (`Offs(...)`).
     pub(super) derived: Option<usize>,
@@ -184,6 +186,11 @@ pub(super) struct Walker<'p> {
     /// Flange poses whose reach is asked on another core, and the
     /// robconf of their targets; `None`: asked at each move.
     pub(super) deferred: Option<ReachAhead>,
+    /// The pairs of tool and work object the deferred poses were placed
+    /// by, by number from 1 ([`crate::schedule::ColdJoints`]).
+    pub(super) pairs: Vec<(ToolData, WobjData)>,
+    /// The last move's frames and their pair's number.
+    pub(super) last_pair: Option<(std::rc::Rc<(ToolData, WobjData)>, u32)>,
     /// Each robtarget's pose and robconf, read before the walk on every
     /// core ([`TargetPoses::read`]); empty: read as the walk meets them.
     pub(super) poses: std::sync::Arc<TargetPoses>,
@@ -310,6 +317,8 @@ impl<'p> Walker<'p> {
             last_speed: None,
             last_frames: None,
             deferred: None,
+            pairs: Vec::new(),
+            last_pair: None,
             poses: std::sync::Arc::default(),
             scope: 0,
             settled: FastMap::default(),

@@ -14,7 +14,7 @@ pub(super) struct Goal<'a> {
     pub(super) speed: SpeedData,
     pub(super) t_override: Option<f64>,
     pub(super) conc: bool,
-    pub(super) frames: &'a (ToolData, WobjData),
+    pub(super) frames: &'a Rc<(ToolData, WobjData)>,
     pub(super) max_speed: [f64; 6],
 }
 
@@ -445,7 +445,7 @@ impl<'p> Walker<'p> {
                 return Ok(());
             }
         };
-        if !self.check_rob(&rob, &flange, call, frame, s) {
+        if !self.check_rob(&rob, (&flange, frames), call, frame, s) {
             return Ok(());
         }
         let from = from.unwrap_or(rob.pose);
@@ -475,7 +475,7 @@ impl<'p> Walker<'p> {
                 let angle = from.rotation.angle_to(&rob.pose.rotation).to_degrees();
                 if let Value::Rob(c) = &cir {
                     let via = flange_of_target(&c.pose, tool, wobj);
-                    if via.is_ok_and(|v| !self.check_rob(c, &v, call, frame, s)) {
+                    if via.is_ok_and(|v| !self.check_rob(c, (&v, frames), call, frame, s)) {
                         return Ok(());
                     }
                 }

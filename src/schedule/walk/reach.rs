@@ -4,15 +4,21 @@
 //! program of a million targets waited for it. Now the poses go, a
 //! chunk at a time, to a thread that answers them as they come, and what
 //! is left when the walk ends is answered on every core.
+//!
+//! The joints each answer finds for a literal's own pose are kept
+//! ([`ColdJoints`]): a correction of the program asks the same IK.
 
-use crate::robot::{RobConf, Robot};
+use crate::robot::{Joints, RobConf, Robot};
+use crate::schedule::cold_joints::{ColdJoints, Slot};
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use std::collections::VecDeque;
 use std::sync::{Arc, Condvar, Mutex};
 
-/// A flange pose and the robconf of its target.
-type Pose = (Isometry3<f64>, RobConf);
+/// A flange pose, the robconf of its target and, for a literal's own
+/// pose, the target's number and the number of the pair of tool and work
+/// object it was moved in (from 1; 0: not a literal's own pose).
+pub(crate) type Pose = (Isometry3<f64>, RobConf, u32, u32);
 
 /// Poses sent at a time: 72 kB, below the size the allocator maps fresh
 /// from the system (128 kB, `src/main.rs`), so that an answered chunk's
@@ -39,24 +45,39 @@ struct State {
     done: bool,
     /// A pose was found out of reach.
     unreachable: bool,
-    /// Chunks taken by the thread and not yet answered.
-    checking: usize,
+    /// The joints the thread found, given back when it ends.
+    found: Option<Vec<Slot>>,
 }
 
-/// Whether the arm reaches `flange` (in the robconf `conf`, else in any).
-pub(crate) fn reaches(robot: &Robot, (flange, conf): &Pose) -> bool {
-    robot.reaches_with(flange, conf) || robot.ik(flange).is_ok_and(|s| !s.is_empty())
+/// Whether the arm reaches `flange` (in the robconf `conf`, else in any),
+/// and the joints with `conf` where found so.
+fn answer(robot: &Robot, (flange, conf, ..): &Pose) -> (bool, Option<Joints>) {
+    match robot.joints_with(flange, conf) {
+        Some(q) => (true, Some(q)),
+        None => (robot.ik(flange).is_ok_and(|s| !s.is_empty()), None),
+    }
+}
+
+/// [`answer`], its joints kept in `found` where the pose is a literal's.
+fn answer_keeping(robot: &Robot, pose: &Pose, found: &mut [Slot]) -> bool {
+    let (ok, q) = answer(robot, pose);
+    if let (Some(q), (_, _, index, pair @ 1..)) = (q, pose) {
+        ColdJoints::keep(found, *index, *pair, &q);
+    }
+    ok
 }
 
 impl ReachAhead {
-    /// Poses answered on a thread of `scope` as they are sent.
+    /// Poses answered on a thread of `scope` as they are sent, the joints
+    /// found for literals kept in `found` (one slot per robtarget).
     pub(crate) fn start<'s, 'e>(
         scope: &'s std::thread::Scope<'s, 'e>,
         robot: &'e Robot,
+        found: Vec<Slot>,
     ) -> ReachAhead {
         let shared = Arc::new(Shared::default());
         let theirs = shared.clone();
-        scope.spawn(move || answer_as_sent(&theirs, robot));
+        scope.spawn(move || answer_as_sent(&theirs, robot, found));
         ReachAhead {
             chunk: Vec::with_capacity(CHUNK),
             shared,
@@ -75,30 +96,43 @@ impl ReachAhead {
     }
 
     /// Whether every pose pushed is reached: those not yet answered are
-    /// answered on every core, and the thread's last chunk awaited.
-    /// `false` also where the answers were lost (the walk is then taken
-    /// again asking at each move, which finds the same).
-    pub(crate) fn finish(mut self, robot: &Robot) -> bool {
+    /// answered on every core, and the thread's end awaited. `false` also
+    /// where the answers were lost (the walk is then taken again asking
+    /// at each move, which finds the same). With it, the joints found
+    /// (`None` where lost).
+    pub(crate) fn finish(mut self, robot: &Robot) -> (bool, Option<Vec<Slot>>) {
         let mut rest = vec![std::mem::take(&mut self.chunk)];
         match self.shared.state.lock() {
             Ok(mut st) => {
                 st.done = true;
                 rest.extend(st.chunks.drain(..));
             }
-            Err(_) => return false,
+            Err(_) => return (false, None),
         }
         self.shared.changed.notify_all();
-        let ours = rest.par_iter().flatten().all(|p| reaches(robot, p));
+        let answers: Vec<(bool, Option<Joints>)> = rest
+            .par_iter()
+            .flatten()
+            .map(|p| answer(robot, p))
+            .collect();
         let Ok(mut st) = self.shared.state.lock() else {
-            return false;
+            return (false, None);
         };
-        while st.checking > 0 {
+        while st.found.is_none() {
             st = match self.shared.changed.wait(st) {
                 Ok(st) => st,
-                Err(_) => return false,
+                Err(_) => return (false, None),
             };
         }
-        ours && !st.unreachable
+        let mut found = st.found.take();
+        if let Some(slots) = &mut found {
+            for (pose, (_, q)) in rest.iter().flatten().zip(&answers) {
+                if let (Some(q), (_, _, index, pair @ 1..)) = (q, pose) {
+                    ColdJoints::keep(slots, *index, *pair, q);
+                }
+            }
+        }
+        (answers.iter().all(|a| a.0) && !st.unreachable, found)
     }
 }
 
@@ -112,8 +146,9 @@ impl Drop for ReachAhead {
     }
 }
 
-/// The thread: each chunk answered as it comes, until no more will.
-fn answer_as_sent(shared: &Shared, robot: &Robot) {
+/// The thread: each chunk answered as it comes, until no more will; then
+/// the joints found given back.
+fn answer_as_sent(shared: &Shared, robot: &Robot, mut found: Vec<Slot>) {
     loop {
         let chunk = {
             let Ok(mut st) = shared.state.lock() else {
@@ -121,10 +156,12 @@ fn answer_as_sent(shared: &Shared, robot: &Robot) {
             };
             loop {
                 if let Some(c) = st.chunks.pop_front() {
-                    st.checking += 1;
                     break c;
                 }
                 if st.done {
+                    st.found = Some(std::mem::take(&mut found));
+                    drop(st);
+                    shared.changed.notify_all();
                     return;
                 }
                 st = match shared.changed.wait(st) {
@@ -133,11 +170,9 @@ fn answer_as_sent(shared: &Shared, robot: &Robot) {
                 };
             }
         };
-        let ok = chunk.iter().all(|p| reaches(robot, p));
+        let ok = chunk.iter().all(|p| answer_keeping(robot, p, &mut found));
         if let Ok(mut st) = shared.state.lock() {
-            st.checking -= 1;
             st.unreachable |= !ok;
         }
-        shared.changed.notify_all();
     }
 }

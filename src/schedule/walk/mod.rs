@@ -198,6 +198,10 @@ pub(super) struct Walker<'p> {
     /// [`settled`]), and what each move statement settled (by address).
     scope: u64,
     settled: FastMap<*const Call, Box<Settled<'p>>>,
+    /// The last move statement's, kept out of the map: a loop's move is
+    /// the next one again, and a million turns took it out of the map
+    /// and put it back (a fifteenth of the walk).
+    last_settled: Option<(*const Call, Box<Settled<'p>>)>,
 }
 
 /// Names as written, in a module and routine.
@@ -322,6 +326,7 @@ impl<'p> Walker<'p> {
             poses: std::sync::Arc::default(),
             scope: 0,
             settled: FastMap::default(),
+            last_settled: None,
         })
     }
 

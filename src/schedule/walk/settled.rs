@@ -58,7 +58,16 @@ impl<'p> Walker<'p> {
         let key = std::ptr::from_ref(call);
         let scope = self.scope;
         // Boxed: taken out and put back at every move, moved as a pointer.
-        let mut st = match self.settled.remove(&key) {
+        let kept = match self.last_settled.take() {
+            Some((k, st)) if k == key => Some(st),
+            other => {
+                if let Some((k, st)) = other {
+                    self.settled.insert(k, st);
+                }
+                self.settled.remove(&key)
+            }
+        };
+        let mut st = match kept {
             Some(st) if st.scope == scope => st,
             Some(mut st) => {
                 st.scope = scope;
@@ -77,8 +86,12 @@ impl<'p> Walker<'p> {
         let Settled { motion, found, .. } = &mut *st;
         self.exec_move(call, motion, s, frame, Some(found))?;
         // Settled in a scope that ended during the move (a FUNC called
-        // from an argument) is never taken again: scopes only grow.
-        self.settled.insert(key, st);
+        // from an argument) is never taken again: scopes only grow. A move
+        // such a FUNC made left its own here: to the map with it.
+        if let Some((k, inner)) = self.last_settled.take() {
+            self.settled.insert(k, inner);
+        }
+        self.last_settled = Some((key, st));
         Ok(true)
     }
 }

@@ -131,7 +131,7 @@ pub(crate) fn correct_prepared<'p>(
 
 fn correct_all<'p>(
     program: &'p Program,
-    (warm, options, ahead): (&WarmRobot, &Options, Ahead<'p>),
+    (warm, options, mut ahead): (&WarmRobot, &Options, Ahead<'p>),
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
@@ -157,7 +157,6 @@ fn correct_all<'p>(
     }
     // What the program alone decides, and each file's fingerprint for
     // its marker: made ahead where the caller had them made, else now.
-    let mut ahead = ahead;
     let cold_joints = ahead.cold_joints.take().filter(|c| c.fits(program));
     let (prepared, colds) = ahead.made(program, options)?;
     let mut run = Run::with(prepared, warm, options);

@@ -113,7 +113,8 @@ pub(super) const FALLBACK_SPEED: &str = "v1000";
 /// the error lists every one (up to [`crate::error::MAX_RELATED`], each
 /// at its place) rather than timing any of them.
 pub fn estimate(program: &Program, robot: &Robot, opts: &EstimateOptions) -> Result<Estimate> {
-    estimate_with_joints(program, robot, opts).map(|(e, _)| e)
+    // No joints kept: nothing would take them.
+    walked(program, robot, opts, false).map(|(e, _)| e)
 }
 
 /// [`estimate`], with the cold joints its walk found for the literal
@@ -123,6 +124,16 @@ pub fn estimate_with_joints(
     program: &Program,
     robot: &Robot,
     opts: &EstimateOptions,
+) -> Result<(Estimate, ColdJoints)> {
+    walked(program, robot, opts, true)
+}
+
+/// The estimate, and where `keep`, the cold joints its walk found.
+fn walked(
+    program: &Program,
+    robot: &Robot,
+    opts: &EstimateOptions,
+    keep: bool,
 ) -> Result<(Estimate, ColdJoints)> {
     start_checked(opts)?;
     let (module, routine) = find_entry(program, &opts.entry)?;
@@ -141,7 +152,11 @@ pub fn estimate_with_joints(
     // time its move, as the controller would not run it.
     let (mut w, (reached, found)) =
         std::thread::scope(|scope| -> Result<(Walker, (bool, Option<_>))> {
-            let slots = ColdJoints::slots(program);
+            let slots = if keep {
+                ColdJoints::slots(program)
+            } else {
+                Vec::new()
+            };
             let mut w = walk(Some(ReachAhead::start(scope, robot, slots)))?;
             let answers = match w.deferred.take() {
                 Some(d) => d.finish(robot),

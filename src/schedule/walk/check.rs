@@ -73,8 +73,12 @@ impl<'p> Walker<'p> {
         if !self.reachable.is_empty() && self.reachable.contains(&key) {
             return true;
         }
-        if self.deferred.is_some() {
-            let (index, pair) = self.literal_pair(rob, frames);
+        if let Some(keeps) = self.deferred.as_ref().map(|d| d.keeps) {
+            let (index, pair) = if keeps {
+                self.literal_pair(rob, frames)
+            } else {
+                (0, 0)
+            };
             if let Some(poses) = &mut self.deferred {
                 poses.push((*flange, rob.conf, index, pair));
             }
@@ -142,9 +146,8 @@ impl<'p> Walker<'p> {
             }
             None => return (0, 0),
         };
-        let Ok(pair) = u32::try_from(k + 1) else {
-            return (0, 0);
-        };
+        // Below [`PAIRS`]: a number from 1 that fits.
+        let pair = k as u32 + 1;
         self.last_pair = Some((frames.clone(), pair));
         (index, pair)
     }

@@ -20,7 +20,7 @@ use std::sync::{Arc, Condvar, Mutex};
 /// object it was moved in (from 1; 0: not a literal's own pose).
 pub(crate) type Pose = (Isometry3<f64>, RobConf, u32, u32);
 
-/// Poses sent at a time: 72 kB, below the size the allocator maps fresh
+/// Poses sent at a time: 80 kB, below the size the allocator maps fresh
 /// from the system (128 kB, `src/main.rs`), so that an answered chunk's
 /// memory holds the next one (chunks of 4,096 were a page fault every
 /// 57 poses, a sixth of the walk's own time).
@@ -29,6 +29,9 @@ const CHUNK: usize = 1024;
 /// The poses a walk leaves to another thread.
 pub(crate) struct ReachAhead {
     chunk: Vec<Pose>,
+    /// Whether the joints found are kept (the thread was given a slot
+    /// per robtarget).
+    pub(crate) keeps: bool,
     shared: Arc<Shared>,
 }
 
@@ -61,10 +64,15 @@ fn answer(robot: &Robot, (flange, conf, ..): &Pose) -> (bool, Option<Joints>) {
 /// [`answer`], its joints kept in `found` where the pose is a literal's.
 fn answer_keeping(robot: &Robot, pose: &Pose, found: &mut [Slot]) -> bool {
     let (ok, q) = answer(robot, pose);
-    if let (Some(q), (_, _, index, pair @ 1..)) = (q, pose) {
-        ColdJoints::keep(found, *index, *pair, &q);
-    }
+    keep(found, pose, q.as_ref());
     ok
+}
+
+/// `q`, found for `pose`, kept in `found` where the pose is a literal's.
+fn keep(found: &mut [Slot], (_, _, index, pair): &Pose, q: Option<&Joints>) {
+    if let (Some(q), 1..) = (q, pair) {
+        ColdJoints::keep(found, *index, *pair, q);
+    }
 }
 
 impl ReachAhead {
@@ -77,9 +85,11 @@ impl ReachAhead {
     ) -> ReachAhead {
         let shared = Arc::new(Shared::default());
         let theirs = shared.clone();
+        let keeps = !found.is_empty();
         scope.spawn(move || answer_as_sent(&theirs, robot, found));
         ReachAhead {
             chunk: Vec::with_capacity(CHUNK),
+            keeps,
             shared,
         }
     }
@@ -127,9 +137,7 @@ impl ReachAhead {
         let mut found = st.found.take();
         if let Some(slots) = &mut found {
             for (pose, (_, q)) in rest.iter().flatten().zip(&answers) {
-                if let (Some(q), (_, _, index, pair @ 1..)) = (q, pose) {
-                    ColdJoints::keep(slots, *index, *pair, q);
-                }
+                keep(slots, pose, q.as_ref());
             }
         }
         (answers.iter().all(|a| a.0) && !st.unreachable, found)

@@ -114,15 +114,9 @@ impl Location {
     /// otherwise each byte is one Latin-1 character).
     pub fn from_offset(file: &str, src: &[u8], offset: usize) -> Location {
         let offset = offset.min(src.len());
-        let line_start = src[..offset]
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |p| p + 1);
-        let line_end = src[offset..]
-            .iter()
-            .position(|&b| b == b'\n' || b == b'\r')
-            .map_or(src.len(), |p| offset + p);
-        let line = 1 + src[..line_start].iter().filter(|&&b| b == b'\n').count();
+        let line_start = line_start(src, offset);
+        let line_end = line_end(src, offset);
+        let line = 1 + breaks_in(src, 0..line_start);
         let col = 1 + decode_lossless(&src[line_start..offset]).chars().count();
         Location {
             file: file.to_string(),
@@ -130,6 +124,87 @@ impl Location {
             col,
             line_text: decode_lossless(&src[line_start..line_end]).into(),
         }
+    }
+}
+
+// Line breaks, one rule for every reader and writer: `\r\n`, `\n`, or a
+// `\r` alone (the classic Mac OS line end, which some editors still
+// write) each end a line. A break is counted at its last byte, so that a
+// `\r\n` cut between two ranges counts once; offsets stay those of the
+// file's own bytes.
+
+/// Whether the byte at `i` of `src` ends a line (an `\n`, or a `\r` not
+/// followed by `\n`).
+pub fn ends_line(src: &[u8], i: usize) -> bool {
+    match src.get(i) {
+        Some(b'\n') => true,
+        Some(b'\r') => src.get(i + 1) != Some(&b'\n'),
+        _ => false,
+    }
+}
+
+/// How many line breaks end in `range` of `src`.
+pub fn breaks_in(src: &[u8], range: std::ops::Range<usize>) -> usize {
+    let (from, to) = (range.start.min(src.len()), range.end.min(src.len()));
+    memchr::memchr2_iter(b'\n', b'\r', &src[from..to])
+        .filter(|&i| ends_line(src, from + i))
+        .count()
+}
+
+/// Where the line holding byte `at` starts (the line a break's bytes
+/// end).
+pub fn line_start(src: &[u8], at: usize) -> usize {
+    let mut end = at.min(src.len());
+    // A break's own bytes belong to the line it ends.
+    if end > 0 && src[end - 1] == b'\r' && src.get(end) == Some(&b'\n') {
+        end -= 1;
+    }
+    memchr::memrchr2(b'\n', b'\r', &src[..end]).map_or(0, |i| i + 1)
+}
+
+/// Where the line holding byte `at` ends: at its break's first byte, or
+/// the end of `src`.
+pub fn line_end(src: &[u8], at: usize) -> usize {
+    let at = at.min(src.len());
+    memchr::memchr2(b'\n', b'\r', &src[at..]).map_or(src.len(), |i| at + i)
+}
+
+/// Where the line after the one holding byte `at` starts; `None` on the
+/// last line (no break after it).
+pub fn next_line_start(src: &[u8], at: usize) -> Option<usize> {
+    let end = line_end(src, at);
+    match src.get(end)? {
+        b'\r' if src.get(end + 1) == Some(&b'\n') => Some(end + 2),
+        _ => Some(end + 1),
+    }
+}
+
+/// The lines of `text`, each without its break (as [`str::lines`], which
+/// knows `\n` and `\r\n` only, with a lone `\r` ending a line too).
+pub fn split_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = Some(text);
+    std::iter::from_fn(move || {
+        let t = rest?;
+        match next_line_start(t.as_bytes(), 0) {
+            Some(next) => {
+                rest = (next < t.len()).then(|| &t[next..]);
+                Some(&t[..line_end(t.as_bytes(), 0)])
+            }
+            None => {
+                rest = None;
+                (!t.is_empty()).then_some(t)
+            }
+        }
+    })
+}
+
+/// The line break a file uses (its first), for lines written into it:
+/// `\n` where it has none.
+pub fn line_break_of(src: &[u8]) -> &'static str {
+    match memchr::memchr2(b'\n', b'\r', src) {
+        Some(i) if src[i] == b'\r' && src.get(i + 1) == Some(&b'\n') => "\r\n",
+        Some(i) if src[i] == b'\r' => "\r",
+        _ => "\n",
     }
 }
 
@@ -189,6 +264,30 @@ pub fn visible_char(c: char, out: &mut String) {
 pub fn visible(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     text.chars().for_each(|c| visible_char(c, &mut out));
+    out
+}
+
+/// The most characters of the input a message quotes: a name, a number, a
+/// value. A longer one (a number of ten megabytes) is cut, and its length
+/// said, so that a message stays a line whatever the input.
+pub const QUOTED_AT_MOST: usize = 40;
+
+/// Input as a message quotes it, in backticks: whole up to
+/// [`QUOTED_AT_MOST`] characters, else its start, `…` and how long it is;
+/// invisible characters made visible (see [`visible_char`]). Every message
+/// that echoes input goes through here.
+pub fn quoted(text: &str) -> String {
+    let mut out = String::from("`");
+    let mut chars = text.chars();
+    chars
+        .by_ref()
+        .take(QUOTED_AT_MOST)
+        .for_each(|c| visible_char(c, &mut out));
+    if chars.next().is_some() {
+        out.push_str(&format!("…` ({} characters)", text.chars().count()));
+    } else {
+        out.push('`');
+    }
     out
 }
 
@@ -476,6 +575,38 @@ mod tests {
     }
 
     #[test]
+    fn every_line_end_counts_once_and_keeps_offsets() {
+        // The same three lines with each line end: `x` on line 3, column 3.
+        for eol in ["\n", "\r\n", "\r"] {
+            let src = format!("MODULE m{eol}  ! c{eol}  x := 1;{eol}");
+            let b = src.as_bytes();
+            let off = src.find('x').unwrap();
+            let loc = Location::from_offset("a.mod", b, off);
+            assert_eq!((loc.line, loc.col), (3, 3), "{eol:?}");
+            assert_eq!(&*loc.line_text, "  x := 1;");
+            assert_eq!(breaks_in(b, 0..b.len()), 3);
+            let second = src.find('!').unwrap() - 2;
+            assert_eq!(next_line_start(b, 0), Some(second));
+            assert_eq!(line_start(b, off), src.find("  x").unwrap());
+            assert_eq!(line_end(b, off), src.find(";").unwrap() + 1);
+            assert_eq!(next_line_start(b, off), Some(b.len()));
+            assert_eq!(line_break_of(b), eol);
+        }
+        // A `\r\n` cut between two ranges counts once; its `\n` is on the
+        // line it ends.
+        let b = b"a\r\nb";
+        assert_eq!(breaks_in(b, 0..2) + breaks_in(b, 2..5), 1);
+        assert_eq!(line_start(b, 2), 0);
+        assert_eq!(line_start(b, 3), 3);
+        assert_eq!(next_line_start(b"abc", 1), None);
+        assert_eq!(line_break_of(b"abc"), "\n");
+        let lines: Vec<&str> = split_lines("a\r\nb\rc\n\nd").collect();
+        assert_eq!(lines, ["a", "b", "c", "", "d"]);
+        assert_eq!(split_lines("a\n").collect::<Vec<_>>(), ["a"]);
+        assert_eq!(split_lines("").count(), 0);
+    }
+
+    #[test]
     fn a_remedy_completes_the_line_it_was_given_for() {
         let words = |r: Remedy| match r {
             Remedy::ChooseEntry => " (pick one with --entry)",
@@ -520,6 +651,16 @@ mod tests {
         );
         // The caret stands under the escaped BOM.
         assert_eq!(lines[3].find('^'), Some("1 | ".len() + 1 + 80));
+    }
+
+    #[test]
+    fn quoted_input_is_bounded_and_says_its_length() {
+        assert_eq!(quoted("p10"), "`p10`");
+        assert_eq!(quoted(&"x".repeat(40)), format!("`{}`", "x".repeat(40)));
+        let big = "1".repeat(10 << 20);
+        let q = quoted(&big);
+        assert_eq!(q, format!("`{}…` (10485760 characters)", "1".repeat(40)));
+        assert_eq!(quoted("a\u{FEFF}b"), "`a\\u{FEFF}b`");
     }
 
     #[test]

@@ -60,6 +60,69 @@ fn read_at_most(reader: impl Read, name: &str, max: u64) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// A text encoding rapidtherm does not read, as a file's first bytes give
+/// it away: a byte-order mark, or (UTF-16 saved without one) a NUL beside
+/// every ASCII character.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unread {
+    Utf16Le,
+    Utf16Be,
+    Utf32Le,
+    Utf32Be,
+}
+
+impl Unread {
+    /// Its name, as messages give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Unread::Utf16Le => "UTF-16 (little-endian)",
+            Unread::Utf16Be => "UTF-16 (big-endian)",
+            Unread::Utf32Le => "UTF-32 (little-endian)",
+            Unread::Utf32Be => "UTF-32 (big-endian)",
+        }
+    }
+}
+
+/// The encoding `bytes` are in, where it is one that is not read (the
+/// readers take UTF-8, with or without its byte-order mark, or Latin-1:
+/// every byte of either is the file's own, so offsets stay exact).
+pub fn unread_encoding(bytes: &[u8]) -> Option<Unread> {
+    match bytes {
+        [0xFF, 0xFE, 0, 0, ..] => Some(Unread::Utf32Le),
+        [0, 0, 0xFE, 0xFF, ..] => Some(Unread::Utf32Be),
+        [0xFF, 0xFE, ..] => Some(Unread::Utf16Le),
+        [0xFE, 0xFF, ..] => Some(Unread::Utf16Be),
+        // No mark: text whose first two characters are ASCII, each beside
+        // a NUL. No RAPID, XML or CSV text starts with a NUL.
+        [a, 0, b, 0, ..] if *a != 0 && a.is_ascii() && *b != 0 && b.is_ascii() => {
+            Some(Unread::Utf16Le)
+        }
+        [0, a, 0, b, ..] if *a != 0 && a.is_ascii() && *b != 0 && b.is_ascii() => {
+            Some(Unread::Utf16Be)
+        }
+        _ => None,
+    }
+}
+
+/// An input error at the start of the file `name` when its `bytes` are in
+/// an encoding that is not read, naming it and what to save it as
+/// (`save_as`: "UTF-8 or ISO-8859-1 (Latin-1)").
+pub fn refuse_unread_encoding(name: &str, bytes: &[u8], save_as: &str) -> Result<()> {
+    match unread_encoding(bytes) {
+        None => Ok(()),
+        Some(e) => Err(Error::input(format!(
+            "{} is not read; save the file as {save_as}",
+            e.name()
+        ))
+        .at(crate::error::Location {
+            file: name.to_string(),
+            line: 1,
+            col: 1,
+            line_text: Box::default(),
+        })),
+    }
+}
+
 /// A byte count in words: `1024 MiB`, `100 bytes`.
 fn size(n: u64) -> String {
     if n >= 1 << 20 {
@@ -83,5 +146,45 @@ mod tests {
         );
         let ok = read_stream(&b"MODULE m\nENDMODULE\n"[..], "short").unwrap();
         assert_eq!(ok.len(), 19);
+    }
+
+    #[test]
+    fn utf16_and_utf32_are_named_with_or_without_their_mark() {
+        let utf16le: Vec<u8> = "\u{FEFF}MODULE m"
+            .encode_utf16()
+            .flat_map(u16::to_le_bytes)
+            .collect();
+        assert_eq!(utf16le[..3], [0xFF, 0xFE, b'M']);
+        assert_eq!(unread_encoding(&utf16le), Some(Unread::Utf16Le));
+        assert_eq!(unread_encoding(&utf16le[2..]), Some(Unread::Utf16Le));
+        let utf16be: Vec<u8> = "\u{FEFF}MODULE m"
+            .encode_utf16()
+            .flat_map(u16::to_be_bytes)
+            .collect();
+        assert_eq!(unread_encoding(&utf16be), Some(Unread::Utf16Be));
+        assert_eq!(unread_encoding(&utf16be[2..]), Some(Unread::Utf16Be));
+        assert_eq!(
+            unread_encoding(&[0xFF, 0xFE, 0, 0, b'M', 0, 0, 0]),
+            Some(Unread::Utf32Le)
+        );
+        assert_eq!(
+            unread_encoding(&[0, 0, 0xFE, 0xFF, 0, 0, 0, b'M']),
+            Some(Unread::Utf32Be)
+        );
+        // UTF-8 with and without its mark, Latin-1, empty: read.
+        for ok in [
+            &b"\xEF\xBB\xBFMODULE m"[..],
+            b"MODULE m",
+            b"! \xe9t\xe9\nMODULE m",
+            b"",
+            b"M",
+        ] {
+            assert_eq!(unread_encoding(ok), None, "{ok:?}");
+        }
+        let e = refuse_unread_encoding("a.mod", &utf16le, "UTF-8").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "a.mod:1:1: error: UTF-16 (little-endian) is not read; save the file as UTF-8"
+        );
     }
 }

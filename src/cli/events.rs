@@ -2,7 +2,7 @@
 //! through `messages` (`-q`, `-v`, `--color` apply), and the progress bar
 //! of long corrections.
 
-use super::messages::{self, info, note};
+use super::messages::{self, info, note, warning};
 use rapidtherm::correct::job::{Event, Host};
 use rapidtherm::rapid::LaneTally;
 use rapidtherm::resolve::arm::{Arm, ChosenBy};
@@ -39,9 +39,12 @@ impl Host for Said {
             Event::InstrumentLeftOut { task } => note!(
                 "task {task}: the model's tracker-frame is the frame of the instrument it was diagnosed with, not the robot's: left out of the correction"
             ),
-            Event::NotMotion { task } => {
+            Event::NotMotion { task, moves: 0 } => {
                 note!("task {task} is not a motion task (SYSPAR/SYS.cfg): left alone")
             }
+            Event::NotMotion { task, moves } => warning!(
+                "task {task} holds {moves} move instruction(s), but SYSPAR/SYS.cfg does not mark it as a motion task (-MotionTask): its targets are left cold"
+            ),
             Event::Took { what, elapsed } => messages::took_for(what, elapsed),
             Event::Progress { done, total } => self.progress(done, total),
         }

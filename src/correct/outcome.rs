@@ -193,6 +193,10 @@ pub enum Reason {
     /// does not know: an option's (`Search_Groove`), or a procedure of a
     /// module not read. What it does with its targets is unknown.
     Instruction,
+    /// Moved to by a task that the backup's SYSPAR/SYS.cfg does not mark
+    /// as a motion task (`-MotionTask`): which robot its moves move, if
+    /// any, the backup does not say, so nothing of it is corrected.
+    NotMotionTask,
     /// Not a target left alone but one use of a corrected target: moved to
     /// with another tool or work object than the one it is corrected for
     /// (its first use's), so at this use it is not right warm.
@@ -211,6 +215,7 @@ impl Reason {
             Reason::Parameter => "parameter",
             Reason::Undeclared => "undeclared",
             Reason::Instruction => "instruction",
+            Reason::NotMotionTask => "not-motion-task",
             Reason::SharedFrames => "shared-frames",
         }
     }

@@ -2,7 +2,8 @@
 
 use super::values::Pos;
 
-/// Where each line of `src` starts: found a megabyte at a time on every
+/// Where each line of `src` starts (after each `\n`, `\r\n` or lone
+/// `\r`: see [`crate::error::ends_line`]): found a megabyte at a time on every
 /// core, then gathered into a list made at its full size (a file of two
 /// million lines took a tenth of a second on one core, its list growing
 /// by copies).
@@ -14,7 +15,8 @@ pub(crate) fn line_starts(src: &[u8]) -> Vec<usize> {
         .enumerate()
         .map(|(k, piece)| {
             let at = k * PIECE;
-            memchr::memchr_iter(b'\n', piece)
+            memchr::memchr2_iter(b'\n', b'\r', piece)
+                .filter(|&i| crate::error::ends_line(src, at + i))
                 .map(|i| at + i + 1)
                 .collect()
         })
@@ -42,7 +44,7 @@ pub(crate) fn pos_of(src: &[u8], lines: &[usize], offset: usize) -> Pos {
 /// The place of `offset` in `src`, on line `line` (its column counted
 /// from the line's start).
 pub(crate) fn pos_on(src: &[u8], offset: usize, line: u32) -> Pos {
-    let start = memchr::memrchr(b'\n', &src[..offset]).map_or(0, |i| i + 1);
+    let start = crate::error::line_start(src, offset);
     Pos {
         offset,
         line,
@@ -86,5 +88,11 @@ mod tests {
         assert_eq!(line_starts(&text), one);
         assert_eq!(line_starts(b""), vec![0]);
         assert_eq!(line_starts(b"a\nb"), vec![0, 2]);
+        // A lone `\r` ends a line too; `\r\n` once.
+        assert_eq!(line_starts(b"a\rb\r\nc\n\rd"), vec![0, 2, 5, 7, 8]);
+        // A `\r\n` across two pieces of a megabyte.
+        let mut cut = vec![b'x'; (1 << 20) - 1];
+        cut.extend_from_slice(b"\r\ny\rz");
+        assert_eq!(line_starts(&cut), vec![0, (1 << 20) + 1, (1 << 20) + 3]);
     }
 }

@@ -76,6 +76,25 @@ enum Tok {
 pub struct Scanner<'a> {
     src: &'a [u8],
     pos: usize,
+    /// The first word met longer than a RAPID name may be (its start and
+    /// end): every word of a file passes [`Scanner::token`], which cannot
+    /// fail, so the piece it is met in reports it.
+    too_long: std::cell::Cell<Option<(usize, usize)>>,
+}
+
+/// The most characters of a RAPID name: "The maximum length of an
+/// identifier is 32 characters" (ABB, Technical reference manual, RAPID
+/// kernel, 2.3 Identifiers). The controller refuses a longer one, so the
+/// reader does too, in every context (a data name, a routine, a label).
+pub const MAX_NAME_CHARS: usize = 32;
+
+/// How many characters a word of `MAX_NAME_CHARS` or more bytes has:
+/// UTF-8 characters where it is UTF-8, else each byte one (Latin-1).
+fn word_chars(word: &[u8]) -> usize {
+    match std::str::from_utf8(word) {
+        Ok(s) => s.chars().count(),
+        Err(_) => word.len(),
+    }
 }
 
 fn is_word_start(b: u8) -> bool {
@@ -88,7 +107,11 @@ fn is_word_char(b: u8) -> bool {
 
 impl<'a> Scanner<'a> {
     pub fn new(src: &'a [u8]) -> Scanner<'a> {
-        Scanner { src, pos: 0 }
+        Scanner {
+            src,
+            pos: 0,
+            too_long: std::cell::Cell::new(None),
+        }
     }
 
     /// Start scanning at `pos` (after a byte-order mark).
@@ -130,6 +153,12 @@ impl<'a> Scanner<'a> {
             let mut e = p + 1;
             while e < s.len() && is_word_char(s[e]) {
                 e += 1;
+            }
+            if e - p > MAX_NAME_CHARS
+                && self.too_long.get().is_none()
+                && word_chars(&s[p..e]) > MAX_NAME_CHARS
+            {
+                self.too_long.set(Some((p, e)));
             }
             (Tok::Word, p, e)
         } else if b.is_ascii_digit() || (b == b'.' && s.get(p + 1).is_some_and(u8::is_ascii_digit))
@@ -312,6 +341,17 @@ impl<'a> Scanner<'a> {
             }
             _ => (K::Simple, self.until(start, &[], true)?.1),
         };
+        if let Some((s, e)) = self.too_long.take() {
+            let word = crate::error::decode_lossless(&self.src[s..e]);
+            return Err(ScanError {
+                offset: s,
+                message: format!(
+                    "the name {} is {} characters long: a RAPID name has at most {MAX_NAME_CHARS} (the controller refuses a longer one)",
+                    crate::error::quoted(&word),
+                    word_chars(&self.src[s..e])
+                ),
+            });
+        }
         let end = end.max(first_end).min(self.src.len());
         self.pos = end;
         Ok(Some(Piece {

@@ -92,6 +92,9 @@ impl Robot {
 
     pub fn from_urdf_file(path: &Path) -> Result<Robot> {
         let bytes = crate::input::read_path(path)?;
+        // A URDF saved as UTF-16 (Windows editors do) is named, not called
+        // invalid UTF-8.
+        crate::input::refuse_unread_encoding(&path.display().to_string(), &bytes, "UTF-8")?;
         let text = String::from_utf8(bytes).map_err(|e| {
             Error::io(
                 path,

@@ -41,8 +41,9 @@ pub enum Event<'a> {
     /// The model's tracker frame belongs to the instrument it was
     /// diagnosed with: left out of the correction.
     InstrumentLeftOut { task: &'a str },
-    /// A task that moves no robot, left alone.
-    NotMotion { task: &'a str },
+    /// A task that moves no robot, left alone; `moves`: how many move
+    /// instructions it holds all the same (its targets are then left cold).
+    NotMotion { task: &'a str, moves: usize },
     /// How long a step took.
     Took { what: &'a str, elapsed: Duration },
     /// Targets solved so far of a task's total: (0, total) when the first

@@ -13,10 +13,12 @@ mod host;
 mod prepare;
 mod ran;
 mod shared;
+mod still;
 
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
 pub use ran::{Inputs, Ran, Way};
+pub use still::NO_ARM;
 
 use super::colds::Colds;
 use super::context::{Ahead, Prepared};
@@ -35,7 +37,7 @@ use std::io::Write;
 use std::path::Path;
 
 /// Run `plan` on `tasks` (those that move no robot are said and left
-/// alone). With [`Action::Write`], the corrected files are written
+/// alone; where one holds moves, its targets are reported left cold). With [`Action::Write`], the corrected files are written
 /// through `sink`, and kept once every task is corrected; otherwise
 /// nothing is written, and each run's outputs are in its outcome.
 pub fn run(
@@ -68,7 +70,15 @@ pub fn run(
     }) {
         return Err(e);
     }
-    say_still(&still, host);
+    // A task SYS.cfg says moves nothing, but which holds moves, is
+    // reported with its targets left cold (after the motion tasks: a
+    // single destination is the one motion task's).
+    for task in still {
+        let (inputs, program) = read_task(&task, host)?;
+        if let Some(run) = still::still_task(task, (inputs, &program), host) {
+            runs.push(run);
+        }
+    }
     if let (Action::Write(to), false) = (&plan.action, streamed) {
         write(to, &runs, sink)?;
     }
@@ -78,13 +88,6 @@ pub fn run(
 /// Whether a task moves a robot (a backup's SYS.cfg says which do not).
 pub fn moves_a_robot(task: &Task) -> bool {
     task.motion != Some(false)
-}
-
-/// Tasks that move no robot are named and left alone.
-fn say_still(still: &[Task], host: &mut dyn Host) {
-    for t in still {
-        host.event(Event::NotMotion { task: &t.label() });
-    }
 }
 
 /// What reading a task says before it reads: its notes, and its files.

@@ -108,6 +108,7 @@ pub fn run(
         if !moves_a_robot(&task) {
             host.event(Event::NotMotion {
                 task: &task.label(),
+                moves: 0,
             });
             continue;
         }

@@ -148,7 +148,7 @@ impl Ahead {
             let from = if lo == end {
                 Some(lo)
             } else {
-                memchr::memchr(b'\n', &src[lo..hi]).map(|n| lo + n + 1)
+                crate::error::next_line_start(src, lo).filter(|&n| n <= hi)
             };
             from.map_or_else(Piece::default, |from| read_piece(src, lines, from, hi))
         };
@@ -186,8 +186,8 @@ fn read_piece(src: &[u8], lines: &[usize], from: usize, hi: usize) -> Piece {
             p = end;
             continue;
         }
-        match memchr::memchr(b'\n', &src[at..]) {
-            Some(n) => p = at + n + 1,
+        match crate::error::next_line_start(src, at) {
+            Some(n) => p = n,
             None => break,
         }
     }

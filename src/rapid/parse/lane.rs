@@ -349,7 +349,7 @@ fn element_lines(src: &[u8], (open, line): (usize, u32), elements: &[usize]) -> 
             };
             let mut n = 0u32;
             for (slot, &e) in out.iter_mut().zip(&elements[first..]) {
-                n += memchr::memchr_iter(b'\n', &src[from..e]).count() as u32;
+                n += crate::error::breaks_in(src, from..e) as u32;
                 from = e;
                 *slot = n;
             }

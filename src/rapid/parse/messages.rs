@@ -230,17 +230,14 @@ fn end_of_previous_code(src: &[u8], offset: usize, floor: usize) -> usize {
     let mut p = offset.min(src.len());
     let mut crossed = false;
     while p > floor && src[p - 1].is_ascii_whitespace() {
-        crossed |= src[p - 1] == b'\n';
+        crossed |= crate::error::ends_line(src, p - 1);
         p -= 1;
     }
     if !crossed {
         return offset;
     }
     // The line ending at `p`: cut a comment (a `!` outside strings).
-    let start = src[..p]
-        .iter()
-        .rposition(|&b| b == b'\n')
-        .map_or(0, |i| i + 1);
+    let start = crate::error::line_start(src, p);
     let mut in_str = false;
     let mut end = p;
     for (i, &b) in src[start..p].iter().enumerate() {

@@ -65,6 +65,13 @@ impl Default for ParseOptions {
     }
 }
 
+/// What a RAPID file in an encoding that is not read should be saved as:
+/// the controller's own character set is ISO 8859-1 (ABB, Technical
+/// reference manual, RAPID kernel, 2.1 Character set), and UTF-8 is read
+/// as RobotStudio writes it.
+pub const SAVE_AS: &str =
+    "UTF-8 or ISO-8859-1 (Latin-1), as RobotStudio and the controller write RAPID";
+
 /// Parse one file (one or several modules).
 pub fn parse(file_name: &str, bytes: &[u8]) -> Result<Program> {
     parse_files(&[(file_name, bytes)])
@@ -92,6 +99,10 @@ pub fn parse_sources(inputs: Vec<(String, Source)>, options: ParseOptions) -> Re
         b.prog.files.push(name.clone());
         b.prog.sources.push(source.clone());
         let bytes = source.bytes();
+        // Offsets, edits and markers are of the file's own bytes: a file
+        // in an encoding of two or four bytes a character is named and
+        // refused rather than read as Latin-1 noise (`ÿþM`).
+        crate::input::refuse_unread_encoding(name, bytes, SAVE_AS)?;
         let line_starts = line_starts(bytes);
         FileParser::new(i, name, bytes, &line_starts, &mut b).run()?;
         lines.push(line_starts);

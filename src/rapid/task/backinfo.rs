@@ -20,13 +20,17 @@ pub struct BackTask {
     pub name: String,
     /// Module paths inside the folder (`PROGMOD/x.mod`), in load order.
     pub modules: Vec<String>,
+    /// The line of its `>>TASKn:` header (1-based).
+    pub line: usize,
 }
 
 /// The tasks a backinfo.txt lists, in its order.
 pub fn parse(text: &str) -> Vec<BackTask> {
     let mut tasks: Vec<BackTask> = Vec::new();
     let mut in_task = false;
-    for raw in text.lines() {
+    // Every line end counts (a backup copied through an old Mac keeps
+    // `\r` alone).
+    for (n, raw) in crate::error::split_lines(text).enumerate() {
         let line = raw.trim();
         if let Some(head) = line.strip_prefix(">>") {
             in_task = false;
@@ -46,6 +50,7 @@ pub fn parse(text: &str) -> Vec<BackTask> {
                     name.to_string()
                 },
                 modules: Vec::new(),
+                line: n + 1,
             });
             in_task = true;
         } else if in_task && !line.is_empty() && !line.starts_with('#') {
@@ -73,5 +78,11 @@ mod tests {
         );
         assert_eq!(tasks[1].name, "PSC_CBC");
         assert_eq!(tasks[1].modules, ["SYSMOD/user.sys"]);
+        assert_eq!((tasks[0].line, tasks[1].line), (5, 10));
+        // A backup whose lines end in `\r` alone reads the same.
+        assert_eq!(
+            super::parse(&text.replace("\r\n", "\n").replace('\n', "\r")),
+            tasks
+        );
     }
 }

@@ -10,7 +10,7 @@
 //! else is kept as text. Every value keeps its line and column, so that a
 //! value rapidtherm cannot use is reported where it stands.
 
-use crate::error::{Error, Location};
+use crate::error::{split_lines, Error, Location};
 use std::collections::BTreeMap;
 
 /// One attribute of an instance: its name as written, its value (`None`
@@ -71,7 +71,7 @@ impl Cfg {
     /// reader knows; but a file without the `CFG_` header line is not a
     /// configuration file at all, and that is an error at its first line.
     pub fn parse(file: &str, text: &str) -> Result<Cfg, Error> {
-        let header = text.lines().find(|l| !l.trim().is_empty());
+        let header = split_lines(text).find(|l| !l.trim().is_empty());
         if !header.is_some_and(|h| h.contains(":CFG_")) {
             let bytes = text.as_bytes();
             return Err(Error::input(format!(
@@ -81,7 +81,7 @@ impl Cfg {
         }
         let mut cfg = Cfg {
             file: file.to_string(),
-            lines: text.lines().map(str::to_string).collect(),
+            lines: split_lines(text).map(str::to_string).collect(),
             ..Cfg::default()
         };
         let mut section: Option<String> = None;
@@ -90,7 +90,7 @@ impl Cfg {
         // the joined text).
         let mut pending = String::new();
         let mut pieces: Vec<(usize, usize)> = Vec::new();
-        for (n, raw) in text.lines().enumerate() {
+        for (n, raw) in split_lines(text).enumerate() {
             let line = raw.trim_end_matches('\r');
             pieces.push((n + 1, pending.len()));
             if let Some(head) = line.strip_suffix('\\') {
@@ -248,6 +248,15 @@ mod tests {
         assert_eq!(tasks[1].place("TrustLevel"), Some((8, 19)));
         let loc = cfg.location(8, 19);
         assert_eq!(&loc.line_text[18..], "\"None\"");
+    }
+
+    #[test]
+    fn every_line_end_reads_the_same() {
+        let lf = Cfg::parse("SYS.cfg", SYS).unwrap();
+        for eol in ["\r\n", "\r"] {
+            let other = Cfg::parse("SYS.cfg", &SYS.replace('\n', eol)).unwrap();
+            assert_eq!(other.sections, lf.sections, "{eol:?}");
+        }
     }
 
     #[test]

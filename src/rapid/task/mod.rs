@@ -23,6 +23,7 @@
 
 pub mod backinfo;
 pub mod cfg;
+pub mod contradiction;
 pub mod pgf;
 pub mod placement;
 
@@ -187,6 +188,11 @@ impl Backup {
             match find_ci(root, part.path()) {
                 Some(p) if p.is_file() => {
                     let bytes = crate::input::read_path(&p)?;
+                    crate::input::refuse_unread_encoding(
+                        &p.display().to_string(),
+                        &bytes,
+                        "UTF-8 or ISO-8859-1 (Latin-1), as the controller writes its backups",
+                    )?;
                     Ok(Some((p, crate::error::decode_lossless(&bytes))))
                 }
                 _ => {
@@ -202,14 +208,23 @@ impl Backup {
         let backinfo = text(BackupPart::BackInfo)?;
         let sys = text(BackupPart::Sys)?;
         let moc = text(BackupPart::Moc)?;
-        backup.tasks = backinfo.map(|(_, t)| backinfo::parse(&t));
+        if let Some((path, text)) = &backinfo {
+            let tasks = backinfo::parse(text);
+            refuse_folder_listed_twice(path, &tasks)?;
+            backup.tasks = Some(tasks);
+        }
         for (part, read, slot) in [
             (BackupPart::Sys, sys, &mut backup.sys),
             (BackupPart::Moc, moc, &mut backup.moc),
         ] {
             let Some((path, text)) = read else { continue };
             match Cfg::parse(&path.display().to_string(), &text) {
-                Ok(cfg) => *slot = Some(cfg),
+                Ok(cfg) => {
+                    // What the backup says twice, differently, is refused
+                    // here, before any task of it is read.
+                    contradiction::refuse(&cfg)?;
+                    *slot = Some(cfg);
+                }
                 Err(e) => backup.gaps.push(Gap {
                     kind: GapKind::Unreadable(part),
                     file: path,
@@ -375,6 +390,30 @@ impl Backup {
     }
 }
 
+/// backinfo.txt listing one task folder twice, differently: which name
+/// and load order are the folder's cannot be told.
+fn refuse_folder_listed_twice(path: &Path, tasks: &[BackTask]) -> Result<()> {
+    for (k, t) in tasks.iter().enumerate() {
+        let twice = tasks[..k].iter().find(|f| {
+            f.folder.eq_ignore_ascii_case(&t.folder) && (f.name != t.name || f.modules != t.modules)
+        });
+        if let Some(first) = twice {
+            let file = path.display();
+            return Err(Error::input(format!(
+                "the task folder {} is listed twice, differently (at {file}:{}:1 and at {file}:{}:1): which name and modules are its cannot be told",
+                t.folder, first.line, t.line
+            ))
+            .at(crate::error::Location {
+                file: file.to_string(),
+                line: t.line,
+                col: 1,
+                line_text: Box::default(),
+            }));
+        }
+    }
+    Ok(())
+}
+
 /// The tasks a folder stands for (see the module documentation).
 fn tasks_in_folder(dir: &Path) -> Result<Vec<Task>> {
     if let Some(rapid) = find_ci(dir, "RAPID").filter(|p| p.is_dir()) {
@@ -481,7 +520,55 @@ fn task_folders(rapid: &Path, backup: &Backup) -> Result<Vec<Task>> {
             rapid.display()
         )));
     }
-    folders.iter().map(|f| task_folder(f, backup)).collect()
+    let tasks: Vec<Task> = folders
+        .iter()
+        .map(|f| task_folder(f, backup))
+        .collect::<Result<_>>()?;
+    refuse_one_name_twice(&tasks, backup)?;
+    Ok(tasks)
+}
+
+/// Two task folders of one task name (folders whose names differ only in
+/// case, or that backinfo.txt gives one name): which is the task the
+/// controller runs, and which SYS.cfg's entry is of, cannot be told.
+fn refuse_one_name_twice(tasks: &[Task], backup: &Backup) -> Result<()> {
+    for (k, t) in tasks.iter().enumerate() {
+        let Some(first) = tasks[..k].iter().find(|f| {
+            f.name
+                .as_deref()
+                .zip(t.name.as_deref())
+                .is_some_and(|(a, b)| a.eq_ignore_ascii_case(b))
+        }) else {
+            continue;
+        };
+        let folder = |t: &Task| {
+            t.origin
+                .as_deref()
+                .map_or_else(String::new, |o| o.display().to_string())
+        };
+        let listed = |t: &Task| {
+            let name = t
+                .origin
+                .as_deref()?
+                .file_name()?
+                .to_string_lossy()
+                .into_owned();
+            let line = backup.task_of_folder(&name)?.line;
+            Some(format!(
+                " (listed at {}:{line}:1)",
+                backup.backinfo_path(Path::new("")).display()
+            ))
+        };
+        return Err(Error::input(format!(
+            "two task folders are task {}: {}{} and {}{}; which one the controller runs cannot be told, so the backup is not read",
+            t.label(),
+            folder(first),
+            listed(first).unwrap_or_default(),
+            folder(t),
+            listed(t).unwrap_or_default(),
+        )));
+    }
+    Ok(())
 }
 
 /// One task folder: its modules in the backup's load order where the

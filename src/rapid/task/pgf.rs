@@ -17,6 +17,7 @@ use quick_xml::Reader;
 pub fn modules(file: &str, bytes: &[u8]) -> Result<Vec<String>> {
     // ISO-8859-1 is what the controller writes; decoding byte for byte
     // keeps every offset of the file, for messages.
+    crate::input::refuse_unread_encoding(file, bytes, "UTF-8 or ISO-8859-1 (Latin-1)")?;
     let text = decode_lossless(bytes);
     let mut reader = Reader::from_str(&text);
     let mut out = Vec::new();

@@ -179,6 +179,19 @@ pub fn next_line_start(src: &[u8], at: usize) -> Option<usize> {
     }
 }
 
+/// Where 1-based line `line` of `src` starts (the end of `src` past its
+/// last line).
+pub fn start_of_line(src: &[u8], line: usize) -> usize {
+    let mut at = 0;
+    for _ in 1..line {
+        match next_line_start(src, at) {
+            Some(next) => at = next,
+            None => return src.len(),
+        }
+    }
+    at
+}
+
 /// The lines of `text`, each without its break (as [`str::lines`], which
 /// knows `\n` and `\r\n` only, with a lone `\r` ending a line too).
 pub fn split_lines(text: &str) -> impl Iterator<Item = &str> {
@@ -600,6 +613,9 @@ mod tests {
         assert_eq!(line_start(b, 3), 3);
         assert_eq!(next_line_start(b"abc", 1), None);
         assert_eq!(line_break_of(b"abc"), "\n");
+        assert_eq!(start_of_line(b"a\r\nb\rc", 3), 5);
+        assert_eq!(start_of_line(b"a\r\nb\rc", 1), 0);
+        assert_eq!(start_of_line(b"a\r\nb\rc", 9), 6);
         let lines: Vec<&str> = split_lines("a\r\nb\rc\n\nd").collect();
         assert_eq!(lines, ["a", "b", "c", "", "d"]);
         assert_eq!(split_lines("a\n").collect::<Vec<_>>(), ["a"]);

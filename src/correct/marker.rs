@@ -119,13 +119,10 @@ pub fn find(program: &Program) -> Option<Found> {
     program.modules.iter().find_map(|module| {
         let src = program.source(module.file);
         let start = header_end(src, module.pos.offset)?;
-        let end = src[start..]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(src.len(), |p| start + p);
+        let end = crate::error::line_end(src, start);
         let text = String::from_utf8_lossy(&src[start..end]);
         let marker = Marker::parse(text.trim())?;
-        let line = 1 + src[..start].iter().filter(|&&b| b == b'\n').count();
+        let line = 1 + crate::error::breaks_in(src, 0..start);
         Some(Found {
             marker,
             file: module.file,
@@ -134,12 +131,11 @@ pub fn find(program: &Program) -> Option<Found> {
     })
 }
 
-/// Where the line after a module header (at `offset`) starts.
+/// Where the line after a module header (at `offset`) starts (after any
+/// line end: LF, CRLF or a lone CR).
 fn header_end(src: &[u8], offset: usize) -> Option<usize> {
-    src.get(offset..)?
-        .iter()
-        .position(|&b| b == b'\n')
-        .map(|p| offset + p + 1)
+    src.get(offset..)?;
+    crate::error::next_line_start(src, offset)
 }
 
 /// The edit inserting `marker` as a new line after the first module
@@ -150,8 +146,12 @@ pub fn insert(program: &Program, file: usize, marker: &Marker) -> Option<Edit> {
     let src = program.source(file);
     let (at, eol, lead) = match header_end(src, module.pos.offset) {
         Some(at) => {
-            let crlf = at >= 2 && src[at - 2] == b'\r';
-            (at, if crlf { "\r\n" } else { "\n" }, "")
+            let eol = match &src[..at] {
+                [.., b'\r', b'\n'] => "\r\n",
+                [.., b'\r'] => "\r",
+                _ => "\n",
+            };
+            (at, eol, "")
         }
         // A module header on the file's last line, without a line end.
         None => (src.len(), "", "\n"),
@@ -182,10 +182,7 @@ pub fn numbers_at(src: &[u8]) -> usize {
     let mut end = src.len();
     // Line by line from the end: the last module closes near it.
     loop {
-        let start = src[..end]
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |p| p + 1);
+        let start = crate::error::line_start(src, end);
         let line = &src[start..end];
         let text = line.trim_ascii_start();
         if text.len() >= 9 && text[..9].eq_ignore_ascii_case(b"ENDMODULE") {
@@ -202,13 +199,18 @@ pub fn numbers_at(src: &[u8]) -> usize {
 /// marker line has them), for a fingerprint `print`.
 pub fn numbers_line(src: &[u8], at: usize, print: &str) -> Vec<u8> {
     let crlf = src.windows(2).any(|w| w == b"\r\n");
-    let eol = if crlf { "\r\n" } else { "\n" };
-    // After a last line without a line end, the line starts anew.
-    let lead = if at == src.len() && !src.is_empty() && !src.ends_with(b"\n") {
-        eol
-    } else {
-        ""
+    let eol = match (crlf, memchr::memchr(b'\r', src)) {
+        (true, _) => "\r\n",
+        (false, Some(_)) => "\r",
+        (false, None) => "\n",
     };
+    // After a last line without a line end, the line starts anew.
+    let lead =
+        if at == src.len() && !src.is_empty() && !src.ends_with(b"\n") && !src.ends_with(b"\r") {
+            eol
+        } else {
+            ""
+        };
     format!("{lead}    {NUMBERS}{print}{eol}").into_bytes()
 }
 
@@ -216,11 +218,7 @@ pub fn numbers_line(src: &[u8], at: usize, print: &str) -> Vec<u8> {
 /// on the line above its last `ENDMODULE`.
 fn recorded_numbers(src: &[u8]) -> Option<String> {
     let at = numbers_at(src);
-    let before = &src[..at.saturating_sub(1)];
-    let start = before
-        .iter()
-        .rposition(|&b| b == b'\n')
-        .map_or(0, |p| p + 1);
+    let start = crate::error::line_start(src, at.saturating_sub(1));
     let line = String::from_utf8_lossy(&src[start..at]);
     line.trim()
         .strip_prefix(NUMBERS)
@@ -258,12 +256,9 @@ pub fn untrusted(program: &Program) -> Option<Untrusted> {
         let Some(start) = header_end(src, module.pos.offset) else {
             continue;
         };
-        let end = src[start..]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(src.len(), |p| start + p);
+        let end = crate::error::line_end(src, start);
         if Marker::parse(String::from_utf8_lossy(&src[start..end]).trim()).is_some() {
-            let line = 1 + src[..start].iter().filter(|&&b| b == b'\n').count();
+            let line = 1 + crate::error::breaks_in(src, 0..start);
             marked.push((module.file, line));
         }
     }
@@ -319,11 +314,7 @@ pub fn refuse_untrusted(program: &Program, u: &Untrusted) -> Error {
 /// The place of the marker's line `line` of file `file`.
 fn marker_line(program: &Program, file: usize, line: usize) -> Location {
     let src = program.source(file);
-    let offset: usize = src
-        .split_inclusive(|&b| b == b'\n')
-        .take(line - 1)
-        .map(<[u8]>::len)
-        .sum();
+    let offset = crate::error::start_of_line(src, line);
     Location {
         col: 1,
         ..Location::from_offset(&program.files[file], src, offset)

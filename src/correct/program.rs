@@ -552,10 +552,11 @@ fn write_tail(
     let mut cuts = vec![from];
     let mut at = from;
     while end - at > TAIL_PIECE {
-        let Some(nl) = memchr::memchr(b'\n', &src[at + TAIL_PIECE..end]) else {
+        // A line's start (after LF, CRLF or a lone CR) is no token's middle.
+        let Some(cut) = crate::error::next_line_start(src, at + TAIL_PIECE).filter(|&c| c <= end)
+        else {
             break;
         };
-        let cut = at + TAIL_PIECE + nl + 1;
         // The edit starting last before the cut must end by it.
         let before = edits.partition_point(|e| e.span.start < cut);
         if cut >= end || before > 0 && edits[before - 1].span.end > cut {
@@ -891,11 +892,7 @@ fn with_source(e: Error, program: &Program) -> Error {
         return e;
     };
     let src = program.source(file);
-    let line_start = src
-        .split_inclusive(|&b| b == b'\n')
-        .take(loc.line.saturating_sub(1))
-        .map(<[u8]>::len)
-        .sum::<usize>();
+    let line_start = crate::error::start_of_line(src, loc.line);
     let line_text = crate::error::Location::from_offset(&loc.file, src, line_start).line_text;
     let location = crate::error::Location {
         line_text,

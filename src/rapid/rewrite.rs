@@ -54,9 +54,9 @@ pub fn apply_edits(file: &str, src: &[u8], edits: &[Edit]) -> Result<Vec<u8>> {
             return Err(Error::new(
                 ErrorKind::Input,
                 format!(
-                    "the file changed: expected `{}` here, found `{}`",
-                    decode_lossless(&e.expected_old),
-                    decode_lossless(old)
+                    "the file changed: expected {} here, found {}",
+                    crate::error::quoted(&decode_lossless(&e.expected_old)),
+                    crate::error::quoted(&decode_lossless(old))
                 ),
             )
             .at(Location::from_offset(file, src, e.span.start)));

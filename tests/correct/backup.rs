@@ -487,3 +487,50 @@ fn targets_the_walk_cannot_time_are_one_error_counted() {
     );
     assert!(log.contains("the same for 19999 more"), "{log}");
 }
+
+/// A backup whose SYS.cfg marks no task as a motion task (the
+/// `-MotionTask` flags deleted), though T_ROB1 and T_ROB2 hold moves: not
+/// "every task left alone, nothing to check", but each target their moves
+/// reach reported left cold, so that the check fails naming them; the
+/// task that holds no move (T_COM) is still left alone. Written in place,
+/// nothing changes.
+#[test]
+fn tasks_holding_moves_that_sys_cfg_does_not_mark_as_motion_tasks_fail_the_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let bk = dir.path().join("bk");
+    copy_tree(&sample(), &bk);
+    let sys = bk.join("SYSPAR/SYS.cfg");
+    let text_of_sys = std::fs::read_to_string(&sys).unwrap();
+    std::fs::write(&sys, text_of_sys.replace(" -MotionTask", "")).unwrap();
+    let before = files(&bk);
+    let out = rapidtherm(&["correct", "bk", "--at", "120", "--check"], dir.path());
+    let all = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{all}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    // T_ROB2's three targets (`1_T_ROB2.mod`: pPick line 4, pPlace line
+    // 5, jHome line 6), each with the reason.
+    for (id, at) in [
+        ("pPick", "1_T_ROB2.mod:4:"),
+        ("pPlace", "1_T_ROB2.mod:5:"),
+        ("jHome", "1_T_ROB2.mod:6:"),
+        ("pHome", "MainModule.mod:4:"),
+    ] {
+        let row = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("{id} ")))
+            .unwrap_or_else(|| panic!("no row of {id}: {all}"));
+        assert!(
+            row.contains(at) && row.contains("left-alone") && row.contains("not-motion-task"),
+            "{row}"
+        );
+    }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("task T_ROB2 holds 5 move instruction(s), but SYSPAR/SYS.cfg does not mark it as a motion task"), "{stderr}");
+    assert!(
+        stderr.contains("task T_COM is not a motion task (SYSPAR/SYS.cfg): left alone"),
+        "{stderr}"
+    );
+    let out = rapidtherm(&["correct", "bk", "--at", "120", "--in-place"], dir.path());
+    assert!(out.status.success(), "{}", text(&out));
+    assert_eq!(files(&bk), before);
+}

@@ -269,7 +269,7 @@ fn arguments(src: &[u8], offset: usize) -> Option<Vec<Arg>> {
             }
             b'!' if depth == 0 => {
                 // A comment runs to the line's end.
-                while !matches!(src.get(i), Some(b'\n') | None) {
+                while !matches!(src.get(i), Some(b'\n' | b'\r') | None) {
                     i += 1;
                 }
                 continue;

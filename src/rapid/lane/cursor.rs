@@ -144,6 +144,11 @@ impl<'a, 'm> Cursor<'a, 'm> {
             }
             e += 1;
         }
+        // A name longer than RAPID allows is the grammar's, whose scanner
+        // refuses it: the lane never holds what the controller refuses.
+        if e - start > crate::rapid::scan::MAX_NAME_CHARS {
+            return None;
+        }
         let word = &self.s[start..e];
         if check && !self.seen.names.contains(&word) {
             if crate::rapid::reserved::is_reserved(std::str::from_utf8(word).ok()?) {

@@ -119,8 +119,12 @@ impl FileParser<'_, '_> {
         Ok(match c.as_rule() {
             Rule::num_literal => {
                 let t = c.as_str();
-                let v = parse_num(t)
-                    .ok_or_else(|| self.err(span.start, format!("number `{t}` out of range")))?;
+                let v = parse_num(t).ok_or_else(|| {
+                    self.err(
+                        span.start,
+                        format!("number {} out of range", crate::error::quoted(t)),
+                    )
+                })?;
                 Expr::Num(Number::new(v, span))
             }
             Rule::string_literal => {

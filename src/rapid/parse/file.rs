@@ -102,10 +102,10 @@ impl<'a, 'b> FileParser<'a, 'b> {
 
     pub fn found(&self, p: &Piece) -> String {
         if p.first.1 > p.first.0 {
-            format!("`{}`", decode_lossless(&self.src[p.first.0..p.first.1]))
+            crate::error::quoted(&decode_lossless(&self.src[p.first.0..p.first.1]))
         } else {
             let end = (p.start + 12).min(p.end);
-            format!("`{}`", decode_lossless(&self.src[p.start..end]).trim())
+            crate::error::quoted(decode_lossless(&self.src[p.start..end]).trim())
         }
     }
 
@@ -134,8 +134,8 @@ impl<'a, 'b> FileParser<'a, 'b> {
             return Err(self.err(
                 piece.start + id.as_span().start(),
                 format!(
-                    "expected a name, found `{}`, a reserved word of RAPID",
-                    id.as_str()
+                    "expected a name, found {}, a reserved word of RAPID",
+                    crate::error::quoted(id.as_str())
                 ),
             ));
         }

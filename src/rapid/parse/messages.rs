@@ -282,8 +282,5 @@ fn found_at(src: &[u8], offset: usize) -> String {
     } else {
         1
     };
-    format!(
-        "`{}`",
-        crate::error::visible(&decode_lossless(&rest[..len.min(24)]))
-    )
+    crate::error::quoted(&decode_lossless(&rest[..len.min(24)]))
 }

@@ -257,7 +257,11 @@ impl FileParser<'_, '_> {
                     if w != end_word(r.kind) {
                         return Err(self.err(
                             p.start,
-                            format!("expected {}, found `{}`", end_word(r.kind), w),
+                            format!(
+                                "expected {}, found {}",
+                                end_word(r.kind),
+                                crate::error::quoted(&w)
+                            ),
                         ));
                     }
                     break;

@@ -123,7 +123,11 @@ impl fmt::Display for GapKind {
                 write!(f, "MOC.cfg's robot {robot} has no use_robot_type")
             }
             GapKind::BadNumber { key, value } => {
-                write!(f, "MOC.cfg's {key} is `{value}`, not a number")
+                write!(
+                    f,
+                    "MOC.cfg's {key} is {}, not a number",
+                    crate::error::quoted(value)
+                )
             }
             GapKind::BadOrientation { norm } => write!(
                 f,

@@ -43,6 +43,7 @@
 //! sees every byte above 0x7F as one placeholder character, so offsets and
 //! spans are those of the original bytes; names and strings are decoded
 //! from the original bytes (UTF-8 where valid, Latin-1 otherwise).
+mod bounds;
 pub mod builtins;
 pub mod constants;
 mod expand;

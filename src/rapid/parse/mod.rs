@@ -135,6 +135,7 @@ pub fn parse_sources(inputs: Vec<(String, Source)>, options: ParseOptions) -> Re
     refuse_speeds(&b.prog, &refs)?;
     duplicates::refuse_duplicates(&b.prog, &refs)?;
     b.finish(&refs, &lines)?;
+    super::bounds::refuse_out_of_bounds(&b.prog)?;
     Ok(b.prog)
 }
 

@@ -11,6 +11,7 @@ mod idle;
 mod interp;
 mod interp_targets;
 mod lanes;
+mod line_ends;
 mod marker;
 mod named;
 mod plot;

@@ -4,6 +4,7 @@
 mod backups;
 mod field;
 mod lane;
+mod limits;
 mod proptest;
 mod rewrite;
 mod samples;

@@ -28,6 +28,10 @@ fn literal_index(e: &Expr) -> Option<u64> {
     Some(if v < 0.0 { 0 } else { v as u64 })
 }
 
+/// An array's declared sizes, and where it is declared (file, line)
+/// where the program's data say.
+type Declared = (Vec<u64>, Option<(usize, u32)>);
+
 struct Bounds<'p> {
     program: &'p Program,
     module: Option<&'p Module>,
@@ -42,7 +46,7 @@ struct Bounds<'p> {
 impl<'p> Bounds<'p> {
     /// The declared sizes of `name` as the place being read sees it: the
     /// routine's data, then the module's, then any module's.
-    fn declared(&mut self, name: &str) -> Option<(Vec<u64>, Option<(usize, u32)>)> {
+    fn declared(&mut self, name: &str) -> Option<Declared> {
         let same = |d: &&DataDecl| d.name.eq_ignore_ascii_case(name);
         let here = self.module.map_or(0, |m| m.file);
         let found = self
@@ -67,9 +71,9 @@ impl<'p> Bounds<'p> {
             for t in self.program.targets().iter() {
                 if let Some((prefix, _)) = t.id.split_once('{') {
                     let key = prefix.to_ascii_lowercase();
-                    if !out.contains_key(&key) {
-                        if let Some((_, len)) = index.array(&key) {
-                            out.insert(key, len as u64);
+                    if let std::collections::hash_map::Entry::Vacant(slot) = out.entry(key) {
+                        if let Some((_, len)) = index.array(slot.key()) {
+                            slot.insert(len as u64);
                         }
                     }
                 }

@@ -6,6 +6,7 @@ mod rng;
 
 mod arms;
 mod crosscheck;
+mod encoding;
 mod frames;
 mod ik_chain;
 mod ik_conf;

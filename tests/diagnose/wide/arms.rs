@@ -92,3 +92,43 @@ pub fn random_pose(rng: &mut ChaCha8Rng, limits: &[(f64, f64); 6]) -> Joints {
     q[5] = draw(5);
     q
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    /// The new arms' tool0, worked by hand from the data sheets' lengths
+    /// (the READMEs beside the URDFs): the TX60 straight up at zero, and
+    /// with axis 2 turned 90° its arm along +x (R_y(90°) takes z to x); the
+    /// KR 210 at zero with its lower arm and forearm horizontal forward.
+    #[test]
+    fn the_new_arms_are_their_data_sheets() {
+        let deg = |q: [f64; 6]| q.map(f64::to_radians);
+        for (arm, q, p) in [
+            (WideArm::Tx60, [0.0; 6], [0.0, 20.0, 1045.0]),
+            (
+                WideArm::Tx60,
+                [0.0, 90.0, 0.0, 0.0, 0.0, 0.0],
+                [670.0, 20.0, 375.0],
+            ),
+            // 350 + 1150 + 1200 + 215 forward; 675 − 41 up.
+            (WideArm::Kr210, [0.0; 6], [2915.0, 0.0, 634.0]),
+            // Axis 2 at −90° (the lower arm straight up), axis 3 at +90°
+            // (the forearm forward again): 350 + 1415 forward, 675 + 1150
+            // − 41 up.
+            (
+                WideArm::Kr210,
+                [0.0, -90.0, 90.0, 0.0, 0.0, 0.0],
+                [1765.0, 0.0, 1784.0],
+            ),
+        ] {
+            let got = arm.robot().fk(&deg(q)).translation.vector;
+            assert!(
+                (got - Vector3::from(p)).norm() < 1e-6,
+                "{} at {q:?}: {got:?} against {p:?}",
+                arm.name()
+            );
+        }
+    }
+}

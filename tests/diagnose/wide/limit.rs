@@ -18,7 +18,9 @@
 //! could reveal the effect at all, whatever the diagnosis knows.
 //!
 //! The ratio ρ = ‖own move‖ / √(λ·σ²): below 1, the effect is below its
-//! detection limit.
+//! detection limit. The same for the drift in time of a set without
+//! temperature columns (`world::Truth::drift`), taken as a thermal move of
+//! the expansion's four parameters.
 
 use super::world::{points, Set};
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -80,54 +82,69 @@ fn rank(cols: &[DVector<f64>], noise_mm: f64) -> usize {
         .count()
 }
 
-/// ρ of the withheld effect (0 where nothing is withheld).
-pub fn ratio(set: &Set) -> f64 {
-    let Some(effect) = &set.truth.effect else {
-        return 0.0;
-    };
+/// The norm of `moved` beyond what the rest of the model takes up: each
+/// pose's own offset for a thermal move where poses are measured again and
+/// again, else the geometric calibration and the tracker frame.
+fn own(set: &Set, moved: &[Vector3<f64>], thermal: bool) -> f64 {
     let truth = &set.truth;
-    let v = stacked(&truth.moved);
-    let thermal = effect.kind.is_thermal();
     let repeats = truth.poses < truth.rows.len();
-    let own = if thermal && repeats {
-        // Each pose's own offset: the move less its mean per pose.
+    if thermal && repeats {
         let mut sum = vec![Vector3::zeros(); truth.poses];
         let mut count = vec![0.0; truth.poses];
-        for (r, d) in truth.rows.iter().zip(&truth.moved) {
+        for (r, d) in truth.rows.iter().zip(moved) {
             sum[r.pose] += d;
             count[r.pose] += 1.0;
         }
         let centred: Vec<Vector3<f64>> = truth
             .rows
             .iter()
-            .zip(&truth.moved)
+            .zip(moved)
             .map(|(r, d)| d - sum[r.pose] / count[r.pose])
             .collect();
-        stacked(&centred).norm()
+        return stacked(&centred).norm();
+    }
+    let n_geom = EffectKind::GeometryOffset.params().len();
+    let lengths = columns(set, EffectKind::GeometryOffset, 0..13);
+    let origins = columns(set, EffectKind::GeometryOffset, 13..n_geom);
+    let frame = columns(
+        set,
+        EffectKind::TrackerFrame,
+        0..EffectKind::TrackerFrame.params().len(),
+    );
+    let mut full: Vec<DVector<f64>> = lengths.clone();
+    full.extend(origins);
+    full.extend(frame.iter().cloned());
+    let cols = if 3 * truth.poses > rank(&full, truth.noise_mm) {
+        full
     } else {
-        let n_geom = EffectKind::GeometryOffset.params().len();
-        let lengths = columns(set, EffectKind::GeometryOffset, 0..13);
-        let origins = columns(set, EffectKind::GeometryOffset, 13..n_geom);
-        let frame = columns(
-            set,
-            EffectKind::TrackerFrame,
-            0..EffectKind::TrackerFrame.params().len(),
-        );
-        let mut full: Vec<DVector<f64>> = lengths.clone();
-        full.extend(origins);
-        full.extend(frame.iter().cloned());
-        let numbers = 3 * truth.poses;
-        let cols = if numbers > rank(&full, truth.noise_mm) {
-            full
-        } else {
-            let mut c = lengths;
-            c.extend(frame);
-            c
-        };
-        let a = DMatrix::from_columns(&cols);
-        orthogonal(&a, &v).norm()
+        let mut c = lengths;
+        c.extend(frame);
+        c
     };
+    orthogonal(&DMatrix::from_columns(&cols), &stacked(moved)).norm()
+}
+
+/// ‖own move‖ / √(λ·σ²) of a move of `params` parameters.
+fn ratio_of(set: &Set, moved: &[Vector3<f64>], thermal: bool, params: usize) -> f64 {
     let kinds = if thermal { 5.0 } else { 3.0 };
-    let lambda = detectable_noncentrality(LEVEL / kinds, effect.params.len() as f64, POWER);
-    own / (lambda * truth.noise_mm.powi(2)).sqrt()
+    let lambda = detectable_noncentrality(LEVEL / kinds, params as f64, POWER);
+    own(set, moved, thermal) / (lambda * set.truth.noise_mm.powi(2)).sqrt()
+}
+
+/// ρ of the withheld effect (0 where nothing is withheld).
+pub fn ratio(set: &Set) -> f64 {
+    match &set.truth.effect {
+        Some(e) => ratio_of(set, &set.truth.moved, e.kind.is_thermal(), e.params.len()),
+        None => 0.0,
+    }
+}
+
+/// ρ of the drift in time of a set without temperature columns, judged as
+/// a thermal move of the expansion's shape (four parameters); 0 with the
+/// columns.
+pub fn drift_ratio(set: &Set) -> f64 {
+    if set.truth.drift.iter().all(|d| d.norm() == 0.0) {
+        return 0.0;
+    }
+    ratio_of(set, &set.truth.drift, true, 4)
 }

@@ -39,6 +39,9 @@ pub struct Record {
     pub spec: Spec,
     /// The withheld effect's size over its detection limit.
     pub rho: f64,
+    /// Without temperature columns, the session's drift in time over its
+    /// detection limit (0 with them).
+    pub rho_drift: f64,
     pub size_mm: f64,
     pub noise_mm: f64,
     pub rows: usize,
@@ -73,7 +76,8 @@ pub fn run_one(spec: &Spec) -> Record {
     let start = Instant::now();
     let set = generate(spec);
     let rho = limit::ratio(&set);
-    let expected = Expected::of(spec.class, spec.form, rho);
+    let rho_drift = limit::drift_ratio(&set);
+    let expected = Expected::of(spec.class, spec.form, rho, rho_drift);
     let result = Measurements::parse("wide.csv", set.csv.as_bytes(), &set.arm.limits_deg)
         .and_then(|m| prepare_arm(&m, &Model::default(), &set.arm, !spec.form.registered))
         .and_then(|p| diagnose(&p, &Options::default()));
@@ -93,6 +97,7 @@ pub fn run_one(spec: &Spec) -> Record {
     Record {
         spec: *spec,
         rho,
+        rho_drift,
         size_mm: set.truth.size_mm,
         noise_mm: set.truth.noise_mm,
         rows: set.truth.rows.len(),
@@ -108,7 +113,7 @@ impl Record {
     /// One line: right or not, the class, seed, form, size, verdict.
     pub fn line(&self) -> String {
         format!(
-            "{} {} seed {} [{}] {} rows, noise {:.3} mm, size {:.4} mm = {:.2} x limit, expected {}, verdict {}, shrink {}, {:.1} s",
+            "{} {} seed {} [{}] {} rows, noise {:.3} mm, size {:.4} mm = {:.2} x limit, drift {:.2} x limit, expected {}, verdict {}, shrink {}, {:.1} s",
             if self.right { "ok  " } else { "MISS" },
             self.spec.class.name(),
             self.spec.seed,
@@ -117,6 +122,7 @@ impl Record {
             self.noise_mm,
             self.size_mm,
             self.rho,
+            self.rho_drift,
             self.expected.words(),
             self.labels.join(" + "),
             self.shrink.map_or("-".into(), |s| format!("{s:.3}")),
@@ -127,7 +133,7 @@ impl Record {
     /// Whether the right verdict names the withheld effect: the sets whose
     /// shrink the acceptance counts.
     pub fn nameable(&self) -> bool {
-        matches!(self.expected, Expected::Named(_))
+        self.expected.named.is_some()
     }
 }
 
@@ -156,6 +162,9 @@ fn cell((r, n): (usize, usize)) -> String {
         format!("{r}/{n}")
     }
 }
+
+/// A dimension of the form: its name and each set's value of it.
+type Dimension<'a> = (&'a str, &'a dyn Fn(&Form) -> String);
 
 /// Every set's record, and the tables.
 pub struct Outcome {
@@ -228,7 +237,7 @@ impl Outcome {
         // By each dimension of the form.
         out.push_str("\n| form | right |\n|---|---:|\n");
         let yes_no = |b: bool, yes: &str, no: &str| (if b { yes } else { no }).to_string();
-        let dims: [(&str, &dyn Fn(&Form) -> String); 5] = [
+        let dims: [Dimension; 5] = [
             ("arm", &|f: &Form| f.arm.name().to_string()),
             ("temperatures", &|f: &Form| {
                 yes_no(f.temps, "logged", "no columns")

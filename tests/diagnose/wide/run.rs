@@ -8,7 +8,7 @@ use super::score::{right, Expected};
 use super::world::{generate, Class, Form, Spec};
 use rapidtherm::diagnose::measurements::Measurements;
 use rapidtherm::diagnose::{diagnose, prepare_arm, Diagnosis, Options, Part};
-use rapidtherm::model::Model;
+use rapidtherm::model::{Effect, EffectKind, Model};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -42,6 +42,11 @@ pub struct Record {
     /// Without temperature columns, the session's drift in time over its
     /// detection limit (0 with them).
     pub rho_drift: f64,
+    /// The size over the limit the report itself gives for the withheld
+    /// effect (`detection_limits`), where it gives one (a check of
+    /// `limit.rs`; not for the lag, whose size is not a scale of its
+    /// defaults).
+    pub rho_report: Option<f64>,
     pub size_mm: f64,
     pub noise_mm: f64,
     pub rows: usize,
@@ -81,7 +86,7 @@ pub fn run_one(spec: &Spec) -> Record {
     let result = Measurements::parse("wide.csv", set.csv.as_bytes(), &set.arm.limits_deg)
         .and_then(|m| prepare_arm(&m, &Model::default(), &set.arm, !spec.form.registered))
         .and_then(|p| diagnose(&p, &Options::default()));
-    let (labels, ok, shrink) = match result {
+    let (labels, ok, shrink, rho_report) = match result {
         Ok(d) => {
             let labels = d.verdict.labels();
             let ok = right(expected, &labels, &d.ambiguous);
@@ -90,14 +95,27 @@ pub fn run_one(spec: &Spec) -> Record {
                 .effect
                 .as_ref()
                 .is_some_and(|e| e.kind.is_thermal());
-            (labels, ok, shrink_of(&d, thermal))
+            let reported = set.truth.effect.as_ref().and_then(|e| {
+                let limit = d.detection_limits.iter().find(|l| l.effect == e.kind)?;
+                let default = Effect::with_defaults(e.kind);
+                // The withheld effect is its defaults times m.
+                let (v, d0) = e
+                    .params
+                    .iter()
+                    .zip(&default.params)
+                    .find(|(_, d)| **d != 0.0)?;
+                (e.kind != EffectKind::ThermalLag && limit.of_default > 0.0)
+                    .then(|| (v / d0) / limit.of_default)
+            });
+            (labels, ok, shrink_of(&d, thermal), reported)
         }
-        Err(e) => (vec![format!("error: {}", e.message)], false, None),
+        Err(e) => (vec![format!("error: {}", e.message)], false, None, None),
     };
     Record {
         spec: *spec,
         rho,
         rho_drift,
+        rho_report,
         size_mm: set.truth.size_mm,
         noise_mm: set.truth.noise_mm,
         rows: set.truth.rows.len(),
@@ -113,7 +131,7 @@ impl Record {
     /// One line: right or not, the class, seed, form, size, verdict.
     pub fn line(&self) -> String {
         format!(
-            "{} {} seed {} [{}] {} rows, noise {:.3} mm, size {:.4} mm = {:.2} x limit, drift {:.2} x limit, expected {}, verdict {}, shrink {}, {:.1} s",
+            "{} {} seed {} [{}] {} rows, noise {:.3} mm, size {:.4} mm = {:.2} x limit ({} by the report's), drift {:.2} x limit, expected {}, verdict {}, shrink {}, {:.1} s",
             if self.right { "ok  " } else { "MISS" },
             self.spec.class.name(),
             self.spec.seed,
@@ -122,6 +140,7 @@ impl Record {
             self.noise_mm,
             self.size_mm,
             self.rho,
+            self.rho_report.map_or("-".into(), |r| format!("{r:.2}")),
             self.rho_drift,
             self.expected.words(),
             self.labels.join(" + "),

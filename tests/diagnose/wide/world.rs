@@ -482,3 +482,65 @@ pub fn generate(spec: &Spec) -> Set {
         history,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rapidtherm::diagnose::measurements::Measurements;
+
+    /// A set's file says what its form says and no more (temperature
+    /// columns, pose labels, a clock, the frame), parses with the arm's
+    /// limits, and its withheld effect moves the measured point by at most
+    /// four times the noise (the draw's range), nothing where nothing is
+    /// withheld.
+    #[test]
+    fn a_set_is_its_form() {
+        for (c, class) in Class::ALL.into_iter().enumerate() {
+            for f in [0, 27, 38, 53] {
+                let form = Form::of_index(f + c);
+                let set = generate(&Spec {
+                    class,
+                    form,
+                    seed: 900 + c as u64,
+                });
+                let header = set.csv.lines().next().unwrap();
+                assert_eq!(header.contains("t1_c"), form.temps, "{header}");
+                assert_eq!(header.ends_with(",pose"), form.repeats, "{header}");
+                let meas = Measurements::parse("set.csv", set.csv.as_bytes(), &set.arm.limits_deg)
+                    .unwrap();
+                assert_eq!(meas.rows.len(), set.truth.rows.len());
+                if !form.clock {
+                    for (k, r) in meas.rows.iter().enumerate() {
+                        assert!((r.time_min - 0.1 * k as f64).abs() < 1e-9);
+                    }
+                }
+                // The base frame (within the arm's reach of the base's
+                // origin: at most 1.2 m, 3.4 m for the KR 210), or a
+                // tracker at least 2 m (4 m) away.
+                let norms: Vec<f64> = meas.rows.iter().map(|r| r.position.norm()).collect();
+                let reach = if form.arm == WideArm::Kr210 {
+                    3400.0
+                } else {
+                    1250.0
+                };
+                if form.registered {
+                    assert!(norms.iter().all(|&n| n < reach), "{}", form.label());
+                } else {
+                    assert!(norms.iter().all(|&n| n > 600.0), "{}", form.label());
+                }
+                let t = &set.truth;
+                match class {
+                    Class::Nothing => assert_eq!(t.size_mm, 0.0),
+                    Class::Effect(_) => assert!(
+                        t.size_mm <= 4.0 * t.noise_mm * (1.0 + 1e-3),
+                        "{}: {} mm at noise {}",
+                        class.name(),
+                        t.size_mm,
+                        t.noise_mm
+                    ),
+                }
+                assert_eq!(t.drift.iter().any(|d| d.norm() > 0.0), !form.temps);
+            }
+        }
+    }
+}

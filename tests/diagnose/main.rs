@@ -19,5 +19,7 @@ mod real_plausible;
 mod robust;
 mod static_rank;
 mod urdf;
+mod wide;
+mod wide_ci;
 mod world;
 mod world_ur5;

@@ -17,6 +17,7 @@ mod shared;
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
 pub use ran::{Inputs, Ran, Way};
+pub use shared::refuse_files_of_two_tasks;
 
 use super::colds::Colds;
 use super::context::{Ahead, Prepared};

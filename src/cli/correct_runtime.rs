@@ -75,7 +75,12 @@ pub fn run(
                     text.extend(unified_diff(name, before.bytes(), &r.file_bytes(f)));
                 }
                 let path = module_path(&r.task.modules[0], &r.module.0);
-                let before = std::fs::read(&path).unwrap_or_default();
+                // Only a regular file is read: a FIFO of that name would
+                // block the diff for ever.
+                let before = match std::fs::metadata(&path) {
+                    Ok(m) if m.is_file() => std::fs::read(&path).unwrap_or_default(),
+                    _ => Vec::new(),
+                };
                 text.extend(unified_diff(
                     &path.display().to_string(),
                     &before,

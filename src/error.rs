@@ -64,6 +64,9 @@ pub enum Remedy {
     /// A backup that does not place a task's robot: mend it, or accept the
     /// default placement (the world origin) explicitly.
     AcceptDefaultPlacement,
+    /// A file the user did not name would be replaced: move it away, or
+    /// replace it explicitly.
+    Force,
 }
 
 impl Remedy {
@@ -92,6 +95,7 @@ impl Remedy {
             Remedy::AcceptDefaultPlacement => {
                 "; mend the backup, or accept the default placement (the world origin) explicitly"
             }
+            Remedy::Force => ": move it away, or ask for it to be replaced",
         }
     }
 }

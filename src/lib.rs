@@ -16,7 +16,7 @@
 //! | 4 | [`resolve`], [`schedule`] | what a program means by its targets (tools, work objects, poses); when each target is reached |
 //! | 3 | [`model`] | the warm robot both jobs share: model file, expansion, effects, perturbed chain, `WarmRobot` |
 //! | 2 | [`rapid`], [`robot`], [`thermal`] | the language; geometry (URDF, ABB arms by name, chain, OPW FK/IK, robconf, frames); temperatures over time and the thermal lag |
-//! | 1 | [`error`], [`input`], [`digest`], [`csv_table`], [`report`], [`plot`] | shared foundations: errors with locations, bounded reading of inputs, fingerprints and their byte encodings, CSV tables, number and table formatting, the SVG pictures' canvas |
+//! | 1 | [`error`], [`input`], [`digest`], [`csv_table`], [`report`], [`plot`], [`writes`] | shared foundations: errors with locations, bounded reading of inputs, the rule every write of a run goes through, fingerprints and their byte encodings, CSV tables, number and table formatting, the SVG pictures' canvas |
 //!
 //! The main job's data flow: `rapid::parse` → `resolve` (the flange pose
 //! each target means) → `schedule` (when) → `model::WarmRobot` (where the
@@ -59,5 +59,6 @@ pub mod resolve;
 pub mod robot;
 pub mod schedule;
 pub mod thermal;
+pub mod writes;
 
 pub use error::{Error, ErrorKind, Result};

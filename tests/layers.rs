@@ -17,6 +17,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("csv_table", &["error"]),
     ("report", &["error"]),
     ("plot", &["error"]),
+    ("writes", &["error"]),
     ("rapid", &["error", "input"]),
     ("robot", &["error", "input", "csv_table"]),
     ("thermal", &["error", "csv_table", "report", "plot"]),

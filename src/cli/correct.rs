@@ -23,6 +23,7 @@ use rapidtherm::model::warm::Moment;
 use rapidtherm::model::Model;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
 use rapidtherm::schedule::Visit;
+use rapidtherm::writes::{Checked, Made, Plan, Role};
 use std::path::{Path, PathBuf};
 
 /// `--visit`: the command line's names for [`Visit`].
@@ -216,6 +217,11 @@ pub struct CorrectArgs {
     /// jointtarget function is NAME and `J`.
     #[arg(long, value_name = "NAME", default_value = "RtWarm")]
     pub runtime_module: String,
+    /// Replace a file this run names itself (the --runtime module, a
+    /// picture in the --plot folder) even where it is not one rapidtherm
+    /// wrote (docs/limits.md); without it such a file is refused.
+    #[arg(long)]
+    pub force: bool,
     /// Format of the per-target report (printed when no output is chosen);
     /// with --check also github or junit, for CI (docs/ci.md).
     #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
@@ -343,14 +349,79 @@ fn runtime_args(args: &CorrectArgs) -> super::correct_runtime::RuntimeArgs<'_> {
     }
 }
 
+/// Every file the run will write, planned once its tasks are found and
+/// checked before any of their files is read (`rapidtherm::writes`): the
+/// corrected programs, the `--runtime` modules, the pictures.
+fn writes(
+    args: &CorrectArgs,
+    plan: &CorrectPlan,
+    found: &[rapidtherm::rapid::task::Task],
+) -> Result<Checked> {
+    let motion: Vec<&rapidtherm::rapid::task::Task> =
+        found.iter().filter(|t| moves_a_robot(t)).collect();
+    // A file of two tasks is the job's to name first (it is not written
+    // twice over).
+    job::refuse_files_of_two_tasks(&motion.iter().map(|t| (*t).clone()).collect::<Vec<_>>())?;
+    let mut w = Plan::new(args.force);
+    for f in plan
+        .when
+        .schedule_file()
+        .into_iter()
+        .chain(args.model.as_deref())
+    {
+        w.input(f);
+    }
+    for r in &args.robot {
+        let file = r.split_once('=').map_or(r.as_str(), |(_, f)| f);
+        if Path::new(file).is_file() {
+            w.input(Path::new(file));
+        }
+    }
+    let in_place = matches!(plan.action, Action::Write(Destination::InPlace { .. }));
+    if !in_place {
+        for t in &motion {
+            for m in &t.modules {
+                w.input(m);
+            }
+        }
+    }
+    if let Action::Write(dest) = &plan.action {
+        let (flag, role) = match dest {
+            Destination::InPlace { .. } => ("--in-place", Role::InPlace),
+            _ => ("-o", Role::Named),
+        };
+        for f in dest.files(&motion) {
+            w.output(flag, &f, role);
+        }
+        if args.runtime {
+            let flag = format!("--runtime-module {}", args.runtime_module);
+            for m in rapidtherm::correct::runtime::write::module_paths(
+                dest,
+                &motion,
+                &args.runtime_module,
+            ) {
+                w.output(&flag, &m, Role::Made(Made::RuntimeModule));
+            }
+        }
+    }
+    if let Some(dir) = &args.plot {
+        let flag = format!("--plot {}", dir.display());
+        for name in super::plot::names(&motion) {
+            w.output(&flag, &dir.join(name), Role::Made(Made::Picture));
+        }
+    }
+    super::output::check(&w)
+}
+
 pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let plan = plan(&args)?;
     if args.runtime {
         super::correct_runtime::check_args(&runtime_args(&args))?;
     }
     let found = tasks::select(&args.files, &args.pick)?;
+    let checked = writes(&args, &plan, &found)?;
     if args.runtime {
-        return super::correct_runtime::run(&runtime_args(&args), &plan, found);
+        return super::correct_runtime::run(&runtime_args(&args), &plan, found, &checked);
     }
     // What the plan asks of the tasks found: known once they are.
     let motion: Vec<&rapidtherm::rapid::task::Task> =
@@ -363,7 +434,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
             "a schedule file times the targets of one task: pick it with --task (or use --start, which times each task)",
         ));
     }
-    let mut sink = FileSink::new(args.backup.clone());
+    let mut sink = FileSink::new(args.backup.clone(), &checked);
     let runs = job::run(&plan, found, &mut Said::default(), &mut sink)?;
     let drawn: Vec<_> = runs
         .iter()
@@ -372,7 +443,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
     let pictures = super::plot::draw(args.plot.as_deref(), &drawn)?;
     sink.commit()?;
     let status = emit(&args, &plan, &runs)?;
-    super::plot::write(args.plot.as_deref(), &pictures)?;
+    super::plot::write(&checked, args.plot.as_deref(), &pictures)?;
     Ok(status)
 }
 

@@ -13,6 +13,7 @@ use rapidtherm::correct::runtime::job;
 use rapidtherm::correct::runtime::write::{self, module_path};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::task::Task;
+use rapidtherm::writes::Checked;
 use std::path::Path;
 
 /// What `--runtime` reads of `correct`'s arguments.
@@ -35,7 +36,12 @@ pub fn check_args(args: &RuntimeArgs) -> Result<()> {
     Ok(())
 }
 
-pub fn run(args: &RuntimeArgs, plan: &CorrectPlan, found: Vec<Task>) -> Result<Status> {
+pub fn run(
+    args: &RuntimeArgs,
+    plan: &CorrectPlan,
+    found: Vec<Task>,
+    checked: &Checked,
+) -> Result<Status> {
     let runs = job::run(plan, args.module, found, &mut Said::default())?;
     for r in &runs {
         let t = &r.tally;
@@ -57,7 +63,7 @@ pub fn run(args: &RuntimeArgs, plan: &CorrectPlan, found: Vec<Task>) -> Result<S
     }
     match &plan.action {
         Action::Write(dest) => {
-            let mut sink = FileSink::new(args.backup.clone());
+            let mut sink = FileSink::new(args.backup.clone(), checked);
             write::write(dest, &runs, &mut sink)?;
             sink.commit()?;
             Ok(Status::Success)
@@ -69,7 +75,12 @@ pub fn run(args: &RuntimeArgs, plan: &CorrectPlan, found: Vec<Task>) -> Result<S
                     text.extend(unified_diff(name, before.bytes(), &r.file_bytes(f)));
                 }
                 let path = module_path(&r.task.modules[0], &r.module.0);
-                let before = std::fs::read(&path).unwrap_or_default();
+                // Only a regular file is read: a FIFO of that name would
+                // block the diff for ever.
+                let before = match std::fs::metadata(&path) {
+                    Ok(m) if m.is_file() => std::fs::read(&path).unwrap_or_default(),
+                    _ => Vec::new(),
+                };
                 text.extend(unified_diff(
                     &path.display().to_string(),
                     &before,

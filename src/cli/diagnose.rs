@@ -18,6 +18,7 @@ use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
 use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::robot::Robot;
+use rapidtherm::writes::{Checked, Made, Plan, Role};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -304,7 +305,12 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
         .chain(args.robot.as_deref())
         .collect();
     super::output::check_file("-o", &args.output)?;
-    super::output::refuse_inputs_as_outputs(&[("-o", &args.output)], &inputs)?;
+    let mut writes = Plan::new(false);
+    for f in inputs {
+        writes.input(f);
+    }
+    writes.output("-o", &args.output, Role::Named);
+    let checked = super::output::check(&writes)?;
     let model = load_model(&args.model)?;
     let mut effects = model.effects()?;
     for spec in &args.effects {
@@ -326,7 +332,7 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
     }
     let profile = model.profile()?;
     let meas = simulate_arm(&spec, &setup.arm.map, profile.as_ref())?;
-    write_output(&args.output, meas.to_csv().as_bytes())?;
+    write_output(&checked, &args.output, meas.to_csv().as_bytes())?;
     Ok(Status::Success)
 }
 
@@ -396,17 +402,17 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
 }
 
 /// The outputs of a diagnosis, checked before anything is read or
-/// written: a model file that would replace an input, a plot folder that
-/// cannot be made.
-fn check_diagnose_outputs(args: &DiagnoseArgs) -> Result<()> {
+/// written: a model file or a plot that would replace an input, or a
+/// file it did not write, a plot folder that cannot be made.
+fn check_diagnose_outputs(args: &DiagnoseArgs) -> Result<Checked> {
     if let Some(dir) = &args.plot {
         super::output::check_folder("--plot", dir)?;
     }
-    let Some(path) = &args.save_model else {
-        return Ok(());
-    };
-    super::output::check_file("--save-model", path)?;
-    let inputs: Vec<&Path> = [Some(args.data.as_path())]
+    if let Some(path) = &args.save_model {
+        super::output::check_file("--save-model", path)?;
+    }
+    let mut writes = Plan::new(args.force);
+    for f in [Some(args.data.as_path())]
         .into_iter()
         .chain([
             args.model.as_deref(),
@@ -414,8 +420,19 @@ fn check_diagnose_outputs(args: &DiagnoseArgs) -> Result<()> {
             args.holdout.as_deref(),
         ])
         .flatten()
-        .collect();
-    super::output::refuse_inputs_as_outputs(&[("--save-model", path)], &inputs)
+    {
+        writes.input(f);
+    }
+    if let Some(dir) = &args.plot {
+        let flag = format!("--plot {}", dir.display());
+        for name in diagnose::plot::FILES {
+            writes.output(&flag, &dir.join(name), Role::Made(Made::Picture));
+        }
+    }
+    if let Some(path) = &args.save_model {
+        writes.output("--save-model", path, Role::Named);
+    }
+    super::output::check(&writes)
 }
 
 /// The robot's own nominal geometry (a URDF's or a catalogue arm's), which
@@ -466,7 +483,7 @@ fn registration_words(r: &diagnose::Registration) -> String {
 }
 
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
-    check_diagnose_outputs(&args)?;
+    let checked = check_diagnose_outputs(&args)?;
     // Read once: standard input cannot be read twice, and the choice of
     // diagnosis looks at the data.
     let (name, bytes) = read_input(&args.data)?;
@@ -496,7 +513,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
         for (name, svg) in diagnose::plot::plots(&prepared, &d)? {
             let path = dir.join(name);
-            super::output::write_atomic(&path, svg.as_bytes(), None)?;
+            super::output::write_atomic(&checked, &path, svg.as_bytes(), None)?;
             status!("wrote {}", path.display());
         }
     }
@@ -511,7 +528,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
                 None => Some(super::model::urdf_reference(&setup.arm.source, path)),
             };
         }
-        crate::cli::output::write_atomic(path, m.to_toml()?.as_bytes(), None)?;
+        crate::cli::output::write_atomic(&checked, path, m.to_toml()?.as_bytes(), None)?;
         status!("wrote {}", path.display());
     }
     let text = match args.format {

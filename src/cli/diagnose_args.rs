@@ -25,6 +25,10 @@ pub struct DiagnoseArgs {
     /// Write SVG plots of the gap before and after into this directory.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    /// Replace a file in the --plot folder even where it is not an SVG
+    /// picture (docs/limits.md); without it such a file is refused.
+    #[arg(long)]
+    pub force: bool,
     /// First fit the rigid transform from the instrument's frame to the robot base.
     #[arg(long)]
     pub register: bool,

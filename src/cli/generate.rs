@@ -6,6 +6,7 @@
 use super::messages::info;
 use super::{write_stdout, Status};
 use rapidtherm::error::{Error, Result};
+use rapidtherm::writes::{Made, Plan, Role};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -22,6 +23,10 @@ pub struct ManArgs {
     /// main page.
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
+    /// Replace a file in the folder even where it is not a man page
+    /// (docs/limits.md); without it such a file is refused.
+    #[arg(long, requires = "out_dir")]
+    force: bool,
 }
 
 pub fn run_completions(args: CompletionsArgs, mut cmd: clap::Command) -> Result<Status> {
@@ -40,12 +45,19 @@ pub fn run_man(args: ManArgs, cmd: clap::Command) -> Result<Status> {
         write_stdout(&page(&cmd)?)?;
         return Ok(Status::Success);
     };
-    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, &e))?;
     let mut pages = Vec::new();
     collect(&cmd, &mut pages)?;
+    super::output::check_folder("--out-dir", &dir)?;
+    let mut writes = Plan::new(args.force);
+    let flag = format!("--out-dir {}", dir.display());
+    for (name, _) in &pages {
+        writes.output(&flag, &dir.join(name), Role::Made(Made::ManPage));
+    }
+    let checked = super::output::check(&writes)?;
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, &e))?;
     for (name, roff) in pages {
         let path = dir.join(name);
-        super::output::write_atomic(&path, &roff, None)?;
+        super::output::write_atomic(&checked, &path, &roff, None)?;
         info!("wrote {}", path.display());
     }
     Ok(Status::Success)

@@ -9,6 +9,7 @@ use rapidtherm::thermal::table::{render_fits_csv, render_fits_json, render_fits_
 use rapidtherm::thermal::{
     default_profile, FittedProfile, HeatingProfile, HeatingRecord, RecordedProfile,
 };
+use rapidtherm::writes::{Plan, Role};
 use std::path::PathBuf;
 
 #[derive(clap::Subcommand)]
@@ -111,10 +112,13 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
 const STEADY_WARN_C: f64 = 1.0;
 
 fn run_fit(a: FitArgs) -> Result<Status> {
+    let mut writes = Plan::new(false);
+    writes.input(&a.records);
     if let Some(plot) = &a.plot {
         super::output::check_file("--plot", plot)?;
-        super::output::refuse_inputs_as_outputs(&[("--plot", plot)], &[&a.records])?;
+        writes.output("--plot", plot, Role::Named);
     }
+    let checked = super::output::check(&writes)?;
     let models = parse_models(&a.model)?;
     let mut axes: Vec<usize> = Vec::new();
     for x in &a.axes {
@@ -191,7 +195,7 @@ fn run_fit(a: FitArgs) -> Result<Status> {
     match (&a.plot, svg) {
         (Some(path), Some(svg)) if path.as_os_str() == "-" => write_stdout(svg.as_bytes())?,
         (Some(path), Some(svg)) => {
-            write_output(path, svg.as_bytes())?;
+            write_output(&checked, path, svg.as_bytes())?;
             write_stdout(text.as_bytes())?;
         }
         _ => write_stdout(text.as_bytes())?,

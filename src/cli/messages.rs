@@ -314,6 +314,7 @@ pub fn remedy(r: Remedy) -> &'static str {
         Remedy::AcceptDefaultPlacement => {
             "; mend the backup, or put the robot at the world origin with --accept-default-placement"
         }
+        Remedy::Force => ": move it away, or give --force to replace it",
     }
 }
 

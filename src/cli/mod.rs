@@ -106,6 +106,7 @@ pub fn main() -> ExitCode {
             .exit();
     }
     messages::init(&cli.messages);
+    output::remove_temporaries_on_signals();
     let result = match cli.command {
         Command::Targets(a) => targets::run(a),
         Command::Fk(a) => kinematics::run_fk(a),

@@ -1,18 +1,28 @@
 //! Writing results safely: a file is either complete or untouched. Every
 //! output goes to a temporary file in the destination folder and is renamed
 //! into place only once fully written, keeping the old file's permissions.
+//! Only a path of the run's checked plan of writes
+//! ([`rapidtherm::writes`]) is written; a temporary file is removed on
+//! SIGINT, SIGTERM and SIGHUP ([`remove_temporaries_on_signals`]).
 
 use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::writes::{Checked, Plan};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
-/// Write `bytes` to `path` atomically. With `backup`, the existing file is
-/// first copied to `path` + suffix.
-pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<()> {
+/// Write `bytes` to `path` atomically, a path of the checked plan. With
+/// `backup`, the existing file is first copied to `path` + suffix.
+pub fn write_atomic(
+    checked: &Checked,
+    path: &Path,
+    bytes: &[u8],
+    backup: Option<&str>,
+) -> Result<()> {
     // A device or pipe (`-o /dev/null`, a FIFO) is written as it is:
     // renaming a file over it would replace the device itself.
-    if let Some(device) = Device::open(path)? {
-        let mut d = device;
+    if planned_stream(checked, path)? {
+        let mut d = Device::open(path)?;
         return d.write_all(bytes).map_err(|e| Error::io(path, &e));
     }
     let mut f = AtomicFile::create(path, backup)?;
@@ -20,25 +30,72 @@ pub fn write_atomic(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<(
     f.commit()
 }
 
+/// Whether `path`, which must be in the checked plan, is a device or pipe
+/// written as it is. A path the plan does not have is a fault of this
+/// program, refused rather than written unchecked.
+fn planned_stream(checked: &Checked, path: &Path) -> Result<bool> {
+    match checked.find(path) {
+        Some(p) => Ok(p.stream),
+        None => Err(Error::new(
+            ErrorKind::Io,
+            format!(
+                "{}: not among the files this run planned to write (an internal error); nothing more is written",
+                path.display()
+            ),
+        )),
+    }
+}
+
+/// The run's plan of writes checked (see [`rapidtherm::writes`]), before
+/// any input is read.
+pub fn check(plan: &Plan) -> Result<Checked> {
+    plan.check()
+}
+
+/// Temporary files being written, removed by the signal handler.
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// On SIGINT, SIGTERM or SIGHUP, every temporary file being written is
+/// removed and the process ends as the signal would have ended it. A file
+/// already renamed into place stays (it is complete); one not yet renamed
+/// is gone with its temporary file, the old one kept.
+#[cfg(unix)]
+pub fn remove_temporaries_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            // Held to the end: no temporary file is made or renamed after.
+            let held = temporaries();
+            for path in held.iter() {
+                let _ = std::fs::remove_file(path);
+            }
+            let _ = signal_hook::low_level::emulate_default_handler(signal);
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
+#[cfg(not(unix))]
+pub fn remove_temporaries_on_signals() {}
+
 /// A device or pipe named as an output (`/dev/null`, a FIFO), opened to
-/// be written as it is; `None` for a regular file or a new name; a folder
-/// is an error.
+/// be written as it is (the plan found it one).
 struct Device(std::fs::File);
 
 impl Device {
-    fn open(path: &Path) -> Result<Option<Device>> {
-        match std::fs::metadata(path) {
-            Ok(meta) if meta.is_dir() => Err(Error::new(
-                ErrorKind::Io,
-                format!("{}: is a folder, not a file", path.display()),
-            )),
-            Ok(meta) if !meta.is_file() => std::fs::OpenOptions::new()
-                .write(true)
-                .open(path)
-                .map(|f| Some(Device(f)))
-                .map_err(|e| Error::io(path, &e)),
-            _ => Ok(None),
-        }
+    fn open(path: &Path) -> Result<Device> {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map(Device)
+            .map_err(|e| Error::io(path, &e))
     }
 }
 
@@ -61,7 +118,8 @@ impl Write for Device {
 pub struct AtomicFile {
     /// The file replaced (a symbolic link's target: the link stays).
     path: std::path::PathBuf,
-    tmp: tempfile::NamedTempFile,
+    /// `None` once renamed into place.
+    tmp: Option<tempfile::NamedTempFile>,
     backup: Option<std::path::PathBuf>,
     existing: Option<std::fs::Metadata>,
     unsynced: usize,
@@ -128,10 +186,16 @@ impl AtomicFile {
             use std::os::unix::fs::PermissionsExt;
             builder.permissions(std::fs::Permissions::from_mode(0o666));
         }
-        let tmp = builder.tempfile_in(&dir).map_err(|e| Error::io(&dir, &e))?;
+        // Made and listed at once: a signal finds every temporary file.
+        let tmp = {
+            let mut held = temporaries();
+            let tmp = builder.tempfile_in(&dir).map_err(|e| Error::io(&dir, &e))?;
+            held.push(tmp.path().to_path_buf());
+            tmp
+        };
         Ok(AtomicFile {
             path,
-            tmp,
+            tmp: Some(tmp),
             backup,
             existing,
             unsynced: 0,
@@ -148,11 +212,18 @@ impl AtomicFile {
         }
     }
 
+    /// The temporary file (there until the commit takes it).
+    fn tmp(&mut self) -> std::io::Result<&mut tempfile::NamedTempFile> {
+        self.tmp
+            .as_mut()
+            .ok_or_else(|| std::io::Error::other("the file is in place already"))
+    }
+
     /// Throw away what was written.
     pub fn restart(&mut self) -> std::io::Result<()> {
         use std::io::Seek;
         self.join()?;
-        let f = self.tmp.as_file_mut();
+        let f = self.tmp()?.as_file_mut();
         f.set_len(0)?;
         f.rewind()?;
         self.unsynced = 0;
@@ -162,29 +233,52 @@ impl AtomicFile {
     /// Put the new file in place (the old one copied to its backup first).
     pub fn commit(mut self) -> Result<()> {
         self.join().map_err(|e| Error::io(&self.path, &e))?;
-        self.tmp
-            .as_file()
+        let path = self.path.clone();
+        let tmp = self.tmp().map_err(|e| Error::io(&path, &e))?;
+        tmp.as_file()
             .sync_all()
-            .map_err(|e| Error::io(self.tmp.path(), &e))?;
+            .map_err(|e| Error::io(tmp.path(), &e))?;
         if let Some(name) = &self.backup {
             std::fs::copy(&self.path, name).map_err(|e| Error::io(name, &e))?;
         }
         if let Some(meta) = &self.existing {
-            keep_owner(self.tmp.as_file(), &self.path, meta)?;
-            std::fs::set_permissions(self.tmp.path(), meta.permissions())
-                .map_err(|e| Error::io(&self.path, &e))?;
+            let tmp = self.tmp.as_ref().map(|t| (t.as_file(), t.path()));
+            if let Some((file, at)) = tmp {
+                keep_owner(file, &self.path, meta)?;
+                std::fs::set_permissions(at, meta.permissions())
+                    .map_err(|e| Error::io(&self.path, &e))?;
+            }
         }
-        let path = self.path.clone();
-        self.tmp
-            .persist(&path)
-            .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {}", path.display(), e.error)))?;
+        let Some(tmp) = self.tmp.take() else {
+            return Ok(());
+        };
+        // Renamed and struck off the list at once: a signal between would
+        // remove the file just put in place, or leave the temporary one.
+        let mut held = temporaries();
+        let at = tmp.path().to_path_buf();
+        let kept = tmp.persist(&path);
+        held.retain(|p| *p != at);
+        kept.map_err(|e| Error::new(ErrorKind::Io, format!("{}: {}", path.display(), e.error)))?;
         Ok(())
+    }
+}
+
+/// A file dropped unfinished: its temporary file removed and struck off
+/// the list, under the list's lock.
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if let Some(tmp) = self.tmp.take() {
+            let mut held = temporaries();
+            let at = tmp.path().to_path_buf();
+            drop(tmp);
+            held.retain(|p| *p != at);
+        }
     }
 }
 
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        let n = self.tmp.as_file_mut().write(buf)?;
+        let n = self.tmp()?.as_file_mut().write(buf)?;
         self.unsynced += n;
         if self.unsynced >= WRITEBACK_BYTES
             && self
@@ -193,7 +287,7 @@ impl Write for AtomicFile {
                 .is_none_or(std::thread::JoinHandle::is_finished)
         {
             self.join()?;
-            let file = self.tmp.as_file().try_clone()?;
+            let file = self.tmp()?.as_file().try_clone()?;
             self.syncing = Some(std::thread::spawn(move || file.sync_data()));
             self.unsynced = 0;
         }
@@ -201,7 +295,7 @@ impl Write for AtomicFile {
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
-        self.tmp.as_file_mut().flush()?;
+        self.tmp()?.as_file_mut().flush()?;
         self.join()
     }
 }
@@ -211,15 +305,18 @@ impl Write for AtomicFile {
 /// them put in place by [`FileSink::commit`] once the run is done, so
 /// that a run that fails (or whose pictures cannot be drawn) leaves every
 /// file as it was.
-pub struct FileSink {
+pub struct FileSink<'a> {
     backup: Option<String>,
+    /// The run's checked plan: the only files it writes.
+    checked: &'a Checked,
     ready: std::sync::Arc<std::sync::Mutex<Vec<AtomicFile>>>,
 }
 
-impl FileSink {
-    pub fn new(backup: Option<String>) -> FileSink {
+impl FileSink<'_> {
+    pub fn new(backup: Option<String>, checked: &Checked) -> FileSink<'_> {
         FileSink {
             backup,
+            checked,
             ready: Default::default(),
         }
     }
@@ -237,15 +334,15 @@ impl FileSink {
     }
 }
 
-impl rapidtherm::correct::job::Sink for FileSink {
+impl rapidtherm::correct::job::Sink for FileSink<'_> {
     fn create(&mut self, name: &str) -> Result<Box<dyn rapidtherm::correct::job::Output>> {
         let path = Path::new(name);
         if path == Path::new("-") {
             return Ok(Box::new(Stdout(Vec::new())));
         }
-        if let Some(device) = Device::open(path)? {
+        if planned_stream(self.checked, path)? {
             return Ok(Box::new(DeviceOutput {
-                device,
+                device: Device::open(path)?,
                 held: Vec::new(),
             }));
         }
@@ -346,43 +443,13 @@ impl rapidtherm::correct::job::Output for Stdout {
     }
 }
 
-/// Write to a file atomically, or to standard output for `-`.
-pub fn write_output(path: &Path, bytes: &[u8]) -> Result<()> {
+/// Write to a file atomically (a path of the checked plan), or to
+/// standard output for `-`.
+pub fn write_output(checked: &Checked, path: &Path, bytes: &[u8]) -> Result<()> {
     if path == Path::new("-") {
         super::write_stdout(bytes)
     } else {
-        write_atomic(path, bytes, None)
-    }
-}
-
-/// An output named by `flag` that is also an input of the same run: the
-/// run would destroy what it read. Checked before anything is written;
-/// `-` (standard input or output) is never a file here. An output that
-/// does not exist yet cannot be an input.
-pub fn refuse_inputs_as_outputs(outputs: &[(&str, &Path)], inputs: &[&Path]) -> Result<()> {
-    let dash = Path::new("-");
-    let mut errors = Vec::new();
-    for &(flag, out) in outputs {
-        if out == dash {
-            continue;
-        }
-        for &input in inputs {
-            if input == dash {
-                continue;
-            }
-            if same_file::is_same_file(out, input).unwrap_or(false) {
-                errors.push(Error::usage(format!(
-                    "{flag} {}: that is an input of this run ({}); writing it would destroy what was read: name another file",
-                    out.display(),
-                    input.display()
-                )));
-                break;
-            }
-        }
-    }
-    match Error::many(errors) {
-        Some(e) => Err(e),
-        None => Ok(()),
+        write_atomic(checked, path, bytes, None)
     }
 }
 
@@ -506,6 +573,29 @@ pub fn check_backup_free(backup: &Path) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rapidtherm::writes::Role;
+
+    /// `path` written by `-o`, as a checked plan.
+    fn named(path: &Path) -> Result<Checked> {
+        let mut plan = Plan::new(false);
+        plan.output("-o", path, Role::Named);
+        plan.check()
+    }
+
+    /// [`write_atomic`] of a planned `-o path`.
+    fn write_named(path: &Path, bytes: &[u8], backup: Option<&str>) -> Result<()> {
+        let checked = named(path)?;
+        write_atomic(&checked, path, bytes, backup)
+    }
+
+    #[test]
+    fn a_path_not_planned_is_not_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let checked = named(&dir.path().join("a.mod")).unwrap();
+        let other = dir.path().join("b.mod");
+        assert!(write_atomic(&checked, &other, b"x", None).is_err());
+        assert!(!other.exists());
+    }
 
     #[test]
     fn replaces_content_keeps_permissions_and_backs_up() {
@@ -517,7 +607,7 @@ mod tests {
             use std::os::unix::fs::PermissionsExt;
             std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o640)).unwrap();
         }
-        write_atomic(&p, b"new", Some(".bak")).unwrap();
+        write_named(&p, b"new", Some(".bak")).unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"new");
         assert_eq!(std::fs::read(dir.path().join("a.mod.bak")).unwrap(), b"old");
         #[cfg(unix)]
@@ -537,7 +627,7 @@ mod tests {
         use std::os::unix::fs::PermissionsExt;
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("new.toml");
-        write_atomic(&p, b"x", None).unwrap();
+        write_named(&p, b"x", None).unwrap();
         let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
         // Whatever the umask, more than the owner may read (the usual
         // umasks 022 and 002 both leave 0o044).
@@ -548,7 +638,7 @@ mod tests {
     #[test]
     fn a_device_is_written_not_replaced_and_a_link_is_kept() {
         use std::os::unix::fs::FileTypeExt;
-        write_atomic(Path::new("/dev/null"), b"nothing", None).unwrap();
+        write_named(Path::new("/dev/null"), b"nothing", None).unwrap();
         let meta = std::fs::metadata("/dev/null").unwrap();
         assert!(
             meta.file_type().is_char_device(),
@@ -560,14 +650,14 @@ mod tests {
         let link = dir.path().join("link.mod");
         std::fs::write(&real, b"old").unwrap();
         std::os::unix::fs::symlink(&real, &link).unwrap();
-        write_atomic(&link, b"new", None).unwrap();
+        write_named(&link, b"new", None).unwrap();
         assert!(std::fs::symlink_metadata(&link)
             .unwrap()
             .file_type()
             .is_symlink());
         assert_eq!(std::fs::read(&real).unwrap(), b"new");
         assert!(
-            write_atomic(dir.path(), b"x", None).is_err(),
+            write_named(dir.path(), b"x", None).is_err(),
             "a folder is refused"
         );
     }
@@ -576,7 +666,7 @@ mod tests {
     fn missing_folder_is_an_error_and_writes_nothing() {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("no/such/dir/out.mod");
-        assert!(write_atomic(&p, b"x", None).is_err());
+        assert!(write_named(&p, b"x", None).is_err());
         assert!(!p.exists());
     }
 }

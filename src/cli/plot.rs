@@ -11,6 +11,7 @@ use rapidtherm::correct::plot::{pictures, Picture};
 use rapidtherm::correct::Outcome;
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::task::Task;
+use rapidtherm::writes::Checked;
 use std::path::{Path, PathBuf};
 
 /// A `--plot` folder that exists must be a folder.
@@ -24,6 +25,28 @@ pub fn check_dir(dir: Option<&Path>) -> Result<()> {
         // To be made: its nearest existing folder must be one, checked
         // before the run writes anything else.
         _ => super::output::check_folder("--plot", dir),
+    }
+}
+
+/// The files [`draw`] names for the motion tasks of a run, known before
+/// they are read.
+pub fn names(tasks: &[&Task]) -> Vec<PathBuf> {
+    let named = tasks.len() > 1 || tasks.iter().any(|t| t.name.is_some());
+    let mut out = Vec::new();
+    for task in tasks {
+        for name in rapidtherm::correct::plot::FILES {
+            out.push(file_of(named, task, name));
+        }
+    }
+    out
+}
+
+/// A picture's file: with tasks named, the task's name in front.
+fn file_of(named: bool, task: &Task, name: &str) -> PathBuf {
+    if named {
+        PathBuf::from(format!("{}-{name}", file_safe(&task.label())))
+    } else {
+        PathBuf::from(name)
     }
 }
 
@@ -51,12 +74,7 @@ pub fn draw(
             files.join(", ")
         };
         for Picture { name, svg } in pictures(outcome, &title)? {
-            let file = if named {
-                format!("{}-{name}", file_safe(&task.label()))
-            } else {
-                name.to_string()
-            };
-            out.push((PathBuf::from(file), svg));
+            out.push((file_of(named, task, name), svg));
         }
     }
     Ok(out)
@@ -69,14 +87,15 @@ fn file_name(path: &str) -> &str {
         .unwrap_or(path)
 }
 
-/// Write the pictures into `dir` (created if missing), each atomically.
-pub fn write(dir: Option<&Path>, drawn: &[(PathBuf, String)]) -> Result<()> {
+/// Write the pictures into `dir` (created if missing), each atomically,
+/// as the checked plan has them.
+pub fn write(checked: &Checked, dir: Option<&Path>, drawn: &[(PathBuf, String)]) -> Result<()> {
     let Some(dir) = dir else { return Ok(()) };
     super::output::check_folder("--plot", dir)?;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
     for (name, svg) in drawn {
         let path = dir.join(name);
-        write_atomic(&path, svg.as_bytes(), None)?;
+        write_atomic(checked, &path, svg.as_bytes(), None)?;
         status!("wrote {}", path.display());
     }
     Ok(())

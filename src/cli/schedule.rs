@@ -6,6 +6,7 @@ use super::{write_output, Status};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::resolve::arm::{arm_for, base_frame, check_placement, check_task_specs};
 use rapidtherm::schedule::{estimate, Estimate, EstimateOptions};
+use rapidtherm::writes::{Plan, Role};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -45,10 +46,15 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
         return Err(Error::usage("--cycles must be at least 1"));
     }
     super::output::check_file("-o", &args.output)?;
-    let inputs: Vec<&std::path::Path> = args.files.iter().map(|f| f.as_path()).collect();
-    super::output::refuse_inputs_as_outputs(&[("-o", &args.output)], &inputs)?;
     let specs = super::arms::arm_specs(args.robot.as_slice())?;
     let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
+    // The output checked against the task's files before they are read.
+    let mut writes = Plan::new(false);
+    for f in args.files.iter().chain(&task.modules) {
+        writes.input(f);
+    }
+    writes.output("-o", &args.output, Role::Named);
+    let checked = super::output::check(&writes)?;
     // The program's errors are said before the arm's and the base's.
     let program = super::tasks::read(&task)?.1;
     check_task_specs(&specs, std::slice::from_ref(&task))?;
@@ -68,7 +74,7 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     let started = std::time::Instant::now();
     let est = estimate(&program, &arm.robot, &opts)?;
     messages::took("walking the program", started);
-    write_output(&args.output, est.to_csv().as_bytes())?;
+    write_output(&checked, &args.output, est.to_csv().as_bytes())?;
     let counts = (
         est.schedule.targets().len() + est.joint_schedule.targets().len(),
         est.schedule.visit_count() + est.joint_schedule.visit_count(),

@@ -89,6 +89,22 @@ pub enum Destination {
     InPlace { backup: Option<String> },
 }
 
+impl Destination {
+    /// The program files a run on `tasks` (those that move a robot)
+    /// writes here: the one file, or each task's files in place; none to
+    /// standard output. Known before any task is read.
+    pub fn files(&self, tasks: &[&crate::rapid::task::Task]) -> Vec<PathBuf> {
+        match self {
+            Destination::File(out) => vec![out.clone()],
+            Destination::Stdout => Vec::new(),
+            Destination::InPlace { .. } => tasks
+                .iter()
+                .flat_map(|t| t.modules.iter().cloned())
+                .collect(),
+        }
+    }
+}
+
 /// The model a run uses.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ModelSource {

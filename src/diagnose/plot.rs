@@ -201,10 +201,13 @@ pub fn gap_vectors_svg(prepared: &Prepared, d: &Diagnosis) -> Result<String> {
     })
 }
 
+/// The files [`plots`] names, known before the diagnosis is made.
+pub const FILES: [&str; 2] = ["gap_over_time.svg", "gap_vectors.svg"];
+
 /// The diagnosis's plots as (file name, SVG text); the caller writes them.
 pub fn plots(prepared: &Prepared, d: &Diagnosis) -> Result<Vec<(&'static str, String)>> {
     Ok(vec![
-        ("gap_over_time.svg", gap_over_time_svg(prepared, d)?),
-        ("gap_vectors.svg", gap_vectors_svg(prepared, d)?),
+        (FILES[0], gap_over_time_svg(prepared, d)?),
+        (FILES[1], gap_vectors_svg(prepared, d)?),
     ])
 }

@@ -9,3 +9,4 @@ mod hostile;
 mod outputs;
 mod pre_commit_hook;
 mod transcripts;
+mod writes;

@@ -18,6 +18,7 @@ mod still;
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
 pub use ran::{Inputs, Ran, Way};
+pub use shared::refuse_files_of_two_tasks;
 pub use still::NO_ARM;
 
 use super::colds::Colds;

@@ -191,7 +191,7 @@ fn rewrite_task(
         arm: arm.robot.name.clone(),
         inputs,
         rewrites,
-        module: (format!("{module}.sys"), text),
+        module: (super::module::module_file(module), text),
         tally,
         already,
     })

@@ -335,6 +335,11 @@ const BODY: &str = "\r
 /// letters, digits or `_`) of at most 31 characters, since its jointtarget
 /// function adds a `J` and RAPID names are at most 32. A usage error
 /// otherwise, raised while the plan is made, before anything is read.
+/// The file the module named `name` is written to.
+pub fn module_file(name: &str) -> String {
+    format!("{name}.sys")
+}
+
 pub fn check_module_name(name: &str) -> crate::error::Result<()> {
     let ok = name.len() <= 31
         && name.bytes().next().is_some_and(|b| b.is_ascii_alphabetic())

@@ -15,6 +15,32 @@ pub fn module_path(program: &Path, file: &str) -> PathBuf {
     RuntimeRan::module_dir(program).join(file)
 }
 
+/// Every module file a run on `tasks` (those that move a robot) will
+/// write to `dest` for the module named `module`: beside the output, or
+/// beside each task's first file. Known before any task is read.
+pub fn module_paths(
+    dest: &Destination,
+    tasks: &[&crate::rapid::task::Task],
+    module: &str,
+) -> Vec<PathBuf> {
+    let file = super::module::module_file(module);
+    let mut paths: Vec<PathBuf> = Vec::new();
+    for task in tasks {
+        let beside = match dest {
+            Destination::File(out) => out.clone(),
+            _ => match task.modules.first() {
+                Some(first) => first.clone(),
+                None => continue,
+            },
+        };
+        let path = module_path(&beside, &file);
+        if !paths.contains(&path) {
+            paths.push(path);
+        }
+    }
+    paths
+}
+
 /// The runs' programs written to `dest` through `sink`, and each task's
 /// module beside them. A module as it already is on disk stays untouched
 /// (and gets no backup).

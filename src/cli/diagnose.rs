@@ -305,6 +305,7 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
         .collect();
     super::output::check_file("-o", &args.output)?;
     super::output::refuse_inputs_as_outputs(&[("-o", &args.output)], &inputs)?;
+    diagnose::simulate::check_noise(args.noise)?;
     let model = load_model(&args.model)?;
     let mut effects = model.effects()?;
     for spec in &args.effects {
@@ -321,9 +322,6 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
         measured_temps: args.temps == TempsSource::Measured,
         seed: args.seed,
     };
-    if !(args.noise.is_finite() && args.noise >= 0.0) {
-        return Err(Error::usage("--noise must be a finite number >= 0"));
-    }
     let profile = model.profile()?;
     let meas = simulate_arm(&spec, &setup.arm.map, profile.as_ref())?;
     write_output(&args.output, meas.to_csv().as_bytes())?;

@@ -709,7 +709,7 @@ pub(super) fn csv_of(mut rows: Vec<(f64, usize, &str)>) -> String {
 }
 
 /// A CSV field, quoted where it holds a comma or a quote (`pGrid{2,1}`).
-fn csv_field(text: &str) -> String {
+pub(super) fn csv_field(text: &str) -> String {
     if text.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {

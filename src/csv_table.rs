@@ -27,10 +27,6 @@ pub const CSV_COLUMNS_TOML: &str = include_str!("../data/csv_columns.toml");
 pub struct UnitRange {
     pub lowest: f64,
     pub highest: f64,
-    /// Every value of the file's columns of this unit within this of zero:
-    /// the file is in a unit a thousand times larger (metres for mm).
-    #[serde(default)]
-    pub metres_below: Option<f64>,
 }
 
 /// The ranges of `data/csv_columns.toml`.
@@ -158,7 +154,7 @@ impl CsvTable {
 
     /// Parse `bytes` (the contents of `file`, used only in messages): every
     /// row as many fields as the header, no column named twice, no row
-    /// that repeats the header, no file of millimetres in metres.
+    /// that repeats the header.
     pub fn parse(file: &str, bytes: &[u8]) -> Result<CsvTable> {
         CsvTable::parse_rows(file, bytes, None)
     }
@@ -226,7 +222,6 @@ impl CsvTable {
         for row in &table.rows {
             table.check_row(row, columns)?;
         }
-        table.check_metres()?;
         Ok(table)
     }
 
@@ -306,41 +301,6 @@ impl CsvTable {
                 "this row repeats the header: two files joined? Each file has one header row",
             )
             .at(self.field_location(row, 0)));
-        }
-        Ok(())
-    }
-
-    /// A file whose millimetre columns all hold values within
-    /// `metres_below` of zero is in metres (`data/csv_columns.toml`).
-    fn check_metres(&self) -> Result<()> {
-        let cols: Vec<usize> = (0..self.header.len())
-            .filter(|&c| self.units[c] == Some(Unit::Millimetres))
-            .collect();
-        let Some(limit) = Unit::Millimetres.range().metres_below else {
-            return Ok(());
-        };
-        let (Some(&first_col), Some(first_row)) = (cols.first(), self.rows.first()) else {
-            return Ok(());
-        };
-        let mut largest = 0.0f64;
-        for row in &self.rows {
-            for &c in &cols {
-                match row.fields.get(c).map(|f| f.parse::<f64>()) {
-                    Some(Ok(v)) if v.is_finite() => largest = largest.max(v.abs()),
-                    // Not a number, or no field: that row's own error
-                    // says so when it is read.
-                    _ => return Ok(()),
-                }
-            }
-        }
-        if largest < limit {
-            let names: Vec<&str> = cols.iter().map(|&c| self.header[c].as_str()).collect();
-            return Err(Error::input(format!(
-                "every value of {} is within {limit} mm of zero (the largest: {}): is the file in metres? rapidtherm reads millimetres",
-                names.join(", "),
-                shown(largest)
-            ))
-            .at(self.field_location(first_row, first_col)));
         }
         Ok(())
     }

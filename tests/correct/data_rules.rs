@@ -263,4 +263,9 @@ fn a_noise_of_1e300_is_refused_before_anything_is_written() {
         dir.path(),
     );
     assert_exit(&out, 0);
+    // A noise the diagnosis is told is bounded alike: 1e300 mm made
+    // every gap noise.
+    let out = rapidtherm(&["diagnose", "out.csv", "--noise", "1e300"], dir.path());
+    assert_exit(&out, 2);
+    assert!(stderr(&out).contains("at most 10"), "{}", stderr(&out));
 }

@@ -552,6 +552,17 @@ mod tests {
     }
 
     #[test]
+    fn the_embedded_ranges_are_data_csv_columns() {
+        // data/csv_columns.toml: a year of minutes, 100 m either way.
+        let r = ranges();
+        assert_eq!((r.min.lowest, r.min.highest), (0.0, 525_600.0));
+        assert_eq!((r.mm.lowest, r.mm.highest), (-100_000.0, 100_000.0));
+        let t = CsvTable::parse("s.csv", b"target,time_min\np10,9E+09\n").unwrap();
+        let e = t.number(&t.rows[0], 1).unwrap_err();
+        assert_eq!(e.location.unwrap().col, 5);
+    }
+
+    #[test]
     fn time_going_backwards_is_located() {
         let t = CsvTable::parse("h.csv", b"time_min\n0\n2\n1\n").unwrap();
         let e = t.check_increasing(0).unwrap_err();

@@ -341,3 +341,16 @@ fn joint_type_name(t: &urdf_rs::JointType) -> &'static str {
         urdf_rs::JointType::Spherical => "spherical",
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_embedded_size_bounds_parse_and_hold_the_irb140() {
+        let b = size();
+        assert_eq!((b.shortest_mm, b.longest_mm), (50.0, 20_000.0));
+        // sqrt(70² + 352²) + 360 + 380 + 65 = 1163.89 mm.
+        assert!(parse("irb140.urdf", IRB140_URDF).is_ok());
+    }
+}

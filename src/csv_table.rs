@@ -3,9 +3,108 @@
 //! columns matched by name in any order, `#` comment lines, blank lines
 //! ignored, every bad value reported with file, line and column.
 //!
+//! What a file must be to mean what it says is checked here, for every
+//! reader at once: every row has as many fields as the header (a decimal
+//! comma under a comma header splits `20,5` in two and shifts every field
+//! after it), no column is named twice, the header is not repeated as a
+//! row, and a number lies within the range of the unit its column's name
+//! ends in (`data/csv_columns.toml`: `_min`, `_mm`). A reader that names
+//! its columns ([`CsvTable::read`]) also gets its required columns
+//! checked and the others reported as ignored.
+//!
 //! A foundation: imports only `error`.
 
 use crate::error::{Error, Location, Result};
+use serde::Deserialize;
+use std::sync::OnceLock;
+
+/// The ranges of the columns by unit (`data/csv_columns.toml`).
+pub const CSV_COLUMNS_TOML: &str = include_str!("../data/csv_columns.toml");
+
+/// The range of the numbers of one unit.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitRange {
+    pub lowest: f64,
+    pub highest: f64,
+}
+
+/// The ranges of `data/csv_columns.toml`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ranges {
+    pub min: UnitRange,
+    pub mm: UnitRange,
+}
+
+/// The embedded ranges, parsed once. A unit test parses the embedded file,
+/// so the `expect` cannot fire on a tested build.
+pub fn ranges() -> &'static Ranges {
+    static RANGES: OnceLock<Ranges> = OnceLock::new();
+    RANGES.get_or_init(|| {
+        toml::from_str(CSV_COLUMNS_TOML).expect("the embedded data/csv_columns.toml is valid")
+    })
+}
+
+/// The unit a column's name ends in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Unit {
+    /// `_min`: minutes since the cold start.
+    Minutes,
+    /// `_mm`: a position in millimetres.
+    Millimetres,
+}
+
+impl Unit {
+    fn of(name: &str) -> Option<Unit> {
+        if name.ends_with("_min") {
+            Some(Unit::Minutes)
+        } else if name.ends_with("_mm") {
+            Some(Unit::Millimetres)
+        } else {
+            None
+        }
+    }
+
+    fn range(self) -> &'static UnitRange {
+        match self {
+            Unit::Minutes => &ranges().min,
+            Unit::Millimetres => &ranges().mm,
+        }
+    }
+}
+
+/// The columns a reader knows: those it needs and those it may use.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Columns<'a> {
+    pub required: &'a [&'a str],
+    pub optional: &'a [&'a str],
+    /// Whether a row may end before optional columns, which it then
+    /// leaves empty (a schedule's visit `p10,120` under
+    /// `target,time_min,kind,end_min`); otherwise a short row is an error.
+    pub short_rows: bool,
+}
+
+/// At most this many characters of a field are shown in a message: a
+/// 10 MB field is not echoed.
+const SHOWN_CHARS: usize = 40;
+
+/// A field as a message shows it: at most [`SHOWN_CHARS`] characters.
+fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(SHOWN_CHARS) {
+        None => text.to_string(),
+        Some((end, _)) => format!("{}… ({} bytes)", &text[..end], text.len()),
+    }
+}
+
+/// A number as a message shows it: `9e9`, not ten digits.
+fn shown(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
 
 /// A parsed CSV file: header names and rows of raw fields, each row keeping
 /// the 1-based line it came from.
@@ -14,7 +113,13 @@ pub struct CsvTable {
     pub file: String,
     pub header: Vec<String>,
     header_line: usize,
+    header_offset: usize,
     pub rows: Vec<CsvRow>,
+    /// The unit each column's name says, column by column.
+    units: Vec<Option<Unit>>,
+    /// What [`CsvTable::read`] assumed (columns it ignored), for the
+    /// caller to show.
+    pub warnings: Vec<String>,
     src: String,
 }
 
@@ -28,8 +133,33 @@ pub struct CsvRow {
 }
 
 impl CsvTable {
-    /// Parse `bytes` (the contents of `file`, used only in messages).
+    /// Parse `bytes` (the contents of `file`, used only in messages) as a
+    /// file of the columns `columns`: [`CsvTable::parse`], then every
+    /// required column present, and each column it does not know named in
+    /// [`CsvTable::warnings`] as ignored.
+    pub fn read(file: &str, bytes: &[u8], columns: &Columns) -> Result<CsvTable> {
+        let mut table = CsvTable::parse_rows(file, bytes, Some(columns))?;
+        for name in columns.required {
+            table.require(name)?;
+        }
+        let mut known = columns.required.to_vec();
+        known.extend(columns.optional);
+        table.warnings = table
+            .unknown_columns(&known)
+            .into_iter()
+            .map(|c| format!("{file}: column `{}` ignored", excerpt(&c)))
+            .collect();
+        Ok(table)
+    }
+
+    /// Parse `bytes` (the contents of `file`, used only in messages): every
+    /// row as many fields as the header, no column named twice, no row
+    /// that repeats the header.
     pub fn parse(file: &str, bytes: &[u8]) -> Result<CsvTable> {
+        CsvTable::parse_rows(file, bytes, None)
+    }
+
+    fn parse_rows(file: &str, bytes: &[u8], columns: Option<&Columns>) -> Result<CsvTable> {
         let src = std::str::from_utf8(bytes)
             .map_err(|e| {
                 Error::input("CSV files must be UTF-8").at(Location::from_offset(
@@ -42,7 +172,7 @@ impl CsvTable {
         // Lines are split here rather than by the csv crate so that line
         // numbers count comment and blank lines exactly; each line is one
         // record (quoted fields may hold commas, not line breaks).
-        let mut header: Option<(Vec<String>, usize)> = None;
+        let mut header: Option<(Vec<String>, usize, usize)> = None;
         let mut rows = Vec::new();
         let mut offset = 0;
         for (index, raw) in src.split_inclusive('\n').enumerate() {
@@ -65,6 +195,7 @@ impl CsvTable {
                 header = Some((
                     fields.iter().map(|f| f.to_ascii_lowercase()).collect(),
                     line,
+                    start,
                 ));
             } else {
                 rows.push(CsvRow {
@@ -74,15 +205,110 @@ impl CsvTable {
                 });
             }
         }
-        let (header, header_line) =
+        let (header, header_line, header_offset) =
             header.ok_or_else(|| Error::input_at(file, 1, 1, "empty file: no header row"))?;
-        Ok(CsvTable {
+        let units = header.iter().map(|h| Unit::of(h)).collect();
+        let table = CsvTable {
             file: file.to_string(),
             header,
             header_line,
+            header_offset,
             rows,
+            units,
+            warnings: Vec::new(),
             src,
-        })
+        };
+        table.check_header()?;
+        for row in &table.rows {
+            table.check_row(row, columns)?;
+        }
+        Ok(table)
+    }
+
+    /// No column named twice, and none unnamed: one of two `t1_c` columns
+    /// would be used and the other silently dropped.
+    fn check_header(&self) -> Result<()> {
+        for (k, name) in self.header.iter().enumerate() {
+            if name.is_empty() && self.header.len() > 1 {
+                return Err(
+                    Error::input(format!("column {} of the header has no name", k + 1))
+                        .at(self.header_location(k)),
+                );
+            }
+            if let Some(first) = self.header[..k].iter().position(|h| h == name) {
+                return Err(Error::input(format!(
+                    "column `{}` is named twice (columns {} and {}): which one is meant?",
+                    excerpt(name),
+                    first + 1,
+                    k + 1
+                ))
+                .at(self.header_location(k)));
+            }
+        }
+        Ok(())
+    }
+
+    /// A row with as many fields as the header (fewer only where
+    /// `columns` lets a row end before optional columns), and not the
+    /// header again (two files joined).
+    fn check_row(&self, row: &CsvRow, columns: Option<&Columns>) -> Result<()> {
+        let (n, m) = (row.fields.len(), self.header.len());
+        if n > m {
+            let mut why = format!(
+                "this row has {n} fields, the header {m}: the field `{}` has no column",
+                excerpt(&row.fields[m])
+            );
+            if row.fields.iter().all(|f| looks_numeric(f)) {
+                why.push_str(
+                    "; decimal commas? rapidtherm reads `20.5` (a comma separates fields), and a field split at its comma shifts every field after it",
+                );
+            }
+            return Err(Error::input(why).at(self.field_location(row, m)));
+        }
+        if n < m {
+            let missing = &self.header[n..];
+            let allowed = columns.is_some_and(|c| {
+                c.short_rows
+                    && missing
+                        .iter()
+                        .all(|h| c.optional.iter().any(|o| o.eq_ignore_ascii_case(h)))
+            });
+            if !allowed {
+                let names: Vec<String> = missing
+                    .iter()
+                    .map(|h| format!("`{}`", excerpt(h)))
+                    .collect();
+                let mut at = self.field_location(row, n.saturating_sub(1));
+                at.col = at.col.max(1) + row.fields.last().map_or(0, |f| f.chars().count());
+                let what = match names.as_slice() {
+                    [one] => format!("column {one} is missing"),
+                    many => format!("columns {} are missing", many.join(", ")),
+                };
+                return Err(Error::input(format!(
+                    "this row has {n} fields, the header {m}: {what}"
+                ))
+                .at(at));
+            }
+        }
+        if n == m
+            && row
+                .fields
+                .iter()
+                .zip(&self.header)
+                .all(|(f, h)| f.eq_ignore_ascii_case(h))
+        {
+            return Err(Error::input(
+                "this row repeats the header: two files joined? Each file has one header row",
+            )
+            .at(self.field_location(row, 0)));
+        }
+        Ok(())
+    }
+
+    /// Location of column `k` of the header.
+    fn header_location(&self, k: usize) -> Location {
+        self.line_location(self.header_line, 0)
+            .with_offset_hint(&self.src, self.header_offset, k)
     }
 
     /// Index of a column, matched without regard to case.
@@ -95,9 +321,10 @@ impl CsvTable {
     /// Index of a column that must be present.
     pub fn require(&self, name: &str) -> Result<usize> {
         self.column(name).ok_or_else(|| {
+            let names: Vec<String> = self.header.iter().map(|h| excerpt(h)).collect();
             Error::input(format!(
                 "missing required column `{name}` (the header has: {})",
-                self.header.join(", ")
+                names.join(", ")
             ))
             .at(self.line_location(self.header_line, 0))
         })
@@ -119,23 +346,57 @@ impl CsvTable {
             Error::input(format!(
                 "row has {} fields, column `{}` is missing",
                 row.fields.len(),
-                self.header[col]
+                excerpt(&self.header[col])
             ))
             .at(self.field_location(row, row.fields.len().saturating_sub(1)))
         })
     }
 
-    /// A finite number in a field.
+    /// A finite number in a field, within the range of its column's unit
+    /// (`data/csv_columns.toml`).
     pub fn number(&self, row: &CsvRow, col: usize) -> Result<f64> {
         let text = self.text(row, col)?;
-        match text.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(Error::input(format!(
-                "column `{}`: `{}` is not a finite number",
-                self.header[col], text
-            ))
-            .at(self.field_location(row, col))),
+        let v = match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => v,
+            _ => {
+                return Err(Error::input(format!(
+                    "column `{}`: `{}` is not a finite number",
+                    excerpt(&self.header[col]),
+                    excerpt(text)
+                ))
+                .at(self.field_location(row, col)))
+            }
+        };
+        match self.units.get(col).copied().flatten() {
+            Some(unit) => self.in_range(v, unit, row, col),
+            None => Ok(v),
         }
+    }
+
+    /// `v` if within the range of `unit`, else an error at the field.
+    fn in_range(&self, v: f64, unit: Unit, row: &CsvRow, col: usize) -> Result<f64> {
+        let r = unit.range();
+        if (r.lowest..=r.highest).contains(&v) {
+            return Ok(v);
+        }
+        let name = excerpt(&self.header[col]);
+        let why = match unit {
+            Unit::Minutes if v < 0.0 => format!(
+                "`{name}` is {}: minutes since the cold start cannot be negative (a time before the cold start)",
+                shown(v)
+            ),
+            Unit::Minutes => format!(
+                "`{name}` is {} min: not a time since a cold start (rapidtherm takes 0 to {} min, a year)",
+                shown(v),
+                r.highest
+            ),
+            Unit::Millimetres => format!(
+                "`{name}` = {} mm is not a plausible position (more than {} m from the origin): a unit or column mistake?",
+                shown(v),
+                r.highest.max(-r.lowest) / 1000.0
+            ),
+        };
+        Err(Error::input(why).at(self.field_location(row, col)))
     }
 
     /// An optional numeric column: `None` when absent from the header.
@@ -174,7 +435,7 @@ impl CsvTable {
                 if t < prev {
                     return Err(Error::input(format!(
                         "`{}` goes backwards: {t} after {prev}",
-                        self.header[col]
+                        excerpt(&self.header[col])
                     ))
                     .at(self.field_location(row, col)));
                 }
@@ -183,6 +444,15 @@ impl CsvTable {
         }
         Ok(())
     }
+}
+
+/// Whether a field could be (part of) a number: digits, signs, points,
+/// exponents (a decimal comma's halves are).
+fn looks_numeric(field: &str) -> bool {
+    !field.is_empty()
+        && field
+            .chars()
+            .all(|c| c.is_ascii_digit() || matches!(c, '.' | '-' | '+' | 'e' | 'E'))
 }
 
 /// One CSV line as trimmed fields, quotes removed.
@@ -279,6 +549,17 @@ mod tests {
         let t = CsvTable::parse("h.csv", "\u{FEFF}time_min,t1_c\n0,7\n".as_bytes()).unwrap();
         assert_eq!(t.header, vec!["time_min", "t1_c"]);
         assert!(t.require("time_min").is_ok());
+    }
+
+    #[test]
+    fn the_embedded_ranges_are_data_csv_columns() {
+        // data/csv_columns.toml: a year of minutes, 100 m either way.
+        let r = ranges();
+        assert_eq!((r.min.lowest, r.min.highest), (0.0, 525_600.0));
+        assert_eq!((r.mm.lowest, r.mm.highest), (-100_000.0, 100_000.0));
+        let t = CsvTable::parse("s.csv", b"target,time_min\np10,9E+09\n").unwrap();
+        let e = t.number(&t.rows[0], 1).unwrap_err();
+        assert_eq!(e.location.unwrap().col, 5);
     }
 
     #[test]

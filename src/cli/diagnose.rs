@@ -305,6 +305,7 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
         .chain(args.robot.as_deref())
         .collect();
     super::output::check_file("-o", &args.output)?;
+    diagnose::simulate::check_noise(args.noise)?;
     let mut writes = Plan::new(false);
     for f in inputs {
         writes.input(f);
@@ -327,9 +328,6 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
         measured_temps: args.temps == TempsSource::Measured,
         seed: args.seed,
     };
-    if !(args.noise.is_finite() && args.noise >= 0.0) {
-        return Err(Error::usage("--noise must be a finite number >= 0"));
-    }
     let profile = model.profile()?;
     let meas = simulate_arm(&spec, &setup.arm.map, profile.as_ref())?;
     write_output(&checked, &args.output, meas.to_csv().as_bytes())?;

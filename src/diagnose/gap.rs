@@ -161,11 +161,16 @@ pub fn estimate_noise(problem: &Problem, gaps: &[Vector3<f64>]) -> Option<(f64, 
 pub fn noise_level(problem: &Problem, gaps: &[Vector3<f64>], given: Option<f64>) -> Result<Noise> {
     let instrument = instrument()?;
     Ok(match given {
-        Some(v) if v.is_finite() && v > 0.0 => Noise::new(v, NoiseSource::Given),
+        // At most the noisiest instrument's (data/instrument.toml): a
+        // noise of 1e300 mm calls every gap noise.
+        Some(v) if v.is_finite() && v > 0.0 && v <= instrument.position.max_noise_mm => {
+            Noise::new(v, NoiseSource::Given)
+        }
         Some(_) => {
-            return Err(Error::usage(
-                "the measurement noise must be a positive number of mm",
-            ))
+            return Err(Error::usage(format!(
+                "the measurement noise must be a positive number of mm, at most {} (data/instrument.toml)",
+                instrument.position.max_noise_mm
+            )))
         }
         None => match estimate_noise(problem, gaps) {
             Some((s, k)) => Noise::new(

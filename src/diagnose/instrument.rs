@@ -25,6 +25,8 @@ pub struct PositionNoise {
     pub noise_mm: f64,
     /// Floor of an estimated noise level, mm per axis.
     pub min_noise_mm: f64,
+    /// Largest noise of an instrument, mm per axis.
+    pub max_noise_mm: f64,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -5,7 +5,7 @@
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Result};
 use crate::robot::Joints;
-use crate::thermal::MotorTemps;
+use crate::thermal::{plausible, MotorTemps};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use std::fmt::Write as _;
 
@@ -138,14 +138,8 @@ impl Measurements {
                 Some(c) => {
                     let mut t = [0.0; 6];
                     for i in 0..6 {
-                        t[i] = table.number(row, c[i])?;
-                        if !(-60.0..=250.0).contains(&t[i]) {
-                            return Err(Error::input(format!(
-                                "motor temperature {} °C is not plausible (expected -60..250 °C)",
-                                t[i]
-                            ))
-                            .at(table.field_location(row, c[i])));
-                        }
+                        let v = table.number(row, c[i])?;
+                        t[i] = plausible::check(v, || table.field_location(row, c[i]))?;
                     }
                     Some(t)
                 }
@@ -169,7 +163,13 @@ impl Measurements {
                 position,
                 orientation,
                 temps,
-                ambient: table.optional_number(row, ambient)?,
+                ambient: match ambient {
+                    Some(c) => {
+                        let v = table.number(row, c)?;
+                        Some(plausible::check_room(v, || table.field_location(row, c))?)
+                    }
+                    None => None,
+                },
                 pose,
             });
         }

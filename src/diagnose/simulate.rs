@@ -140,6 +140,29 @@ pub fn simulate(spec: &SimSpec, profile: &dyn HeatingProfile) -> Result<Measurem
     simulate_arm(spec, &ArmMap::default(), profile)
 }
 
+/// A simulated instrument's noise, mm per axis: finite, not negative, and
+/// at most `data/instrument.toml`'s largest (a usage error otherwise,
+/// before anything is read).
+pub fn check_noise(noise_mm: f64) -> Result<()> {
+    if !(noise_mm.is_finite() && noise_mm >= 0.0) {
+        return Err(Error::usage(
+            "the simulated tracker noise must be a finite number of mm >= 0",
+        ));
+    }
+    let largest = instrument()?.position.max_noise_mm;
+    if noise_mm > largest {
+        let shown = if noise_mm >= 1e6 {
+            format!("{noise_mm:e}")
+        } else {
+            noise_mm.to_string()
+        };
+        return Err(Error::usage(format!(
+            "a tracker noise of {shown} mm is no instrument's: rapidtherm takes at most {largest} mm per axis (data/instrument.toml), and the effects it simulates are hundredths to tenths of a mm"
+        )));
+    }
+    Ok(())
+}
+
 /// [`simulate`] for any OPW-shaped arm: `spec.poses` are the robot's
 /// joints, mapped by `map` to the chain's; orientations are the robot's
 /// tool0.
@@ -148,11 +171,7 @@ pub fn simulate_arm(
     map: &ArmMap,
     profile: &dyn HeatingProfile,
 ) -> Result<Measurements> {
-    if !(spec.noise_mm.is_finite() && spec.noise_mm >= 0.0) {
-        return Err(Error::usage(
-            "the simulated tracker noise must be a finite number of mm >= 0",
-        ));
-    }
+    check_noise(spec.noise_mm)?;
     if spec.times.len().saturating_mul(spec.poses.len()) > 5_000_000 {
         return Err(Error::usage("simulate: more than 5,000,000 rows asked for"));
     }

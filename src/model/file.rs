@@ -305,11 +305,11 @@ impl Model {
                 );
             }
         }
-        if !(th.k0.is_finite() && (0.0..=100.0).contains(&th.k0)) {
-            return bad(
-                vec![Key("thermal"), Key("k0")],
-                "must be a finite factor from 0 to 100",
-            );
+        if !th.k0.is_finite() {
+            return bad(vec![Key("thermal"), Key("k0")], "must be a finite factor");
+        }
+        if let Some(why) = super::plausible::implausible_k0(th.k0) {
+            return bad(vec![Key("thermal"), Key("k0")], &why);
         }
         if !(th.t_ref.is_finite() && (-50.0..=150.0).contains(&th.t_ref)) {
             return bad(
@@ -332,6 +332,14 @@ impl Model {
                     return Err(Invalid {
                         at: at(vec![Key("params"), Part::Name(key.clone())]),
                         message: e.message,
+                    });
+                }
+                // The project's own bounds of a real arm: a model beyond
+                // them moves targets by centimetres.
+                if let Some(why) = super::plausible::implausible(kind, key, *value) {
+                    return Err(Invalid {
+                        at: at(vec![Key("params"), Part::Name(key.clone())]),
+                        message: why,
                     });
                 }
             }

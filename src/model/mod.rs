@@ -5,7 +5,8 @@
 //! Owns: the model file ([`mod@file`], its embedded default), the base
 //! thermal expansion ([`expansion`]), the effect library of
 //! `docs/model.md` ("The effect library") ([`effects`]), the perturbed kinematic chain
-//! ([`chain`], [`perturb`]) and [`warm::WarmRobot`].
+//! ([`chain`], [`perturb`]), the bounds of a plausible model
+//! ([`plausible`]) and [`warm::WarmRobot`].
 //!
 //! May import: `robot` (geometry), `thermal` (temperatures over time) and
 //! the shared `error`. Never `resolve`, `schedule`, `correct` or
@@ -18,6 +19,7 @@ pub mod file;
 pub mod file_place;
 pub mod general;
 pub mod perturb;
+pub mod plausible;
 pub mod warm;
 
 pub use effects::{Effect, EffectKind};

@@ -13,6 +13,25 @@ use std::collections::HashMap;
 /// `docs/model.md` and the ABB product specification.
 pub const IRB140_URDF: &str = include_str!("../../data/irb140/irb140.urdf");
 
+/// The bounds of a chain's length (`data/urdf_size.toml`).
+pub const URDF_SIZE_TOML: &str = include_str!("../../data/urdf_size.toml");
+
+#[derive(Debug, Clone, Copy, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Size {
+    shortest_mm: f64,
+    longest_mm: f64,
+}
+
+/// The embedded bounds, parsed once (a unit test parses the file, so the
+/// `expect` cannot fire on a tested build).
+fn size() -> Size {
+    static SIZE: std::sync::OnceLock<Size> = std::sync::OnceLock::new();
+    *SIZE.get_or_init(|| {
+        toml::from_str(URDF_SIZE_TOML).expect("the embedded data/urdf_size.toml is valid")
+    })
+}
+
 /// What a URDF gives the robot model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UrdfArm {
@@ -117,6 +136,18 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
     let mut pending = Isometry3::identity();
     for &i in &path {
         let j = &robot.joints[i];
+        if let Some(m) = &j.mimic {
+            // A joint that follows another is no axis of its own: taken
+            // as one, the arm would move it freely.
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "joint `{}` mimics joint `{}` (`<mimic>`): rapidtherm models an arm of six independent axes, and a coupled joint on the arm's chain is not one",
+                    j.name, m.joint
+                ),
+            )
+            .at(index.joint(&j.name)));
+        }
         match &j.joint_type {
             urdf_rs::JointType::Fixed => pending *= pose_of(&j.origin),
             urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
@@ -186,6 +217,7 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
     if !finite {
         return Err(bad("a joint origin is not finite".into()));
     }
+    check_size(file, &joints, &pending, &index)?;
     // Every link with a mass that one of the arm's joints moves (a branch
     // off the arm, or the base, is not the arm's load).
     let mut masses = Vec::new();
@@ -227,6 +259,38 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
         limits: std::array::from_fn(|i| limits[i]),
         max_speed_deg_s: std::array::from_fn(|i| speeds[i]),
     })
+}
+
+/// A chain as long as a six-axis arm's (`data/urdf_size.toml`): not
+/// written in millimetres, not every joint at the origin.
+fn check_size(
+    file: &str,
+    joints: &[ChainJoint; 6],
+    tip: &Isometry3<f64>,
+    index: &UrdfIndex,
+) -> Result<()> {
+    let b = size();
+    let length: f64 = joints
+        .iter()
+        .map(|j| j.origin.translation.vector.norm())
+        .sum::<f64>()
+        + tip.translation.vector.norm();
+    if length > b.longest_mm {
+        return Err(Error::input(format!(
+            "{file}: the arm's chain is {:.0} m long (its joint origins summed, base to flange): no six-axis arm is longer than {} m. Is the URDF in millimetres? URDF lengths are metres",
+            length / 1000.0,
+            b.longest_mm / 1000.0
+        ))
+        .at(index.joint(&joints[0].name)));
+    }
+    if length < b.shortest_mm {
+        return Err(Error::input(format!(
+            "{file}: the arm's chain is {length:.1} mm long (its joint origins summed, base to flange): the joints sit at or next to one point, and no six-axis arm is shorter than {} mm. Are the joints' `<origin>`s missing?",
+            b.shortest_mm
+        ))
+        .at(index.joint(&joints[0].name)));
+    }
+    Ok(())
 }
 
 /// The pose of link `link` in the flange (tool0) frame of `arm`, the chain
@@ -275,5 +339,18 @@ fn joint_type_name(t: &urdf_rs::JointType) -> &'static str {
         urdf_rs::JointType::Floating => "floating",
         urdf_rs::JointType::Planar => "planar",
         urdf_rs::JointType::Spherical => "spherical",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_embedded_size_bounds_parse_and_hold_the_irb140() {
+        let b = size();
+        assert_eq!((b.shortest_mm, b.longest_mm), (50.0, 20_000.0));
+        // sqrt(70² + 352²) + 360 + 380 + 65 = 1163.89 mm.
+        assert!(parse("irb140.urdf", IRB140_URDF).is_ok());
     }
 }

@@ -55,20 +55,45 @@ pub struct Estimate {
 
 impl Estimate {
     /// The schedule as CSV (the format [`Schedule::read`] takes back):
-    /// robtargets and jointtargets together, in time order. A jointtarget
-    /// whose identifier is also a robtarget's (inline `main#1` of both
-    /// kinds) is left out: one file has one name space.
+    /// robtargets and jointtargets together, in time order. Where a
+    /// jointtarget's identifier is also a robtarget's (inline `main#1` of
+    /// both kinds), every row says its kind (`target,time_min,kind`), so
+    /// that `correct --schedule` gives each its own visits.
     pub fn to_csv(&self) -> String {
+        let clash = self
+            .joint_schedule
+            .targets()
+            .any(|id| self.schedule.times(id).is_some());
+        if clash {
+            return self.typed_csv();
+        }
         let mut all = self.schedule.clone();
         for id in self.joint_schedule.targets() {
-            if self.schedule.times(id).is_some() {
-                continue;
-            }
             for &t in self.joint_schedule.times(id).unwrap_or(&[]) {
                 all.visit(id, t);
             }
         }
         all.to_csv()
+    }
+
+    /// Every visit with its kind, in time order (robtargets first at a
+    /// tie, then first-visit order).
+    fn typed_csv(&self) -> String {
+        let mut rows: Vec<(f64, usize, &str, &str)> = Vec::new();
+        let n = self.schedule.targets().len();
+        for (i, (name, times)) in self.schedule.entries().enumerate() {
+            rows.extend(times.iter().map(|&t| (t, i, name, "robtarget")));
+        }
+        for (j, (name, times)) in self.joint_schedule.entries().enumerate() {
+            rows.extend(times.iter().map(|&t| (t, n + j, name, "jointtarget")));
+        }
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut out = String::from("target,time_min,kind\n");
+        for (t, _, name, kind) in rows {
+            out.push_str(&super::file::csv_field(name));
+            out.push_str(&format!(",{t:.4},{kind}\n"));
+        }
+        out
     }
 }
 
@@ -268,7 +293,7 @@ fn clashes(e: &mut Estimate) {
     for id in e.joint_schedule.targets() {
         if both.contains(lower(id).as_ref()) {
             e.notes.push(format!(
-                "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV lists the robtarget's visits only"
+                "jointtarget {id} has the identifier of robtarget {id} (two name spaces, one schedule file): the CSV says each row's kind"
             ));
         }
     }

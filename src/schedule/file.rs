@@ -2,7 +2,8 @@
 //! the `target,time_min` CSV file of `docs/formats.md`, and which
 //! visit a correction is for.
 
-use crate::csv_table::{CsvRow, CsvTable};
+use super::names::{ProgramNames, TargetKind};
+use crate::csv_table::{Columns, CsvRow, CsvTable};
 use crate::digest::Encoder;
 use crate::error::{Error, Result};
 use std::borrow::Cow;
@@ -365,103 +366,41 @@ impl Schedule {
     /// Read a schedule file (`target,time_min[,kind][,end_min]`). Several
     /// rows may name one target: each is a visit. A row of kind `idle` is
     /// a span over which the robot stood, from `time_min` to `end_min`
-    /// (its target left empty).
+    /// (its target left empty). Every visit row is taken, whatever its
+    /// kind: [`Schedule::read_file`] keeps the two name spaces apart and
+    /// checks the rows against a program.
     pub fn read(file: &str, bytes: &[u8]) -> Result<Schedule> {
-        let table = CsvTable::parse(file, bytes)?;
-        let target = table.require("target")?;
-        let time = table.require("time_min")?;
-        let kind = table.column("kind");
-        let end = table.column("end_min");
-        let mut schedule = Schedule::new();
-        // Each idle span with the row it came from, for the errors of
-        // the checks that need every span and visit.
-        let mut spans: Vec<(IdleSpan, usize)> = Vec::new();
-        let mut visits: Vec<(usize, f64)> = Vec::new();
-        let end_of = |row: &CsvRow| -> Result<Option<f64>> {
-            match end {
-                Some(e) if !field(row, end).is_empty() => table.number(row, e).map(Some),
-                _ => Ok(None),
-            }
+        let rows = read_rows(file, bytes, None)?;
+        Ok(rows.build(|_| true))
+    }
+
+    /// Read a schedule file as [`Schedule::read`] does, keeping the
+    /// robtargets' and the jointtargets' visits apart where any row says
+    /// its kind (`joints` is then the jointtargets' visits: the rows of
+    /// kind `jointtarget` and those without a kind; `schedule` the
+    /// others). Given `names`, the program's, every row must name a target
+    /// of the program of its kind, and a row without a kind a target of
+    /// one kind, not of both; each error at its row.
+    pub fn read_file(
+        file: &str,
+        bytes: &[u8],
+        names: Option<&ProgramNames>,
+    ) -> Result<ScheduleFile> {
+        let rows = read_rows(file, bytes, names)?;
+        let typed = rows.visits.iter().any(|v| v.1.is_some());
+        let (schedule, joints) = if typed {
+            (
+                rows.build(|k| k != Some(TargetKind::Jointtarget)),
+                Some(rows.build(|k| k != Some(TargetKind::Robtarget))),
+            )
+        } else {
+            (rows.build(|_| true), None)
         };
-        for (r, row) in table.rows.iter().enumerate() {
-            let name = table.text(row, target)?;
-            let t = table.number(row, time)?;
-            if t < 0.0 {
-                return Err(Error::input(format!(
-                    "time {t} min is before the cold start (times are minutes since it)"
-                ))
-                .at(table.field_location(row, time)));
-            }
-            let row_kind = RowKind::parse(field(row, kind)).ok_or_else(|| {
-                Error::input(format!(
-                    "unknown kind `{}` (known: idle, robtarget, jointtarget, or empty for a visit)",
-                    field(row, kind)
-                ))
-                .at(table.field_location(row, kind.unwrap_or(target)))
-            })?;
-            match row_kind {
-                RowKind::Idle => {
-                    if !name.is_empty() {
-                        return Err(Error::input(
-                            "an idle span names no target (leave `target` empty)",
-                        )
-                        .at(table.field_location(row, target)));
-                    }
-                    let to = end_of(row)?.ok_or_else(|| {
-                        Error::input("an idle span needs its end, `end_min`")
-                            .at(table.field_location(row, end.unwrap_or(time)))
-                    })?;
-                    if to <= t {
-                        return Err(Error::input(format!(
-                            "an idle span ends at minute {to}, not after its start {t}"
-                        ))
-                        .at(table.field_location(row, end.unwrap_or(time))));
-                    }
-                    spans.push((
-                        IdleSpan {
-                            from_min: t,
-                            to_min: to,
-                        },
-                        r,
-                    ));
-                }
-                RowKind::Visit => {
-                    if name.is_empty() {
-                        return Err(Error::input("empty target identifier")
-                            .at(table.field_location(row, target)));
-                    }
-                    if let (Some(e), Some(_)) = (end, end_of(row)?) {
-                        return Err(Error::input(
-                            "a visit has no end: `end_min` belongs to idle spans",
-                        )
-                        .at(table.field_location(row, e)));
-                    }
-                    schedule.visit(name, t);
-                    visits.push((r, t));
-                }
-            }
-        }
-        spans.sort_by(|a, b| a.0.from_min.total_cmp(&b.0.from_min));
-        for pair in spans.windows(2) {
-            if pair[1].0.from_min < pair[0].0.to_min {
-                let row = &table.rows[pair[1].1];
-                return Err(Error::input(format!(
-                    "this idle span (from minute {}) overlaps the one from minute {} to {}",
-                    pair[1].0.from_min, pair[0].0.from_min, pair[0].0.to_min
-                ))
-                .at(table.field_location(row, time)));
-            }
-        }
-        let only: Vec<IdleSpan> = spans.iter().map(|(s, _)| *s).collect();
-        for (r, t) in visits {
-            if let Some(span) = span_holding(&only, t) {
-                let row = &table.rows[r];
-                let name = table.text(row, target)?;
-                return Err(visit_in_span(name, t, span).at(table.field_location(row, time)));
-            }
-        }
-        schedule.idle = only;
-        Ok(schedule)
+        Ok(ScheduleFile {
+            schedule,
+            joints,
+            warnings: rows.warnings,
+        })
     }
 
     /// The schedule as CSV, one row per visit in time order: the format
@@ -489,6 +428,207 @@ impl Schedule {
     }
 }
 
+/// A schedule file read: the robtargets' visits, the jointtargets'
+/// where the file keeps them apart, and what the reader assumed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScheduleFile {
+    /// The robtargets' visits (every visit where no row says its kind).
+    pub schedule: Schedule,
+    /// The jointtargets' visits, where a row says its kind; `None`: they
+    /// are looked up in `schedule`.
+    pub joints: Option<Schedule>,
+    /// Columns ignored, for the caller to show.
+    pub warnings: Vec<String>,
+}
+
+/// The columns of a schedule file.
+const COLUMNS: Columns<'static> = Columns {
+    required: &["target", "time_min"],
+    optional: &["kind", "end_min"],
+    // `p10,120` under `target,time_min,kind,end_min`: a visit leaves the
+    // idle spans' columns empty (docs/formats.md's example).
+    short_rows: true,
+};
+
+/// A schedule file's rows, checked: each visit's row, kind and minute.
+struct Rows {
+    table: CsvTable,
+    target: usize,
+    visits: Vec<(usize, Option<TargetKind>, f64)>,
+    idle: Vec<IdleSpan>,
+    warnings: Vec<String>,
+}
+
+impl Rows {
+    /// The schedule of the visits whose kind `keep` takes, with the idle
+    /// spans.
+    fn build(&self, keep: impl Fn(Option<TargetKind>) -> bool) -> Schedule {
+        let mut schedule = Schedule::new();
+        for &(r, kind, t) in &self.visits {
+            if keep(kind) {
+                schedule.visit(&self.table.rows[r].fields[self.target], t);
+            }
+        }
+        schedule.idle = self.idle.clone();
+        schedule
+    }
+}
+
+/// The rows of a schedule file, every one checked (against the
+/// program's `names` where given).
+fn read_rows(file: &str, bytes: &[u8], names: Option<&ProgramNames>) -> Result<Rows> {
+    let mut table = CsvTable::read(file, bytes, &COLUMNS)?;
+    let target = table.require("target")?;
+    let time = table.require("time_min")?;
+    let kind = table.column("kind");
+    let end = table.column("end_min");
+    // Each idle span with the row it came from, for the errors of the
+    // checks that need every span and visit.
+    let mut spans: Vec<(IdleSpan, usize)> = Vec::new();
+    let mut visits: Vec<(usize, Option<TargetKind>, f64)> = Vec::new();
+    let end_of = |row: &CsvRow| -> Result<Option<f64>> {
+        match end {
+            Some(e) if !field(row, end).is_empty() => table.number(row, e).map(Some),
+            _ => Ok(None),
+        }
+    };
+    for (r, row) in table.rows.iter().enumerate() {
+        let name = table.text(row, target)?;
+        let t = table.number(row, time)?;
+        let row_kind = RowKind::parse(field(row, kind)).ok_or_else(|| {
+            Error::input(format!(
+                "unknown kind `{}` (known: idle, robtarget, jointtarget, or empty for a visit)",
+                excerpt(field(row, kind))
+            ))
+            .at(table.field_location(row, kind.unwrap_or(target)))
+        })?;
+        match row_kind {
+            RowKind::Idle => {
+                if !name.is_empty() {
+                    return Err(Error::input(
+                        "an idle span names no target (leave `target` empty)",
+                    )
+                    .at(table.field_location(row, target)));
+                }
+                let to = end_of(row)?.ok_or_else(|| {
+                    Error::input("an idle span needs its end, `end_min`")
+                        .at(table.field_location(row, end.unwrap_or(time)))
+                })?;
+                if to <= t {
+                    return Err(Error::input(format!(
+                        "an idle span ends at minute {to}, not after its start {t}"
+                    ))
+                    .at(table.field_location(row, end.unwrap_or(time))));
+                }
+                spans.push((
+                    IdleSpan {
+                        from_min: t,
+                        to_min: to,
+                    },
+                    r,
+                ));
+            }
+            RowKind::Visit(target_kind) => {
+                if name.is_empty() {
+                    return Err(Error::input("empty target identifier")
+                        .at(table.field_location(row, target)));
+                }
+                if let (Some(e), Some(_)) = (end, end_of(row)?) {
+                    return Err(Error::input(
+                        "a visit has no end: `end_min` belongs to idle spans",
+                    )
+                    .at(table.field_location(row, e)));
+                }
+                if let Some(names) = names {
+                    check_name(names, name, target_kind)
+                        .map_err(|e| e.at(table.field_location(row, target)))?;
+                }
+                visits.push((r, target_kind, t));
+            }
+        }
+    }
+    spans.sort_by(|a, b| a.0.from_min.total_cmp(&b.0.from_min));
+    for pair in spans.windows(2) {
+        // A span that begins where another ends is one stop written as
+        // two, or a typo of a time: neither may touch.
+        if pair[1].0.from_min <= pair[0].0.to_min {
+            let row = &table.rows[pair[1].1];
+            let how = if pair[1].0.from_min < pair[0].0.to_min {
+                "overlaps"
+            } else {
+                "touches"
+            };
+            return Err(Error::input(format!(
+                "this idle span (from minute {}) {how} the one from minute {} to {}: spans may neither overlap nor touch (one stop is one span)",
+                pair[1].0.from_min, pair[0].0.from_min, pair[0].0.to_min
+            ))
+            .at(table.field_location(row, time)));
+        }
+    }
+    let only: Vec<IdleSpan> = spans.iter().map(|(s, _)| *s).collect();
+    for &(r, _, t) in &visits {
+        if let Some(span) = span_holding(&only, t) {
+            let row = &table.rows[r];
+            let name = table.text(row, target)?;
+            return Err(visit_in_span(name, t, span).at(table.field_location(row, time)));
+        }
+    }
+    let warnings = std::mem::take(&mut table.warnings);
+    Ok(Rows {
+        table,
+        target,
+        visits,
+        idle: only,
+        warnings,
+    })
+}
+
+/// Whether the program's `names` hold `id` as a row of `kind` means it:
+/// of that kind, or, without a kind, of one kind only.
+fn check_name(names: &ProgramNames, id: &str, kind: Option<TargetKind>) -> Result<()> {
+    let shown = excerpt(id);
+    match kind {
+        Some(k) if names.has(k, id) => Ok(()),
+        Some(k) => {
+            let other = match k {
+                TargetKind::Robtarget => TargetKind::Jointtarget,
+                TargetKind::Jointtarget => TargetKind::Robtarget,
+            };
+            let mut why = format!(
+                "this row names {} `{shown}`, which the program does not have",
+                k.name()
+            );
+            if names.has(other, id) {
+                why.push_str(&format!(
+                    " (it has a {} of that name: its visits are not this one's)",
+                    other.name()
+                ));
+            }
+            Err(Error::input(why))
+        }
+        None => match (
+            names.has(TargetKind::Robtarget, id),
+            names.has(TargetKind::Jointtarget, id),
+        ) {
+            (true, false) | (false, true) => Ok(()),
+            (true, true) => Err(Error::input(format!(
+                "`{shown}` names both a robtarget and a jointtarget of the program (two name spaces): say which in a `kind` column"
+            ))),
+            (false, false) => Err(Error::input(format!(
+                "the schedule names target `{shown}`, which the program does not have"
+            ))),
+        },
+    }
+}
+
+/// A field as a message shows it: at most 40 characters.
+fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        None => text.to_string(),
+        Some((end, _)) => format!("{}…", &text[..end]),
+    }
+}
+
 /// An optional column's field, trimmed; empty where the column is absent
 /// or the row ends before it (`p10,1.5` in a file whose header names it).
 fn field(row: &CsvRow, col: Option<usize>) -> &str {
@@ -498,8 +638,8 @@ fn field(row: &CsvRow, col: Option<usize>) -> &str {
 /// What a schedule row is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum RowKind {
-    /// A visit of a target (no kind, or the target's kind).
-    Visit,
+    /// A visit of a target, of the kind the row says (none: either).
+    Visit(Option<TargetKind>),
     /// A span over which the robot stood.
     Idle,
 }
@@ -507,11 +647,12 @@ enum RowKind {
 impl RowKind {
     fn parse(text: &str) -> Option<RowKind> {
         let t = text.trim();
-        if t.is_empty()
-            || t.eq_ignore_ascii_case("robtarget")
-            || t.eq_ignore_ascii_case("jointtarget")
-        {
-            Some(RowKind::Visit)
+        if t.is_empty() {
+            Some(RowKind::Visit(None))
+        } else if t.eq_ignore_ascii_case("robtarget") {
+            Some(RowKind::Visit(Some(TargetKind::Robtarget)))
+        } else if t.eq_ignore_ascii_case("jointtarget") {
+            Some(RowKind::Visit(Some(TargetKind::Jointtarget)))
         } else if t.eq_ignore_ascii_case("idle") {
             Some(RowKind::Idle)
         } else {
@@ -531,9 +672,9 @@ fn check_spans(spans: &[IdleSpan]) -> Result<()> {
         }
     }
     for pair in spans.windows(2) {
-        if pair[1].from_min < pair[0].to_min {
+        if pair[1].from_min <= pair[0].to_min {
             return Err(Error::input(format!(
-                "the idle span from minute {} overlaps the one from minute {} to {}",
+                "the idle span from minute {} overlaps or touches the one from minute {} to {} (one stop is one span)",
                 pair[1].from_min, pair[0].from_min, pair[0].to_min
             )));
         }
@@ -568,7 +709,7 @@ pub(super) fn csv_of(mut rows: Vec<(f64, usize, &str)>) -> String {
 }
 
 /// A CSV field, quoted where it holds a comma or a quote (`pGrid{2,1}`).
-fn csv_field(text: &str) -> String {
+pub(super) fn csv_field(text: &str) -> String {
     if text.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {

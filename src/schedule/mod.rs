@@ -20,12 +20,14 @@ mod cold_joints;
 mod estimate;
 mod file;
 pub mod interp;
+mod names;
 mod timing;
 mod walk;
 
 pub use cold_joints::ColdJoints;
 pub use estimate::{estimate, estimate_with_joints, Estimate, EstimateOptions};
-pub use file::{encode_visits, IdleSpan, Schedule, Visit, SCHEDULE_ENCODING};
+pub use file::{encode_visits, IdleSpan, Schedule, ScheduleFile, Visit, SCHEDULE_ENCODING};
+pub use names::{ProgramNames, TargetKind};
 pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, SpeedData};
 
 #[cfg(test)]

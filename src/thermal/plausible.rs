@@ -18,6 +18,8 @@ pub struct Plausible {
     pub highest_c: f64,
     pub kelvin_low: f64,
     pub kelvin_high: f64,
+    pub room_lowest_c: f64,
+    pub room_highest_c: f64,
 }
 
 /// The embedded bounds, parsed once.
@@ -67,6 +69,41 @@ pub fn implausible(value: f64) -> Option<String> {
     None
 }
 
+/// Why `value` (°C) cannot be the temperature of a room a robot works in
+/// (an `ambient_c` column, the motors at the cold start), or `None` when it
+/// can. A room above the bound in °F is named: a 20 °C room is 68 °F.
+pub fn implausible_room(value: f64) -> Option<String> {
+    if let Some(why) = implausible(value) {
+        return Some(why);
+    }
+    let p = plausible();
+    if (p.room_lowest_c..=p.room_highest_c).contains(&value) {
+        return None;
+    }
+    let mut why = format!(
+        "{} °C is no room a robot works in (rapidtherm takes {} to {} °C)",
+        shown(value),
+        p.room_lowest_c,
+        p.room_highest_c
+    );
+    let celsius = (value - 32.0) * 5.0 / 9.0;
+    if value > p.room_highest_c && (p.room_lowest_c..=p.room_highest_c).contains(&celsius) {
+        why.push_str(&format!(
+            "; is it in °F? {} °F is {celsius:.1} °C",
+            shown(value)
+        ));
+    }
+    Some(why)
+}
+
+/// `value` as a room's temperature, or an input error at `location`.
+pub fn check_room(value: f64, location: impl FnOnce() -> Location) -> Result<f64> {
+    match implausible_room(value) {
+        None => Ok(value),
+        Some(why) => Err(Error::input(why).at(location())),
+    }
+}
+
 /// `value` as a temperature, or an input error at `location`.
 pub fn check(value: f64, location: impl FnOnce() -> Location) -> Result<f64> {
     match implausible(value) {
@@ -90,5 +127,15 @@ mod tests {
         assert!(implausible(1e300).unwrap().starts_with("1e300 °C"));
         assert!(implausible(f64::NAN).is_some());
         assert!(!implausible(1000.0).unwrap().contains("kelvin"));
+    }
+
+    #[test]
+    fn a_room_in_fahrenheit_is_named() {
+        // 68 °F = (68 - 32) * 5/9 = 20 °C.
+        assert!(implausible_room(20.0).is_none());
+        let why = implausible_room(68.0).unwrap();
+        assert!(why.contains("°F? 68 °F is 20.0 °C"), "{why}");
+        assert!(implausible_room(-30.0).is_some());
+        assert!(implausible_room(289.0).unwrap().contains("kelvin"));
     }
 }

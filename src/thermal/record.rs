@@ -2,7 +2,7 @@
 //! the profile that interpolates them: measured temperatures of the actual
 //! run, used directly instead of a model.
 
-use super::plausible::check;
+use super::plausible::{check, check_room};
 use super::HeatingProfile;
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Location, Result};
@@ -69,11 +69,22 @@ impl HeatingRecord {
             times.push(t);
             for (axis, &c) in axis_col.iter().enumerate() {
                 let v = table.number(row, c)?;
-                temps[axis].push(check(v, || table.field_location(row, c))?);
+                let v = check(v, || table.field_location(row, c))?;
+                // At the cold start the motors stand at the room's
+                // temperature: a room's bounds hold there, and a file in
+                // °F (a 20 °C room is 68 °F) is found at its first row.
+                if t == 0.0 {
+                    check_room(v, || table.field_location(row, c)).map_err(|e| {
+                        e.with_note(
+                            "at the cold start (minute 0) a motor is at the room's temperature",
+                        )
+                    })?;
+                }
+                temps[axis].push(v);
             }
             if let (Some(a), Some(c)) = (ambient.as_mut(), acol) {
                 let v = table.number(row, c)?;
-                a.push(check(v, || table.field_location(row, c))?);
+                a.push(check_room(v, || table.field_location(row, c))?);
             }
         }
         Ok(HeatingRecord {

@@ -7,6 +7,7 @@ mod common;
 mod accounted;
 mod backup;
 mod cli;
+mod data_rules;
 mod idle;
 mod interp;
 mod interp_targets;

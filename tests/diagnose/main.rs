@@ -7,6 +7,7 @@ mod common;
 mod blind;
 mod chain;
 mod cli;
+mod data_rules;
 mod eval;
 mod fit;
 mod general;

@@ -15,3 +15,4 @@ mod picks_back;
 mod robustness;
 mod straight_down;
 mod urdf;
+mod urdf_rules;

@@ -122,13 +122,18 @@ pub fn when_and_notes(
         TimeBasis::At(moment) => (When::At(*moment), Vec::new(), None),
         TimeBasis::Schedule { file, default } => {
             let (name, bytes) = read_named(file)?;
+            // Every row checked against this program's targets of its
+            // kind, at its line: a row of a jointtarget the program does
+            // not have is not a robtarget's visit.
+            let names = schedule::ProgramNames::of(program);
+            let read = Schedule::read_file(&name, &bytes, Some(&names))?;
             let when = When::Schedule {
-                schedule: Schedule::read(&name, &bytes)?,
-                joints: None,
+                schedule: read.schedule,
+                joints: read.joints,
                 default: *default,
                 source: ScheduleSource::File,
             };
-            (when, Vec::new(), None)
+            (when, read.warnings, None)
         }
         TimeBasis::Start { default, .. } => {
             let opts = estimate_options(plan, base_frame).unwrap_or_default();

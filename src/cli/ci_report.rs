@@ -338,8 +338,15 @@ pub fn gate(
                 "moved",
                 title,
                 format!(
-                    "{} ({}) {moved} from {na} to {nb}: more than the gate of {limits}",
-                    t.id, t.kind
+                    "{} ({}) {moved}{} from {na} to {nb}: {}",
+                    t.id,
+                    t.kind,
+                    super::compare::also(t),
+                    if t.also_changed().is_empty() {
+                        format!("more than the gate of {limits}")
+                    } else {
+                        "a thermal correction changes neither robconf nor external axes".to_string()
+                    }
                 ),
             ));
         }

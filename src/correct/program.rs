@@ -131,12 +131,12 @@ pub(crate) fn correct_prepared<'p>(
 
 fn correct_all<'p>(
     program: &'p Program,
-    (warm, options, mut ahead): (&WarmRobot, &Options, Ahead<'p>),
+    (warm, options, ahead): (&WarmRobot, &Options, Ahead<'p>),
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
     let basis = options.when.basis();
-    let distrust = marker::find(program).and_then(|_| marker::untrusted(program));
+    let distrust = marker::untrusted(program);
     if let Some(u) = &distrust {
         if options.untrusted == Untrusted::Refuse {
             return Err(marker::refuse_untrusted(program, u));
@@ -147,14 +147,123 @@ fn correct_all<'p>(
         if !found.marker.same_correction(&wanted) {
             return Err(marker::refuse(program, &found, &wanted));
         }
-        for (f, out) in outs.iter_mut().enumerate() {
-            out.write_all(program.source(f)).map_err(write_error)?;
+        let marked = marker::marked_files(program);
+        let unmarked = unmarked_with_targets(program, &marked);
+        // A run that writes, on a program whose every file with targets
+        // is marked: the files are what it would write.
+        if keep == Keep::Summary && unmarked.is_empty() {
+            for (f, out) in outs.iter_mut().enumerate() {
+                out.write_all(program.source(f)).map_err(write_error)?;
+            }
+            return Ok(Corrected {
+                outcome: already_corrected(program, &found, options),
+                changed: vec![false; program.files.len()],
+            });
         }
-        return Ok(Corrected {
-            outcome: already_corrected(program, &found, options),
-            changed: vec![false; program.files.len()],
-        });
+        // Else the whole run, as on a cold program: what it leaves cold
+        // is decided by the program's statements, not its numbers (a move
+        // added since to a target decided at run time, one declared
+        // nowhere), and a file without a marker (a module added since) is
+        // cold. The marked files' own corrections are dropped: their
+        // numbers are corrected already.
+        let mut all = correct_body(
+            program,
+            (warm, options, ahead),
+            (outs, Keep::Rows),
+            progress,
+            None,
+        )?;
+        keep_unmarked(program, &marked, &mut all, keep);
+        if all.changed.iter().all(|c| !c) {
+            let done = already_corrected(program, &found, options);
+            all.outcome.already_corrected = done.already_corrected;
+            all.outcome.notes.extend(done.notes);
+        }
+        for f in unmarked {
+            all.outcome.notes.push(format!(
+                "{} has no rapidtherm marker, though {} says the program is corrected: its targets are taken as cold (a module added after the correction)",
+                program.files[f], program.files[found.file]
+            ));
+        }
+        return Ok(all);
     }
+    correct_body(
+        program,
+        (warm, options, ahead),
+        (outs, keep),
+        progress,
+        distrust,
+    )
+}
+
+/// The files of `program` without any rapidtherm line (`marked`) that
+/// hold targets with numbers: cold, whatever another file's marker says.
+fn unmarked_with_targets(program: &Program, marked: &[bool]) -> Vec<usize> {
+    let targets = program.targets();
+    let mut files: Vec<usize> = (0..targets.len())
+        .filter(|&i| targets.has_value(i))
+        .filter_map(|i| targets.place(i).map(|p| p.0))
+        .chain(
+            program
+                .jointtargets()
+                .iter()
+                .filter(|j| j.kind != TargetKind::Derived)
+                .map(|j| j.origin.file),
+        )
+        .filter(|&f| !marked.get(f).copied().unwrap_or(true))
+        .collect();
+    files.sort_unstable();
+    files.dedup();
+    files
+}
+
+/// A whole run on a marked program cut to what is still cold: the marked
+/// files keep their bytes and lose their rows of corrections (what they
+/// would move is a second correction on top of the first); the targets
+/// left cold and the uses landing off stay, wherever they are.
+fn keep_unmarked(program: &Program, marked: &[bool], all: &mut Corrected, keep: Keep) {
+    let is_marked = |name: &str| {
+        program
+            .files
+            .iter()
+            .zip(marked)
+            .any(|(n, &m)| m && n == name)
+    };
+    for (f, c) in all.changed.iter_mut().enumerate() {
+        *c &= !marked.get(f).copied().unwrap_or(false);
+    }
+    let o = &mut all.outcome;
+    o.corrections.retain(|c| !is_marked(&c.file));
+    o.derived.retain(|d| !is_marked(&d.file));
+    o.splits.retain(|s| !is_marked(&s.file));
+    o.residuals.retain(|r| !is_marked(&r.file));
+    let mut tally = Tally::default();
+    for c in &o.corrections {
+        tally.add(tallied(c));
+    }
+    let moves = o.summary.moves;
+    o.summary = summary(
+        &tally,
+        o.derived.len(),
+        o.left_alone.len(),
+        (o.shared.len(), o.splits.len()),
+    );
+    o.summary.moves = moves;
+    if keep == Keep::Summary {
+        o.corrections.clear();
+    }
+}
+
+/// [`correct_all`] past the marker: every target of the program taken as
+/// cold (`distrust`: why a marker it holds is not trusted, for the notes).
+fn correct_body<'p>(
+    program: &'p Program,
+    (warm, options, mut ahead): (&WarmRobot, &Options, Ahead<'p>),
+    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    progress: &mut dyn FnMut(usize, usize),
+    distrust: Option<marker::Untrusted>,
+) -> Result<Corrected> {
+    let basis = options.when.basis();
     // What the program alone decides, and each file's fingerprint for
     // its marker: made ahead where the caller had them made, else now.
     let cold_joints = ahead.cold_joints.take().filter(|c| c.fits(program));
@@ -388,7 +497,9 @@ fn write_file(
         held,
     } = printed;
     print.feed(&held);
-    out.write_all(&marker::numbers_line(src, end, &print.finish()))
+    // The seal: the marker's fields with the numbers.
+    let seal = file_marker(pass, basis, cold).seal(&print.finish());
+    out.write_all(&marker::numbers_line(src, end, &seal))
         .map_err(write_error)?;
     // What follows the last ENDMODULE (edits there too, should any be).
     let rest: Vec<&Edit> = fixed.iter().filter(|e| e.span.start >= end).collect();
@@ -397,6 +508,17 @@ fn write_file(
     splice.finish_at(&mut rest, src.len())?;
     out_flush(splice.out)?;
     Ok(changed)
+}
+
+/// The marker of a file this run writes (`cold`: its cold original's
+/// fingerprint).
+fn file_marker(pass: &Pass, basis: &str, cold: &str) -> marker::Marker {
+    marker::for_run_printed(
+        basis,
+        &pass.run.options.model_label,
+        pass.run.options.split_shared,
+        cold.to_string(),
+    )
 }
 
 fn out_flush(out: &mut dyn Write) -> Result<()> {
@@ -472,12 +594,7 @@ fn write_numbers(
     let head_end = if lo < hi { place(lo) } else { end };
     let mut changed = changed_before;
     let put_head = |out: &mut Printed, fixed: &[Edit]| -> Result<()> {
-        let m = marker::for_run_printed(
-            basis,
-            &run.options.model_label,
-            run.options.split_shared,
-            cold.to_string(),
-        );
+        let m = file_marker(pass, basis, cold);
         let mark = marker::insert(program, f, &m);
         // The marker goes into the module's header, before every target.
         if mark.as_ref().is_some_and(|e| e.span.start > head_end) {

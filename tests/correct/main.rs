@@ -16,6 +16,7 @@ mod named;
 mod plot;
 mod runtime;
 mod samples;
+mod seal;
 mod shared;
 mod streaming;
 mod trust;

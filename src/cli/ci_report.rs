@@ -341,7 +341,10 @@ pub fn gate(
                     "{} ({}) {moved}{} from {na} to {nb}: {}",
                     t.id,
                     t.kind,
-                    super::compare::also(t),
+                    t.also_changed()
+                        .iter()
+                        .map(|w| format!(", {w}"))
+                        .collect::<String>(),
                     if t.also_changed().is_empty() {
                         format!("more than the gate of {limits}")
                     } else {

@@ -265,7 +265,7 @@ fn gate_message(
 
 /// What changed of a target besides its pose, after a comma (nothing
 /// where nothing did): a robconf or an external axis fails any gate.
-pub(super) fn also(t: &rapidtherm::compare::TargetDelta) -> String {
+fn also(t: &rapidtherm::compare::TargetDelta) -> String {
     t.also_changed().iter().map(|w| format!(", {w}")).collect()
 }
 

@@ -28,12 +28,12 @@
 //! Both lines are recognised wherever they stand in the file and however
 //! they are spaced or cased (`!rapidtherm`, `! RAPIDTHERM … CORRECTED :
 //! BASIS = …`): every comment whose first word is `rapidtherm` and whose
-//! next is `numbers`, or that says `corrected`, is one of them. A file
-//! with exactly one marker and one seal that matches is corrected; a file
-//! with any other mix (a seal without its marker, a marker without its
-//! seal, two of either, a marker whose fields cannot be read, a seal of
-//! the older format `v1`, which did not cover the marker's fields) is not
-//! trusted: never corrected a second time.
+//! next is `numbers`, or that says `corrected` and gives a field, is one
+//! of them. A file with exactly one marker and one seal that matches is
+//! corrected; a file with any other mix (a seal without its marker, a
+//! marker without its seal, two of either, a marker whose fields cannot
+//! be read, a seal of the older format `v1`, which did not cover the
+//! marker's fields) is not trusted: never corrected a second time.
 //!
 //! A run on a marked program never corrects it a second time: on the same
 //! basis and model there is nothing to do (the file already is what the
@@ -261,8 +261,8 @@ fn comment_of(line: &[u8]) -> Option<&[u8]> {
 
 /// Whether a comment's text (after its `!`) is one of rapidtherm's lines:
 /// its first word `rapidtherm` (any case, any spacing), then `numbers`
-/// (a seal) or a text that says `corrected` (a marker). Other comments
-/// naming rapidtherm are a person's notes.
+/// (a seal) or a text that says `corrected` and gives a field (`=`: a
+/// marker). Other comments naming rapidtherm are a person's notes.
 fn classify(text: &str) -> Option<Line> {
     let lower = text.trim().to_ascii_lowercase();
     let rest = lower.strip_prefix("rapidtherm")?;
@@ -276,7 +276,9 @@ fn classify(text: &str) -> Option<Line> {
         let print: String = words.get(2..).unwrap_or_default().concat();
         return Some(Line::Seal { version, print });
     }
-    if rest.contains("corrected") {
+    // A marker says it is corrected and gives a field: a note such as
+    // `! rapidtherm corrected this by hand` is a person's.
+    if rest.contains("corrected") && rest.contains('=') {
         return Some(Line::Marker(Marker::parse(text)));
     }
     None
@@ -647,6 +649,7 @@ mod tests {
         // A person's note is neither.
         assert_eq!(classify(" rapidtherm was run on this file by hand"), None);
         assert_eq!(classify(" rapidthermal notes"), None);
+        assert_eq!(classify(" rapidtherm corrected this by hand"), None);
         // A marker that says it is corrected but cannot be read.
         assert!(matches!(
             classify(" rapidtherm corrected: basis=minute 60"),

@@ -12,6 +12,7 @@
 use super::context::{Ahead, Run};
 use super::in_order::in_order;
 use super::joints::{correct_jointtarget, JointSolved};
+use super::marked::{already_corrected, keep_unmarked, unmarked_with_targets};
 use super::moments::check_schedule_names;
 use super::options::{Options, ScheduleSource, Untrusted, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
@@ -160,30 +161,14 @@ fn correct_all<'p>(
                 changed: vec![false; program.files.len()],
             });
         }
-        // Else the whole run, as on a cold program: what it leaves cold
-        // is decided by the program's statements, not its numbers (a move
-        // added since to a target decided at run time, one declared
-        // nowhere), and a file without a marker (a module added since) is
-        // cold. The marked files' own corrections are dropped: their
-        // numbers are corrected already.
-        let mut all = correct_body(
-            program,
-            (warm, options, ahead),
-            (outs, Keep::Rows),
-            progress,
-            None,
-        )?;
-        keep_unmarked(program, &marked, &mut all, keep);
-        if all.changed.iter().all(|c| !c) {
-            let done = already_corrected(program, &found, options);
-            all.outcome.already_corrected = done.already_corrected;
-            all.outcome.notes.extend(done.notes);
-        }
-        for f in unmarked {
-            all.outcome.notes.push(format!(
-                "{} has no rapidtherm marker, though {} says the program is corrected: its targets are taken as cold (a module added after the correction)",
-                program.files[f], program.files[found.file]
-            ));
+        // Else the whole run, as on a cold program, cut to what is still
+        // cold ([`super::marked`]).
+        let run = (warm, options, ahead);
+        let mut all = correct_body(program, run, (outs, Keep::Rows), progress, None)?;
+        let (o, changed) = (&mut all.outcome, &mut all.changed[..]);
+        keep_unmarked(program, (&marked, &unmarked), &found, (o, changed), options);
+        if keep == Keep::Summary {
+            all.outcome.corrections.clear();
         }
         return Ok(all);
     }
@@ -194,64 +179,6 @@ fn correct_all<'p>(
         progress,
         distrust,
     )
-}
-
-/// The files of `program` without any rapidtherm line (`marked`) that
-/// hold targets with numbers: cold, whatever another file's marker says.
-fn unmarked_with_targets(program: &Program, marked: &[bool]) -> Vec<usize> {
-    let targets = program.targets();
-    let mut files: Vec<usize> = (0..targets.len())
-        .filter(|&i| targets.has_value(i))
-        .filter_map(|i| targets.place(i).map(|p| p.0))
-        .chain(
-            program
-                .jointtargets()
-                .iter()
-                .filter(|j| j.kind != TargetKind::Derived)
-                .map(|j| j.origin.file),
-        )
-        .filter(|&f| !marked.get(f).copied().unwrap_or(true))
-        .collect();
-    files.sort_unstable();
-    files.dedup();
-    files
-}
-
-/// A whole run on a marked program cut to what is still cold: the marked
-/// files keep their bytes and lose their rows of corrections (what they
-/// would move is a second correction on top of the first); the targets
-/// left cold and the uses landing off stay, wherever they are.
-fn keep_unmarked(program: &Program, marked: &[bool], all: &mut Corrected, keep: Keep) {
-    let is_marked = |name: &str| {
-        program
-            .files
-            .iter()
-            .zip(marked)
-            .any(|(n, &m)| m && n == name)
-    };
-    for (f, c) in all.changed.iter_mut().enumerate() {
-        *c &= !marked.get(f).copied().unwrap_or(false);
-    }
-    let o = &mut all.outcome;
-    o.corrections.retain(|c| !is_marked(&c.file));
-    o.derived.retain(|d| !is_marked(&d.file));
-    o.splits.retain(|s| !is_marked(&s.file));
-    o.residuals.retain(|r| !is_marked(&r.file));
-    let mut tally = Tally::default();
-    for c in &o.corrections {
-        tally.add(tallied(c));
-    }
-    let moves = o.summary.moves;
-    o.summary = summary(
-        &tally,
-        o.derived.len(),
-        o.left_alone.len(),
-        (o.shared.len(), o.splits.len()),
-    );
-    o.summary.moves = moves;
-    if keep == Keep::Summary {
-        o.corrections.clear();
-    }
 }
 
 /// [`correct_all`] past the marker: every target of the program taken as
@@ -911,51 +838,6 @@ fn summary(
         shared,
         split,
         moves: super::outcome::MoveCounts::default(),
-    }
-}
-
-/// The outcome of a run on a program its marker says is corrected on the
-/// run's basis: nothing to do, every file as it is. A split asked of a
-/// program corrected without one is not made (its numbers are no longer
-/// the cold ones), and a note says so.
-fn already_corrected(program: &Program, found: &marker::Found, options: &Options) -> Outcome {
-    let m = &found.marker;
-    let how = format!(
-        "{} line {} says it was corrected by rapidtherm {} for {} with {} (cold original {})",
-        program.files[found.file], found.line, m.version, m.basis, m.model, m.cold
-    );
-    let mut notes = Vec::new();
-    if options.split_shared && !m.split {
-        let uses = crate::resolve::uses(program);
-        let targets = program.targets();
-        let mut shared: Vec<String> = uses
-            .of_several_frames()
-            .into_iter()
-            .filter_map(|i| targets.get(i).map(|t| t.id.clone()))
-            .collect();
-        shared.sort_unstable();
-        if !shared.is_empty() {
-            notes.push(format!(
-                "it was corrected without splitting the targets moved to with several tools or work objects ({}): each is right for its first use only; a split starts from the cold original ({})",
-                shared.join(", "),
-                m.cold
-            ));
-        }
-    }
-    Outcome {
-        moves: Vec::new(),
-        corrections: Vec::new(),
-        derived: Vec::new(),
-        left_alone: Vec::new(),
-        residuals: Vec::new(),
-        shared: Vec::new(),
-        splits: Vec::new(),
-        already_corrected: Some(how),
-        notes,
-        summary: summary(&Tally::default(), 0, 0, (0, 0)),
-        outputs: (0..program.files.len())
-            .map(|f| program.source(f).to_vec())
-            .collect(),
     }
 }
 

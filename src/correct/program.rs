@@ -162,8 +162,13 @@ fn correct_all<'p>(
             });
         }
         // Else the whole run, as on a cold program, cut to what is still
-        // cold ([`super::marked`]).
-        let run = (warm, options, ahead);
+        // cold ([`super::marked`]); split as the file was, so that the
+        // uses it left shared are the ones found.
+        let as_made = Options {
+            split_shared: found.marker.split,
+            ..options.clone()
+        };
+        let run = (warm, &as_made, ahead);
         let mut all = correct_body(program, run, (outs, Keep::Rows), progress, None)?;
         let (o, changed) = (&mut all.outcome, &mut all.changed[..]);
         keep_unmarked(program, (&marked, &unmarked), &found, (o, changed), options);

@@ -28,6 +28,49 @@ pub struct TargetDelta {
     /// Orientation change (deg) for robtargets; largest joint-angle change
     /// (deg) for jointtargets.
     pub dangle: f64,
+    /// The robtarget's configuration (cf1, cf4, cf6, cfx) differs: the
+    /// arm reaches the same pose through another configuration, swinging
+    /// through the space between (always false for jointtargets).
+    pub robconf_changed: bool,
+    /// An external axis differs: one now used that was not (`9E+09`), or
+    /// one moved (a track, a positioner).
+    pub extax_changed: bool,
+}
+
+impl TargetDelta {
+    /// What changed besides the position and orientation, in words
+    /// (empty: nothing).
+    pub fn also_changed(&self) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        if self.robconf_changed {
+            out.push("its robconf changed");
+        }
+        if self.extax_changed {
+            out.push("an external axis changed");
+        }
+        out
+    }
+}
+
+/// RAPID's value of an external axis not in use.
+const UNUSED_AXIS: f64 = 9e9;
+
+/// Two values of an external axis differ: one in use and the other not,
+/// or both in use and apart by more than the six significant digits a
+/// controller keeps of a `num` (so `9E9` and `9E+09`, or a value saved
+/// back by the controller, are one value).
+fn axis_changed(a: f64, b: f64) -> bool {
+    let unused = |v: f64| v.abs() >= UNUSED_AXIS;
+    match (unused(a), unused(b)) {
+        (true, true) => false,
+        (false, false) => !same_num(a, b),
+        _ => true,
+    }
+}
+
+/// One `num` as a controller keeps it: equal to six significant digits.
+fn same_num(a: f64, b: f64) -> bool {
+    a == b || (a - b).abs() <= 5e-7 * a.abs().max(b.abs())
 }
 
 /// The comparison of two programs.
@@ -46,7 +89,8 @@ pub struct Diff {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
     pub compared: usize,
-    /// Targets whose position or orientation differs.
+    /// Targets whose position, orientation, robconf or external axes
+    /// differ.
     pub changed: usize,
     pub max_mm: f64,
     pub rms_mm: f64,
@@ -134,6 +178,16 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
             dz: d.z,
             dist: d.norm(),
             dangle,
+            robconf_changed: va
+                .robconf_values()
+                .iter()
+                .zip(vb.robconf_values())
+                .any(|(x, y)| !same_num(*x, y)),
+            extax_changed: va
+                .extax_values()
+                .iter()
+                .zip(vb.extax_values())
+                .any(|(x, y)| axis_changed(*x, y)),
         });
     }
     for ja in a.jointtargets() {
@@ -158,6 +212,12 @@ pub fn diff(a: &Program, b: &Program) -> Result<Diff> {
             dz: 0.0,
             dist: 0.0,
             dangle: dq,
+            robconf_changed: false,
+            extax_changed: ja
+                .extax
+                .iter()
+                .zip(&jb.extax)
+                .any(|(x, y)| axis_changed(x.value, y.value)),
         });
     }
     let only_in_b = b_targets
@@ -204,7 +264,7 @@ fn summarise(targets: &[TargetDelta]) -> Summary {
         compared: targets.len(),
         changed: targets
             .iter()
-            .filter(|t| t.dist > 0.0 || t.dangle > 0.0)
+            .filter(|t| t.dist > 0.0 || t.dangle > 0.0 || t.robconf_changed || t.extax_changed)
             .count(),
         max_mm: robtargets.iter().map(|t| t.dist).fold(0.0, f64::max),
         rms_mm: if n > 0 {
@@ -245,15 +305,38 @@ pub struct Gate {
     pub max_deg: f64,
 }
 
+/// The largest limit (mm) a gate or a check takes: beyond it, no
+/// thermal correction is told from a target re-taught (`data/gate.toml`,
+/// with its reasons).
+pub fn max_limit_mm() -> f64 {
+    #[derive(serde::Deserialize)]
+    struct Limits {
+        max_mm: f64,
+    }
+    // Embedded and pinned by a test: it parses.
+    toml::from_str::<Limits>(include_str!("../data/gate.toml")).map_or(10.0, |l| l.max_mm)
+}
+
+/// The largest angle limit (°) a gate takes: the turn of
+/// [`max_limit_mm`] at [`GATE_LEVER_MM`].
+pub fn max_limit_deg() -> f64 {
+    (max_limit_mm() / GATE_LEVER_MM).to_degrees()
+}
+
 impl Gate {
     /// A gate of `max_mm` (any limit not given is infinite: not gated),
     /// with `max_deg` or, without it, the angle of [`GATE_LEVER_MM`].
-    /// Thresholds must be finite and not negative.
+    /// Thresholds must be finite, not negative, and no larger than
+    /// [`max_limit_mm`] and [`max_limit_deg`].
     pub fn new(max_mm: Option<f64>, max_deg: Option<f64>) -> Result<Gate> {
-        for (v, unit) in [(max_mm, "mm"), (max_deg, "°")] {
-            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+        for (v, unit, most) in [
+            (max_mm, "mm", max_limit_mm()),
+            (max_deg, "°", max_limit_deg()),
+        ] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0 && *v <= most)) {
                 return Err(Error::usage(format!(
-                    "gate threshold {v} {unit}: must be a finite number, 0 or more"
+                    "gate threshold {} {unit}: must be a number from 0 to {most:.2} {unit} (beyond, no thermal correction is told from a target re-taught)",
+                    if v.abs() >= 1e6 { format!("{v:e}") } else { v.to_string() }
                 )));
             }
         }
@@ -269,15 +352,19 @@ impl Gate {
 /// Why a [`Diff`] fails a [`Gate`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum GateFailure {
-    /// A target moved (mm) or turned (°) more than the gate allows; a
-    /// change that is not a finite number counts as too large.
+    /// A target moved (mm) or turned (°) more than the gate allows (a
+    /// change that is not a finite number counts as too large), or its
+    /// robconf or an external axis changed, whatever the gate: a thermal
+    /// correction changes neither, and either moves the robot another way.
     Moved(TargetDelta),
     /// A target of the first program is not in the second.
     OnlyInFirst(String),
     /// A target of the second program is not in the first.
     OnlyInSecond(String),
-    /// The two programs have no target in common: nothing was compared,
-    /// so nothing is known to be within the gate.
+    /// The two programs have targets but none in common (or only derived
+    /// ones, which are not compared): nothing was compared, so nothing is
+    /// known to be within the gate. Two programs without any target (a
+    /// background task's) are equal in their targets and pass.
     NothingCompared,
 }
 
@@ -285,13 +372,18 @@ impl Diff {
     /// Every reason this comparison fails `gate`, in the order of the
     /// diff (empty: it passes). A target in one program only fails (it was
     /// added, removed or renamed: its change is unknown), and so do two
-    /// programs with no target in common.
+    /// programs with targets but none in common.
     pub fn gate(&self, gate: &Gate) -> Vec<GateFailure> {
         let over = |v: f64, limit: f64| v.is_nan() || v > limit;
         let mut out: Vec<GateFailure> = self
             .targets
             .iter()
-            .filter(|t| over(t.dist, gate.max_mm) || over(t.dangle, gate.max_deg))
+            .filter(|t| {
+                over(t.dist, gate.max_mm)
+                    || over(t.dangle, gate.max_deg)
+                    || t.robconf_changed
+                    || t.extax_changed
+            })
             .cloned()
             .map(GateFailure::Moved)
             .collect();
@@ -302,7 +394,8 @@ impl Diff {
                 .cloned()
                 .map(GateFailure::OnlyInSecond),
         );
-        if self.targets.is_empty() {
+        let any = !self.only_in_a.is_empty() || !self.only_in_b.is_empty() || self.derived > 0;
+        if self.targets.is_empty() && any {
             out.push(GateFailure::NothingCompared);
         }
         out
@@ -322,6 +415,8 @@ mod tests {
             dz: 0.0,
             dist,
             dangle,
+            robconf_changed: false,
+            extax_changed: false,
         }
     }
 
@@ -357,8 +452,14 @@ mod tests {
         assert!(matches!(&f[1], GateFailure::Moved(t) if t.id == "p20"));
         assert_eq!(f[2], GateFailure::OnlyInFirst("pOld".into()));
         assert_eq!(f[3], GateFailure::OnlyInSecond("pNew".into()));
+        let disjoint = diff_of(vec![], &["pA"], &["pB"]);
+        assert_eq!(
+            disjoint.gate(&gate).last(),
+            Some(&GateFailure::NothingCompared)
+        );
+        // No target on either side (a background task's): equal, passes.
         let none = diff_of(vec![], &[], &[]);
-        assert_eq!(none.gate(&gate), vec![GateFailure::NothingCompared]);
+        assert!(none.gate(&gate).is_empty());
         let ok = diff_of(vec![delta("p10", DataType::Robtarget, 0.1, 0.01)], &[], &[]);
         assert!(ok.gate(&gate).is_empty());
         // An angle alone gates angles only.
@@ -372,10 +473,20 @@ mod tests {
 
     #[test]
     fn gate_thresholds_must_be_finite_and_not_negative() {
-        for bad in [f64::NAN, f64::INFINITY, -1.0] {
+        // The data file parses (its fallback is never taken).
+        #[derive(serde::Deserialize)]
+        struct Limits {
+            max_mm: f64,
+        }
+        let l: Limits = toml::from_str(include_str!("../data/gate.toml")).unwrap();
+        assert_eq!(max_limit_mm(), l.max_mm);
+        assert!((max_limit_deg() - 5.729577951308232).abs() < 1e-12);
+        for bad in [f64::NAN, f64::INFINITY, -1.0, 1e308, 10.001] {
             assert!(Gate::new(Some(bad), None).is_err());
             assert!(Gate::new(None, Some(bad)).is_err());
         }
         assert!(Gate::new(Some(0.0), Some(0.0)).is_ok());
+        assert!(Gate::new(Some(10.0), Some(5.7)).is_ok());
+        assert!(Gate::new(None, Some(5.8)).is_err());
     }
 }

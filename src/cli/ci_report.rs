@@ -338,8 +338,18 @@ pub fn gate(
                 "moved",
                 title,
                 format!(
-                    "{} ({}) {moved} from {na} to {nb}: more than the gate of {limits}",
-                    t.id, t.kind
+                    "{} ({}) {moved}{} from {na} to {nb}: {}",
+                    t.id,
+                    t.kind,
+                    t.also_changed()
+                        .iter()
+                        .map(|w| format!(", {w}"))
+                        .collect::<String>(),
+                    if t.also_changed().is_empty() {
+                        format!("more than the gate of {limits}")
+                    } else {
+                        "a thermal correction changes neither robconf nor external axes".to_string()
+                    }
                 ),
             ));
         }

@@ -6,7 +6,7 @@ use super::messages::{self, error, note};
 use super::tasks::{self, TaskPick};
 use super::Format;
 use super::{read_input, write_stdout, Status};
-use rapidtherm::compare::{diff, DataType, Diff, Gate, GateFailure};
+use rapidtherm::compare::{diff, max_limit_deg, max_limit_mm, DataType, Diff, Gate, GateFailure};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid;
 use rapidtherm::rapid::task::Task;
@@ -41,19 +41,36 @@ pub struct DiffArgs {
     pub task: Vec<String>,
 }
 
-/// A gate threshold as given: finite, not negative.
-fn threshold(value: Option<f64>, flag: &str, unit: &str) -> Result<Option<f64>> {
+/// A gate threshold as given: from 0 to `most` (data/gate.toml: beyond
+/// it every thermal correction and every re-taught target passes alike).
+fn threshold(value: Option<f64>, flag: &str, unit: &str, most: f64) -> Result<Option<f64>> {
     match value {
-        Some(v) if !(v.is_finite() && v >= 0.0) => Err(Error::usage(format!(
-            "{flag} {v}: the limit must be a finite number of {unit}, 0 or more"
+        Some(v) if !(v.is_finite() && v >= 0.0 && v <= most) => Err(Error::usage(format!(
+            "{flag} {}: the limit must be a number of {unit} from 0 to {} (beyond it, a re-taught target passes as a thermal correction would)",
+            shown(v),
+            mm(most, 2).trim_end_matches('0').trim_end_matches('.')
         ))),
         v => Ok(v),
     }
 }
 
+/// A number as given, in few characters (`1e308`, not 309 digits).
+fn shown(v: f64) -> String {
+    if v.abs() >= 1e6 {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
 pub fn run_diff(args: DiffArgs) -> Result<Status> {
-    let max_mm = threshold(args.fail_above, "--fail-above", "mm")?;
-    let max_deg = threshold(args.fail_above_deg, "--fail-above-deg", "degrees")?;
+    let max_mm = threshold(args.fail_above, "--fail-above", "mm", max_limit_mm())?;
+    let max_deg = threshold(
+        args.fail_above_deg,
+        "--fail-above-deg",
+        "degrees",
+        max_limit_deg(),
+    )?;
     let gate = match (max_mm, max_deg) {
         (None, None) => None,
         _ => Some(Gate::new(max_mm, max_deg)?),
@@ -208,16 +225,18 @@ fn gate_message(
     for f in failures {
         match f {
             GateFailure::Moved(t) if t.kind == DataType::Jointtarget => lines.push(format!(
-                "  {}: jointtarget, a joint turned {}°",
+                "  {}: jointtarget, a joint turned {}°{}",
                 t.id,
-                mm(t.dangle, 6)
+                mm(t.dangle, 6),
+                also(t)
             )),
             GateFailure::Moved(t) => lines.push(format!(
-                "  {}: {} moved {} mm, turned {}°",
+                "  {}: {} moved {} mm, turned {}°{}",
                 t.id,
                 t.kind,
                 mm(t.dist, 4),
-                mm(t.dangle, 6)
+                mm(t.dangle, 6),
+                also(t)
             )),
             GateFailure::OnlyInFirst(id) => lines.push(format!("  {id}: only in {a}")),
             GateFailure::OnlyInSecond(id) => lines.push(format!("  {id}: only in {b}")),
@@ -242,6 +261,12 @@ fn gate_message(
         ));
     }
     text
+}
+
+/// What changed of a target besides its pose, after a comma (nothing
+/// where nothing did): a robconf or an external axis fails any gate.
+fn also(t: &rapidtherm::compare::TargetDelta) -> String {
+    t.also_changed().iter().map(|w| format!(", {w}")).collect()
 }
 
 fn render_diff(d: &Diff, format: Format) -> Result<String> {
@@ -274,6 +299,9 @@ fn render_diff(d: &Diff, format: Format) -> Result<String> {
             let mut text = render_table(&table_header, &align, &rows);
             if !rows.is_empty() {
                 text.push_str("frame: dx_mm, dy_mm, dz_mm are in the frame each target is written in (the object frame of the work object it is used with); for jointtargets dangle_deg is the largest joint change\n");
+            }
+            for t in d.targets.iter().filter(|t| !t.also_changed().is_empty()) {
+                text.push_str(&format!("{}: {}\n", t.id, t.also_changed().join(", ")));
             }
             for id in &d.only_in_a {
                 text.push_str(&format!("only in the first: {id}\n"));

@@ -266,10 +266,12 @@ fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
     if args.in_place && args.files.iter().any(|f| f == Path::new("-")) {
         return Err(Error::usage("--in-place cannot rewrite standard input"));
     }
-    // An infinite tolerance would let every check pass.
-    if !(args.tolerance.is_finite() && args.tolerance >= 0.0) {
-        return Err(Error::usage("--tolerance must be a finite length ≥ 0 (mm)"));
-    }
+    // A tolerance beyond any thermal correction would let every check
+    // pass: bounded by the rule, before any input is read.
+    let rule = CheckRule::new(
+        args.tolerance,
+        args.accept.iter().map(|&a| a.into()).collect(),
+    )?;
     ci_report::refuse_outside_check(args.format, args.check, args.diff)?;
     if args.output.is_some() && args.files.len() > 1 {
         return Err(one_file());
@@ -304,10 +306,6 @@ fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
                 "say when the targets are reached: --at MIN, --at steady, --schedule FILE or --start MIN",
             ))
         }
-    };
-    let rule = CheckRule {
-        tolerance: args.tolerance,
-        accepted: args.accept.iter().map(|&a| a.into()).collect(),
     };
     let action = match (&args.output, args.in_place, args.check, args.diff) {
         (_, _, _, true) => Action::Diff {

@@ -16,7 +16,35 @@ pub struct CheckRule {
     pub accepted: Vec<Reason>,
 }
 
+/// The largest tolerance (mm) a check takes: beyond it, no thermal
+/// correction is told from a target re-taught (`data/gate.toml`, with its
+/// reasons; the diff gate reads the same bound).
+pub fn max_tolerance_mm() -> f64 {
+    #[derive(serde::Deserialize)]
+    struct Limits {
+        max_mm: f64,
+    }
+    // Embedded and pinned by a test: it parses.
+    toml::from_str::<Limits>(include_str!("../../data/gate.toml")).map_or(10.0, |l| l.max_mm)
+}
+
 impl CheckRule {
+    /// A rule of `tolerance` mm: finite, from 0 to [`max_tolerance_mm`]
+    /// (`--tolerance 1e308` let every check pass), else a usage error.
+    pub fn new(tolerance: f64, accepted: Vec<Reason>) -> crate::error::Result<CheckRule> {
+        let most = max_tolerance_mm();
+        if !(tolerance.is_finite() && (0.0..=most).contains(&tolerance)) {
+            return Err(crate::error::Error::usage(format!(
+                "--tolerance {}: a length from 0 to {most} mm (a thermal correction is tenths of a mm; beyond {most} mm a re-taught target would pass as one)",
+                if tolerance.abs() >= 1e6 { format!("{tolerance:e}") } else { tolerance.to_string() }
+            )));
+        }
+        Ok(CheckRule {
+            tolerance,
+            accepted,
+        })
+    }
+
     /// The correction is larger than the tolerance: the program would
     /// change.
     pub fn moves(&self, c: &Correction) -> bool {
@@ -118,4 +146,21 @@ pub fn counts(findings: &[Finding]) -> (usize, usize, usize) {
         of(FindingStatus::LeftAlone),
         of(FindingStatus::OtherUse),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Before, any finite tolerance was taken: 1e308 passed every check.
+    #[test]
+    fn a_tolerance_is_bounded() {
+        assert_eq!(max_tolerance_mm(), 10.0);
+        for ok in [0.0, 0.001, 10.0] {
+            assert!(CheckRule::new(ok, Vec::new()).is_ok(), "{ok}");
+        }
+        for bad in [-0.001, 10.5, 1e308, f64::INFINITY, f64::NAN] {
+            assert!(CheckRule::new(bad, Vec::new()).is_err(), "{bad}");
+        }
+    }
 }

@@ -37,6 +37,7 @@ mod fate;
 mod in_order;
 pub mod job;
 mod joints;
+mod marked;
 pub mod marker;
 mod moments;
 mod names;

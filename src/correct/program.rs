@@ -12,6 +12,7 @@
 use super::context::{Ahead, Run};
 use super::in_order::in_order;
 use super::joints::{correct_jointtarget, JointSolved};
+use super::marked::{already_corrected, keep_unmarked, unmarked_with_targets};
 use super::moments::check_schedule_names;
 use super::options::{Options, ScheduleSource, Untrusted, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
@@ -131,12 +132,12 @@ pub(crate) fn correct_prepared<'p>(
 
 fn correct_all<'p>(
     program: &'p Program,
-    (warm, options, mut ahead): (&WarmRobot, &Options, Ahead<'p>),
+    (warm, options, ahead): (&WarmRobot, &Options, Ahead<'p>),
     (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
     let basis = options.when.basis();
-    let distrust = marker::find(program).and_then(|_| marker::untrusted(program));
+    let distrust = marker::untrusted(program);
     if let Some(u) = &distrust {
         if options.untrusted == Untrusted::Refuse {
             return Err(marker::refuse_untrusted(program, u));
@@ -147,14 +148,54 @@ fn correct_all<'p>(
         if !found.marker.same_correction(&wanted) {
             return Err(marker::refuse(program, &found, &wanted));
         }
-        for (f, out) in outs.iter_mut().enumerate() {
-            out.write_all(program.source(f)).map_err(write_error)?;
+        let marked = marker::marked_files(program);
+        let unmarked = unmarked_with_targets(program, &marked);
+        // A run that writes, on a program whose every file with targets
+        // is marked: the files are what it would write.
+        if keep == Keep::Summary && unmarked.is_empty() {
+            for (f, out) in outs.iter_mut().enumerate() {
+                out.write_all(program.source(f)).map_err(write_error)?;
+            }
+            return Ok(Corrected {
+                outcome: already_corrected(program, &found, options),
+                changed: vec![false; program.files.len()],
+            });
         }
-        return Ok(Corrected {
-            outcome: already_corrected(program, &found, options),
-            changed: vec![false; program.files.len()],
-        });
+        // Else the whole run, as on a cold program, cut to what is still
+        // cold ([`super::marked`]); split as the file was, so that the
+        // uses it left shared are the ones found.
+        let as_made = Options {
+            split_shared: found.marker.split,
+            ..options.clone()
+        };
+        let run = (warm, &as_made, ahead);
+        let mut all = correct_body(program, run, (outs, Keep::Rows), progress, None)?;
+        let (o, changed) = (&mut all.outcome, &mut all.changed[..]);
+        keep_unmarked(program, (&marked, &unmarked), &found, (o, changed), options);
+        if keep == Keep::Summary {
+            all.outcome.corrections.clear();
+        }
+        return Ok(all);
     }
+    correct_body(
+        program,
+        (warm, options, ahead),
+        (outs, keep),
+        progress,
+        distrust,
+    )
+}
+
+/// [`correct_all`] past the marker: every target of the program taken as
+/// cold (`distrust`: why a marker it holds is not trusted, for the notes).
+fn correct_body<'p>(
+    program: &'p Program,
+    (warm, options, mut ahead): (&WarmRobot, &Options, Ahead<'p>),
+    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    progress: &mut dyn FnMut(usize, usize),
+    distrust: Option<marker::Untrusted>,
+) -> Result<Corrected> {
+    let basis = options.when.basis();
     // What the program alone decides, and each file's fingerprint for
     // its marker: made ahead where the caller had them made, else now.
     let cold_joints = ahead.cold_joints.take().filter(|c| c.fits(program));
@@ -388,7 +429,9 @@ fn write_file(
         held,
     } = printed;
     print.feed(&held);
-    out.write_all(&marker::numbers_line(src, end, &print.finish()))
+    // The seal: the marker's fields with the numbers.
+    let seal = file_marker(pass, basis, cold).seal(&print.finish());
+    out.write_all(&marker::numbers_line(src, end, &seal))
         .map_err(write_error)?;
     // What follows the last ENDMODULE (edits there too, should any be).
     let rest: Vec<&Edit> = fixed.iter().filter(|e| e.span.start >= end).collect();
@@ -397,6 +440,17 @@ fn write_file(
     splice.finish_at(&mut rest, src.len())?;
     out_flush(splice.out)?;
     Ok(changed)
+}
+
+/// The marker of a file this run writes (`cold`: its cold original's
+/// fingerprint).
+fn file_marker(pass: &Pass, basis: &str, cold: &str) -> marker::Marker {
+    marker::for_run_printed(
+        basis,
+        &pass.run.options.model_label,
+        pass.run.options.split_shared,
+        cold.to_string(),
+    )
 }
 
 fn out_flush(out: &mut dyn Write) -> Result<()> {
@@ -472,12 +526,7 @@ fn write_numbers(
     let head_end = if lo < hi { place(lo) } else { end };
     let mut changed = changed_before;
     let put_head = |out: &mut Printed, fixed: &[Edit]| -> Result<()> {
-        let m = marker::for_run_printed(
-            basis,
-            &run.options.model_label,
-            run.options.split_shared,
-            cold.to_string(),
-        );
+        let m = file_marker(pass, basis, cold);
         let mark = marker::insert(program, f, &m);
         // The marker goes into the module's header, before every target.
         if mark.as_ref().is_some_and(|e| e.span.start > head_end) {
@@ -795,51 +844,6 @@ fn summary(
         shared,
         split,
         moves: super::outcome::MoveCounts::default(),
-    }
-}
-
-/// The outcome of a run on a program its marker says is corrected on the
-/// run's basis: nothing to do, every file as it is. A split asked of a
-/// program corrected without one is not made (its numbers are no longer
-/// the cold ones), and a note says so.
-fn already_corrected(program: &Program, found: &marker::Found, options: &Options) -> Outcome {
-    let m = &found.marker;
-    let how = format!(
-        "{} line {} says it was corrected by rapidtherm {} for {} with {} (cold original {})",
-        program.files[found.file], found.line, m.version, m.basis, m.model, m.cold
-    );
-    let mut notes = Vec::new();
-    if options.split_shared && !m.split {
-        let uses = crate::resolve::uses(program);
-        let targets = program.targets();
-        let mut shared: Vec<String> = uses
-            .of_several_frames()
-            .into_iter()
-            .filter_map(|i| targets.get(i).map(|t| t.id.clone()))
-            .collect();
-        shared.sort_unstable();
-        if !shared.is_empty() {
-            notes.push(format!(
-                "it was corrected without splitting the targets moved to with several tools or work objects ({}): each is right for its first use only; a split starts from the cold original ({})",
-                shared.join(", "),
-                m.cold
-            ));
-        }
-    }
-    Outcome {
-        moves: Vec::new(),
-        corrections: Vec::new(),
-        derived: Vec::new(),
-        left_alone: Vec::new(),
-        residuals: Vec::new(),
-        shared: Vec::new(),
-        splits: Vec::new(),
-        already_corrected: Some(how),
-        notes,
-        summary: summary(&Tally::default(), 0, 0, (0, 0)),
-        outputs: (0..program.files.len())
-            .map(|f| program.source(f).to_vec())
-            .collect(),
     }
 }
 

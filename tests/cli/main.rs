@@ -5,6 +5,7 @@
 
 mod ci_report;
 mod conventions;
+mod gate;
 mod hostile;
 mod outputs;
 mod pre_commit_hook;

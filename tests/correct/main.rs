@@ -18,6 +18,7 @@ mod named;
 mod plot;
 mod runtime;
 mod samples;
+mod seal;
 mod shared;
 mod streaming;
 mod trust;

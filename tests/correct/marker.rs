@@ -182,7 +182,7 @@ mod proof {
     #[test]
     fn an_untouched_corrected_file_passes() {
         let (dir, warm) = corrected();
-        assert!(warm.contains("! rapidtherm numbers v1 sha256:"), "{warm}");
+        assert!(warm.contains("! rapidtherm numbers v2 sha256:"), "{warm}");
         let out = rapidtherm(
             &["correct", "warm.mod", "--at", "120", "--check"],
             dir.path(),
@@ -213,7 +213,11 @@ mod proof {
         );
         assert_ne!(retaught, warm);
         std::fs::write(dir.path().join("retaught.mod"), retaught).unwrap();
-        found(dir.path(), "retaught.mod", "its numbers changed since");
+        found(
+            dir.path(),
+            "retaught.mod",
+            "its numbers or its marker's text changed since",
+        );
     }
 
     #[test]
@@ -224,7 +228,11 @@ mod proof {
             "    CONST robtarget p30:=[[300,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n    PROC main()",
         );
         std::fs::write(dir.path().join("added.mod"), added).unwrap();
-        found(dir.path(), "added.mod", "its numbers changed since");
+        found(
+            dir.path(),
+            "added.mod",
+            "its numbers or its marker's text changed since",
+        );
     }
 
     #[test]
@@ -234,7 +242,7 @@ mod proof {
         assert!(marker.contains("corrected:"), "{marker}");
         let pasted = COLD.replacen("MODULE Cell\n", &format!("MODULE Cell\n{marker}\n"), 1);
         std::fs::write(dir.path().join("pasted.mod"), &pasted).unwrap();
-        found(dir.path(), "pasted.mod", "it has no fingerprint");
+        found(dir.path(), "pasted.mod", "it has no seal");
         // Both lines pasted: the numbers are not the ones they prove.
         let numbers = warm
             .lines()
@@ -242,6 +250,10 @@ mod proof {
             .unwrap();
         let both = pasted.replace("ENDMODULE", &format!("{numbers}\nENDMODULE"));
         std::fs::write(dir.path().join("both.mod"), both).unwrap();
-        found(dir.path(), "both.mod", "its numbers changed since");
+        found(
+            dir.path(),
+            "both.mod",
+            "its numbers or its marker's text changed since",
+        );
     }
 }

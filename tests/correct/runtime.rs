@@ -266,7 +266,7 @@ fn runtime_rewrites_only_the_moves_and_writes_the_module_beside() {
     assert!(moves > 5, "{moves} moves");
     assert_eq!(gone.len(), new.len() - 2, "{gone:?}\n{new:?}");
     assert!(new.iter().any(|l| l.contains("basis=runtime RtWarm")));
-    assert!(new.iter().any(|l| l.contains("rapidtherm numbers v1")));
+    assert!(new.iter().any(|l| l.contains("rapidtherm numbers v2")));
     let calls = new.iter().filter(|l| l.contains("RtWarm")).count();
     assert_eq!(calls, gone.len() + 1, "{new:?}");
     for l in &gone {

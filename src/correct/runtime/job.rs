@@ -44,6 +44,8 @@ pub struct RuntimeRan {
 struct FileRewrite {
     calls: Insertions,
     marker: Option<Edit>,
+    /// The marker's fields, which the seal covers with the numbers.
+    sealed: marker::Marker,
 }
 
 impl RuntimeRan {
@@ -64,7 +66,12 @@ impl RuntimeRan {
             return Ok(());
         };
         match self.rewrites.get(f).and_then(Option::as_ref) {
-            Some(r) => write_rewritten(source.bytes(), &r.calls, r.marker.as_ref(), out),
+            Some(r) => write_rewritten(
+                source.bytes(),
+                &r.calls,
+                (r.marker.as_ref(), &r.sealed),
+                out,
+            ),
             None => out.write_all(source.bytes()),
         }
     }
@@ -153,6 +160,7 @@ fn rewrite_task(
     if let Some(u) = marker::untrusted(&program) {
         return Err(marker::refuse_untrusted(&program, &u));
     }
+    // Any of rapidtherm's lines of a former run, trusted: its marker.
     let found = marker::find(&program);
     if let Some(f) = &found {
         if !f.marker.same_correction(&wanted) {
@@ -183,6 +191,7 @@ fn rewrite_task(
         rewrites.push(Some(FileRewrite {
             calls,
             marker: marker::insert(&program, f, &m),
+            sealed: m,
         }));
     }
     let already = found.is_some() && tally.wrapped == 0;

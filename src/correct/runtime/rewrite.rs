@@ -121,7 +121,7 @@ pub fn move_insertions(program: &Program, func: &str) -> (Vec<Insertions>, MoveT
 pub fn write_rewritten(
     src: &[u8],
     ins: &Insertions,
-    marker: Option<&Edit>,
+    (marker, sealed): (Option<&Edit>, &crate::correct::marker::Marker),
     out: &mut dyn Write,
 ) -> std::io::Result<()> {
     let end = crate::correct::marker::numbers_at(src);
@@ -153,7 +153,8 @@ pub fn write_rewritten(
     }
     // The rewritten body's line ends and last line are the source's:
     // the insertions add neither.
-    let line = crate::correct::marker::numbers_line(src, end, &print.finish());
+    let seal = sealed.seal(&print.finish());
+    let line = crate::correct::marker::numbers_line(src, end, &seal);
     out.write_all(&line)?;
     out.write_all(&src[from..])
 }

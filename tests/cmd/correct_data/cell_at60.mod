@@ -9,5 +9,5 @@ MODULE Cell
         MoveL p20, v100, fine, tGrip\WObj:=wTable;
         MoveL [[449.955,99.99,499.975],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;
     ENDPROC
-    ! rapidtherm numbers v1 sha256:a60c2dea6292783a
+    ! rapidtherm numbers v2 sha256:8262e207ab5d8df7
 ENDMODULE

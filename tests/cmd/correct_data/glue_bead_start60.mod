@@ -26,5 +26,5 @@ MODULE GlueBead
     MoveL p10, v100, fine, tGlue;
     MoveL pApp, v500, z10, tGlue;
   ENDPROC
-    ! rapidtherm numbers v1 sha256:7909b8b17204b46d
+    ! rapidtherm numbers v2 sha256:711e9387ad464f88
 ENDMODULE

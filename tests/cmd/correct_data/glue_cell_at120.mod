@@ -52,5 +52,5 @@ MODULE GlueCell
     PROC Purge(robtarget pAt)
         MoveL Offs(pAt,0,0,20), v50, fine, tGlueGun;
     ENDPROC
-    ! rapidtherm numbers v1 sha256:c1c2ba1987bd1674
+    ! rapidtherm numbers v2 sha256:f97ad0dfee525b96
 ENDMODULE

@@ -54,5 +54,5 @@ MODULE GlueCell
     PROC Purge(robtarget pAt)
         MoveL Offs(pAt,0,0,20), v50, fine, tGlueGun;
     ENDPROC
-    ! rapidtherm numbers v1 sha256:6ab9eacbf5bb2ef4
+    ! rapidtherm numbers v2 sha256:eabcbfd9b40a68fc
 ENDMODULE

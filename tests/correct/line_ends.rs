@@ -47,13 +47,19 @@ fn each_line_end_is_corrected_alike_and_written_in_its_own_kind() {
             );
             assert_exit(&check, 0);
             // The corrected text, line by line, but for the marker's
-            // fingerprint of the cold bytes (which hashes their line ends).
+            // fingerprint of the cold bytes (which hashes their line ends)
+            // and the seal, which covers that fingerprint.
             let text = String::from_utf8_lossy(&with_eol(&bytes, "\n")).into_owned();
             let lines: Vec<String> = text
                 .lines()
-                .map(|l| match l.find("cold=sha256:") {
-                    Some(at) => l[..at].to_string(),
-                    None => l.to_string(),
+                .map(|l| {
+                    match l
+                        .find("cold=sha256:")
+                        .or_else(|| l.find("numbers v2 sha256:"))
+                    {
+                        Some(at) => l[..at].to_string(),
+                        None => l.to_string(),
+                    }
                 })
                 .collect();
             corrected.push(lines);

@@ -41,6 +41,7 @@ mod fit_steps;
 pub mod forward;
 pub mod gap;
 pub mod instrument;
+pub mod job;
 pub mod joint_signature;
 mod judge;
 pub mod knock;
@@ -48,11 +49,13 @@ pub mod locate;
 pub mod measurements;
 pub mod memo;
 pub mod pipeline;
+pub mod plan;
 pub mod plausible;
 pub mod plot;
 pub mod prepare;
 pub mod prose;
 pub mod sanity;
+pub mod saved;
 pub mod select;
 pub mod separation;
 pub mod signature;
@@ -65,7 +68,8 @@ pub mod verdict;
 pub use gap::{estimate_noise, gap, gap_stats, orientation_gap, GapStats, Noise, NoiseSource};
 pub use pipeline::{diagnose, diagnosed_model, Options};
 pub use prepare::{
-    prepare, prepare_arm, problem_of, register_instrument, Prepared, RegisterFailure, Registration,
+    place_in_base, prepare, prepare_arm, problem_of, register_instrument, Prepared,
+    RegisterFailure, Registration, Source,
 };
 pub use verdict::{
     Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,

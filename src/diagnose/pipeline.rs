@@ -11,6 +11,7 @@ use super::judge::{advise, combine, judge, Scores};
 use super::knock;
 use super::locate;
 use super::prepare::Prepared;
+use super::saved;
 use super::select;
 use super::separation::Separation;
 use super::signature::QuadraticGrowth;
@@ -303,6 +304,26 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     } else {
         locate::locate(problem, &gaps_after, &prepared.pose_names, noise.rms_mm)
     };
+    // Every number after the diagnosis is the saved model's: its effects
+    // fitted without each fold's rows, written, read back and scored on
+    // them as `gap --model` scores a file (`saved.rs`). What the model
+    // cannot hold (each pose's own offset, a step removed, the square, a
+    // signature) is not in it.
+    let saved = match &prepared.source {
+        Some(source) => Some(saved::score(
+            source,
+            prepared.registration.as_ref(),
+            problem,
+            &folds,
+            &fitted,
+        )?),
+        None => None,
+    };
+    let cur_cv = saved.as_ref().map_or(cur_cv, |s| s.held_out_mm);
+    let (gap_after, gaps_after) = match &saved {
+        Some(s) => (s.gap, s.gaps.clone()),
+        None => (gap_stats(&gaps_after), gaps_after),
+    };
     let advice = advise(
         &verdict,
         cv0,
@@ -320,7 +341,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         gap_before_mm: cv0,
         gap_after_mm: cur_cv,
         gap,
-        gap_after: gap_stats(&gaps_after),
+        gap_after,
         noise,
         level: LEVEL,
         candidates,
@@ -357,6 +378,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         fitted,
         gaps_before,
         gaps_after,
+        saved,
     })
 }
 
@@ -956,8 +978,13 @@ fn is_origin_param(name: &str) -> bool {
     })
 }
 
-/// The model with the diagnosed effects added.
+/// The model with the diagnosed effects added: the saved model where the
+/// diagnosis was of measurements (its arm, measured point and instrument
+/// frame with it), else `model` with the effects.
 pub fn diagnosed_model(model: &Model, diagnosis: &Diagnosis) -> Model {
+    if let Some(s) = &diagnosis.saved {
+        return s.model.clone();
+    }
     let mut m = model.clone();
     m.effects.extend(diagnosis.fitted.iter().cloned());
     m

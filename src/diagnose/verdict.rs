@@ -194,9 +194,11 @@ pub struct Diagnosis {
     pub verdict: Verdict,
     /// Held-out RMS gap of the current model, mm.
     pub gap_before_mm: f64,
-    /// Held-out RMS gap with the selected effects, mm.
+    /// Held-out RMS gap of the saved model, mm (its effects fitted
+    /// without the rows scored).
     pub gap_after_mm: f64,
     pub gap: GapStats,
+    /// The saved model's gap on every row.
     pub gap_after: GapStats,
     pub noise: Noise,
     /// The level of each stage's family of tests.
@@ -245,4 +247,8 @@ pub struct Diagnosis {
     pub gaps_before: Vec<Vector3<f64>>,
     #[serde(skip)]
     pub gaps_after: Vec<Vector3<f64>>,
+    /// The model to save and the gaps measured on it (every "after" above
+    /// is its), where the diagnosis was of measurements.
+    #[serde(skip)]
+    pub saved: Option<super::saved::Saved>,
 }

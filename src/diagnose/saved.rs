@@ -1,0 +1,167 @@
+//! The model a diagnosis saves, and the report's "after" measured on it.
+//!
+//! The report's numbers after the diagnosis are the saved model's: what the
+//! library cannot write into a model file (each pose's own offset, a step
+//! removed from the data, a growth with the square of the temperature, a
+//! joint signature) is not in them. The held-out gap "after" is that of
+//! the saved model's effects fitted on each fold's training rows, each
+//! fold's model written as `--save-model` writes it, read back, and scored
+//! on the fold's held-out rows exactly as `gap --model` scores a file
+//! (the rows prepared under the model and its arm, placed in the base
+//! frame by the model's instrument frame); the gap "after" on all rows is
+//! the saved model's own, read back likewise.
+
+use super::arm::Arm;
+use super::fit::{fit, fit_from, Problem};
+use super::gap::{gap, GapStats};
+use super::measurements::Measurements;
+use super::prepare::{place_in_base, problem_of, Registration, Source};
+use super::select::Folds;
+use crate::error::Result;
+use crate::model::{EffectEntry, EffectKind, InstrumentSection, Model};
+use nalgebra::Vector3;
+
+/// The saved model and the gaps measured on it.
+#[derive(Debug, Clone)]
+pub struct Saved {
+    /// The model `--save-model` writes.
+    pub model: Model,
+    /// Its held-out RMS gap over the folds, mm (each fold's model fitted
+    /// without the rows it is scored on).
+    pub held_out_mm: f64,
+    /// Its gap on every row.
+    pub gap: GapStats,
+    /// Its gap of every row, in the rows' order.
+    pub gaps: Vec<Vector3<f64>>,
+    /// Each fold's model and the rows it was scored on.
+    pub folds: Vec<SavedFold>,
+}
+
+/// One fold of the held-out score: the model fitted without `lines`, as
+/// it would be saved, and its gap on them.
+#[derive(Debug, Clone)]
+pub struct SavedFold {
+    pub model: Model,
+    /// The held-out rows, by their line in the measurements file.
+    pub lines: Vec<usize>,
+    pub gap: GapStats,
+}
+
+/// The model to save: `source`'s model on its arm (named so that the file
+/// stands alone), with `fitted` added and the instrument frame the data
+/// were placed by.
+pub fn saved_model(
+    source: &Source,
+    registration: Option<&Registration>,
+    fitted: &[EffectEntry],
+) -> Model {
+    let mut m = source.model.clone();
+    m.robot = source.arm.robot_section(&source.model);
+    m.effects.extend(fitted.iter().cloned());
+    m.instrument = registration.map(|r| InstrumentSection {
+        translation_mm: r.translation_mm,
+        rotation_deg: r.rotation_deg,
+    });
+    m
+}
+
+/// `model` as its file reads back (written in the current format and
+/// parsed again), in the folder of the model it came from (a heating
+/// recording is named relative to it), and its arm as a reader finds it.
+pub fn read_back(model: &Model, name: &str) -> Result<(Model, Arm)> {
+    let mut back = Model::parse(name, &model.to_toml()?)?;
+    back.dir.clone_from(&model.dir);
+    let arm = Arm::of_model(&back)?;
+    Ok((back, arm))
+}
+
+/// The gap of `model` (with its arm) on `meas`, as `gap --model` gives it
+/// without `--register`: the rows prepared under the model, placed in the
+/// base frame by its instrument frame.
+pub fn model_gap(
+    meas: &Measurements,
+    model: &Model,
+    arm: &Arm,
+) -> Result<(GapStats, Vec<Vector3<f64>>)> {
+    let mut prepared = problem_of(meas, model, arm)?;
+    // Without registering anew, placing cannot fail.
+    let _ = place_in_base(&mut prepared, model, false);
+    let all: Vec<usize> = (0..prepared.problem.rows.len()).collect();
+    let gaps = prepared.problem.position_gaps(&[], &all);
+    Ok((gap(&prepared), gaps))
+}
+
+/// The saved model of a diagnosis that fitted `fitted` (the selection's
+/// effects, on all rows) on `problem` (the data as the diagnosis placed
+/// them, the model's own effects fixed), scored on `folds`.
+pub fn score(
+    source: &Source,
+    registration: Option<&Registration>,
+    problem: &Problem,
+    folds: &Folds,
+    fitted: &[EffectEntry],
+) -> Result<Saved> {
+    let model = saved_model(source, registration, fitted);
+    let (back, arm) = read_back(&model, "the saved model")?;
+    let (all_gap, gaps) = model_gap(&source.meas, &back, &arm)?;
+    let start: Vec<crate::model::Effect> = fitted
+        .iter()
+        .map(EffectEntry::to_effect)
+        .collect::<Result<_>>()?;
+    let mut kinds: Vec<EffectKind> = Vec::new();
+    for e in &start {
+        if !kinds.contains(&e.kind) {
+            kinds.push(e.kind);
+        }
+    }
+    let mut out = Vec::new();
+    let (mut sum, mut count) = (0.0, 0usize);
+    for (train, test) in &folds.folds {
+        let entries = if kinds.is_empty() {
+            Vec::new()
+        } else {
+            // From the fit on all rows, as the selection's own held-out
+            // scores start; a cold fit where that one fails.
+            let f = fit_from(problem, train, &kinds, &start)
+                .or_else(|_| fit(problem, train, &kinds))?;
+            f.effects
+                .iter()
+                .zip(&f.params)
+                .map(|(e, ps)| {
+                    let se: Vec<Option<f64>> = ps.iter().map(|p| p.stderr).collect();
+                    EffectEntry::from_effect(e, Some(&se))
+                })
+                .collect()
+        };
+        let fold_model = saved_model(source, registration, &entries);
+        let (fold_back, fold_arm) = read_back(&fold_model, "a held-out fold's model")?;
+        let held = Measurements {
+            rows: test.iter().map(|&i| source.meas.rows[i].clone()).collect(),
+            warnings: Vec::new(),
+            file: source.meas.file.clone(),
+        };
+        let (g, fold_gaps) = model_gap(&held, &fold_back, &fold_arm)?;
+        sum += fold_gaps.iter().map(|g| g.norm_squared()).sum::<f64>();
+        count += fold_gaps.len();
+        out.push(SavedFold {
+            model: fold_model,
+            lines: held.rows.iter().map(|r| r.line).collect(),
+            gap: g,
+        });
+    }
+    Ok(Saved {
+        model,
+        held_out_mm: (sum / count.max(1) as f64).sqrt(),
+        gap: all_gap,
+        gaps,
+        folds: out,
+    })
+}
+
+/// The RMS of gaps pooled over folds, as [`score`] pools them.
+pub fn pooled(folds: &[SavedFold]) -> f64 {
+    let (s, n) = folds.iter().fold((0.0, 0usize), |(s, n), f| {
+        (s + f.gap.rms_mm.powi(2) * f.gap.n as f64, n + f.gap.n)
+    });
+    (s / n.max(1) as f64).sqrt()
+}

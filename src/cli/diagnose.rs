@@ -131,13 +131,15 @@ fn robot_choice(arg: &Option<PathBuf>) -> Result<Option<RobotChoice>> {
     )?)))
 }
 
-/// A refused job in this command line's words.
-fn refused(r: Refused) -> Error {
+/// A refused job in this command line's words (`robot`: as `--robot`
+/// named the arm).
+fn refused(r: Refused, robot: Option<&Path>) -> Error {
     match r {
         Refused::Error(e) => e,
         Refused::Register(f) => register_error(f),
         Refused::HoldoutOnOpwArm { arm } => Error::usage(format!(
-            "--holdout is the general chain's calibration: {arm} has the OPW form, add --chain"
+            "--holdout is the general chain's calibration: {} has the OPW form, add --chain",
+            robot.map_or(arm, |p| p.display().to_string())
         )),
         Refused::Point { link, error } => {
             Error::usage(format!("--point {link}: {}", error.message))
@@ -322,8 +324,8 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     let robot = robot_choice(&args.robot)?;
     let model = load_model(&args.model)?;
     let setup = job::setup(robot.as_ref(), &model, args.model.is_some(), &mut Messages)?;
-    let prepared =
-        job::gap_of(&args.data, &model, &setup, args.register, &mut Messages).map_err(refused)?;
+    let prepared = job::gap_of(&args.data, &model, &setup, args.register, &mut Messages)
+        .map_err(|r| refused(r, args.robot.as_deref()))?;
     let g = diagnose::gap(&prepared);
     let text = match args.format {
         Format::Json => {
@@ -508,7 +510,7 @@ fn plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
 pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     let plan = plan(&args)?;
     check_diagnose_outputs(&args)?;
-    let run = match job::run(&plan, &mut Messages).map_err(refused)? {
+    let run = match job::run(&plan, &mut Messages).map_err(|r| refused(r, args.robot.as_deref()))? {
         Ran::Chain(d) => {
             let text = super::diagnose_chain::render(args.format, &d)?;
             write_stdout(text.as_bytes())?;

@@ -161,22 +161,23 @@ pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran,
         None => Model::default(),
     };
     let setup = setup(plan.robot.as_ref(), &model, plan.model.is_some(), host)?;
+    // What the arm alone refuses, before the data are read.
+    if let Which::Chain { forced: false, .. } = plan.which {
+        if setup.robot.opw.is_ok() {
+            return Err(Refused::HoldoutOnOpwArm {
+                arm: setup.arm.source.clone(),
+            });
+        }
+    }
+    let point = measured_point(plan, &setup)?;
     let (name, bytes) = read(&plan.data)?;
     let meas = Measurements::parse(&name, &bytes, &setup.arm.limits_deg)?;
     for w in &meas.warnings {
         host.event(Event::Warning(w));
     }
-    let point = measured_point(plan, &setup)?;
     let chain = match &plan.which {
         Which::Effects => false,
-        Which::Chain { forced, .. } => {
-            if !forced && setup.robot.opw.is_ok() {
-                return Err(Refused::HoldoutOnOpwArm {
-                    arm: setup.arm.source.clone(),
-                });
-            }
-            true
-        }
+        Which::Chain { .. } => true,
         // Temperatures to explain: the effect diagnosis, which runs on
         // any serial chain; without them, on an arm without the OPW form,
         // the geometric calibration (time is then only an order).

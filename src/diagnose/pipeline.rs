@@ -316,6 +316,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             problem,
             &folds,
             &fitted,
+            stages.len() > 1,
         )?),
         None => None,
     };

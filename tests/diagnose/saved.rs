@@ -99,6 +99,10 @@ fn check(name: &str, data: &Path, robot: Option<PathBuf>, register: bool, dir: &
         count += n;
     }
     let pooled = (sum / count as f64).sqrt();
+    println!(
+        "{name}: after {:.4} mm held out ({pooled:.4} from the folds' files), {:.4} mm on all rows",
+        d.gap_after_mm, d.gap_after.rms_mm
+    );
     assert!(
         close(d.gap_after_mm, pooled),
         "{name}: report {:.5} mm held out after, the folds' files {pooled:.5} mm",
@@ -143,6 +147,7 @@ fn the_real_ur5s_saved_model_stands_alone() {
     std::fs::rename(&saved, &moved).unwrap();
     let (rms, n) = gap_cli(&moved, &ur5.join("ur5_random.csv"), &[]);
     assert_eq!(n, 20);
+    println!("ur5: gap --model of the saved file on ur5_random.csv: {rms:.4} mm");
     // docs/diagnose-urdf.md: 0.104 mm on the random poses after the full
     // geometry; the reflector and the frame are in the file.
     assert!(rms < 0.15, "{rms}");

@@ -166,7 +166,7 @@ impl Arm {
     pub fn of_catalogue(arm: &crate::robot::abb::AbbArm) -> Result<Arm> {
         Ok(Arm {
             written: Some(Written::Catalogue(arm.name.clone())),
-            ..Arm::of_robot(&arm.robot(), &arm.file.to_string())?
+            ..Arm::of_robot(&arm.robot(), arm.file)?
         })
     }
 

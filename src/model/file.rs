@@ -466,33 +466,30 @@ impl Model {
                 );
             }
         }
-        match (&self.robot.opw, &self.robot.urdf) {
-            (Some(o), None) => {
-                let lengths = [
-                    ("c1", o.c1),
-                    ("a1", o.a1),
-                    ("c2", o.c2),
-                    ("c3", o.c3),
-                    ("c4", o.c4),
-                    ("a2", o.a2),
-                    ("b", o.b),
-                ];
-                for (name, v) in lengths {
-                    let positive = matches!(name, "c2" | "c3");
-                    // A millimetre length beyond 100 m is no robot arm.
-                    if !v.is_finite() || v.abs() > 1e5 || (positive && v <= 0.0) {
-                        return bad(
-                            vec![Key("robot"), Key("opw"), Key(name)],
-                            if positive {
-                                "must be a positive length in mm (at most 100,000)"
-                            } else {
-                                "must be a finite length in mm (at most 100,000 either way)"
-                            },
-                        );
-                    }
+        if let Some(o) = &self.robot.opw {
+            let lengths = [
+                ("c1", o.c1),
+                ("a1", o.a1),
+                ("c2", o.c2),
+                ("c3", o.c3),
+                ("c4", o.c4),
+                ("a2", o.a2),
+                ("b", o.b),
+            ];
+            for (name, v) in lengths {
+                let positive = matches!(name, "c2" | "c3");
+                // A millimetre length beyond 100 m is no robot arm.
+                if !v.is_finite() || v.abs() > 1e5 || (positive && v <= 0.0) {
+                    return bad(
+                        vec![Key("robot"), Key("opw"), Key(name)],
+                        if positive {
+                            "must be a positive length in mm (at most 100,000)"
+                        } else {
+                            "must be a finite length in mm (at most 100,000 either way)"
+                        },
+                    );
                 }
             }
-            _ => {}
         }
         if !self.point().iter().all(|v| v.is_finite() && v.abs() <= 1e4) {
             return bad(
@@ -762,21 +759,23 @@ mod tests {
     const UR5: &str = include_str!("../../tests/data/ur5/ur5.urdf");
 
     fn ur5_model() -> Model {
-        let mut m = Model::default();
-        m.robot = RobotSection {
-            name: "ur5".into(),
-            opw: None,
-            urdf: None,
-            urdf_text: Some(UR5.into()),
-            catalogue: None,
-            joints: Some(JointConvention::Urdf),
-            point_mm: Some([0.0, 0.0, 31.0]),
-        };
-        m.instrument = Some(InstrumentSection {
-            translation_mm: [1500.0, -20.0, 3.5],
-            rotation_deg: [0.5, -1.0, 120.0],
-        });
-        m
+        let base = Model::default();
+        Model {
+            robot: RobotSection {
+                name: "ur5".into(),
+                opw: None,
+                urdf: None,
+                urdf_text: Some(UR5.into()),
+                catalogue: None,
+                joints: Some(JointConvention::Urdf),
+                point_mm: Some([0.0, 0.0, 31.0]),
+            },
+            instrument: Some(InstrumentSection {
+                translation_mm: [1500.0, -20.0, 3.5],
+                rotation_deg: [0.5, -1.0, 120.0],
+            }),
+            ..base
+        }
     }
 
     /// A model that embeds its URDF stands alone: it reads back with the

@@ -40,6 +40,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "diagnose",
         &[
             "error",
+            // The job reads its inputs, bounded as every reader is.
+            "input",
             "csv_table",
             "report",
             "plot",

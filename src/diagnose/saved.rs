@@ -56,7 +56,11 @@ pub fn saved_model(
     fitted: &[EffectEntry],
 ) -> Model {
     let mut m = source.model.clone();
-    m.robot = source.arm.robot_section(&source.model);
+    // An arm given as a robot alone (a library caller's, its URDF's text
+    // unknown) cannot be named by the file: the model keeps its own.
+    if source.arm.written.is_some() {
+        m.robot = source.arm.robot_section(&source.model);
+    }
     m.effects.extend(fitted.iter().cloned());
     m.instrument = registration.map(|r| InstrumentSection {
         translation_mm: r.translation_mm,
@@ -67,8 +71,13 @@ pub fn saved_model(
 
 /// `model` as its file reads back (written in the current format and
 /// parsed again), in the folder of the model it came from (a heating
-/// recording is named relative to it), and its arm as a reader finds it.
-pub fn read_back(model: &Model, name: &str) -> Result<(Model, Arm)> {
+/// recording is named relative to it), and its arm as a reader finds it;
+/// where the arm cannot be named by a file (given as a robot alone), the
+/// model as it is on `arm`.
+pub fn read_back(model: &Model, name: &str, arm: &Arm) -> Result<(Model, Arm)> {
+    if arm.written.is_none() {
+        return Ok((model.clone(), arm.clone()));
+    }
     let mut back = Model::parse(name, &model.to_toml()?)?;
     back.dir.clone_from(&model.dir);
     let arm = Arm::of_model(&back)?;
@@ -105,7 +114,7 @@ pub fn score(
     staged: bool,
 ) -> Result<Saved> {
     let model = saved_model(source, registration, fitted);
-    let (back, arm) = read_back(&model, "the saved model")?;
+    let (back, arm) = read_back(&model, "the saved model", &source.arm)?;
     let (all_gap, gaps) = model_gap(&source.meas, &back, &arm)?;
     let start: Vec<Effect> = fitted
         .iter()
@@ -126,7 +135,7 @@ pub fn score(
             fold_fit(problem, train, &kinds, &start, staged)?
         };
         let fold_model = saved_model(source, registration, &entries);
-        let (fold_back, fold_arm) = read_back(&fold_model, "a held-out fold's model")?;
+        let (fold_back, fold_arm) = read_back(&fold_model, "a held-out fold's model", &source.arm)?;
         let held = Measurements {
             rows: test.iter().map(|&i| source.meas.rows[i].clone()).collect(),
             warnings: Vec::new(),

@@ -125,7 +125,7 @@ fn nothing_is_written_on_bad_input() {
 #[test]
 fn a_bad_noise_is_refused_before_any_input_is_read() {
     for args in [
-        vec!["diagnose", "no/such/data.csv", "--noise", "-1"],
+        vec!["diagnose", "no/such/data.csv", "--noise=-1"],
         vec![
             "diagnose",
             "no/such/data.csv",

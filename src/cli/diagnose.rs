@@ -489,6 +489,7 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     }
     let opts = Options {
         noise_mm: args.noise,
+        assume_cold_start: args.assume_cold_start,
         ..Options::default()
     };
     let d = diagnose::diagnose(&prepared, &opts)?;
@@ -662,21 +663,25 @@ fn diagnosis_table(d: &Diagnosis) -> String {
             .filter_map(|p| {
                 let why = p.held.as_ref()?;
                 let clear = match why {
-                    Unidentified::Implausible { .. } => true,
+                    Unidentified::Implausible { .. } | Unidentified::AtBound { .. } => true,
                     Unidentified::SameAs { same_as, .. } => (1..=3).contains(&same_as.len()),
                     _ => false,
                 };
                 clear.then(|| {
                     format!(
-                        "  {}: {}\n",
+                        "  {}: held at {:.4} {}: {}\n",
                         p.name,
+                        p.value,
+                        p.unit,
                         super::diagnose_chain::held_words(why, &p.unit)
                     )
                 })
             })
             .collect();
         if !told.is_empty() {
-            s.push_str("Not identifiable from these data (held at zero):\n");
+            s.push_str(
+                "Not identifiable from these data (held, not fitted, at the value given):\n",
+            );
             s.extend(told);
         }
     }

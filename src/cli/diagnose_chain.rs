@@ -47,7 +47,8 @@ pub fn chain_setup(
     let effects_asked = args.model.is_some()
         || args.save_model.is_some()
         || args.plot.is_some()
-        || args.noise.is_some();
+        || args.noise.is_some()
+        || args.assume_cold_start.is_some();
     if !args.chain && !general_only && (effects_asked || has_temps(name, bytes, &robot)?) {
         // Temperatures to explain, or a model to fit: the effect diagnosis,
         // which runs on any serial chain.
@@ -204,6 +205,9 @@ pub(crate) fn held_words(why: &Unidentified, unit: &str) -> String {
         }
         Unidentified::Implausible { value, limit } => {
             format!("fitted to {value:.3} {unit}, beyond a plausible {limit} {unit}")
+        }
+        Unidentified::AtBound { value } => {
+            format!("on a bound of its range, held at {value:.0} {unit}, not fitted")
         }
     }
 }

@@ -34,6 +34,7 @@ pub mod chain_diagnose;
 pub mod chain_finding;
 pub mod chain_residual;
 pub mod detect;
+pub mod drift;
 pub mod finding;
 pub mod fit;
 mod fit_key;
@@ -58,7 +59,9 @@ pub mod separation;
 pub mod signature;
 pub mod simulate;
 pub mod square;
+pub mod stability;
 pub mod stats;
+pub mod temps;
 pub mod unidentified;
 pub mod verdict;
 
@@ -68,5 +71,6 @@ pub use prepare::{
     prepare, prepare_arm, problem_of, register_instrument, Prepared, RegisterFailure, Registration,
 };
 pub use verdict::{
-    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
+    Advice, Ambiguity, CandidateOut, Diagnosis, NotNamed, NotNamedWhy, ParamOut, Part,
+    StageSummary, StepOut, Verdict,
 };

@@ -7,6 +7,7 @@ use super::arm::Arm;
 use super::fit::{Problem, Row};
 use super::instrument::instrument;
 use super::measurements::Measurements;
+use super::temps::TempOrigin;
 use crate::error::{Error, Result};
 use crate::model::effects::FULL_GEOMETRY_POSES;
 use crate::model::Model;
@@ -24,6 +25,11 @@ pub struct Prepared {
     pub pose_names: Vec<String>,
     /// The fitted instrument frame when registration was asked for.
     pub registration: Option<Registration>,
+    /// Where the rows' temperatures came from: the data, or the model's
+    /// heating (a record, or a profile from a cold start the data do not
+    /// say; the diagnosis uses a profile only where the caller assumes it,
+    /// [`super::temps`]).
+    pub temps: TempOrigin,
 }
 
 /// The rigid transform from the robot base frame to the instrument's frame
@@ -164,10 +170,18 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         origins: pose_names.len() >= FULL_GEOMETRY_POSES,
         memo: Default::default(),
     };
+    let temps = if meas.has_temps() {
+        TempOrigin::Measured
+    } else if let Some(r) = &model.heating.recording {
+        TempOrigin::Recording(r.clone())
+    } else {
+        TempOrigin::Profile(model.heating.profile.clone())
+    };
     let prepared = Prepared {
         problem,
         pose_names,
         registration: None,
+        temps,
     };
     super::sanity::check_spread(&prepared, &meas.file)?;
     Ok(prepared)

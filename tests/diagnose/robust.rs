@@ -58,8 +58,14 @@ proptest! {
             if let Ok(p) = prepare(&m, &Model::default(), false) {
                 let g = gap(&p);
                 prop_assert!(g.rms_mm.is_finite() && g.max_mm.is_finite());
-                if let Ok(d) = diagnose(&p, &Options::default().with_cold_start(ColdStart::Irb140)) {
-                    prop_assert!(d.gap_after_mm.is_finite());
+                // With the cold start assumed, and with nothing assumed (no
+                // thermal candidate, a drift in time, the noise maybe not
+                // measured).
+                for opts in [Options::default().with_cold_start(ColdStart::Irb140), Options::default()] {
+                    if let Ok(d) = diagnose(&p, &opts) {
+                        prop_assert!(d.gap_after_mm.is_finite());
+                        prop_assert!(d.noise.per_axis_mm.is_finite());
+                    }
                 }
             }
         }

@@ -219,3 +219,27 @@ pub fn orientation_weight(problem: &Problem, noise: &Noise) -> f64 {
         _ => problem.w_ori,
     }
 }
+
+/// Where the noise was not measured: the level of the residual a full
+/// static calibration (the arm's geometry and the instrument's frame)
+/// leaves, its sum of squares over its degrees of freedom. Only the
+/// identifiability of the fits and the localisation's bars stand on it;
+/// every test divides by its own larger model's residual variance, and
+/// the level reported is the final model's.
+pub(super) fn first_residual(problem: &Problem, rows: &[usize]) -> Noise {
+    let values = problem.residuals(&[], rows).len();
+    for kinds in [
+        &[
+            crate::model::EffectKind::GeometryOffset,
+            crate::model::EffectKind::TrackerFrame,
+        ][..],
+        &[crate::model::EffectKind::TrackerFrame][..],
+    ] {
+        if let Ok(f) = super::fit::fit(problem, rows, kinds) {
+            if values > f.n_free {
+                return Noise::from_residual(f.rss, values - f.n_free);
+            }
+        }
+    }
+    Noise::from_residual(problem.residuals(&[], rows).norm_squared(), values)
+}

@@ -131,3 +131,20 @@ pub(super) fn advise(
         },
     }
 }
+
+/// `verdict` with a remainder the library does not explain.
+pub(super) fn with_remainder(verdict: Verdict) -> Verdict {
+    match verdict {
+        Verdict::ExplainedBy { effects, .. } => Verdict::ExplainedBy {
+            effects,
+            remainder: true,
+        },
+        Verdict::Ambiguous { effects, .. } => Verdict::Ambiguous {
+            effects,
+            remainder: true,
+        },
+        _ => Verdict::Unexplained {
+            partial: Vec::new(),
+        },
+    }
+}

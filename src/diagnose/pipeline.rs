@@ -6,11 +6,13 @@ use super::detect;
 use super::drift;
 use super::fit::{self, Problem};
 use super::forward::{forward, params_out, Forward, Joint, TestNoise};
-use super::gap::{gap_stats, noise_level, orientation_weight, Noise};
+use super::gap::{first_residual, gap_stats, noise_level, orientation_weight, Noise};
 use super::joint_signature;
-use super::judge::{advise, combine, judge, Scores};
+use super::judge::{advise, combine, judge, with_remainder, Scores};
 use super::knock;
+use super::listed::{has_place, is_origin_param};
 use super::locate;
+pub use super::options::Options;
 use super::prepare::Prepared;
 use super::select;
 use super::separation::Separation;
@@ -18,52 +20,13 @@ use super::signature::QuadraticGrowth;
 use super::square;
 use super::stability;
 use super::stats::{Test, LEVEL};
-use super::temps::{self, ColdStart, TempSource};
+use super::step::{significant_step, step_of};
+use super::temps::{self, TempSource};
 use super::verdict::{
     Ambiguity, CandidateOut, Diagnosis, NotNamed, ParamOut, Part, StageSummary, StepOut, Verdict,
 };
 use crate::error::{Error, Result};
-use crate::model::effects::GEOMETRY_ORIGINS_FROM;
 use crate::model::{EffectEntry, EffectKind, Model};
-
-/// Options of a diagnosis.
-#[derive(Debug, Clone)]
-pub struct Options {
-    /// Tracker noise per axis (mm, positive); `None`: estimate, else the
-    /// instrument's default.
-    pub noise_mm: Option<f64>,
-    /// Number of cross-validation folds.
-    pub folds: usize,
-    /// Most effects forward selection adds.
-    pub max_effects: usize,
-    /// Where the data carry no temperatures (and the model names no
-    /// heating record): the caller says the session starts cold at its
-    /// first row and follows this warm-up. `None`: nothing is assumed, no
-    /// thermal effect is a candidate ([`temps`]).
-    pub assume_cold_start: Option<ColdStart>,
-}
-
-impl Options {
-    /// These options with the session said to start cold at its first row
-    /// and follow `profile` (data without temperature columns).
-    pub fn with_cold_start(self, profile: ColdStart) -> Options {
-        Options {
-            assume_cold_start: Some(profile),
-            ..self
-        }
-    }
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            noise_mm: None,
-            folds: 4,
-            max_effects: 3,
-            assume_cold_start: None,
-        }
-    }
-}
 
 /// Rows enough, spread over enough poses and times, to tell what changes
 /// with time from what stays: at least 3 poses each measured at 4 or more
@@ -630,83 +593,6 @@ type Staged = (
     joint_signature::Searched,
 );
 
-/// A knock as a step between the measurement times around it.
-fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {
-    let before = problem
-        .rows
-        .iter()
-        .map(|r| r.time_min)
-        .filter(|&t| t < k.after_min - 1e-9)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let size = k.shift_mm.norm();
-    let dir = if size > 0.0 {
-        k.shift_mm / size
-    } else {
-        k.shift_mm
-    };
-    locate::Step {
-        before_min: before,
-        after_min: k.after_min,
-        size_mm: size,
-        direction: [dir.x, dir.y, dir.z],
-    }
-}
-
-/// A step in time in what `thermal` leaves over time (each pose's own
-/// offset taken out), when it is significant: an F test of its three
-/// components against the noise, at the level shared among the splits
-/// tried. Where a growth with the square of the temperatures adds
-/// significantly beyond `thermal` (at `level`), the step must also be
-/// significant beyond both (`square::left_beyond`): the growth is a
-/// candidate too, and the part of it the effects leave is no step. The
-/// step itself is the one the effects alone leave: fitted beyond the
-/// square, a real knock lost the part the square took up, and the data
-/// corrected by the rest still held a step that a scaled expansion or a
-/// lag then followed (10 of 33 step sets, seeds 28006-28030).
-///
-/// Where no temperatures drive anything (`temps_drive` false), the step
-/// is the alternative of a smooth drift in time, and must show beyond it
-/// (line and square per axis, [`drift::detrended`]): the best split of a
-/// straight drift takes up most of it as a step.
-fn significant_step(
-    centred: &Problem,
-    thermal: &Forward,
-    noise: &TestNoise,
-    level: f64,
-    temps_drive: bool,
-) -> Option<knock::Knock> {
-    let all: Vec<usize> = (0..centred.rows.len()).collect();
-    let effects = thermal.effects();
-    let mut gaps = centred.position_gaps(&effects, &all);
-    if !temps_drive {
-        let times: Vec<f64> = centred.rows.iter().map(|r| r.time_min).collect();
-        let poses: Vec<usize> = centred.rows.iter().map(|r| r.pose).collect();
-        gaps = drift::detrended(&times, &poses, &gaps, true);
-    }
-    let (k, rss0, rss1, tried) = knock::best(centred, &all, &gaps)?;
-    let beyond_square = if temps_drive {
-        square::left_beyond(centred, &effects, noise, level)
-    } else {
-        None
-    };
-    let (rss0, rss1, tried) = match beyond_square {
-        Some(left) => {
-            let (_, rss0, rss1, tried) = knock::best(centred, &all, &left)?;
-            (rss0, rss1, tried)
-        }
-        None => (rss0, rss1, tried),
-    };
-    let t = Test::nested(
-        rss0,
-        rss1,
-        3,
-        noise.sigma2,
-        noise.dof,
-        level / tried.max(1) as f64,
-    );
-    t.significant().then_some(k)
-}
-
 /// The two stages of data that measure poses again and again: what changes
 /// with time (each pose's own offset free, held out by time span), then
 /// what stays (the thermal effects found held fixed). Returns the stages,
@@ -1069,69 +955,6 @@ fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
         quadratic,
         searched,
     ))
-}
-
-/// Where the noise was not measured: the level of the residual a full
-/// static calibration (the arm's geometry and the instrument's frame)
-/// leaves, its sum of squares over its degrees of freedom. Only the
-/// identifiability of the fits and the localisation's bars stand on it;
-/// every test divides by its own larger model's residual variance, and
-/// the level reported is the final model's.
-fn first_residual(problem: &Problem, rows: &[usize]) -> Noise {
-    let values = problem.residuals(&[], rows).len();
-    for kinds in [
-        &[EffectKind::GeometryOffset, EffectKind::TrackerFrame][..],
-        &[EffectKind::TrackerFrame][..],
-    ] {
-        if let Ok(f) = fit::fit(problem, rows, kinds) {
-            if values > f.n_free {
-                return Noise::from_residual(f.rss, values - f.n_free);
-            }
-        }
-    }
-    Noise::from_residual(problem.residuals(&[], rows).norm_squared(), values)
-}
-
-/// `verdict` with a remainder the library does not explain.
-fn with_remainder(verdict: Verdict) -> Verdict {
-    match verdict {
-        Verdict::ExplainedBy { effects, .. } => Verdict::ExplainedBy {
-            effects,
-            remainder: true,
-        },
-        Verdict::Ambiguous { effects, .. } => Verdict::Ambiguous {
-            effects,
-            remainder: true,
-        },
-        _ => Verdict::Unexplained {
-            partial: Vec::new(),
-        },
-    }
-}
-
-/// Whether the parameter `name` (`effect.param`) has a place on the arm
-/// ([`crate::model::Geometry::has_param`]): one without is not listed.
-fn has_place(geometry: &crate::model::Geometry, name: &str) -> bool {
-    let Some((effect, param)) = name.split_once('.') else {
-        return true;
-    };
-    let Some(kind) = EffectKind::from_name(effect) else {
-        return true;
-    };
-    kind.params()
-        .iter()
-        .position(|p| p.name == param)
-        .is_none_or(|i| geometry.has_param(kind, i))
-}
-
-/// Whether `name` (`effect.param`) is one of geometry-offset's joint-origin
-/// or measured-point parameters.
-fn is_origin_param(name: &str) -> bool {
-    name.strip_prefix("geometry-offset.").is_some_and(|p| {
-        EffectKind::GeometryOffset.params()[GEOMETRY_ORIGINS_FROM..]
-            .iter()
-            .any(|info| info.name == p)
-    })
 }
 
 /// The model with the diagnosed effects added.

@@ -475,6 +475,7 @@ fn plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
         (args.save_model.is_some(), "--save-model"),
         (args.plot.is_some(), "--plot"),
         (args.noise.is_some(), "--noise"),
+        (args.assume_cold_start.is_some(), "--assume-cold-start"),
     ];
     let which = if args.chain || args.holdout.is_some() {
         if let (Some((_, flag)), Some(p)) =
@@ -500,6 +501,7 @@ fn plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
         robot: robot_choice(&args.robot)?,
         which,
         noise_mm: args.noise,
+        assume_cold_start: args.assume_cold_start,
         register: args.register,
         point: args.point.clone(),
         save_model: args.save_model.is_some(),
@@ -681,21 +683,25 @@ fn diagnosis_table(d: &Diagnosis) -> String {
             .filter_map(|p| {
                 let why = p.held.as_ref()?;
                 let clear = match why {
-                    Unidentified::Implausible { .. } => true,
+                    Unidentified::Implausible { .. } | Unidentified::AtBound { .. } => true,
                     Unidentified::SameAs { same_as, .. } => (1..=3).contains(&same_as.len()),
                     _ => false,
                 };
                 clear.then(|| {
                     format!(
-                        "  {}: {}\n",
+                        "  {}: held at {:.4} {}: {}\n",
                         p.name,
+                        p.value,
+                        p.unit,
                         super::diagnose_chain::held_words(why, &p.unit)
                     )
                 })
             })
             .collect();
         if !told.is_empty() {
-            s.push_str("Not identifiable from these data (held at zero):\n");
+            s.push_str(
+                "Not identifiable from these data (held, not fitted, at the value given):\n",
+            );
             s.extend(told);
         }
     }

@@ -55,6 +55,9 @@ pub(crate) fn held_words(why: &Unidentified, unit: &str) -> String {
         Unidentified::Implausible { value, limit } => {
             format!("fitted to {value:.3} {unit}, beyond a plausible {limit} {unit}")
         }
+        Unidentified::AtBound { value } => {
+            format!("on a bound of its range, held at {value:.0} {unit}, not fitted")
+        }
     }
 }
 

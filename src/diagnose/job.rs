@@ -222,6 +222,7 @@ pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran,
     place_in_base(&mut prepared, &model, plan.register).map_err(Refused::Register)?;
     let opts = Options {
         noise_mm: plan.noise_mm,
+        assume_cold_start: plan.assume_cold_start,
         ..Options::default()
     };
     let d = diagnose(&prepared, &opts)?;

@@ -34,6 +34,7 @@ pub mod chain_diagnose;
 pub mod chain_finding;
 pub mod chain_residual;
 pub mod detect;
+pub mod drift;
 pub mod finding;
 pub mod fit;
 mod fit_key;
@@ -45,9 +46,11 @@ pub mod job;
 pub mod joint_signature;
 mod judge;
 pub mod knock;
+mod listed;
 pub mod locate;
 pub mod measurements;
 pub mod memo;
+mod options;
 pub mod pipeline;
 pub mod plan;
 pub mod plausible;
@@ -61,7 +64,10 @@ pub mod separation;
 pub mod signature;
 pub mod simulate;
 pub mod square;
+pub mod stability;
 pub mod stats;
+mod step;
+pub mod temps;
 pub mod unidentified;
 pub mod verdict;
 
@@ -72,5 +78,6 @@ pub use prepare::{
     RegisterFailure, Registration, Source,
 };
 pub use verdict::{
-    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
+    Advice, Ambiguity, CandidateOut, Diagnosis, NotNamed, NotNamedWhy, ParamOut, Part,
+    StageSummary, StepOut, Verdict,
 };

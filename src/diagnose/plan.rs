@@ -25,6 +25,9 @@ pub struct DiagnosePlan {
     pub register: bool,
     /// The URDF link measured (a reflector on the flange).
     pub point: Option<String>,
+    /// Data without temperature columns: the session is assumed to start
+    /// cold at its first row and follow this warm-up (said in the report).
+    pub assume_cold_start: Option<super::temps::ColdStart>,
     /// Produce the model to save.
     pub save_model: bool,
     /// Produce the plots.

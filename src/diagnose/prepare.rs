@@ -7,6 +7,7 @@ use super::arm::Arm;
 use super::fit::{Problem, Row};
 use super::instrument::instrument;
 use super::measurements::Measurements;
+use super::temps::TempOrigin;
 use crate::error::{Error, Result};
 use crate::model::effects::FULL_GEOMETRY_POSES;
 use crate::model::Model;
@@ -30,6 +31,11 @@ pub struct Prepared {
     /// measurements: a diagnosis builds the model it saves from them and
     /// scores that model on them as `gap --model` does.
     pub source: Option<Arc<Source>>,
+    /// Where the rows' temperatures came from: the data, or the model's
+    /// heating (a record, or a profile from a cold start the data do not
+    /// say; the diagnosis uses a profile only where the caller assumes it,
+    /// [`super::temps`]).
+    pub temps: TempOrigin,
 }
 
 /// The measurements, the model and the arm a [`Prepared`] was made of.
@@ -179,6 +185,13 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         origins: pose_names.len() >= FULL_GEOMETRY_POSES,
         memo: Default::default(),
     };
+    let temps = if meas.has_temps() {
+        TempOrigin::Measured
+    } else if let Some(r) = &model.heating.recording {
+        TempOrigin::Recording(r.clone())
+    } else {
+        TempOrigin::Profile(model.heating.profile.clone())
+    };
     let prepared = Prepared {
         problem,
         pose_names,
@@ -188,6 +201,7 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
             model: model.clone(),
             arm: arm.clone(),
         })),
+        temps,
     };
     super::sanity::check_spread(&prepared, &meas.file)?;
     Ok(prepared)

@@ -28,6 +28,7 @@ fn plan(data: &Path, robot: Option<PathBuf>, register: bool) -> DiagnosePlan {
         robot: robot.map(RobotChoice::Urdf),
         which: Which::Effects,
         noise_mm: None,
+        assume_cold_start: None,
         register,
         point: None,
         save_model: true,

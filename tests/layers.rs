@@ -41,6 +41,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "diagnose",
         &[
             "error",
+            // The job reads its inputs, bounded as every reader is.
+            "input",
             "csv_table",
             "report",
             "plot",
@@ -218,6 +220,50 @@ fn no_source_file_is_over_1000_lines() {
         })
         .collect();
     assert!(long.is_empty(), "files over 1,000 lines: {long:?}");
+}
+
+/// The diagnosis is a library job (`diagnose::plan`, `diagnose::job`):
+/// no file of the command line reads its inputs, chooses which diagnosis
+/// runs, prepares the data, runs a diagnosis or edits the model it saves.
+#[test]
+fn the_cli_holds_no_diagnosis_orchestration() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    rust_files(&root.join("src/cli"), &mut files);
+    let mut wrong = Vec::new();
+    for file in &files {
+        let code = code_of(&std::fs::read_to_string(file).unwrap());
+        for (n, line) in code.lines().enumerate() {
+            if [
+                "diagnose::diagnose(",
+                "diagnose_chain(",
+                "problem_of(",
+                "register_instrument(",
+                "place_in_base(",
+                "diagnosed_model(",
+                "Measurements::parse(",
+                "has_temps(",
+                ".robot.urdf",
+                ".robot.opw =",
+                ".robot.point_mm",
+            ]
+            .iter()
+            .any(|w| line.contains(w))
+            {
+                wrong.push(format!(
+                    "{}:{}: {}",
+                    file.strip_prefix(root).unwrap().display(),
+                    n + 1,
+                    line.trim()
+                ));
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "the diagnosis's work belongs to rapidtherm::diagnose::job:\n{}",
+        wrong.join("\n")
+    );
 }
 
 /// Every message of the command line goes through `src/cli/messages.rs`,

@@ -1,23 +1,23 @@
 //! `simulate`, `diagnose` and `gap`: argument parsing and printing only.
 
 use super::diagnose_args::{parameter_table, DiagnoseArgs};
-use super::messages::{note, outcome, status, warning};
+use super::messages::{info, note, outcome, status, warning};
 use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
 use rapidtherm::diagnose::arm::Arm;
-use rapidtherm::diagnose::measurements::Measurements;
+use rapidtherm::diagnose::job::{self, Event, Host, OwnGeometry, Ran};
+use rapidtherm::diagnose::plan::{DiagnosePlan, Refused, RobotChoice, Which};
 use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::simulate::{
     iso_cube_poses, program_poses, random_poses, simulate_arm, SimSpec,
 };
 use rapidtherm::diagnose::unidentified::Unidentified;
-use rapidtherm::diagnose::{self, Diagnosis, Options, Part, Prepared, RegisterFailure};
+use rapidtherm::diagnose::{self, Diagnosis, Part, RegisterFailure};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
 use rapidtherm::report::{render_csv, render_table, Align};
-use rapidtherm::robot::Robot;
 use rapidtherm::writes::{Checked, Made, Plan, Role};
 use std::path::{Path, PathBuf};
 
@@ -92,74 +92,63 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model> {
     }
 }
 
-/// The robot the command works on: a URDF's or a catalogue arm's (its OPW
-/// lengths as the nominal geometry, its limits), or the embedded IRB 140
-/// with the model's geometry.
-struct Setup {
-    robot: Robot,
-    arm: Arm,
-    /// Where the nominal geometry comes from when it is not the model's:
-    /// `urdf` or `catalogue`.
-    own_geometry: Option<&'static str>,
-}
+/// The host of a diagnosis job: its events as this command line's
+/// messages.
+struct Messages;
 
-fn load_setup(path: &Option<PathBuf>, model: &Model, model_file: bool) -> Result<Setup> {
-    let Some(p) = path else {
-        // A model fitted on a URDF arm names it: that arm (read once),
-        // not the IRB 140.
-        let (robot, arm) = match (model.robot_urdf()?, model.urdf_path()) {
-            (Some(robot), Some(path)) => {
-                let arm = Arm::of_robot(&robot, &path.display().to_string())?;
-                (robot, arm)
+impl Host for Messages {
+    fn event(&mut self, event: Event) {
+        match event {
+            Event::Arm { robot, choice } => {
+                let from = match choice {
+                    RobotChoice::Urdf(p) => {
+                        format!("from the URDF file {}, chosen by --robot", p.display())
+                    }
+                    RobotChoice::Catalogue(a) => {
+                        format!("from the catalogue, chosen by --robot {}", a.name)
+                    }
+                };
+                info!("arm {} ({from})", robot.name);
             }
-            _ => (Robot::irb140(), Arm::of_model(model)?),
-        };
-        return Ok(Setup {
-            robot,
-            arm,
-            own_geometry: None,
-        });
-    };
-    let robot = super::arms::load_robot(Some(p))?;
-    let (source, from) = if super::arms::is_file(p) {
-        (p.display().to_string(), "urdf")
-    } else {
-        let file = rapidtherm::robot::abb::find(&p.display().to_string())?.file;
-        (file.to_string(), "catalogue")
-    };
-    let arm = Arm::of_robot(&robot, &source).map_err(|e| Error {
-        message: format!("--robot {}: {}", p.display(), e.message),
-        ..e
-    })?;
-    // A model naming a URDF is replaced whole: its chain is not compared.
-    if model_file && (model.robot.opw.as_ref() != arm.nominal.opw() || model.robot.urdf.is_some()) {
-        note!(
-            "the geometry of {} replaces the model's [robot] geometry ({})",
-            p.display(),
-            model.robot.name
-        );
+            Event::GeometryReplaced { arm, model } => {
+                note!("the geometry of {arm} replaces the model's [robot] geometry ({model})")
+            }
+            Event::Warning(w) => warning!("{w}"),
+        }
     }
-    Ok(Setup {
-        robot,
-        arm,
-        own_geometry: Some(from),
-    })
 }
 
-fn read_measurements(path: &Path, arm: &Arm) -> Result<Measurements> {
-    let (name, bytes) = read_input(path)?;
-    parse_measurements(&name, &bytes, arm)
-}
-
-fn parse_measurements(name: &str, bytes: &[u8], arm: &Arm) -> Result<Measurements> {
-    let meas = Measurements::parse(name, bytes, &arm.limits_deg)?;
-    for w in &meas.warnings {
-        warning!("{w}");
+/// `--robot` as the plan's arm: a URDF file, or a catalogue arm looked up
+/// now (a name it lacks is a usage error before any input is read).
+fn robot_choice(arg: &Option<PathBuf>) -> Result<Option<RobotChoice>> {
+    let Some(p) = arg else {
+        return Ok(None);
+    };
+    if super::arms::is_file(p) {
+        return Ok(Some(RobotChoice::Urdf(p.clone())));
     }
-    Ok(meas)
+    Ok(Some(RobotChoice::Catalogue(super::arms::find_arm(
+        &p.display().to_string(),
+    )?)))
 }
 
-fn read_poses(spec: &str, seed: u64, setup: &Setup) -> Result<Vec<(String, [f64; 6])>> {
+/// A refused job in this command line's words (`robot`: as `--robot`
+/// named the arm).
+fn refused(r: Refused, robot: Option<&Path>) -> Error {
+    match r {
+        Refused::Error(e) => e,
+        Refused::Register(f) => register_error(f),
+        Refused::HoldoutOnOpwArm { arm } => Error::usage(format!(
+            "--holdout is the general chain's calibration: {} has the OPW form, add --chain",
+            robot.map_or(arm, |p| p.display().to_string())
+        )),
+        Refused::Point { link, error } => {
+            Error::usage(format!("--point {link}: {}", error.message))
+        }
+    }
+}
+
+fn read_poses(spec: &str, seed: u64, setup: &job::Setup) -> Result<Vec<(String, [f64; 6])>> {
     let limits = &setup.arm.limits_deg;
     if let Some(n) = spec.strip_prefix("random:") {
         let n: usize = n
@@ -262,16 +251,6 @@ fn remedies() -> Remedies {
     }
 }
 
-/// Prepare the measurements; with `--register`, fit the instrument frame
-/// (its failures named by the flag).
-fn prepare(meas: &Measurements, model: &Model, arm: &Arm, register: bool) -> Result<Prepared> {
-    let mut prepared = diagnose::problem_of(meas, model, arm)?;
-    if register {
-        diagnose::register_instrument(&mut prepared).map_err(register_error)?;
-    }
-    Ok(prepared)
-}
-
 fn register_error(f: RegisterFailure) -> Error {
     Error::input(format!("--register{}", f.reason()))
 }
@@ -294,6 +273,9 @@ impl<'a> WithWords<'a> {
 }
 
 pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
+    if !(args.noise.is_finite() && args.noise >= 0.0) {
+        return Err(Error::usage("--noise must be a finite number >= 0"));
+    }
     // Every output checked before anything is read or written.
     let poses_file = ["joints:", "program:"]
         .iter()
@@ -317,7 +299,12 @@ pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
     for spec in &args.effects {
         effects.push(Effect::parse_spec(spec)?);
     }
-    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
+    let setup = job::setup(
+        robot_choice(&args.robot)?.as_ref(),
+        &model,
+        args.model.is_some(),
+        &mut Messages,
+    )?;
     let spec = SimSpec {
         base: setup.arm.base(&model),
         poses: read_poses(&args.poses, args.seed, &setup)?,
@@ -341,10 +328,11 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
             return Err(Error::usage("--fail-above must be a number of mm >= 0"));
         }
     }
+    let robot = robot_choice(&args.robot)?;
     let model = load_model(&args.model)?;
-    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
-    let meas = read_measurements(&args.data, &setup.arm)?;
-    let prepared = prepare(&meas, &model, &setup.arm, args.register)?;
+    let setup = job::setup(robot.as_ref(), &model, args.model.is_some(), &mut Messages)?;
+    let prepared = job::gap_of(&args.data, &model, &setup, args.register, &mut Messages)
+        .map_err(|r| refused(r, args.robot.as_deref()))?;
     let g = diagnose::gap(&prepared);
     let text = match args.format {
         Format::Json => {
@@ -480,61 +468,97 @@ fn registration_words(r: &diagnose::Registration) -> String {
     )
 }
 
-pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
-    let checked = check_diagnose_outputs(&args)?;
-    // Read once: standard input cannot be read twice, and the choice of
-    // diagnosis looks at the data.
-    let (name, bytes) = read_input(&args.data)?;
-    if let Some((setup, robot)) = super::diagnose_chain::chain_setup(&args, &name, &bytes)? {
-        return super::diagnose_chain::run(&args, setup, &robot, &name, &bytes);
-    }
-    let mut model = load_model(&args.model)?;
-    if let Some((point, _)) = super::diagnose_chain::measured_point(&args)? {
-        // Where the instrument measured: the diagnosis starts from it, and
-        // a saved model keeps it for `gap`.
-        model.robot.point_mm = Some(point.into());
-    }
-    let setup = load_setup(&args.robot, &model, args.model.is_some())?;
-    let meas = parse_measurements(&name, &bytes, &setup.arm)?;
-    let prepared = prepare(&meas, &model, &setup.arm, args.register)?;
+/// The diagnosis the arguments ask for, every usage error raised before
+/// any input is read.
+fn plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
     if let Some(v) = args.noise {
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::usage("--noise must be a positive number of mm"));
         }
     }
-    let opts = Options {
-        noise_mm: args.noise,
-        ..Options::default()
+    if args.robot.is_none() && (args.chain || args.holdout.is_some() || args.point.is_some()) {
+        return Err(Error::usage(
+            "--chain, --point and --holdout need --robot FILE.urdf",
+        ));
+    }
+    if let (Some(link), Some(p)) = (&args.point, &args.robot) {
+        if !super::arms::is_file(p) {
+            return Err(Error::usage(format!(
+                "--point {link} names a URDF link: give --robot as a URDF file"
+            )));
+        }
+    }
+    let effects_asked = [
+        (args.model.is_some(), "--model"),
+        (args.save_model.is_some(), "--save-model"),
+        (args.plot.is_some(), "--plot"),
+        (args.noise.is_some(), "--noise"),
+        (args.assume_cold_start.is_some(), "--assume-cold-start"),
+    ];
+    let which = if args.chain || args.holdout.is_some() {
+        if let (Some((_, flag)), Some(p)) =
+            (effects_asked.iter().find(|(given, _)| *given), &args.robot)
+        {
+            return Err(Error::usage(format!(
+                "{flag} is not available in the general chain's diagnosis (geometric calibration of {}) yet",
+                p.display()
+            )));
+        }
+        Which::Chain {
+            forced: args.chain,
+            holdout: args.holdout.clone(),
+        }
+    } else if effects_asked.iter().any(|(given, _)| *given) {
+        Which::Effects
+    } else {
+        Which::ByData
     };
-    let d = diagnose::diagnose(&prepared, &opts)?;
+    Ok(DiagnosePlan {
+        data: args.data.clone(),
+        model: args.model.clone(),
+        robot: robot_choice(&args.robot)?,
+        which,
+        noise_mm: args.noise,
+        assume_cold_start: args.assume_cold_start,
+        register: args.register,
+        point: args.point.clone(),
+        save_model: args.save_model.is_some(),
+        plot: args.plot.is_some(),
+    })
+}
+
+pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
+    let plan = plan(&args)?;
+    let checked = check_diagnose_outputs(&args)?;
+    let run = match job::run(&plan, &mut Messages).map_err(|r| refused(r, args.robot.as_deref()))? {
+        Ran::Chain(d) => {
+            let text = super::diagnose_chain::render(args.format, &d)?;
+            write_stdout(text.as_bytes())?;
+            return Ok(Status::Success);
+        }
+        Ran::Effects(run) => run,
+    };
+    let d = &run.diagnosis;
     if let Some(dir) = &args.plot {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
-        for (name, svg) in diagnose::plot::plots(&prepared, &d)? {
+        for (name, svg) in &run.plots {
             let path = dir.join(name);
             super::output::write_atomic(&checked, &path, svg.as_bytes(), None)?;
             status!("wrote {}", path.display());
         }
     }
-    if let Some(path) = &args.save_model {
-        let mut m = diagnose::diagnosed_model(&model, &d);
-        if setup.own_geometry.is_some() {
-            // The effects were fitted on the robot's own geometry.
-            m.robot.name = setup.arm.name.clone();
-            m.robot.opw = setup.arm.nominal.opw().copied();
-            m.robot.urdf = match setup.arm.nominal.opw() {
-                Some(_) => None,
-                None => Some(super::model::urdf_reference(&setup.arm.source, path)),
-            };
-        }
-        crate::cli::output::write_atomic(&checked, path, m.to_toml()?.as_bytes(), None)?;
+    if let (Some(path), Some(text)) = (&args.save_model, &run.model_toml) {
+        super::output::write_atomic(&checked, path, text.as_bytes(), None)?;
         status!("wrote {}", path.display());
     }
+    let own = run.setup.own_geometry.map(OwnGeometry::name);
+    let arm = &run.setup.arm;
     let text = match args.format {
         Format::Json => {
             let json_err = |e: serde_json::Error| {
                 Error::new(ErrorKind::Input, format!("cannot write JSON: {e}"))
             };
-            let v = if let Some(from) = setup.own_geometry {
+            let v = if let Some(from) = own {
                 // Flattened so the diagnosis keeps its field order.
                 #[derive(serde::Serialize)]
                 struct WithRobot<'a> {
@@ -543,22 +567,22 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
                     diagnosis: WithWords<'a>,
                 }
                 serde_json::to_string_pretty(&WithRobot {
-                    robot: robot_json(&setup.arm, from),
-                    diagnosis: WithWords::of(&d),
+                    robot: robot_json(arm, from),
+                    diagnosis: WithWords::of(d),
                 })
                 .map_err(json_err)?
             } else {
-                serde_json::to_string_pretty(&WithWords::of(&d)).map_err(json_err)?
+                serde_json::to_string_pretty(&WithWords::of(d)).map_err(json_err)?
             };
             format!("{v}\n")
         }
-        Format::Csv => candidate_csv(&d),
+        Format::Csv => candidate_csv(d),
         Format::Table => {
             let mut s = String::new();
-            if let Some(from) = setup.own_geometry {
-                s.push_str(&robot_words(&setup.arm, from));
+            if let Some(from) = own {
+                s.push_str(&robot_words(arm, from));
             }
-            s.push_str(&diagnosis_table(&d));
+            s.push_str(&diagnosis_table(d));
             s
         }
     };
@@ -677,21 +701,25 @@ fn diagnosis_table(d: &Diagnosis) -> String {
             .filter_map(|p| {
                 let why = p.held.as_ref()?;
                 let clear = match why {
-                    Unidentified::Implausible { .. } => true,
+                    Unidentified::Implausible { .. } | Unidentified::AtBound { .. } => true,
                     Unidentified::SameAs { same_as, .. } => (1..=3).contains(&same_as.len()),
                     _ => false,
                 };
                 clear.then(|| {
                     format!(
-                        "  {}: {}\n",
+                        "  {}: held at {:.4} {}: {}\n",
                         p.name,
+                        p.value,
+                        p.unit,
                         super::diagnose_chain::held_words(why, &p.unit)
                     )
                 })
             })
             .collect();
         if !told.is_empty() {
-            s.push_str("Not identifiable from these data (held at zero):\n");
+            s.push_str(
+                "Not identifiable from these data (held, not fitted, at the value given):\n",
+            );
             s.extend(told);
         }
     }

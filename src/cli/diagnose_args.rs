@@ -4,8 +4,13 @@
 //! other back.
 
 use super::Format;
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::report::{render_table, Align};
 use std::path::PathBuf;
+
+fn cold_start(s: &str) -> Result<ColdStart, String> {
+    ColdStart::from_name(s).map_err(|e| e.message)
+}
 
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
@@ -14,9 +19,15 @@ pub struct DiagnoseArgs {
     /// The current model (default: nominal IRB 140 with the base thermal model).
     #[arg(long)]
     pub model: Option<PathBuf>,
-    /// Tracker noise, mm per axis (default: estimated from repeated poses, else 0.01).
+    /// Tracker noise, mm per axis (default: estimated from repeated poses;
+    /// without them not measured, and each test uses its model's residual).
     #[arg(long)]
     pub noise: Option<f64>,
+    /// Data without temperature columns: assume the session starts cold at
+    /// its first row and follows this warm-up (`irb140`); without it no
+    /// thermal effect is a candidate.
+    #[arg(long, value_name = "PROFILE", value_parser = cold_start)]
+    pub assume_cold_start: Option<ColdStart>,
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
     /// Write the model with the diagnosed effects added.

@@ -1,167 +1,19 @@
 //! `diagnose` on a general serial chain (an arm without the OPW form, or
-//! any arm with `--chain`): argument checks and printing only; the work is
-//! `rapidtherm::diagnose::chain_diagnose`.
+//! any arm with `--chain`): printing only; the job
+//! (`rapidtherm::diagnose::job`) chooses and runs it.
 
-use super::diagnose_args::{parameter_table, DiagnoseArgs};
-use super::messages::warning;
+use super::diagnose_args::parameter_table;
 use super::Format;
-use super::{read_input, write_stdout, Status};
-use rapidtherm::diagnose::chain_calib::{Dropped, Sample, Unidentified};
-use rapidtherm::diagnose::chain_diagnose::{
-    diagnose_chain, ChainData, ChainDiagnosis, ChainOptions, ChainSetup,
-};
-use rapidtherm::diagnose::measurements::Measurements;
+use rapidtherm::diagnose::chain_calib::{Dropped, Unidentified};
+use rapidtherm::diagnose::chain_diagnose::ChainDiagnosis;
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::report::{render_csv, render_table, Align};
-use rapidtherm::robot::{urdf, Robot};
-use std::path::Path;
 
-/// The chain setup when this diagnosis is the general chain's geometric
-/// calibration: `--chain` or `--holdout` ask for it, or the arm
-/// has no OPW form and nothing asks for the effects (no temperatures in
-/// the data, no model given or to save). `None`: the effect diagnosis.
-pub fn chain_setup(
-    args: &DiagnoseArgs,
-    name: &str,
-    bytes: &[u8],
-) -> Result<Option<(ChainSetup, Robot)>> {
-    let general_only = args.holdout.is_some();
-    let Some(p) = &args.robot else {
-        if args.chain || general_only || args.point.is_some() {
-            return Err(Error::usage(
-                "--chain, --point and --holdout need --robot FILE.urdf",
-            ));
-        }
-        return Ok(None);
-    };
-    let robot = super::arms::load_robot(Some(p))?;
-    if robot.opw.is_ok() && !args.chain {
-        if general_only {
-            return Err(Error::usage(format!(
-                "--holdout is the general chain's calibration: {} has the OPW form, add --chain",
-                p.display()
-            )));
-        }
-        return Ok(None);
-    }
-    let effects_asked = args.model.is_some()
-        || args.save_model.is_some()
-        || args.plot.is_some()
-        || args.noise.is_some();
-    if !args.chain && !general_only && (effects_asked || has_temps(name, bytes, &robot)?) {
-        // Temperatures to explain, or a model to fit: the effect diagnosis,
-        // which runs on any serial chain.
-        return Ok(None);
-    }
-    for (given, flag) in [
-        (args.model.is_some(), "--model"),
-        (args.save_model.is_some(), "--save-model"),
-        (args.plot.is_some(), "--plot"),
-        (args.noise.is_some(), "--noise"),
-    ] {
-        if given {
-            return Err(Error::usage(format!(
-                "{flag} is not available in the general chain's diagnosis (geometric calibration of {}) yet",
-                p.display()
-            )));
-        }
-    }
-    let (point, point_name) =
-        measured_point(args)?.unwrap_or_else(|| (nalgebra::Vector3::zeros(), "tool0".to_string()));
-    Ok(Some((
-        ChainSetup {
-            robot: robot.name.clone(),
-            chain: robot.chain.clone(),
-            point,
-            point_name,
-        },
-        robot,
-    )))
-}
-
-/// The URDF link `--point` names, in tool0 (mm), with its name.
-pub fn measured_point(args: &DiagnoseArgs) -> Result<Option<(nalgebra::Vector3<f64>, String)>> {
-    let Some(link) = &args.point else {
-        return Ok(None);
-    };
-    let p = match &args.robot {
-        Some(p) if super::arms::is_file(p) => p,
-        _ => {
-            return Err(Error::usage(format!(
-                "--point {link} names a URDF link: give --robot as a URDF file"
-            )))
-        }
-    };
-    let (name, bytes) = read_input(p)?;
-    let text = String::from_utf8_lossy(&bytes);
-    let arm = urdf::parse(&name, &text)?;
-    let iso = urdf::link_in_tip(&name, &text, &arm, link)
-        .map_err(|e| Error::usage(format!("--point {link}: {}", e.message)))?;
-    // To the nanometre: metres composed through the URDF's joints leave
-    // binary dust (0.0899999999999892) that a model file would keep.
-    let point = iso.translation.vector.map(|v| (v * 1e6).round() / 1e6);
-    Ok(Some((point, link.clone())))
-}
-
-fn read_data(path: &Path, robot: &Robot) -> Result<ChainData> {
-    let (name, bytes) = read_input(path)?;
-    parse_data(&name, &bytes, robot)
-}
-
-fn limits_deg(robot: &Robot) -> [(f64, f64); 6] {
-    robot
-        .limits
-        .map(|(lo, hi)| (lo.to_degrees(), hi.to_degrees()))
-}
-
-/// Whether the data carry motor temperatures (its warnings are printed by
-/// the diagnosis that reads it).
-fn has_temps(name: &str, bytes: &[u8], robot: &Robot) -> Result<bool> {
-    Ok(Measurements::parse(name, bytes, &limits_deg(robot))?.has_temps())
-}
-
-fn parse_data(name: &str, bytes: &[u8], robot: &Robot) -> Result<ChainData> {
-    let meas = Measurements::parse(name, bytes, &limits_deg(robot))?;
-    for w in &meas.warnings {
-        warning!("{w}");
-    }
-    let poses = meas
-        .rows
-        .iter()
-        .enumerate()
-        .map(|(i, r)| r.pose.clone().unwrap_or_else(|| format!("#{}", i + 1)))
-        .collect();
-    Ok(ChainData {
-        samples: meas
-            .rows
-            .iter()
-            .map(|r| Sample {
-                q: r.joints,
-                position: r.position,
-            })
-            .collect(),
-        times_min: meas.rows.iter().map(|r| r.time_min).collect(),
-        poses,
-        has_temps: meas.has_temps(),
-    })
-}
-
-pub fn run(
-    args: &DiagnoseArgs,
-    setup: ChainSetup,
-    robot: &Robot,
-    name: &str,
-    bytes: &[u8],
-) -> Result<Status> {
-    let data = parse_data(name, bytes, robot)?;
-    let holdout = match &args.holdout {
-        Some(p) => Some(read_data(p, robot)?),
-        None => None,
-    };
-    let d = diagnose_chain(&setup, &data, holdout.as_ref(), &ChainOptions::default())?;
-    let text = match args.format {
+/// The general chain's calibration report, in the format asked for.
+pub fn render(format: Format, d: &ChainDiagnosis) -> Result<String> {
+    Ok(match format {
         Format::Json => {
-            let v = serde_json::to_string_pretty(&d)
+            let v = serde_json::to_string_pretty(d)
                 .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write JSON: {e}")))?;
             format!("{v}\n")
         }
@@ -174,12 +26,10 @@ pub fn run(
                 "holdout_rms_mm",
                 "holdout_max_mm",
             ],
-            &stage_rows(&d),
+            &stage_rows(d),
         ),
-        Format::Table => table(&d),
-    };
-    write_stdout(text.as_bytes())?;
-    Ok(Status::Success)
+        Format::Table => table(d),
+    })
 }
 
 /// Why a parameter is held at zero, in words.
@@ -204,6 +54,9 @@ pub(crate) fn held_words(why: &Unidentified, unit: &str) -> String {
         }
         Unidentified::Implausible { value, limit } => {
             format!("fitted to {value:.3} {unit}, beyond a plausible {limit} {unit}")
+        }
+        Unidentified::AtBound { value } => {
+            format!("on a bound of its range, held at {value:.0} {unit}, not fitted")
         }
     }
 }

@@ -24,18 +24,3 @@ pub fn run_model(cmd: ModelCommand) -> Result<Status> {
         }
     }
 }
-
-/// How a saved model names the URDF it was fitted on: as given when the
-/// model is written to the current folder (where a relative path keeps
-/// meaning the same file), else its absolute path.
-pub fn urdf_reference(urdf: &str, model_path: &std::path::Path) -> String {
-    let here = model_path
-        .parent()
-        .is_none_or(|d| d.as_os_str().is_empty() || d == std::path::Path::new("."));
-    if here || std::path::Path::new(urdf).is_absolute() {
-        return urdf.to_string();
-    }
-    std::fs::canonicalize(urdf)
-        .map(|p| p.display().to_string())
-        .unwrap_or_else(|_| urdf.to_string())
-}

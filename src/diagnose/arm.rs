@@ -16,8 +16,8 @@
 
 use super::instrument::instrument;
 use crate::error::{Error, ErrorKind, Result};
-use crate::model::Model;
 use crate::model::{Base, Geometry};
+use crate::model::{JointConvention, Model, RobotSection};
 use crate::robot::ik::{controller_angles, serial_angles};
 use crate::robot::{Joints, Opw, Robot, OPW_OFFSET_Q3};
 use nalgebra::{Isometry3, UnitQuaternion};
@@ -107,6 +107,21 @@ pub struct Arm {
     pub limits_deg: [(f64, f64); 6],
     /// Where the nominal geometry comes from (for the report).
     pub source: String,
+    /// How a saved model names this arm again; `None` where the arm was
+    /// given as a robot alone (its URDF's text unknown), and a saved model
+    /// can keep only its OPW lengths.
+    pub written: Option<Written>,
+}
+
+/// How a model file names an arm, so that the file stands alone.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Written {
+    /// The model's own `[robot]` (OPW lengths, or what it names).
+    Model,
+    /// A catalogue arm, by its name.
+    Catalogue(String),
+    /// A URDF's content.
+    UrdfText(String),
 }
 
 impl Arm {
@@ -133,14 +148,42 @@ impl Arm {
                 .limits
                 .map(|(lo, hi)| (lo.to_degrees(), hi.to_degrees())),
             source: source.to_string(),
+            written: None,
+        })
+    }
+
+    /// The arm of a URDF's text (`name` names it in messages), which a
+    /// saved model embeds.
+    pub fn of_urdf_text(name: &str, text: &str) -> Result<Arm> {
+        let robot = Robot::from_urdf_str(name, text)?;
+        Ok(Arm {
+            written: Some(Written::UrdfText(text.to_string())),
+            ..Arm::of_robot(&robot, name)?
+        })
+    }
+
+    /// A catalogue arm, which a saved model names.
+    pub fn of_catalogue(arm: &crate::robot::abb::AbbArm) -> Result<Arm> {
+        Ok(Arm {
+            written: Some(Written::Catalogue(arm.name.clone())),
+            ..Arm::of_robot(&arm.robot(), arm.file)?
         })
     }
 
     /// The arm of a model file: its `[robot]` OPW geometry, in ABB's
-    /// convention with the IRB 140's limits, or the URDF it names.
+    /// convention with the IRB 140's limits, or the arm it names (a URDF,
+    /// its text, a catalogue arm) with that arm's convention and limits.
     pub fn of_model(model: &Model) -> Result<Arm> {
-        if let (Some(robot), Some(path)) = (model.robot_urdf()?, model.urdf_path()) {
-            return Arm::of_robot(&robot, &path.display().to_string());
+        if let Some(named) = model.arm()? {
+            let written = match (named.urdf_text, named.catalogue) {
+                (Some(text), _) => Written::UrdfText(text),
+                (None, Some(name)) => Written::Catalogue(name),
+                (None, None) => Written::Model,
+            };
+            return Ok(Arm {
+                written: Some(written),
+                ..Arm::of_robot(&named.robot, &named.source)?
+            });
         }
         let nominal = model
             .robot
@@ -152,7 +195,49 @@ impl Arm {
             map: ArmMap::default(),
             limits_deg: *super::measurements::IRB140_LIMITS_DEG,
             source: "model".into(),
+            written: Some(Written::Model),
         })
+    }
+
+    /// The `[robot]` section of a model of this arm, fitted from `model`:
+    /// the arm named so that the file needs nothing else (a URDF's text,
+    /// a catalogue name, or the model's own), with its joint convention
+    /// and the model's measured point.
+    pub fn robot_section(&self, model: &Model) -> RobotSection {
+        let convention = match self.nominal {
+            Geometry::Opw(_) => JointConvention::AbbOpw,
+            Geometry::Chain(_) => JointConvention::Urdf,
+        };
+        let empty = RobotSection {
+            name: self.name.clone(),
+            opw: None,
+            urdf: None,
+            urdf_text: None,
+            catalogue: None,
+            joints: Some(convention),
+            point_mm: model.robot.point_mm,
+        };
+        match &self.written {
+            Some(Written::Model) => RobotSection {
+                joints: Some(convention),
+                ..model.robot.clone()
+            },
+            Some(Written::Catalogue(name)) => RobotSection {
+                catalogue: Some(name.clone()),
+                ..empty
+            },
+            Some(Written::UrdfText(text)) => RobotSection {
+                urdf_text: Some(text.clone()),
+                ..empty
+            },
+            // Only the lengths are known: ABB's convention, the IRB 140's
+            // limits on reading (a format-1 file's arm).
+            None => RobotSection {
+                opw: self.nominal.opw().copied(),
+                joints: self.nominal.opw().map(|_| JointConvention::AbbOpw),
+                ..empty
+            },
+        }
     }
 
     /// The base model: this arm's nominal geometry with the model's

@@ -39,6 +39,115 @@ fn orthogonal(a: &DMatrix<f64>, v: &DVector<f64>) -> DVector<f64> {
     }
 }
 
+/// The effects of `found` an effect of `kind` is judged beyond: every
+/// other one for a static effect; for a thermal one (judged over time,
+/// each pose's own offset taken out) only the other thermal ones. A static
+/// effect changes over time only through the expansion of its own error
+/// (α·ΔT of a tenth of a mm: a few nanometres), and its columns, scaled
+/// to unit norm, would take up any shape over time: beyond geometry's 52,
+/// a bending that took 97 % of the change over time was "below" a limit
+/// of twice its size.
+fn beyond(found: &[Effect], kind: EffectKind) -> Vec<Effect> {
+    found
+        .iter()
+        .filter(|e| e.kind != kind && (!kind.is_thermal() || e.kind.is_thermal()))
+        .cloned()
+        .collect()
+}
+
+/// A named effect's own part of the data, beyond the rest found, in noise
+/// variances: the noncentrality its nested test had (the drop of the
+/// residual sum of squares its fitted values make, orthogonal to what the
+/// others can take up).
+fn own_lambda(p: &Problem, others: &[Effect], effect: &Effect, rows: &[usize], sigma2: f64) -> f64 {
+    let model = effects_jacobian(p, others, rows);
+    let r0 = p.residuals(others, rows);
+    let mut with = others.to_vec();
+    with.push(effect.clone());
+    let moved = &r0 - p.residuals(&with, rows);
+    orthogonal(&model, &moved).norm_squared() / sigma2.max(1e-300)
+}
+
+/// The largest move of the flange `effect` makes at the calibration pose:
+/// over the rows' temperatures and times for a thermal effect (a lag
+/// shows early, an expansion late), at the cold start for a static one.
+fn flange_size(problem: &Problem, effect: &Effect) -> f64 {
+    let lags = crate::model::LinkLags::new(&problem.history, std::slice::from_ref(effect));
+    let at = |temps: [f64; 6], time: f64| {
+        let state = RowState {
+            q: [0.0; 6],
+            temps,
+            lagged: lags.as_ref().map(|l| l.at(time)),
+        };
+        let a = predict(&problem.base, std::slice::from_ref(effect), &state);
+        let b = predict(&problem.base, &[], &state);
+        (a.translation.vector - b.translation.vector).norm()
+    };
+    if effect.kind.is_thermal() {
+        problem
+            .rows
+            .iter()
+            .map(|r| at(r.temps, r.time_min))
+            .fold(0.0, f64::max)
+    } else {
+        at([problem.base.thermal.t_ref; 6], 0.0)
+    }
+}
+
+/// An effect that fits but lies below what the data could reveal.
+#[derive(Debug, Clone, Serialize)]
+pub struct BelowLimit {
+    pub effect: EffectKind,
+    /// Its fitted size (the flange's largest move at the calibration pose).
+    pub size_mm: f64,
+    /// The size its own shape would need to be revealed (at the level of
+    /// its family, with 90 % power, beyond the rest found), in the same
+    /// measure.
+    pub limit_mm: f64,
+}
+
+/// Of the `found` effects (fitted values), those below their detection
+/// limit on `problem` (its fixed effects the model in use): the
+/// noncentrality their fitted values give, beyond the rest found, is below
+/// the one the test needs for 90 % power ([`limits`]: the same level, the
+/// same family; thermal effects over time, each pose's own offset taken
+/// out). Judged along each effect's own fitted shape, and said in the
+/// limits' measure: its flange size, and the size at which that shape
+/// would be revealed.
+pub fn below(problem: &Problem, found: &[Effect], noise: &TestNoise) -> Vec<BelowLimit> {
+    let rows: Vec<usize> = (0..problem.rows.len()).collect();
+    let mut out = Vec::new();
+    for e in found {
+        let centred = e.kind.is_thermal();
+        let p = Problem {
+            centre_poses: centred,
+            ..problem.clone()
+        };
+        let family = EffectKind::ALL
+            .into_iter()
+            .filter(|k| k.is_thermal() == centred)
+            .filter(|k| !problem.fixed.iter().any(|f| f.kind == *k))
+            .count();
+        let level = LEVEL / family.max(1) as f64;
+        let others = beyond(found, e.kind);
+        let lambda = own_lambda(&p, &others, e, &rows, noise.sigma2);
+        let needed = detectable_noncentrality(level, e.kind.params().len() as f64, POWER);
+        if lambda < needed {
+            let size = flange_size(problem, e);
+            out.push(BelowLimit {
+                effect: e.kind,
+                size_mm: size,
+                limit_mm: if lambda > 0.0 {
+                    size * (needed / lambda).sqrt()
+                } else {
+                    f64::INFINITY
+                },
+            });
+        }
+    }
+    out
+}
+
 /// Detection limits of every effect not fixed in the model in use, beyond
 /// `found` (the effects the diagnosis fitted, in their fitted values) on
 /// `problem` (whose own fixed effects are the model in use). Thermal
@@ -61,7 +170,7 @@ pub fn limits(problem: &Problem, found: &[Effect], noise: &TestNoise) -> Vec<Det
         for kind in kinds {
             // Beyond everything found but the effect itself: what would
             // have revealed it had it not been named.
-            let others: Vec<Effect> = found.iter().filter(|e| e.kind != kind).cloned().collect();
+            let others = beyond(found, kind);
             let model = effects_jacobian(&p, &others, &rows);
             let r0 = p.residuals(&others, &rows);
             let shape = Effect::with_defaults(kind);

@@ -374,7 +374,7 @@ const MAX_ITER: usize = 100;
 /// Longest thermal-lag time constant fitted, minutes: a structure that
 /// lags by more than 10 h hardly warms during a test, which
 /// expansion-scale (k → 0) describes better than a lag.
-const MAX_TAU_MIN: f64 = 600.0;
+pub(super) const MAX_TAU_MIN: f64 = 600.0;
 
 /// Fit the parameters of `kinds` (added to the problem's fixed effects) to
 /// the rows `rows`.

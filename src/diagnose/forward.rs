@@ -26,6 +26,47 @@ pub struct TestNoise {
     pub sigma2: f64,
     /// How well that variance is known.
     pub dof: NoiseDof,
+    /// Measured from repeats or given. Where it is not, `sigma2` is only a
+    /// first fit's residual variance, and every nested test divides by
+    /// the residual variance of its own larger model instead
+    /// ([`TestNoise::nested`]).
+    pub measured: bool,
+}
+
+impl TestNoise {
+    /// The nested F test of a model with residual sum of squares `rss1`
+    /// on `resid_dof` degrees of freedom against the one inside it with
+    /// `rss0`, `dp` parameters fewer: against the noise where it was
+    /// measured or given, else the textbook extra-sum-of-squares F test,
+    /// whose denominator is the larger model's residual variance,
+    /// rss1 / resid_dof, on resid_dof degrees of freedom.
+    pub fn nested(&self, rss0: f64, rss1: f64, dp: usize, resid_dof: usize, level: f64) -> Test {
+        if self.measured {
+            Test::nested(rss0, rss1, dp, self.sigma2, self.dof, level)
+        } else {
+            let d = resid_dof.max(1);
+            Test::nested(
+                rss0,
+                rss1,
+                dp,
+                rss1.max(0.0) / d as f64,
+                NoiseDof(d as f64),
+                level,
+            )
+        }
+    }
+
+    /// [`TestNoise::nested`] of the fit `larger` against `rss0` with
+    /// `free0` free parameters.
+    pub fn nested_fit(&self, rss0: f64, free0: usize, larger: &fit::Fit, level: f64) -> Test {
+        self.nested(
+            rss0,
+            larger.rss,
+            larger.n_free.saturating_sub(free0),
+            larger.n_obs.saturating_sub(larger.n_free),
+            level,
+        )
+    }
 }
 
 /// What a forward selection found.
@@ -74,16 +115,23 @@ pub fn params_out(fit: &fit::Fit) -> Vec<ParamOut> {
                 .map(|(i, (info, p))| {
                     let limit = super::plausible::bound(e.kind, i);
                     let wild = p.held.is_none() && p.value.abs() > limit;
+                    // A time constant on a bound of its range is not pinned
+                    // by the data: held there, said so, no standard error.
+                    let bound = e.kind == EffectKind::ThermalLag
+                        && p.held.is_none()
+                        && (p.value <= 1e-9 || p.value >= fit::MAX_TAU_MIN - 1e-9);
                     ParamOut {
                         name: format!("{}.{}", e.kind.name(), info.name),
                         unit: info.unit.to_string(),
                         value: if wild { 0.0 } else { p.value },
-                        stderr: if wild { None } else { p.stderr },
+                        stderr: if wild || bound { None } else { p.stderr },
                         held: if wild {
                             Some(super::unidentified::Unidentified::Implausible {
                                 value: p.value,
                                 limit,
                             })
+                        } else if bound {
+                            Some(super::unidentified::Unidentified::AtBound { value: p.value })
                         } else {
                             p.held.clone()
                         },
@@ -91,6 +139,19 @@ pub fn params_out(fit: &fit::Fit) -> Vec<ParamOut> {
                 })
         })
         .collect()
+}
+
+/// Whether the data pin `kind` in `fit`: at least one of its parameters
+/// (with a place on the arm) is fitted with a standard error, neither
+/// held as not identifiable nor on a bound of its range. An effect none of
+/// whose parameters the data pin is never named: what it would say is
+/// only its start values.
+pub fn pinned(fit: &fit::Fit, kind: EffectKind) -> bool {
+    let prefix = format!("{}.", kind.name());
+    params_out(fit)
+        .iter()
+        .filter(|p| p.name.starts_with(&prefix))
+        .any(|p| p.held.is_none() && p.stderr.is_some())
 }
 
 /// Effects fitted earlier on another form of the data (the thermal effects
@@ -104,15 +165,15 @@ pub struct Joint<'a> {
 }
 
 impl Joint<'_> {
-    /// Residual sum of squares and free parameters of `selected` fitted
-    /// together with the joint effects.
-    fn rss(&self, selected: &[EffectKind]) -> Option<(f64, usize)> {
+    /// Residual sum of squares, free parameters and residual degrees of
+    /// freedom of `selected` fitted together with the joint effects.
+    fn rss(&self, selected: &[EffectKind]) -> Option<(f64, usize, usize)> {
         let all: Vec<usize> = (0..self.problem.rows.len()).collect();
         let mut kinds = self.kinds.to_vec();
         kinds.extend(selected.iter().copied());
         fit::fit(self.problem, &all, &kinds)
             .ok()
-            .map(|f| (f.rss, f.n_free))
+            .map(|f| (f.rss, f.n_free, f.n_obs.saturating_sub(f.n_free)))
     }
 }
 
@@ -165,16 +226,9 @@ pub fn forward(
     // Per step: the effect added and a runner-up that passed too.
     let mut runners: Vec<(EffectKind, select::Scored)> = Vec::new();
     let test_of = |s: &select::Scored, rss: f64, free: usize, level: f64| {
-        s.fit.as_ref().map(|f| {
-            Test::nested(
-                rss,
-                f.rss,
-                f.n_free.saturating_sub(free),
-                noise.sigma2,
-                noise.dof,
-                level,
-            )
-        })
+        s.fit
+            .as_ref()
+            .map(|f| noise.nested_fit(rss, free, f, level))
     };
     while selected.len() < base.len() + max_effects && !pool.is_empty() {
         let cur_effects = current_fit
@@ -206,22 +260,17 @@ pub fn forward(
             _ => None,
         };
         let passes = |s: &select::Scored| {
-            test_of(s, cur_rss, cur_free, level).is_some_and(|t| t.significant())
+            s.fit.as_ref().is_some_and(|f| pinned(f, s.kind))
+                && test_of(s, cur_rss, cur_free, level).is_some_and(|t| t.significant())
                 && held_out.is_none_or(|m| s.cv_rms_mm.powi(2) < cur_cv.powi(2) - m)
                 && match (joint, joint_now) {
-                    (Some(j), Some((rss0, free0))) => {
+                    (Some(j), Some((rss0, free0, _))) => {
                         let mut with = selected.clone();
                         with.push(s.kind);
-                        j.rss(&with).is_some_and(|(rss1, free1)| {
-                            Test::nested(
-                                rss0,
-                                rss1,
-                                free1.saturating_sub(free0),
-                                noise.sigma2,
-                                noise.dof,
-                                level,
-                            )
-                            .significant()
+                        j.rss(&with).is_some_and(|(rss1, free1, dof1)| {
+                            noise
+                                .nested(rss0, rss1, free1.saturating_sub(free0), dof1, level)
+                                .significant()
                         })
                     }
                     _ => true,
@@ -244,14 +293,7 @@ pub fn forward(
                 gap_after_mm: pair_cv,
                 drop_pct: 100.0 * (1.0 - pair_cv / cur_cv.max(1e-300)),
                 runner_up: None,
-                test: Some(Test::nested(
-                    cur_rss,
-                    pair_fit.rss,
-                    pair_fit.n_free.saturating_sub(cur_free),
-                    noise.sigma2,
-                    noise.dof,
-                    LEVEL,
-                )),
+                test: Some(noise.nested_fit(cur_rss, cur_free, &pair_fit, LEVEL)),
             });
             for k in pair {
                 selected.push(k);
@@ -323,14 +365,7 @@ pub fn forward(
             let Ok(f) = fit::fit(problem, &all, &without) else {
                 continue;
             };
-            let t = Test::nested(
-                f.rss,
-                full.rss,
-                full.n_free.saturating_sub(f.n_free),
-                noise.sigma2,
-                noise.dof,
-                LEVEL,
-            );
+            let t = noise.nested_fit(f.rss, f.n_free, &full, LEVEL);
             if !t.significant() && weakest.is_none_or(|(p, _)| t.p_value > p) {
                 weakest = Some((t.p_value, k));
             }
@@ -376,14 +411,7 @@ pub fn forward(
         ) else {
             continue;
         };
-        let beyond = Test::nested(
-            alone.rss,
-            both.rss,
-            both.n_free.saturating_sub(alone.n_free),
-            noise.sigma2,
-            noise.dof,
-            LEVEL,
-        );
+        let beyond = noise.nested_fit(alone.rss, alone.n_free, &both, LEVEL);
         if !beyond.significant() {
             let best_contribution = select::score_contribution(problem, &selected, chosen);
             ambiguities.push(Ambiguity {
@@ -522,14 +550,10 @@ fn best_pair(
             let Ok(f) = fit::fit(problem, &all, &kinds) else {
                 continue;
             };
-            let t = Test::nested(
-                cur_rss,
-                f.rss,
-                f.n_free.saturating_sub(cur_free),
-                noise.sigma2,
-                noise.dof,
-                level,
-            );
+            if !(pinned(&f, a) && pinned(&f, b)) {
+                continue;
+            }
+            let t = noise.nested_fit(cur_rss, cur_free, &f, level);
             if !t.significant() {
                 continue;
             }

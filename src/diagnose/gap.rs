@@ -87,8 +87,14 @@ pub enum NoiseSource {
     Given,
     /// Estimated from this many repeated-pose second differences.
     Estimated { differences: usize },
-    /// The instrument's default: no repeated poses to estimate it from.
-    Default,
+    /// Not measured: no repeated poses to estimate it from, and none given.
+    /// No instrument level stands in: every nested test divides by the
+    /// residual variance of its larger model (the extra-sum-of-squares F
+    /// test), and the level reported is what the diagnosis's final model
+    /// leaves, its residual sum of squares over its `dof` degrees of
+    /// freedom. What is left cannot be judged against it (no lack-of-fit
+    /// test).
+    NotMeasured { dof: usize },
 }
 
 /// The measurement noise level used for verdicts.
@@ -110,16 +116,33 @@ const DOF_PER_DIFFERENCE_VALUE: f64 = 0.37 * 0.5;
 
 impl Noise {
     /// How well the noise variance is known: exact where the caller gave
-    /// it or where it is the instrument's assumed level (no repeated poses
-    /// to measure it), else the effective degrees of freedom of the
-    /// estimate (three values per second difference).
+    /// it, else the effective degrees of freedom of the estimate (three
+    /// values per second difference), or of the residual that stands in
+    /// for it where it was not measured.
     pub fn dof(&self) -> NoiseDof {
         match self.source {
-            NoiseSource::Given | NoiseSource::Default => NoiseDof::EXACT,
+            NoiseSource::Given => NoiseDof::EXACT,
             NoiseSource::Estimated { differences } => {
                 NoiseDof((3 * differences) as f64 * DOF_PER_DIFFERENCE_VALUE)
             }
+            NoiseSource::NotMeasured { dof } => NoiseDof(dof.max(1) as f64),
         }
+    }
+
+    /// Whether the noise level was measured from repeats or given: only
+    /// then can what is left be tested against it.
+    pub fn measured(&self) -> bool {
+        !matches!(self.source, NoiseSource::NotMeasured { .. })
+    }
+
+    /// The level a residual sum of squares `rss` on `dof` degrees of
+    /// freedom stands for, where the noise was not measured.
+    pub fn from_residual(rss: f64, dof: usize) -> Noise {
+        let d = dof.max(1);
+        Noise::new(
+            (rss.max(0.0) / d as f64).sqrt(),
+            NoiseSource::NotMeasured { dof: d },
+        )
     }
 
     fn new(per_axis_mm: f64, source: NoiseSource) -> Noise {
@@ -157,7 +180,10 @@ pub fn estimate_noise(problem: &Problem, gaps: &[Vector3<f64>]) -> Option<(f64, 
 }
 
 /// The noise level of the data: `given` (mm per axis, positive), else
-/// estimated from repeated poses, else the instrument's default.
+/// estimated from repeated poses, else not measured (no instrument level
+/// is assumed: the diagnosis takes its residual instead, and the per-axis
+/// level returned is only the instrument's nominal one, for the
+/// identifiability of a first fit).
 pub fn noise_level(problem: &Problem, gaps: &[Vector3<f64>], given: Option<f64>) -> Result<Noise> {
     let instrument = instrument()?;
     Ok(match given {
@@ -177,7 +203,10 @@ pub fn noise_level(problem: &Problem, gaps: &[Vector3<f64>], given: Option<f64>)
                 s.max(instrument.position.min_noise_mm),
                 NoiseSource::Estimated { differences: k },
             ),
-            None => Noise::new(instrument.position.noise_mm, NoiseSource::Default),
+            None => Noise::new(
+                instrument.position.noise_mm,
+                NoiseSource::NotMeasured { dof: 0 },
+            ),
         },
     })
 }
@@ -194,4 +223,28 @@ pub fn orientation_weight(problem: &Problem, noise: &Noise) -> f64 {
         Some((s, _)) if s > 0.0 => (noise.per_axis_mm / s).clamp(1e-4, 100.0),
         _ => problem.w_ori,
     }
+}
+
+/// Where the noise was not measured: the level of the residual a full
+/// static calibration (the arm's geometry and the instrument's frame)
+/// leaves, its sum of squares over its degrees of freedom. Only the
+/// identifiability of the fits and the localisation's bars stand on it;
+/// every test divides by its own larger model's residual variance, and
+/// the level reported is the final model's.
+pub(super) fn first_residual(problem: &Problem, rows: &[usize]) -> Noise {
+    let values = problem.residuals(&[], rows).len();
+    for kinds in [
+        &[
+            crate::model::EffectKind::GeometryOffset,
+            crate::model::EffectKind::TrackerFrame,
+        ][..],
+        &[crate::model::EffectKind::TrackerFrame][..],
+    ] {
+        if let Ok(f) = super::fit::fit(problem, rows, kinds) {
+            if values > f.n_free {
+                return Noise::from_residual(f.rss, values - f.n_free);
+            }
+        }
+    }
+    Noise::from_residual(problem.residuals(&[], rows).norm_squared(), values)
 }

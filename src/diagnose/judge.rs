@@ -2,7 +2,7 @@
 //! by its lack-of-fit test against the noise, the stages' verdicts made
 //! one, and what the user is advised to do.
 
-use super::gap::{Noise, NoiseSource};
+use super::gap::Noise;
 use super::locate::Where;
 use super::stats::Test;
 use super::verdict::{Advice, Verdict};
@@ -62,10 +62,6 @@ pub(super) struct Scores<'a> {
     /// The test of what the selected effects leave against the noise;
     /// `None` where no degrees of freedom are left to judge it.
     pub(super) lack_of_fit: Option<Test>,
-    /// The noise level is the instrument's default, not measured.
-    pub(super) noise_assumed: bool,
-    /// The current model's gap shows structure (see [`Where::has_structure`]).
-    pub(super) structured: bool,
     /// A selected effect has a runner-up the data cannot tell from it.
     pub(super) ambiguous: bool,
 }
@@ -73,13 +69,13 @@ pub(super) struct Scores<'a> {
 /// The verdict of one stage. `none` only where what is left is within the
 /// noise by the lack-of-fit test at the stated level (the residual sum of
 /// squares over its degrees of freedom against the noise variance, an F
-/// test); above it `unexplained`, beside the effects named. Without a
-/// measured noise level (no repeated poses), a gap above the assumed level
-/// may just be a noisier instrument: it is called unexplained only with
-/// evidence of structure.
+/// test); above it `unexplained`, beside the effects named, whatever
+/// shape it has. Where no lack-of-fit test could be made (the noise not
+/// measured nor given, or no degrees of freedom left) nothing is called
+/// unexplained by it, and the advice says what is left was not judged
+/// ([`Advice::NoiseNotMeasured`]).
 pub(super) fn judge(s: &Scores) -> Verdict {
-    let above =
-        s.lack_of_fit.is_some_and(|t| t.significant()) && (!s.noise_assumed || s.structured);
+    let above = s.lack_of_fit.is_some_and(|t| t.significant());
     if s.selected.is_empty() {
         if above {
             Verdict::Unexplained {
@@ -117,13 +113,9 @@ pub(super) fn advise(
     signature_axis: Option<usize>,
 ) -> Advice {
     match verdict {
-        // `none` above an assumed (not measured) noise level: the
-        // instrument may be noisier than assumed.
-        Verdict::None if noise.source == NoiseSource::Default && cv0 > 1.5 * noise.rms_mm => {
-            Advice::CheckNoise {
-                assumed_mm: noise.per_axis_mm,
-            }
-        }
+        // `none` where the noise was not measured: nothing significant
+        // against what is left, which is not shown to be noise.
+        Verdict::None if !noise.measured() => Advice::NoiseNotMeasured { left_mm: cv },
         Verdict::None => Advice::Nothing,
         Verdict::Unexplained { .. } => Advice::LookThere {
             axis: signature_axis
@@ -136,6 +128,23 @@ pub(super) fn advise(
         Verdict::ExplainedBy { .. } | Verdict::Ambiguous { .. } => Advice::SaveModel {
             from_mm: cv0,
             to_mm: cv,
+        },
+    }
+}
+
+/// `verdict` with a remainder the library does not explain.
+pub(super) fn with_remainder(verdict: Verdict) -> Verdict {
+    match verdict {
+        Verdict::ExplainedBy { effects, .. } => Verdict::ExplainedBy {
+            effects,
+            remainder: true,
+        },
+        Verdict::Ambiguous { effects, .. } => Verdict::Ambiguous {
+            effects,
+            remainder: true,
+        },
+        _ => Verdict::Unexplained {
+            partial: Vec::new(),
         },
     }
 }

@@ -34,6 +34,7 @@ pub mod chain_diagnose;
 pub mod chain_finding;
 pub mod chain_residual;
 pub mod detect;
+pub mod drift;
 pub mod finding;
 pub mod fit;
 mod fit_key;
@@ -41,32 +42,42 @@ mod fit_steps;
 pub mod forward;
 pub mod gap;
 pub mod instrument;
+pub mod job;
 pub mod joint_signature;
 mod judge;
 pub mod knock;
+mod listed;
 pub mod locate;
 pub mod measurements;
 pub mod memo;
+mod options;
 pub mod pipeline;
+pub mod plan;
 pub mod plausible;
 pub mod plot;
 pub mod prepare;
 pub mod prose;
 pub mod sanity;
+pub mod saved;
 pub mod select;
 pub mod separation;
 pub mod signature;
 pub mod simulate;
 pub mod square;
+pub mod stability;
 pub mod stats;
+mod step;
+pub mod temps;
 pub mod unidentified;
 pub mod verdict;
 
 pub use gap::{estimate_noise, gap, gap_stats, orientation_gap, GapStats, Noise, NoiseSource};
 pub use pipeline::{diagnose, diagnosed_model, Options};
 pub use prepare::{
-    prepare, prepare_arm, problem_of, register_instrument, Prepared, RegisterFailure, Registration,
+    place_in_base, prepare, prepare_arm, problem_of, register_instrument, Prepared,
+    RegisterFailure, Registration, Source,
 };
 pub use verdict::{
-    Advice, Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
+    Advice, Ambiguity, CandidateOut, Diagnosis, NotNamed, NotNamedWhy, ParamOut, Part,
+    StageSummary, StepOut, Verdict,
 };

@@ -3,47 +3,31 @@
 //! clearly, the final fit, and the verdict.
 
 use super::detect;
+use super::drift;
 use super::fit::{self, Problem};
 use super::forward::{forward, params_out, Forward, Joint, TestNoise};
-use super::gap::{gap_stats, noise_level, orientation_weight, NoiseSource};
+use super::gap::{first_residual, gap_stats, noise_level, orientation_weight, Noise};
 use super::joint_signature;
-use super::judge::{advise, combine, judge, Scores};
+use super::judge::{advise, combine, judge, with_remainder, Scores};
 use super::knock;
+use super::listed::{has_place, is_origin_param};
 use super::locate;
+pub use super::options::Options;
 use super::prepare::Prepared;
+use super::saved;
 use super::select;
 use super::separation::Separation;
 use super::signature::QuadraticGrowth;
 use super::square;
+use super::stability;
 use super::stats::{Test, LEVEL};
+use super::step::{significant_step, step_of};
+use super::temps::{self, TempSource};
 use super::verdict::{
-    Ambiguity, CandidateOut, Diagnosis, ParamOut, Part, StageSummary, StepOut, Verdict,
+    Ambiguity, CandidateOut, Diagnosis, NotNamed, ParamOut, Part, StageSummary, StepOut, Verdict,
 };
 use crate::error::{Error, Result};
-use crate::model::effects::GEOMETRY_ORIGINS_FROM;
 use crate::model::{EffectEntry, EffectKind, Model};
-
-/// Options of a diagnosis.
-#[derive(Debug, Clone)]
-pub struct Options {
-    /// Tracker noise per axis (mm, positive); `None`: estimate, else the
-    /// instrument's default.
-    pub noise_mm: Option<f64>,
-    /// Number of cross-validation folds.
-    pub folds: usize,
-    /// Most effects forward selection adds.
-    pub max_effects: usize,
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            noise_mm: None,
-            folds: 4,
-            max_effects: 3,
-        }
-    }
-}
 
 /// Rows enough, spread over enough poses and times, to tell what changes
 /// with time from what stays: at least 3 poses each measured at 4 or more
@@ -78,7 +62,17 @@ fn repeats_over_time(problem: &Problem) -> bool {
 /// pose where the poses are enough. Data without such repeats are judged in
 /// one stage over all effects.
 pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
-    let problem = &prepared.problem;
+    let temp_source = TempSource::of(&prepared.temps, opts.assume_cold_start)?;
+    // Without a source of temperatures every row is held at the reference
+    // temperature: the model's profile would be a heating (of an IRB 140,
+    // from a cold start at the first row) that the data do not show.
+    let held_cold;
+    let problem = if temp_source.drives() {
+        &prepared.problem
+    } else {
+        held_cold = temps::held_cold(&prepared.problem);
+        &held_cold
+    };
     let n = problem.rows.len();
     const MIN_ROWS: usize = 20;
     if n < MIN_ROWS {
@@ -89,7 +83,11 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let all: Vec<usize> = (0..n).collect();
     let gaps_before = problem.position_gaps(&[], &all);
     let gap = gap_stats(&gaps_before);
-    let noise = noise_level(problem, &gaps_before, opts.noise_mm)?;
+    let mut noise = noise_level(problem, &gaps_before, opts.noise_mm)?;
+    let measured = noise.measured();
+    if !measured {
+        noise = first_residual(problem, &all);
+    }
     // Fits judge identifiability against the noise of these data.
     let tuned = Problem {
         noise_mm: noise.per_axis_mm,
@@ -138,29 +136,31 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     let pool: Vec<EffectKind> = EffectKind::ALL
         .into_iter()
         .filter(|k| !(lag_fixed && *k == EffectKind::ThermalLag))
+        .filter(|k| temp_source.drives() || !k.is_thermal())
         .collect();
     let where_ = locate::locate(problem, &gaps_before, &prepared.pose_names, noise.rms_mm);
-    let noise_assumed = noise.source == NoiseSource::Default;
-    let tnoise = TestNoise {
+    let mut tnoise = TestNoise {
         rms_mm: noise.rms_mm,
         sigma2: noise.per_axis_mm * noise.per_axis_mm,
         dof: noise.dof(),
+        measured,
     };
 
     let ctx = Ctx {
         problem,
         folds: &folds,
         noise: tnoise,
-        noise_assumed,
         max_effects: opts.max_effects,
-        structured: where_.has_structure(),
         n_poses,
         static_judged,
         static_held_out,
+        temps_drive: temp_source.drives(),
     };
-    let (stages, final_problem, parts, knock, quadratic, searched) = if repeats_over_time(problem) {
-        let (stages, held, first, knock, quadratic, searched) =
-            two_stages(&ctx, &pool, &gaps_before, &prepared.pose_names)?;
+    // Two stages need the noise measured: what is left over time is
+    // judged against it (a step, the square, the lack of fit).
+    let two = measured && repeats_over_time(problem);
+    let (stages, final_problem, parts, knock, quadratic, searched) = if two {
+        let (stages, held, first, knock, quadratic, searched) = two_stages(&ctx, &pool)?;
         (
             stages,
             held,
@@ -172,20 +172,26 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     } else {
         let one = ctx.select(problem, &[], &pool, static_held_out, None)?;
         let (rss, free) = one.rss();
-        let lof = Test::lack_of_fit(
-            rss,
-            (n * width).saturating_sub(free),
-            tnoise.sigma2,
-            tnoise.dof,
-            LEVEL,
-        );
-        let verdict = ctx.judge(&one, Some(lof), ctx.structured);
+        // What is left is judged against a noise only where one was
+        // measured or given: a residual cannot be tested against itself.
+        let lof = measured.then(|| {
+            Test::lack_of_fit(
+                rss,
+                (n * width).saturating_sub(free),
+                tnoise.sigma2,
+                tnoise.dof,
+                ctx.one_stage_level(),
+            )
+        });
+        let verdict = ctx.judge(&one, lof);
+        let stability = stability::of(problem, &one.effects(), &tnoise, 1);
         (
             vec![Stage {
                 forward: one,
                 verdict,
-                lack_of_fit: Some(lof),
+                lack_of_fit: lof,
                 judged: static_judged,
+                stability,
             }],
             problem.clone(),
             [Part::All, Part::All],
@@ -210,6 +216,39 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         .map(|f| f.effects.clone())
         .unwrap_or_default();
     let gaps_after = final_problem.position_gaps(&last_effects, &all);
+    // Where the noise was not measured, the level reported (and the one
+    // the detection limits are held to) is what the final model leaves:
+    // its residual sum of squares over its degrees of freedom.
+    if !measured {
+        let (rss, free) = last.map_or((0.0, 0), |f| f.rss());
+        noise = Noise::from_residual(rss, (n * width).saturating_sub(free));
+        tnoise = TestNoise {
+            rms_mm: noise.rms_mm,
+            sigma2: noise.per_axis_mm * noise.per_axis_mm,
+            dof: noise.dof(),
+            measured,
+        };
+    }
+    // Without temperatures, what changes over time is a drift in time,
+    // said with its shape and size: with poses repeated, beyond each
+    // pose's own offset; else beyond the model and a constant.
+    let time_drift = if temp_source.drives() {
+        None
+    } else {
+        let times: Vec<f64> = final_problem.rows.iter().map(|r| r.time_min).collect();
+        let poses: Vec<usize> = final_problem.rows.iter().map(|r| r.pose).collect();
+        let free = if two {
+            0
+        } else {
+            last.map_or(0, |f| f.rss().1)
+        };
+        let level = if two {
+            ctx.remainder_level()
+        } else {
+            ctx.one_stage_level()
+        };
+        drift::find(&times, &poses, &gaps_after, two, free, &tnoise, level)
+    };
     // Detection limits beyond everything fitted: the thermal effects held
     // fixed in the last stage's problem and its own effects, on the data
     // as the diagnosis ended with them (a step removed).
@@ -223,7 +262,36 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         &found,
         &tnoise,
     );
-    let verdict = combine(stages.iter().map(|s| s.verdict.clone()).collect());
+    let mut verdict = combine(stages.iter().map(|s| s.verdict.clone()).collect());
+    if time_drift.is_some() {
+        verdict = with_remainder(verdict);
+    }
+    // Named only what the data pin, above what they could reveal, and
+    // again over resampled fits: of the effects the stages selected, the
+    // others are said, not named.
+    let unpinned: Vec<EffectKind> = stages
+        .iter()
+        .filter_map(|st| st.forward.fit.as_ref().map(|f| (f, &st.forward.selected)))
+        .flat_map(|(f, sel)| {
+            sel.iter()
+                .copied()
+                .filter(|k| !super::forward::pinned(f, *k))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let below = detect::below(
+        &Problem {
+            fixed: problem.fixed.clone(),
+            ..final_problem.clone()
+        },
+        &found,
+        &tnoise,
+    );
+    let stability: Vec<stability::Stability> =
+        stages.iter().flat_map(|st| st.stability.clone()).collect();
+    let not_named = NotNamed::of(&unpinned, &below, &stability);
+    let out: Vec<EffectKind> = not_named.iter().map(|n| n.effect).collect();
+    verdict = verdict.without(&out);
     let mut candidates = Vec::new();
     let mut steps = Vec::new();
     let mut ambiguities = Vec::new();
@@ -234,7 +302,11 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         // (the base an absolute pass fitted with them left out).
         let finals = f.fit.as_ref().map(params_out).unwrap_or_default();
         for c in &f.candidates {
-            let selected = f.selected.iter().any(|k| k.name() == c.name);
+            // What is not named is not reported as selected, nor saved.
+            let selected = f
+                .selected
+                .iter()
+                .any(|k| k.name() == c.name && !out.contains(k));
             let prefix = format!("{}.", c.name);
             // Geometry's joint origins are not fitted from too few poses:
             // not listed, rather than listed as unidentifiable.
@@ -264,7 +336,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
                 fit.effects
                     .iter()
                     .zip(&fit.params)
-                    .filter(|(e, _)| f.selected.contains(&e.kind))
+                    .filter(|(e, _)| f.selected.contains(&e.kind) && !out.contains(&e.kind))
                     .map(|(e, ps)| {
                         let se: Vec<Option<f64>> = ps.iter().map(|p| p.stderr).collect();
                         EffectEntry::from_effect(e, Some(&se))
@@ -303,6 +375,27 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
     } else {
         locate::locate(problem, &gaps_after, &prepared.pose_names, noise.rms_mm)
     };
+    // Every number after the diagnosis is the saved model's: its effects
+    // fitted without each fold's rows, written, read back and scored on
+    // them as `gap --model` scores a file (`saved.rs`). What the model
+    // cannot hold (each pose's own offset, a step removed, the square, a
+    // signature) is not in it.
+    let saved = match &prepared.source {
+        Some(source) => Some(saved::score(
+            source,
+            prepared.registration.as_ref(),
+            problem,
+            &folds,
+            &fitted,
+            stages.len() > 1,
+        )?),
+        None => None,
+    };
+    let cur_cv = saved.as_ref().map_or(cur_cv, |s| s.held_out_mm);
+    let (gap_after, gaps_after) = match &saved {
+        Some(s) => (s.gap, s.gaps.clone()),
+        None => (gap_stats(&gaps_after), gaps_after),
+    };
     let advice = advise(
         &verdict,
         cv0,
@@ -320,7 +413,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         gap_before_mm: cv0,
         gap_after_mm: cur_cv,
         gap,
-        gap_after: gap_stats(&gaps_after),
+        gap_after,
         noise,
         level: LEVEL,
         candidates,
@@ -336,6 +429,10 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         joint_limits,
         detection_limits,
         registration: prepared.registration.clone(),
+        temperatures: temp_source,
+        time_drift,
+        stability,
+        not_named,
         stages: stages
             .iter()
             .zip(parts)
@@ -357,6 +454,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         fitted,
         gaps_before,
         gaps_after,
+        saved,
     })
 }
 
@@ -368,6 +466,8 @@ struct Stage {
     /// `None` where the design leaves no degrees of freedom to judge.
     lack_of_fit: Option<Test>,
     judged: bool,
+    /// How often each effect it selected is named over resampled fits.
+    stability: Vec<stability::Stability>,
 }
 
 /// What every stage of a diagnosis shares.
@@ -376,19 +476,26 @@ struct Ctx<'a> {
     /// Held-out folds by time block and pose group.
     folds: &'a select::Folds,
     noise: TestNoise,
-    noise_assumed: bool,
     max_effects: usize,
-    /// The current model's gap shows structure.
-    structured: bool,
     n_poses: usize,
     /// The poses give more numbers than a full kinematic calibration takes.
     static_judged: bool,
     /// Where every fold keeps enough of them to predict its held-out poses:
     /// the drop of the held-out mean-square gap a static effect must make.
     static_held_out: Option<f64>,
+    /// Temperatures drive the thermal effects ([`TempSource::drives`]).
+    temps_drive: bool,
 }
 
 impl Ctx<'_> {
+    /// The level of each test that can call something `unexplained` in one
+    /// stage: its lack of fit and, where no temperatures drive anything, a
+    /// drift in time, sharing [`LEVEL`] (Bonferroni) where both are run.
+    fn one_stage_level(&self) -> f64 {
+        let families = usize::from(self.noise.measured) + usize::from(!self.temps_drive);
+        LEVEL / families.max(1) as f64
+    }
+
     /// The level of each family of tests that can call something
     /// `unexplained` in the two stages, where the set's verdict is
     /// `unexplained` when any of them rejects: the lack of fit over time, a
@@ -403,12 +510,10 @@ impl Ctx<'_> {
         LEVEL / families as f64
     }
 
-    fn judge(&self, f: &Forward, lof: Option<Test>, structured: bool) -> Verdict {
+    fn judge(&self, f: &Forward, lof: Option<Test>) -> Verdict {
         judge(&Scores {
             selected: &f.selected,
             lack_of_fit: lof,
-            noise_assumed: self.noise_assumed,
-            structured,
             ambiguous: !f.ambiguities.is_empty(),
         })
     }
@@ -511,79 +616,13 @@ type Staged = (
     joint_signature::Searched,
 );
 
-/// A knock as a step between the measurement times around it.
-fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {
-    let before = problem
-        .rows
-        .iter()
-        .map(|r| r.time_min)
-        .filter(|&t| t < k.after_min - 1e-9)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let size = k.shift_mm.norm();
-    let dir = if size > 0.0 {
-        k.shift_mm / size
-    } else {
-        k.shift_mm
-    };
-    locate::Step {
-        before_min: before,
-        after_min: k.after_min,
-        size_mm: size,
-        direction: [dir.x, dir.y, dir.z],
-    }
-}
-
-/// A step in time in what `thermal` leaves over time (each pose's own
-/// offset taken out), when it is significant: an F test of its three
-/// components against the noise, at the level shared among the splits
-/// tried. Where a growth with the square of the temperatures adds
-/// significantly beyond `thermal` (at `level`), the step must also be
-/// significant beyond both (`square::left_beyond`): the growth is a
-/// candidate too, and the part of it the effects leave is no step. The
-/// step itself is the one the effects alone leave: fitted beyond the
-/// square, a real knock lost the part the square took up, and the data
-/// corrected by the rest still held a step that a scaled expansion or a
-/// lag then followed (10 of 33 step sets, seeds 28006-28030).
-fn significant_step(
-    centred: &Problem,
-    thermal: &Forward,
-    noise: &TestNoise,
-    level: f64,
-) -> Option<knock::Knock> {
-    let all: Vec<usize> = (0..centred.rows.len()).collect();
-    let effects = thermal.effects();
-    let gaps = centred.position_gaps(&effects, &all);
-    let (k, rss0, rss1, tried) = knock::best(centred, &all, &gaps)?;
-    let (rss0, rss1, tried) = match square::left_beyond(centred, &effects, noise, level) {
-        Some(left) => {
-            let (_, rss0, rss1, tried) = knock::best(centred, &all, &left)?;
-            (rss0, rss1, tried)
-        }
-        None => (rss0, rss1, tried),
-    };
-    let t = Test::nested(
-        rss0,
-        rss1,
-        3,
-        noise.sigma2,
-        noise.dof,
-        level / tried.max(1) as f64,
-    );
-    t.significant().then_some(k)
-}
-
 /// The two stages of data that measure poses again and again: what changes
 /// with time (each pose's own offset free, held out by time span), then
 /// what stays (the thermal effects found held fixed). Returns the stages,
 /// the problem of the last, the first stage's part (`absolute` when the
 /// absolute pass replaced it), and a step in time found (removed from the
 /// data before the static stage).
-fn two_stages(
-    ctx: &Ctx,
-    pool: &[EffectKind],
-    gaps_before: &[nalgebra::Vector3<f64>],
-    pose_names: &[String],
-) -> Result<Staged> {
+fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
     let mut problem = ctx.problem.clone();
     let mut first = Part::OverTime;
     let all: Vec<usize> = (0..problem.rows.len()).collect();
@@ -651,6 +690,7 @@ fn two_stages(
                 &Forward::empty(&original),
                 &ctx.noise,
                 ctx.remainder_level(),
+                ctx.temps_drive,
             )
             .is_none()
         {
@@ -659,15 +699,27 @@ fn two_stages(
         let gaps = original.position_gaps(&[], &all);
         knock::score(&original, &time_folds, &gaps).is_some_and(|(cv, _)| cv < thermal.cv)
     };
-    if significant_step(&original, &thermal, &ctx.noise, ctx.remainder_level()).is_some()
+    if significant_step(
+        &original,
+        &thermal,
+        &ctx.noise,
+        ctx.remainder_level(),
+        ctx.temps_drive,
+    )
+    .is_some()
         || step_first()
     {
         thermal = Forward::empty(&original);
     }
     let mut knocked = None;
     for _ in 0..3 {
-        let Some(k) = significant_step(&original, &thermal, &ctx.noise, ctx.remainder_level())
-        else {
+        let Some(k) = significant_step(
+            &original,
+            &thermal,
+            &ctx.noise,
+            ctx.remainder_level(),
+            ctx.temps_drive,
+        ) else {
             if knocked.is_none() {
                 thermal = as_measured;
             } else if knocked.take().is_some() {
@@ -704,32 +756,40 @@ fn two_stages(
     // the data and the effects are those selected beyond it; else it may
     // still be reported beside them, and what it replaces is not named.
     let mut square_params = 0;
-    thermal = square::library_first(
-        &centred,
-        thermal,
-        &ctx.noise,
-        ctx.remainder_level(),
-        |alt| {
-            forward(
-                &centred,
-                &time_folds,
-                alt,
-                &[],
-                &ctx.noise,
-                ctx.max_effects,
-                Some(0.0),
-                None,
-            )
-        },
-    )?;
-    let quadratic = match square::choose(
-        &problem,
-        &centred,
-        &thermal,
-        &ctx.noise,
-        ctx.remainder_level(),
-        over_time,
-    )? {
+    if ctx.temps_drive {
+        thermal = square::library_first(
+            &centred,
+            thermal,
+            &ctx.noise,
+            ctx.remainder_level(),
+            |alt| {
+                forward(
+                    &centred,
+                    &time_folds,
+                    alt,
+                    &[],
+                    &ctx.noise,
+                    ctx.max_effects,
+                    Some(0.0),
+                    None,
+                )
+            },
+        )?;
+    }
+    // The square of the temperatures' rise needs temperatures.
+    let choice = if ctx.temps_drive {
+        square::choose(
+            &problem,
+            &centred,
+            &thermal,
+            &ctx.noise,
+            ctx.remainder_level(),
+            over_time,
+        )?
+    } else {
+        square::Choice::Absent
+    };
+    let quadratic = match choice {
         square::Choice::Taken(t) => {
             let t = *t;
             problem = t.problem;
@@ -859,13 +919,6 @@ fn two_stages(
     {
         statics = select_without_sag(&held)?;
     }
-    // Structure over time, each pose's own offset taken out.
-    let over_time_where = locate::locate(
-        &centred,
-        &select::centred(&centred, &all, gaps_before.to_vec()),
-        pose_names,
-        ctx.noise.rms_mm,
-    );
     let (rss, free) = thermal.rss();
     let time_dof = centred
         .residuals(&[], &all)
@@ -880,17 +933,28 @@ fn two_stages(
             ctx.remainder_level(),
         )
     });
-    let mut thermal_verdict = ctx.judge(&thermal, time_lof, over_time_where.has_structure());
+    let mut thermal_verdict = ctx.judge(&thermal, time_lof);
     if knocked.is_some() || quadratic.is_some() {
         // The step or the growth itself is what no effect of the library
         // explains.
         thermal_verdict = with_remainder(thermal_verdict);
     }
     let static_lof = ctx.static_lack_of_fit(&problem, &thermal, &held, &statics);
-    let mut static_verdict = ctx.judge(&statics, static_lof, ctx.structured);
+    let mut static_verdict = ctx.judge(&statics, static_lof);
     if searched.found.is_some() {
         static_verdict = with_remainder(static_verdict);
     }
+    // Each stage's selection over resampled fits, on the data it was
+    // selected on: over time with each pose's own offset (time blocks left
+    // out), or as the absolute pass saw them; the static effects with the
+    // thermal ones held.
+    let thermal_on = if first == Part::OverTime {
+        &centred
+    } else {
+        &problem
+    };
+    let thermal_stability = stability::of(thermal_on, &thermal.effects(), &ctx.noise, 1);
+    let static_stability = stability::of(&held, &statics.effects(), &ctx.noise, 2);
     Ok((
         vec![
             Stage {
@@ -898,12 +962,14 @@ fn two_stages(
                 verdict: thermal_verdict,
                 lack_of_fit: time_lof,
                 judged: true,
+                stability: thermal_stability,
             },
             Stage {
                 forward: statics,
                 verdict: static_verdict,
                 lack_of_fit: static_lof,
                 judged: ctx.static_judged,
+                stability: static_stability,
             },
         ],
         held,
@@ -914,50 +980,13 @@ fn two_stages(
     ))
 }
 
-/// `verdict` with a remainder the library does not explain.
-fn with_remainder(verdict: Verdict) -> Verdict {
-    match verdict {
-        Verdict::ExplainedBy { effects, .. } => Verdict::ExplainedBy {
-            effects,
-            remainder: true,
-        },
-        Verdict::Ambiguous { effects, .. } => Verdict::Ambiguous {
-            effects,
-            remainder: true,
-        },
-        _ => Verdict::Unexplained {
-            partial: Vec::new(),
-        },
-    }
-}
-
-/// Whether the parameter `name` (`effect.param`) has a place on the arm
-/// ([`crate::model::Geometry::has_param`]): one without is not listed.
-fn has_place(geometry: &crate::model::Geometry, name: &str) -> bool {
-    let Some((effect, param)) = name.split_once('.') else {
-        return true;
-    };
-    let Some(kind) = EffectKind::from_name(effect) else {
-        return true;
-    };
-    kind.params()
-        .iter()
-        .position(|p| p.name == param)
-        .is_none_or(|i| geometry.has_param(kind, i))
-}
-
-/// Whether `name` (`effect.param`) is one of geometry-offset's joint-origin
-/// or measured-point parameters.
-fn is_origin_param(name: &str) -> bool {
-    name.strip_prefix("geometry-offset.").is_some_and(|p| {
-        EffectKind::GeometryOffset.params()[GEOMETRY_ORIGINS_FROM..]
-            .iter()
-            .any(|info| info.name == p)
-    })
-}
-
-/// The model with the diagnosed effects added.
+/// The model with the diagnosed effects added: the saved model where the
+/// diagnosis was of measurements (its arm, measured point and instrument
+/// frame with it), else `model` with the effects.
 pub fn diagnosed_model(model: &Model, diagnosis: &Diagnosis) -> Model {
+    if let Some(s) = &diagnosis.saved {
+        return s.model.clone();
+    }
     let mut m = model.clone();
     m.effects.extend(diagnosis.fitted.iter().cloned());
     m

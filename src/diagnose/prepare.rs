@@ -7,6 +7,7 @@ use super::arm::Arm;
 use super::fit::{Problem, Row};
 use super::instrument::instrument;
 use super::measurements::Measurements;
+use super::temps::TempOrigin;
 use crate::error::{Error, Result};
 use crate::model::effects::FULL_GEOMETRY_POSES;
 use crate::model::Model;
@@ -15,6 +16,7 @@ use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use serde::Serialize;
 use std::collections::HashMap;
 use std::fmt;
+use std::sync::Arc;
 
 /// Data ready for the diagnosis.
 #[derive(Debug, Clone)]
@@ -22,8 +24,26 @@ pub struct Prepared {
     pub problem: Problem,
     /// Pose names by pose id.
     pub pose_names: Vec<String>,
-    /// The fitted instrument frame when registration was asked for.
+    /// The instrument frame the measured points were brought from: fitted
+    /// when registration was asked for, or the model's own.
     pub registration: Option<Registration>,
+    /// What the data were prepared from, where they were prepared from
+    /// measurements: a diagnosis builds the model it saves from them and
+    /// scores that model on them as `gap --model` does.
+    pub source: Option<Arc<Source>>,
+    /// Where the rows' temperatures came from: the data, or the model's
+    /// heating (a record, or a profile from a cold start the data do not
+    /// say; the diagnosis uses a profile only where the caller assumes it,
+    /// [`super::temps`]).
+    pub temps: TempOrigin,
+}
+
+/// The measurements, the model and the arm a [`Prepared`] was made of.
+#[derive(Debug, Clone)]
+pub struct Source {
+    pub meas: Measurements,
+    pub model: Model,
+    pub arm: Arm,
 }
 
 /// The rigid transform from the robot base frame to the instrument's frame
@@ -36,8 +56,11 @@ pub struct Registration {
     /// RMS distance left after the rigid fit, mm.
     pub rms_mm: f64,
     /// Rows the frame was fitted on (the cold start's when it has six or
-    /// more poses, else all).
+    /// more poses, else all); 0 where the frame is the model's.
     pub rows_used: usize,
+    /// The frame is the model file's `[instrument]`, not fitted here.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub from_model: bool,
     #[serde(skip)]
     pub transform: Isometry3<f64>,
 }
@@ -100,9 +123,7 @@ pub fn prepare_arm(
     register: bool,
 ) -> Result<Prepared> {
     let mut prepared = problem_of(meas, model, arm)?;
-    if register {
-        register_instrument(&mut prepared)?;
-    }
+    place_in_base(&mut prepared, model, register)?;
     Ok(prepared)
 }
 
@@ -164,10 +185,23 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         origins: pose_names.len() >= FULL_GEOMETRY_POSES,
         memo: Default::default(),
     };
+    let temps = if meas.has_temps() {
+        TempOrigin::Measured
+    } else if let Some(r) = &model.heating.recording {
+        TempOrigin::Recording(r.clone())
+    } else {
+        TempOrigin::Profile(model.heating.profile.clone())
+    };
     let prepared = Prepared {
         problem,
         pose_names,
         registration: None,
+        source: Some(Arc::new(Source {
+            meas: meas.clone(),
+            model: model.clone(),
+            arm: arm.clone(),
+        })),
+        temps,
     };
     super::sanity::check_spread(&prepared, &meas.file)?;
     Ok(prepared)
@@ -179,12 +213,64 @@ pub fn register_instrument(
     prepared: &mut Prepared,
 ) -> std::result::Result<&Registration, RegisterFailure> {
     let reg = register_frame(&prepared.problem)?;
+    Ok(into_frame(prepared, reg))
+}
+
+/// Bring the measured points into the robot base frame: by a frame
+/// registered anew (`register`), else by the model's `[instrument]` frame
+/// where it has one (a saved diagnosis's), else as they are. `gap`, the
+/// diagnosis and the score of a saved model all place the data so.
+pub fn place_in_base(
+    prepared: &mut Prepared,
+    model: &Model,
+    register: bool,
+) -> std::result::Result<(), RegisterFailure> {
+    if register {
+        register_instrument(prepared)?;
+        return Ok(());
+    }
+    let Some(frame) = &model.instrument else {
+        return Ok(());
+    };
+    let transform = frame.transform();
+    let all: Vec<usize> = (0..prepared.problem.rows.len()).collect();
+    let sim = prepared.problem.predict_rows(&[], &all);
+    let n = all.len().max(1) as f64;
+    let rms = (sim
+        .iter()
+        .zip(&prepared.problem.rows)
+        .map(|(s, r)| {
+            (transform
+                .transform_point(&s.translation.vector.into())
+                .coords
+                - r.position)
+                .norm_squared()
+        })
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    into_frame(
+        prepared,
+        Registration {
+            translation_mm: frame.translation_mm,
+            rotation_deg: frame.rotation_deg,
+            rms_mm: rms,
+            rows_used: 0,
+            from_model: true,
+            transform,
+        },
+    );
+    Ok(())
+}
+
+/// The rows brought from the frame `reg` into the robot base frame.
+fn into_frame(prepared: &mut Prepared, reg: Registration) -> &Registration {
     let inv = reg.transform.inverse();
     for r in &mut prepared.problem.rows {
         r.position = inv.transform_point(&r.position.into()).coords;
         r.orientation = r.orientation.map(|o| inv.rotation * o);
     }
-    Ok(prepared.registration.insert(reg))
+    prepared.registration.insert(reg)
 }
 
 /// Rigid fit (Kabsch) of the model's positions onto the measured ones.
@@ -241,6 +327,7 @@ fn rigid_fit(
         rotation_deg: [rv.x.to_degrees(), rv.y.to_degrees(), rv.z.to_degrees()],
         rms_mm: rms,
         rows_used: all.len(),
+        from_model: false,
         transform,
     })
 }

@@ -6,14 +6,14 @@
 use super::finding::Finding;
 use super::gap::NoiseSource;
 use super::joint_signature::JointShape;
-use super::verdict::{Advice, Diagnosis, Part, Verdict};
+use super::verdict::{Advice, Diagnosis, NotNamedWhy, Part, Verdict};
 use serde::Serializer;
 
 /// How the caller lets a user act on the advice, as phrases that fit in
 /// the sentences below.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Remedies {
-    /// Completes "…; <give_noise> if the instrument is better".
+    /// Starts "(<give_noise> or measure poses again to judge it)".
     pub give_noise: String,
     /// Starts "<save_model> and correct programs with it: …".
     pub save_model: String,
@@ -35,7 +35,9 @@ pub fn noise_source(source: &NoiseSource) -> String {
         NoiseSource::Estimated { differences } => {
             format!("estimated from {differences} repeated-pose second differences")
         }
-        NoiseSource::Default => "default (no repeated poses to estimate it from)".into(),
+        NoiseSource::NotMeasured { dof } => format!(
+            "not measured: no repeated poses and none given; the residual the model found leaves, on {dof} degrees of freedom, and each F test divides by its larger model's residual variance"
+        ),
     }
 }
 
@@ -64,10 +66,14 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         noise.rms_mm,
         noise_source(&noise.source)
     ));
+    // Which source drove the temperatures, where the data carry none.
+    if d.temperatures != super::temps::TempSource::Measured {
+        words.push(d.temperatures.words());
+    }
     match &d.verdict {
         Verdict::None => match d.advice {
-            Advice::CheckNoise { assumed_mm } => words.push(format!(
-                "Verdict: none. The gap ({cv0:.3} mm held-out) shows no structure in time, direction, poses or joints: it looks like measurement noise larger than the assumed {assumed_mm:.3} mm per axis (no repeated poses to measure it; {} if the instrument is better).",
+            Advice::NoiseNotMeasured { left_mm } => words.push(format!(
+                "Verdict: none. No effect of the library is significant against what is left ({left_mm:.3} mm held-out; {cv0:.3} mm before), but the noise was not measured (no repeated poses): whether that is noise cannot be said ({} or measure poses again to judge it).",
                 remedies.give_noise
             )),
             _ => words.push(
@@ -136,6 +142,9 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             }
         }
     }
+    if let Some(t) = &d.time_drift {
+        words.push(t.words());
+    }
     if let Some(q) = &d.quadratic_growth {
         let replaced: Vec<&str> = q.replaces.iter().map(|k| k.name()).collect();
         words.push(format!(
@@ -194,6 +203,9 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             st.gap_after_mm, noise.rms_mm
         ));
     }
+    words.extend(not_named_words(d));
+    words.extend(stability_words(d));
+    words.extend(held_words(d));
     words.push(advice(&d.advice, remedies));
     if !d.detection_limits.is_empty() {
         let list: Vec<String> = d
@@ -201,8 +213,14 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             .iter()
             .map(|l| format!("{} above {:.3} mm", l.effect.name(), l.flange_mm))
             .collect();
+        let named = !d.verdict.effects().is_empty();
         words.push(format!(
-            "These poses, times and noise would have revealed (at {:.0} %, with 90 % power, beyond the rest of what was found; the largest move of the flange at the calibration pose over these times): {}.",
+            "{} (at {:.0} %, with 90 % power, beyond the rest of what was found; the largest move of the flange at the calibration pose over these times): {}.",
+            if named {
+                "These poses, times and noise would have revealed"
+            } else {
+                "No effect named: nothing the data could have seen beyond these sizes"
+            },
             100.0 * d.level,
             list.join(", ")
         ));
@@ -223,6 +241,107 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
         ));
     }
     words
+}
+
+/// The effects the selection took and the verdict does not name, and why.
+fn not_named_words(d: &Diagnosis) -> Vec<String> {
+    d.not_named
+        .iter()
+        .map(|n| match &n.why {
+            NotNamedWhy::Unpinned => format!(
+                "{} is not named: none of its parameters is pinned by these data (each held as not identifiable or on a bound of its range).",
+                n.effect.name()
+            ),
+            NotNamedWhy::BelowLimit { size_mm, limit_mm } => format!(
+                "{} is not named: it fits {size_mm:.3} mm, below the {limit_mm:.3} mm these poses, times and noise could reveal along its shape.",
+                n.effect.name()
+            ),
+            NotNamedWhy::Unstable {
+                named_in,
+                resamples,
+            } => format!(
+                "{} is a candidate, not a verdict: named again in only {named_in} of {resamples} resampled fits (a quarter of the poses or time blocks left out; a verdict needs 80 %).",
+                n.effect.name()
+            ),
+        })
+        .collect()
+}
+
+/// How often each effect named is named again over resampled fits.
+fn stability_words(d: &Diagnosis) -> Option<String> {
+    let named = d.verdict.effects();
+    let list: Vec<String> = d
+        .stability
+        .iter()
+        .filter(|st| named.contains(&st.effect))
+        .map(|st| format!("{} {} of {}", st.effect.name(), st.named_in, st.resamples))
+        .collect();
+    (!list.is_empty()).then(|| {
+        format!(
+            "Named again over resampled fits (a quarter of the poses or time blocks left out, the F test beyond the rest at 1 %): {}.",
+            list.join(", ")
+        )
+    })
+}
+
+/// Of each effect named, the parameters held rather than fitted, with the
+/// value each is held at; for the geometry and the frame (many of whose
+/// parameters no set of poses pins) only how many.
+fn held_words(d: &Diagnosis) -> Vec<String> {
+    let named = d.verdict.effects();
+    let mut out = Vec::new();
+    for c in d.candidates.iter().filter(|c| c.selected) {
+        let Some(kind) = crate::model::EffectKind::from_name(&c.name) else {
+            continue;
+        };
+        if !named.contains(&kind) {
+            continue;
+        }
+        let held: Vec<&super::verdict::ParamOut> =
+            c.params.iter().filter(|p| p.held.is_some()).collect();
+        if held.is_empty() {
+            continue;
+        }
+        let short = |p: &super::verdict::ParamOut| {
+            p.name
+                .strip_prefix(&format!("{}.", c.name))
+                .unwrap_or(&p.name)
+                .to_string()
+        };
+        if matches!(
+            kind,
+            crate::model::EffectKind::GeometryOffset | crate::model::EffectKind::TrackerFrame
+        ) {
+            out.push(format!(
+                "Of {}, {} of {} parameters are held, not fitted (not identifiable from these poses).",
+                c.name,
+                held.len(),
+                c.params.len()
+            ));
+        } else {
+            let list: Vec<String> = held
+                .iter()
+                .map(|p| {
+                    let why = match &p.held {
+                        Some(super::unidentified::Unidentified::AtBound { .. }) => {
+                            "on a bound of its range"
+                        }
+                        Some(super::unidentified::Unidentified::Implausible { .. }) => {
+                            "its fit was implausible"
+                        }
+                        _ => "not identifiable",
+                    };
+                    format!("{} at {:.4} {} ({why})", short(p), p.value, p.unit)
+                })
+                .collect();
+            out.push(format!(
+                "Of {}, held, not fitted: {}.",
+                c.name,
+                list.join(", ")
+            ));
+        }
+    }
+    out
 }
 
 /// Where the static stage looked for a joint's own error and found none,
@@ -315,8 +434,9 @@ fn after_words(d: &Diagnosis) -> Vec<String> {
 /// What to do, in one sentence.
 fn advice(advice: &Advice, remedies: &Remedies) -> String {
     match advice {
-        Advice::Nothing | Advice::CheckNoise { .. } => {
-            "Nothing to do: the model is as good as the measurement.".into()
+        Advice::Nothing => "Nothing to do: the model is as good as the measurement.".into(),
+        Advice::NoiseNotMeasured { .. } => {
+            "Nothing the library has would improve the model; whether what is left is only measurement noise is not known.".into()
         }
         Advice::LookThere { axis, step_min } => {
             let mut hint = String::from("Look where it points");

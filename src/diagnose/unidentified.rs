@@ -28,4 +28,8 @@ pub enum Unidentified {
     /// The fit took it to `value`, beyond the plausible `limit`: the data
     /// leave it free to wander.
     Implausible { value: f64, limit: f64 },
+    /// A time constant the fit ran onto a bound of its range (`value`, 0 or
+    /// the longest allowed): the data push it beyond, and do not pin it;
+    /// held there, not fitted.
+    AtBound { value: f64 },
 }

@@ -2,14 +2,17 @@
 //! what to do about it. No sentences here: [`super::prose`] words them,
 //! and a caller may word them its own way.
 
-use super::detect::DetectionLimit;
+use super::detect::{BelowLimit, DetectionLimit};
+use super::drift::TimeDrift;
 use super::gap::{GapStats, Noise};
 use super::joint_signature::{JointLimit, JointSignature};
 use super::locate::Where;
 use super::prepare::Registration;
 use super::separation::Separation;
 use super::signature::QuadraticGrowth;
+use super::stability::Stability;
 use super::stats::Test;
+use super::temps::TempSource;
 use crate::model::{EffectEntry, EffectKind};
 use nalgebra::Vector3;
 use serde::{Serialize, Serializer};
@@ -118,12 +121,14 @@ pub struct StageSummary {
 /// What to do about the gap.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Advice {
-    /// The model is as good as the measurement.
+    /// The model is as good as the measurement: what is left passed the
+    /// lack-of-fit test against a measured or given noise.
     Nothing,
-    /// The gap looks like noise above the assumed noise level
-    /// (`assumed_mm` per axis): give the instrument's real noise level if
-    /// it is better. Nothing else to do.
-    CheckNoise { assumed_mm: f64 },
+    /// No effect is significant against what is left (`left_mm`, 3-D RMS
+    /// held out), but the noise was not measured (no repeated poses) nor
+    /// given: whether that is noise cannot be said. Repeat poses, or give
+    /// the instrument's noise level.
+    NoiseNotMeasured { left_mm: f64 },
     /// Save the model with the diagnosed effects and correct programs with
     /// it: the held-out gap goes from `from_mm` to `to_mm`.
     SaveModel { from_mm: f64, to_mm: f64 },
@@ -187,6 +192,106 @@ pub struct Ambiguity {
     pub separate_by: Separation,
 }
 
+/// Why an effect the selection took is not named in the verdict.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "reason", rename_all = "kebab-case")]
+pub enum NotNamedWhy {
+    /// None of its parameters is pinned by the data (each held as not
+    /// identifiable, or on a bound of its range).
+    Unpinned,
+    /// It fits, but below what these poses, times and noise could reveal.
+    BelowLimit { size_mm: f64, limit_mm: f64 },
+    /// Named in fewer than 80 % of the resampled fits: a candidate.
+    Unstable { named_in: usize, resamples: usize },
+}
+
+/// An effect the selection took that the verdict does not name (JSON
+/// `not_named`), and why.
+#[derive(Debug, Clone, Serialize)]
+pub struct NotNamed {
+    pub effect: EffectKind,
+    #[serde(flatten)]
+    pub why: NotNamedWhy,
+}
+
+impl NotNamed {
+    /// Of a selection's `below` limits, `stability` and `unpinned` effects,
+    /// the effects not named, once each (the first reason found: unpinned,
+    /// below the limit, unstable).
+    pub fn of(
+        unpinned: &[EffectKind],
+        below: &[BelowLimit],
+        stability: &[Stability],
+    ) -> Vec<NotNamed> {
+        let mut out: Vec<NotNamed> = unpinned
+            .iter()
+            .map(|&effect| NotNamed {
+                effect,
+                why: NotNamedWhy::Unpinned,
+            })
+            .collect();
+        for b in below {
+            if !out.iter().any(|n| n.effect == b.effect) {
+                out.push(NotNamed {
+                    effect: b.effect,
+                    why: NotNamedWhy::BelowLimit {
+                        size_mm: b.size_mm,
+                        limit_mm: b.limit_mm,
+                    },
+                });
+            }
+        }
+        for st in stability.iter().filter(|st| !st.stable()) {
+            if !out.iter().any(|n| n.effect == st.effect) {
+                out.push(NotNamed {
+                    effect: st.effect,
+                    why: NotNamedWhy::Unstable {
+                        named_in: st.named_in,
+                        resamples: st.resamples,
+                    },
+                });
+            }
+        }
+        out
+    }
+}
+
+impl Verdict {
+    /// The verdict without the effects `out`: where none is left, `none`,
+    /// or `unexplained` where something was left unexplained beside them.
+    pub fn without(self, out: &[EffectKind]) -> Verdict {
+        let keep = |e: Vec<EffectKind>| -> Vec<EffectKind> {
+            e.into_iter().filter(|k| !out.contains(k)).collect()
+        };
+        match self {
+            Verdict::ExplainedBy { effects, remainder } => {
+                let effects = keep(effects);
+                match (effects.is_empty(), remainder) {
+                    (true, false) => Verdict::None,
+                    (true, true) => Verdict::Unexplained {
+                        partial: Vec::new(),
+                    },
+                    (false, _) => Verdict::ExplainedBy { effects, remainder },
+                }
+            }
+            Verdict::Ambiguous { effects, remainder } => {
+                let effects = keep(effects);
+                match (effects.is_empty(), remainder) {
+                    (true, false) => Verdict::None,
+                    (true, true) => Verdict::Unexplained {
+                        partial: Vec::new(),
+                    },
+                    (false, _) => Verdict::Ambiguous { effects, remainder },
+                }
+            }
+            Verdict::Unexplained { partial } => Verdict::Unexplained {
+                partial: keep(partial),
+            },
+            Verdict::None => Verdict::None,
+        }
+    }
+}
+
 /// The whole diagnosis.
 #[derive(Debug, Clone, Serialize)]
 pub struct Diagnosis {
@@ -194,9 +299,11 @@ pub struct Diagnosis {
     pub verdict: Verdict,
     /// Held-out RMS gap of the current model, mm.
     pub gap_before_mm: f64,
-    /// Held-out RMS gap with the selected effects, mm.
+    /// Held-out RMS gap of the saved model, mm (its effects fitted
+    /// without the rows scored).
     pub gap_after_mm: f64,
     pub gap: GapStats,
+    /// The saved model's gap on every row.
     pub gap_after: GapStats,
     pub noise: Noise,
     /// The level of each stage's family of tests.
@@ -232,6 +339,18 @@ pub struct Diagnosis {
     /// times and noise would have revealed.
     pub detection_limits: Vec<DetectionLimit>,
     pub registration: Option<Registration>,
+    /// Which source drove the temperatures (the data's columns, a heating
+    /// record, a cold start the caller assumed, or none).
+    pub temperatures: TempSource,
+    /// Where no temperatures drive anything: a drift in time that the
+    /// model leaves, with its shape and size (reported as `unexplained`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_drift: Option<TimeDrift>,
+    /// For every effect a stage selected, how often it is named again over
+    /// resampled fits.
+    pub stability: Vec<Stability>,
+    /// Effects the selection took that the verdict does not name, and why.
+    pub not_named: Vec<NotNamed>,
     /// The stages of the diagnosis: with poses measured again and again,
     /// first what changes with time, then what stays; else one.
     pub stages: Vec<StageSummary>,
@@ -245,4 +364,8 @@ pub struct Diagnosis {
     pub gaps_before: Vec<Vector3<f64>>,
     #[serde(skip)]
     pub gaps_after: Vec<Vector3<f64>>,
+    /// The model to save and the gaps measured on it (every "after" above
+    /// is its), where the diagnosis was of measurements.
+    #[serde(skip)]
+    pub saved: Option<super::saved::Saved>,
 }

@@ -4,6 +4,7 @@
 //! `correct --model` read it.
 //!
 //! ```toml
+//! format = 2
 //! [robot]
 //! name = "IRB 140"
 //! [robot.opw]
@@ -37,15 +38,29 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
+/// The model-file format this build writes. Format 1 (files without a
+/// `format` key) named a URDF only by its path and had no `[instrument]`;
+/// every format-1 file is a valid format-2 file, so both are read. A
+/// newer format is refused with its number, never half read.
+pub const FORMAT: u32 = 2;
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Model {
+    /// The file's format ([`FORMAT`]); absent in format-1 files.
+    #[serde(default = "format_one")]
+    pub format: u32,
     pub robot: RobotSection,
     pub thermal: ThermalExpansion,
     #[serde(default)]
     pub heating: HeatingSection,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub effects: Vec<EffectEntry>,
+    /// The instrument's frame the measurements were taken in, as a
+    /// diagnosis registered it: `gap` and `diagnose` bring measured points
+    /// into the robot base frame with it (unless asked to register anew).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instrument: Option<InstrumentSection>,
     /// The folder of the model file (relative recording paths start there).
     #[serde(skip)]
     pub dir: Option<PathBuf>,
@@ -62,12 +77,77 @@ pub struct RobotSection {
     /// file's folder), whose chain and joint convention the effects use.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub urdf: Option<String>,
+    /// Or the URDF's content itself, so that the file stands alone
+    /// (what `diagnose --save-model` writes for an arm read from a URDF).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urdf_text: Option<String>,
+    /// Or an arm of the catalogue, by name (`rapidtherm arms`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub catalogue: Option<String>,
+    /// The joint convention the effects' joint-angle parameters are
+    /// written in, as the writer saw it: checked against the arm on
+    /// reading, so that a file whose arm changed under it is refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joints: Option<JointConvention>,
     /// The point the measurements were taken at (a tracker's reflector),
     /// in tool0, mm: what `diagnose --point` named or fitted. Only the
     /// diagnosis and `gap` use it; `correct` moves tool0 and the program's
     /// tools.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub point_mm: Option<[f64; 3]>,
+}
+
+/// The convention of joint angles in a model's effects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum JointConvention {
+    /// The OPW chain's angles in ABB's convention (an arm of the OPW form:
+    /// its own joints are mapped through its signs and offsets).
+    AbbOpw,
+    /// The URDF's own joint angles (a serial chain without the OPW form).
+    Urdf,
+}
+
+impl JointConvention {
+    /// The convention the diagnosis writes an arm's effects in.
+    pub fn of(robot: &Robot) -> JointConvention {
+        if robot.opw.is_ok() {
+            JointConvention::AbbOpw
+        } else {
+            JointConvention::Urdf
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            JointConvention::AbbOpw => "abb-opw",
+            JointConvention::Urdf => "urdf",
+        }
+    }
+}
+
+/// A rigid frame of the instrument: measured = T · base-frame point, with
+/// T a translation (mm) after a rotation (rotation vector, degrees).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InstrumentSection {
+    pub translation_mm: [f64; 3],
+    pub rotation_deg: [f64; 3],
+}
+
+impl InstrumentSection {
+    /// The transform from the robot base frame to the instrument's.
+    pub fn transform(&self) -> nalgebra::Isometry3<f64> {
+        let r = nalgebra::Vector3::from(self.rotation_deg).map(f64::to_radians);
+        nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::from(nalgebra::Vector3::from(self.translation_mm)),
+            nalgebra::UnitQuaternion::from_scaled_axis(r),
+        )
+    }
+}
+
+fn format_one() -> u32 {
+    1
 }
 
 /// Where motor temperatures come from when the data do not carry them.
@@ -202,10 +282,106 @@ impl EffectEntry {
     }
 }
 
+/// A model file's format, read before the rest: a file of a format this
+/// build does not know is refused with its number, before its first
+/// unknown key could be blamed instead.
+fn check_format(file: &str, text: &str) -> Result<()> {
+    #[derive(Deserialize)]
+    struct Head {
+        format: Option<toml::Value>,
+    }
+    // A file that does not parse is reported by the full parse.
+    let Ok(head) = toml::from_str::<Head>(text) else {
+        return Ok(());
+    };
+    let Some(v) = head.format else {
+        return Ok(());
+    };
+    let at = || locate(file, text, &[Part::Key("format")]);
+    match v.as_integer() {
+        Some(n) if (1..=i64::from(FORMAT)).contains(&n) => Ok(()),
+        Some(n) if n > i64::from(FORMAT) => Err(Error::input(format!(
+            "model file format {n} is newer than this rapidtherm reads (formats 1 to {FORMAT}): use a newer rapidtherm"
+        ))
+        .at(at())),
+        _ => Err(Error::input(format!(
+            "`format` must be a model-file format number, 1 to {FORMAT}"
+        ))
+        .at(at())),
+    }
+}
+
+/// The arm a model names beside OPW lengths: the robot, where it came
+/// from (for messages), and how a saved model names it again.
+#[derive(Debug, Clone)]
+pub struct ModelArm {
+    pub robot: Robot,
+    /// A path, the model's embedded URDF or a catalogue name.
+    pub source: String,
+    /// The URDF's text (a file named by path is read, once).
+    pub urdf_text: Option<String>,
+    /// The catalogue arm's name.
+    pub catalogue: Option<String>,
+}
+
 impl Model {
+    /// The robot the model's `[robot]` names (a URDF file, a URDF's text
+    /// or a catalogue arm; `None` for OPW lengths), its joint convention
+    /// checked against the one the file says its effects use.
+    pub fn arm(&self) -> Result<Option<ModelArm>> {
+        let r = &self.robot;
+        let urdf = |source: String, text: String| -> Result<ModelArm> {
+            Ok(ModelArm {
+                robot: Robot::from_urdf_str(&source, &text)?,
+                source,
+                urdf_text: Some(text),
+                catalogue: None,
+            })
+        };
+        let arm = if let Some(text) = &r.urdf_text {
+            urdf(
+                format!("the URDF in the model's [robot] ({})", r.name),
+                text.clone(),
+            )?
+        } else if let Some(name) = &r.catalogue {
+            let arm = crate::robot::abb::find(name)
+                .map_err(|e| e.with_note("the arm named by the model's [robot] catalogue"))?;
+            ModelArm {
+                robot: arm.robot(),
+                source: format!("catalogue {}", arm.name),
+                urdf_text: None,
+                catalogue: Some(arm.name.clone()),
+            }
+        } else if let Some(p) = self.urdf_path() {
+            let note = |e: Error| e.with_note("the URDF named by the model's [robot] urdf");
+            let bytes = crate::input::read_path(&p).map_err(note)?;
+            let text = String::from_utf8(bytes).map_err(|_| {
+                note(Error::input(format!(
+                    "{}: a URDF file must be UTF-8",
+                    p.display()
+                )))
+            })?;
+            urdf(p.display().to_string(), text).map_err(note)?
+        } else {
+            return Ok(None);
+        };
+        let found = JointConvention::of(&arm.robot);
+        match r.joints {
+            Some(said) if said != found => Err(Error::input(format!(
+                "model: [robot] joints = \"{}\", but {} ({}) has the {} convention: the effects were written for another arm",
+                said.name(),
+                arm.robot.name,
+                arm.source,
+                found.name()
+            ))),
+            _ => Ok(Some(arm)),
+        }
+    }
+
     /// Parse a model file's text (`file` names it in messages). An error
     /// names the key and its line and column.
     pub fn parse(file: &str, text: &str) -> Result<Model> {
+        check_format(file, text)?;
         let model: Model = toml::from_str(text).map_err(|e| {
             let mut err = Error::input(format!("bad model file: {}", e.message()));
             if let Some(span) = e.span() {
@@ -230,8 +406,14 @@ impl Model {
         Ok(model)
     }
 
+    /// The model as a file of the current [`FORMAT`] (a model read from
+    /// an older file is written in the current one).
     pub fn to_toml(&self) -> Result<String> {
-        toml::to_string(self)
+        let current = Model {
+            format: FORMAT,
+            ..self.clone()
+        };
+        toml::to_string(&current)
             .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write the model: {e}")))
     }
 
@@ -244,38 +426,69 @@ impl Model {
                 message: message.to_string(),
             })
         };
-        match (&self.robot.opw, &self.robot.urdf) {
-            (Some(o), None) => {
-                let lengths = [
-                    ("c1", o.c1),
-                    ("a1", o.a1),
-                    ("c2", o.c2),
-                    ("c3", o.c3),
-                    ("c4", o.c4),
-                    ("a2", o.a2),
-                    ("b", o.b),
-                ];
-                for (name, v) in lengths {
-                    let positive = matches!(name, "c2" | "c3");
-                    // A millimetre length beyond 100 m is no robot arm.
-                    if !v.is_finite() || v.abs() > 1e5 || (positive && v <= 0.0) {
-                        return bad(
-                            vec![Key("robot"), Key("opw"), Key(name)],
-                            if positive {
-                                "must be a positive length in mm (at most 100,000)"
-                            } else {
-                                "must be a finite length in mm (at most 100,000 either way)"
-                            },
-                        );
-                    }
-                }
-            }
-            (None, Some(_)) => {}
-            _ => {
+        let r = &self.robot;
+        let sources = [
+            r.opw.is_some(),
+            r.urdf.is_some(),
+            r.urdf_text.is_some(),
+            r.catalogue.is_some(),
+        ];
+        if sources.iter().filter(|&&s| s).count() != 1 {
+            return bad(
+                vec![Key("robot")],
+                "needs exactly one of its OPW lengths ([robot.opw]), `urdf = \"FILE\"`, `urdf_text` or `catalogue = \"NAME\"`",
+            );
+        }
+        if let (Some(_), Some(j)) = (&r.opw, r.joints) {
+            if j != JointConvention::AbbOpw {
                 return bad(
-                    vec![Key("robot")],
-                    "needs either its OPW lengths ([robot.opw]) or `urdf = \"FILE\"`, not both",
-                )
+                    vec![Key("robot"), Key("joints")],
+                    "an arm given by its OPW lengths has ABB's joint convention (`abb-opw`)",
+                );
+            }
+        }
+        if let Some(i) = &self.instrument {
+            if !i
+                .translation_mm
+                .iter()
+                .all(|v| v.is_finite() && v.abs() <= 1e5)
+            {
+                return bad(
+                    vec![Key("instrument"), Key("translation_mm")],
+                    "must be three finite mm (within 100 m of the robot base)",
+                );
+            }
+            let turn = nalgebra::Vector3::from(i.rotation_deg).norm();
+            if !(turn.is_finite() && turn <= 180.0) {
+                return bad(
+                    vec![Key("instrument"), Key("rotation_deg")],
+                    "must be a rotation vector of at most 180°",
+                );
+            }
+        }
+        if let Some(o) = &self.robot.opw {
+            let lengths = [
+                ("c1", o.c1),
+                ("a1", o.a1),
+                ("c2", o.c2),
+                ("c3", o.c3),
+                ("c4", o.c4),
+                ("a2", o.a2),
+                ("b", o.b),
+            ];
+            for (name, v) in lengths {
+                let positive = matches!(name, "c2" | "c3");
+                // A millimetre length beyond 100 m is no robot arm.
+                if !v.is_finite() || v.abs() > 1e5 || (positive && v <= 0.0) {
+                    return bad(
+                        vec![Key("robot"), Key("opw"), Key(name)],
+                        if positive {
+                            "must be a positive length in mm (at most 100,000)"
+                        } else {
+                            "must be a finite length in mm (at most 100,000 either way)"
+                        },
+                    );
+                }
             }
         }
         if !self.point().iter().all(|v| v.is_finite() && v.abs() <= 1e4) {
@@ -357,7 +570,12 @@ impl Model {
     pub fn base(&self) -> Result<Base> {
         let nominal = match (&self.robot.opw, self.robot_urdf()?) {
             (Some(o), _) => Geometry::Opw(*o),
-            (None, Some(robot)) => Geometry::Chain(Arc::new(robot.chain)),
+            // An arm of the OPW form is modelled by its OPW lengths, in
+            // ABB's convention, as the diagnosis fitted it.
+            (None, Some(robot)) => match robot.opw {
+                Ok(arm) => Geometry::Opw(arm.geom),
+                Err(_) => Geometry::Chain(Arc::new(robot.chain)),
+            },
             (None, None) => return Err(Error::input("model: [robot] has no geometry")),
         };
         Ok(Base {
@@ -382,14 +600,9 @@ impl Model {
         })
     }
 
-    /// The robot of the URDF the model names (`None` for an OPW model).
+    /// The robot the model names (`None` for an OPW model).
     pub fn robot_urdf(&self) -> Result<Option<Robot>> {
-        match self.urdf_path() {
-            Some(p) => Robot::from_urdf_file(&p)
-                .map(Some)
-                .map_err(|e| e.with_note("the URDF named by the model's [robot] urdf")),
-            None => Ok(None),
-        }
+        Ok(self.arm()?.map(|a| a.robot))
     }
 
     /// The heating profile that supplies motor temperatures.
@@ -529,5 +742,97 @@ mod tests {
         text.push_str("\n[[effects]]\nname = \"arm-bending\"\n[effects.params]\nfoo = 1.0\n");
         let e = Model::parse("m.toml", &text).unwrap_err();
         assert!(e.message.contains("foo"), "{}", e.message);
+    }
+    /// Files are written in the current format, a format-1 file (no
+    /// `format` key) still reads, and a newer one is refused with its
+    /// number at its line.
+    #[test]
+    fn the_format_is_written_old_files_read_and_newer_ones_are_refused() {
+        let text = Model::default().to_toml().unwrap();
+        assert!(text.starts_with("format = 2\n"), "{text}");
+        let v1 = DEFAULT_MODEL_TOML.replace("format = 2\n", "");
+        assert!(!v1.contains("format ="));
+        let m = Model::parse("v1.toml", &v1).unwrap();
+        assert_eq!(m.format, 1);
+        assert!(m.to_toml().unwrap().starts_with("format = 2\n"));
+        let v3 = DEFAULT_MODEL_TOML.replace("format = 2", "format = 3");
+        let e = Model::parse("v3.toml", &v3).unwrap_err();
+        assert!(e.message.contains("format 3 is newer"), "{e}");
+        let line = 1 + v3[..v3.find("format = 3").unwrap()].matches('\n').count();
+        assert_eq!(e.location.unwrap().line, line);
+        let bad = DEFAULT_MODEL_TOML.replace("format = 2", "format = \"two\"");
+        assert!(Model::parse("bad.toml", &bad).is_err());
+    }
+
+    const UR5: &str = include_str!("../../tests/data/ur5/ur5.urdf");
+
+    fn ur5_model() -> Model {
+        let base = Model::default();
+        Model {
+            robot: RobotSection {
+                name: "ur5".into(),
+                opw: None,
+                urdf: None,
+                urdf_text: Some(UR5.into()),
+                catalogue: None,
+                joints: Some(JointConvention::Urdf),
+                point_mm: Some([0.0, 0.0, 31.0]),
+            },
+            instrument: Some(InstrumentSection {
+                translation_mm: [1500.0, -20.0, 3.5],
+                rotation_deg: [0.5, -1.0, 120.0],
+            }),
+            ..base
+        }
+    }
+
+    /// A model that embeds its URDF stands alone: it reads back with the
+    /// arm, its convention, point and instrument frame, needing no file.
+    #[test]
+    fn a_model_with_its_urdf_and_frame_stands_alone() {
+        let m = ur5_model();
+        let back = Model::parse("m.toml", &m.to_toml().unwrap()).unwrap();
+        assert_eq!(
+            back,
+            Model {
+                format: FORMAT,
+                ..m
+            }
+        );
+        let arm = back.arm().unwrap().unwrap();
+        assert!(arm.robot.opw.is_err(), "the UR5 has no OPW form");
+        assert_eq!(arm.urdf_text.as_deref(), Some(UR5));
+        let t = back.instrument.unwrap().transform();
+        // 120° about (nearly) z: the base x axis turns towards y.
+        let x = t.rotation * nalgebra::Vector3::x();
+        assert!((x.y - (120f64).to_radians().sin()).abs() < 0.03, "{x}");
+        assert_eq!(
+            t.translation.vector,
+            nalgebra::Vector3::new(1500.0, -20.0, 3.5)
+        );
+    }
+
+    /// The joint convention written is checked against the arm: effects
+    /// written for ABB's OPW angles are refused on a URDF chain.
+    #[test]
+    fn a_joint_convention_that_is_not_the_arms_is_refused() {
+        let mut m = ur5_model();
+        m.robot.joints = Some(JointConvention::AbbOpw);
+        let e = Model::parse("m.toml", &m.to_toml().unwrap())
+            .unwrap()
+            .arm()
+            .unwrap_err();
+        assert!(e.message.contains("convention"), "{e}");
+        let mut m = ur5_model();
+        m.robot.opw = Some(crate::robot::irb140_opw());
+        let e = Model::parse("m.toml", &m.to_toml().unwrap()).unwrap_err();
+        assert!(e.message.contains("exactly one"), "{e}");
+        let mut m = ur5_model();
+        m.instrument = Some(InstrumentSection {
+            translation_mm: [0.0; 3],
+            rotation_deg: [200.0, 0.0, 0.0],
+        });
+        let e = Model::parse("m.toml", &m.to_toml().unwrap()).unwrap_err();
+        assert!(e.message.contains("instrument.rotation_deg"), "{e}");
     }
 }

@@ -24,7 +24,10 @@ pub mod warm;
 
 pub use effects::{Effect, EffectKind};
 pub use expansion::{LinkThermal, ThermalExpansion};
-pub use file::{EffectEntry, HeatingSection, Model, RobotSection};
+pub use file::{
+    EffectEntry, HeatingSection, InstrumentSection, JointConvention, Model, ModelArm, RobotSection,
+    FORMAT,
+};
 pub use perturb::{
     fk_perturbed, lag_taus, perturbation, perturbation_with, predict, predict_with, Base, Geometry,
     LinkLags, RowFree, RowState, Warm,

@@ -19,6 +19,9 @@ pub enum ArmSource {
     Urdf(PathBuf),
     /// An arm of the catalogue.
     Catalogue(&'static AbbArm),
+    /// A URDF's text, as a model file embeds it; `name` names it in
+    /// messages.
+    UrdfText { name: String, text: String },
 }
 
 /// An arm named for every task (`task` `None`) or for one task of a
@@ -203,17 +206,23 @@ pub fn arm_of(source: &ArmSource) -> Result<Arm> {
             let name = path.display().to_string();
             let text = std::str::from_utf8(&bytes)
                 .map_err(|_| Error::input(format!("{name}: a URDF file must be UTF-8")))?;
-            let robot = Robot::from_urdf_str(&name, text)?;
-            let is_irb140 = same_geometry_as_irb140(&robot);
-            Ok(Arm {
-                robot,
-                label: fingerprint(&bytes),
-                is_irb140,
-                urdf: Some(name),
-                chosen_by: ChosenBy::Default,
-            })
+            urdf_arm(name, text)
         }
+        ArmSource::UrdfText { name, text } => urdf_arm(name.clone(), text),
     }
+}
+
+/// The arm of a URDF's text, fingerprinted by its bytes.
+fn urdf_arm(name: String, text: &str) -> Result<Arm> {
+    let robot = Robot::from_urdf_str(&name, text)?;
+    let is_irb140 = same_geometry_as_irb140(&robot);
+    Ok(Arm {
+        robot,
+        label: fingerprint(text.as_bytes()),
+        is_irb140,
+        urdf: Some(name),
+        chosen_by: ChosenBy::Default,
+    })
 }
 
 /// The catalogue arm of a controller robot type, as MOC.cfg writes it:

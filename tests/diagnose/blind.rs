@@ -9,6 +9,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::{diagnose, prepare, Diagnosis, Options};
 use rapidtherm::model::chain::{fk_chain, Perturbation};
 use rapidtherm::model::Model;
@@ -39,7 +40,11 @@ fn spec(effects: Vec<Effect>, poses: usize, times: usize, seed: u64) -> SimSpec 
 
 fn run(meas: &Measurements) -> Diagnosis {
     let prepared = prepare(meas, &Model::default(), false).unwrap();
-    let d = diagnose(&prepared, &Options::default()).unwrap();
+    let d = diagnose(
+        &prepared,
+        &Options::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap();
     if std::env::var_os("DIAG_VERBOSE").is_some() {
         eprintln!("{}", summary(&d));
         for c in &d.candidates {
@@ -200,6 +205,56 @@ fn an_effect_at_twice_its_detection_limit_is_named() {
             summary(&d)
         );
     }
+}
+
+/// Rule 6 of issue 46: an effect that fits but lies below what the poses,
+/// times and noise could reveal is not named. On the set of
+/// `an_effect_at_twice_its_detection_limit_is_named` (seed 1), a scaled
+/// expansion at a quarter of the limit the report gives for it (0.002 mm
+/// when measured on main) was named with the held-out gap no lower; it
+/// must not be. The one at twice the limit is named, and named again in
+/// at least 80 % of the resampled fits (rule 5), which the report gives.
+#[test]
+fn an_effect_below_its_detection_limit_is_not_named() {
+    let profile = default_profile();
+    let seed = 1;
+    let quiet = run(&simulate(&spec(vec![], 12, 31, seed), &profile).unwrap());
+    let kind = EffectKind::ExpansionScale;
+    let limit = quiet
+        .detection_limits
+        .iter()
+        .find(|l| l.effect == kind)
+        .unwrap()
+        .clone();
+    let d = run(&simulate(
+        &spec(vec![scaled(kind, 0.25 * limit.of_default)], 12, 31, seed),
+        &profile,
+    )
+    .unwrap());
+    assert!(
+        !d.verdict.effects().contains(&kind),
+        "{} at a quarter of its detection limit ({:.4} mm): {}",
+        kind.name(),
+        limit.flange_mm,
+        summary(&d)
+    );
+    let d = run(&simulate(
+        &spec(vec![scaled(kind, 2.0 * limit.of_default)], 12, 31, seed),
+        &profile,
+    )
+    .unwrap());
+    assert!(d.verdict.effects().contains(&kind), "{}", summary(&d));
+    let st = d
+        .stability
+        .iter()
+        .find(|s| s.effect == kind)
+        .expect("the stability of the effect named");
+    assert!(st.resamples >= 8 && st.frequency >= 0.8, "{st:?}");
+    assert!(
+        d.words().iter().any(|w| w.contains("resampled fits")),
+        "{:#?}",
+        d.words()
+    );
 }
 
 /// Whether a verdict flags what no effect of the library explains and names
@@ -462,8 +517,9 @@ fn library_effect_plus_outside_effect_names_one_and_flags_the_rest() {
 }
 
 /// Each pose measured once (no repeats, so no measured noise level) with
-/// an instrument noisier than the assumed 0.01 mm: structureless data give
-/// `none`; a gear error still gives `unexplained`, on its axis.
+/// an instrument noisier than the nominal 0.01 mm: structureless data give
+/// `none`; with a gear error no library effect is named and the gap is
+/// located on its axis.
 #[test]
 fn without_repeated_poses_only_structure_is_unexplained() {
     let profile = default_profile();
@@ -489,7 +545,30 @@ fn without_repeated_poses_only_structure_is_unexplained() {
         }
         let d = run(&meas);
         if gear {
-            assert!(unexplained_only(&d.verdict.labels()), "{}", summary(&d));
+            // The noise is not measured: what is left cannot be tested
+            // against it (issue 46: no assumed instrument level), so the
+            // verdict names no library effect beyond the geometry and the
+            // frame, says the noise was not measured where it names
+            // nothing, and the gap still points at the gear's axis.
+            let labels = d.verdict.labels();
+            assert!(
+                unexplained_only(&labels)
+                    || labels.iter().all(|l| {
+                        ["none", "geometry-offset", "tracker-frame"].contains(&l.as_str())
+                    }),
+                "{}",
+                summary(&d)
+            );
+            if d.verdict == rapidtherm::diagnose::Verdict::None {
+                assert!(
+                    matches!(
+                        d.advice,
+                        rapidtherm::diagnose::Advice::NoiseNotMeasured { .. }
+                    ),
+                    "{}",
+                    summary(&d)
+                );
+            }
             assert_eq!(
                 d.where_.joint.as_ref().map(|j| j.axis),
                 Some(3),

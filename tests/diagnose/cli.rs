@@ -118,3 +118,28 @@ fn nothing_is_written_on_bad_input() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("bad.csv:2:"));
     assert!(!model.exists());
 }
+
+/// Every usage error of `diagnose` comes before any input is read: a bad
+/// `--noise` with data that do not exist is the noise's error (exit 2),
+/// not the missing file's.
+#[test]
+fn a_bad_noise_is_refused_before_any_input_is_read() {
+    for args in [
+        vec!["diagnose", "no/such/data.csv", "--noise=-1"],
+        vec![
+            "diagnose",
+            "no/such/data.csv",
+            "--noise",
+            "0.01",
+            "--chain",
+            "--robot",
+            "tests/data/ur5/ur5.urdf",
+        ],
+    ] {
+        let out = bin().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("--noise"), "{args:?}: {err}");
+        assert!(!err.contains("no/such"), "{args:?}: {err}");
+    }
+}

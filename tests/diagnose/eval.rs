@@ -29,6 +29,7 @@ use rapidtherm::diagnose::finding::Finding;
 use rapidtherm::diagnose::joint_signature::LimitShape;
 use rapidtherm::diagnose::locate::Where;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::{diagnose, prepare, Advice, Diagnosis, Options, Part};
 use rapidtherm::model::Model;
 use std::collections::BTreeMap;
@@ -169,7 +170,10 @@ fn run(spec: &SetSpec) -> rapidtherm::error::Result<Diagnosis> {
     let set = generate(spec);
     let meas = Measurements::parse("eval.csv", set.csv.as_bytes(), &IRB140_LIMITS_DEG)?;
     let prepared = prepare(&meas, &Model::default(), true)?;
-    diagnose(&prepared, &Options::default())
+    diagnose(
+        &prepared,
+        &Options::default().with_cold_start(ColdStart::Irb140),
+    )
 }
 
 /// Whether the verdict is right (the module's rule).

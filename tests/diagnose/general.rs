@@ -174,7 +174,11 @@ fn a_model_diagnosed_on_a_ur5_corrects_the_ur5() {
     let profile = model.profile().unwrap();
     let meas = simulate_arm(&spec, &arm.map, profile.as_ref()).unwrap();
     let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
-    let d = diagnose(&prepared, &Options::default()).unwrap();
+    let d = diagnose(
+        &prepared,
+        &Options::default().with_cold_start(rapidtherm::diagnose::temps::ColdStart::Irb140),
+    )
+    .unwrap();
     let fitted = diagnosed_model(&model, &d);
     let t = 120.0;
     let warm = WarmRobot::new(robot.clone(), &fitted, t).unwrap();

@@ -85,7 +85,8 @@ fn programs_corrected_with_the_diagnosed_model_land_closer() {
         let base = Model::default();
         let diagnosis = diagnose(
             &prepare(&data, &base, false).unwrap(),
-            &DiagnoseOptions::default(),
+            &DiagnoseOptions::default()
+                .with_cold_start(rapidtherm::diagnose::temps::ColdStart::Irb140),
         )
         .unwrap();
         let diagnosed = diagnosed_model(&base, &diagnosis);

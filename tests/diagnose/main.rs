@@ -18,6 +18,8 @@ mod nuisance_ur5;
 mod poses;
 mod real_plausible;
 mod robust;
+mod rules;
+mod saved;
 mod static_rank;
 mod urdf;
 mod wide;

@@ -8,6 +8,7 @@
 use super::world::{generate, DataSet, Effect, SetSpec};
 use nalgebra::Vector3;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::{diagnose, prepare, Diagnosis, Options, Part};
 use rapidtherm::model::{EffectKind, Model};
 
@@ -21,7 +22,11 @@ struct Case {
 fn run(set: &DataSet) -> Diagnosis {
     let meas = Measurements::parse("blind.csv", set.csv.as_bytes(), &IRB140_LIMITS_DEG).unwrap();
     let prepared = prepare(&meas, &Model::default(), true).unwrap();
-    diagnose(&prepared, &Options::default()).unwrap()
+    diagnose(
+        &prepared,
+        &Options::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap()
 }
 
 fn summary(d: &Diagnosis) -> String {

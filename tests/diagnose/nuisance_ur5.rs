@@ -10,6 +10,7 @@ use super::world::{generate, Arm, Effect, SetSpec};
 use nalgebra::Vector3;
 use rapidtherm::diagnose::arm::Arm as DiagArm;
 use rapidtherm::diagnose::measurements::Measurements;
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::{diagnose, prepare_arm, Diagnosis, Options, Part};
 use rapidtherm::model::{EffectKind, Model};
 use rapidtherm::robot::Robot;
@@ -20,7 +21,11 @@ fn run(csv: &str) -> Diagnosis {
     let arm = DiagArm::of_robot(&robot, "ur5.urdf").unwrap();
     let meas = Measurements::parse("ur5_blind.csv", csv.as_bytes(), &arm.limits_deg).unwrap();
     let prepared = prepare_arm(&meas, &Model::default(), &arm, true).unwrap();
-    diagnose(&prepared, &Options::default()).unwrap()
+    diagnose(
+        &prepared,
+        &Options::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap()
 }
 
 /// Minutes in a debug build: not in every `cargo test`, where

@@ -3,6 +3,7 @@
 
 use proptest::prelude::*;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::{diagnose, gap, prepare, Options};
 use rapidtherm::model::Model;
 
@@ -57,8 +58,14 @@ proptest! {
             if let Ok(p) = prepare(&m, &Model::default(), false) {
                 let g = gap(&p);
                 prop_assert!(g.rms_mm.is_finite() && g.max_mm.is_finite());
-                if let Ok(d) = diagnose(&p, &Options::default()) {
-                    prop_assert!(d.gap_after_mm.is_finite());
+                // With the cold start assumed, and with nothing assumed (no
+                // thermal candidate, a drift in time, the noise maybe not
+                // measured).
+                for opts in [Options::default().with_cold_start(ColdStart::Irb140), Options::default()] {
+                    if let Ok(d) = diagnose(&p, &opts) {
+                        prop_assert!(d.gap_after_mm.is_finite());
+                        prop_assert!(d.noise.per_axis_mm.is_finite());
+                    }
                 }
             }
         }
@@ -92,7 +99,7 @@ fn repeated_identical_rows_are_refused_and_one_pose_does_not_break_the_fits() {
     }
     let m = Measurements::parse("one.csv", text.as_bytes(), &IRB140_LIMITS_DEG).unwrap();
     let p = prepare(&m, &Model::default(), false).unwrap();
-    match diagnose(&p, &Options::default()) {
+    match diagnose(&p, &Options::default().with_cold_start(ColdStart::Irb140)) {
         Ok(d) => assert!(d.gap_after_mm.is_finite() && d.gap_before_mm.is_finite()),
         Err(e) => assert!(!e.message.is_empty()),
     }

@@ -8,6 +8,7 @@
 use super::world::{generate, SetSpec};
 use rapidtherm::diagnose::fit::Problem;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::{diagnose, prepare, Options, Part};
 use rapidtherm::model::{EffectKind, Model};
 
@@ -22,7 +23,11 @@ fn judged_and_rank(poses: usize) -> (bool, usize) {
     let set = generate(&spec);
     let meas = Measurements::parse("rank.csv", set.csv.as_bytes(), &IRB140_LIMITS_DEG).unwrap();
     let prepared = prepare(&meas, &Model::default(), true).unwrap();
-    let d = diagnose(&prepared, &Options::default()).unwrap();
+    let d = diagnose(
+        &prepared,
+        &Options::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap();
     let stage = d
         .stages
         .iter()

@@ -7,6 +7,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rapidtherm::diagnose::arm::Arm;
 use rapidtherm::diagnose::simulate::{random_poses, simulate_arm, SimSpec};
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::{self, diagnose as run_diagnosis, prepare, prepare_arm, Options};
 use rapidtherm::model::Model;
 use rapidtherm::model::{predict, Effect, EffectKind, RowState, ThermalExpansion};
@@ -166,7 +167,11 @@ pub fn finds_effect_on(robot: &Robot, effect: &str, param: &str, truth: f64) {
     let meas = simulate_arm(&spec, &arm.map, profile.as_ref()).unwrap();
     // The data are the robot's joints: within its limits, not the IRB 140's.
     let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
-    let d = run_diagnosis(&prepared, &Options::default()).unwrap();
+    let d = run_diagnosis(
+        &prepared,
+        &Options::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap();
     let name = effect.split(':').next().unwrap();
     assert!(
         d.verdict.labels().iter().any(|v| v == name),

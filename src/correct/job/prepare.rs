@@ -78,7 +78,7 @@ pub fn checked_arm(
 /// else the arm said, which must be the same (the effects are written on
 /// that arm's joints: on another, they would move targets wrongly).
 fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> {
-    let Some(urdf) = model.urdf_path() else {
+    let Some(source) = model_arm_source(model)? else {
         return arm_for(task, &plan.arms);
     };
     let said = plan.arms.iter().any(|s| {
@@ -88,25 +88,45 @@ fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> 
                 .zip(task.name.as_deref())
                 .is_some_and(|(t, n)| t.eq_ignore_ascii_case(n))
     });
+    let mut fitted = arm_of(&source)?;
     if !said && task.robot_type.is_none() {
-        let mut arm = arm_of(&ArmSource::Urdf(urdf))?;
-        arm.chosen_by = ChosenBy::ModelUrdf;
-        return Ok(arm);
+        fitted.chosen_by = ChosenBy::ModelUrdf;
+        return Ok(fitted);
     }
     let arm = arm_for(task, &plan.arms)?;
-    let fitted = Robot::from_urdf_file(&urdf)?;
-    if !same_chain(&arm.robot, &fitted) {
+    if !same_chain(&arm.robot, &fitted.robot) {
         return Err(Error::usage(format!(
             "task {}: the model was fitted on {} ({}), whose joints its effects are written on; the task moves {}",
             task.label(),
-            fitted.name,
-            urdf.display(),
+            fitted.robot.name,
+            fitted.urdf.as_deref().unwrap_or(&fitted.label),
             arm.robot.name
         ))
         .with_note("")
         .with_remedy(Remedy::ArmOfTheModel));
     }
     Ok(arm)
+}
+
+/// The arm a model file names, as an arm source: its URDF (a path or the
+/// text it embeds) or a catalogue arm; `None` for OPW lengths alone,
+/// which name no arm.
+fn model_arm_source(model: &Model) -> Result<Option<ArmSource>> {
+    let r = &model.robot;
+    if let Some(text) = &r.urdf_text {
+        // The same check of the joint convention as every reader's.
+        model.arm()?;
+        return Ok(Some(ArmSource::UrdfText {
+            name: format!("the URDF in the model's [robot] ({})", r.name),
+            text: text.clone(),
+        }));
+    }
+    if let Some(name) = &r.catalogue {
+        let arm = crate::robot::abb::find(name)
+            .map_err(|e| e.with_note("the arm named by the model's [robot] catalogue"))?;
+        return Ok(Some(ArmSource::Catalogue(arm)));
+    }
+    Ok(model.urdf_path().map(ArmSource::Urdf))
 }
 
 /// When the targets are reached, from the plan's time basis, the notes

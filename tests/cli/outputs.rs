@@ -8,7 +8,7 @@ use super::hostile::snapshot;
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn run(dir: &Path, args: &[&str]) -> Output {
+pub(super) fn run(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
         .current_dir(dir)
         .args(args)
@@ -16,12 +16,12 @@ fn run(dir: &Path, args: &[&str]) -> Output {
         .unwrap()
 }
 
-fn stderr(out: &Output) -> String {
+pub(super) fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
 /// Exit 2, and the message says `words`.
-fn refused(out: &Output, words: &str) {
+pub(super) fn refused(out: &Output, words: &str) {
     assert_eq!(out.status.code(), Some(2), "{}", stderr(out));
     assert!(
         stderr(out).contains(words),

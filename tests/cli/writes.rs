@@ -7,32 +7,11 @@
 //! temporary file. Each case runs the binary as a user would.
 
 use super::hostile::snapshot;
+use super::outputs::{refused, run, stderr};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
-
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// Exit 2, and the message says `words`.
-fn refused(out: &Output, words: &str) {
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(out));
-    assert!(
-        stderr(out).contains(words),
-        "`{words}` not in: {}",
-        stderr(out)
-    );
-}
 
 fn ok(out: &Output) {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(out));

@@ -13,6 +13,7 @@ use super::measurements::Measurements;
 use super::pipeline::{diagnose, Options};
 use super::plan::{DiagnosePlan, Refused, RobotChoice, Which};
 use super::prepare::{place_in_base, problem_of, Prepared};
+use super::temps::TempOrigin;
 use super::verdict::Diagnosis;
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -308,6 +309,13 @@ pub fn gap_of(
         host.event(Event::Warning(w));
     }
     let mut prepared = problem_of(&meas, model, &setup.arm)?;
+    if let TempOrigin::Profile(profile) = &prepared.temps {
+        // The gap's warm model needs temperatures the file does not give:
+        // the assumption is said, never made silently.
+        host.event(Event::Warning(&format!(
+            "{name}: no temperature columns; the model's `{profile}` heating profile is assumed, the session starting cold at its first row"
+        )));
+    }
     place_in_base(&mut prepared, model, register).map_err(Refused::Register)?;
     Ok(prepared)
 }

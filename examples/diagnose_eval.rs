@@ -11,7 +11,12 @@
 //! the class list: nothing, expansion-scale, thermal-lag, arm-bending,
 //! joint-offset-drift, mount-drift, gravity-sag), `--from K` (skip the first
 //! K sets of the run's order: a stopped run taken up on the same seeds),
-//! `--quiet` (no line per set). Every set's line, with its seed and form,
+//! `--quiet` (no line per set), `--dump DIR` (write each set's CSV as
+//! `DIR/SEED.csv`, to run `rapidtherm diagnose` on it by hand),
+//! `--check-saved BIN` (instead of the tables: every set diagnosed through
+//! the library's job, its model saved, and the report's "after" checked
+//! against `BIN gap --model` of the saved files to 1 %,
+//! `wide/saved_check.rs`; BIN is a built `rapidtherm`). Every set's line, with its seed and form,
 //! goes to stderr as it is done; the tables to stdout at the end.
 
 #[path = "../tests/diagnose/wide/mod.rs"]
@@ -27,6 +32,8 @@ fn main() -> ExitCode {
     let mut classes: Vec<Class> = Class::ALL.to_vec();
     let mut from = 0usize;
     let mut quiet = false;
+    let mut dump: Option<std::path::PathBuf> = None;
+    let mut check_saved: Option<std::path::PathBuf> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = |name: &str| args.next().ok_or_else(|| format!("{name} needs a value"));
@@ -60,6 +67,8 @@ fn main() -> ExitCode {
                     .collect::<Result<Vec<_>, _>>()
                     .map(|v| classes = v)
             }),
+            "--dump" => value("--dump").map(|v| dump = Some(v.into())),
+            "--check-saved" => value("--check-saved").map(|v| check_saved = Some(v.into())),
             "--quiet" => {
                 quiet = true;
                 Ok(())
@@ -78,6 +87,33 @@ fn main() -> ExitCode {
         todo.len(),
         classes.len()
     );
+    if let Some(dir) = &dump {
+        for spec in todo {
+            let set = wide::world::generate(spec);
+            let path = dir.join(format!("{}.csv", spec.seed));
+            if let Err(e) = std::fs::write(&path, &set.csv) {
+                eprintln!("diagnose_eval: {}: {e}", path.display());
+                return ExitCode::from(2);
+            }
+            eprintln!(
+                "{} [{}] withheld {}",
+                path.display(),
+                spec.form.label(),
+                set.truth
+                    .effect
+                    .as_ref()
+                    .map_or("nothing".into(), |e| format!(
+                        "{} {:?}",
+                        e.kind.name(),
+                        e.params
+                    ))
+            );
+        }
+        return ExitCode::SUCCESS;
+    }
+    if let Some(bin) = &check_saved {
+        return saved_everywhere(bin, todo, quiet);
+    }
     let out = evaluate(todo, |r| {
         if !quiet || !r.right {
             eprintln!("{}", r.line());
@@ -86,4 +122,56 @@ fn main() -> ExitCode {
     println!("{}", out.table());
     println!("seeds: {seed} + 1000 x class + i (classes in the order of the table), sets per class {sets}, from set {from}");
     ExitCode::SUCCESS
+}
+
+/// `--check-saved`: every set's "after" against `bin gap --model` of its
+/// saved files; exit 1 if any differs.
+fn saved_everywhere(bin: &std::path::Path, todo: &[wide::world::Spec], quiet: bool) -> ExitCode {
+    let Ok(dir) = tempfile::tempdir() else {
+        eprintln!("diagnose_eval: no temporary folder");
+        return ExitCode::from(2);
+    };
+    let mut bad = 0usize;
+    for spec in todo {
+        let name = format!("s{}", spec.seed);
+        let data = dir.path().join(format!("{name}.csv"));
+        if let Err(e) = std::fs::write(&data, wide::world::generate(spec).csv) {
+            eprintln!("diagnose_eval: {}: {e}", data.display());
+            return ExitCode::from(2);
+        }
+        let checked = wide::saved_check::check(
+            bin,
+            &name,
+            &data,
+            spec.form.arm.urdf(),
+            !spec.form.registered,
+            dir.path(),
+        );
+        match checked {
+            Ok((_, c)) if !quiet => eprintln!(
+                "ok   seed {} [{}] after {:.4} / {:.4} mm held out, {:.4} / {:.4} mm all rows (report / saved files)",
+                spec.seed,
+                spec.form.label(),
+                c.report_held_out_mm,
+                c.file_held_out_mm,
+                c.report_all_mm,
+                c.file_all_mm
+            ),
+            Ok(_) => {}
+            Err(e) => {
+                bad += 1;
+                eprintln!("DIFF seed {} [{}] {e}", spec.seed, spec.form.label());
+            }
+        }
+    }
+    println!(
+        "{} of {} sets: the report's after is the saved model's to 1 %",
+        todo.len() - bad,
+        todo.len()
+    );
+    if bad == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
 }

@@ -12,6 +12,7 @@ use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::simulate::{
     iso_cube_poses, program_poses, random_poses, simulate_arm, SimSpec,
 };
+use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::unidentified::Unidentified;
 use rapidtherm::diagnose::{self, Diagnosis, Part, RegisterFailure};
 use rapidtherm::error::{Error, ErrorKind, Result};
@@ -83,6 +84,9 @@ pub struct GapArgs {
     /// Exit with status 1 when the RMS gap exceeds this many mm (a gate for scripts).
     #[arg(long, value_name = "MM")]
     fail_above: Option<f64>,
+    /// Data without temperature columns: assume the session starts cold at its first row and follows this warm-up (`irb140`); without it every row is held at the reference temperature, as the diagnosis holds them
+    #[arg(long, value_name = "PROFILE", value_parser = super::diagnose_args::cold_start)]
+    assume_cold_start: Option<ColdStart>,
 }
 
 fn load_model(path: &Option<PathBuf>) -> Result<Model> {
@@ -331,8 +335,15 @@ pub fn run_gap(args: GapArgs) -> Result<Status> {
     let robot = robot_choice(&args.robot)?;
     let model = load_model(&args.model)?;
     let setup = job::setup(robot.as_ref(), &model, args.model.is_some(), &mut Messages)?;
-    let prepared = job::gap_of(&args.data, &model, &setup, args.register, &mut Messages)
-        .map_err(|r| refused(r, args.robot.as_deref()))?;
+    let prepared = job::gap_of(
+        &args.data,
+        &model,
+        &setup,
+        args.register,
+        args.assume_cold_start,
+        &mut Messages,
+    )
+    .map_err(|r| refused(r, args.robot.as_deref()))?;
     let g = diagnose::gap(&prepared);
     let text = match args.format {
         Format::Json => {

@@ -8,7 +8,7 @@ use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::report::{render_table, Align};
 use std::path::PathBuf;
 
-fn cold_start(s: &str) -> Result<ColdStart, String> {
+pub(super) fn cold_start(s: &str) -> Result<ColdStart, String> {
     ColdStart::from_name(s).map_err(|e| e.message)
 }
 

@@ -47,11 +47,37 @@ fn orthogonal(a: &DMatrix<f64>, v: &DVector<f64>) -> DVector<f64> {
 /// to unit norm, would take up any shape over time: beyond geometry's 52,
 /// a bending that took 97 % of the change over time was "below" a limit
 /// of twice its size.
-fn beyond(found: &[Effect], kind: EffectKind) -> Vec<Effect> {
+///
+/// Where no pose is measured again over time (`over_time` false) there is
+/// no pose's own offset to take out: a thermal effect then shows only in
+/// the whole gap, as a static one does, and is judged beyond every other
+/// effect found (centred on poses measured once, every effect's own part
+/// is zero and its limit infinite: a lag that took 72 % of the held-out
+/// gap was "below" it).
+fn beyond(found: &[Effect], kind: EffectKind, over_time: bool) -> Vec<Effect> {
+    let centred = over_time && kind.is_thermal();
     found
         .iter()
-        .filter(|e| e.kind != kind && (!kind.is_thermal() || e.kind.is_thermal()))
+        .filter(|e| e.kind != kind && (!centred || e.kind.is_thermal()))
         .cloned()
+        .collect()
+}
+
+/// Whether an effect of `kind` is judged over time (each pose's own offset
+/// taken out): a thermal one, where poses are measured again over time.
+fn centred(kind: EffectKind, over_time: bool) -> bool {
+    over_time && kind.is_thermal()
+}
+
+/// The kinds judged in one family with `kind`, at a level shared among
+/// them: over time the thermal ones, on the whole gap the rest; every
+/// kind where the data hold one stage.
+fn family(problem: &Problem, kind: EffectKind, over_time: bool) -> Vec<EffectKind> {
+    let c = centred(kind, over_time);
+    EffectKind::ALL
+        .into_iter()
+        .filter(|k| centred(*k, over_time) == c)
+        .filter(|k| !problem.fixed.iter().any(|f| f.kind == *k))
         .collect()
 }
 
@@ -114,22 +140,21 @@ pub struct BelowLimit {
 /// out). Judged along each effect's own fitted shape, and said in the
 /// limits' measure: its flange size, and the size at which that shape
 /// would be revealed.
-pub fn below(problem: &Problem, found: &[Effect], noise: &TestNoise) -> Vec<BelowLimit> {
+pub fn below(
+    problem: &Problem,
+    found: &[Effect],
+    noise: &TestNoise,
+    over_time: bool,
+) -> Vec<BelowLimit> {
     let rows: Vec<usize> = (0..problem.rows.len()).collect();
     let mut out = Vec::new();
     for e in found {
-        let centred = e.kind.is_thermal();
         let p = Problem {
-            centre_poses: centred,
+            centre_poses: centred(e.kind, over_time),
             ..problem.clone()
         };
-        let family = EffectKind::ALL
-            .into_iter()
-            .filter(|k| k.is_thermal() == centred)
-            .filter(|k| !problem.fixed.iter().any(|f| f.kind == *k))
-            .count();
-        let level = LEVEL / family.max(1) as f64;
-        let others = beyond(found, e.kind);
+        let level = LEVEL / family(problem, e.kind, over_time).len().max(1) as f64;
+        let others = beyond(found, e.kind, over_time);
         let lambda = own_lambda(&p, &others, e, &rows, noise.sigma2);
         let needed = detectable_noncentrality(level, e.kind.params().len() as f64, POWER);
         if lambda < needed {
@@ -150,10 +175,16 @@ pub fn below(problem: &Problem, found: &[Effect], noise: &TestNoise) -> Vec<Belo
 
 /// Detection limits of every effect not fixed in the model in use, beyond
 /// `found` (the effects the diagnosis fitted, in their fitted values) on
-/// `problem` (whose own fixed effects are the model in use). Thermal
-/// effects are judged over time (each pose's own offset taken out), static
-/// ones on the whole gap.
-pub fn limits(problem: &Problem, found: &[Effect], noise: &TestNoise) -> Vec<DetectionLimit> {
+/// `problem` (whose own fixed effects are the model in use). Where poses
+/// are measured again over time (`over_time`) thermal effects are judged
+/// over time (each pose's own offset taken out) and static ones on the
+/// whole gap; else every effect on the whole gap.
+pub fn limits(
+    problem: &Problem,
+    found: &[Effect],
+    noise: &TestNoise,
+    over_time: bool,
+) -> Vec<DetectionLimit> {
     let rows: Vec<usize> = (0..problem.rows.len()).collect();
     let mut out = Vec::new();
     for centred in [true, false] {
@@ -163,14 +194,14 @@ pub fn limits(problem: &Problem, found: &[Effect], noise: &TestNoise) -> Vec<Det
         };
         let kinds: Vec<EffectKind> = EffectKind::ALL
             .into_iter()
-            .filter(|k| k.is_thermal() == centred)
+            .filter(|k| self::centred(*k, over_time) == centred)
             .filter(|k| !problem.fixed.iter().any(|e| e.kind == *k))
             .collect();
         let level = LEVEL / kinds.len().max(1) as f64;
         for kind in kinds {
             // Beyond everything found but the effect itself: what would
             // have revealed it had it not been named.
-            let others = beyond(found, kind);
+            let others = beyond(found, kind, over_time);
             let model = effects_jacobian(&p, &others, &rows);
             let r0 = p.residuals(&others, &rows);
             let shape = Effect::with_defaults(kind);
@@ -201,7 +232,7 @@ pub fn limits(problem: &Problem, found: &[Effect], noise: &TestNoise) -> Vec<Det
                 let b = predict(&problem.base, &[], &state);
                 (a.translation.vector - b.translation.vector).norm()
             };
-            let flange_mm = if centred {
+            let flange_mm = if kind.is_thermal() {
                 problem
                     .rows
                     .iter()

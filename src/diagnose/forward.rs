@@ -216,6 +216,7 @@ pub fn forward(
         None => (problem.residuals(&[], &all).norm_squared(), 0),
     };
     let mut pool: Vec<EffectKind> = pool.iter().copied().filter(|k| !base.contains(k)).collect();
+    let offered = pool.clone();
     // The slowest fit first, so that the threads finish together.
     pool.sort_by_key(|k| *k != EffectKind::ThermalLag);
     let mut selected: Vec<EffectKind> = base.to_vec();
@@ -423,6 +424,14 @@ pub fn forward(
             });
         }
     }
+    ambiguities.extend(unpassed_rivals(
+        problem,
+        &selected[base.len()..],
+        &selected,
+        &offered,
+        &ambiguities,
+        noise,
+    ));
     // The final model must come from a converged fit: refit and propagate.
     let fit = if selected.is_empty() {
         None
@@ -471,6 +480,74 @@ pub fn forward(
         candidates,
         ambiguities,
     })
+}
+
+/// Ties with a thermal rival that did not pass on its own. A rival whose
+/// parameters the data cannot pin (a lag whose time constants reach their
+/// bound, longer than the session: the links then barely warm, which is
+/// what a negative scale on the expansion says too) is never eligible, so
+/// it never stands as a runner-up; yet it may explain all the effect
+/// chosen explains. Where the chosen effect adds nothing significant
+/// beyond the rival put in its place, and the rival itself adds
+/// significantly beyond the rest, the data cannot tell the two apart: the
+/// pair is said, with how to separate them. Thermal pairs only: they share
+/// the temperatures' time course, and a lag is the one effect whose
+/// parameters run to a bound within what the data show (on the widened
+/// evaluation, 8 of the 15 missed lags: withheld at the 600 min bound,
+/// named as an expansion scaled by about −1).
+fn unpassed_rivals(
+    problem: &Problem,
+    chosen: &[EffectKind],
+    selected: &[EffectKind],
+    offered: &[EffectKind],
+    known: &[Ambiguity],
+    noise: &TestNoise,
+) -> Vec<Ambiguity> {
+    let all: Vec<usize> = (0..problem.rows.len()).collect();
+    let paired = |a: EffectKind, b: EffectKind| {
+        known
+            .iter()
+            .any(|p| p.pair.iter().any(|n| n == a.name()) && p.pair.iter().any(|n| n == b.name()))
+    };
+    let mut out = Vec::new();
+    for &c in chosen.iter().filter(|k| k.is_thermal()) {
+        let without: Vec<EffectKind> = selected.iter().copied().filter(|k| *k != c).collect();
+        let rest = if without.is_empty() {
+            Some((problem.residuals(&[], &all).norm_squared(), 0))
+        } else {
+            fit::fit(problem, &all, &without)
+                .ok()
+                .map(|f| (f.rss, f.n_free))
+        };
+        let Some((rss_rest, free_rest)) = rest else {
+            continue;
+        };
+        for &r in offered {
+            if !r.is_thermal() || selected.contains(&r) || paired(c, r) {
+                continue;
+            }
+            let mut swapped = without.clone();
+            swapped.push(r);
+            let mut both = selected.to_vec();
+            both.push(r);
+            let (Ok(alone), Ok(both)) = (
+                fit::fit(problem, &all, &swapped),
+                fit::fit(problem, &all, &both),
+            ) else {
+                continue;
+            };
+            let chosen_beyond = noise.nested_fit(alone.rss, alone.n_free, &both, LEVEL);
+            let rival_own = noise.nested_fit(rss_rest, free_rest, &alone, LEVEL);
+            if !chosen_beyond.significant() && rival_own.significant() {
+                out.push(Ambiguity {
+                    pair: [c.name().into(), r.name().into()],
+                    correlation: None,
+                    separate_by: Separation::of(c, r),
+                });
+            }
+        }
+    }
+    out
 }
 
 /// Mark the `candidates` that are `selected`, each with its parameters of

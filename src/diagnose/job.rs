@@ -13,7 +13,7 @@ use super::measurements::Measurements;
 use super::pipeline::{diagnose, Options};
 use super::plan::{DiagnosePlan, Refused, RobotChoice, Which};
 use super::prepare::{place_in_base, problem_of, Prepared};
-use super::temps::TempOrigin;
+use super::temps::{as_said, ColdStart, TempOrigin, TempSource};
 use super::verdict::Diagnosis;
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -301,6 +301,7 @@ pub fn gap_of(
     model: &Model,
     setup: &Setup,
     register: bool,
+    cold_start: Option<ColdStart>,
     host: &mut dyn Host,
 ) -> std::result::Result<Prepared, Refused> {
     let (name, bytes) = read(data)?;
@@ -309,12 +310,19 @@ pub fn gap_of(
         host.event(Event::Warning(w));
     }
     let mut prepared = problem_of(&meas, model, &setup.arm)?;
-    if let TempOrigin::Profile(profile) = &prepared.temps {
-        // The gap's warm model needs temperatures the file does not give:
-        // the assumption is said, never made silently.
-        host.event(Event::Warning(&format!(
-            "{name}: no temperature columns; the model's `{profile}` heating profile is assumed, the session starting cold at its first row"
-        )));
+    // The diagnosis's rule (`temps::as_said`): a warm-up the file does not
+    // show is assumed only where the caller says so, and either way it is
+    // said. So the gap of a saved model is the diagnosis's "after".
+    let source = as_said(&mut prepared.problem, &prepared.temps, cold_start)?;
+    if let TempOrigin::Profile(_) = &prepared.temps {
+        host.event(Event::Warning(&match source {
+            TempSource::AssumedColdStart { profile } => format!(
+                "{name}: no temperature columns; assumed, as asked: the session starts cold at its first row and follows the `{profile}` warm-up"
+            ),
+            _ => format!(
+                "{name}: no temperature columns; every row is held at the reference temperature, no warm-up assumed (`--assume-cold-start irb140` assumes the IRB 140's from a cold start at the first row)"
+            ),
+        }));
     }
     place_in_base(&mut prepared, model, register).map_err(Refused::Register)?;
     Ok(prepared)

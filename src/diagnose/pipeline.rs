@@ -22,7 +22,7 @@ use super::square;
 use super::stability;
 use super::stats::{Test, LEVEL};
 use super::step::{significant_step, step_of};
-use super::temps::{self, TempSource};
+use super::temps;
 use super::verdict::{
     Ambiguity, CandidateOut, Diagnosis, NotNamed, ParamOut, Part, StageSummary, StepOut, Verdict,
 };
@@ -62,17 +62,12 @@ fn repeats_over_time(problem: &Problem) -> bool {
 /// pose where the poses are enough. Data without such repeats are judged in
 /// one stage over all effects.
 pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
-    let temp_source = TempSource::of(&prepared.temps, opts.assume_cold_start)?;
     // Without a source of temperatures every row is held at the reference
     // temperature: the model's profile would be a heating (of an IRB 140,
     // from a cold start at the first row) that the data do not show.
-    let held_cold;
-    let problem = if temp_source.drives() {
-        &prepared.problem
-    } else {
-        held_cold = temps::held_cold(&prepared.problem);
-        &held_cold
-    };
+    let mut as_said = prepared.problem.clone();
+    let temp_source = temps::as_said(&mut as_said, &prepared.temps, opts.assume_cold_start)?;
+    let problem = &as_said;
     let n = problem.rows.len();
     const MIN_ROWS: usize = 20;
     if n < MIN_ROWS {
@@ -261,9 +256,13 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         },
         &found,
         &tnoise,
+        two,
     );
     let mut verdict = combine(stages.iter().map(|s| s.verdict.clone()).collect());
-    if time_drift.is_some() {
+    if time_drift
+        .as_ref()
+        .is_some_and(|t| t.below_limit_mm.is_none())
+    {
         verdict = with_remainder(verdict);
     }
     // Named only what the data pin, above what they could reveal, and
@@ -286,6 +285,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
         },
         &found,
         &tnoise,
+        two,
     );
     let stability: Vec<stability::Stability> =
         stages.iter().flat_map(|st| st.stability.clone()).collect();
@@ -388,6 +388,7 @@ pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
             &folds,
             &fitted,
             stages.len() > 1,
+            opts.assume_cold_start,
         )?),
         None => None,
     };
@@ -483,7 +484,7 @@ struct Ctx<'a> {
     /// Where every fold keeps enough of them to predict its held-out poses:
     /// the drop of the held-out mean-square gap a static effect must make.
     static_held_out: Option<f64>,
-    /// Temperatures drive the thermal effects ([`TempSource::drives`]).
+    /// Temperatures drive the thermal effects ([`temps::TempSource::drives`]).
     temps_drive: bool,
 }
 

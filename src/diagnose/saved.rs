@@ -17,6 +17,7 @@ use super::gap::{gap, GapStats};
 use super::measurements::Measurements;
 use super::prepare::{place_in_base, problem_of, Registration, Source};
 use super::select::Folds;
+use super::temps::{as_said, ColdStart};
 use crate::error::Result;
 use crate::model::{Effect, EffectEntry, EffectKind, InstrumentSection, Model};
 use nalgebra::Vector3;
@@ -85,14 +86,18 @@ pub fn read_back(model: &Model, name: &str, arm: &Arm) -> Result<(Model, Arm)> {
 }
 
 /// The gap of `model` (with its arm) on `meas`, as `gap --model` gives it
-/// without `--register`: the rows prepared under the model, placed in the
-/// base frame by its instrument frame.
+/// without `--register`: the rows prepared under the model, their
+/// temperatures by the diagnosis's rule (`temps::as_said`, with the cold
+/// start the caller said), placed in the base frame by its instrument
+/// frame.
 pub fn model_gap(
     meas: &Measurements,
     model: &Model,
     arm: &Arm,
+    cold_start: Option<ColdStart>,
 ) -> Result<(GapStats, Vec<Vector3<f64>>)> {
     let mut prepared = problem_of(meas, model, arm)?;
+    as_said(&mut prepared.problem, &prepared.temps, cold_start)?;
     // Without registering anew, placing cannot fail.
     let _ = place_in_base(&mut prepared, model, false);
     let all: Vec<usize> = (0..prepared.problem.rows.len()).collect();
@@ -112,10 +117,11 @@ pub fn score(
     folds: &Folds,
     fitted: &[EffectEntry],
     staged: bool,
+    cold_start: Option<ColdStart>,
 ) -> Result<Saved> {
     let model = saved_model(source, registration, fitted);
     let (back, arm) = read_back(&model, "the saved model", &source.arm)?;
-    let (all_gap, gaps) = model_gap(&source.meas, &back, &arm)?;
+    let (all_gap, gaps) = model_gap(&source.meas, &back, &arm, cold_start)?;
     let start: Vec<Effect> = fitted
         .iter()
         .map(EffectEntry::to_effect)
@@ -141,7 +147,7 @@ pub fn score(
             warnings: Vec::new(),
             file: source.meas.file.clone(),
         };
-        let (g, fold_gaps) = model_gap(&held, &fold_back, &fold_arm)?;
+        let (g, fold_gaps) = model_gap(&held, &fold_back, &fold_arm, cold_start)?;
         sum += fold_gaps.iter().map(|g| g.norm_squared()).sum::<f64>();
         count += fold_gaps.len();
         out.push(SavedFold {

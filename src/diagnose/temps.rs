@@ -128,6 +128,23 @@ impl TempSource {
     }
 }
 
+/// The rule for rows prepared from `origin` (the one rule of the
+/// diagnosis, of its saved model's score and of `gap`): where nothing says
+/// where the temperatures come from (no columns, no heating record, no
+/// cold start said by `cold_start`), every row of `problem` is held at the
+/// reference temperature. Returns the source the rows now follow.
+pub fn as_said(
+    problem: &mut Problem,
+    origin: &TempOrigin,
+    cold_start: Option<ColdStart>,
+) -> Result<TempSource> {
+    let source = TempSource::of(origin, cold_start)?;
+    if !source.drives() {
+        *problem = held_cold(problem);
+    }
+    Ok(source)
+}
+
 /// `problem` with every row at the reference temperature: nothing heats.
 pub fn held_cold(problem: &Problem) -> Problem {
     let t_ref = problem.base.thermal.t_ref;

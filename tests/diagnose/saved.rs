@@ -1,5 +1,6 @@
-//! Every number after the diagnosis is the saved model's: on every set of
-//! the seeded evaluation (one per class, `eval.rs`) and on the real UR5, the
+//! Every number after the diagnosis is the saved model's
+//! (`wide/saved_check.rs`): on every set of the seeded evaluations (one per
+//! class, `eval.rs` and `wide_ci.rs`) and on the real UR5, the
 //! report's gap after on all rows is what `gap --model` gives with the
 //! saved file on those rows, and its held-out gap after is what `gap
 //! --model` gives with each fold's file (the saved model's effects fitted
@@ -9,105 +10,25 @@
 //! square of the temperature in it, which the saved file lacks.
 
 use super::eval::{set_of, Class};
+use super::wide::saved_check;
 use super::world::generate;
-use rapidtherm::diagnose::job::{self, Event, Host, Ran};
-use rapidtherm::diagnose::plan::{DiagnosePlan, RobotChoice, Which};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-struct Quiet;
-
-impl Host for Quiet {
-    fn event(&mut self, _: Event) {}
+fn bin() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_rapidtherm"))
 }
 
-fn plan(data: &Path, robot: Option<PathBuf>, register: bool) -> DiagnosePlan {
-    DiagnosePlan {
-        data: data.to_path_buf(),
-        model: None,
-        robot: robot.map(RobotChoice::Urdf),
-        which: Which::Effects,
-        noise_mm: None,
-        assume_cold_start: None,
-        register,
-        point: None,
-        save_model: true,
-        plot: false,
-    }
-}
-
-/// `gap --model MODEL DATA --format json [ARGS]`: its RMS and rows.
 fn gap_cli(model: &Path, data: &Path, args: &[&str]) -> (f64, usize) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rapidtherm"))
-        .arg("gap")
-        .arg(data)
-        .arg("--model")
-        .arg(model)
-        .args(["--format", "json"])
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "gap: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    (
-        v["rms_mm"].as_f64().unwrap(),
-        v["n"].as_u64().unwrap() as usize,
-    )
+    saved_check::gap_cli(bin(), model, data, args).unwrap()
 }
 
-fn close(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 0.01 * b.abs().max(1e-12)
-}
-
-/// Diagnose `data` through the job, save its model, and check both
-/// "after" numbers against `gap --model` of the written files. Returns the
-/// saved model's path.
+/// The check of `wide/saved_check.rs`, failing the test on a difference.
 fn check(name: &str, data: &Path, robot: Option<PathBuf>, register: bool, dir: &Path) -> PathBuf {
-    let Ran::Effects(run) = job::run(&plan(data, robot, register), &mut Quiet)
-        .unwrap_or_else(|_| panic!("{name}: the job failed"))
-    else {
-        panic!("{name}: not the effect diagnosis");
-    };
-    let d = &run.diagnosis;
-    let saved = dir.join(format!("{name}.toml"));
-    std::fs::write(&saved, run.model_toml.as_ref().unwrap()).unwrap();
-    // The saved file alone: no --robot, no --register.
-    let (rms, n) = gap_cli(&saved, data, &[]);
-    assert_eq!(n, d.gap.n, "{name}");
-    assert!(
-        close(d.gap_after.rms_mm, rms),
-        "{name}: report {:.5} mm after, the saved file {rms:.5} mm",
-        d.gap_after.rms_mm
-    );
-    let text = std::fs::read_to_string(data).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
-    let s = d.saved.as_ref().unwrap();
-    let (mut sum, mut count) = (0.0, 0usize);
-    for (k, fold) in s.folds.iter().enumerate() {
-        let model = dir.join(format!("{name}_fold{k}.toml"));
-        std::fs::write(&model, fold.model.to_toml().unwrap()).unwrap();
-        let csv = dir.join(format!("{name}_fold{k}.csv"));
-        let mut held = vec![lines[0].to_string()];
-        held.extend(fold.lines.iter().map(|&l| lines[l - 1].to_string()));
-        std::fs::write(&csv, held.join("\n") + "\n").unwrap();
-        let (rms, n) = gap_cli(&model, &csv, &[]);
-        assert_eq!(n, fold.lines.len(), "{name} fold {k}");
-        sum += rms * rms * n as f64;
-        count += n;
-    }
-    let pooled = (sum / count as f64).sqrt();
+    let (saved, c) = saved_check::check(bin(), name, data, robot, register, dir)
+        .unwrap_or_else(|e| panic!("{e}"));
     println!(
-        "{name}: after {:.4} mm held out ({pooled:.4} from the folds' files), {:.4} mm on all rows",
-        d.gap_after_mm, d.gap_after.rms_mm
-    );
-    assert!(
-        close(d.gap_after_mm, pooled),
-        "{name}: report {:.5} mm held out after, the folds' files {pooled:.5} mm",
-        d.gap_after_mm
+        "{name}: after {:.4} mm held out ({:.4} from the folds' files), {:.4} mm on all rows ({:.4} from the saved file)",
+        c.report_held_out_mm, c.file_held_out_mm, c.report_all_mm, c.file_all_mm
     );
     saved
 }
@@ -120,6 +41,27 @@ fn every_after_of_the_seeded_evaluation_is_the_saved_models() {
         let data = dir.path().join(format!("set{k}.csv"));
         std::fs::write(&data, generate(&spec).csv).unwrap();
         check(&format!("{class:?}"), &data, None, true, dir.path());
+    }
+}
+
+/// The same on the widened evaluation's seeded sets (`wide_ci.rs`: every
+/// class once, on the arms of their forms, registered where the frame is
+/// unknown), each diagnosed as a user would.
+#[test]
+fn every_after_of_the_widened_seeded_sets_is_the_saved_models() {
+    use super::wide::run::specs;
+    use super::wide::world::{generate, Class};
+    let dir = tempfile::tempdir().unwrap();
+    for spec in specs(1, 46_500, &Class::ALL) {
+        let data = dir.path().join(format!("wide{}.csv", spec.seed));
+        std::fs::write(&data, generate(&spec).csv).unwrap();
+        check(
+            &format!("wide{}", spec.seed),
+            &data,
+            spec.form.arm.urdf(),
+            !spec.form.registered,
+            dir.path(),
+        );
     }
 }
 

@@ -15,11 +15,13 @@
 //! Files: [`arms`] (the arms and their poses), [`world`] (the generator),
 //! [`limit`] (the detection limit of the withheld effect), [`score`] (what a
 //! right verdict is, from the rules), [`run`] (sets diagnosed, the
-//! confusion table). The runner is `examples/diagnose_eval.rs`; a small
+//! confusion table), [`saved_check`] (the report's "after" against `gap
+//! --model` of the saved files). The runner is `examples/diagnose_eval.rs`; a small
 //! seeded run is `tests/diagnose/wide_ci.rs`.
 
 pub mod arms;
 pub mod limit;
 pub mod run;
+pub mod saved_check;
 pub mod score;
 pub mod world;

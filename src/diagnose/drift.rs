@@ -8,8 +8,8 @@
 //! beyond the model; its shape is `curved` where the square adds
 //! significantly beyond the line, else `linear`.
 
-use super::forward::TestNoise;
 use super::stats::Test;
+use super::test_noise::TestNoise;
 use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::Serialize;
 use std::collections::BTreeMap;

@@ -13,7 +13,9 @@ use super::lanes::{self, counted, program_with, read_both, same_both_ways, stmt,
 use super::rapidtherm;
 use proptest::prelude::*;
 use rapidtherm::correct::job::{self, Event, Host, Output as Written, Sink, Way};
-use rapidtherm::correct::plan::{Action, CorrectPlan, Destination, ModelSource, TimeBasis};
+use rapidtherm::correct::plan::{
+    Action, ArmChoice, CorrectPlan, Destination, ModelSource, TimeBasis,
+};
 use rapidtherm::correct::{Options, ScheduleSource, When};
 use rapidtherm::model::warm::Moment;
 use rapidtherm::rapid::Program;
@@ -199,10 +201,12 @@ fn job_run(path: &std::path::Path, when: TimeBasis, keep_rows: bool) -> (Way, St
     let plan = CorrectPlan {
         when,
         visit: Visit::default(),
-        model: ModelSource::Default,
-        arms: Vec::new(),
-        irb140_thermal: false,
-        placing: Default::default(),
+        arms: ArmChoice {
+            model: ModelSource::Default,
+            specs: Vec::new(),
+            irb140_thermal: false,
+            placing: Default::default(),
+        },
         expand_expressions: false,
         split_shared: false,
         action: Action::Write(Destination::File("OUT".into())),

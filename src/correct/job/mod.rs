@@ -47,8 +47,8 @@ pub fn run(
     host: &mut dyn Host,
     sink: &mut dyn Sink,
 ) -> Result<Vec<Ran>> {
-    crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
-    let model = load_model(&plan.model)?;
+    crate::resolve::arm::check_task_specs(&plan.arms.specs, &tasks)?;
+    let model = load_model(&plan.arms.model)?;
     let (motion, still): (Vec<Task>, Vec<Task>) = tasks.into_iter().partition(moves_a_robot);
     shared::refuse_files_of_two_tasks(&motion)?;
     // One task written to files is written as it is corrected (a program of
@@ -171,7 +171,7 @@ fn correct_task(
     host: &mut dyn Host,
     to: Option<&mut dyn Sink>,
 ) -> Result<Ran> {
-    let arm = checked_arm(plan, &task, model, host)?;
+    let arm = checked_arm(&plan.arms, &task, model, host)?;
     // The files' fingerprints, for their markers, are hashed beside the
     // parse: after it, the run waited for them with a core idle.
     let (inputs, program, colds) = read_task_beside(&task, host, |inputs| {

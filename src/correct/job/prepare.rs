@@ -4,7 +4,7 @@
 //! moments, and the run's options.
 
 use super::host::{Event, Host};
-use crate::correct::plan::{Action, CorrectPlan, ModelSource, TimeBasis};
+use crate::correct::plan::{Action, ArmChoice, CorrectPlan, ModelSource, TimeBasis};
 use crate::correct::{Options, ScheduleSource, Untrusted, When};
 use crate::digest::fingerprint;
 use crate::error::{Error, Remedy, Result};
@@ -47,7 +47,7 @@ pub fn model_label(source: &ModelSource, arm: &str) -> Result<String> {
 /// thermal defaults would be guessed (an arm other than the IRB 140
 /// without a model of its own).
 pub fn checked_arm(
-    plan: &CorrectPlan,
+    plan: &ArmChoice,
     task: &Task,
     model: &Model,
     host: &mut dyn Host,
@@ -77,11 +77,11 @@ pub fn checked_arm(
 /// names it: that arm where nothing else says which arm the task moves,
 /// else the arm said, which must be the same (the effects are written on
 /// that arm's joints: on another, they would move targets wrongly).
-fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> {
+fn arm_for_model(plan: &ArmChoice, task: &Task, model: &Model) -> Result<Arm> {
     let Some(source) = model_arm_source(model)? else {
-        return arm_for(task, &plan.arms);
+        return arm_for(task, &plan.specs);
     };
-    let said = plan.arms.iter().any(|s| {
+    let said = plan.specs.iter().any(|s| {
         s.task.is_none()
             || s.task
                 .as_deref()
@@ -93,7 +93,7 @@ fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> 
         fitted.chosen_by = ChosenBy::ModelUrdf;
         return Ok(fitted);
     }
-    let arm = arm_for(task, &plan.arms)?;
+    let arm = arm_for(task, &plan.specs)?;
     if !same_chain(&arm.robot, &fitted.robot) {
         return Err(Error::usage(format!(
             "task {}: the model was fitted on {} ({}), whose joints its effects are written on; the task moves {}",
@@ -259,11 +259,11 @@ pub fn warm_run(
     if warm.instrument_left_out() {
         host.event(Event::InstrumentLeftOut { task: &label });
     }
-    let model_label = model_label(&plan.model, &arm.label)?;
+    let model_label = model_label(&plan.arms.model, &arm.label)?;
     host.event(Event::ThermalModel {
         task: &label,
         label: &model_label,
-        on_lengths: plan.model == ModelSource::Default && !arm.is_irb140,
+        on_lengths: plan.arms.model == ModelSource::Default && !arm.is_irb140,
     });
     let options = Options {
         when,

@@ -8,7 +8,7 @@ use super::{module_text, ModuleOptions, RuntimeSpec};
 use crate::correct::job::{checked_arm, load_model, model_label, moves_a_robot, read_task};
 use crate::correct::job::{Event, Host, Inputs};
 use crate::correct::marker;
-use crate::correct::plan::{CorrectPlan, ModelSource};
+use crate::correct::plan::{ModelSource, RuntimePlan};
 use crate::error::{Error, Errors, Result};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::task::Task;
@@ -100,15 +100,10 @@ impl RuntimeRan {
 }
 
 /// Rewrite the tasks (those that move no robot are said and left alone)
-/// for a module named `module`.
-pub fn run(
-    plan: &CorrectPlan,
-    module: &str,
-    tasks: Vec<Task>,
-    host: &mut dyn Host,
-) -> Result<Vec<RuntimeRan>> {
-    crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
-    let model = load_model(&plan.model)?;
+/// for the plan's module.
+pub fn run(plan: &RuntimePlan, tasks: Vec<Task>, host: &mut dyn Host) -> Result<Vec<RuntimeRan>> {
+    crate::resolve::arm::check_task_specs(&plan.arms.specs, &tasks)?;
+    let model = load_model(&plan.arms.model)?;
     let mut runs = Vec::new();
     let mut errors = Errors::default();
     for task in tasks {
@@ -119,7 +114,7 @@ pub fn run(
             });
             continue;
         }
-        match rewrite_task(plan, &model, module, task, host) {
+        match rewrite_task(plan, &model, task, host) {
             Ok(r) => runs.push(r),
             Err(e) => errors.push(e),
         }
@@ -135,20 +130,20 @@ pub fn run(
 }
 
 fn rewrite_task(
-    plan: &CorrectPlan,
+    plan: &RuntimePlan,
     model: &crate::model::Model,
-    module: &str,
     task: Task,
     host: &mut dyn Host,
 ) -> Result<RuntimeRan> {
-    let arm = checked_arm(plan, &task, model, host)?;
+    let module = plan.module.as_str();
+    let arm = checked_arm(&plan.arms, &task, model, host)?;
     let base = base_frame(&task)?.map_or(UnitQuaternion::identity(), |f| f.rotation);
     let spec = RuntimeSpec::new(&arm.robot, model, base)?;
-    let label = model_label(&plan.model, &arm.label)?;
+    let label = model_label(&plan.arms.model, &arm.label)?;
     let opts = ModuleOptions {
         name: module.to_string(),
         version: env!("CARGO_PKG_VERSION").to_string(),
-        heating_source: match &plan.model {
+        heating_source: match &plan.arms.model {
             ModelSource::File(p) => format!("the model file {}", p.display()),
             ModelSource::Named(n) => format!("the embedded model {n}"),
             ModelSource::Default => "the embedded default (IRB 140, 60 % speed)".to_string(),

@@ -7,7 +7,7 @@
 
 use super::ci_report::{self, ReportFormat};
 use super::correct_words::{reason_words, shared_words, summary_text};
-use super::events::Said;
+use super::events::EventMessages;
 use super::messages::{self, note};
 use super::output::FileSink;
 use super::tasks;
@@ -15,7 +15,7 @@ use super::unified_diff::unified_diff;
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::correct::check::{counts, CheckRule, Finding, FindingStatus};
-use rapidtherm::correct::job::{self, moves_a_robot, Ran};
+use rapidtherm::correct::job::{self, moves_a_robot, CorrectedTask};
 use rapidtherm::correct::plan::{
     Action, ArmChoice, CorrectJob, CorrectPlan, Destination, ModelSource, RuntimePlan, TimeBasis,
 };
@@ -470,7 +470,7 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
         ));
     }
     let mut sink = FileSink::new(plan.action.backup(), &checked);
-    let runs = job::run(plan, found, &mut Said::default(), &mut sink)?;
+    let runs = job::run(plan, found, &mut EventMessages::default(), &mut sink)?;
     let drawn: Vec<_> = runs
         .iter()
         .map(|r| (&r.task, &r.inputs, &r.outcome))
@@ -483,11 +483,11 @@ pub fn run_correct(args: CorrectArgs) -> Result<Status> {
 }
 
 /// Print what the runs found, as the plan asks, in `format`.
-fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[Ran]) -> Result<Status> {
+fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Result<Status> {
     // A task of a backup is named; files given one by one are one
     // unnamed task, reported as before.
     let named = runs.len() > 1 || runs.iter().any(|r| r.task.name.is_some());
-    let heading = |r: &Ran| -> String {
+    let heading = |r: &CorrectedTask| -> String {
         if named {
             format!("task {} ({}):\n", r.task.label(), r.arm)
         } else {
@@ -545,7 +545,7 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[Ran]) -> Result<Status
                 )?);
                 messages::lines(&verdict(rule));
             }
-            let changed = runs.iter().any(Ran::changed);
+            let changed = runs.iter().any(CorrectedTask::changed);
             Ok(if changed || (check.is_some() && any_finding) {
                 Status::Changes
             } else {
@@ -598,7 +598,7 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[Ran]) -> Result<Status
     }
 }
 
-fn in_task(named: bool, r: &Ran) -> String {
+fn in_task(named: bool, r: &CorrectedTask) -> String {
     if named {
         format!("task {}: ", r.task.label())
     } else {
@@ -608,7 +608,7 @@ fn in_task(named: bool, r: &Ran) -> String {
 
 /// One rendering per task, joined (see [`tasks::join`]).
 fn per_task<T>(
-    runs: &[Ran],
+    runs: &[CorrectedTask],
     items: &[T],
     format: Format,
     named: bool,

@@ -2,7 +2,7 @@
 //! rewritten to call it, written beside the output (or shown as a diff, or
 //! counted); the library's `correct::runtime::job` makes them.
 
-use super::events::Said;
+use super::events::EventMessages;
 use super::messages;
 use super::output::FileSink;
 use super::unified_diff::unified_diff;
@@ -28,7 +28,7 @@ pub fn check_module(module: &str, action: &Action) -> Result<()> {
 }
 
 pub fn run(plan: &RuntimePlan, found: Vec<Task>, checked: &Checked) -> Result<Status> {
-    let runs = job::run(plan, found, &mut Said::default())?;
+    let runs = job::run(plan, found, &mut EventMessages::default())?;
     for r in &runs {
         let t = &r.tally;
         let task = if runs.len() > 1 || r.task.name.is_some() {

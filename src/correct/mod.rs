@@ -28,7 +28,7 @@
 //! or the CLI.
 
 pub mod check;
-mod colds;
+mod cold_prints;
 mod context;
 pub mod derived;
 mod edits;
@@ -60,5 +60,5 @@ pub use outcome::{
     Reason, Residual, SharedUse, Split, Summary,
 };
 
-pub use options::{Options, ScheduleSource, Untrusted, When, ESTIMATE_ENCODING};
+pub use options::{OnUntrusted, Options, ScheduleSource, When, ESTIMATE_ENCODING};
 pub use program::{correct, correct_into, Corrected, Keep};

@@ -14,7 +14,7 @@ use super::in_order::in_order;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::marked::{already_corrected, keep_unmarked, unmarked_with_targets};
 use super::moments::check_schedule_names;
-use super::options::{Options, ScheduleSource, Untrusted, When};
+use super::options::{OnUntrusted, Options, ScheduleSource, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
 use super::pass::{tallied, Buffers, Done, Pass, Tally};
 use super::progress::Progress;
@@ -139,7 +139,7 @@ fn correct_all<'p>(
     let basis = options.when.basis();
     let distrust = marker::untrusted(program);
     if let Some(u) = &distrust {
-        if options.untrusted == Untrusted::Refuse {
+        if options.untrusted == OnUntrusted::Refuse {
             return Err(marker::refuse_untrusted(program, u));
         }
     }
@@ -199,7 +199,7 @@ fn correct_body<'p>(
     // What the program alone decides, and each file's fingerprint for
     // its marker: made ahead where the caller had them made, else now.
     let cold_joints = ahead.cold_joints.take().filter(|c| c.fits(program));
-    let (prepared, colds) = ahead.made(program, options)?;
+    let (prepared, colds) = ahead.setup_and_prints(program, options)?;
     let mut run = Run::with(prepared, warm, options);
     run.cold_joints = cold_joints;
     if let When::Schedule {

@@ -9,19 +9,19 @@
 //! Every task is tried before anything is written, so that a run reports
 //! all its errors and a refused task leaves every file as it was.
 
+mod corrected;
 mod host;
 mod prepare;
-mod ran;
 mod shared;
 mod still;
 
+pub use corrected::{CorrectedTask, Inputs, Streaming};
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
-pub use ran::{Inputs, Ran, Way};
 pub use shared::refuse_files_of_two_tasks;
 pub use still::NO_ARM;
 
-use super::colds::Colds;
+use super::cold_prints::ColdPrints;
 use super::context::{Ahead, Prepared};
 use super::plan::TimeBasis;
 use super::plan::{Action, CorrectPlan, Destination};
@@ -46,7 +46,7 @@ pub fn run(
     tasks: Vec<Task>,
     host: &mut dyn Host,
     sink: &mut dyn Sink,
-) -> Result<Vec<Ran>> {
+) -> Result<Vec<CorrectedTask>> {
     crate::resolve::arm::check_task_specs(&plan.arms.specs, &tasks)?;
     let model = load_model(&plan.arms.model)?;
     let (motion, still): (Vec<Task>, Vec<Task>) = tasks.into_iter().partition(moves_a_robot);
@@ -170,12 +170,12 @@ fn correct_task(
     task: Task,
     host: &mut dyn Host,
     to: Option<&mut dyn Sink>,
-) -> Result<Ran> {
+) -> Result<CorrectedTask> {
     let arm = checked_arm(&plan.arms, &task, model, host)?;
     // The files' fingerprints, for their markers, are hashed beside the
     // parse: after it, the run waited for them with a core idle.
     let (inputs, program, colds) = read_task_beside(&task, host, |inputs| {
-        Colds::of(inputs.iter().map(|(_, source)| source.bytes()))
+        ColdPrints::of(inputs.iter().map(|(_, source)| source.bytes()))
     })?;
     let base = base_frame(&task)?;
     // A `--start` run walks the program on one core (another answers
@@ -206,7 +206,7 @@ fn correct_task(
     let (arm_name, warm, options) = warm_run(plan, model, &task, arm, (when, 0.0), host)?;
     let started = std::time::Instant::now();
     let mut progress = |done, total| host.event(Event::Progress { done, total });
-    let (outcome, way) = match (to, &plan.action) {
+    let (outcome, streaming) = match (to, &plan.action) {
         (Some(sink), Action::Write(dest)) => {
             let (outcome, changed) = correct_streamed(
                 &program,
@@ -214,24 +214,24 @@ fn correct_task(
                 (dest, sink),
                 &mut progress,
             )?;
-            (outcome, Way::Streamed { changed })
+            (outcome, Streaming::Streamed { changed })
         }
         _ => (
             correct_in_memory(&program, (&warm, &options, ahead), &mut progress)?,
-            Way::InMemory,
+            Streaming::InMemory,
         ),
     };
-    let what = match way {
-        Way::Streamed { .. } => "correcting and writing",
-        Way::InMemory => "correcting",
+    let what = match streaming {
+        Streaming::Streamed { .. } => "correcting and writing",
+        Streaming::InMemory => "correcting",
     };
     took(host, &format!("task {}: {what}", task.label()), started);
-    Ok(Ran {
+    Ok(CorrectedTask {
         task,
         arm: arm_name,
         inputs,
         outcome,
-        way,
+        streaming,
     })
 }
 
@@ -289,7 +289,7 @@ fn correct_streamed<'p>(
 }
 
 /// Write the runs' corrected files where the plan says.
-fn write(to: &Destination, runs: &[Ran], sink: &mut dyn Sink) -> Result<()> {
+fn write(to: &Destination, runs: &[CorrectedTask], sink: &mut dyn Sink) -> Result<()> {
     let mut writes: Vec<(&String, &Vec<u8>)> = Vec::new();
     match to {
         Destination::File(out) => {

@@ -5,7 +5,7 @@
 
 use super::host::{Event, Host};
 use crate::correct::plan::{Action, ArmChoice, CorrectPlan, ModelSource, TimeBasis};
-use crate::correct::{Options, ScheduleSource, Untrusted, When};
+use crate::correct::{OnUntrusted, Options, ScheduleSource, When};
 use crate::digest::fingerprint;
 use crate::error::{Error, Remedy, Result};
 use crate::model::{Model, Moment, WarmRobot};
@@ -275,8 +275,8 @@ pub fn warm_run(
         // A run that writes would correct corrected numbers again; one
         // that only looks takes them as cold and says why.
         untrusted: match plan.action {
-            Action::Write(_) => Untrusted::Refuse,
-            Action::Check(_) | Action::Diff { .. } | Action::Report => Untrusted::AsCold,
+            Action::Write(_) => OnUntrusted::Refuse,
+            Action::Check(_) | Action::Diff { .. } | Action::Report => OnUntrusted::AsCold,
         },
     };
     Ok((arm_name, warm, options))

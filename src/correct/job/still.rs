@@ -6,8 +6,8 @@
 //! fails on it, naming it, rather than passing a backup whose moving
 //! tasks were all skipped.
 
+use super::corrected::{CorrectedTask, Inputs, Streaming};
 use super::host::{Event, Host};
-use super::ran::{Inputs, Ran, Way};
 use crate::correct::{Kind, LeftAlone, MoveCounts, Outcome, Reason, Summary};
 use crate::rapid::task::Task;
 use crate::rapid::Program;
@@ -22,7 +22,7 @@ pub fn still_task(
     task: Task,
     (inputs, program): (Inputs, &Program),
     host: &mut dyn Host,
-) -> Option<Ran> {
+) -> Option<CorrectedTask> {
     let left = left_cold(program, &task.label());
     host.event(Event::NotMotion {
         task: &task.label(),
@@ -56,12 +56,12 @@ pub fn still_task(
         left_alone: left.rows,
         outputs,
     };
-    Some(Ran {
+    Some(CorrectedTask {
         task,
         arm: NO_ARM.to_string(),
         inputs,
         outcome,
-        way: Way::InMemory,
+        streaming: Streaming::InMemory,
     })
 }
 

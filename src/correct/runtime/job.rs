@@ -25,12 +25,12 @@ pub fn basis(module: &str) -> String {
 
 /// One task rewritten.
 #[derive(Debug)]
-pub struct RuntimeRan {
+pub struct RewrittenTask {
     pub task: Task,
     pub arm: String,
     pub inputs: Inputs,
     /// Each input's rewrite (`None`: it stays as it is), written out by
-    /// [`RuntimeRan::write_file`] as it is made.
+    /// [`RewrittenTask::write_file`] as it is made.
     rewrites: Vec<Option<FileRewrite>>,
     /// The module's file name (`NAME.sys`) and bytes.
     pub module: (String, Vec<u8>),
@@ -48,7 +48,7 @@ struct FileRewrite {
     sealed: marker::Marker,
 }
 
-impl RuntimeRan {
+impl RewrittenTask {
     /// Whether any of its program files changes.
     pub fn changed(&self) -> bool {
         (0..self.inputs.len()).any(|f| self.file_changed(f))
@@ -101,7 +101,11 @@ impl RuntimeRan {
 
 /// Rewrite the tasks (those that move no robot are said and left alone)
 /// for the plan's module.
-pub fn run(plan: &RuntimePlan, tasks: Vec<Task>, host: &mut dyn Host) -> Result<Vec<RuntimeRan>> {
+pub fn run(
+    plan: &RuntimePlan,
+    tasks: Vec<Task>,
+    host: &mut dyn Host,
+) -> Result<Vec<RewrittenTask>> {
     crate::resolve::arm::check_task_specs(&plan.arms.specs, &tasks)?;
     let model = load_model(&plan.arms.model)?;
     let mut runs = Vec::new();
@@ -134,7 +138,7 @@ fn rewrite_task(
     model: &crate::model::Model,
     task: Task,
     host: &mut dyn Host,
-) -> Result<RuntimeRan> {
+) -> Result<RewrittenTask> {
     let module = plan.module.as_str();
     let arm = checked_arm(&plan.arms, &task, model, host)?;
     let base = base_frame(&task)?.map_or(UnitQuaternion::identity(), |f| f.rotation);
@@ -190,7 +194,7 @@ fn rewrite_task(
         }));
     }
     let already = found.is_some() && tally.wrapped == 0;
-    Ok(RuntimeRan {
+    Ok(RewrittenTask {
         task,
         arm: arm.robot.name.clone(),
         inputs,

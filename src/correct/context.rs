@@ -121,6 +121,29 @@ impl<'a> Prepared<'a> {
     }
 }
 
+/// What a run corrects with: the warm robot, the options, and what was
+/// made ahead of it ([`Ahead`]).
+pub(crate) struct CorrectWith<'a, 'p> {
+    pub warm: &'a WarmRobot,
+    pub options: &'a Options,
+    pub ahead: Ahead<'p>,
+}
+
+impl<'a, 'p> CorrectWith<'a, 'p> {
+    pub fn new(warm: &'a WarmRobot, options: &'a Options, ahead: Ahead<'p>) -> Self {
+        CorrectWith {
+            warm,
+            options,
+            ahead,
+        }
+    }
+
+    /// Nothing made ahead: the run makes all it needs.
+    pub fn fresh(warm: &'a WarmRobot, options: &'a Options) -> Self {
+        CorrectWith::new(warm, options, Ahead::default())
+    }
+}
+
 /// What a caller made before a run: what the program alone decides
 /// (beside an estimate's walk, or its error) and each file's cold
 /// fingerprint (beside the parse). What is missing, or was made for
@@ -321,8 +344,12 @@ mod tests {
             colds: None,
             cold_joints: Some(joints),
         };
-        let given = correct_in_memory(&program, (&warm, &options, ahead), &mut |_, _| {})
-            .expect("corrects");
+        let given = correct_in_memory(
+            &program,
+            CorrectWith::new(&warm, &options, ahead),
+            &mut |_, _| {},
+        )
+        .expect("corrects");
         (own, given, found)
     }
 
@@ -383,7 +410,7 @@ mod tests {
         for p in [made("main", None), made("Cycle", Some(&base))] {
             let given = correct_in_memory(
                 &program,
-                (
+                CorrectWith::new(
                     &warm,
                     &at,
                     Ahead {

@@ -43,9 +43,11 @@ pub(super) fn unmarked_with_targets(program: &Program, marked: &[bool]) -> Vec<u
 /// corrected already.
 pub(super) fn keep_unmarked(
     program: &Program,
-    (marked, unmarked): (&[bool], &[usize]),
+    marked: &[bool],
+    unmarked: &[usize],
     found: &marker::FoundMarker,
-    (o, changed): (&mut Outcome, &mut [bool]),
+    o: &mut Outcome,
+    changed: &mut [bool],
     options: &Options,
 ) {
     let is_marked = |name: &str| {

@@ -53,6 +53,7 @@ mod shared;
 mod solve;
 mod splice;
 mod target;
+mod writers;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
@@ -61,4 +62,5 @@ pub use outcome::{
 };
 
 pub use options::{OnUntrusted, Options, ScheduleSource, When, ESTIMATE_ENCODING};
-pub use program::{correct, correct_into, Corrected, Keep};
+pub use program::{correct, correct_into, Corrected};
+pub use writers::{ReportRows, Writers};

@@ -184,11 +184,11 @@ pub(super) fn correct_robtarget<'r>(
         None => {
             let value = run.set.expressions.evaluate(&run.set.constants, target);
             let Some(v) = value.filter(|_| options.expand_expressions) else {
-                return Ok(Solved::LeftAlone(
-                    run.set
-                        .expressions
-                        .left_alone((run.program, &run.set.constants), target),
-                ));
+                return Ok(Solved::LeftAlone(run.set.expressions.left_alone(
+                    run.program,
+                    &run.set.constants,
+                    target,
+                )));
             };
             let pc = v.pose_conf().map_err(|e| at_target(program, target, e))?;
             evaluated = Some(v);

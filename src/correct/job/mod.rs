@@ -22,13 +22,13 @@ pub use shared::refuse_files_of_two_tasks;
 pub use still::NO_ARM;
 
 use super::cold_prints::ColdPrints;
-use super::context::{Ahead, Prepared};
+use super::context::{Ahead, CorrectWith, Prepared};
 use super::plan::TimeBasis;
 use super::plan::{Action, CorrectPlan, Destination};
 use super::program::{correct_in_memory, correct_prepared};
-use super::{Keep, Outcome};
+use super::{Outcome, ReportRows, Writers};
 use crate::error::{Error, Errors, Remedy, Result};
-use crate::model::{Model, WarmRobot};
+use crate::model::Model;
 use crate::rapid::task::Task;
 use crate::rapid::{self, ParseOptions, Program, Source};
 use crate::resolve::arm::base_frame;
@@ -76,7 +76,7 @@ pub fn run(
     // single destination is the one motion task's).
     for task in still {
         let (inputs, program) = read_task(&task, host)?;
-        if let Some(run) = still::still_task(task, (inputs, &program), host) {
+        if let Some(run) = still::still_task(task, inputs, &program, host) {
             runs.push(run);
         }
     }
@@ -203,21 +203,21 @@ fn correct_task(
     for note in &notes {
         host.event(Event::Note(note));
     }
-    let (arm_name, warm, options) = warm_run(plan, model, &task, arm, (when, 0.0), host)?;
+    let (arm_name, warm, options) = warm_run(plan, model, &task, arm, when, host)?;
     let started = std::time::Instant::now();
     let mut progress = |done, total| host.event(Event::Progress { done, total });
     let (outcome, streaming) = match (to, &plan.action) {
         (Some(sink), Action::Write(dest)) => {
-            let (outcome, changed) = correct_streamed(
-                &program,
-                (&warm, &options, ahead),
-                (dest, sink),
-                &mut progress,
-            )?;
+            let with = CorrectWith::new(&warm, &options, ahead);
+            let (outcome, changed) = correct_streamed(&program, with, dest, sink, &mut progress)?;
             (outcome, Streaming::Streamed { changed })
         }
         _ => (
-            correct_in_memory(&program, (&warm, &options, ahead), &mut progress)?,
+            correct_in_memory(
+                &program,
+                CorrectWith::new(&warm, &options, ahead),
+                &mut progress,
+            )?,
             Streaming::InMemory,
         ),
     };
@@ -242,8 +242,9 @@ fn correct_task(
 /// are.
 fn correct_streamed<'p>(
     program: &'p Program,
-    (warm, options, ahead): (&WarmRobot, &crate::correct::Options, Ahead<'p>),
-    (dest, sink): (&Destination, &mut dyn Sink),
+    with: CorrectWith<'_, 'p>,
+    dest: &Destination,
+    sink: &mut dyn Sink,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(Outcome, Vec<bool>)> {
     let names: Vec<String> = match dest {
@@ -265,12 +266,8 @@ fn correct_streamed<'p>(
             .iter_mut()
             .map(|b| b as &mut (dyn Write + Send))
             .collect();
-        let c = correct_prepared(
-            program,
-            (warm, options, ahead),
-            (&mut writers, Keep::Summary),
-            progress,
-        )?;
+        let to = Writers::new(&mut writers, ReportRows::SummaryOnly);
+        let c = correct_prepared(program, with, to, progress)?;
         for b in &mut buffered {
             b.flush().map_err(|e| Error::io(Path::new(&names[0]), &e))?;
         }

@@ -221,16 +221,14 @@ pub fn warm_robot(robot: Robot, model: &Model, when: &When, horizon: f64) -> Res
     }
 }
 
-/// The warm robot a task's run needs until `when`'s last minute (or
-/// `later`, where targets `when` does not hold are reached later: a
-/// streamed estimate's cut literals), and the run's options: (arm name,
-/// warm robot, options).
+/// The warm robot a task's run needs until `when`'s last minute, and the
+/// run's options: (arm name, warm robot, options).
 pub fn warm_run(
     plan: &CorrectPlan,
     model: &Model,
     task: &Task,
     arm: Arm,
-    (when, later): (When, f64),
+    when: When,
     host: &mut dyn Host,
 ) -> Result<(String, WarmRobot, Options)> {
     let horizon = match &when {
@@ -246,7 +244,6 @@ pub fn warm_run(
                 .chain(joints)
                 .flat_map(Schedule::all_times)
                 .fold(0.0, f64::max);
-            let latest = latest.max(later);
             match default {
                 Some(Moment::Minute(t)) => latest.max(*t),
                 _ => latest,

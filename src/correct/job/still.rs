@@ -20,7 +20,8 @@ pub const NO_ARM: &str = "none (not a motion task)";
 /// where it holds moves, a run whose every target reached is left cold.
 pub fn still_task(
     task: Task,
-    (inputs, program): (Inputs, &Program),
+    inputs: Inputs,
+    program: &Program,
     host: &mut dyn Host,
 ) -> Option<CorrectedTask> {
     let left = left_cold(program, &task.label());
@@ -92,7 +93,7 @@ fn left_cold(program: &Program, task: &str) -> Left {
                         continue;
                     }
                     let t = targets.at(i);
-                    rows.push(row(program, (&t.id, Kind::of(&t), &t.origin), &detail));
+                    rows.push(row(program, &t.id, Kind::of(&t), &t.origin, &detail));
                 }
             }
             for &j in &p.jointtargets {
@@ -101,7 +102,7 @@ fn left_cold(program: &Program, task: &str) -> Left {
                     continue;
                 }
                 let t = &joints[j];
-                rows.push(row(program, (&t.id, Kind::JointTarget, &t.origin), &detail));
+                rows.push(row(program, &t.id, Kind::JointTarget, &t.origin, &detail));
             }
         }
         if !reached {
@@ -123,7 +124,9 @@ fn left_cold(program: &Program, task: &str) -> Left {
 
 fn row(
     program: &Program,
-    (id, kind, origin): (&str, Kind, &crate::rapid::Origin),
+    id: &str,
+    kind: Kind,
+    origin: &crate::rapid::Origin,
     detail: &str,
 ) -> LeftAlone {
     LeftAlone {

@@ -66,12 +66,7 @@ impl RewrittenTask {
             return Ok(());
         };
         match self.rewrites.get(f).and_then(Option::as_ref) {
-            Some(r) => write_rewritten(
-                source.bytes(),
-                &r.calls,
-                (r.marker.as_ref(), &r.sealed),
-                out,
-            ),
+            Some(r) => write_rewritten(source.bytes(), &r.calls, r.marker.as_ref(), &r.sealed, out),
             None => out.write_all(source.bytes()),
         }
     }

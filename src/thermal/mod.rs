@@ -10,7 +10,9 @@
 //! - [`uncertainty`]: how far a forecast beyond a recording can be trusted.
 //! - [`plausible`]: which numbers can be a robot's temperature.
 //! - [`select`]: choosing a saturating model by its held-out forecast.
-//! - [`fit`]: fitting one axis, metrics (R, R², Ā, RMSE, max, held-out).
+//! - [`fit`]: fitting one axis, a model named or `auto`'s choice.
+//! - `kind_fit`: one named model fitted, its curve and metrics (R, R², Ā,
+//!   RMSE, max, held-out).
 //! - [`profile`]: profiles from fitted curves and [`default_profile`].
 //! - [`plot`]: SVG of measured and fitted curves.
 //! - [`table`]: fit results as the paper-like table, CSV and JSON.

@@ -7,7 +7,7 @@
 
 use super::ci_report::{self, ReportFormat};
 use super::correct_words::{reason_words, shared_words, summary_text};
-use super::events::Said;
+use super::events::EventMessages;
 use super::messages::{self, note};
 use super::output::FileSink;
 use super::tasks;
@@ -15,8 +15,10 @@ use super::unified_diff::unified_diff;
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::correct::check::{counts, CheckRule, Finding, FindingStatus};
-use rapidtherm::correct::job::{self, moves_a_robot, Ran};
-use rapidtherm::correct::plan::{Action, CorrectPlan, Destination, ModelSource, TimeBasis};
+use rapidtherm::correct::job::{self, moves_a_robot, CorrectedTask};
+use rapidtherm::correct::plan::{
+    Action, ArmChoice, CorrectJob, CorrectPlan, Destination, ModelSource, RuntimePlan, TimeBasis,
+};
 use rapidtherm::correct::{Kind, Outcome, Reason};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::model::warm::Moment;
@@ -260,9 +262,28 @@ pub fn model_source(path: Option<&Path>) -> ModelSource {
     }
 }
 
+/// Everything `correct` does, read from its arguments once: the library's
+/// plan of the job and what the command line does around it. Once it is
+/// made, the arguments are not read again.
+struct CorrectCommand {
+    /// The programs, and the tasks of them to work on.
+    files: Vec<PathBuf>,
+    pick: tasks::TaskPick,
+    job: CorrectJob,
+    /// Files the flags name that the run reads (the model, URDF arms):
+    /// none of them is written over.
+    flag_inputs: Vec<PathBuf>,
+    /// Replace a file the run names itself even where rapidtherm did not
+    /// write it.
+    force: bool,
+    format: ReportFormat,
+    /// The folder the pictures go to.
+    plot: Option<PathBuf>,
+}
+
 /// The plan of the arguments: every usage error is raised here, before
 /// any input is read.
-fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
+fn plan(args: CorrectArgs) -> Result<CorrectCommand> {
     if args.in_place && args.files.iter().any(|f| f == Path::new("-")) {
         return Err(Error::usage("--in-place cannot rewrite standard input"));
     }
@@ -281,25 +302,25 @@ fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
         .as_deref()
         .map(|t| moment(t, "--default-time"))
         .transpose()?;
+    // The module times itself by the controller's clock: there is no
+    // basis to read (--runtime is one of clap's group of time bases).
     let when = match (&args.when.at, &args.when.schedule, args.when.start) {
-        // The module times itself by the controller's clock: the basis is
-        // not read (--runtime is one of clap's group of time bases).
-        _ if args.runtime => TimeBasis::At(Moment::Steady),
-        (Some(at), _, _) => TimeBasis::At(moment(at, "--at")?),
-        (None, Some(file), _) => TimeBasis::Schedule {
+        _ if args.runtime => None,
+        (Some(at), _, _) => Some(TimeBasis::At(moment(at, "--at")?)),
+        (None, Some(file), _) => Some(TimeBasis::Schedule {
             file: file.clone(),
             default,
-        },
+        }),
         (None, None, Some(start)) => {
             if !(start.is_finite() && start >= 0.0) {
                 return Err(Error::usage("--start: a minute since the cold start (≥ 0)"));
             }
-            TimeBasis::Start {
+            Some(TimeBasis::Start {
                 start_min: start,
                 entry: args.entry.clone(),
                 cycles: args.cycles,
                 default,
-            }
+            })
         }
         (None, None, None) => {
             return Err(Error::usage(
@@ -320,17 +341,46 @@ fn plan(args: &CorrectArgs) -> Result<CorrectPlan> {
         (None, false, _, _) => Action::Report,
     };
     super::plot::check_dir(args.plot.as_deref())?;
-    Ok(CorrectPlan {
-        when,
-        visit: args.visit.into(),
+    let arms = ArmChoice {
         model: model_source(args.model.as_deref()),
-        arms: super::arms::arm_specs(&args.robot)?,
+        specs: super::arms::arm_specs(&args.robot)?,
         irb140_thermal: args.irb140_thermal,
         placing: super::arms::placing(args.accept_default_placement),
-        expand_expressions: args.expand_expressions,
-        split_shared: args.split_shared,
-        action,
-        keep_rows: args.plot.is_some(),
+    };
+    let job = match when {
+        Some(when) => CorrectJob::Correct(CorrectPlan {
+            when,
+            visit: args.visit.into(),
+            arms,
+            expand_expressions: args.expand_expressions,
+            split_shared: args.split_shared,
+            action,
+            keep_rows: args.plot.is_some(),
+        }),
+        None => {
+            super::correct_runtime::check_module(&args.runtime_module, &action)?;
+            CorrectJob::Runtime(RuntimePlan {
+                module: args.runtime_module,
+                arms,
+                action,
+            })
+        }
+    };
+    let mut flag_inputs: Vec<PathBuf> = args.model.into_iter().collect();
+    for r in &args.robot {
+        let file = r.split_once('=').map_or(r.as_str(), |(_, f)| f);
+        if Path::new(file).is_file() {
+            flag_inputs.push(PathBuf::from(file));
+        }
+    }
+    Ok(CorrectCommand {
+        files: args.files,
+        pick: args.pick,
+        job,
+        flag_inputs,
+        force: args.force,
+        format: args.format,
+        plot: args.plot,
     })
 }
 
@@ -338,44 +388,28 @@ fn one_file() -> Error {
     Error::usage("-o writes one file: give one input, or use --in-place for several")
 }
 
-/// What `--runtime` reads of the arguments.
-fn runtime_args(args: &CorrectArgs) -> super::correct_runtime::RuntimeArgs<'_> {
-    super::correct_runtime::RuntimeArgs {
-        module: &args.runtime_module,
-        output: args.output.as_deref(),
-        backup: args.backup.clone(),
-    }
-}
-
 /// Every file the run will write, planned once its tasks are found and
 /// checked before any of their files is read (`rapidtherm::writes`): the
 /// corrected programs, the `--runtime` modules, the pictures.
-fn writes(
-    args: &CorrectArgs,
-    plan: &CorrectPlan,
-    found: &[rapidtherm::rapid::task::Task],
-) -> Result<Checked> {
+fn writes(cmd: &CorrectCommand, found: &[rapidtherm::rapid::task::Task]) -> Result<Checked> {
     let motion: Vec<&rapidtherm::rapid::task::Task> =
         found.iter().filter(|t| moves_a_robot(t)).collect();
     // A file of two tasks is the job's to name first (it is not written
     // twice over).
     job::refuse_files_of_two_tasks(&motion.iter().map(|t| (*t).clone()).collect::<Vec<_>>())?;
-    let mut w = Plan::new(args.force);
-    for f in plan
-        .when
-        .schedule_file()
+    let mut w = Plan::new(cmd.force);
+    let schedule = match &cmd.job {
+        CorrectJob::Correct(plan) => plan.when.schedule_file(),
+        CorrectJob::Runtime(_) => None,
+    };
+    for f in schedule
         .into_iter()
-        .chain(args.model.as_deref())
+        .chain(cmd.flag_inputs.iter().map(PathBuf::as_path))
     {
         w.input(f);
     }
-    for r in &args.robot {
-        let file = r.split_once('=').map_or(r.as_str(), |(_, f)| f);
-        if Path::new(file).is_file() {
-            w.input(Path::new(file));
-        }
-    }
-    let in_place = matches!(plan.action, Action::Write(Destination::InPlace { .. }));
+    let action = cmd.job.action();
+    let in_place = matches!(action, Action::Write(Destination::InPlace { .. }));
     if !in_place {
         for t in &motion {
             for m in &t.modules {
@@ -383,7 +417,7 @@ fn writes(
             }
         }
     }
-    if let Action::Write(dest) = &plan.action {
+    if let Action::Write(dest) = action {
         let (flag, role) = match dest {
             Destination::InPlace { .. } => ("--in-place", Role::InPlace),
             _ => ("-o", Role::Named),
@@ -391,18 +425,16 @@ fn writes(
         for f in dest.files(&motion) {
             w.output(flag, &f, role);
         }
-        if args.runtime {
-            let flag = format!("--runtime-module {}", args.runtime_module);
-            for m in rapidtherm::correct::runtime::write::module_paths(
-                dest,
-                &motion,
-                &args.runtime_module,
-            ) {
+        if let CorrectJob::Runtime(runtime) = &cmd.job {
+            let flag = format!("--runtime-module {}", runtime.module);
+            for m in
+                rapidtherm::correct::runtime::write::module_paths(dest, &motion, &runtime.module)
+            {
                 w.output(&flag, &m, Role::Made(Made::RuntimeModule));
             }
         }
     }
-    if let Some(dir) = &args.plot {
+    if let Some(dir) = &cmd.plot {
         let flag = format!("--plot {}", dir.display());
         for name in super::plot::names(&motion) {
             w.output(&flag, &dir.join(name), Role::Made(Made::Picture));
@@ -412,45 +444,50 @@ fn writes(
 }
 
 pub fn run_correct(args: CorrectArgs) -> Result<Status> {
-    let plan = plan(&args)?;
-    if args.runtime {
-        super::correct_runtime::check_args(&runtime_args(&args))?;
-    }
-    let found = tasks::select(&args.files, &args.pick)?;
-    let checked = writes(&args, &plan, &found)?;
-    if args.runtime {
-        return super::correct_runtime::run(&runtime_args(&args), &plan, found, &checked);
-    }
+    // The arguments are spent here: what follows reads the plan alone.
+    let cmd = plan(args)?;
+    let found = tasks::select(&cmd.files, &cmd.pick)?;
+    let checked = writes(&cmd, &found)?;
+    let plan = match &cmd.job {
+        CorrectJob::Runtime(runtime) => {
+            return super::correct_runtime::run(runtime, found, &checked)
+        }
+        CorrectJob::Correct(plan) => plan,
+    };
     // What the plan asks of the tasks found: known once they are.
     let motion: Vec<&rapidtherm::rapid::task::Task> =
         found.iter().filter(|t| moves_a_robot(t)).collect();
-    if args.output.is_some() && (motion.len() != 1 || motion[0].modules.len() != 1) {
+    let one_output = matches!(
+        plan.action,
+        Action::Write(Destination::File(_) | Destination::Stdout)
+    );
+    if one_output && (motion.len() != 1 || motion[0].modules.len() != 1) {
         return Err(one_file());
     }
-    if args.when.schedule.is_some() && motion.len() > 1 {
+    if plan.when.schedule_file().is_some() && motion.len() > 1 {
         return Err(Error::usage(
             "a schedule file times the targets of one task: pick it with --task (or use --start, which times each task)",
         ));
     }
-    let mut sink = FileSink::new(args.backup.clone(), &checked);
-    let runs = job::run(&plan, found, &mut Said::default(), &mut sink)?;
+    let mut sink = FileSink::new(plan.action.backup(), &checked);
+    let runs = job::run(plan, found, &mut EventMessages::default(), &mut sink)?;
     let drawn: Vec<_> = runs
         .iter()
         .map(|r| (&r.task, &r.inputs, &r.outcome))
         .collect();
-    let pictures = super::plot::draw(args.plot.as_deref(), &drawn)?;
+    let pictures = super::plot::draw(cmd.plot.as_deref(), &drawn)?;
     sink.commit()?;
-    let status = emit(&args, &plan, &runs)?;
-    super::plot::write(&checked, args.plot.as_deref(), &pictures)?;
+    let status = emit(plan, cmd.format, &runs)?;
+    super::plot::write(&checked, cmd.plot.as_deref(), &pictures)?;
     Ok(status)
 }
 
-/// Print what the runs found, as the plan asks.
-fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> {
+/// Print what the runs found, as the plan asks, in `format`.
+fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Result<Status> {
     // A task of a backup is named; files given one by one are one
     // unnamed task, reported as before.
     let named = runs.len() > 1 || runs.iter().any(|r| r.task.name.is_some());
-    let heading = |r: &Ran| -> String {
+    let heading = |r: &CorrectedTask| -> String {
         if named {
             format!("task {} ({}):\n", r.task.label(), r.arm)
         } else {
@@ -486,7 +523,7 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
         .map(|f| f.iter().map(Row::of).collect())
         .collect();
     let any_finding = findings.iter().any(|f| !f.is_empty());
-    let verdict = || check_verdict(&found.concat(), args.tolerance);
+    let verdict = |rule: &CheckRule| check_verdict(&found.concat(), rule.tolerance);
     match &plan.action {
         Action::Diff { check } => {
             let mut text = Vec::new();
@@ -497,7 +534,7 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
             }
             write_stdout(&text)?;
             messages::lines(&summaries());
-            if check.is_some() {
+            if let Some(rule) = check {
                 messages::outcome_lines(&per_task(
                     runs,
                     &findings,
@@ -506,9 +543,9 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
                     "findings",
                     check_list,
                 )?);
-                messages::lines(&verdict());
+                messages::lines(&verdict(rule));
             }
-            let changed = runs.iter().any(Ran::changed);
+            let changed = runs.iter().any(CorrectedTask::changed);
             Ok(if changed || (check.is_some() && any_finding) {
                 Status::Changes
             } else {
@@ -517,7 +554,7 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
         }
         Action::Check(rule) => {
             messages::lines(&summaries());
-            let list = match args.format.data() {
+            let list = match format.data() {
                 Some(format) => per_task(runs, &findings, format, named, "findings", check_list)?,
                 None => {
                     let checked: Vec<ci_report::Checked> = runs
@@ -528,11 +565,11 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
                             outcome: &r.outcome,
                         })
                         .collect();
-                    ci_report::check(args.format, &checked, rule)?
+                    ci_report::check(format, &checked, rule)?
                 }
             };
             write_stdout(list.as_bytes())?;
-            messages::lines(&verdict());
+            messages::lines(&verdict(rule));
             Ok(if any_finding {
                 Status::Changes
             } else {
@@ -545,7 +582,7 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
         }
         Action::Report => {
             // Refused before the run: github and junit report a check only.
-            let format = args.format.data().unwrap_or_default();
+            let format = format.data().unwrap_or_default();
             let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
             write_stdout(
                 per_task(runs, &outcomes, format, named, "report", |o, f| {
@@ -561,7 +598,7 @@ fn emit(args: &CorrectArgs, plan: &CorrectPlan, runs: &[Ran]) -> Result<Status> 
     }
 }
 
-fn in_task(named: bool, r: &Ran) -> String {
+fn in_task(named: bool, r: &CorrectedTask) -> String {
     if named {
         format!("task {}: ", r.task.label())
     } else {
@@ -571,7 +608,7 @@ fn in_task(named: bool, r: &Ran) -> String {
 
 /// One rendering per task, joined (see [`tasks::join`]).
 fn per_task<T>(
-    runs: &[Ran],
+    runs: &[CorrectedTask],
     items: &[T],
     format: Format,
     named: bool,

@@ -2,33 +2,24 @@
 //! rewritten to call it, written beside the output (or shown as a diff, or
 //! counted); the library's `correct::runtime::job` makes them.
 
-use super::events::Said;
+use super::events::EventMessages;
 use super::messages;
 use super::output::FileSink;
 use super::unified_diff::unified_diff;
 use super::write_stdout;
 use super::Status;
-use rapidtherm::correct::plan::{Action, CorrectPlan};
+use rapidtherm::correct::plan::{Action, Destination, RuntimePlan};
 use rapidtherm::correct::runtime::job;
 use rapidtherm::correct::runtime::write::{self, module_path};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::rapid::task::Task;
 use rapidtherm::writes::Checked;
-use std::path::Path;
 
-/// What `--runtime` reads of `correct`'s arguments.
-pub struct RuntimeArgs<'a> {
-    /// The module's name.
-    pub module: &'a str,
-    pub output: Option<&'a Path>,
-    pub backup: Option<String>,
-}
-
-/// The uses of the flag the plan cannot see: a module name RAPID reads,
-/// and somewhere to put the module.
-pub fn check_args(args: &RuntimeArgs) -> Result<()> {
-    rapidtherm::correct::runtime::module::check_module_name(args.module)?;
-    if args.output == Some(Path::new("-")) {
+/// The uses of the flag the rest of the plan cannot see: a module name
+/// RAPID reads, and somewhere to put the module.
+pub fn check_module(module: &str, action: &Action) -> Result<()> {
+    rapidtherm::correct::runtime::module::check_module_name(module)?;
+    if *action == Action::Write(Destination::Stdout) {
         return Err(Error::usage(
             "--runtime writes a module beside the program: give -o FILE, --in-place or --diff, not standard output",
         ));
@@ -36,13 +27,8 @@ pub fn check_args(args: &RuntimeArgs) -> Result<()> {
     Ok(())
 }
 
-pub fn run(
-    args: &RuntimeArgs,
-    plan: &CorrectPlan,
-    found: Vec<Task>,
-    checked: &Checked,
-) -> Result<Status> {
-    let runs = job::run(plan, args.module, found, &mut Said::default())?;
+pub fn run(plan: &RuntimePlan, found: Vec<Task>, checked: &Checked) -> Result<Status> {
+    let runs = job::run(plan, found, &mut EventMessages::default())?;
     for r in &runs {
         let t = &r.tally;
         let task = if runs.len() > 1 || r.task.name.is_some() {
@@ -53,17 +39,17 @@ pub fn run(
         if r.already {
             messages::lines(&format!(
                 "{task}already rewritten for {}; nothing to do\n",
-                args.module
+                plan.module
             ));
         }
         messages::lines(&format!(
             "{task}{} target argument(s) call {} ({} already did); {} move(s) of no robot left alone\n",
-            t.wrapped, args.module, t.already, t.left
+            t.wrapped, plan.module, t.already, t.left
         ));
     }
     match &plan.action {
         Action::Write(dest) => {
-            let mut sink = FileSink::new(args.backup.clone(), checked);
+            let mut sink = FileSink::new(plan.action.backup(), checked);
             write::write(dest, &runs, &mut sink)?;
             sink.commit()?;
             Ok(Status::Success)

@@ -538,33 +538,61 @@ fn plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
     })
 }
 
-pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
+/// Everything `diagnose` does, read from its arguments once: the
+/// library's plan and what the command line does around it. Once it is
+/// made, the arguments are not read again.
+struct DiagnoseCommand {
+    plan: DiagnosePlan,
+    /// The outputs, checked against the inputs before any is read.
+    checked: Checked,
+    /// `--robot` as given, for the words of a refusal.
+    robot: Option<PathBuf>,
+    format: Format,
+    plot: Option<PathBuf>,
+    save_model: Option<PathBuf>,
+}
+
+fn command(args: DiagnoseArgs) -> Result<DiagnoseCommand> {
     let plan = plan(&args)?;
     let checked = check_diagnose_outputs(&args)?;
-    let run = match job::run(&plan, &mut Messages).map_err(|r| refused(r, args.robot.as_deref()))? {
+    Ok(DiagnoseCommand {
+        plan,
+        checked,
+        robot: args.robot,
+        format: args.format,
+        plot: args.plot,
+        save_model: args.save_model,
+    })
+}
+
+pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
+    // The arguments are spent here: what follows reads the plan alone.
+    let cmd = command(args)?;
+    let (plan, checked) = (&cmd.plan, &cmd.checked);
+    let run = match job::run(plan, &mut Messages).map_err(|r| refused(r, cmd.robot.as_deref()))? {
         Ran::Chain(d) => {
-            let text = super::diagnose_chain::render(args.format, &d)?;
+            let text = super::diagnose_chain::render(cmd.format, &d)?;
             write_stdout(text.as_bytes())?;
             return Ok(Status::Success);
         }
         Ran::Effects(run) => run,
     };
     let d = &run.diagnosis;
-    if let Some(dir) = &args.plot {
+    if let Some(dir) = &cmd.plot {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
         for (name, svg) in &run.plots {
             let path = dir.join(name);
-            super::output::write_atomic(&checked, &path, svg.as_bytes(), None)?;
+            super::output::write_atomic(checked, &path, svg.as_bytes(), None)?;
             status!("wrote {}", path.display());
         }
     }
-    if let (Some(path), Some(text)) = (&args.save_model, &run.model_toml) {
-        super::output::write_atomic(&checked, path, text.as_bytes(), None)?;
+    if let (Some(path), Some(text)) = (&cmd.save_model, &run.model_toml) {
+        super::output::write_atomic(checked, path, text.as_bytes(), None)?;
         status!("wrote {}", path.display());
     }
     let own = run.setup.own_geometry.map(OwnGeometry::name);
     let arm = &run.setup.arm;
-    let text = match args.format {
+    let text = match cmd.format {
         Format::Json => {
             let json_err = |e: serde_json::Error| {
                 Error::new(ErrorKind::Input, format!("cannot write JSON: {e}"))

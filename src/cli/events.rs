@@ -9,11 +9,11 @@ use rapidtherm::resolve::arm::{Arm, ChosenBy};
 
 /// Says each event as the command line words it.
 #[derive(Default)]
-pub struct Said {
+pub struct EventMessages {
     bar: Option<indicatif::ProgressBar>,
 }
 
-impl Host for Said {
+impl Host for EventMessages {
     fn event(&mut self, e: Event<'_>) {
         match e {
             Event::TaskNote(n) | Event::Note(n) => note!("{n}"),
@@ -51,7 +51,7 @@ impl Host for Said {
     }
 }
 
-impl Said {
+impl EventMessages {
     /// The bar of a correction: shown for long runs to a person only; the
     /// time left is estimated from the pace of the targets alone (what
     /// ran before the first, reading and the schedule, would make it many

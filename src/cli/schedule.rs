@@ -75,15 +75,14 @@ pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
     let est = estimate(&program, &arm.robot, &opts)?;
     messages::took("walking the program", started);
     write_output(&checked, &args.output, est.to_csv().as_bytes())?;
-    let counts = (
-        est.schedule.targets().len() + est.joint_schedule.targets().len(),
-        est.schedule.visit_count() + est.joint_schedule.visit_count(),
-    );
-    Ok(said(&est, counts, &opts))
+    Ok(said(&est, &opts))
 }
 
-/// The estimate's notes and summary (`counts`: its targets and visits).
-fn said(est: &Estimate, (targets, visits): (usize, usize), opts: &EstimateOptions) -> Status {
+/// The estimate's notes and summary: its targets and visits, and the
+/// minutes they span.
+fn said(est: &Estimate, opts: &EstimateOptions) -> Status {
+    let targets = est.schedule.targets().len() + est.joint_schedule.targets().len();
+    let visits = est.schedule.visit_count() + est.joint_schedule.visit_count();
     for n in &est.notes {
         note!("{n}");
     }

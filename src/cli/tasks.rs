@@ -53,7 +53,7 @@ pub fn select(paths: &[PathBuf], pick: &TaskPick) -> Result<Vec<Task>> {
 /// Read a task's modules and parse them as one program; the reader's
 /// warnings and the task's notes go to stderr.
 pub fn read(task: &Task) -> Result<(Inputs, Program)> {
-    rapidtherm::correct::job::read_task(task, &mut super::events::Said::default())
+    rapidtherm::correct::job::read_task(task, &mut super::events::EventMessages::default())
 }
 
 /// Renderings of several tasks as one output: as it is when `labels` is

@@ -1,7 +1,7 @@
 //! What every target of a run shares: the program's frames, usages and
 //! constants, the warm robot's states, the options; built once per run.
 
-use super::colds::Colds;
+use super::cold_prints::ColdPrints;
 use super::derived::calls_by_offset;
 use super::expressions::Expressions;
 use super::names::Names;
@@ -121,6 +121,29 @@ impl<'a> Prepared<'a> {
     }
 }
 
+/// What a run corrects with: the warm robot, the options, and what was
+/// made ahead of it ([`Ahead`]).
+pub(crate) struct CorrectWith<'a, 'p> {
+    pub warm: &'a WarmRobot,
+    pub options: &'a Options,
+    pub ahead: Ahead<'p>,
+}
+
+impl<'a, 'p> CorrectWith<'a, 'p> {
+    pub fn new(warm: &'a WarmRobot, options: &'a Options, ahead: Ahead<'p>) -> Self {
+        CorrectWith {
+            warm,
+            options,
+            ahead,
+        }
+    }
+
+    /// Nothing made ahead: the run makes all it needs.
+    pub fn fresh(warm: &'a WarmRobot, options: &'a Options) -> Self {
+        CorrectWith::new(warm, options, Ahead::default())
+    }
+}
+
 /// What a caller made before a run: what the program alone decides
 /// (beside an estimate's walk, or its error) and each file's cold
 /// fingerprint (beside the parse). What is missing, or was made for
@@ -128,7 +151,7 @@ impl<'a> Prepared<'a> {
 #[derive(Default)]
 pub(crate) struct Ahead<'a> {
     pub prepared: Option<Result<Prepared<'a>>>,
-    pub colds: Option<Colds>,
+    pub colds: Option<ColdPrints>,
     /// The cold joints the walk that timed the run found.
     pub cold_joints: Option<ColdJoints>,
 }
@@ -137,7 +160,7 @@ impl<'a> Ahead<'a> {
     /// The run's set-up and its files' fingerprints: as made ahead where
     /// they fit, else made now (both on two cores where both are
     /// missing: a file of 100 MB takes a twentieth of a second to hash).
-    pub fn made(
+    pub fn setup_and_prints(
         self,
         program: &'a Program,
         options: &Options,
@@ -150,10 +173,10 @@ impl<'a> Ahead<'a> {
         let make = || Prepared::of(program, entry_of(options), options.base_frame.as_ref());
         match (prepared, colds) {
             (Some(p), Some(c)) => Ok((p, c.into_prints())),
-            (Some(p), None) => Ok((p, Colds::of_program(program).into_prints())),
+            (Some(p), None) => Ok((p, ColdPrints::of_program(program).into_prints())),
             (None, Some(c)) => Ok((make()?, c.into_prints())),
             (None, None) => {
-                let (p, c) = rayon::join(make, || Colds::of_program(program));
+                let (p, c) = rayon::join(make, || ColdPrints::of_program(program));
                 Ok((p?, c.into_prints()))
             }
         }
@@ -321,8 +344,12 @@ mod tests {
             colds: None,
             cold_joints: Some(joints),
         };
-        let given = correct_in_memory(&program, (&warm, &options, ahead), &mut |_, _| {})
-            .expect("corrects");
+        let given = correct_in_memory(
+            &program,
+            CorrectWith::new(&warm, &options, ahead),
+            &mut |_, _| {},
+        )
+        .expect("corrects");
         (own, given, found)
     }
 
@@ -383,7 +410,7 @@ mod tests {
         for p in [made("main", None), made("Cycle", Some(&base))] {
             let given = correct_in_memory(
                 &program,
-                (
+                CorrectWith::new(
                     &warm,
                     &at,
                     Ahead {

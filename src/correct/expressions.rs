@@ -98,7 +98,8 @@ impl<'p> Expressions<'p> {
     /// The report for a literal left as written.
     pub fn left_alone(
         &self,
-        (program, constants): (&Program, &Constants),
+        program: &Program,
+        constants: &Constants,
         target: &Target,
     ) -> LeftAlone {
         let names: Vec<String> = self

@@ -140,7 +140,7 @@ pub(super) fn fates<'p>(
                 Fate::LeftAlone(r)
             } else if !reaches {
                 let (reason, detail) =
-                    unread_reason(m, p, routine, (&declared, decided.frames, &assigned));
+                    unread_reason(m, p, routine, &declared, decided.frames, &assigned);
                 record(text(), reason, detail);
                 Fate::LeftAlone(reason)
             } else if m.joints {
@@ -257,7 +257,9 @@ fn unread_reason(
     m: &Move,
     p: &Point,
     routine: Option<&Routine>,
-    (declared, frames, assigned): (&Declared, &Frames, &HashMap<String, Vec<String>>),
+    declared: &Declared,
+    frames: &Frames,
+    assigned: &HashMap<String, Vec<String>>,
 ) -> (Reason, String) {
     let root = match (p.expr, p.name) {
         (_, Some(n)) => Some(n.to_string()),

@@ -20,7 +20,8 @@ use std::sync::{mpsc, Condvar, Mutex, MutexGuard};
 /// returned.
 pub(super) fn in_order<T: Send, E>(
     n: usize,
-    (workers, window): (usize, usize),
+    workers: usize,
+    window: usize,
     work: impl Fn(usize) -> T + Sync,
     mut put: impl FnMut(usize, T) -> Result<(), E>,
 ) -> Result<(), E> {
@@ -93,7 +94,8 @@ mod tests {
         let mut seen = Vec::new();
         let r: Result<(), ()> = in_order(
             1000,
-            (3, 4),
+            3,
+            4,
             |k| {
                 // No piece starts more than the window ahead of the writing.
                 let h = handed.load(Ordering::SeqCst);
@@ -117,7 +119,8 @@ mod tests {
         let started = AtomicUsize::new(0);
         let r = in_order(
             100_000,
-            (2, 8),
+            2,
+            8,
             |k| {
                 started.fetch_add(1, Ordering::SeqCst);
                 k
@@ -131,7 +134,7 @@ mod tests {
 
     #[test]
     fn nothing_to_do_is_done() {
-        let r: Result<(), ()> = in_order(0, (2, 4), |k| k, |_, _| Err(()));
+        let r: Result<(), ()> = in_order(0, 2, 4, |k| k, |_, _| Err(()));
         assert!(r.is_ok());
     }
 }

@@ -43,9 +43,11 @@ pub(super) fn unmarked_with_targets(program: &Program, marked: &[bool]) -> Vec<u
 /// corrected already.
 pub(super) fn keep_unmarked(
     program: &Program,
-    (marked, unmarked): (&[bool], &[usize]),
-    found: &marker::Found,
-    (o, changed): (&mut Outcome, &mut [bool]),
+    marked: &[bool],
+    unmarked: &[usize],
+    found: &marker::FoundMarker,
+    o: &mut Outcome,
+    changed: &mut [bool],
     options: &Options,
 ) {
     let is_marked = |name: &str| {
@@ -83,7 +85,7 @@ pub(super) fn keep_unmarked(
 
 /// The note of a file without a marker in a program another file of
 /// which says it is corrected.
-fn unmarked_note(program: &Program, f: usize, found: &marker::Found) -> String {
+fn unmarked_note(program: &Program, f: usize, found: &marker::FoundMarker) -> String {
     format!(
         "{} has no rapidtherm marker, though {} says the program is corrected: its targets are taken as cold (a module added after the correction)",
         program.files[f], program.files[found.file]
@@ -96,7 +98,7 @@ fn unmarked_note(program: &Program, f: usize, found: &marker::Found) -> String {
 /// the cold ones), and a note says so.
 pub(super) fn already_corrected(
     program: &Program,
-    found: &marker::Found,
+    found: &marker::FoundMarker,
     options: &Options,
 ) -> Outcome {
     let m = &found.marker;

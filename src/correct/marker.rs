@@ -72,7 +72,7 @@ pub struct Marker {
 
 /// A marker found in a file, and where.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Found {
+pub struct FoundMarker {
     pub marker: Marker,
     pub file: usize,
     pub line: usize,
@@ -281,12 +281,12 @@ fn classify(text: &str) -> Option<Line> {
 
 /// The first marker among the program's files (the first of its file
 /// where it has several), its fields read.
-pub fn find(program: &Program) -> Option<Found> {
+pub fn find(program: &Program) -> Option<FoundMarker> {
     (0..program.files.len()).find_map(|file| {
         lines_of(program.source(file))
             .into_iter()
             .find_map(|(line, l)| match l {
-                Line::Marker(Ok(marker)) => Some(Found { marker, file, line }),
+                Line::Marker(Ok(marker)) => Some(FoundMarker { marker, file, line }),
                 _ => None,
             })
     })
@@ -538,7 +538,7 @@ fn marker_line(program: &Program, file: usize, line: usize) -> Location {
 }
 
 /// The refusal to correct a corrected program on another basis.
-pub fn refuse(program: &Program, found: &Found, wanted: &Marker) -> Error {
+pub fn refuse(program: &Program, found: &FoundMarker, wanted: &Marker) -> Error {
     let m = &found.marker;
     Error::input(format!(
         "this program was already corrected by rapidtherm {} for {} with {}; correcting it again (for {} with {}) would add a second correction on top of the first",

@@ -28,7 +28,7 @@
 //! or the CLI.
 
 pub mod check;
-mod colds;
+mod cold_prints;
 mod context;
 pub mod derived;
 mod edits;
@@ -53,6 +53,7 @@ mod shared;
 mod solve;
 mod splice;
 mod target;
+mod writers;
 
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
@@ -60,5 +61,6 @@ pub use outcome::{
     Reason, Residual, SharedUse, Split, Summary,
 };
 
-pub use options::{Options, ScheduleSource, Untrusted, When, ESTIMATE_ENCODING};
-pub use program::{correct, correct_into, Corrected, Keep};
+pub use options::{OnUntrusted, Options, ScheduleSource, When, ESTIMATE_ENCODING};
+pub use program::{correct, correct_into, Corrected};
+pub use writers::{ReportRows, Writers};

@@ -14,18 +14,18 @@ pub(super) type Moments = SmallVec<[Moment; 2]>;
 
 /// The moments robtarget `index` (identifier `id`) is reached.
 pub(super) fn moments_of(when: &When, index: usize, id: &str) -> Result<Moments> {
-    moments_in(when, (index, id), false)
+    moments_in(when, index, id, false)
 }
 
 /// The moments jointtarget `index` (identifier `id`) is reached.
 pub(super) fn joint_moments_of(when: &When, index: usize, id: &str) -> Result<Moments> {
-    moments_in(when, (index, id), true)
+    moments_in(when, index, id, true)
 }
 
 /// The moments target `index` of its kind (a jointtarget's where `joint`)
 /// is reached: by its number where the schedule was recorded by number
 /// (an estimate's), else by its identifier `id`.
-pub(super) fn moments_in(when: &When, (index, id): (usize, &str), joint: bool) -> Result<Moments> {
+pub(super) fn moments_in(when: &When, index: usize, id: &str, joint: bool) -> Result<Moments> {
     match when {
         When::At(m) => Ok(smallvec::smallvec![*m]),
         When::Schedule {

@@ -64,12 +64,12 @@ pub struct Options {
     pub split_shared: bool,
     /// What a run does with a file whose marker is not trusted (its
     /// numbers changed since the correction, or it has no fingerprint).
-    pub untrusted: Untrusted,
+    pub untrusted: OnUntrusted,
 }
 
 /// What a run does with a file whose marker is not trusted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Untrusted {
+pub enum OnUntrusted {
     /// Refuse: a run that writes would correct corrected numbers again.
     #[default]
     Refuse,
@@ -90,7 +90,7 @@ impl Options {
             model_label: "embedded default model, embedded IRB 140 arm".to_string(),
             base_frame: None,
             split_shared: false,
-            untrusted: Untrusted::Refuse,
+            untrusted: OnUntrusted::Refuse,
         }
     }
 }

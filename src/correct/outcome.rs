@@ -411,7 +411,8 @@ pub(super) fn derived_report(
     program: &Program,
     target: &Target,
     corrections: &[Correction],
-    (passed, reads): (&HashMap<String, Vec<String>>, &[&str]),
+    passed: &HashMap<String, Vec<String>>,
+    reads: &[&str],
 ) -> Derived {
     let d = target.derived.as_deref();
     let bases: Vec<String> = d.map(|d| d.bases.clone()).unwrap_or_default();

@@ -10,19 +10,42 @@ use crate::resolve::arm::{ArmSpec, Placing};
 use crate::schedule::Visit;
 use std::path::PathBuf;
 
+/// What a `correct` run makes, each job with its own plan: the
+/// run-time job reads no time of the targets, so its plan has none.
+#[derive(Debug, Clone)]
+pub enum CorrectJob {
+    /// The targets corrected for when they are reached ([`super::job`]).
+    Correct(CorrectPlan),
+    /// A module that corrects on the controller as the program runs, and
+    /// the program rewritten to call it ([`super::runtime::job`]).
+    Runtime(RuntimePlan),
+}
+
+impl CorrectJob {
+    /// What the run does with the programs it makes.
+    pub fn action(&self) -> &Action {
+        match self {
+            CorrectJob::Correct(p) => &p.action,
+            CorrectJob::Runtime(p) => &p.action,
+        }
+    }
+
+    /// The arm of each task and the model that warms it.
+    pub fn arms(&self) -> &ArmChoice {
+        match self {
+            CorrectJob::Correct(p) => &p.arms,
+            CorrectJob::Runtime(p) => &p.arms,
+        }
+    }
+}
+
 /// A planned correction.
 #[derive(Debug, Clone)]
 pub struct CorrectPlan {
     pub when: TimeBasis,
     /// Which visit a target reached several times is corrected for.
     pub visit: Visit,
-    pub model: ModelSource,
-    /// Arms named for every task or for one task of a backup.
-    pub arms: Vec<ArmSpec>,
-    /// Use the IRB 140's thermal defaults on an arm whose own are unknown.
-    pub irb140_thermal: bool,
-    /// Whether a task its backup does not place may stand at the origin.
-    pub placing: Placing,
+    pub arms: ArmChoice,
     /// Write numbers in place of literals written with named constants or
     /// expressions.
     pub expand_expressions: bool,
@@ -31,6 +54,31 @@ pub struct CorrectPlan {
     pub action: Action,
     /// Pictures are drawn from every target's row: the run keeps them.
     pub keep_rows: bool,
+}
+
+/// A planned rewrite for correction at run time (`--runtime`).
+#[derive(Debug, Clone)]
+pub struct RuntimePlan {
+    /// The module's name, a RAPID identifier (checked as the plan is
+    /// made).
+    pub module: String,
+    pub arms: ArmChoice,
+    /// Never [`Action::Check`]: a check has no numbers to compare before
+    /// the controller runs.
+    pub action: Action,
+}
+
+/// The arm each task moves and the model that warms it: what every job
+/// of `correct` corrects for.
+#[derive(Debug, Clone)]
+pub struct ArmChoice {
+    pub model: ModelSource,
+    /// Arms named for every task or for one task of a backup.
+    pub specs: Vec<ArmSpec>,
+    /// Use the IRB 140's thermal defaults on an arm whose own are unknown.
+    pub irb140_thermal: bool,
+    /// Whether a task its backup does not place may stand at the origin.
+    pub placing: Placing,
 }
 
 /// When the targets are reached.
@@ -75,6 +123,17 @@ pub enum Action {
     Diff { check: Option<CheckRule> },
     /// Write the corrected program.
     Write(Destination),
+}
+
+impl Action {
+    /// The suffix each original keeps, where the inputs are rewritten in
+    /// place with a backup.
+    pub fn backup(&self) -> Option<String> {
+        match self {
+            Action::Write(Destination::InPlace { backup }) => backup.clone(),
+            _ => None,
+        }
+    }
 }
 
 /// Where a corrected program goes.

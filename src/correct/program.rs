@@ -9,17 +9,18 @@
 //! it refuses, each cause once. A program its marker says is corrected
 //! already is written as it is.
 
-use super::context::{Ahead, Run};
+use super::context::{CorrectWith, Run};
 use super::in_order::in_order;
 use super::joints::{correct_jointtarget, JointSolved};
 use super::marked::{already_corrected, keep_unmarked, unmarked_with_targets};
 use super::moments::check_schedule_names;
-use super::options::{Options, ScheduleSource, Untrusted, When};
+use super::options::{OnUntrusted, Options, ScheduleSource, When};
 use super::outcome::{derived_report, Correction, Derived, LeftAlone, Outcome, Residual, Summary};
 use super::pass::{tallied, Buffers, Done, Pass, Tally};
 use super::progress::Progress;
 use super::splice::{write_error, Splice};
 use super::target::{correct_robtarget, with_others, Solved};
+use super::writers::{ReportRows, Writers};
 use super::{derived, expressions, fate, marker, shared};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::WarmRobot;
@@ -48,14 +49,14 @@ pub fn correct(
     options: &Options,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
-    correct_in_memory(program, (warm, options, Ahead::default()), progress)
+    correct_in_memory(program, CorrectWith::fresh(warm, options), progress)
 }
 
 /// [`correct`] with what the program alone decides made before, or its
 /// error ([`correct_prepared`]).
 pub(crate) fn correct_in_memory<'p>(
     program: &'p Program,
-    run: (&WarmRobot, &Options, Ahead<'p>),
+    run: CorrectWith<'_, 'p>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Outcome> {
     let mut bufs: Vec<Vec<u8>> = (0..program.files.len())
@@ -66,7 +67,12 @@ pub(crate) fn correct_in_memory<'p>(
             .iter_mut()
             .map(|b| b as &mut (dyn Write + Send))
             .collect();
-        correct_prepared(program, run, (&mut outs, Keep::Rows), progress)?
+        correct_prepared(
+            program,
+            run,
+            Writers::new(&mut outs, ReportRows::Every),
+            progress,
+        )?
     };
     let mut outcome = corrected.outcome;
     for (f, buf) in bufs.iter_mut().enumerate() {
@@ -76,16 +82,6 @@ pub(crate) fn correct_in_memory<'p>(
     }
     outcome.outputs = bufs;
     Ok(outcome)
-}
-
-/// Which of a run's report rows are kept.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Keep {
-    /// Every target's (a report, a check, pictures).
-    Rows,
-    /// The summary's figures alone (a file written: a million rows is
-    /// what the run need not hold).
-    Summary,
 }
 
 /// A run corrected into its writers.
@@ -101,20 +97,15 @@ pub struct Corrected {
 
 /// [`correct`], each file's corrected bytes written to `outs` (one writer
 /// per file, in the program's file order) as they are made, the rows kept
-/// as `keep` says. On an error, what was written is to be thrown away.
+/// as `to` says. On an error, what was written is to be thrown away.
 pub fn correct_into(
     program: &Program,
     warm: &WarmRobot,
     options: &Options,
-    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    to: Writers<'_, '_>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
-    correct_prepared(
-        program,
-        (warm, options, Ahead::default()),
-        (outs, keep),
-        progress,
-    )
+    correct_prepared(program, CorrectWith::fresh(warm, options), to, progress)
 }
 
 /// [`correct_into`] with what was made ahead of it ([`Ahead`]): what the
@@ -122,24 +113,24 @@ pub fn correct_into(
 /// each file's fingerprint (beside the parse).
 pub(crate) fn correct_prepared<'p>(
     program: &'p Program,
-    (warm, options, ahead): (&WarmRobot, &Options, Ahead<'p>),
-    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    with: CorrectWith<'_, 'p>,
+    to: Writers<'_, '_>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
-    correct_all(program, (warm, options, ahead), (outs, keep), progress)
-        .map_err(|e| with_source(e, program))
+    correct_all(program, with, to, progress).map_err(|e| with_source(e, program))
 }
 
 fn correct_all<'p>(
     program: &'p Program,
-    (warm, options, ahead): (&WarmRobot, &Options, Ahead<'p>),
-    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    with: CorrectWith<'_, 'p>,
+    mut to: Writers<'_, '_>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Corrected> {
+    let (options, keep) = (with.options, to.rows);
     let basis = options.when.basis();
     let distrust = marker::untrusted(program);
     if let Some(u) = &distrust {
-        if options.untrusted == Untrusted::Refuse {
+        if options.untrusted == OnUntrusted::Refuse {
             return Err(marker::refuse_untrusted(program, u));
         }
     }
@@ -152,8 +143,8 @@ fn correct_all<'p>(
         let unmarked = unmarked_with_targets(program, &marked);
         // A run that writes, on a program whose every file with targets
         // is marked: the files are what it would write.
-        if keep == Keep::Summary && unmarked.is_empty() {
-            for (f, out) in outs.iter_mut().enumerate() {
+        if keep == ReportRows::SummaryOnly && unmarked.is_empty() {
+            for (f, out) in to.outs.iter_mut().enumerate() {
                 out.write_all(program.source(f)).map_err(write_error)?;
             }
             return Ok(Corrected {
@@ -168,38 +159,35 @@ fn correct_all<'p>(
             split_shared: found.marker.split,
             ..options.clone()
         };
-        let run = (warm, &as_made, ahead);
-        let mut all = correct_body(program, run, (outs, Keep::Rows), progress, None)?;
+        let run = CorrectWith::new(with.warm, &as_made, with.ahead);
+        to.rows = ReportRows::Every;
+        let mut all = correct_body(program, run, to, progress, None)?;
         let (o, changed) = (&mut all.outcome, &mut all.changed[..]);
-        keep_unmarked(program, (&marked, &unmarked), &found, (o, changed), options);
-        if keep == Keep::Summary {
+        keep_unmarked(program, &marked, &unmarked, &found, o, changed, options);
+        if keep == ReportRows::SummaryOnly {
             all.outcome.corrections.clear();
         }
         return Ok(all);
     }
-    correct_body(
-        program,
-        (warm, options, ahead),
-        (outs, keep),
-        progress,
-        distrust,
-    )
+    correct_body(program, with, to, progress, distrust)
 }
 
 /// [`correct_all`] past the marker: every target of the program taken as
 /// cold (`distrust`: why a marker it holds is not trusted, for the notes).
 fn correct_body<'p>(
     program: &'p Program,
-    (warm, options, mut ahead): (&WarmRobot, &Options, Ahead<'p>),
-    (outs, keep): (&mut [&mut (dyn Write + Send)], Keep),
+    with: CorrectWith<'_, 'p>,
+    to: Writers<'_, '_>,
     progress: &mut dyn FnMut(usize, usize),
     distrust: Option<marker::Untrusted>,
 ) -> Result<Corrected> {
+    let (warm, options, mut ahead) = (with.warm, with.options, with.ahead);
+    let (outs, keep) = (to.outs, to.rows);
     let basis = options.when.basis();
     // What the program alone decides, and each file's fingerprint for
     // its marker: made ahead where the caller had them made, else now.
     let cold_joints = ahead.cold_joints.take().filter(|c| c.fits(program));
-    let (prepared, colds) = ahead.made(program, options)?;
+    let (prepared, colds) = ahead.setup_and_prints(program, options)?;
     let mut run = Run::with(prepared, warm, options);
     run.cold_joints = cold_joints;
     if let When::Schedule {
@@ -235,7 +223,7 @@ fn correct_body<'p>(
     }
     let pass = Pass {
         run: &run,
-        keep_rows: keep == Keep::Rows,
+        keep_rows: keep == ReportRows::Every,
         write: true,
         early: &early.rows,
         bases: &bases,
@@ -310,7 +298,7 @@ fn correct_body<'p>(
                     .filter_map(|a| a.value.as_ref().and_then(crate::rapid::Expr::as_name))
                     .collect(),
             };
-            let mut report = derived_report(program, &target, &found.rows, (&passed, &reads));
+            let mut report = derived_report(program, &target, &found.rows, &passed, &reads);
             report.residual_mm = derived::residual(
                 program,
                 i,
@@ -331,7 +319,7 @@ fn correct_body<'p>(
         tally.add(tallied(&c));
         corrections.push(c);
     }
-    if keep == Keep::Summary {
+    if keep == ReportRows::SummaryOnly {
         // Only the derived targets' bases were kept, for their residuals.
         corrections.clear();
     }
@@ -349,7 +337,7 @@ fn correct_body<'p>(
             others: &left_alone,
             frames: &run.set.frames,
         },
-        keep == Keep::Rows,
+        keep == ReportRows::Every,
     );
     left_alone.extend(unread);
     let mut summary = summary(
@@ -554,7 +542,8 @@ fn write_numbers(
     let fixed_ref = &*fixed;
     in_order(
         chunks.len(),
-        (rayon::current_num_threads(), AHEAD),
+        rayon::current_num_threads(),
+        AHEAD,
         |k| {
             let c = chunks[k].clone();
             let last = c.end >= hi;

@@ -22,13 +22,13 @@ use std::borrow::Cow;
 /// What became of one robtarget: solved (its numbers, for its first
 /// use's tool and work object), or left alone.
 pub(super) enum Solved<'r> {
-    Corrected(Box<Found<'r>>),
+    Corrected(Box<SolvedTarget<'r>>),
     LeftAlone(LeftAlone),
 }
 
 /// A robtarget solved: what it means and when ([`Meant`]), its first
 /// pair's tool and work object, and its corrected numbers.
-pub(super) struct Found<'r> {
+pub(super) struct SolvedTarget<'r> {
     pub evaluated: Option<Evaluated>,
     pub pose: Isometry3<f64>,
     pub conf: RobConf,
@@ -44,7 +44,7 @@ pub(super) struct Found<'r> {
     pub order: Option<(usize, usize)>,
 }
 
-impl Found<'_> {
+impl SolvedTarget<'_> {
     pub fn meant(&self) -> Meant<'_> {
         Meant {
             pose: self.pose,
@@ -184,11 +184,11 @@ pub(super) fn correct_robtarget<'r>(
         None => {
             let value = run.set.expressions.evaluate(&run.set.constants, target);
             let Some(v) = value.filter(|_| options.expand_expressions) else {
-                return Ok(Solved::LeftAlone(
-                    run.set
-                        .expressions
-                        .left_alone((run.program, &run.set.constants), target),
-                ));
+                return Ok(Solved::LeftAlone(run.set.expressions.left_alone(
+                    run.program,
+                    &run.set.constants,
+                    target,
+                )));
             };
             let pc = v.pose_conf().map_err(|e| at_target(program, target, e))?;
             evaluated = Some(v);
@@ -249,7 +249,7 @@ pub(super) fn correct_robtarget<'r>(
     };
     let numbers = corrected_numbers(run, target, &meant, (tool, wobj), (exact, cold))?;
     let Meant { moments, .. } = meant;
-    Ok(Solved::Corrected(Box::new(Found {
+    Ok(Solved::Corrected(Box::new(SolvedTarget {
         evaluated,
         pose,
         conf,
@@ -270,7 +270,7 @@ pub(super) fn with_others(
     run: &Run,
     index: usize,
     target: &Target,
-    found: &Found,
+    found: &SolvedTarget,
 ) -> Result<(Correction, Vec<OtherPair>)> {
     let correction = found.correction(run, target);
     let others = super::shared::other_pairs(run, index, target, &found.meant(), &correction)?;

@@ -7,9 +7,9 @@
 //! effects: at the cold start).
 
 use super::fit::Problem;
-use super::forward::TestNoise;
 use super::signature::effects_jacobian;
 use super::stats::{detectable_noncentrality, LEVEL, POWER};
+use super::test_noise::TestNoise;
 use crate::model::{predict, Effect, EffectKind, RowState};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;

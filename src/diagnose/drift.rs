@@ -11,8 +11,8 @@
 //! against the one its test needs for 90 % power at the same level, the
 //! rule every effect is named by): below, it is said, not flagged.
 
-use super::forward::TestNoise;
 use super::stats::{detectable_noncentrality, Test, POWER};
+use super::test_noise::TestNoise;
 use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::Serialize;
 use std::collections::BTreeMap;

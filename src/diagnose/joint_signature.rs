@@ -10,9 +10,9 @@
 //! with its size from the fit (never from the located gap).
 
 use super::fit::Problem;
-use super::forward::TestNoise;
 use super::signature::{hcat, lstsq};
 use super::stats::{detectable_noncentrality, Test, LEVEL, POWER};
+use super::test_noise::TestNoise;
 use crate::model::EffectKind;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;

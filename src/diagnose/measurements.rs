@@ -1,12 +1,16 @@
 //! The measurements CSV of `docs/formats.md`: joints, measured flange
 //! position (and optionally orientation, motor temperatures, ambient, pose
 //! label), read with the shared CSV dialect and written back by `simulate`.
+//! A set whose rows copy one another, or that gives one pose label to
+//! different joints, cannot mean anything to a diagnosis: it is refused as
+//! it is read, each problem at its line.
 
 use crate::csv_table::CsvTable;
 use crate::error::{Error, Result};
 use crate::robot::Joints;
 use crate::thermal::{plausible, MotorTemps};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 
 /// IRB 140 joint limits in degrees: the embedded URDF's (one source for
@@ -178,7 +182,7 @@ impl Measurements {
             rows,
             warnings,
         };
-        super::sanity::check_rows(&meas)?;
+        check_rows(&meas)?;
         Ok(meas)
     }
 
@@ -230,6 +234,95 @@ impl Measurements {
             let _ = writeln!(out, "{}", f.join(","));
         }
         out
+    }
+}
+
+/// Two rows with the same pose label whose joints differ by more than
+/// this (degrees) do not measure one pose. A controller repeats a taught
+/// pose to its encoders' resolution (thousandths of a degree); a tenth is
+/// far above that and far below two poses anyone would label alike.
+pub const SAME_POSE_DEG: f64 = 0.1;
+
+/// Rows copied from one another, and pose labels used for different
+/// joints: every problem, each at its line.
+fn check_rows(meas: &Measurements) -> Result<()> {
+    let mut errors = Vec::new();
+    // Exact copies: time, joints and position equal to the last bit. A
+    // tracker's noise makes that impossible for two real measurements.
+    let mut first_of: HashMap<[u64; 10], usize> = HashMap::new();
+    // The copied rows of each original, in the order the originals were
+    // first copied (a map from original to its place: linear in the rows
+    // however many are copied).
+    let mut copies: Vec<(usize, Vec<usize>)> = Vec::new();
+    let mut copied_at: HashMap<usize, usize> = HashMap::new();
+    for (k, m) in meas.rows.iter().enumerate() {
+        let mut key = [0u64; 10];
+        key[0] = m.time_min.to_bits();
+        for i in 0..6 {
+            key[1 + i] = m.joints[i].to_bits();
+        }
+        for i in 0..3 {
+            key[7 + i] = m.position[i].to_bits();
+        }
+        match first_of.get(&key) {
+            Some(&orig) => match copied_at.get(&orig) {
+                Some(&i) => copies[i].1.push(k),
+                None => {
+                    copied_at.insert(orig, copies.len());
+                    copies.push((orig, vec![k]));
+                }
+            },
+            None => {
+                first_of.insert(key, k);
+            }
+        }
+    }
+    for (orig, repeats) in &copies {
+        let line = meas.rows[*orig].line;
+        let first = &meas.rows[repeats[0]];
+        let message = if repeats.len() == 1 {
+            format!("this row repeats line {line} exactly (time, joints and position): a copied row is not a second measurement")
+        } else {
+            format!(
+                "this row and {} more repeat line {line} exactly (time, joints and position): copied rows are not new measurements",
+                repeats.len() - 1
+            )
+        };
+        errors.push(Error::input_at(&meas.file, first.line, 1, message));
+    }
+    // One label, one pose: the noise is estimated from a label's repeats.
+    let mut by_label: HashMap<&str, usize> = HashMap::new();
+    let mut reported: HashSet<&str> = HashSet::new();
+    for (k, m) in meas.rows.iter().enumerate() {
+        let Some(label) = m.pose.as_deref() else {
+            continue;
+        };
+        let Some(&first) = by_label.get(label) else {
+            by_label.insert(label, k);
+            continue;
+        };
+        let a = &meas.rows[first];
+        let worst = (0..6)
+            .map(|i| (i, (m.joints[i] - a.joints[i]).abs().to_degrees()))
+            .fold((0, 0.0), |w, c| if c.1 > w.1 { c } else { w });
+        if worst.1 > SAME_POSE_DEG && reported.insert(label) {
+            errors.push(Error::input_at(
+                &meas.file,
+                m.line,
+                1,
+                format!(
+                    "pose `{label}` has other joints here than at line {} (axis {}: {:.3}° against {:.3}°): a pose label names one pose, and its repeats give the noise",
+                    a.line,
+                    worst.0 + 1,
+                    m.joints[worst.0].to_degrees(),
+                    a.joints[worst.0].to_degrees()
+                ),
+            ));
+        }
+    }
+    match Error::many(errors) {
+        Some(e) => Err(e),
+        None => Ok(()),
     }
 }
 

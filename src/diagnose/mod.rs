@@ -68,6 +68,7 @@ pub mod stability;
 pub mod stats;
 mod step;
 pub mod temps;
+pub mod test_noise;
 pub mod unidentified;
 pub mod verdict;
 

@@ -5,7 +5,7 @@
 use super::detect;
 use super::drift;
 use super::fit::{self, Problem};
-use super::forward::{forward, params_out, Forward, Joint, TestNoise};
+use super::forward::{forward, params_out, Forward, Joint};
 use super::gap::{first_residual, gap_stats, noise_level, orientation_weight, Noise};
 use super::joint_signature;
 use super::judge::{advise, combine, judge, with_remainder, Scores};
@@ -23,6 +23,7 @@ use super::stability;
 use super::stats::{Test, LEVEL};
 use super::step::{significant_step, step_of};
 use super::temps;
+use super::test_noise::TestNoise;
 use super::verdict::{
     Ambiguity, CandidateOut, Diagnosis, NotNamed, ParamOut, Part, StageSummary, StepOut, Verdict,
 };

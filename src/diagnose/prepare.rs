@@ -203,7 +203,7 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         })),
         temps,
     };
-    super::sanity::check_spread(&prepared, &meas.file)?;
+    super::sanity::check_spread(&prepared.problem, &meas.file)?;
     Ok(prepared)
 }
 

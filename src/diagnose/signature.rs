@@ -7,8 +7,8 @@
 //! nothing significant beyond it are not named (they only stood in for it).
 
 use super::fit::{fit, Problem};
-use super::forward::TestNoise;
 use super::stats::{Test, LEVEL};
+use super::test_noise::TestNoise;
 use crate::model::{Effect, EffectKind};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;

@@ -14,8 +14,9 @@
 //! square; one chosen before only for want of it is not named.
 
 use super::fit::Problem;
-use super::forward::{mark_selected, Forward, TestNoise};
+use super::forward::{mark_selected, Forward};
 use super::signature::{self, lstsq, plain_quadratic_columns, QuadraticGrowth};
+use super::test_noise::TestNoise;
 use crate::error::Result;
 use crate::model::EffectKind;
 use nalgebra::{DVector, UnitQuaternion, Vector3};

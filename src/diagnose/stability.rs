@@ -12,8 +12,8 @@
 //! iterations each, no time-constant grid).
 
 use super::fit::{self, Problem};
-use super::forward::TestNoise;
 use super::stats::LEVEL;
+use super::test_noise::TestNoise;
 use crate::model::{Effect, EffectKind};
 use rand::seq::SliceRandom;
 use rand::SeedableRng;

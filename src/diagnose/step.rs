@@ -6,11 +6,12 @@
 
 use super::drift;
 use super::fit::Problem;
-use super::forward::{Forward, TestNoise};
+use super::forward::Forward;
 use super::knock;
 use super::locate;
 use super::square;
 use super::stats::Test;
+use super::test_noise::TestNoise;
 
 /// A knock as a step between the measurement times around it.
 pub(super) fn step_of(problem: &Problem, k: &knock::Knock) -> locate::Step {

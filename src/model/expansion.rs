@@ -46,15 +46,6 @@ fn unscaled() -> f64 {
     1.0
 }
 
-impl Default for ThermalExpansion {
-    /// The thermal section of the embedded default model
-    /// (`data/irb140/model.toml`): the table of `docs/model.md`, T_ref 7 °C,
-    /// A380 everywhere.
-    fn default() -> Self {
-        super::file::default_model().thermal.clone()
-    }
-}
-
 impl LinkThermal {
     /// Mean temperature of this link's motors.
     pub fn temperature(&self, motors: &MotorTemps) -> f64 {

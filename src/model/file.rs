@@ -224,6 +224,15 @@ impl Default for Model {
     }
 }
 
+impl Default for ThermalExpansion {
+    /// The thermal section of the embedded default model
+    /// (`data/irb140/model.toml`): the table of `docs/model.md`, T_ref 7 °C,
+    /// A380 everywhere.
+    fn default() -> Self {
+        default_model().thermal.clone()
+    }
+}
+
 impl Model {
     /// The embedded models by name: `default` (calibrated, K0 of the data
     /// file) and `base` (docs/model.md's base model, K0 = 1, unscaled).

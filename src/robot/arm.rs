@@ -3,11 +3,10 @@
 //! limits and speeds. A warm arm is the same arm with its segments scaled
 //! ([`LinkScales`]); what scales them (temperatures) is the model's business.
 
-use super::chain::Chain;
+use super::chain::{conf_of_axes, Chain};
 use super::conf::{CfxBits, RobConf};
 use super::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions, Violation, LIMIT_EPS};
-use super::ik_chain::conf_of_axes;
 use super::urdf::{self, IRB140_URDF};
 use super::{Joints, LinkScales, Opw};
 use crate::error::{Error, ErrorKind, Result};

@@ -9,6 +9,7 @@
 //! and 5's in the upper arm (c3, a2), joint 6's and the flange's (tool0) in
 //! the wrist (c4). For the IRB 140 this is exactly the OPW expansion.
 
+use super::conf::{CfxBits, RobConf};
 use super::ik::{serial_angles, wrap, OpwArm};
 use super::{Joints, Opw};
 use nalgebra::{Isometry3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
@@ -343,4 +344,26 @@ fn intersect(
     let a = p + d * t;
     let b = q + e * s;
     ((a - b).norm() < 1e-6).then_some(0.5 * (a + b))
+}
+
+/// robconf of an arm without the OPW form from joint angles and its axes
+/// there ([`Chain::axes`]): the wrist centre is the joint-5 origin, the
+/// arm faces axis 2 × axis 1 (as on the IRB 140), the lower arm runs from
+/// axis 2 to axis 3.
+pub(super) fn conf_of_axes(q: &Joints, ax: &[Axis; 6]) -> RobConf {
+    let (p1, d1) = ax[0];
+    let (p2, d2) = ax[1];
+    let (p3, _) = ax[2];
+    let w = ax[4].0;
+    let forward = d2.cross(&d1);
+    let lower = p3 - p2;
+    let normal = d2.cross(&lower);
+    RobConf::from_parts(
+        q,
+        CfxBits {
+            behind_axis1: (w - p1).dot(&forward) < 0.0,
+            behind_lower_arm: (w - p2).dot(&normal) < 0.0,
+            axis5_negative: q[4] < 0.0,
+        },
+    )
 }

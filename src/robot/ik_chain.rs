@@ -32,7 +32,7 @@
 //! that comes near a solution already found is stopped there.
 
 use super::arm::Robot;
-use super::chain::{Axis, Chain};
+use super::chain::{conf_of_axes, Chain};
 use super::conf::{quadrant, quadrant_distance, quadrant_range, CfxBits, RobConf};
 use super::ik::{
     wrap, Dropped, IkFailure, Limits, Solution, Solutions, Violation, CONF_TOLERANCE, LIMIT_EPS,
@@ -201,28 +201,6 @@ impl Robot {
         }
         self.failure(IkFailure::JointLimits(Box::new(violations)))
     }
-}
-
-/// robconf of an arm without the OPW form from joint angles and its axes
-/// there ([`Chain::axes`]): the wrist centre is the joint-5 origin, the
-/// arm faces axis 2 × axis 1 (as on the IRB 140), the lower arm runs from
-/// axis 2 to axis 3.
-pub(super) fn conf_of_axes(q: &Joints, ax: &[Axis; 6]) -> RobConf {
-    let (p1, d1) = ax[0];
-    let (p2, d2) = ax[1];
-    let (p3, _) = ax[2];
-    let w = ax[4].0;
-    let forward = d2.cross(&d1);
-    let lower = p3 - p2;
-    let normal = d2.cross(&lower);
-    RobConf::from_parts(
-        q,
-        CfxBits {
-            behind_axis1: (w - p1).dot(&forward) < 0.0,
-            behind_lower_arm: (w - p2).dot(&normal) < 0.0,
-            axis5_negative: q[4] < 0.0,
-        },
-    )
 }
 
 /// Refuse non-finite input, as the closed form does.

@@ -1,6 +1,7 @@
 //! The estimate: walk the program's entry routine from a start time and
 //! time each move, for when the user has no schedule of the real run.
 
+use super::bounds::STEP_BUDGET;
 use super::cold_joints::ColdJoints;
 use super::file::lower;
 use super::walk::{Flow, ReachAhead, TargetPoses, Walker};
@@ -96,17 +97,6 @@ impl Estimate {
         out
     }
 }
-
-/// Statements executed before the walk gives up (a FOR loop of a billion
-/// turns would otherwise run for hours).
-pub(super) const STEP_BUDGET: u64 = 50_000_000;
-/// Nested routine calls followed (the controller's own limit is lower).
-pub(super) const MAX_DEPTH: usize = 256;
-/// Stack left before the walk grows it, and by how much.
-pub(super) const STACK_RED_ZONE: usize = 64 * 1024;
-pub(super) const STACK_SEGMENT: usize = 1024 * 1024;
-/// The speed assumed where a move's speeddata cannot be resolved.
-pub(super) const FALLBACK_SPEED: &str = "v1000";
 
 /// Estimate when each target of `program` is reached by walking the entry
 /// routine from `opts.start_min`, timing each move from its distance and

@@ -16,6 +16,7 @@
 //! Owns timing. May import `rapid`, `robot`, `resolve` and the shared
 //! `error` and `csv_table`; never `model`, `correct` or `diagnose`.
 
+mod bounds;
 mod cold_joints;
 mod estimate;
 mod file;

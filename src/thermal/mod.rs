@@ -1,6 +1,8 @@
 //! Motor temperatures over time: heating models fitted to recordings and the
 //! embedded default profile of the IRB 140 at 60 % speed.
 //!
+//! - `heating`: [`HeatingProfile`], what every model answers, and
+//!   [`MotorTemps`].
 //! - [`record`]: heating records (CSV) and [`RecordedProfile`], measured
 //!   temperatures interpolated in time.
 //! - [`poly`]: polynomial curves (the paper's regression), solved stably.
@@ -8,7 +10,9 @@
 //! - [`uncertainty`]: how far a forecast beyond a recording can be trusted.
 //! - [`plausible`]: which numbers can be a robot's temperature.
 //! - [`select`]: choosing a saturating model by its held-out forecast.
-//! - [`fit`]: fitting one axis, metrics (R, R², Ā, RMSE, max, held-out).
+//! - [`fit`]: fitting one axis, a model named or `auto`'s choice.
+//! - `kind_fit`: one named model fitted, its curve and metrics (R, R², Ā,
+//!   RMSE, max, held-out).
 //! - [`profile`]: profiles from fitted curves and [`default_profile`].
 //! - [`plot`]: SVG of measured and fitted curves.
 //! - [`table`]: fit results as the paper-like table, CSV and JSON.
@@ -22,6 +26,8 @@
 
 pub mod duty;
 pub mod fit;
+mod heating;
+mod kind_fit;
 pub mod lag;
 pub mod plausible;
 pub mod plot;
@@ -34,43 +40,12 @@ pub mod table;
 pub mod uncertainty;
 
 pub use fit::{fit_axis, AxisFit, Curve, Metrics, ModelKind};
+pub use heating::{HeatingProfile, MotorTemps, TABLE1_TMAX};
 pub use lag::{Lagged, TempHistory, LAG_STEP_MIN};
 pub use profile::{
     default_heating, default_profile, DefaultHeating, FittedProfile, SaturatingProfile,
 };
 pub use record::{HeatingRecord, RecordedProfile};
-
-use crate::error::Result;
-
-/// Motor temperatures of axes 1..6 in °C.
-pub type MotorTemps = [f64; 6];
-
-/// Anything that gives the six motor temperatures at a time (minutes since
-/// the cold start). Implementations refuse times they cannot vouch for
-/// (a polynomial outside its fitted window) instead of extrapolating.
-pub trait HeatingProfile: Send + Sync {
-    fn temps_at(&self, t_min: f64) -> Result<MotorTemps>;
-
-    /// The thermally stable state after warm-up (`--at steady`). Only
-    /// saturating models have one; the others refuse.
-    fn steady(&self) -> Result<MotorTemps> {
-        Err(crate::error::Error::new(
-            crate::error::ErrorKind::Unsupported,
-            "this heating model has no steady state (a polynomial or a recording does not saturate)",
-        )
-        .with_remedy(crate::error::Remedy::GiveMinute))
-    }
-
-    /// The saturating curve of each axis, where the profile is one: the
-    /// only kind with a state that can be carried forward through running
-    /// and stopped spans ([`duty`]). `None` for polynomials and recordings.
-    fn curves(&self) -> Option<[saturating::SatCurve; 6]> {
-        None
-    }
-}
-
-/// Table 1 of the FEA paper: maximum motor temperatures, °C.
-pub const TABLE1_TMAX: MotorTemps = [18.837, 21.596, 18.849, 21.665, 27.537, 30.705];
 
 #[cfg(test)]
 mod tests {

@@ -1,7 +1,8 @@
 //! Heating profiles built from fitted curves, and the embedded default
 //! profile of the IRB 140 at 60 % speed (`data/irb140/heating.toml`).
 
-use super::fit::{fit_axis, fitted_rows, AxisFit, Curve, ModelKind};
+use super::fit::{fit_axis, AxisFit, Curve, ModelKind};
+use super::kind_fit::fitted_rows;
 use super::record::HeatingRecord;
 use super::saturating::{SatCurve, SatTerm};
 use super::uncertainty::forecast_interval;

@@ -7,7 +7,7 @@
 //! 116 K, 7.7 K off five hours later, where a first-order fit was within
 //! about 1 K).
 
-use super::fit::{fit_without_interval, steady_interval_of, AxisFit, ModelKind};
+use super::kind_fit::{fit_without_interval, steady_interval_of, AxisFit, Candidate, ModelKind};
 use crate::error::{Error, ErrorKind, Result};
 
 /// The models `auto` chooses among, simplest first.
@@ -18,17 +18,6 @@ pub const CANDIDATES: [ModelKind; 2] = [ModelKind::FirstOrder, ModelKind::TwoTau
 /// short, and an extra time constant that forecasts it barely better is
 /// more likely fitted to its noise than to a second heat path.
 pub const SIMPLER_PREFERRED_BELOW: f64 = 0.8;
-
-/// One candidate of a choice and how it did.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Candidate {
-    pub kind: ModelKind,
-    /// RMSE (°C) on the held-out rows of the candidate fitted to the rest;
-    /// `None` when it could not be judged (too few rows for it).
-    pub holdout_rmse: Option<f64>,
-    /// Why the candidate is no result (did not converge, degenerate).
-    pub refused: Option<String>,
-}
 
 /// Fit every candidate to one axis and keep the one that forecasts the
 /// held-out rows best (the simpler unless the other is clearly better),

@@ -11,7 +11,7 @@
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
-use rapidtherm::correct::{correct, correct_into, Keep, Options, Outcome, When};
+use rapidtherm::correct::{correct, correct_into, Options, Outcome, ReportRows, When, Writers};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::rapid::{self, ParseOptions, Program, Source};
@@ -269,7 +269,7 @@ pub(super) fn same_both_ways(src: &[u8], options: &Options) -> Result<usize, Tes
             &lane,
             warm(),
             options,
-            (&mut outs, Keep::Summary),
+            Writers::new(&mut outs, ReportRows::SummaryOnly),
             &mut |_, _| {},
         )
     };

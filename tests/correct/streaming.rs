@@ -1,7 +1,7 @@
 //! The correction streamed into its files against the correction in
 //! memory, and timed by a schedule: a job that writes files corrects each
-//! task into its sink as it goes (`job::Way::Streamed`), and writes the
-//! bytes the in-memory run (`Way::InMemory`, the run that keeps every
+//! task into its sink as it goes (`job::Streaming::Streamed`), and writes the
+//! bytes the in-memory run (`Streaming::InMemory`, the run that keeps every
 //! row) makes, with the same report; a program read with the fast lane
 //! is estimated as the grammar's program is (the same schedule, joint
 //! schedule, notes and duration) and corrected by that schedule, or by a
@@ -12,8 +12,10 @@
 use super::lanes::{self, counted, program_with, read_both, same_both_ways, stmt, Stmt};
 use super::rapidtherm;
 use proptest::prelude::*;
-use rapidtherm::correct::job::{self, Event, Host, Output as Written, Sink, Way};
-use rapidtherm::correct::plan::{Action, CorrectPlan, Destination, ModelSource, TimeBasis};
+use rapidtherm::correct::job::{self, Event, Host, Output as Written, Sink, Streaming};
+use rapidtherm::correct::plan::{
+    Action, ArmChoice, CorrectPlan, Destination, ModelSource, TimeBasis,
+};
 use rapidtherm::correct::{Options, ScheduleSource, When};
 use rapidtherm::model::warm::Moment;
 use rapidtherm::rapid::Program;
@@ -195,14 +197,20 @@ impl Host for Quiet {
 /// The job run on the file `path` timed by `when`, written to `-o OUT`,
 /// keeping every row (in memory) or not (streamed): how it ran, what it
 /// said, what it wrote.
-fn job_run(path: &std::path::Path, when: TimeBasis, keep_rows: bool) -> (Way, String, Vec<u8>) {
+fn job_run(
+    path: &std::path::Path,
+    when: TimeBasis,
+    keep_rows: bool,
+) -> (Streaming, String, Vec<u8>) {
     let plan = CorrectPlan {
         when,
         visit: Visit::default(),
-        model: ModelSource::Default,
-        arms: Vec::new(),
-        irb140_thermal: false,
-        placing: Default::default(),
+        arms: ArmChoice {
+            model: ModelSource::Default,
+            specs: Vec::new(),
+            irb140_thermal: false,
+            placing: Default::default(),
+        },
         expand_expressions: false,
         split_shared: false,
         action: Action::Write(Destination::File("OUT".into())),
@@ -219,7 +227,7 @@ fn job_run(path: &std::path::Path, when: TimeBasis, keep_rows: bool) -> (Way, St
     outcome.derived.clear();
     outcome.residuals.clear();
     let written = memory.0.lock().unwrap().remove("OUT").expect("written");
-    (ran.way, lanes::said(&outcome), written)
+    (ran.streaming, lanes::said(&outcome), written)
 }
 
 /// The job writes what it corrects as it goes unless it keeps every row,
@@ -248,10 +256,10 @@ fn the_job_streams_what_it_corrects_in_memory() {
             let (way, said_streamed, bytes_streamed) = job_run(&path, when.clone(), false);
             let (in_memory, said_whole, bytes_whole) = job_run(&path, when.clone(), true);
             assert!(
-                matches!(way, Way::Streamed { .. }),
+                matches!(way, Streaming::Streamed { .. }),
                 "{name} {when:?}: {way:?}"
             );
-            assert_eq!(in_memory, Way::InMemory);
+            assert_eq!(in_memory, Streaming::InMemory);
             assert_eq!(said_streamed, said_whole, "{name} {when:?}");
             assert!(
                 bytes_streamed == bytes_whole,

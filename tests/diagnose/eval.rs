@@ -552,9 +552,14 @@ fn evaluation() {
 
 /// A debugging aid: one set of the evaluation, its diagnosis printed in
 /// full (`DIAG_CLASS` is the class's place in [`Class::ALL`]; `DIAG_CSV`
-/// prints the data too).
+/// prints the data too), and held to the module's rule as every set of
+/// the evaluation is: it fails where the diagnosis ends in an error, its
+/// verdict is wrong (a withheld effect not named, another named, or
+/// `unexplained` where nothing outside the library was withheld, or
+/// missing where something was) or its prose contradicts its numbers.
+/// Its counterpart in every `cargo test` is [`evaluation_seeded`].
 #[test]
-#[ignore = "a debugging aid: DIAG_SEED=n DIAG_CLASS=c prints one set's diagnosis"]
+#[ignore = "a debugging aid: DIAG_SEED=n DIAG_CLASS=c prints one set's diagnosis and fails where it is wrong"]
 fn one_set() {
     let var = |name: &str, default: u64| {
         std::env::var(name)
@@ -567,14 +572,25 @@ fn one_set() {
     if std::env::var_os("DIAG_CSV").is_some() {
         eprintln!("{}", generate(&spec).csv);
     }
-    match run(&spec) {
-        Ok(d) => {
-            eprintln!("TRUTH {:?} right {}", spec.effects, right(&spec, &d));
-            eprintln!("{}", serde_json::to_string_pretty(&d).unwrap_or_default());
-            for w in d.words() {
-                eprintln!("{w}");
-            }
-        }
-        Err(e) => eprintln!("TRUTH {:?}: error {}", spec.effects, e.message),
+    let d = match run(&spec) {
+        Ok(d) => d,
+        Err(e) => panic!("TRUTH {:?}: error {}", spec.effects, e.message),
+    };
+    let ok = right(&spec, &d);
+    eprintln!("TRUTH {:?} right {ok}", spec.effects);
+    eprintln!("{}", serde_json::to_string_pretty(&d).unwrap_or_default());
+    for w in d.words() {
+        eprintln!("{w}");
     }
+    assert!(
+        ok,
+        "{} (seed {}): withheld {:?}, the verdict names {:?} (ambiguous {:?})",
+        class.name(),
+        spec.seed,
+        spec.effects,
+        d.verdict.labels(),
+        d.ambiguous
+    );
+    let bad = prose_contradictions(&d);
+    assert!(bad.is_empty(), "the prose against its numbers: {bad:?}");
 }

@@ -1,4 +1,4 @@
-//! Import cycles of files: within each of the main job's folders, no file
+//! Import cycles of files: within every folder of `src/`, no file
 //! imports, through others of its folder, a file that imports it. The
 //! reading is the files' own: `use` declarations, paths in the code, and
 //! glob imports of the names a file reads.
@@ -7,13 +7,28 @@ use super::rust_files;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// The folders whose files may not import each other in a cycle: the main
-/// job's layers, where a cycle made the orchestration hard to follow.
-const ACYCLIC_FOLDERS: &[&str] = &["cli", "correct", "rapid"];
-
 /// Cycles known and owned elsewhere, each exactly as found (its files,
-/// sorted). None now: any cycle fails.
-const KNOWN_CYCLES: &[&[&str]] = &[];
+/// sorted): a change to one fails until it is written here anew or gone.
+/// Each stands in files that other work of issue 47 is rebuilding: the
+/// resolver's `mod.rs` (Frames, usages, references and a glob matcher that
+/// eight of its files import back) is to be split by idea, and the walk's
+/// settled moves and the interpreter's places are `impl` blocks of the
+/// walker and the interpreter, whose statement dispatch is to be shared.
+const KNOWN_CYCLES: &[&[&str]] = &[
+    &[
+        "src/resolve/calls.rs",
+        "src/resolve/dataflow.rs",
+        "src/resolve/each_move.rs",
+        "src/resolve/frame_vars.rs",
+        "src/resolve/mod.rs",
+        "src/resolve/moves.rs",
+        "src/resolve/params.rs",
+        "src/resolve/per_call.rs",
+        "src/resolve/uses.rs",
+    ],
+    &["src/schedule/walk/mod.rs", "src/schedule/walk/settled.rs"],
+    &["src/schedule/interp/mod.rs", "src/schedule/interp/place.rs"],
+];
 
 /// A file's code with comments, strings and character literals blanked
 /// out (kept as spaces, so that lines stay where they were), cut before its
@@ -539,50 +554,39 @@ fn cycles(graph: &BTreeMap<PathBuf, BTreeSet<PathBuf>>) -> Vec<Vec<PathBuf>> {
     s.out
 }
 
-/// No file of the main job's folders imports, through others of its
-/// folder, a file that imports it: each folder reads as layers of files.
+/// No file of `src/` imports, through others, a file that imports it: each
+/// folder reads as layers of files. A folder's cycle is a cycle of the
+/// whole tree's graph cut down to that folder, and cutting only removes
+/// arrows, so every folder's cycle lies inside one of the whole tree's:
+/// reading `src/` whole holds every folder, today's and tomorrow's, and
+/// `src/lib.rs` and the files at the top with them.
 #[test]
 fn no_files_of_a_folder_import_each_other_in_a_cycle() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let src = root.join("src");
     let graph = file_imports(&src);
     let mut wrong = Vec::new();
-    for folder in ACYCLIC_FOLDERS {
-        let dir = src.join(folder);
-        let inside: BTreeMap<PathBuf, BTreeSet<PathBuf>> = graph
+    for cycle in cycles(&graph) {
+        let names: Vec<String> = cycle
             .iter()
-            .filter(|(f, _)| f.starts_with(&dir))
-            .map(|(f, to)| {
-                let to = to.iter().filter(|t| t.starts_with(&dir)).cloned().collect();
-                (f.clone(), to)
+            .map(|f| f.strip_prefix(root).unwrap().display().to_string())
+            .collect();
+        if KNOWN_CYCLES.iter().any(|k| k.iter().eq(names.iter())) {
+            continue;
+        }
+        let edges: Vec<String> = cycle
+            .iter()
+            .flat_map(|f| {
+                graph[f].iter().filter(|t| cycle.contains(t)).map(|t| {
+                    format!(
+                        "{} -> {}",
+                        f.strip_prefix(&src).unwrap().display(),
+                        t.strip_prefix(&src).unwrap().display()
+                    )
+                })
             })
             .collect();
-        for cycle in cycles(&inside) {
-            let names: Vec<String> = cycle
-                .iter()
-                .map(|f| f.strip_prefix(root).unwrap().display().to_string())
-                .collect();
-            if KNOWN_CYCLES.iter().any(|k| k.iter().eq(names.iter())) {
-                continue;
-            }
-            let src = &src;
-            let edges: Vec<String> = cycle
-                .iter()
-                .flat_map(|f| {
-                    inside[f]
-                        .iter()
-                        .filter(|t| cycle.contains(t))
-                        .map(move |t| {
-                            format!(
-                                "{} -> {}",
-                                f.strip_prefix(src).unwrap().display(),
-                                t.strip_prefix(src).unwrap().display()
-                            )
-                        })
-                })
-                .collect();
-            wrong.push(format!("{} ({})", names.join(", "), edges.join("; ")));
-        }
+        wrong.push(format!("{} ({})", names.join(", "), edges.join("; ")));
     }
     assert!(
         wrong.is_empty(),

@@ -9,26 +9,26 @@
 //! Every task is tried before anything is written, so that a run reports
 //! all its errors and a refused task leaves every file as it was.
 
+mod corrected;
 mod host;
 mod prepare;
-mod ran;
 mod shared;
 mod still;
 
+pub use corrected::{CorrectedTask, Inputs, Streaming};
 pub use host::{Event, Host, Output, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
-pub use ran::{Inputs, Ran, Way};
 pub use shared::refuse_files_of_two_tasks;
 pub use still::NO_ARM;
 
-use super::colds::Colds;
-use super::context::{Ahead, Prepared};
+use super::cold_prints::ColdPrints;
+use super::context::{Ahead, CorrectWith, Prepared};
 use super::plan::TimeBasis;
 use super::plan::{Action, CorrectPlan, Destination};
 use super::program::{correct_in_memory, correct_prepared};
-use super::{Keep, Outcome};
+use super::{Outcome, ReportRows, Writers};
 use crate::error::{Error, Errors, Remedy, Result};
-use crate::model::{Model, WarmRobot};
+use crate::model::Model;
 use crate::rapid::task::Task;
 use crate::rapid::{self, ParseOptions, Program, Source};
 use crate::resolve::arm::base_frame;
@@ -46,9 +46,9 @@ pub fn run(
     tasks: Vec<Task>,
     host: &mut dyn Host,
     sink: &mut dyn Sink,
-) -> Result<Vec<Ran>> {
-    crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
-    let model = load_model(&plan.model)?;
+) -> Result<Vec<CorrectedTask>> {
+    crate::resolve::arm::check_task_specs(&plan.arms.specs, &tasks)?;
+    let model = load_model(&plan.arms.model)?;
     let (motion, still): (Vec<Task>, Vec<Task>) = tasks.into_iter().partition(moves_a_robot);
     shared::refuse_files_of_two_tasks(&motion)?;
     // One task written to files is written as it is corrected (a program of
@@ -76,7 +76,7 @@ pub fn run(
     // single destination is the one motion task's).
     for task in still {
         let (inputs, program) = read_task(&task, host)?;
-        if let Some(run) = still::still_task(task, (inputs, &program), host) {
+        if let Some(run) = still::still_task(task, inputs, &program, host) {
             runs.push(run);
         }
     }
@@ -170,12 +170,12 @@ fn correct_task(
     task: Task,
     host: &mut dyn Host,
     to: Option<&mut dyn Sink>,
-) -> Result<Ran> {
-    let arm = checked_arm(plan, &task, model, host)?;
+) -> Result<CorrectedTask> {
+    let arm = checked_arm(&plan.arms, &task, model, host)?;
     // The files' fingerprints, for their markers, are hashed beside the
     // parse: after it, the run waited for them with a core idle.
     let (inputs, program, colds) = read_task_beside(&task, host, |inputs| {
-        Colds::of(inputs.iter().map(|(_, source)| source.bytes()))
+        ColdPrints::of(inputs.iter().map(|(_, source)| source.bytes()))
     })?;
     let base = base_frame(&task)?;
     // A `--start` run walks the program on one core (another answers
@@ -203,35 +203,35 @@ fn correct_task(
     for note in &notes {
         host.event(Event::Note(note));
     }
-    let (arm_name, warm, options) = warm_run(plan, model, &task, arm, (when, 0.0), host)?;
+    let (arm_name, warm, options) = warm_run(plan, model, &task, arm, when, host)?;
     let started = std::time::Instant::now();
     let mut progress = |done, total| host.event(Event::Progress { done, total });
-    let (outcome, way) = match (to, &plan.action) {
+    let (outcome, streaming) = match (to, &plan.action) {
         (Some(sink), Action::Write(dest)) => {
-            let (outcome, changed) = correct_streamed(
-                &program,
-                (&warm, &options, ahead),
-                (dest, sink),
-                &mut progress,
-            )?;
-            (outcome, Way::Streamed { changed })
+            let with = CorrectWith::new(&warm, &options, ahead);
+            let (outcome, changed) = correct_streamed(&program, with, dest, sink, &mut progress)?;
+            (outcome, Streaming::Streamed { changed })
         }
         _ => (
-            correct_in_memory(&program, (&warm, &options, ahead), &mut progress)?,
-            Way::InMemory,
+            correct_in_memory(
+                &program,
+                CorrectWith::new(&warm, &options, ahead),
+                &mut progress,
+            )?,
+            Streaming::InMemory,
         ),
     };
-    let what = match way {
-        Way::Streamed { .. } => "correcting and writing",
-        Way::InMemory => "correcting",
+    let what = match streaming {
+        Streaming::Streamed { .. } => "correcting and writing",
+        Streaming::InMemory => "correcting",
     };
     took(host, &format!("task {}: {what}", task.label()), started);
-    Ok(Ran {
+    Ok(CorrectedTask {
         task,
         arm: arm_name,
         inputs,
         outcome,
-        way,
+        streaming,
     })
 }
 
@@ -242,8 +242,9 @@ fn correct_task(
 /// are.
 fn correct_streamed<'p>(
     program: &'p Program,
-    (warm, options, ahead): (&WarmRobot, &crate::correct::Options, Ahead<'p>),
-    (dest, sink): (&Destination, &mut dyn Sink),
+    with: CorrectWith<'_, 'p>,
+    dest: &Destination,
+    sink: &mut dyn Sink,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(Outcome, Vec<bool>)> {
     let names: Vec<String> = match dest {
@@ -265,12 +266,8 @@ fn correct_streamed<'p>(
             .iter_mut()
             .map(|b| b as &mut (dyn Write + Send))
             .collect();
-        let c = correct_prepared(
-            program,
-            (warm, options, ahead),
-            (&mut writers, Keep::Summary),
-            progress,
-        )?;
+        let to = Writers::new(&mut writers, ReportRows::SummaryOnly);
+        let c = correct_prepared(program, with, to, progress)?;
         for b in &mut buffered {
             b.flush().map_err(|e| Error::io(Path::new(&names[0]), &e))?;
         }
@@ -289,7 +286,7 @@ fn correct_streamed<'p>(
 }
 
 /// Write the runs' corrected files where the plan says.
-fn write(to: &Destination, runs: &[Ran], sink: &mut dyn Sink) -> Result<()> {
+fn write(to: &Destination, runs: &[CorrectedTask], sink: &mut dyn Sink) -> Result<()> {
     let mut writes: Vec<(&String, &Vec<u8>)> = Vec::new();
     match to {
         Destination::File(out) => {

@@ -4,8 +4,8 @@
 //! moments, and the run's options.
 
 use super::host::{Event, Host};
-use crate::correct::plan::{Action, CorrectPlan, ModelSource, TimeBasis};
-use crate::correct::{Options, ScheduleSource, Untrusted, When};
+use crate::correct::plan::{Action, ArmChoice, CorrectPlan, ModelSource, TimeBasis};
+use crate::correct::{OnUntrusted, Options, ScheduleSource, When};
 use crate::digest::fingerprint;
 use crate::error::{Error, Remedy, Result};
 use crate::model::{Model, Moment, WarmRobot};
@@ -47,7 +47,7 @@ pub fn model_label(source: &ModelSource, arm: &str) -> Result<String> {
 /// thermal defaults would be guessed (an arm other than the IRB 140
 /// without a model of its own).
 pub fn checked_arm(
-    plan: &CorrectPlan,
+    plan: &ArmChoice,
     task: &Task,
     model: &Model,
     host: &mut dyn Host,
@@ -77,11 +77,11 @@ pub fn checked_arm(
 /// names it: that arm where nothing else says which arm the task moves,
 /// else the arm said, which must be the same (the effects are written on
 /// that arm's joints: on another, they would move targets wrongly).
-fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> {
+fn arm_for_model(plan: &ArmChoice, task: &Task, model: &Model) -> Result<Arm> {
     let Some(source) = model_arm_source(model)? else {
-        return arm_for(task, &plan.arms);
+        return arm_for(task, &plan.specs);
     };
-    let said = plan.arms.iter().any(|s| {
+    let said = plan.specs.iter().any(|s| {
         s.task.is_none()
             || s.task
                 .as_deref()
@@ -93,7 +93,7 @@ fn arm_for_model(plan: &CorrectPlan, task: &Task, model: &Model) -> Result<Arm> 
         fitted.chosen_by = ChosenBy::ModelUrdf;
         return Ok(fitted);
     }
-    let arm = arm_for(task, &plan.arms)?;
+    let arm = arm_for(task, &plan.specs)?;
     if !same_chain(&arm.robot, &fitted.robot) {
         return Err(Error::usage(format!(
             "task {}: the model was fitted on {} ({}), whose joints its effects are written on; the task moves {}",
@@ -221,16 +221,14 @@ pub fn warm_robot(robot: Robot, model: &Model, when: &When, horizon: f64) -> Res
     }
 }
 
-/// The warm robot a task's run needs until `when`'s last minute (or
-/// `later`, where targets `when` does not hold are reached later: a
-/// streamed estimate's cut literals), and the run's options: (arm name,
-/// warm robot, options).
+/// The warm robot a task's run needs until `when`'s last minute, and the
+/// run's options: (arm name, warm robot, options).
 pub fn warm_run(
     plan: &CorrectPlan,
     model: &Model,
     task: &Task,
     arm: Arm,
-    (when, later): (When, f64),
+    when: When,
     host: &mut dyn Host,
 ) -> Result<(String, WarmRobot, Options)> {
     let horizon = match &when {
@@ -246,7 +244,6 @@ pub fn warm_run(
                 .chain(joints)
                 .flat_map(Schedule::all_times)
                 .fold(0.0, f64::max);
-            let latest = latest.max(later);
             match default {
                 Some(Moment::Minute(t)) => latest.max(*t),
                 _ => latest,
@@ -259,11 +256,11 @@ pub fn warm_run(
     if warm.instrument_left_out() {
         host.event(Event::InstrumentLeftOut { task: &label });
     }
-    let model_label = model_label(&plan.model, &arm.label)?;
+    let model_label = model_label(&plan.arms.model, &arm.label)?;
     host.event(Event::ThermalModel {
         task: &label,
         label: &model_label,
-        on_lengths: plan.model == ModelSource::Default && !arm.is_irb140,
+        on_lengths: plan.arms.model == ModelSource::Default && !arm.is_irb140,
     });
     let options = Options {
         when,
@@ -275,8 +272,8 @@ pub fn warm_run(
         // A run that writes would correct corrected numbers again; one
         // that only looks takes them as cold and says why.
         untrusted: match plan.action {
-            Action::Write(_) => Untrusted::Refuse,
-            Action::Check(_) | Action::Diff { .. } | Action::Report => Untrusted::AsCold,
+            Action::Write(_) => OnUntrusted::Refuse,
+            Action::Check(_) | Action::Diff { .. } | Action::Report => OnUntrusted::AsCold,
         },
     };
     Ok((arm_name, warm, options))

@@ -6,8 +6,8 @@
 //! fails on it, naming it, rather than passing a backup whose moving
 //! tasks were all skipped.
 
+use super::corrected::{CorrectedTask, Inputs, Streaming};
 use super::host::{Event, Host};
-use super::ran::{Inputs, Ran, Way};
 use crate::correct::{Kind, LeftAlone, MoveCounts, Outcome, Reason, Summary};
 use crate::rapid::task::Task;
 use crate::rapid::Program;
@@ -20,9 +20,10 @@ pub const NO_ARM: &str = "none (not a motion task)";
 /// where it holds moves, a run whose every target reached is left cold.
 pub fn still_task(
     task: Task,
-    (inputs, program): (Inputs, &Program),
+    inputs: Inputs,
+    program: &Program,
     host: &mut dyn Host,
-) -> Option<Ran> {
+) -> Option<CorrectedTask> {
     let left = left_cold(program, &task.label());
     host.event(Event::NotMotion {
         task: &task.label(),
@@ -56,12 +57,12 @@ pub fn still_task(
         left_alone: left.rows,
         outputs,
     };
-    Some(Ran {
+    Some(CorrectedTask {
         task,
         arm: NO_ARM.to_string(),
         inputs,
         outcome,
-        way: Way::InMemory,
+        streaming: Streaming::InMemory,
     })
 }
 
@@ -92,7 +93,7 @@ fn left_cold(program: &Program, task: &str) -> Left {
                         continue;
                     }
                     let t = targets.at(i);
-                    rows.push(row(program, (&t.id, Kind::of(&t), &t.origin), &detail));
+                    rows.push(row(program, &t.id, Kind::of(&t), &t.origin, &detail));
                 }
             }
             for &j in &p.jointtargets {
@@ -101,7 +102,7 @@ fn left_cold(program: &Program, task: &str) -> Left {
                     continue;
                 }
                 let t = &joints[j];
-                rows.push(row(program, (&t.id, Kind::JointTarget, &t.origin), &detail));
+                rows.push(row(program, &t.id, Kind::JointTarget, &t.origin, &detail));
             }
         }
         if !reached {
@@ -123,7 +124,9 @@ fn left_cold(program: &Program, task: &str) -> Left {
 
 fn row(
     program: &Program,
-    (id, kind, origin): (&str, Kind, &crate::rapid::Origin),
+    id: &str,
+    kind: Kind,
+    origin: &crate::rapid::Origin,
     detail: &str,
 ) -> LeftAlone {
     LeftAlone {

@@ -8,7 +8,7 @@ use super::{module_text, ModuleOptions, RuntimeSpec};
 use crate::correct::job::{checked_arm, load_model, model_label, moves_a_robot, read_task};
 use crate::correct::job::{Event, Host, Inputs};
 use crate::correct::marker;
-use crate::correct::plan::{CorrectPlan, ModelSource};
+use crate::correct::plan::{ModelSource, RuntimePlan};
 use crate::error::{Error, Errors, Result};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::task::Task;
@@ -25,12 +25,12 @@ pub fn basis(module: &str) -> String {
 
 /// One task rewritten.
 #[derive(Debug)]
-pub struct RuntimeRan {
+pub struct RewrittenTask {
     pub task: Task,
     pub arm: String,
     pub inputs: Inputs,
     /// Each input's rewrite (`None`: it stays as it is), written out by
-    /// [`RuntimeRan::write_file`] as it is made.
+    /// [`RewrittenTask::write_file`] as it is made.
     rewrites: Vec<Option<FileRewrite>>,
     /// The module's file name (`NAME.sys`) and bytes.
     pub module: (String, Vec<u8>),
@@ -48,7 +48,7 @@ struct FileRewrite {
     sealed: marker::Marker,
 }
 
-impl RuntimeRan {
+impl RewrittenTask {
     /// Whether any of its program files changes.
     pub fn changed(&self) -> bool {
         (0..self.inputs.len()).any(|f| self.file_changed(f))
@@ -66,12 +66,7 @@ impl RuntimeRan {
             return Ok(());
         };
         match self.rewrites.get(f).and_then(Option::as_ref) {
-            Some(r) => write_rewritten(
-                source.bytes(),
-                &r.calls,
-                (r.marker.as_ref(), &r.sealed),
-                out,
-            ),
+            Some(r) => write_rewritten(source.bytes(), &r.calls, r.marker.as_ref(), &r.sealed, out),
             None => out.write_all(source.bytes()),
         }
     }
@@ -100,15 +95,14 @@ impl RuntimeRan {
 }
 
 /// Rewrite the tasks (those that move no robot are said and left alone)
-/// for a module named `module`.
+/// for the plan's module.
 pub fn run(
-    plan: &CorrectPlan,
-    module: &str,
+    plan: &RuntimePlan,
     tasks: Vec<Task>,
     host: &mut dyn Host,
-) -> Result<Vec<RuntimeRan>> {
-    crate::resolve::arm::check_task_specs(&plan.arms, &tasks)?;
-    let model = load_model(&plan.model)?;
+) -> Result<Vec<RewrittenTask>> {
+    crate::resolve::arm::check_task_specs(&plan.arms.specs, &tasks)?;
+    let model = load_model(&plan.arms.model)?;
     let mut runs = Vec::new();
     let mut errors = Errors::default();
     for task in tasks {
@@ -119,7 +113,7 @@ pub fn run(
             });
             continue;
         }
-        match rewrite_task(plan, &model, module, task, host) {
+        match rewrite_task(plan, &model, task, host) {
             Ok(r) => runs.push(r),
             Err(e) => errors.push(e),
         }
@@ -135,20 +129,20 @@ pub fn run(
 }
 
 fn rewrite_task(
-    plan: &CorrectPlan,
+    plan: &RuntimePlan,
     model: &crate::model::Model,
-    module: &str,
     task: Task,
     host: &mut dyn Host,
-) -> Result<RuntimeRan> {
-    let arm = checked_arm(plan, &task, model, host)?;
+) -> Result<RewrittenTask> {
+    let module = plan.module.as_str();
+    let arm = checked_arm(&plan.arms, &task, model, host)?;
     let base = base_frame(&task)?.map_or(UnitQuaternion::identity(), |f| f.rotation);
     let spec = RuntimeSpec::new(&arm.robot, model, base)?;
-    let label = model_label(&plan.model, &arm.label)?;
+    let label = model_label(&plan.arms.model, &arm.label)?;
     let opts = ModuleOptions {
         name: module.to_string(),
         version: env!("CARGO_PKG_VERSION").to_string(),
-        heating_source: match &plan.model {
+        heating_source: match &plan.arms.model {
             ModelSource::File(p) => format!("the model file {}", p.display()),
             ModelSource::Named(n) => format!("the embedded model {n}"),
             ModelSource::Default => "the embedded default (IRB 140, 60 % speed)".to_string(),
@@ -195,7 +189,7 @@ fn rewrite_task(
         }));
     }
     let already = found.is_some() && tally.wrapped == 0;
-    Ok(RuntimeRan {
+    Ok(RewrittenTask {
         task,
         arm: arm.robot.name.clone(),
         inputs,

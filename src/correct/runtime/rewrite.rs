@@ -121,7 +121,8 @@ pub fn move_insertions(program: &Program, func: &str) -> (Vec<Insertions>, MoveT
 pub fn write_rewritten(
     src: &[u8],
     ins: &Insertions,
-    (marker, sealed): (Option<&Edit>, &crate::correct::marker::Marker),
+    marker: Option<&Edit>,
+    sealed: &crate::correct::marker::Marker,
     out: &mut dyn Write,
 ) -> std::io::Result<()> {
     let end = crate::correct::marker::numbers_at(src);

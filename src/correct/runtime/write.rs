@@ -3,7 +3,7 @@
 //! per folder: two tasks of one folder that need different modules are
 //! refused). Every output is made before any is kept.
 
-use super::job::RuntimeRan;
+use super::job::RewrittenTask;
 use crate::correct::job::Sink;
 use crate::correct::plan::Destination;
 use crate::error::{Error, Result};
@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 /// Where the module of a run whose program is `program` goes.
 pub fn module_path(program: &Path, file: &str) -> PathBuf {
-    RuntimeRan::module_dir(program).join(file)
+    RewrittenTask::module_dir(program).join(file)
 }
 
 /// Every module file a run on `tasks` (those that move a robot) will
@@ -44,7 +44,7 @@ pub fn module_paths(
 /// The runs' programs written to `dest` through `sink`, and each task's
 /// module beside them. A module as it already is on disk stays untouched
 /// (and gets no backup).
-pub fn write(dest: &Destination, runs: &[RuntimeRan], sink: &mut dyn Sink) -> Result<()> {
+pub fn write(dest: &Destination, runs: &[RewrittenTask], sink: &mut dyn Sink) -> Result<()> {
     let mut modules: Vec<(PathBuf, &[u8])> = Vec::new();
     for r in runs {
         let beside = match dest {
@@ -102,7 +102,7 @@ pub fn write(dest: &Destination, runs: &[RuntimeRan], sink: &mut dyn Sink) -> Re
 fn put_file(
     sink: &mut dyn Sink,
     name: &str,
-    r: &RuntimeRan,
+    r: &RewrittenTask,
     f: usize,
 ) -> Result<Box<dyn crate::correct::job::Output>> {
     let mut o = sink.create(name)?;

@@ -2,7 +2,7 @@
 //! num, bool, string, and the record arithmetic of pos and orient) and
 //! calls of FUNCs and built-in functions.
 
-use super::super::estimate::{STACK_RED_ZONE, STACK_SEGMENT};
+use super::super::bounds::{STACK_RED_ZONE, STACK_SEGMENT};
 use super::kin;
 use super::place::Slot;
 use super::value::compare;

@@ -179,7 +179,7 @@ impl Interp {
             precision: Precision::Double,
             ops: Ops::default(),
             call_began: 0,
-            step_budget: super::estimate::STEP_BUDGET,
+            step_budget: super::bounds::STEP_BUDGET,
             moves: Vec::new(),
             at: None,
         };

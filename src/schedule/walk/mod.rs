@@ -23,7 +23,7 @@ use settled::{Settled, SettledSlot};
 
 use instant::is_instant_builtin;
 
-use super::estimate::{FALLBACK_SPEED, MAX_DEPTH, STACK_RED_ZONE, STACK_SEGMENT, STEP_BUDGET};
+use super::bounds::{FALLBACK_SPEED, MAX_DEPTH, STACK_RED_ZONE, STACK_SEGMENT, STEP_BUDGET};
 use super::timing::*;
 use super::Schedule;
 use crate::error::{Error, ErrorKind, Errors, Remedy, Result};

@@ -7,19 +7,19 @@ use crate::rapid::task::Task;
 pub type Inputs = Vec<(String, crate::rapid::Source)>;
 
 /// One task corrected: its files as read (name and bytes), the arm's
-/// name, the outcome, and the way it was corrected.
+/// name, the outcome, and whether it was streamed.
 #[derive(Debug)]
-pub struct Ran {
+pub struct CorrectedTask {
     pub task: Task,
     pub arm: String,
     pub inputs: Inputs,
     pub outcome: Outcome,
-    pub way: Way,
+    pub streaming: Streaming,
 }
 
 /// How a task was corrected.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Way {
+pub enum Streaming {
     /// In memory: the outcome holds every file's corrected bytes.
     InMemory,
     /// Written through the sink as corrected: the outcome holds no
@@ -27,12 +27,12 @@ pub enum Way {
     Streamed { changed: Vec<bool> },
 }
 
-impl Ran {
+impl CorrectedTask {
     /// Whether any of its files changes.
     pub fn changed(&self) -> bool {
-        match &self.way {
-            Way::Streamed { changed } => changed.iter().any(|&c| c),
-            Way::InMemory => self
+        match &self.streaming {
+            Streaming::Streamed { changed } => changed.iter().any(|&c| c),
+            Streaming::InMemory => self
                 .outcome
                 .outputs
                 .iter()

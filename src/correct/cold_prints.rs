@@ -9,24 +9,24 @@ use crate::digest::fingerprint;
 use crate::rapid::Program;
 
 /// The fingerprints of some files' bytes, with where those bytes are.
-pub(crate) struct Colds {
-    /// Each file's bytes (address and length), for [`Colds::fits`].
+pub(crate) struct ColdPrints {
+    /// Each file's bytes (address and length), for [`ColdPrints::fits`].
     of: Vec<(usize, usize)>,
     prints: Vec<String>,
 }
 
-impl Colds {
+impl ColdPrints {
     /// The fingerprints of `files`, in order.
-    pub fn of<'b>(files: impl Iterator<Item = &'b [u8]>) -> Colds {
+    pub fn of<'b>(files: impl Iterator<Item = &'b [u8]>) -> ColdPrints {
         let (of, prints) = files
             .map(|b| ((b.as_ptr() as usize, b.len()), fingerprint(b)))
             .unzip();
-        Colds { of, prints }
+        ColdPrints { of, prints }
     }
 
     /// The fingerprints of `program`'s files.
-    pub fn of_program(program: &Program) -> Colds {
-        Colds::of((0..program.files.len()).map(|f| program.source(f)))
+    pub fn of_program(program: &Program) -> ColdPrints {
+        ColdPrints::of((0..program.files.len()).map(|f| program.source(f)))
     }
 
     /// Whether they are of `program`'s bytes: the very bytes it holds (a
@@ -54,14 +54,14 @@ mod tests {
     fn fingerprints_fit_only_the_bytes_they_were_made_of() {
         let text = b"MODULE m\nCONST robtarget p := [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\nENDMODULE\n";
         let program = crate::rapid::parse("m.mod", text).expect("parses");
-        let same = Colds::of_program(&program);
+        let same = ColdPrints::of_program(&program);
         assert!(same.fits(&program));
         // Equal bytes elsewhere are not the program's: its own are hashed.
         let copy = text.to_vec();
-        let elsewhere = Colds::of(std::iter::once(&copy[..]));
+        let elsewhere = ColdPrints::of(std::iter::once(&copy[..]));
         assert!(!elsewhere.fits(&program));
         assert_eq!(elsewhere.into_prints(), same.into_prints());
-        let none = Colds::of(std::iter::empty());
+        let none = ColdPrints::of(std::iter::empty());
         assert!(!none.fits(&program));
     }
 }

@@ -64,6 +64,7 @@ mod syntax;
 pub mod targets;
 pub mod task;
 mod values;
+mod view;
 pub mod visit;
 
 pub use lane::{Decline, Declined, Found, LaneTally, Part};
@@ -73,7 +74,7 @@ pub use program::Program;
 pub use runs::MoveRef;
 pub use source::Source;
 pub use syntax::{
-    Aggregate, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Module, Param, RecordType,
+    Aggregate, Arg, BinaryOp, Block, Call, DataDecl, Expr, FunctionCall, Module, Param, RecordType,
     Routine, RoutineKind, Statement, StatementKind, UnaryOp,
 };
 pub use targets::Targets;
@@ -81,3 +82,4 @@ pub use values::{
     Derivation, Flag, JointTarget, Number, Origin, Pos, PoseNumbers, RobTargetValue, Scope,
     SpeedData, Storage, Target, TargetKind, ToolData, Warning, WobjData, ZoneData,
 };
+pub use view::{DeclBatch, Items, Listed, MoveBatch, StatementRef};

@@ -587,11 +587,10 @@ impl<'p> Walker<'p> {
     /// kept once each, so the same name is the same pointer, and the run's
     /// moves are all of one routine, with no call between them to make a
     /// variable (the scope is checked all the same).
-    pub(super) fn exec_moves(&mut self, run: usize, frame: &mut Frame<'p>) -> Result<()> {
-        let program = self.program;
+    pub(super) fn exec_moves(&mut self, batch: MoveBatch<'p>, frame: &mut Frame<'p>) -> Result<()> {
         let mut found = Found::default();
         let mut last: Option<(u64, [NameKey; 3])> = None;
-        for mv in program.moves(run) {
+        for mv in batch.moves() {
             let Some(s) = mv.statement() else {
                 continue;
             };

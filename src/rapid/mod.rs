@@ -69,7 +69,7 @@ pub mod visit;
 
 pub use lane::{Decline, Declined, Found, LaneTally, Part};
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
-pub use parse::{parse, parse_files, parse_sources, ParseOptions};
+pub use parse::{parse, parse_files, parse_read, parse_sources, Reading};
 pub use program::Program;
 pub use runs::MoveRef;
 pub use source::Source;

@@ -59,7 +59,9 @@ impl<'a> FileParser<'a, '_> {
                 });
                 match read {
                     Ok(Some(read)) => {
-                        self.ahead.read_from(self.src, self.lines, read.1);
+                        if self.b.ahead {
+                            self.ahead.read_from(self.src, self.lines, read.1);
+                        }
                         read
                     }
                     Ok(None) => return Ok(false),
@@ -167,7 +169,9 @@ impl<'a> FileParser<'a, '_> {
         });
         match read {
             Ok(Some(end)) => {
-                self.ahead.read_from(self.src, self.lines, end);
+                if self.b.ahead {
+                    self.ahead.read_from(self.src, self.lines, end);
+                }
                 self.b.prog.lane.read += 1;
                 self.peeked = None;
                 self.scanner.skip_to(end);

@@ -267,3 +267,73 @@ impl StatementRef<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::parse::{parse_read, Reading};
+    use super::super::visit::{walk_module, Visit};
+    use super::*;
+
+    const SRC: &str = "MODULE m\n  CONST robtarget pA := [[1,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  CONST robtarget pB := [[2,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  CONST num n := 2;\n  CONST robtarget pS{2} := [\n    [[3,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],\n    [[4,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]];\n  PROC main()\n    MoveL [[5,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n    MoveL [[6,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n    WaitTime 1;\n    MoveL pA, v100, fine, tool0;\n    MoveL pB, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
+
+    fn read(way: Reading) -> Program {
+        parse_read(vec![("m.mod".into(), Source::copied(SRC.as_bytes()))], way).unwrap()
+    }
+
+    /// Through the view, the program the lane holds compactly is the one
+    /// the grammar holds one by one: every statement, declaration and
+    /// value.
+    #[test]
+    fn the_view_gives_what_the_grammar_holds() {
+        let (lane, grammar) = (read(Reading::Lane), read(Reading::Grammar));
+        assert!(
+            lane.targets().in_runs() == 6,
+            "the lane holds the six literals"
+        );
+        let (l, g) = (&lane.modules[0], &grammar.modules[0]);
+        let statements = |p: &Program, b: &Block| -> Vec<String> {
+            (p.statements(b))
+                .map(|s| format!("{:?}", s.statement().unwrap()))
+                .collect()
+        };
+        let body = statements(&grammar, &g.routines[0].body);
+        assert_eq!(body.len(), 5);
+        assert_eq!(statements(&lane, &l.routines[0].body), body);
+        let data = |p: &Program, m: &Module| -> Vec<String> {
+            (p.module_data(m))
+                .map(|d| format!("{:?} {:?}", d.name, p.value_of(&d)))
+                .collect()
+        };
+        assert_eq!(data(&lane, l), data(&grammar, g));
+        assert_eq!(data(&grammar, g).len(), 4);
+    }
+
+    /// The visitor goes into the runs: every move and declaration the lane
+    /// holds is visited.
+    #[test]
+    fn the_visitor_visits_what_the_runs_hold() {
+        struct Count<'a>(&'a Program, usize, usize);
+        impl<'a> Visit<'a> for Count<'a> {
+            fn program(&self) -> Option<&'a Program> {
+                Some(self.0)
+            }
+            fn visit_module(&mut self, m: &'a Module) {
+                walk_module(self, m);
+            }
+            fn visit_move(&mut self, _: MoveRef<'a>) {
+                self.1 += 1;
+            }
+            fn visit_declarations(&mut self, b: DeclBatch<'a>) {
+                self.2 += b.len();
+            }
+        }
+        let lane = read(Reading::Lane);
+        let mut c = Count(&lane, 0, 0);
+        c.visit_program(&lane);
+        assert_eq!(
+            (c.1, c.2),
+            (4, 2),
+            "four moves and two declarations in runs"
+        );
+    }
+}

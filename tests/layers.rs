@@ -426,3 +426,5 @@ fn no_file_points_outside_the_repository() {
 
 #[path = "layers/files.rs"]
 mod files;
+#[path = "layers/lane.rs"]
+mod lane;

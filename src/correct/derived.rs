@@ -6,7 +6,7 @@
 use super::Correction;
 use crate::model::{Moment, States, WarmRobot};
 use crate::rapid::targets::TargetIndex;
-use crate::rapid::{builtins, Expr, FunctionCall, Program, Statement, StatementKind, UnaryOp};
+use crate::rapid::{builtins, Block, Expr, FunctionCall, Program, StatementKind, UnaryOp};
 use crate::resolve::{
     frames_for, frames_named, target_pose, walk_statements, Frames, Through, Uses,
 };
@@ -39,7 +39,7 @@ fn add<'a>(out: &mut HashMap<usize, &'a FunctionCall>, e: Option<&'a Expr>) {
 }
 
 /// Call arguments, assigned values and RETURNs, nested ones included.
-fn visit<'a>(statements: &'a [Statement], out: &mut HashMap<usize, &'a FunctionCall>) {
+fn visit<'a>(statements: &'a Block, out: &mut HashMap<usize, &'a FunctionCall>) {
     walk_statements(statements, &mut |s| match &s.kind {
         StatementKind::Call(call) => {
             for a in &call.args {

@@ -237,7 +237,7 @@ fn module_data(program: &Program) -> Declared {
         for d in &m.data {
             out.entry(d.name.to_ascii_lowercase()).or_insert((
                 d.type_name.clone(),
-                d.init.is_some(),
+                d.has_value(),
                 d.pos.line,
             ));
         }

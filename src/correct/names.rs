@@ -5,7 +5,7 @@
 
 use crate::rapid::visit::{walk_call, walk_data_decl, walk_expr, walk_routine, Visit};
 use crate::rapid::{
-    Call, DataDecl, Expr, Module, Program, Routine, Scope, Statement, StatementKind, Storage,
+    Call, DataDecl, DeclBatch, Expr, Module, MoveRef, Program, Routine, Scope, Statement, Storage,
 };
 use std::collections::HashMap;
 
@@ -72,31 +72,56 @@ impl Collect<'_> {
     }
 }
 
-impl<'a> Visit<'a> for Collect<'_> {
+impl<'a> Visit<'a> for Collect<'a> {
+    fn program(&self) -> Option<&'a Program> {
+        Some(self.program)
+    }
+    /// The declarations the fast lane read, together.
+    fn visit_declarations(&mut self, b: DeclBatch<'a>) {
+        for d in b.declarations() {
+            *self
+                .names
+                .declared
+                .entry(d.name.to_ascii_lowercase())
+                .or_default() += 1;
+            if let Some(Expr::Target(i)) = d.init {
+                self.names.decl_of.insert(
+                    i,
+                    DeclAt {
+                        storage: d.storage,
+                        scope: d.scope,
+                        offset: d.pos.offset,
+                    },
+                );
+            }
+        }
+    }
+    /// A move the fast lane read: a target named, and the other names
+    /// read, as the move's call gives them.
+    fn visit_move(&mut self, mv: MoveRef<'a>) {
+        self.line = mv.line();
+        self.offset = mv.offset();
+        if let Some(n) = mv.named() {
+            *self
+                .names
+                .as_target
+                .entry((n.to_ascii_lowercase(), self.file, self.offset))
+                .or_default() += 1;
+        }
+        for name in [mv.speed(), mv.zone(), mv.tool(), mv.wobj()]
+            .into_iter()
+            .flatten()
+        {
+            let here = self.where_();
+            self.names
+                .other
+                .entry(name.to_ascii_lowercase())
+                .or_insert(here);
+        }
+    }
     fn visit_module(&mut self, m: &'a Module) {
         self.file = m.file;
         self.routine.clear();
-        // The declarations the fast lane read (in runs).
-        let program = self.program;
-        for &r in &m.decl_runs {
-            for d in program.declarations(r) {
-                *self
-                    .names
-                    .declared
-                    .entry(d.name.to_ascii_lowercase())
-                    .or_default() += 1;
-                if let Some(Expr::Target(i)) = d.init {
-                    self.names.decl_of.insert(
-                        i,
-                        DeclAt {
-                            storage: d.storage,
-                            scope: d.scope,
-                            offset: d.pos.offset,
-                        },
-                    );
-                }
-            }
-        }
         crate::rapid::visit::walk_module(self, m);
     }
     fn visit_data_decl(&mut self, d: &'a DataDecl) {
@@ -132,33 +157,6 @@ impl<'a> Visit<'a> for Collect<'_> {
     fn visit_statement(&mut self, s: &'a Statement) {
         self.line = s.pos.line;
         self.offset = s.pos.offset;
-        // The moves the fast lane read (in runs): a target named, and the
-        // other names read, as the moves' calls give them.
-        if let StatementKind::Moves(r) = &s.kind {
-            let program = self.program;
-            for mv in program.moves(*r) {
-                self.line = mv.line();
-                self.offset = mv.offset();
-                if let Some(n) = mv.named() {
-                    *self
-                        .names
-                        .as_target
-                        .entry((n.to_ascii_lowercase(), self.file, self.offset))
-                        .or_default() += 1;
-                }
-                for name in [mv.speed(), mv.zone(), mv.tool(), mv.wobj()]
-                    .into_iter()
-                    .flatten()
-                {
-                    let here = self.where_();
-                    self.names
-                        .other
-                        .entry(name.to_ascii_lowercase())
-                        .or_insert(here);
-                }
-            }
-            return;
-        }
         crate::rapid::visit::walk_statement(self, s);
     }
     fn visit_call(&mut self, c: &'a Call) {

@@ -143,6 +143,9 @@ fn index_place(src: &[u8], from: usize, name: &str) -> Option<usize> {
 }
 
 impl<'p> Visit<'p> for Bounds<'p> {
+    fn program(&self) -> Option<&'p Program> {
+        Some(self.program)
+    }
     fn visit_module(&mut self, m: &'p Module) {
         self.module = Some(m);
         self.routine = None;

@@ -133,6 +133,10 @@ pub fn names_read(e: &Expr) -> Vec<String> {
     use super::visit::{walk_expr, Visit};
     struct Names(Vec<String>);
     impl<'a> Visit<'a> for Names {
+        // An expression's walk: no list of statements in it.
+        fn program(&self) -> Option<&'a crate::rapid::Program> {
+            None
+        }
         fn visit_expr(&mut self, e: &'a Expr) {
             if let Expr::Name(n) = e {
                 if !self.0.iter().any(|x| x.eq_ignore_ascii_case(n)) {

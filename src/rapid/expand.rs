@@ -6,7 +6,8 @@
 //! walks the syntax tree its own way may take it.
 
 use super::program::Program;
-use super::syntax::{Aggregate, Expr, Routine, Statement, StatementKind};
+use super::syntax::{Block, DataDecl, Routine, StatementKind};
+use super::view::Listed;
 
 impl Program {
     /// The program the grammar would have read: runs made into
@@ -16,16 +17,15 @@ impl Program {
         p.targets = self.targets().iter().map(|t| t.into_owned()).collect();
         p.segments = Vec::new();
         for m in &mut p.modules {
-            let runs = std::mem::take(&mut m.decl_runs);
-            let mut data = std::mem::take(&mut m.data);
-            for r in runs {
-                data.extend(self.declarations(r));
+            let mut data: Vec<DataDecl> = Vec::new();
+            for b in self.declaration_batches(m) {
+                data.extend(b.declarations());
             }
+            m.decl_runs.clear();
+            data.append(&mut m.data);
             data.sort_by_key(|d| d.pos.offset);
             for d in &mut data {
-                if let Some(init) = &mut d.init {
-                    expand_expr(self, init);
-                }
+                expand_decl(self, d);
             }
             m.data = data;
             for r in &mut m.routines {
@@ -37,23 +37,17 @@ impl Program {
     }
 }
 
-fn expand_expr(program: &Program, e: &mut Expr) {
-    if let Expr::Elements(run) = e {
-        let Some(a) = program.runs.arrays.get(*run) else {
-            return;
-        };
-        *e = Expr::Aggregate(Box::new(Aggregate {
-            items: program.elements(*run).map(Expr::Target).collect(),
-            span: a.span.clone(),
-        }));
+/// An array's value the lane holds made into the grammar's aggregate.
+fn expand_decl(program: &Program, d: &mut DataDecl) {
+    if d.elements.is_some() {
+        d.init = program.value_of(d).map(std::borrow::Cow::into_owned);
+        d.elements = None;
     }
 }
 
 fn expand_routine(program: &Program, r: &mut Routine) {
     for d in &mut r.data {
-        if let Some(init) = &mut d.init {
-            expand_expr(program, init);
-        }
+        expand_decl(program, d);
     }
     for list in [
         Some(&mut r.body),
@@ -70,14 +64,16 @@ fn expand_routine(program: &Program, r: &mut Routine) {
 
 /// A list of statements with its runs of moves made into calls, nested
 /// lists too.
-fn expand_list(program: &Program, list: &mut Vec<Statement>) {
+fn expand_list(program: &Program, list: &mut Block) {
     let mut out = Vec::with_capacity(list.len());
-    for mut s in std::mem::take(list) {
+    for item in program.items(list) {
+        match item {
+            Listed::Statement(s) => out.push(s.clone()),
+            Listed::Batch(b) => out.extend(b.moves().filter_map(|m| m.statement())),
+        }
+    }
+    for s in &mut out {
         match &mut s.kind {
-            StatementKind::Moves(run) => {
-                out.extend(program.moves(*run).filter_map(|m| m.statement()));
-                continue;
-            }
             StatementKind::If {
                 branches,
                 otherwise,
@@ -102,7 +98,6 @@ fn expand_list(program: &Program, list: &mut Vec<Statement>) {
             }
             _ => {}
         }
-        out.push(s);
     }
-    *list = out;
+    *list = Block::from(out);
 }

@@ -64,16 +64,17 @@ mod syntax;
 pub mod targets;
 pub mod task;
 mod values;
+mod view;
 pub mod visit;
 
 pub use lane::{Decline, Declined, Found, LaneTally, Part};
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
-pub use parse::{parse, parse_files, parse_sources, ParseOptions};
+pub use parse::{parse, parse_files, parse_read, parse_sources, Reading};
 pub use program::Program;
 pub use runs::MoveRef;
 pub use source::Source;
 pub use syntax::{
-    Aggregate, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Module, Param, RecordType,
+    Aggregate, Arg, BinaryOp, Block, Call, DataDecl, Expr, FunctionCall, Module, Param, RecordType,
     Routine, RoutineKind, Statement, StatementKind, UnaryOp,
 };
 pub use targets::Targets;
@@ -81,3 +82,4 @@ pub use values::{
     Derivation, Flag, JointTarget, Number, Origin, Pos, PoseNumbers, RobTargetValue, Scope,
     SpeedData, Storage, Target, TargetKind, ToolData, Warning, WobjData, ZoneData,
 };
+pub use view::{DeclBatch, Items, Listed, MoveBatch, StatementRef};

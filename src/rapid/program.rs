@@ -2,12 +2,12 @@
 //! targets collected from them.
 
 use super::lane::LaneTally;
-use super::runs::{moves_of, MoveRef, Runs};
+use super::runs::Runs;
 use super::source::Source;
-use super::syntax::{DataDecl, Module, Routine};
+use super::syntax::{Module, Routine};
 use super::targets::{Segment, TargetIndex, Targets};
 use super::values::{
-    JointTarget, Origin, Scope, SpeedData, Target, ToolData, Warning, WobjData, ZoneData,
+    JointTarget, Origin, SpeedData, Target, ToolData, Warning, WobjData, ZoneData,
 };
 use crate::error::Location;
 
@@ -117,69 +117,5 @@ impl Program {
     /// target and array element of the runs.
     pub fn target_index(&self, keep: impl Fn(&Target) -> bool) -> TargetIndex<'_> {
         TargetIndex::new(self.targets(), keep)
-    }
-
-    /// The moves of the program's move run `run` (a
-    /// [`StatementKind::Moves`](super::StatementKind::Moves)).
-    pub fn moves(&self, run: usize) -> impl Iterator<Item = MoveRef<'_>> + '_ {
-        moves_of(&self.runs, &self.sources, run)
-    }
-
-    /// The numbers of the targets of array run `run` (an
-    /// [`Expr::Elements`](super::Expr::Elements)): its elements in order.
-    pub fn elements(&self, run: usize) -> std::ops::Range<usize> {
-        self.runs
-            .arrays
-            .get(run)
-            .map_or(0..0, |a| a.base..a.base + a.elements.len())
-    }
-
-    /// The declarations of declaration run `run` (a module's
-    /// [`decl_runs`](Module::decl_runs)), as the grammar makes them.
-    pub fn declarations(&self, run: usize) -> Vec<DataDecl> {
-        let Some(r) = self.runs.decls.get(run) else {
-            return Vec::new();
-        };
-        let src = self.source(r.file);
-        (0..r.items.len())
-            .filter_map(|k| r.declaration(src, k))
-            .collect()
-    }
-
-    /// The scope of the declarations of declaration run `run` (a run's
-    /// are alike).
-    pub fn declared_scope(&self, run: usize) -> Option<Scope> {
-        self.runs.decls.get(run).and_then(|r| r.scope)
-    }
-
-    /// How many declarations declaration run `run` holds.
-    pub fn declared_count(&self, run: usize) -> usize {
-        self.runs.decls.get(run).map_or(0, |r| r.items.len())
-    }
-
-    /// The declared names of declaration run `run` as written, each with
-    /// the byte offset of its declaration and its target's number.
-    /// The number of the first target of declaration run `run` (its
-    /// declarations' targets follow in order).
-    pub fn declared_base(&self, run: usize) -> Option<usize> {
-        self.runs.decls.get(run).map(|r| r.base)
-    }
-
-    /// The name of declaration `k` of declaration run `run`, as written.
-    pub fn declared_name(&self, run: usize, k: usize) -> Option<&str> {
-        let r = self.runs.decls.get(run)?;
-        r.name_of(self.source(r.file), r.items.get(k)?)
-    }
-
-    pub fn declared_names(&self, run: usize) -> Vec<(&str, usize, usize)> {
-        let Some(r) = self.runs.decls.get(run) else {
-            return Vec::new();
-        };
-        let src = self.source(r.file);
-        r.items
-            .iter()
-            .enumerate()
-            .filter_map(|(k, item)| Some((r.name_of(src, item)?, item.at as usize, r.base + k)))
-            .collect()
     }
 }

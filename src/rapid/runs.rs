@@ -375,6 +375,7 @@ impl DeclRun {
             dims: Vec::new(),
             init: Some(Expr::Target(self.base + k)),
             pos: pos_on(src, item.at as usize, item.line),
+            elements: None,
         })
     }
 }
@@ -551,24 +552,12 @@ impl<'p> MoveRef<'p> {
     pub fn line(&self) -> u32 {
         self.item().line
     }
+    /// Where the statement starts, with its line and column.
+    pub fn pos(&self) -> Pos {
+        pos_on(self.src(), self.offset(), self.line())
+    }
     /// The statement as the grammar makes it.
     pub fn statement(&self) -> Option<Statement> {
         self.run.statement(self.runs, self.src(), self.m)
     }
-}
-
-/// The moves of move run `run` of `runs`.
-pub(crate) fn moves_of<'p>(
-    runs: &'p Runs,
-    sources: &'p [Source],
-    run: usize,
-) -> impl Iterator<Item = MoveRef<'p>> + 'p {
-    runs.moves.get(run).into_iter().flat_map(move |r| {
-        (0..r.items.len()).map(move |m| MoveRef {
-            runs,
-            sources,
-            run: r,
-            m,
-        })
-    })
 }

@@ -13,12 +13,15 @@ pub struct Module {
     pub attributes: Vec<String>,
     pub records: Vec<RecordType>,
     pub aliases: Vec<(String, String)>,
+    /// The declarations held one by one; every declaration of the
+    /// module, those the reader holds compactly too:
+    /// [`Program::module_data`](super::Program::module_data).
     pub data: Vec<DataDecl>,
     /// Declarations of robtargets with literal values, one after another,
     /// that the fast lane read, held compactly: the program's declaration
     /// runs of these numbers, each a [`DataDecl`] of the grammar's (in
-    /// [`Program::expanded`]).
-    pub decl_runs: Vec<usize>,
+    /// [`Program::expanded`](super::Program::expanded)).
+    pub(super) decl_runs: Vec<usize>,
     pub routines: Vec<Routine>,
     pub pos: Pos,
 }
@@ -44,8 +47,20 @@ pub struct DataDecl {
     pub dims: Vec<Expr>,
     /// Robtarget/jointtarget literals are replaced by [`Expr::Target`] /
     /// [`Expr::JointTarget`] (the values are in the program's lists).
+    /// `None` too for an array of robtarget literals the reader holds
+    /// compactly ([`DataDecl::has_value`] tells; its value, as the grammar
+    /// makes it: [`Program::value_of`](super::Program::value_of)).
     pub init: Option<Expr>,
     pub pos: Pos,
+    /// The array run of the fast lane holding the value, if one does.
+    pub(super) elements: Option<usize>,
+}
+
+impl DataDecl {
+    /// Whether the declaration gives a value (`:= ...`).
+    pub fn has_value(&self) -> bool {
+        self.init.is_some() || self.elements.is_some()
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -78,11 +93,11 @@ pub struct Routine {
     pub return_type: Option<String>,
     pub params: Vec<Param>,
     pub data: Vec<DataDecl>,
-    pub body: Vec<Statement>,
-    pub backward: Option<Vec<Statement>>,
+    pub body: Block,
+    pub backward: Option<Block>,
     /// ERROR handler: its error numbers (empty = all) and statements.
-    pub error: Option<(Vec<Expr>, Vec<Statement>)>,
-    pub undo: Option<Vec<Statement>>,
+    pub error: Option<(Vec<Expr>, Block)>,
+    pub undo: Option<Block>,
     pub pos: Pos,
 }
 
@@ -102,8 +117,8 @@ pub enum StatementKind {
     },
     If {
         /// IF and ELSEIF conditions with their statements.
-        branches: Vec<(Expr, Vec<Statement>)>,
-        otherwise: Option<Vec<Statement>>,
+        branches: Vec<(Expr, Block)>,
+        otherwise: Option<Block>,
     },
     /// `IF cond statement` on one line.
     CompactIf {
@@ -115,16 +130,16 @@ pub enum StatementKind {
         from: Expr,
         to: Expr,
         step: Option<Box<Expr>>,
-        body: Vec<Statement>,
+        body: Block,
     },
     While {
         cond: Expr,
-        body: Vec<Statement>,
+        body: Block,
     },
     Test {
         value: Expr,
-        cases: Vec<(Vec<Expr>, Vec<Statement>)>,
-        default: Option<Vec<Statement>>,
+        cases: Vec<(Vec<Expr>, Block)>,
+        default: Option<Block>,
     },
     Goto(String),
     Label(String),
@@ -139,11 +154,72 @@ pub enum StatementKind {
     },
     /// `<SMT>` left by the pendant.
     Placeholder(String),
-    /// Moves one after another in this list that the fast lane read,
-    /// held compactly: the program's move run of this number (see
-    /// [`Program::moves`]). Each is the call the grammar makes of it
-    /// ([`MoveRef::statement`](super::MoveRef::statement)).
-    Moves(usize),
+}
+
+/// A list of statements: a routine's body or handler, a branch of a
+/// block. It holds the statements the grammar read one by one (what it
+/// dereferences to, in order) and, between them, the runs of moves the
+/// fast lane read, held compactly and private to the reader. Every
+/// statement of the list, whatever its storage:
+/// [`Program::statements`](super::Program::statements) (one at a time)
+/// or [`Program::items`](super::Program::items) (a run's moves at once).
+#[derive(Clone, Default, PartialEq)]
+pub struct Block {
+    pub(super) stmts: Vec<Statement>,
+    /// The runs of moves held between the statements: (how many
+    /// statements come before it, the program's move run of that number),
+    /// in order.
+    pub(super) runs: Vec<(usize, usize)>,
+}
+
+impl Block {
+    /// Whether the list holds no statement at all, in runs neither.
+    pub fn is_empty(&self) -> bool {
+        self.stmts.is_empty() && self.runs.is_empty()
+    }
+}
+
+impl From<Vec<Statement>> for Block {
+    fn from(stmts: Vec<Statement>) -> Block {
+        Block {
+            stmts,
+            runs: Vec::new(),
+        }
+    }
+}
+
+impl std::ops::Deref for Block {
+    type Target = [Statement];
+    fn deref(&self) -> &[Statement] {
+        &self.stmts
+    }
+}
+
+impl std::ops::DerefMut for Block {
+    fn deref_mut(&mut self) -> &mut [Statement] {
+        &mut self.stmts
+    }
+}
+
+impl<'a> IntoIterator for &'a Block {
+    type Item = &'a Statement;
+    type IntoIter = std::slice::Iter<'a, Statement>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.stmts.iter()
+    }
+}
+
+impl std::fmt::Debug for Block {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.runs.is_empty() {
+            true => f.debug_list().entries(&self.stmts).finish(),
+            false => f
+                .debug_struct("Block")
+                .field("stmts", &self.stmts)
+                .field("runs", &self.runs)
+                .finish(),
+        }
+    }
 }
 
 /// A procedure call: `MoveL p10, v100, z10, tool0\WObj:=wobj1;`
@@ -253,10 +329,6 @@ pub enum Expr {
     Target(usize),
     /// A jointtarget literal: index into [`Program::jointtargets`].
     JointTarget(usize),
-    /// The value of an array of robtarget literals the fast lane read,
-    /// held compactly: the program's array run of this number. The
-    /// grammar makes it an aggregate of [`Expr::Target`]s.
-    Elements(usize),
 }
 
 /// `Offs(p10, 0, 0, 50)`

@@ -8,12 +8,14 @@
 //! statements) and UNDO; a statement's expressions before its nested
 //! blocks, as they are written.
 //!
-//! Moves the fast lane read are held in runs, one
-//! [`StatementKind::Moves`](super::StatementKind::Moves) statement for a
-//! run (its moves through [`Program::moves`]), and an array's literals
-//! one [`Expr::Elements`]: the walk does not go into them. A pass that
-//! needs every call as a [`Call`] walks [`Program::expanded`], the
-//! program as the grammar alone makes it.
+//! The walk is complete: the moves the fast lane holds in runs are
+//! visited too, as a batch ([`Visit::visit_moves`]) and one by one
+//! ([`Visit::visit_move`], a [`MoveRef`] with the move's names and
+//! targets, its call made on demand), in their place among the
+//! statements; it reads them through the program the visitor names
+//! ([`Visit::program`]). A pass that needs every call as a [`Call`]
+//! borrowed from the tree walks [`Program::expanded`], the program as the
+//! grammar alone makes it.
 //!
 //! Context such as the module or routine a statement is in is kept by the
 //! visitor itself, set in `visit_module` / `visit_routine` before walking:
@@ -25,11 +27,15 @@
 //! /// Every procedure call, with the routine it is in.
 //! #[derive(Default)]
 //! struct Calls<'a> {
+//!     program: Option<&'a rapid::Program>,
 //!     routine: &'a str,
 //!     found: Vec<(&'a str, &'a str)>,
 //! }
 //!
 //! impl<'a> Visit<'a> for Calls<'a> {
+//!     fn program(&self) -> Option<&'a rapid::Program> {
+//!         self.program
+//!     }
 //!     fn visit_routine(&mut self, r: &'a Routine) {
 //!         self.routine = &r.name;
 //!         walk_routine(self, r);
@@ -41,18 +47,29 @@
 //!
 //! let src = b"MODULE m\nPROC main()\nIF TRUE THEN\nMoveL p10, v100, fine, tool0;\nENDIF\nENDPROC\nENDMODULE\n";
 //! let program = rapid::parse("m.mod", src)?.expanded();
-//! let mut v = Calls::default();
+//! let mut v = Calls {
+//!     program: Some(&program),
+//!     ..Calls::default()
+//! };
 //! v.visit_program(&program);
 //! assert_eq!(v.found, [("main", "MoveL")]);
 //! # Ok::<(), rapidtherm::Error>(())
 //! ```
 
+use super::view::{DeclBatch, Listed, MoveBatch};
 use super::StatementKind as S;
-use super::{Arg, Call, DataDecl, Expr, FunctionCall, Module, Program, Routine, Statement};
+use super::{
+    Arg, Block, Call, DataDecl, Expr, FunctionCall, Module, MoveRef, Program, Routine, Statement,
+};
 
 /// A read-only traversal; every method's default descends with the
 /// matching `walk_*` function.
 pub trait Visit<'a> {
+    /// The program the visited tree is of, through which the walk reads
+    /// the moves and declarations the fast lane holds compactly; `None`
+    /// for a tree being read (whose runs are not yet the program's): the
+    /// walk then visits what is held one by one alone.
+    fn program(&self) -> Option<&'a Program>;
     fn visit_program(&mut self, p: &'a Program) {
         walk_program(self, p);
     }
@@ -62,13 +79,24 @@ pub trait Visit<'a> {
     fn visit_data_decl(&mut self, d: &'a DataDecl) {
         walk_data_decl(self, d);
     }
+    /// Robtarget declarations the fast lane read one after another, at
+    /// once (after the module's other data): each a literal, no
+    /// expression of theirs is held.
+    fn visit_declarations(&mut self, _b: DeclBatch<'a>) {}
     fn visit_routine(&mut self, r: &'a Routine) {
         walk_routine(self, r);
     }
     /// A statement list: a routine's body or handler, a branch of a block.
-    fn visit_block(&mut self, b: &'a [Statement]) {
+    fn visit_block(&mut self, b: &'a Block) {
         walk_block(self, b);
     }
+    /// Moves the fast lane read one after another, at once.
+    fn visit_moves(&mut self, b: MoveBatch<'a>) {
+        walk_moves(self, b);
+    }
+    /// One move the fast lane read: no expression of its is held (its
+    /// targets are numbers, its other arguments names).
+    fn visit_move(&mut self, _m: MoveRef<'a>) {}
     fn visit_statement(&mut self, s: &'a Statement) {
         walk_statement(self, s);
     }
@@ -97,6 +125,11 @@ pub fn walk_program<'a, V: Visit<'a> + ?Sized>(v: &mut V, p: &'a Program) {
 pub fn walk_module<'a, V: Visit<'a> + ?Sized>(v: &mut V, m: &'a Module) {
     for d in &m.data {
         v.visit_data_decl(d);
+    }
+    if let Some(p) = v.program() {
+        for b in p.declaration_batches(m) {
+            v.visit_declarations(b);
+        }
     }
     for r in &m.routines {
         v.visit_routine(r);
@@ -131,9 +164,27 @@ pub fn walk_routine<'a, V: Visit<'a> + ?Sized>(v: &mut V, r: &'a Routine) {
     }
 }
 
-pub fn walk_block<'a, V: Visit<'a> + ?Sized>(v: &mut V, b: &'a [Statement]) {
-    for s in b {
-        v.visit_statement(s);
+pub fn walk_block<'a, V: Visit<'a> + ?Sized>(v: &mut V, b: &'a Block) {
+    match v.program() {
+        Some(p) => {
+            for item in p.items(b) {
+                match item {
+                    Listed::Statement(s) => v.visit_statement(s),
+                    Listed::Batch(moves) => v.visit_moves(moves),
+                }
+            }
+        }
+        None => {
+            for s in b.iter() {
+                v.visit_statement(s);
+            }
+        }
+    }
+}
+
+pub fn walk_moves<'a, V: Visit<'a> + ?Sized>(v: &mut V, b: MoveBatch<'a>) {
+    for m in b.moves() {
+        v.visit_move(m);
     }
 }
 
@@ -203,8 +254,7 @@ pub fn walk_statement<'a, V: Visit<'a> + ?Sized>(v: &mut V, s: &'a Statement) {
         | S::Exit
         | S::Retry
         | S::TryNext
-        | S::Placeholder(_)
-        | S::Moves(_) => {}
+        | S::Placeholder(_) => {}
     }
 }
 
@@ -246,8 +296,7 @@ pub fn walk_expr<'a, V: Visit<'a> + ?Sized>(v: &mut V, e: &'a Expr) {
         | Expr::Placeholder(_)
         | Expr::Name(_)
         | Expr::Target(_)
-        | Expr::JointTarget(_)
-        | Expr::Elements(_) => {}
+        | Expr::JointTarget(_) => {}
     }
 }
 
@@ -398,8 +447,7 @@ pub fn walk_statement_mut<V: VisitMut + ?Sized>(v: &mut V, s: &mut Statement) {
         | S::Exit
         | S::Retry
         | S::TryNext
-        | S::Placeholder(_)
-        | S::Moves(_) => {}
+        | S::Placeholder(_) => {}
     }
 }
 
@@ -441,8 +489,7 @@ pub fn walk_expr_mut<V: VisitMut + ?Sized>(v: &mut V, e: &mut Expr) {
         | Expr::Placeholder(_)
         | Expr::Name(_)
         | Expr::Target(_)
-        | Expr::JointTarget(_)
-        | Expr::Elements(_) => {}
+        | Expr::JointTarget(_) => {}
     }
 }
 

@@ -188,13 +188,11 @@ impl Variables<'_> {
             .get_or_init(|| {
                 let p = self.program;
                 let robtargets = self.types.contains(&"robtarget");
-                let in_runs = p
-                    .modules
-                    .iter()
-                    .flat_map(|m| m.decl_runs.iter())
+                let in_runs = (p.modules.iter())
                     .filter(|_| robtargets)
-                    .flat_map(|&r| p.declared_names(r))
-                    .map(|(name, _, _)| name.to_lowercase());
+                    .flat_map(|m| p.declaration_batches(m))
+                    .flat_map(|b| b.names())
+                    .map(|(name, _)| name.to_lowercase());
                 p.modules
                     .iter()
                     .flat_map(|m| m.data.iter().chain(m.routines.iter().flat_map(|r| &r.data)))
@@ -255,6 +253,10 @@ fn targets_in(e: &Expr) -> Vec<usize> {
     use crate::rapid::visit::{walk_expr, Visit};
     struct Found(Vec<usize>);
     impl<'a> Visit<'a> for Found {
+        // Expressions alone: the fast lane's runs hold none.
+        fn program(&self) -> Option<&'a Program> {
+            None
+        }
         fn visit_expr(&mut self, e: &'a Expr) {
             if let Expr::Target(i) = e {
                 self.0.push(*i);

@@ -2,8 +2,8 @@
 //! the move is and what it moves with: what [`uses`](super::uses) goes
 //! through.
 
-use super::{describe, routine_bodies, walk_statements, Reach, Reached, Refs, Through, Usage};
-use crate::rapid::{Module, Program, Routine, StatementKind};
+use super::{describe, routine_bodies, walk_items, Reach, Reached, Refs, Through, Usage};
+use crate::rapid::{Listed, Module, Program, Routine, StatementKind};
 
 /// Where a move is, and what it moves with.
 pub(super) struct MoveAt<'a> {
@@ -14,8 +14,9 @@ pub(super) struct MoveAt<'a> {
     pub line: u32,
     pub file: usize,
     pub offset: usize,
-    /// A run's move by name: the run's number and the move's place in it.
-    pub run_move: Option<(usize, usize)>,
+    /// A move by name of a batch the fast lane read: the batch's number,
+    /// the move's place in it and the batch's length.
+    pub run_move: Option<(usize, usize, usize)>,
 }
 
 impl MoveAt<'_> {
@@ -73,10 +74,9 @@ pub(super) fn reached_by_routine<'a>(
                 let mut run: Option<(usize, Vec<u32>)> = None;
                 each_move_of(program, module, routine, &mut |m, reach, at| {
                     let found = refs.targets(reach, (m, at.routine));
-                    if let Some((r, k)) = at.run_move {
+                    if let Some((r, k, len)) = at.run_move {
                         if run.as_ref().map(|x| x.0) != Some(r) {
                             keep_named(named, run.take());
-                            let len = program.runs.moves.get(r).map_or(0, |x| x.items.len());
                             run = Some((r, vec![NOT_KEPT; len]));
                         }
                         if let (Some((_, kept)), [(Reached::One(i), Through::Direct)]) =
@@ -122,8 +122,11 @@ fn each_move_of(
     visit: &mut dyn FnMut(&str, Reach, &MoveAt),
 ) {
     for body in routine_bodies(routine) {
-        walk_statements(body, &mut |s| match &s.kind {
-            StatementKind::Call(call) => {
+        walk_items(program, body, &mut |item| match item {
+            Listed::Statement(s) => {
+                let StatementKind::Call(call) = &s.kind else {
+                    return;
+                };
                 let Some(m) = call.motion() else { return };
                 let tool = m.tool.map(describe);
                 let wobj = m.wobj.map(describe);
@@ -141,8 +144,8 @@ fn each_move_of(
                     visit(module.name.as_ref(), Reach::Expr(expr), &at);
                 }
             }
-            StatementKind::Moves(run) => {
-                for (k, mv) in program.moves(*run).enumerate() {
+            Listed::Batch(batch) => {
+                for (k, mv) in batch.moves().enumerate() {
                     let Some(name) = mv.named() else { continue };
                     let at = MoveAt {
                         tool: mv.tool().map(|t| &**t),
@@ -152,12 +155,11 @@ fn each_move_of(
                         line: mv.line(),
                         file: module.file,
                         offset: mv.offset(),
-                        run_move: Some((*run, k)),
+                        run_move: Some((batch.number(), k, batch.len())),
                     };
                     visit(module.name.as_ref(), Reach::Name(name), &at);
                 }
             }
-            _ => {}
         });
     }
 }

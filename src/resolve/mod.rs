@@ -9,10 +9,7 @@
 
 use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::rapid::targets::TargetIndex;
-use crate::rapid::visit::{walk_statement, Visit};
-use crate::rapid::{
-    self, Call, Expr, NoCase, Program, Statement, StatementKind, Target, TargetKind,
-};
+use crate::rapid::{self, Block, Expr, NoCase, Program, Target, TargetKind};
 use crate::robot::conf::RobConf;
 use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
 use nalgebra::Isometry3;
@@ -29,12 +26,14 @@ pub mod monitoring;
 mod moves;
 mod params;
 mod per_call;
+mod statements;
 mod uses;
 
 pub use frame_vars::frame_variables;
 pub use moves::{each_move_instruction, each_move_instruction_with, Move, Point};
 pub use params::settled_parameters;
 pub use per_call::unsettled_frame_parameters;
+pub use statements::{walk_calls, walk_items, walk_statements};
 
 use each_move::{each_move, reached_by_routine};
 use uses::{offset32, Packed, Site, UsesBuilder};
@@ -285,7 +284,7 @@ impl<'p> MoveLookup<'p> {
         MoveLookup {
             index: move_index(program),
             aliases: aliases_and_parameters(program),
-            named: (0..program.runs.moves.len())
+            named: (0..program.move_batches())
                 .map(|_| Default::default())
                 .collect(),
         }
@@ -449,7 +448,7 @@ fn move_index(program: &Program) -> TargetIndex<'_> {
 
 /// A routine's statement lists: its body, and its backward, undo and
 /// error handlers.
-pub(crate) fn routine_bodies(routine: &rapid::Routine) -> impl Iterator<Item = &Vec<Statement>> {
+pub(crate) fn routine_bodies(routine: &rapid::Routine) -> impl Iterator<Item = &Block> {
     [
         Some(&routine.body),
         routine.backward.as_ref(),
@@ -518,33 +517,6 @@ enum Reach<'a> {
     Expr(&'a Expr),
     /// A plain name (a run's move by name).
     Name(&'a str),
-}
-
-/// Every statement of a list, nested ones included, in source order: the
-/// statement part of [`rapid::visit`], for passes that look at statements
-/// one at a time.
-pub fn walk_statements<'a>(statements: &'a [Statement], visit: &mut impl FnMut(&'a Statement)) {
-    struct Each<'f, F>(&'f mut F);
-    impl<'a, F: FnMut(&'a Statement)> Visit<'a> for Each<'_, F> {
-        fn visit_statement(&mut self, s: &'a Statement) {
-            (self.0)(s);
-            walk_statement(self, s);
-        }
-        // Statements only: no statement is nested in an expression.
-        fn visit_expr(&mut self, _: &'a Expr) {}
-        fn visit_call(&mut self, _: &'a Call) {}
-    }
-    Each(visit).visit_block(statements);
-}
-
-/// Every procedure call in a statement list, nested ones included, with
-/// its line.
-pub fn walk_calls(statements: &[Statement], visit: &mut impl FnMut(&Call, u32)) {
-    walk_statements(statements, &mut |s| {
-        if let StatementKind::Call(call) = &s.kind {
-            visit(call, s.pos.line);
-        }
-    });
 }
 
 /// The name of a tool or work-object argument: a plain variable (`tool1`)

@@ -20,7 +20,8 @@
 //! other is on everywhere at no cost.
 
 use crate::rapid::{
-    motion_signature, MotionKind, Program, Routine, RoutineKind, Statement, StatementKind,
+    motion_signature, Block, Listed, MotionKind, MoveBatch, Program, Routine, RoutineKind,
+    Statement, StatementKind,
 };
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -267,9 +268,22 @@ impl<'p> Walk<'p> {
         exit
     }
 
-    fn list(&mut self, module: usize, list: &'p [Statement], mut state: State) -> State {
-        for s in list {
-            state = self.statement(module, s, state);
+    fn list(&mut self, module: usize, list: &'p Block, mut state: State) -> State {
+        for item in self.program.items(list) {
+            state = match item {
+                Listed::Statement(s) => self.statement(module, s, state),
+                Listed::Batch(b) => self.batch(b, state),
+            };
+        }
+        state
+    }
+
+    /// Moves the fast lane read one after another: one state for all,
+    /// recorded for the stretch they span.
+    fn batch(&mut self, b: MoveBatch<'p>, state: State) -> State {
+        if let Some((f, first, last)) = b.span() {
+            let entry = self.found.runs.entry((f, first)).or_insert((last, state));
+            entry.1 = entry.1.merge(state);
         }
         state
     }
@@ -340,21 +354,6 @@ impl<'p> Walk<'p> {
                     out = out.merge(self.list(module, body, state));
                 }
                 out
-            }
-            StatementKind::Moves(run) => {
-                let mut span: Option<(usize, usize, usize)> = None;
-                for m in self.program.moves(*run) {
-                    let (f, o) = (m.file(), m.offset());
-                    span = Some(match span {
-                        None => (f, o, o),
-                        Some((f0, first, _)) => (f0, first, o),
-                    });
-                }
-                if let Some((f, first, last)) = span {
-                    let entry = self.found.runs.entry((f, first)).or_insert((last, state));
-                    entry.1 = entry.1.merge(state);
-                }
-                state
             }
             _ => state,
         }

@@ -9,7 +9,7 @@
 
 use super::each_move::NOT_KEPT;
 use super::{MoveLookup, Reach, Reached, Refs, Through};
-use crate::rapid::{Expr, Program, StatementKind, TargetKind};
+use crate::rapid::{Expr, Listed, Program, StatementKind, TargetKind};
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -162,8 +162,11 @@ pub fn each_move_instruction_with<'p>(
         for routine in &module.routines {
             let scope = (module.name.as_ref(), routine.name.as_ref());
             for body in super::routine_bodies(routine) {
-                super::walk_statements(body, &mut |s| match &s.kind {
-                    StatementKind::Call(call) => {
+                super::walk_items(program, body, &mut |item| match item {
+                    Listed::Statement(s) => {
+                        let StatementKind::Call(call) = &s.kind else {
+                            return;
+                        };
                         let Some(m) = call.motion() else {
                             // An instruction the reader does not know
                             // (an option's, or a procedure of a module not
@@ -251,15 +254,15 @@ pub fn each_move_instruction_with<'p>(
                             points,
                         });
                     }
-                    StatementKind::Moves(run) => {
+                    Listed::Batch(batch) => {
                         // The targets a run's moves name are looked up a
                         // window at a time on every core: a million names
                         // among a million targets, a cache miss each,
                         // were most of this walk on one core.
-                        let mut moves = program.moves(*run);
-                        let mut window = Vec::with_capacity(WINDOW);
+                        let mut moves = batch.moves();
+                        let mut window = Vec::with_capacity(WINDOW.min(batch.len()));
                         // What the uses found for the run's names, kept.
-                        let kept = lookup.named.get(*run).and_then(|n| n.get());
+                        let kept = lookup.named.get(batch.number()).and_then(|n| n.get());
                         let mut taken = 0;
                         loop {
                             window.clear();
@@ -319,7 +322,6 @@ pub fn each_move_instruction_with<'p>(
                             }
                         }
                     }
-                    _ => {}
                 });
             }
         }

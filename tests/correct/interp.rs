@@ -458,3 +458,35 @@ fn the_operations_per_call_are_counted() {
     let (_, again) = i.call_func(func, &args).unwrap();
     assert!(again.total() < seen["RtWarm"].total().min(seen["RtWarm \\WObj"].total()));
 }
+
+/// The interpreter reads a program as the reader reads it, the fast lane
+/// on: inline moves one after another, robtarget declarations and an
+/// array of robtarget literals, which the reader holds compactly, run as
+/// the grammar reads them (the literals' x written by hand, in the order
+/// the moves reach them).
+#[test]
+fn the_interpreter_runs_what_the_fast_lane_holds() {
+    let lit = |x: u32| format!("[[{x},0,500],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]");
+    let src = format!(
+        "MODULE m\n  CONST robtarget pA := {};\n  CONST robtarget pB := {};\n  CONST robtarget pScan{{2}} := [\n    {},\n    {}];\n  PROC main()\n    MoveL {}, v100, fine, tool0;\n    MoveL {}, v100, fine, tool0;\n    MoveL pA, v100, fine, tool0;\n    MoveL pB, v100, fine, tool0;\n    FOR i FROM 1 TO 2 DO\n      MoveL pScan{{i}}, v100, fine, tool0;\n    ENDFOR\n  ENDPROC\nENDMODULE\n",
+        lit(1),
+        lit(2),
+        lit(3),
+        lit(4),
+        lit(5),
+        lit(6)
+    );
+    // The reader holds the six literals in its runs.
+    let read = rapid::parse("m.mod", src.as_bytes()).unwrap();
+    assert_eq!(read.targets().in_runs(), 6);
+    let mut i = Interp::load(
+        &[("m.mod", src.as_bytes())],
+        Kinematics::new(Robot::irb140()),
+    )
+    .unwrap();
+    i.call_proc("main", &[]).unwrap();
+    let xs: Vec<f64> = (i.moves().iter())
+        .map(|m| m.targets.last().unwrap().numbers()[0])
+        .collect();
+    assert_eq!(xs, [5.0, 6.0, 1.0, 2.0, 3.0, 4.0]);
+}

@@ -1,7 +1,8 @@
-//! The fast lane against the grammar: a program read with the lane
-//! (`ParseOptions { lanes: true }`, the moves, robtarget declarations and
-//! array literals it knows held in runs) is the program the grammar reads
-//! statement by statement: the same targets, field by field, the same
+//! The fast lane against the grammar: a program read every way the reader
+//! reads (`tests/common/ways.rs`: the lane reading ahead, the lane at the
+//! parse's place, the moves, robtarget declarations and array literals
+//! it knows held in runs) is the program the grammar reads statement by
+//! statement: the same targets, field by field, the same
 //! uses, and corrected (in memory, and streamed into writers with the
 //! summary alone kept) into the same bytes with the same report, on
 //! generated programs (inline moves in several number styles, declared,
@@ -9,15 +10,14 @@
 //! CRLF). Each comparison counts the cases where the lane read targets
 //! and fails unless it did on most of them.
 
+use crate::ways::{self, Ways};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use rapidtherm::correct::{correct, correct_into, Options, Outcome, ReportRows, When, Writers};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
-use rapidtherm::rapid::{self, ParseOptions, Program, Source};
+use rapidtherm::rapid::{self, Program};
 use rapidtherm::resolve::usages;
 use rapidtherm::robot::Robot;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
 pub(super) fn warm() -> &'static WarmRobot {
@@ -165,22 +165,6 @@ pub(super) fn program_with(
     }
 }
 
-/// `src` read with the lane and by the grammar alone.
-pub(super) fn read_both(
-    src: &[u8],
-) -> (
-    rapidtherm::error::Result<Program>,
-    rapidtherm::error::Result<Program>,
-) {
-    let read = |lanes| {
-        rapid::parse_sources(
-            vec![("p.mod".to_string(), Source::copied(src))],
-            ParseOptions { lanes },
-        )
-    };
-    (read(true), read(false))
-}
-
 /// What a program says of its targets, field by field (the numbers as
 /// written and as read), its jointtargets', and every target's uses.
 pub(super) fn listing(p: &Program) -> Vec<String> {
@@ -240,33 +224,46 @@ pub(super) fn said(o: &Outcome) -> String {
     serde_json::to_string(o).unwrap()
 }
 
-/// Read both ways, `src` is one program: listed alike, corrected alike
-/// (in memory both ways, and streamed with the lane) for `options`, or
-/// refused alike. How many move literals the lane read (held in runs).
+/// Read every way, `src` is one program: listed alike, corrected alike
+/// (in memory every way, and streamed every way the lane reads) for
+/// `options`, or refused alike. How many move literals the lane read
+/// (held in runs).
 pub(super) fn same_both_ways(src: &[u8], options: &Options) -> Result<usize, TestCaseError> {
-    let (lane, grammar) = read_both(src);
-    let (lane, grammar) = match (lane, grammar) {
-        (Ok(l), Ok(g)) => (l, g),
-        (Err(l), Err(g)) => {
-            prop_assert_eq!(l.to_string(), g.to_string());
-            return Ok(0);
-        }
-        (l, g) => {
-            return Err(TestCaseError::fail(format!(
-                "one way read, the other refused: lane {:?}, grammar {:?}",
-                l.err().map(|e| e.to_string()),
-                g.err().map(|e| e.to_string())
-            )))
-        }
+    let Some(ways) = ways::read_every_way(src)? else {
+        return Ok(0);
     };
-    same_listing(&listing(&lane), &listing(&grammar))?;
-    let whole = correct(&grammar, warm(), options, &mut |_, _| {});
-    let with_lane = correct(&lane, warm(), options, &mut |_, _| {});
+    let grammar = ways.grammar();
+    let want = listing(grammar);
+    for (_, p) in ways.others() {
+        same_listing(&listing(p), &want)?;
+    }
+    let whole = correct(grammar, warm(), options, &mut |_, _| {});
+    for (way, lane) in ways.others() {
+        corrected_alike(src, &whole, lane, options)
+            .map_err(|e| TestCaseError::fail(format!("read {way:?}: {e}")))?;
+    }
+    Ok(held(&ways))
+}
+
+/// How many move literals the lane read (held in runs).
+pub(super) fn held(ways: &Ways) -> usize {
+    ways.lane().targets().moves_in_runs()
+}
+
+/// `lane` corrected in memory and streamed as the grammar's program was
+/// (`whole`).
+fn corrected_alike(
+    src: &[u8],
+    whole: &rapidtherm::error::Result<Outcome>,
+    lane: &Program,
+    options: &Options,
+) -> Result<(), TestCaseError> {
+    let with_lane = correct(lane, warm(), options, &mut |_, _| {});
     let mut written = Vec::new();
     let streamed = {
         let mut outs: Vec<&mut (dyn std::io::Write + Send)> = vec![&mut written];
         correct_into(
-            &lane,
+            lane,
             warm(),
             options,
             Writers::new(&mut outs, ReportRows::SummaryOnly),
@@ -279,7 +276,7 @@ pub(super) fn same_both_ways(src: &[u8], options: &Options) -> Result<usize, Tes
                 with_lane.outputs == whole.outputs,
                 "the lane's program corrects otherwise"
             );
-            prop_assert_eq!(said(&with_lane), said(&whole));
+            prop_assert_eq!(said(&with_lane), said(whole));
             let bytes = if streamed.changed[0] {
                 &written[..]
             } else {
@@ -293,7 +290,7 @@ pub(super) fn same_both_ways(src: &[u8], options: &Options) -> Result<usize, Tes
             // Streamed, the run keeps the summary (its count of moves by
             // fate among it) and what is said about targets, not every
             // target's or move's row.
-            let mut whole = whole;
+            let mut whole = whole.clone();
             whole.moves.clear();
             whole.corrections.clear();
             whole.derived.clear();
@@ -312,47 +309,13 @@ pub(super) fn same_both_ways(src: &[u8], options: &Options) -> Result<usize, Tes
         (w, l, s) => {
             return Err(TestCaseError::fail(format!(
                 "the ways disagree on refusing: whole {:?}, lane {:?}, streamed {:?}",
-                w.err().map(|e| e.to_string()),
+                w.as_ref().err().map(|e| e.to_string()),
                 l.err().map(|e| e.to_string()),
                 s.err().map(|e| e.to_string())
             )))
         }
     }
-    Ok(lane.targets().moves_in_runs())
-}
-
-/// Run `test` on `cases` generated values, counting the cases where the
-/// lane read moves (`test` says how many literals); fails unless it did
-/// on at least nine in ten. The cases are the same on every run (a fixed
-/// seed): a generator that sometimes writes no literal move must not make
-/// the count, and so CI, pass or fail by chance.
-pub(super) fn counted<S: Strategy>(
-    what: &str,
-    cases: u32,
-    strategy: S,
-    test: impl Fn(S::Value) -> Result<usize, TestCaseError>,
-) {
-    let (ran, took) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    let mut runner = TestRunner::new_with_rng(
-        Config::with_cases(cases),
-        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
-    );
-    runner
-        .run(&strategy, |v| {
-            let read = test(v)?;
-            ran.fetch_add(1, Ordering::Relaxed);
-            if read > 0 {
-                took.fetch_add(1, Ordering::Relaxed);
-            }
-            Ok(())
-        })
-        .unwrap();
-    let (ran, took) = (ran.into_inner(), took.into_inner());
-    eprintln!("{what}: the lane read moves in {took} of {ran} generated programs");
-    assert!(
-        took * 10 >= ran * 9,
-        "{what}: the lane read moves in {took} of {ran} cases only"
-    );
+    Ok(())
 }
 
 fn at_120() -> Options {
@@ -407,18 +370,16 @@ fn a_declaration_after_a_move_is_refused_alike() {
     // The grammar refuses a routine's data after its first statement;
     // the lane's move is a statement as the grammar's is.
     let src = b"MODULE m\nPROC main()\n  MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v100,z1,tool0;\n  VAR num k;\n  WaitTime 1;\nENDPROC\nENDMODULE\n";
-    let (lane, grammar) = read_both(src);
-    assert_eq!(
-        lane.unwrap_err().to_string(),
-        grammar.unwrap_err().to_string()
-    );
+    let read = ways::read_every_way(src).unwrap();
+    assert!(read.is_none(), "every way refuses it alike");
 }
 
 #[test]
 fn generated_programs_read_and_correct_the_same_both_ways() {
-    counted(
+    ways::counted(
         "read and corrected at minute 120",
         32,
+        9,
         (
             prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
             any::<bool>(),

@@ -3,6 +3,8 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../common/ways.rs"]
+mod ways;
 
 mod accounted;
 mod backup;

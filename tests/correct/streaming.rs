@@ -9,8 +9,9 @@
 //! ways. The binary's file, standard output and `--in-place` runs write
 //! as they correct.
 
-use super::lanes::{self, counted, program_with, read_both, same_both_ways, stmt, Stmt};
+use super::lanes::{self, held, program_with, same_both_ways, stmt, Stmt};
 use super::rapidtherm;
+use crate::ways;
 use proptest::prelude::*;
 use rapidtherm::correct::job::{self, Event, Host, Output as Written, Sink, Streaming};
 use rapidtherm::correct::plan::{
@@ -84,16 +85,15 @@ fn estimated(p: &Program, entry: &str) -> String {
     }
 }
 
-/// Read both ways, `src` is estimated alike, and corrected alike by that
+/// Read every way, `src` is estimated alike, and corrected alike by that
 /// estimate (or by every other target's times of it, `partial`). How
 /// many targets the lane read.
 fn scheduled_both_ways(src: &[u8], entry: &str, partial: bool) -> Result<usize, TestCaseError> {
-    let (Ok(lane), Ok(grammar)) = read_both(src) else {
+    let Some(ways) = ways::same_every_way(src, |p| estimated(p, entry))? else {
         return same_both_ways(src, &Options::new(When::At(Moment::Minute(0.0))));
     };
-    prop_assert_eq!(estimated(&lane, entry), estimated(&grammar, entry));
-    let Some(when) = when_of(&grammar, entry, partial) else {
-        return Ok(lane.targets().moves_in_runs());
+    let Some(when) = when_of(ways.grammar(), entry, partial) else {
+        return Ok(held(&ways));
     };
     same_both_ways(src, &Options::new(when))
 }
@@ -126,9 +126,10 @@ fn a_cam_program_is_timed_and_corrected_the_same_both_ways() {
 
 #[test]
 fn generated_programs_are_timed_and_corrected_the_same_both_ways() {
-    counted(
+    ways::counted(
         "timed by their estimate",
         32,
+        9,
         (
             prop::collection::vec(prop::collection::vec(stmt(), 0..40), 1..3),
             any::<bool>(),

@@ -1,6 +1,8 @@
-//! The fast lane against the grammar: a program read with the lane, made
-//! into what the grammar makes of it (`Program::expanded`), is the
-//! program the grammar reads statement by statement: the same modules,
+//! The fast lane against the grammar: a program read every way the reader
+//! reads (`tests/common/ways.rs`: the lane reading ahead on every core or
+//! at the parse's place), made into what the grammar makes of it
+//! (`Program::expanded`), is the program the grammar reads statement by
+//! statement: the same modules,
 //! data, routines and statements, the same targets and jointtargets field
 //! by field, the same warnings; or both refuse it with the same error. On
 //! the samples, on the three shapes of large programs (inline moves,
@@ -15,16 +17,12 @@
 #[allow(dead_code)]
 mod gen_shapes;
 
+use crate::ways;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
-use rapidtherm::rapid::{self, ParseOptions, Program, Source};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use rapidtherm::rapid::{self, Program, Reading};
 
-fn read(src: &[u8], lanes: bool) -> rapidtherm::error::Result<Program> {
-    rapid::parse_sources(
-        vec![("p.mod".to_string(), Source::copied(src))],
-        ParseOptions { lanes },
-    )
+fn read(src: &[u8]) -> rapidtherm::error::Result<Program> {
+    ways::read(src, Reading::Lane)
 }
 
 /// What a program is, as text, part by part.
@@ -41,33 +39,34 @@ fn parts(p: &Program) -> Vec<String> {
 
 /// How many targets the lane held: (move literals, the rest).
 fn same_both_ways(src: &[u8]) -> Result<(usize, usize), TestCaseError> {
-    let (lane, grammar) = match (read(src, true), read(src, false)) {
-        (Ok(l), Ok(g)) => (l, g),
-        (Err(l), Err(g)) => {
-            prop_assert_eq!(l.to_string(), g.to_string());
-            return Ok((0, 0));
-        }
-        (l, g) => {
-            return Err(TestCaseError::fail(format!(
-                "one way read, the other refused: lane {:?}, grammar {:?}",
-                l.err().map(|e| e.to_string()),
-                g.err().map(|e| e.to_string())
-            )))
-        }
+    let Some(ways) = ways::read_every_way(src)? else {
+        return Ok((0, 0));
     };
-    let (want, got) = (parts(&grammar), parts(&lane.expanded()));
-    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-        prop_assert!(g == w, "part {} differs:\n lane {}\n grammar {}", i, g, w);
+    let grammar = ways.grammar();
+    let want = parts(grammar);
+    for (way, lane) in ways.others() {
+        let got = parts(&lane.expanded());
+        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+            prop_assert!(
+                g == w,
+                "part {} differs:\n {:?} {}\n grammar {}",
+                i,
+                way,
+                g,
+                w
+            );
+        }
+        prop_assert_eq!(got.len(), want.len());
+        let t = lane.targets();
+        // A target's pose numbers read alone (as the walk reads them, the
+        // external axes left out) are those of the target the grammar
+        // makes, wherever it has numbers.
+        for (i, g) in grammar.targets().iter().enumerate() {
+            let want = g.value.as_ref().map(rapid::PoseNumbers::from);
+            prop_assert_eq!(t.pose(i), want, "{:?}: target {}", way, i);
+        }
     }
-    prop_assert_eq!(got.len(), want.len());
-    let t = lane.targets();
-    // A target's pose numbers read alone (as the walk reads them, the
-    // external axes left out) are those of the target the grammar makes,
-    // wherever it has numbers.
-    for (i, g) in grammar.targets().iter().enumerate() {
-        let want = g.value.as_ref().map(rapid::PoseNumbers::from);
-        prop_assert_eq!(t.pose(i), want, "target {}", i);
-    }
+    let t = ways.lane().targets();
     Ok((t.moves_in_runs(), t.in_runs() - t.moves_in_runs()))
 }
 
@@ -113,7 +112,7 @@ fn large_programs_are_read_ahead_on_every_core_the_same() {
         shape.write(&mut src, 20_000).unwrap();
         let (moves, rest) = same_both_ways(&src).unwrap();
         assert_eq!(moves + rest, 20_000, "{}", shape.name());
-        let lane = read(&src, true).unwrap();
+        let lane = read(&src).unwrap();
         let tally = &lane.lane;
         eprintln!(
             "{}: the lane read {} statements, {} of them ahead of the parse",
@@ -255,28 +254,12 @@ fn module(items: &[Data]) -> String {
 
 #[test]
 fn generated_declarations_read_the_same_with_the_lane() {
-    let (ran, took) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    // A fixed seed: the count of cases the lane read must not pass or
-    // fail by chance.
-    TestRunner::new_with_rng(
-        Config::with_cases(64),
-        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
-    )
-    .run(&prop::collection::vec(data(), 2..12), |items| {
-        let src = module(&items);
-        let (_, declared) = same_both_ways(src.as_bytes())?;
-        ran.fetch_add(1, Ordering::Relaxed);
-        if declared > 0 {
-            took.fetch_add(1, Ordering::Relaxed);
-        }
-        Ok(())
-    })
-    .unwrap();
-    let (ran, took) = (ran.into_inner(), took.into_inner());
-    eprintln!("the lane read declarations in {took} of {ran} generated modules");
-    assert!(
-        took * 10 >= ran * 8,
-        "the lane read declarations in {took} of {ran} only"
+    ways::counted(
+        "declarations",
+        64,
+        8,
+        prop::collection::vec(data(), 2..12),
+        |items| Ok(same_both_ways(module(&items).as_bytes())?.1),
     );
 }
 
@@ -329,7 +312,7 @@ fn a_declined_statement_is_counted_with_its_reason() {
             "MODULE m\n  CONST robtarget p1 := {lit};\n  CONST jointtarget j1 := [[0,0,0,0,30,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  CONST num nX := 400;\n  VAR num x := 0;\n  PROC main()\n    MoveJ p1, v100, z1, tG;\n    {statement}\n  ENDPROC\nENDMODULE\n"
         );
         same_both_ways(src.as_bytes()).unwrap_or_else(|e| panic!("{statement}: {e}"));
-        let p = read(src.as_bytes(), true).unwrap_or_else(|e| panic!("{statement}: {e}"));
+        let p = read(src.as_bytes()).unwrap_or_else(|e| panic!("{statement}: {e}"));
         let declined = declines(&p);
         let want: Vec<(Decline, usize, u32)> = want.into_iter().map(|w| (w, 1, 8)).collect();
         assert_eq!(declined, want, "{statement}");
@@ -354,7 +337,7 @@ fn a_declined_statement_is_counted_with_its_reason() {
     ] {
         let src = format!("MODULE m\n  {decl}\n  PROC main()\n  ENDPROC\nENDMODULE\n");
         same_both_ways(src.as_bytes()).unwrap_or_else(|e| panic!("{decl}: {e}"));
-        let p = read(src.as_bytes(), true).unwrap();
+        let p = read(src.as_bytes()).unwrap();
         let declined = declines(&p);
         assert_eq!(declined, vec![(want, 1, 2)], "{decl}");
     }

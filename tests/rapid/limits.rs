@@ -7,34 +7,41 @@
 //! and messages that quote at most a bounded excerpt of the input.
 
 use proptest::prelude::*;
-use rapidtherm::rapid::{parse_sources, ParseOptions, Program, Source};
+use rapidtherm::rapid::{parse_read, Program, Reading, Source};
 
 const RT: &str = "[[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]";
 
-/// `src` read with the fast lane, then by the grammar alone: both give
-/// the same answer, which is returned.
+/// `src` read every way the reader reads (the fast lane reading ahead or
+/// at the parse's place, the grammar alone): all give the same answer,
+/// which is returned.
 fn read(name: &str, src: &[u8]) -> Result<Program, String> {
-    let mut answers = [true, false].map(|lanes| {
-        parse_sources(
-            vec![(name.to_string(), Source::copied(src))],
-            ParseOptions { lanes },
-        )
-    });
-    let [lane, grammar] = &mut answers;
-    match (lane, grammar) {
-        (Ok(a), Ok(b)) => {
-            let ids = |p: &Program| {
-                p.targets()
-                    .iter()
-                    .map(|t| (t.id.clone(), t.origin.pos.line, t.origin.pos.col))
-                    .collect::<Vec<_>>()
-            };
-            assert_eq!(ids(a), ids(b), "lane and grammar differ");
+    let answers =
+        Reading::ALL.map(|way| parse_read(vec![(name.to_string(), Source::copied(src))], way));
+    let ids = |p: &Program| {
+        p.targets()
+            .iter()
+            .map(|t| (t.id.clone(), t.origin.pos.line, t.origin.pos.col))
+            .collect::<Vec<_>>()
+    };
+    let [.., grammar] = &answers;
+    for (way, answer) in Reading::ALL.iter().zip(&answers) {
+        match (answer, grammar) {
+            (Ok(a), Ok(b)) => assert_eq!(ids(a), ids(b), "{way:?} and the grammar differ"),
+            (Err(a), Err(b)) => {
+                assert_eq!(
+                    a.to_string(),
+                    b.to_string(),
+                    "{way:?} and the grammar differ"
+                )
+            }
+            (a, b) => panic!(
+                "{way:?} and the grammar differ: {:?} / {:?}",
+                a.is_ok(),
+                b.is_ok()
+            ),
         }
-        (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "lane and grammar differ"),
-        (a, b) => panic!("lane and grammar differ: {:?} / {:?}", a.is_ok(), b.is_ok()),
     }
-    let [lane, _] = answers;
+    let [lane, ..] = answers;
     lane.map_err(|e| e.to_string())
 }
 

@@ -9,3 +9,5 @@ mod proptest;
 mod rewrite;
 mod samples;
 mod task;
+#[path = "../common/ways.rs"]
+mod ways;

@@ -424,13 +424,15 @@ fn motion_parts_for_a_schedule_estimator() {
 
     let (_, prog) = load("control_flow.mod");
     let (_, r) = prog.routine("PickPart").unwrap();
-    let S::Call(c) = &r.body[0].kind else {
-        panic!()
-    };
+    // Every statement in source order, a move the lane holds too.
+    let body: Vec<_> = (prog.statements(&r.body))
+        .map(|s| s.statement().unwrap().into_owned())
+        .collect();
+    let S::Call(c) = &body[0].kind else { panic!() };
     let m = c.motion().unwrap();
     assert!(matches!(m.to, Some(Expr::Call(f)) if &*f.name == "Offs"));
     assert_eq!(m.speed.and_then(Expr::as_name), Some("vFast"));
-    let S::Call(wait) = &r.body[3].kind else {
+    let S::Call(wait) = &body[3].kind else {
         panic!()
     };
     assert_eq!(&*wait.name, "WaitTime");

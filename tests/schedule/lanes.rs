@@ -1,14 +1,15 @@
-//! A program read with the fast lane (the moves it knows held in runs) is
-//! the program the grammar reads statement by statement: the same
+//! A program read every way the reader reads (`tests/common/ways.rs`: the
+//! fast lane, reading ahead or at the parse's place, the moves it knows
+//! held in runs) is the program the grammar reads statement by statement: the same
 //! targets with the same identifiers, places and numbers, and the same
 //! estimated schedule, notes and errors, on programs of nested blocks,
 //! calls, waits and moves of every kind. The generated comparison counts
 //! the programs whose moves the lane read, and fails unless most were.
 
 use super::props::{body, program};
+use crate::ways;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
-use rapidtherm::rapid::{self, ParseOptions, Program, Source};
+use rapidtherm::rapid::{self, Program};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate, EstimateOptions};
 
@@ -61,22 +62,12 @@ fn estimated(p: &Program, start: f64) -> String {
     }
 }
 
-/// `src` read with the lane, and by the grammar alone.
-fn read(src: &[u8], lanes: bool) -> rapidtherm::error::Result<Program> {
-    rapid::parse_sources(
-        vec![("p.mod".to_string(), Source::copied(src))],
-        ParseOptions { lanes },
-    )
-}
-
-/// Both ways, the same targets and the same estimate; how many move
+/// Every way, the same targets and the same estimate; how many move
 /// literals the lane read.
 fn same_both_ways(src: &[u8], start: f64) -> Result<usize, TestCaseError> {
-    let whole = read(src, false).map_err(|e| TestCaseError::fail(format!("{e}")))?;
-    let lane = read(src, true).map_err(|e| TestCaseError::fail(format!("{e}")))?;
-    prop_assert_eq!(targets(&lane), targets(&whole));
-    prop_assert_eq!(estimated(&lane, start), estimated(&whole, start));
-    Ok(lane.targets().moves_in_runs())
+    let ways = ways::same_every_way(src, |p| (targets(p), estimated(p, start)))?
+        .ok_or_else(|| TestCaseError::fail("every way refused the program"))?;
+    Ok(ways.lane().targets().moves_in_runs())
 }
 
 #[test]
@@ -170,37 +161,14 @@ ENDMODULE
 #[test]
 fn a_declaration_after_a_lane_move_is_refused_as_the_grammar_refuses_it() {
     let src = b"MODULE m\nPROC main()\n  MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v100,z1,tool0;\n  VAR num k;\nENDPROC\nENDMODULE\n";
-    let whole = read(src, false).unwrap_err();
-    let lane = read(src, true).unwrap_err();
-    assert_eq!(lane.to_string(), whole.to_string());
+    let read = ways::read_every_way(src).unwrap();
+    assert!(read.is_none(), "every way refuses it alike");
 }
 
 #[test]
 fn a_program_reads_the_same_with_the_lane() {
-    let (ran, took) = (
-        std::sync::atomic::AtomicUsize::new(0),
-        std::sync::atomic::AtomicUsize::new(0),
-    );
     let strategy = (prop::collection::vec(body(), 1..6), 0.0..500.0f64);
-    // A fixed seed: the count of cases the lane read must not pass or
-    // fail by chance.
-    TestRunner::new_with_rng(
-        Config::with_cases(64),
-        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
-    )
-    .run(&strategy, |(main, start)| {
-        let read = same_both_ways(program(&main).as_bytes(), start)?;
-        ran.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        if read > 0 {
-            took.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        }
-        Ok(())
-    })
-    .unwrap();
-    let (ran, took) = (ran.into_inner(), took.into_inner());
-    eprintln!("the lane read moves in {took} of {ran} generated programs");
-    assert!(
-        took * 10 >= ran * 9,
-        "the lane read moves in {took} of {ran} only"
-    );
+    ways::counted("estimated", 64, 9, strategy, |(main, start)| {
+        same_both_ways(program(&main).as_bytes(), start)
+    });
 }

@@ -8,3 +8,5 @@ mod estimate;
 mod lanes;
 mod props;
 mod settled;
+#[path = "../common/ways.rs"]
+mod ways;

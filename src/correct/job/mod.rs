@@ -30,7 +30,7 @@ use super::{Outcome, ReportRows, Writers};
 use crate::error::{Error, Errors, Remedy, Result};
 use crate::model::Model;
 use crate::rapid::task::Task;
-use crate::rapid::{self, ParseOptions, Program, Source};
+use crate::rapid::{self, Program, Source};
 use crate::resolve::arm::base_frame;
 use host::took;
 use prepare::{warm_run, when_and_notes};
@@ -126,7 +126,7 @@ fn read_task_beside<T: Send>(
     let (program, made) = std::thread::scope(|scope| {
         let inputs = &inputs;
         let made = scope.spawn(move || beside(inputs));
-        let program = rapid::parse_sources(inputs.clone(), ParseOptions::default());
+        let program = rapid::parse_sources(inputs.clone());
         (program, made.join().ok())
     });
     let program = program?;

@@ -16,8 +16,9 @@ pub(super) struct Builder {
     /// The runs' names by their text: their number in the runs' table.
     pub run_names: foldhash::HashMap<Arc<str>, u16>,
     /// Whether the fast lane reads what it can (else the grammar reads
-    /// everything).
+    /// everything), and reads ahead of the parse on every core.
     pub lanes: bool,
+    pub ahead: bool,
 }
 
 impl Builder {

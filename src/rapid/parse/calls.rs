@@ -64,6 +64,10 @@ pub(super) fn derivation(src: &[u8], e: &Expr, span: Range<usize>) -> Derivation
 fn collect_names(e: &Expr, out: &mut Vec<String>) {
     struct Names<'o>(&'o mut Vec<String>);
     impl<'a> Visit<'a> for Names<'_> {
+        // An expression's walk: no list of statements in it.
+        fn program(&self) -> Option<&'a crate::rapid::Program> {
+            None
+        }
         fn visit_expr(&mut self, e: &'a Expr) {
             match e {
                 Expr::Name(n) => self.0.push(n.to_string()),

@@ -18,6 +18,7 @@ impl FileParser<'_, '_> {
                 dims: Vec::new(),
                 init: None,
                 pos: Pos::default(),
+                elements: None,
             };
             for c in decl.into_inner() {
                 match c.as_rule() {

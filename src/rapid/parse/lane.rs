@@ -21,7 +21,7 @@ impl<'a> FileParser<'a, '_> {
 
     /// The move the lane reads at the next statement's start, if any,
     /// joined to the run of moves `out` ends with (or starting one).
-    pub(super) fn lane_move(&mut self, out: &mut Vec<Statement>) -> Result<bool> {
+    pub(super) fn lane_move(&mut self, out: &mut Block) -> Result<bool> {
         if !self.b.lanes {
             return Ok(false);
         }
@@ -59,7 +59,9 @@ impl<'a> FileParser<'a, '_> {
                 });
                 match read {
                     Ok(Some(read)) => {
-                        self.ahead.read_from(self.src, self.lines, read.1);
+                        if self.b.ahead {
+                            self.ahead.read_from(self.src, self.lines, read.1);
+                        }
                         read
                     }
                     Ok(None) => return Ok(false),
@@ -71,15 +73,16 @@ impl<'a> FileParser<'a, '_> {
             }
         };
         self.b.prog.lane.read += 1;
-        let joins = match out.last().map(|s| &s.kind) {
-            Some(StatementKind::Moves(r)) => self
+        // The run the list ends with, if no statement came after it.
+        let joins = match out.runs.last() {
+            Some(&(before, r)) if before == out.stmts.len() => self
                 .b
                 .prog
                 .runs
                 .moves
-                .get(*r)
+                .get(r)
                 .is_some_and(|run| run.literals == literals)
-                .then_some(*r),
+                .then_some(r),
             _ => None,
         };
         match joins {
@@ -96,10 +99,7 @@ impl<'a> FileParser<'a, '_> {
                     base: 0,
                     items: vec![item],
                 });
-                out.push(Statement {
-                    pos: self.pos(at),
-                    kind: StatementKind::Moves(r),
-                });
+                out.runs.push((out.stmts.len(), r));
             }
         }
         self.inline_k += usize::from(literals);
@@ -169,7 +169,9 @@ impl<'a> FileParser<'a, '_> {
         });
         match read {
             Ok(Some(end)) => {
-                self.ahead.read_from(self.src, self.lines, end);
+                if self.b.ahead {
+                    self.ahead.read_from(self.src, self.lines, end);
+                }
                 self.b.prog.lane.read += 1;
                 self.peeked = None;
                 self.scanner.skip_to(end);
@@ -271,6 +273,7 @@ impl<'a> FileParser<'a, '_> {
             dims: Vec::new(),
             init: Some(Expr::JointTarget(self.b.prog.jointtargets.len() - 1)),
             pos: self.pos(at),
+            elements: None,
         });
         Ok(())
     }
@@ -314,7 +317,8 @@ impl<'a> FileParser<'a, '_> {
             type_name: ascii(self.src, &d.type_name).to_string(),
             name: name.to_string(),
             dims: vec![Expr::Num(Number::new(size.0 as f64, size.1.clone()))],
-            init: Some(Expr::Elements(r)),
+            init: None,
+            elements: Some(r),
             pos: self.pos(at),
         });
         // The array's targets lie between the declarations before it and

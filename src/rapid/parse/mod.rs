@@ -51,18 +51,24 @@ use grammar::Rule;
 use shapes::*;
 use words::*;
 
-/// How a run is read.
+/// How a run is read. Every way reads the same program; the tests that
+/// hold the ways to it read each ([`parse_read`]), every other caller
+/// the first ([`parse_sources`]). A test hook, hidden from the docs.
+#[doc(hidden)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ParseOptions {
-    /// The fast lane reads the statements it knows (else the grammar
-    /// reads every one: the same program, held one by one).
-    pub lanes: bool,
+pub enum Reading {
+    /// The fast lane first, reading stretches of the file ahead of the
+    /// parse on every core: what every command does.
+    Lane,
+    /// The fast lane first, each statement at the parse's place.
+    LaneInPlace,
+    /// The grammar alone, every statement held one by one.
+    Grammar,
 }
 
-impl Default for ParseOptions {
-    fn default() -> Self {
-        ParseOptions { lanes: true }
-    }
+impl Reading {
+    #[doc(hidden)]
+    pub const ALL: [Reading; 3] = [Reading::Lane, Reading::LaneInPlace, Reading::Grammar];
 }
 
 /// What a RAPID file in an encoding that is not read should be saved as:
@@ -84,14 +90,21 @@ pub fn parse_files(inputs: &[(&str, &[u8])]) -> Result<Program> {
         .iter()
         .map(|(name, bytes)| (name.to_string(), Source::copied(bytes)))
         .collect();
-    parse_sources(sources, ParseOptions::default())
+    parse_sources(sources)
 }
 
 /// [`parse_files`] of files whose bytes the program keeps as they are
-/// (a file mapped into memory is not copied), read as `options` say.
-pub fn parse_sources(inputs: Vec<(String, Source)>, options: ParseOptions) -> Result<Program> {
+/// (a file mapped into memory is not copied).
+pub fn parse_sources(inputs: Vec<(String, Source)>) -> Result<Program> {
+    parse_read(inputs, Reading::Lane)
+}
+
+/// [`parse_sources`] read the way `reading` says: a test hook.
+#[doc(hidden)]
+pub fn parse_read(inputs: Vec<(String, Source)>, reading: Reading) -> Result<Program> {
     let mut b = Builder {
-        lanes: options.lanes,
+        lanes: reading != Reading::Grammar,
+        ahead: reading == Reading::Lane,
         ..Builder::default()
     };
     let mut lines = Vec::new();
@@ -178,9 +191,9 @@ mod tests {
         // sort moves both; the call inside the one-line IF must follow
         // (read by the grammar: the lane would hold the move in a run).
         let src = b"MODULE m\nPROC main()\nIF TRUE MoveL Offs(p10,0,0,10), v100, fine, tool0;\nMoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\nENDPROC\nENDMODULE\n";
-        let prog = parse_sources(
+        let prog = parse_read(
             vec![("m.mod".to_string(), Source::copied(src))],
-            ParseOptions { lanes: false },
+            Reading::Grammar,
         )
         .unwrap();
         let body = &prog.modules[0].routines[0].body;

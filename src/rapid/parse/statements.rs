@@ -8,8 +8,8 @@ use super::*;
 const MAX_BLOCK_DEPTH: usize = 64;
 
 impl FileParser<'_, '_> {
-    pub(super) fn statements(&mut self, depth: usize) -> Result<Vec<Statement>> {
-        let mut out = Vec::new();
+    pub(super) fn statements(&mut self, depth: usize) -> Result<Block> {
+        let mut out = Block::default();
         loop {
             // The fast lane reads the moves it knows, into runs (`lane`).
             if self.lane_move(&mut out)? {
@@ -30,7 +30,8 @@ impl FileParser<'_, '_> {
                 | K::While
                 | K::Test => {
                     self.next()?;
-                    out.push(self.statement(&p, depth)?);
+                    let s = self.statement(&p, depth)?;
+                    out.stmts.push(s);
                 }
                 _ => return Ok(out),
             }

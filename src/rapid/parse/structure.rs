@@ -181,7 +181,7 @@ impl FileParser<'_, '_> {
                 return_type: None,
                 params: Vec::new(),
                 data: Vec::new(),
-                body: Vec::new(),
+                body: Block::default(),
                 backward: None,
                 error: None,
                 undo: None,

@@ -87,7 +87,6 @@ impl Interp {
             }
             Expr::Call(c) => self.call_function(c)?,
             Expr::Placeholder(p) => return Err(self.unsupported(format!("the placeholder {p}"))),
-            Expr::Elements(_) => return Err(self.unsupported("an array run of the fast lane")),
         })
     }
 

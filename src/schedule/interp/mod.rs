@@ -139,13 +139,7 @@ impl Interp {
     /// Reads `files` with the project's grammar and loads their modules:
     /// every datum initialised, the clock at 2000-01-01.
     pub fn load(files: &[(&str, &[u8])], kin: Kinematics) -> Result<Interp> {
-        let sources = files
-            .iter()
-            .map(|(n, b)| (n.to_string(), rapid::Source::copied(b)))
-            .collect();
-        // Every statement held one by one (the fast lane's compact runs
-        // are for programs of millions of moves).
-        let program = rapid::parse_sources(sources, rapid::ParseOptions { lanes: false })?;
+        let program = rapid::parse_files(files)?;
         let mut types = Types::default();
         let mut routines: HashMap<String, Vec<(usize, usize)>> = HashMap::new();
         for (m, module) in program.modules.iter().enumerate() {
@@ -226,17 +220,9 @@ impl Interp {
     fn init_data(&mut self, with_pers: bool) -> Result<()> {
         let program = self.program.clone();
         for (m, module) in program.modules.iter().enumerate() {
-            let mut decls: Vec<std::borrow::Cow<DataDecl>> =
-                module.data.iter().map(std::borrow::Cow::Borrowed).collect();
-            for &run in &module.decl_runs {
-                decls.extend(
-                    program
-                        .declarations(run)
-                        .into_iter()
-                        .map(std::borrow::Cow::Owned),
-                );
-            }
-            for d in decls {
+            // Every declaration in source order, those the fast lane
+            // holds together too.
+            for d in program.module_data(module) {
                 if d.storage == Storage::Pers && !with_pers {
                     continue;
                 }
@@ -281,9 +267,10 @@ impl Interp {
             dims.push(n as usize);
         }
         let like = self.types.default_array(&d.type_name, &dims)?;
-        let value = match &d.init {
+        let program = self.program.clone();
+        let value = match program.value_of(d) {
             Some(e) => {
-                let v = self.eval(e)?;
+                let v = self.eval(&e)?;
                 self.types.coerce(v, &like)?
             }
             None => like,

@@ -7,7 +7,7 @@
 use super::place::Slot;
 use super::{Flow, Interp, Moved, Value};
 use crate::error::{Error, Result};
-use crate::rapid::{motion_signature, Call, RoutineKind, Statement, StatementKind};
+use crate::rapid::{motion_signature, Block, Call, RoutineKind, Statement, StatementKind};
 
 /// Instructions that change nothing the interpreter models: run as no
 /// operation (their arguments are not evaluated).
@@ -17,9 +17,17 @@ const NO_EFFECT: &[&str] = &[
 ];
 
 impl Interp {
-    pub(super) fn exec_block(&mut self, file: usize, body: &[Statement]) -> Result<Flow> {
-        for s in body {
-            match self.exec(file, s)? {
+    pub(super) fn exec_block(&mut self, file: usize, body: &Block) -> Result<Flow> {
+        // Every statement, the moves the reader holds in runs made as the
+        // grammar makes them.
+        let program = self.program.clone();
+        for s in program.statements(body) {
+            let Some(s) = s.statement() else {
+                return Err(Error::input(
+                    "a move whose file no longer reads as it was read",
+                ));
+            };
+            match self.exec(file, &s)? {
                 Flow::Normal => {}
                 other => return Ok(other),
             }
@@ -127,7 +135,7 @@ impl Interp {
         from: &crate::rapid::Expr,
         to: &crate::rapid::Expr,
         step: Option<&crate::rapid::Expr>,
-        body: &[Statement],
+        body: &Block,
     ) -> Result<Flow> {
         let num = |v: Value| {
             v.num()

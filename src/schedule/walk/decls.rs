@@ -3,7 +3,7 @@
 //! its name as RAPID compares names, and the routines by name. Built
 //! beside the table of targets by identifier, on another core.
 
-use crate::rapid::{self, DataDecl, NoCase, Program, Routine};
+use crate::rapid::{self, DataDecl, DeclBatch, NoCase, Program, Routine};
 
 type FastMap<K, V> = foldhash::HashMap<K, V>;
 
@@ -12,7 +12,7 @@ type FastMap<K, V> = foldhash::HashMap<K, V>;
 pub(super) type Declarations<'p> = (
     FastMap<NoCase<'p>, DeclList<'p>>,
     FastMap<String, Vec<(usize, &'p Routine)>>,
-    Vec<RunDecls>,
+    Vec<RunDecls<'p>>,
 );
 
 /// The declarations of one name, with their modules' numbers, in the
@@ -22,12 +22,12 @@ pub(super) type DeclList<'p> = smallvec::SmallVec<[(usize, Decl<'p>); 1]>;
 /// A declaration run: its targets are `first..first + len`, declared in
 /// `module`, LOCAL or not.
 #[derive(Clone, Copy)]
-pub(super) struct RunDecls {
+pub(super) struct RunDecls<'p> {
     pub first: usize,
     pub len: usize,
     pub module: usize,
     pub local: bool,
-    pub run: usize,
+    pub batch: DeclBatch<'p>,
 }
 
 /// A module's declaration: in the tree, or a robtarget of a run of the
@@ -60,8 +60,8 @@ pub(super) fn declarations(program: &Program) -> Declarations<'_> {
     let names = (program.modules.iter())
         .map(|m| {
             m.data.len()
-                + (m.decl_runs.iter())
-                    .map(|&r| program.declared_count(r))
+                + (program.declaration_batches(m))
+                    .map(|b| b.len())
                     .sum::<usize>()
         })
         .sum();
@@ -76,18 +76,16 @@ pub(super) fn declarations(program: &Program) -> Declarations<'_> {
                 .or_default()
                 .push((mi, Decl::Tree(d)));
         }
-        for &run in &m.decl_runs {
-            let local = program.declared_scope(run) == Some(rapid::Scope::Local);
-            if let Some(first) = program.declared_base(run) {
-                run_decls.push(RunDecls {
-                    first,
-                    len: program.declared_count(run),
-                    module: mi,
-                    local,
-                    run,
-                });
-            }
-            for (name, _, target) in program.declared_names(run) {
+        for batch in program.declaration_batches(m) {
+            let local = batch.scope() == Some(rapid::Scope::Local);
+            run_decls.push(RunDecls {
+                first: batch.first_target(),
+                len: batch.len(),
+                module: mi,
+                local,
+                batch,
+            });
+            for (name, target) in batch.names() {
                 decls
                     .entry(NoCase(name.as_bytes()))
                     .or_default()

@@ -16,9 +16,6 @@ impl<'p> Walker<'p> {
             Expr::Str(s) => Value::Str(s.to_string()),
             Expr::Placeholder(_) => Value::Unknown,
             Expr::Target(i) => self.target_value(*i)?,
-            // An array's literals the fast lane read: each read when the
-            // walk reads an element (`arr{i}`).
-            Expr::Elements(_) => Value::Unknown,
             Expr::JointTarget(i) => self.joint_value(*i),
             Expr::Name(n) => self.name_value(n, frame)?,
             Expr::Index(b) => match self.element_of(b, frame, None)? {
@@ -97,12 +94,11 @@ impl<'p> Walker<'p> {
         }
         // `k` is a whole number of at least 1 (below 2^53 as a float).
         let k = k as usize - 1;
-        let element = match &d.init {
-            Some(Expr::Elements(run)) => {
-                let range = self.program.elements(*run);
-                (k < range.len()).then(|| range.start + k)
-            }
-            Some(Expr::Aggregate(a)) => match a.items.get(k) {
+        // An array's literals the fast lane holds: its elements' numbers,
+        // its value not made.
+        let element = match (self.program.elements_of(d), &d.init) {
+            (Some(range), _) => (k < range.len()).then(|| range.start + k),
+            (None, Some(Expr::Aggregate(a))) => match a.items.get(k) {
                 Some(Expr::Target(i)) => Some(*i),
                 _ => None,
             },
@@ -354,7 +350,7 @@ impl<'p> Walker<'p> {
         if t >= r.first + r.len {
             return None;
         }
-        let written = self.program.declared_name(r.run, t - r.first)?;
+        let written = r.batch.name(t - r.first)?;
         if !written.eq_ignore_ascii_case(name) {
             return None;
         }

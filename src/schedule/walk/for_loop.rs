@@ -11,7 +11,7 @@ impl<'p> Walker<'p> {
         from: &Expr,
         to: &Expr,
         step: Option<&Expr>,
-        body: &'p [Statement],
+        body: &'p Block,
         s: &Statement,
         frame: &mut Frame<'p>,
     ) -> Result<Flow> {

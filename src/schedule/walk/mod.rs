@@ -28,8 +28,9 @@ use super::timing::*;
 use super::Schedule;
 use crate::error::{Error, ErrorKind, Errors, Remedy, Result};
 use crate::rapid::{
-    self, Arg, BinaryOp, Call, DataDecl, Expr, FunctionCall, Motion, MotionKind, NoCase, Program,
-    Routine, RoutineKind, Statement, StatementKind, TargetKind, UnaryOp,
+    self, Arg, BinaryOp, Block, Call, DataDecl, Expr, FunctionCall, Listed, Motion, MotionKind,
+    MoveBatch, NoCase, Program, Routine, RoutineKind, Statement, StatementKind, TargetKind,
+    UnaryOp,
 };
 use crate::resolve::{target_pose, Frames};
 use crate::robot::frames::{flange_of_target, target_of_flange};
@@ -142,7 +143,7 @@ pub(super) struct Walker<'p> {
     /// Module data by lower-case name: (module, declaration).
     decls: FastMap<NoCase<'p>, DeclList<'p>>,
     /// The declaration runs, in the order of their targets.
-    run_decls: Vec<RunDecls>,
+    run_decls: Vec<RunDecls<'p>>,
     /// Targets of declaration runs whose name has another declaration.
     pub(super) shadowed: std::collections::HashSet<usize>,
     /// The target after the last declaration of a run a name was found
@@ -505,13 +506,19 @@ impl<'p> Walker<'p> {
 
     // -------------------------------------------------------- statements
 
-    pub(super) fn exec_list(
-        &mut self,
-        stmts: &'p [Statement],
-        frame: &mut Frame<'p>,
-    ) -> Result<Flow> {
+    pub(super) fn exec_list(&mut self, stmts: &'p Block, frame: &mut Frame<'p>) -> Result<Flow> {
+        let program = self.program;
+        let mut items = program.items(stmts);
+        // The statement held one by one being walked (labels are).
         let mut pc = 0;
-        while let Some(s) = stmts.get(pc) {
+        while let Some(item) = items.next() {
+            let s = match item {
+                Listed::Statement(s) => s,
+                Listed::Batch(b) => {
+                    self.exec_moves(b, frame)?;
+                    continue;
+                }
+            };
             match self.exec(s, frame)? {
                 Flow::Normal => pc += 1,
                 Flow::Goto(label) => {
@@ -519,7 +526,10 @@ impl<'p> Walker<'p> {
                         matches!(&s.kind, StatementKind::Label(l) if l.eq_ignore_ascii_case(&label))
                     });
                     match at {
-                        Some(j) if j > pc => pc = j,
+                        Some(j) if j > pc => {
+                            pc = j;
+                            items = program.items_from(stmts, j);
+                        }
                         Some(_) => {
                             self.note(
                                 frame,
@@ -714,10 +724,6 @@ impl<'p> Walker<'p> {
             | StatementKind::TryNext
             | StatementKind::Connect { .. }
             | StatementKind::Placeholder(_) => Ok(Flow::Normal),
-            StatementKind::Moves(run) => {
-                self.exec_moves(*run, frame)?;
-                Ok(Flow::Normal)
-            }
         }
     }
 

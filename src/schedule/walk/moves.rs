@@ -587,14 +587,22 @@ impl<'p> Walker<'p> {
     /// kept once each, so the same name is the same pointer, and the run's
     /// moves are all of one routine, with no call between them to make a
     /// variable (the scope is checked all the same).
-    pub(super) fn exec_moves(&mut self, run: usize, frame: &mut Frame<'p>) -> Result<()> {
-        let program = self.program;
+    ///
+    /// The batch counts one step of its own before its moves', at its
+    /// first move, as the walk counted the statement that held a run
+    /// when runs were statements of the tree: the counts the walk's
+    /// limits quote (`129 each`) are kept as they were written.
+    pub(super) fn exec_moves(&mut self, batch: MoveBatch<'p>, frame: &mut Frame<'p>) -> Result<()> {
         let mut found = Found::default();
         let mut last: Option<(u64, [NameKey; 3])> = None;
-        for mv in program.moves(run) {
+        let mut first = true;
+        for mv in batch.moves() {
             let Some(s) = mv.statement() else {
                 continue;
             };
+            if std::mem::take(&mut first) {
+                self.count_step(frame, &s)?;
+            }
             self.count_step(frame, &s)?;
             let StatementKind::Call(call) = &s.kind else {
                 continue;

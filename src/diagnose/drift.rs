@@ -56,36 +56,27 @@ pub struct TimeDrift {
 impl TimeDrift {
     /// The drift in one sentence.
     pub fn words(&self) -> String {
-        let d = Vector3::from(self.direction);
-        if let Some(limit) = self.below_limit_mm {
-            return format!(
-                "What is left drifts in time ({}): {:.3} mm at most over minutes {:.0}-{:.0} (F = {:.1} on {} parameters, p = {:.1e}), below the {limit:.3} mm these times and noise could reveal along its shape: not flagged.",
-                match self.shape {
-                    DriftShape::Linear => "linear",
-                    DriftShape::Curved => "curved",
-                },
-                self.size_mm,
-                self.from_min,
-                self.to_min,
-                self.test.f,
-                self.test.df1,
-                self.test.p_value
-            );
+        let shape = match self.shape {
+            DriftShape::Linear => "linear",
+            DriftShape::Curved => "curved",
+        };
+        let head = format!(
+            "What is left drifts in time ({shape}): {:.3} mm at most over minutes {:.0}-{:.0}",
+            self.size_mm, self.from_min, self.to_min
+        );
+        let test = format!(
+            "F = {:.1} on {} parameters, p = {:.1e}",
+            self.test.f, self.test.df1, self.test.p_value
+        );
+        match self.below_limit_mm {
+            Some(limit) => format!(
+                "{head} ({test}), below the {limit:.3} mm these times and noise could reveal along its shape: not flagged."
+            ),
+            None => format!(
+                "{head}, along {} ({test}); no temperatures drive a thermal effect here, so it is not attributed to one.",
+                super::finding::direction_words(&Vector3::from(self.direction))
+            ),
         }
-        format!(
-            "What is left drifts in time ({}): {:.3} mm at most over minutes {:.0}-{:.0}, along {} (F = {:.1} on {} parameters, p = {:.1e}); no temperatures drive a thermal effect here, so it is not attributed to one.",
-            match self.shape {
-                DriftShape::Linear => "linear",
-                DriftShape::Curved => "curved",
-            },
-            self.size_mm,
-            self.from_min,
-            self.to_min,
-            super::finding::direction_words(&d),
-            self.test.f,
-            self.test.df1,
-            self.test.p_value
-        )
     }
 }
 

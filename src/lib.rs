@@ -13,7 +13,7 @@
 //! | layer | modules | owns |
 //! |---|---|---|
 //! | 5 | [`correct`], [`compare`], [`diagnose`] | the two jobs: corrected programs, program diffs, the sim-to-real gap |
-//! | 4 | [`resolve`], [`schedule`] | what a program means by its targets (tools, work objects, poses); when each target is reached |
+//! | 4 | [`resolve`], [`schedule`], [`interp`] | what a program means by its targets (tools, work objects, poses); when each target is reached; running RAPID as the controller would (the run-time module's tests) |
 //! | 3 | [`model`] | the warm robot both jobs share: model file, expansion, effects, perturbed chain, `WarmRobot` |
 //! | 2 | [`rapid`], [`robot`], [`thermal`] | the language; geometry (URDF, ABB arms by name, chain, OPW FK/IK, robconf, frames); temperatures over time and the thermal lag |
 //! | 1 | [`error`], [`input`], [`digest`], [`csv_table`], [`report`], [`plot`], [`writes`] | shared foundations: errors with locations, bounded reading of inputs, the rule every write of a run goes through, fingerprints and their byte encodings, CSV tables, number and table formatting, the SVG pictures' canvas |
@@ -51,6 +51,7 @@ pub mod diagnose;
 pub mod digest;
 pub mod error;
 pub mod input;
+pub mod interp;
 pub mod model;
 pub mod plot;
 pub mod rapid;

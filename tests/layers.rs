@@ -26,6 +26,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
         &["error", "input", "csv_table", "robot", "thermal"],
     ),
     ("resolve", &["error", "digest", "report", "rapid", "robot"]),
+    // The RAPID interpreter, on the meaning level beside `resolve` and
+    // `schedule`, importing neither.
+    ("interp", &["error", "rapid", "robot"]),
     (
         "schedule",
         &["error", "digest", "csv_table", "rapid", "robot", "resolve"],
@@ -33,7 +36,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "correct",
         &[
-            "error", "digest", "plot", "rapid", "robot", "thermal", "model", "resolve", "schedule",
+            "error", "digest", "plot", "rapid", "robot", "thermal", "model", "resolve", "interp",
+            "schedule",
         ],
     ),
     ("compare", &["error", "rapid", "robot", "resolve"]),

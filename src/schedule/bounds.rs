@@ -1,6 +1,6 @@
 //! How far a walk of a program goes before it gives up, and what it
 //! assumes where a program leaves a number unresolved: the walk's
-//! bounds, shared by the walk, its estimate and the interpreter.
+//! bounds, shared by the walk and its estimate.
 
 /// Statements executed before the walk gives up (a FOR loop of a billion
 /// turns would otherwise run for hours).

@@ -20,7 +20,6 @@ mod bounds;
 mod cold_joints;
 mod estimate;
 mod file;
-pub mod interp;
 mod names;
 mod timing;
 mod walk;

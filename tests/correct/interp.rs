@@ -1,17 +1,17 @@
 //! The project runs what it writes: the controller module of `correct
 //! --runtime`, executed by the project's own RAPID interpreter
-//! (`schedule::interp`), agrees with the static correction (`correct
+//! (`interp`), agrees with the static correction (`correct
 //! --at`, `correct --schedule`) on every sample's every target.
 
 use nalgebra::{Isometry3, UnitQuaternion};
 use rapidtherm::correct::job::warm_robot;
 use rapidtherm::correct::runtime::{module_text, ModuleOptions, RuntimeSpec};
 use rapidtherm::correct::{correct, Correction, Options, ScheduleSource, When};
+use rapidtherm::interp::{kin, Arg, Clock, Interp, Kinematics, Precision, Value};
 use rapidtherm::model::warm::Moment;
 use rapidtherm::model::Model;
 use rapidtherm::rapid::{self, Program};
 use rapidtherm::robot::Robot;
-use rapidtherm::schedule::interp::{kin, Arg, Clock, Interp, Kinematics, Precision, Value};
 use rapidtherm::schedule::Schedule;
 use std::collections::HashMap;
 use std::path::PathBuf;

@@ -6,11 +6,11 @@
 
 use nalgebra::Isometry3;
 use rapidtherm::correct::{correct, Options, When};
+use rapidtherm::interp::{kin, Clock, Interp, Kinematics, Value};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::robot::frames::{pose_to_rapid, target_of_flange};
 use rapidtherm::robot::{Robot, ToolData, WobjData};
-use rapidtherm::schedule::interp::{kin, Clock, Interp, Kinematics, Value};
 
 const TOOL: &str = "[TRUE,[[0,0,150],[1,0,0,0]],[1.5,[0,0,60],[1,0,0,0],0,0,0]]";
 /// A conveyor's frame turned 30° about z: the drift is turned into it.

@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 /// module's `RtDays` computes it with RAPID's integer `DIV`
 /// (days-from-civil after H. Hinnant, shifted to 2000).
 pub fn days_since_2000(y: i64, m: i64, d: i64) -> i64 {
-    crate::schedule::interp::clock::days_from_civil(y, m, d)
+    crate::interp::clock::days_from_civil(y, m, d)
 }
 
 /// 1 − e^(−u) as the module computes it: by its series below 0.01, where

@@ -2,7 +2,7 @@
 //! functions (Offs, RelTool, CRobT, user FUNCs) as far as timing needs.
 
 use super::*;
-use crate::schedule::interp::value::compare;
+use crate::rapid::compare;
 
 impl<'p> Walker<'p> {
     pub(super) fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {

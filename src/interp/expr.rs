@@ -2,12 +2,12 @@
 //! num, bool, string, and the record arithmetic of pos and orient) and
 //! calls of FUNCs and built-in functions.
 
-use super::super::bounds::{STACK_RED_ZONE, STACK_SEGMENT};
+use super::bounds::{STACK_RED_ZONE, STACK_SEGMENT};
 use super::kin;
 use super::place::Slot;
-use super::value::compare;
 use super::{Interp, Precision, Value};
 use crate::error::{Error, Result};
+use crate::rapid::compare;
 use crate::rapid::{BinaryOp, Expr, FunctionCall, RoutineKind, UnaryOp};
 use std::collections::HashMap;
 

@@ -3,7 +3,6 @@
 //! types it knows by their components.
 
 use crate::error::{Error, Result};
-use crate::rapid::BinaryOp;
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -316,19 +315,4 @@ impl Types {
         let like = self.default_of(ty)?;
         self.coerce(v, &like)
     }
-}
-
-/// A comparison of two nums (`<`, `<=`, `=`, `<>`, `>=`, `>`); `None`
-/// for any other operator.
-pub(crate) fn compare(op: BinaryOp, a: f64, b: f64) -> Option<bool> {
-    use BinaryOp::*;
-    Some(match op {
-        Lt => a < b,
-        Le => a <= b,
-        Eq => a == b,
-        Ne => a != b,
-        Ge => a >= b,
-        Gt => a > b,
-        _ => return None,
-    })
 }

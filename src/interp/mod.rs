@@ -18,6 +18,7 @@
 //! (`place`), expressions (`expr`), statements (`stmt`), built-in
 //! functions (`builtins`) and the robot's (`kin`).
 
+mod bounds;
 mod builtins;
 pub mod clock;
 mod expr;
@@ -173,7 +174,7 @@ impl Interp {
             precision: Precision::Double,
             ops: Ops::default(),
             call_began: 0,
-            step_budget: super::bounds::STEP_BUDGET,
+            step_budget: bounds::STEP_BUDGET,
             moves: Vec::new(),
             at: None,
         };

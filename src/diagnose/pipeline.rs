@@ -562,6 +562,312 @@ fn folds(problem: &Problem, opts: &Options) -> Result<select::Folds> {
     Ok(folds)
 }
 
+/// The problem with each pose's own offset free.
+fn centred_of(p: &Problem) -> Problem {
+    Problem {
+        centre_poses: true,
+        ..p.clone()
+    }
+}
+
+/// The data over time with a step of the whole robot removed where one
+/// shows, and the thermal effects selected on them: the problem, its
+/// centred form, the selection, and the step removed.
+fn without_step(
+    ctx: &Ctx,
+    time_folds: &select::Folds,
+    all: &[usize],
+    over_time: &impl Fn(&Problem) -> Result<Forward>,
+    mut problem: Problem,
+    mut centred: Problem,
+    mut thermal: Forward,
+) -> Result<(Problem, Problem, Forward, Option<knock::Knock>)> {
+    // A step of the whole robot (a knock, a loosened foot) is no effect of
+    // the library: where what the thermal effects leave over time holds a
+    // significant one, it is removed from the data (every row after it
+    // shifted back) and the thermal effects are selected on what is left,
+    // so that neither a thermal effect that half-follows it nor, later, a
+    // static one that takes up its mean is named. Once a step shows, it is
+    // taken whole, as the change over time alone shows it, before the
+    // thermal effects are selected again: the step found beyond a mount
+    // drift or a scaled expansion is only what they left of it, and the
+    // data corrected by that part still held a step for them to follow.
+    // The step and the thermal effects are then found in turn (each given
+    // the other, as a joint fit would), a few rounds at most; where the
+    // thermal effects found explain the change without a step, the data go
+    // back as measured.
+    let original = centred.clone();
+    let as_measured = thermal.clone();
+    // The held-out gap over time before anything is that of the data as
+    // measured, whatever is later removed from them (a step, a growth with
+    // the square): else the stage's shrink would be measured from data
+    // already corrected.
+    let cv0_measured = thermal.cv0;
+    // The step against the selection as measured. Tested only beyond the
+    // effects selected, a mount drift that followed most of a knock early
+    // in the warm-up left too little of it to test; tested first, a step
+    // takes up most of a smooth drift. Where the step passes its test
+    // beyond nothing (each pose's own offset) but not beyond the effects
+    // selected, the two are alternatives, and the one that predicts the
+    // held-out spans better is taken, as between candidates: the step
+    // then goes first, and the thermal effects must add significantly
+    // beyond it.
+    let step_first = || {
+        if thermal.selected.is_empty()
+            || significant_step(
+                &original,
+                &Forward::empty(&original),
+                &ctx.noise,
+                ctx.remainder_level(),
+                ctx.temps_drive,
+            )
+            .is_none()
+        {
+            return false;
+        }
+        let gaps = original.position_gaps(&[], all);
+        knock::score(&original, time_folds, &gaps).is_some_and(|(cv, _)| cv < thermal.cv)
+    };
+    if significant_step(
+        &original,
+        &thermal,
+        &ctx.noise,
+        ctx.remainder_level(),
+        ctx.temps_drive,
+    )
+    .is_some()
+        || step_first()
+    {
+        thermal = Forward::empty(&original);
+    }
+    let mut knocked = None;
+    for _ in 0..3 {
+        let Some(k) = significant_step(
+            &original,
+            &thermal,
+            &ctx.noise,
+            ctx.remainder_level(),
+            ctx.temps_drive,
+        ) else {
+            if knocked.is_none() {
+                thermal = as_measured;
+            } else if knocked.take().is_some() {
+                // The thermal effects found on the corrected data explain
+                // the change without a step: back to the data as measured.
+                problem = ctx.problem.clone();
+                centred = original.clone();
+                thermal = over_time(&centred)?;
+            }
+            break;
+        };
+        let same = knocked.as_ref().is_some_and(|p: &knock::Knock| {
+            p.after_min == k.after_min && (p.shift_mm - k.shift_mm).norm() < 0.1 * ctx.noise.rms_mm
+        });
+        let mut corrected = ctx.problem.clone();
+        for r in &mut corrected.rows {
+            if r.time_min >= k.after_min - 1e-9 {
+                r.position -= k.shift_mm;
+            }
+        }
+        problem = corrected;
+        centred = centred_of(&problem);
+        knocked = Some(k);
+        if same {
+            break;
+        }
+        thermal = over_time(&centred)?;
+    }
+    if knocked.is_some() {
+        thermal.cv0 = cv0_measured;
+    }
+    Ok((problem, centred, thermal, knocked))
+}
+
+/// The data over time with a growth with the square of the temperatures
+/// removed where it is taken: the problem, its centred form, the thermal
+/// selection, the growth (taken or beside), and the parameters it took.
+fn with_square(
+    ctx: &Ctx,
+    time_folds: &select::Folds,
+    over_time: &impl Fn(&Problem) -> Result<Forward>,
+    mut problem: Problem,
+    mut centred: Problem,
+    mut thermal: Forward,
+) -> Result<(Problem, Problem, Forward, Option<QuadraticGrowth>, usize)> {
+    // A growth with the square of the temperatures, a candidate beside the
+    // thermal effects (`square.rs`): where it is taken, it is removed from
+    // the data and the effects are those selected beyond it; else it may
+    // still be reported beside them, and what it replaces is not named.
+    let mut square_params = 0;
+    if ctx.temps_drive {
+        thermal = square::library_first(
+            &centred,
+            thermal,
+            &ctx.noise,
+            ctx.remainder_level(),
+            |alt| {
+                forward(
+                    &centred,
+                    time_folds,
+                    alt,
+                    &[],
+                    &ctx.noise,
+                    ctx.max_effects,
+                    Some(0.0),
+                    None,
+                )
+            },
+        )?;
+    }
+    // The square of the temperatures' rise needs temperatures.
+    let choice = if ctx.temps_drive {
+        square::choose(
+            &problem,
+            &centred,
+            &thermal,
+            &ctx.noise,
+            ctx.remainder_level(),
+            over_time,
+        )?
+    } else {
+        square::Choice::Absent
+    };
+    let quadratic = match choice {
+        square::Choice::Taken(t) => {
+            let t = *t;
+            problem = t.problem;
+            centred = centred_of(&problem);
+            thermal = t.thermal;
+            square_params = 4;
+            Some(t.growth)
+        }
+        square::Choice::Beside(q) => Some(q),
+        square::Choice::Absent => None,
+    };
+    if let Some(q) = &quadratic {
+        thermal.selected.retain(|k| !q.replaces.contains(k));
+        thermal
+            .steps
+            .retain(|s| !q.replaces.iter().any(|k| k.name() == s.added));
+        for c in &mut thermal.candidates {
+            if q.replaces.iter().any(|k| k.name() == c.name) {
+                c.selected = false;
+            }
+        }
+    }
+    Ok((problem, centred, thermal, quadratic, square_params))
+}
+
+/// The absolute pass: the thermal effects selected on the absolute level
+/// of the gap with the static ones found, and the static ones again with
+/// them held. Taken (`Some`: thermal, held problem, statics) when it finds
+/// all the free-offset stage found and more, and the whole held-out gap
+/// drops clearly with it or stays with fewer static effects.
+fn absolute_pass(
+    ctx: &Ctx,
+    problem: &Problem,
+    thermal_pool: &[EffectKind],
+    static_pool: &[EffectKind],
+    thermal: &Forward,
+    statics: &Forward,
+) -> Result<Option<(Forward, Problem, Forward)>> {
+    let absolute = ctx.select(problem, &statics.selected, thermal_pool, Some(0.0), None)?;
+    let superset = thermal
+        .selected
+        .iter()
+        .all(|k| absolute.selected.contains(k));
+    if superset && absolute.selected.len() > thermal.selected.len() {
+        let held_abs = ctx.held_by(problem, &absolute);
+        let statics_abs = ctx.select(
+            &held_abs,
+            &[],
+            static_pool,
+            ctx.static_held_out,
+            Some(Joint {
+                problem,
+                kinds: &absolute.selected,
+            }),
+        )?;
+        let nr2 = ctx.noise.rms_mm.powi(2);
+        // Better held out, or as good with fewer static effects (a
+        // static one had only taken up the thermal effect's average).
+        let better = statics_abs.cv.powi(2) < statics.cv.powi(2) - 0.2 * nr2;
+        let simpler = statics_abs.selected.len() < statics.selected.len()
+            && statics_abs.cv <= 1.02 * statics.cv;
+        if better || simpler {
+            return Ok(Some((absolute, held_abs, statics_abs)));
+        }
+    }
+    Ok(None)
+}
+
+/// The static selection with sag said, not named, where it cannot be told
+/// from the arm's geometry, and a joint's own error searched beyond the
+/// full calibration.
+fn sag_and_signature(
+    ctx: &Ctx,
+    problem: &Problem,
+    thermal: &Forward,
+    held: &Problem,
+    static_pool: &[EffectKind],
+    mut statics: Forward,
+) -> Result<(Forward, joint_signature::Searched)> {
+    // Where the poses are too few for a full kinematic calibration, sag
+    // cannot be told from the arm's own geometry: it would only take up
+    // part of that geometry. Said, not named.
+    let mut ambiguous_sag = None;
+    let without_sag: Vec<EffectKind> = static_pool
+        .iter()
+        .copied()
+        .filter(|k| *k != EffectKind::GravitySag)
+        .collect();
+    let select_without_sag = |held: &Problem| {
+        ctx.select(
+            held,
+            &[],
+            &without_sag,
+            ctx.static_held_out,
+            Some(Joint {
+                problem,
+                kinds: &thermal.selected,
+            }),
+        )
+    };
+    if !ctx.static_judged && statics.selected.contains(&EffectKind::GravitySag) {
+        let sag_cv = statics.cv;
+        statics = select_without_sag(held)?;
+        ambiguous_sag = Some(Ambiguity {
+            pair: ["geometry-offset".into(), "gravity-sag".into()],
+            correlation: None,
+            separate_by: Separation::CalibrationPoses {
+                poses: ctx.n_poses,
+                sag_cv_mm: sag_cv,
+            },
+        });
+    }
+    statics.ambiguities.extend(ambiguous_sag);
+    // A joint's own error the library lacks (a cyclic error of its angle,
+    // backlash), tested beyond the full calibration where the poses allow
+    // one: the omnibus lack-of-fit test spreads its power over every
+    // direction the calibration leaves, and a calibration from 12-20 poses
+    // takes up most of such an error. Gravity sag that adds nothing beyond
+    // the calibration and the signature only stood in for it.
+    let searched = if ctx.static_judged {
+        joint_signature::find(held, &statics.selected, &ctx.noise, ctx.remainder_level())
+    } else {
+        joint_signature::Searched::default()
+    };
+    if searched
+        .found
+        .as_ref()
+        .and_then(|s| s.sag_beyond)
+        .is_some_and(|t| !t.significant())
+    {
+        statics = select_without_sag(held)?;
+    }
+    Ok((statics, searched))
+}
+
 /// What the stages found, as reported: every candidate with its parameters
 /// (those of the final fit where selected), the steps and ambiguities met,
 /// and the effects fitted for the saved model.
@@ -872,14 +1178,10 @@ type Staged = (
 /// absolute pass replaced it), and a step in time found (removed from the
 /// data before the static stage).
 fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
-    let mut problem = ctx.problem.clone();
+    let problem = ctx.problem.clone();
     let mut first = Part::OverTime;
     let all: Vec<usize> = (0..problem.rows.len()).collect();
-    let centred_of = |p: &Problem| Problem {
-        centre_poses: true,
-        ..p.clone()
-    };
-    let mut centred = centred_of(&problem);
+    let centred = centred_of(&problem);
     let time_folds = select::make_folds(&centred, ctx.folds.folds.len());
     let thermal_pool: Vec<EffectKind> = pool.iter().copied().filter(|k| k.is_thermal()).collect();
     let static_pool: Vec<EffectKind> = pool.iter().copied().filter(|k| !k.is_thermal()).collect();
@@ -901,166 +1203,18 @@ fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
             None,
         )
     };
-    let mut thermal = over_time(&centred)?;
-    // A step of the whole robot (a knock, a loosened foot) is no effect of
-    // the library: where what the thermal effects leave over time holds a
-    // significant one, it is removed from the data (every row after it
-    // shifted back) and the thermal effects are selected on what is left,
-    // so that neither a thermal effect that half-follows it nor, later, a
-    // static one that takes up its mean is named. Once a step shows, it is
-    // taken whole, as the change over time alone shows it, before the
-    // thermal effects are selected again: the step found beyond a mount
-    // drift or a scaled expansion is only what they left of it, and the
-    // data corrected by that part still held a step for them to follow.
-    // The step and the thermal effects are then found in turn (each given
-    // the other, as a joint fit would), a few rounds at most; where the
-    // thermal effects found explain the change without a step, the data go
-    // back as measured.
-    let original = centred.clone();
-    let as_measured = thermal.clone();
-    // The held-out gap over time before anything is that of the data as
-    // measured, whatever is later removed from them (a step, a growth with
-    // the square): else the stage's shrink would be measured from data
-    // already corrected.
-    let cv0_measured = thermal.cv0;
-    // The step against the selection as measured. Tested only beyond the
-    // effects selected, a mount drift that followed most of a knock early
-    // in the warm-up left too little of it to test; tested first, a step
-    // takes up most of a smooth drift. Where the step passes its test
-    // beyond nothing (each pose's own offset) but not beyond the effects
-    // selected, the two are alternatives, and the one that predicts the
-    // held-out spans better is taken, as between candidates: the step
-    // then goes first, and the thermal effects must add significantly
-    // beyond it.
-    let step_first = || {
-        if thermal.selected.is_empty()
-            || significant_step(
-                &original,
-                &Forward::empty(&original),
-                &ctx.noise,
-                ctx.remainder_level(),
-                ctx.temps_drive,
-            )
-            .is_none()
-        {
-            return false;
-        }
-        let gaps = original.position_gaps(&[], &all);
-        knock::score(&original, &time_folds, &gaps).is_some_and(|(cv, _)| cv < thermal.cv)
-    };
-    if significant_step(
-        &original,
-        &thermal,
-        &ctx.noise,
-        ctx.remainder_level(),
-        ctx.temps_drive,
-    )
-    .is_some()
-        || step_first()
-    {
-        thermal = Forward::empty(&original);
-    }
-    let mut knocked = None;
-    for _ in 0..3 {
-        let Some(k) = significant_step(
-            &original,
-            &thermal,
-            &ctx.noise,
-            ctx.remainder_level(),
-            ctx.temps_drive,
-        ) else {
-            if knocked.is_none() {
-                thermal = as_measured;
-            } else if knocked.take().is_some() {
-                // The thermal effects found on the corrected data explain
-                // the change without a step: back to the data as measured.
-                problem = ctx.problem.clone();
-                centred = original.clone();
-                thermal = over_time(&centred)?;
-            }
-            break;
-        };
-        let same = knocked.as_ref().is_some_and(|p: &knock::Knock| {
-            p.after_min == k.after_min && (p.shift_mm - k.shift_mm).norm() < 0.1 * ctx.noise.rms_mm
-        });
-        let mut corrected = ctx.problem.clone();
-        for r in &mut corrected.rows {
-            if r.time_min >= k.after_min - 1e-9 {
-                r.position -= k.shift_mm;
-            }
-        }
-        problem = corrected;
-        centred = centred_of(&problem);
-        knocked = Some(k);
-        if same {
-            break;
-        }
-        thermal = over_time(&centred)?;
-    }
-    if knocked.is_some() {
-        thermal.cv0 = cv0_measured;
-    }
-    // A growth with the square of the temperatures, a candidate beside the
-    // thermal effects (`square.rs`): where it is taken, it is removed from
-    // the data and the effects are those selected beyond it; else it may
-    // still be reported beside them, and what it replaces is not named.
-    let mut square_params = 0;
-    if ctx.temps_drive {
-        thermal = square::library_first(
-            &centred,
-            thermal,
-            &ctx.noise,
-            ctx.remainder_level(),
-            |alt| {
-                forward(
-                    &centred,
-                    &time_folds,
-                    alt,
-                    &[],
-                    &ctx.noise,
-                    ctx.max_effects,
-                    Some(0.0),
-                    None,
-                )
-            },
-        )?;
-    }
-    // The square of the temperatures' rise needs temperatures.
-    let choice = if ctx.temps_drive {
-        square::choose(
-            &problem,
-            &centred,
-            &thermal,
-            &ctx.noise,
-            ctx.remainder_level(),
-            over_time,
-        )?
-    } else {
-        square::Choice::Absent
-    };
-    let quadratic = match choice {
-        square::Choice::Taken(t) => {
-            let t = *t;
-            problem = t.problem;
-            centred = centred_of(&problem);
-            thermal = t.thermal;
-            square_params = 4;
-            Some(t.growth)
-        }
-        square::Choice::Beside(q) => Some(q),
-        square::Choice::Absent => None,
-    };
-    if let Some(q) = &quadratic {
-        thermal.selected.retain(|k| !q.replaces.contains(k));
-        thermal
-            .steps
-            .retain(|s| !q.replaces.iter().any(|k| k.name() == s.added));
-        for c in &mut thermal.candidates {
-            if q.replaces.iter().any(|k| k.name() == c.name) {
-                c.selected = false;
-            }
-        }
-    }
+    let thermal = over_time(&centred)?;
+    let (problem, centred, thermal, knocked) = without_step(
+        ctx,
+        &time_folds,
+        &all,
+        &over_time,
+        problem,
+        centred,
+        thermal,
+    )?;
+    let (problem, centred, mut thermal, quadratic, square_params) =
+        with_square(ctx, &time_folds, &over_time, problem, centred, thermal)?;
     let mut held = ctx.held_by(&problem, &thermal);
     let mut statics = ctx.select(
         &held,
@@ -1080,94 +1234,29 @@ fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
     // all the free-offset stage found, and more, and the whole held-out gap
     // drops clearly with it or stays with fewer static effects.
     let static_lof = ctx.static_lack_of_fit(&problem, &thermal, &held, &statics);
-    if knocked.is_none()
+    let absolute = if knocked.is_none()
         && quadratic.is_none()
         && (statics.selected.is_empty() || static_lof.is_some_and(|t| !t.significant()))
     {
-        let absolute = ctx.select(&problem, &statics.selected, &thermal_pool, Some(0.0), None)?;
-        let superset = thermal
-            .selected
-            .iter()
-            .all(|k| absolute.selected.contains(k));
-        if superset && absolute.selected.len() > thermal.selected.len() {
-            let held_abs = ctx.held_by(&problem, &absolute);
-            let statics_abs = ctx.select(
-                &held_abs,
-                &[],
-                &static_pool,
-                ctx.static_held_out,
-                Some(Joint {
-                    problem: &problem,
-                    kinds: &absolute.selected,
-                }),
-            )?;
-            let nr2 = ctx.noise.rms_mm.powi(2);
-            // Better held out, or as good with fewer static effects (a
-            // static one had only taken up the thermal effect's average).
-            let better = statics_abs.cv.powi(2) < statics.cv.powi(2) - 0.2 * nr2;
-            let simpler = statics_abs.selected.len() < statics.selected.len()
-                && statics_abs.cv <= 1.02 * statics.cv;
-            if better || simpler {
-                thermal = absolute;
-                held = held_abs;
-                statics = statics_abs;
-                first = Part::Absolute;
-            }
-        }
-    }
-    // Where the poses are too few for a full kinematic calibration, sag
-    // cannot be told from the arm's own geometry: it would only take up
-    // part of that geometry. Said, not named.
-    let mut ambiguous_sag = None;
-    let without_sag: Vec<EffectKind> = static_pool
-        .iter()
-        .copied()
-        .filter(|k| *k != EffectKind::GravitySag)
-        .collect();
-    let select_without_sag = |held: &Problem| {
-        ctx.select(
-            held,
-            &[],
-            &without_sag,
-            ctx.static_held_out,
-            Some(Joint {
-                problem: &problem,
-                kinds: &thermal.selected,
-            }),
-        )
-    };
-    if !ctx.static_judged && statics.selected.contains(&EffectKind::GravitySag) {
-        let sag_cv = statics.cv;
-        statics = select_without_sag(&held)?;
-        ambiguous_sag = Some(Ambiguity {
-            pair: ["geometry-offset".into(), "gravity-sag".into()],
-            correlation: None,
-            separate_by: Separation::CalibrationPoses {
-                poses: ctx.n_poses,
-                sag_cv_mm: sag_cv,
-            },
-        });
-    }
-    statics.ambiguities.extend(ambiguous_sag);
-    // A joint's own error the library lacks (a cyclic error of its angle,
-    // backlash), tested beyond the full calibration where the poses allow
-    // one: the omnibus lack-of-fit test spreads its power over every
-    // direction the calibration leaves, and a calibration from 12-20 poses
-    // takes up most of such an error. Gravity sag that adds nothing beyond
-    // the calibration and the signature only stood in for it.
-    let searched = if ctx.static_judged {
-        joint_signature::find(&held, &statics.selected, &ctx.noise, ctx.remainder_level())
+        absolute_pass(
+            ctx,
+            &problem,
+            &thermal_pool,
+            &static_pool,
+            &thermal,
+            &statics,
+        )?
     } else {
-        joint_signature::Searched::default()
+        None
     };
-    if searched
-        .found
-        .as_ref()
-        .and_then(|s| s.sag_beyond)
-        .is_some_and(|t| !t.significant())
-    {
-        statics = select_without_sag(&held)?;
+    if let Some((absolute, held_abs, statics_abs)) = absolute {
+        thermal = absolute;
+        held = held_abs;
+        statics = statics_abs;
+        first = Part::Absolute;
     }
+    let (statics, searched) =
+        sag_and_signature(ctx, &problem, &thermal, &held, &static_pool, statics)?;
     let (rss, free) = thermal.rss();
     let time_dof = centred
         .residuals(&[], &all)

@@ -499,18 +499,7 @@ fn fit_afresh(
         .collect();
     let m = layout.len();
     let n_obs = rows.len() * problem.width();
-    let effects_of = |theta: &[f64]| -> Vec<Effect> {
-        let mut it = theta.iter();
-        kinds
-            .iter()
-            .map(|&k| Effect {
-                kind: k,
-                params: (0..k.params().len())
-                    .map(|_| it.next().copied().unwrap_or(0.0))
-                    .collect(),
-            })
-            .collect()
-    };
+    let effects_of = |theta: &[f64]| effects_from(kinds, theta);
     // The lagged temperatures of the last time constants seen: every
     // Jacobian column but the time constants' own reuses them.
     let lag_memo: std::cell::RefCell<Option<LagMemo>> = Default::default();
@@ -560,31 +549,7 @@ fn fit_afresh(
         )));
     }
     if !lag_params.is_empty() && !warm {
-        // τ is strongly nonlinear: start from the best of a coarse grid (one
-        // τ for all links), with the other parameters solved linearly at
-        // each τ.
-        let mut best = (f64::INFINITY, theta.clone());
-        for tau in [2.0, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 320.0] {
-            let mut t = vec![0.0; m];
-            for &li in &lag_params {
-                t[li] = tau;
-            }
-            let others: Vec<usize> = (0..m).filter(|p| !lag_params.contains(p)).collect();
-            if !others.is_empty() {
-                let r0 = residual(&t);
-                let j = jacobian(&t, &r0, &others);
-                if let Some(step) = solve_scaled(&j, &r0) {
-                    for (c, &p) in others.iter().enumerate() {
-                        t[p] += step[c];
-                    }
-                }
-            }
-            let rss = residual(&t).norm_squared();
-            if rss < best.0 {
-                best = (rss, t);
-            }
-        }
-        theta = best.1;
+        theta = lag_grid_start(m, &lag_params, &residual, &jacobian, &theta);
     }
 
     // Identifiability at the start point.
@@ -597,43 +562,11 @@ fn fit_afresh(
         false => None,
     }
     .unwrap_or_else(|| jacobian(&theta, &r0, &all));
-    let typical: Vec<f64> = layout
-        .iter()
-        .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
-        .collect();
+    let typical = typical_sizes(&layout);
     let allowed = problem.allowed(&layout);
-    let bounds: Vec<f64> = layout
-        .iter()
-        .map(|&(k, i)| plausible::bound(k, i))
-        .collect();
-    let mut held: BTreeMap<usize, Unidentified> = BTreeMap::new();
-    let mut free: Vec<usize> = {
-        let sub = j0.select_columns(allowed.iter());
-        let typ: Vec<f64> = allowed.iter().map(|&p| typical[p]).collect();
-        let bnd: Vec<(EffectKind, f64)> =
-            allowed.iter().map(|&p| (layout[p].0, bounds[p])).collect();
-        let (kept, dropped) = identifiable(&sub, &typ, &bnd, problem.noise_mm);
-        for (c, why) in dropped {
-            held.insert(
-                allowed[c],
-                match why {
-                    Dropped::NoLever(lever_mm) => Unidentified::NoLever { lever_mm },
-                    Dropped::Unresolved(stderr) => Unidentified::Unresolved {
-                        stderr,
-                        limit: SE_IN_TYPICAL * typical[allowed[c]],
-                    },
-                    Dropped::SameAs(independent, partners) => Unidentified::SameAs {
-                        independent,
-                        same_as: partners
-                            .iter()
-                            .map(|&k| name_of(layout[allowed[k]]))
-                            .collect(),
-                    },
-                },
-            );
-        }
-        kept.into_iter().map(|c| allowed[c]).collect()
-    };
+    let bounds = plausible_bounds(&layout);
+    let (mut free, mut held) =
+        identified(&j0, &allowed, &layout, &typical, &bounds, problem.noise_mm);
     // Levenberg–Marquardt with Marquardt's diagonal scaling; for a reported
     // model, repeated while parameters end beyond their plausible bounds
     // (those are held at zero, with the value each took as the reason): a
@@ -656,109 +589,22 @@ fn fit_afresh(
         // The Jacobian is reused while steps keep lowering the residual (the
         // effects are nearly linear in their parameters) and recomputed when
         // one fails.
-        let mut r = residual(&theta);
-        let mut rss = r.norm_squared();
-        let mut lambda = 1e-6;
-        let mut iterations = 0;
-        let mut converged = free.is_empty();
-        // RSS at the end of each iteration: a fit that creeps along a flat
-        // valley (a time constant the data hardly pin) has converged for every
-        // statistical purpose once ten iterations lower χ² by less than 0.1.
-        let mut history: Vec<f64> = Vec::new();
-        while !converged && iterations < MAX_ITER {
-            iterations += 1;
-            history.push(rss);
-            if history.len() > 10 && history[history.len() - 11] - rss <= 0.1 * rss / n_obs as f64 {
-                converged = true;
-                break;
-            }
-            let mut g = j.transpose() * &r;
-            let mut a = j.transpose() * &j;
-            // A time constant on a bound (0, or MAX_TAU_MIN) that the data push
-            // beyond it: hold it there this iteration (active set).
-            for (c, &p) in free.iter().enumerate() {
-                let at_bound =
-                    (theta[p] <= 0.0 && g[c] < 0.0) || (theta[p] >= MAX_TAU_MIN && g[c] > 0.0);
-                if lag_params.contains(&p) && at_bound {
-                    g[c] = 0.0;
-                    for k in 0..free.len() {
-                        if k != c {
-                            a[(c, k)] = 0.0;
-                            a[(k, c)] = 0.0;
-                        }
-                    }
-                }
-            }
-            if at_minimum(&a, &g, rss, n_obs) {
-                if fresh {
-                    converged = true;
-                    break;
-                }
-                j = jacobian(&theta, &r, &free);
-                fresh = true;
-                continue;
-            }
-            let Some(step) = solve_damped(&a, &g, lambda) else {
-                lambda = (lambda * 10.0).max(1e-9);
-                if lambda > 1e12 {
-                    break;
-                }
-                continue;
-            };
-            let mut t = theta.clone();
-            for (c, &p) in free.iter().enumerate() {
-                t[p] += step[c];
-            }
-            for &li in &lag_params {
-                t[li] = t[li].clamp(0.0, MAX_TAU_MIN);
-            }
-            let r1 = residual(&t);
-            let rss1 = r1.norm_squared();
-            if rss1.is_finite() && rss1 <= rss {
-                let gain = (rss - rss1) / rss.max(1e-300);
-                theta = t;
-                r = r1;
-                rss = rss1;
-                lambda = (lambda / 5.0).max(1e-12);
-                if gain < 1e-12 && fresh {
-                    converged = true;
-                } else if gain < 1e-4 && !lag_params.is_empty() {
-                    // Slow progress on a reused Jacobian: the step direction is
-                    // stale (a time constant, the one strongly nonlinear
-                    // parameter, moved); refresh it.
-                    j = jacobian(&theta, &r, &free);
-                    fresh = true;
-                } else {
-                    fresh = false;
-                }
-            } else if !fresh {
-                j = jacobian(&theta, &r, &free);
-                fresh = true;
-            } else {
-                lambda = (lambda * 8.0).max(1e-9);
-                if lambda > 1e12 {
-                    // No step lowers the residual, not even a vanishing one
-                    // along the gradient of a fresh Jacobian: a minimum as far
-                    // as the arithmetic can tell (a time constant on its bound
-                    // leaves a gradient it may not follow).
-                    converged = fresh || gradient_small(&a, &g, rss * 1e4);
-                    break;
-                }
-            }
-        }
+        let descent = descend(
+            theta,
+            j,
+            fresh,
+            &free,
+            &lag_params,
+            n_obs,
+            &residual,
+            &jacobian,
+        );
+        theta = descent.theta;
+        j = descent.j;
+        let (rss, iterations, converged) = (descent.rss, descent.iterations, descent.converged);
         total_iterations += iterations;
         if !converged {
-            return Err(Error::new(
-                ErrorKind::NoConvergence,
-                format!(
-                    "the fit of {} did not converge in {iterations} iterations",
-                    kinds
-                        .iter()
-                        .map(|k| k.name())
-                        .collect::<Vec<_>>()
-                        .join(" + ")
-                ),
-            ));
+            return Err(no_convergence(kinds, iterations));
         }
         // Every parameter beyond its bound at once: one at a time, each
         // with a fit of its own, cost minutes on a thousand poses where a
@@ -773,27 +619,260 @@ fn fit_afresh(
         }
         // The fit goes on from where it stopped, those held at zero and
         // their columns dropped.
-        let keep: Vec<usize> = (0..free.len())
-            .filter(|&c| !beyond.contains(&free[c]))
-            .collect();
-        j = j.select_columns(keep.iter());
+        j = hold_implausible(beyond, &j, &mut theta, &mut free, &mut held, &bounds);
         fresh = false;
-        for p in beyond {
-            held.insert(
-                p,
-                Unidentified::Implausible {
-                    value: theta[p],
-                    limit: bounds[p],
-                },
-            );
-            theta[p] = 0.0;
-            free.retain(|&f| f != p);
-        }
     };
     let iterations = total_iterations;
     let dof = (n_obs - free.len()).max(1) as f64;
     let sigma2 = rss / dof;
     let cov = (j.transpose() * &j).try_inverse();
+    let params = params_of(kinds, &layout, &free, cov.as_ref(), sigma2, &theta, &held);
+    Ok(Fit {
+        effects: effects_of(&theta),
+        params,
+        rss,
+        n_obs,
+        n_free: free.len(),
+        iterations,
+    })
+}
+
+/// The start of a fit with thermal lags and no warm start: the best of a
+/// coarse grid of one time constant for all links.
+fn lag_grid_start(
+    m: usize,
+    lag_params: &[usize],
+    residual: &impl Fn(&[f64]) -> DVector<f64>,
+    jacobian: &impl Fn(&[f64], &DVector<f64>, &[usize]) -> DMatrix<f64>,
+    theta: &[f64],
+) -> Vec<f64> {
+    // τ is strongly nonlinear: start from the best of a coarse grid (one
+    // τ for all links), with the other parameters solved linearly at
+    // each τ.
+    let mut best = (f64::INFINITY, theta.to_vec());
+    for tau in [2.0, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 320.0] {
+        let mut t = vec![0.0; m];
+        for &li in lag_params {
+            t[li] = tau;
+        }
+        let others: Vec<usize> = (0..m).filter(|p| !lag_params.contains(p)).collect();
+        if !others.is_empty() {
+            let r0 = residual(&t);
+            let j = jacobian(&t, &r0, &others);
+            if let Some(step) = solve_scaled(&j, &r0) {
+                for (c, &p) in others.iter().enumerate() {
+                    t[p] += step[c];
+                }
+            }
+        }
+        let rss = residual(&t).norm_squared();
+        if rss < best.0 {
+            best = (rss, t);
+        }
+    }
+    best.1
+}
+
+/// The parameters the data identify at the start point, and why each of
+/// the others is held.
+fn identified(
+    j0: &DMatrix<f64>,
+    allowed: &[usize],
+    layout: &[(EffectKind, usize)],
+    typical: &[f64],
+    bounds: &[f64],
+    noise_mm: f64,
+) -> (Vec<usize>, BTreeMap<usize, Unidentified>) {
+    let mut held: BTreeMap<usize, Unidentified> = BTreeMap::new();
+    let sub = j0.select_columns(allowed.iter());
+    let typ: Vec<f64> = allowed.iter().map(|&p| typical[p]).collect();
+    let bnd: Vec<(EffectKind, f64)> = allowed.iter().map(|&p| (layout[p].0, bounds[p])).collect();
+    let (kept, dropped) = identifiable(&sub, &typ, &bnd, noise_mm);
+    for (c, why) in dropped {
+        held.insert(
+            allowed[c],
+            match why {
+                Dropped::NoLever(lever_mm) => Unidentified::NoLever { lever_mm },
+                Dropped::Unresolved(stderr) => Unidentified::Unresolved {
+                    stderr,
+                    limit: SE_IN_TYPICAL * typical[allowed[c]],
+                },
+                Dropped::SameAs(independent, partners) => Unidentified::SameAs {
+                    independent,
+                    same_as: partners
+                        .iter()
+                        .map(|&k| name_of(layout[allowed[k]]))
+                        .collect(),
+                },
+            },
+        );
+    }
+    let free = kept.into_iter().map(|c| allowed[c]).collect();
+    (free, held)
+}
+
+/// What one run of Levenberg–Marquardt ends with.
+struct Descent {
+    theta: Vec<f64>,
+    j: DMatrix<f64>,
+    rss: f64,
+    iterations: usize,
+    converged: bool,
+}
+
+/// Levenberg–Marquardt with Marquardt's diagonal scaling over the `free`
+/// parameters, from `theta` on the Jacobian `j` (`fresh` when computed
+/// at `theta`), to where it stops.
+#[allow(clippy::too_many_arguments)]
+fn descend(
+    mut theta: Vec<f64>,
+    mut j: DMatrix<f64>,
+    mut fresh: bool,
+    free: &[usize],
+    lag_params: &[usize],
+    n_obs: usize,
+    residual: &impl Fn(&[f64]) -> DVector<f64>,
+    jacobian: &impl Fn(&[f64], &DVector<f64>, &[usize]) -> DMatrix<f64>,
+) -> Descent {
+    let mut r = residual(&theta);
+    let mut rss = r.norm_squared();
+    let mut lambda = 1e-6;
+    let mut iterations = 0;
+    let mut converged = free.is_empty();
+    // RSS at the end of each iteration: a fit that creeps along a flat
+    // valley (a time constant the data hardly pin) has converged for every
+    // statistical purpose once ten iterations lower χ² by less than 0.1.
+    let mut history: Vec<f64> = Vec::new();
+    while !converged && iterations < MAX_ITER {
+        iterations += 1;
+        history.push(rss);
+        if history.len() > 10 && history[history.len() - 11] - rss <= 0.1 * rss / n_obs as f64 {
+            converged = true;
+            break;
+        }
+        let mut g = j.transpose() * &r;
+        let mut a = j.transpose() * &j;
+        // A time constant on a bound (0, or MAX_TAU_MIN) that the data push
+        // beyond it: hold it there this iteration (active set).
+        for (c, &p) in free.iter().enumerate() {
+            let at_bound =
+                (theta[p] <= 0.0 && g[c] < 0.0) || (theta[p] >= MAX_TAU_MIN && g[c] > 0.0);
+            if lag_params.contains(&p) && at_bound {
+                g[c] = 0.0;
+                for k in 0..free.len() {
+                    if k != c {
+                        a[(c, k)] = 0.0;
+                        a[(k, c)] = 0.0;
+                    }
+                }
+            }
+        }
+        if at_minimum(&a, &g, rss, n_obs) {
+            if fresh {
+                converged = true;
+                break;
+            }
+            j = jacobian(&theta, &r, free);
+            fresh = true;
+            continue;
+        }
+        let Some(step) = solve_damped(&a, &g, lambda) else {
+            lambda = (lambda * 10.0).max(1e-9);
+            if lambda > 1e12 {
+                break;
+            }
+            continue;
+        };
+        let mut t = theta.clone();
+        for (c, &p) in free.iter().enumerate() {
+            t[p] += step[c];
+        }
+        for &li in lag_params {
+            t[li] = t[li].clamp(0.0, MAX_TAU_MIN);
+        }
+        let r1 = residual(&t);
+        let rss1 = r1.norm_squared();
+        if rss1.is_finite() && rss1 <= rss {
+            let gain = (rss - rss1) / rss.max(1e-300);
+            theta = t;
+            r = r1;
+            rss = rss1;
+            lambda = (lambda / 5.0).max(1e-12);
+            if gain < 1e-12 && fresh {
+                converged = true;
+            } else if gain < 1e-4 && !lag_params.is_empty() {
+                // Slow progress on a reused Jacobian: the step direction is
+                // stale (a time constant, the one strongly nonlinear
+                // parameter, moved); refresh it.
+                j = jacobian(&theta, &r, free);
+                fresh = true;
+            } else {
+                fresh = false;
+            }
+        } else if !fresh {
+            j = jacobian(&theta, &r, free);
+            fresh = true;
+        } else {
+            lambda = (lambda * 8.0).max(1e-9);
+            if lambda > 1e12 {
+                // No step lowers the residual, not even a vanishing one
+                // along the gradient of a fresh Jacobian: a minimum as far
+                // as the arithmetic can tell (a time constant on its bound
+                // leaves a gradient it may not follow).
+                converged = fresh || gradient_small(&a, &g, rss * 1e4);
+                break;
+            }
+        }
+    }
+    Descent {
+        theta,
+        j,
+        rss,
+        iterations,
+        converged,
+    }
+}
+
+/// The error of a fit that did not converge.
+fn no_convergence(kinds: &[EffectKind], iterations: usize) -> Error {
+    Error::new(
+        ErrorKind::NoConvergence,
+        format!(
+            "the fit of {} did not converge in {iterations} iterations",
+            kinds
+                .iter()
+                .map(|k| k.name())
+                .collect::<Vec<_>>()
+                .join(" + ")
+        ),
+    )
+}
+
+/// The effects of `kinds` with their parameters in order from `theta`.
+fn effects_from(kinds: &[EffectKind], theta: &[f64]) -> Vec<Effect> {
+    let mut it = theta.iter();
+    kinds
+        .iter()
+        .map(|&k| Effect {
+            kind: k,
+            params: (0..k.params().len())
+                .map(|_| it.next().copied().unwrap_or(0.0))
+                .collect(),
+        })
+        .collect()
+}
+
+/// Each effect's parameters as fitted: value, standard error where free
+/// and the covariance exists, and why one is held.
+fn params_of(
+    kinds: &[EffectKind],
+    layout: &[(EffectKind, usize)],
+    free: &[usize],
+    cov: Option<&DMatrix<f64>>,
+    sigma2: f64,
+    theta: &[f64],
+    held: &BTreeMap<usize, Unidentified>,
+) -> Vec<Vec<Param>> {
     let mut params: Vec<Vec<Param>> = kinds
         .iter()
         .map(|k| Vec::with_capacity(k.params().len()))
@@ -804,8 +883,7 @@ fn fit_afresh(
             effect_index += 1;
         }
         let stderr = free.iter().position(|&f| f == p).and_then(|c| {
-            cov.as_ref()
-                .map(|cov| (cov[(c, c)] * sigma2).max(0.0).sqrt())
+            cov.map(|cov| (cov[(c, c)] * sigma2).max(0.0).sqrt())
                 .filter(|s| s.is_finite())
         });
         if let Some(list) = params.get_mut(effect_index) {
@@ -816,14 +894,51 @@ fn fit_afresh(
             });
         }
     }
-    Ok(Fit {
-        effects: effects_of(&theta),
-        params,
-        rss,
-        n_obs,
-        n_free: free.len(),
-        iterations,
-    })
+    params
+}
+
+/// Hold the parameters `beyond` their plausible bounds at zero, with the
+/// value each took as the reason; the Jacobian without their columns.
+fn hold_implausible(
+    beyond: Vec<usize>,
+    j: &DMatrix<f64>,
+    theta: &mut [f64],
+    free: &mut Vec<usize>,
+    held: &mut BTreeMap<usize, Unidentified>,
+    bounds: &[f64],
+) -> DMatrix<f64> {
+    let keep: Vec<usize> = (0..free.len())
+        .filter(|&c| !beyond.contains(&free[c]))
+        .collect();
+    let j = j.select_columns(keep.iter());
+    for p in beyond {
+        held.insert(
+            p,
+            Unidentified::Implausible {
+                value: theta[p],
+                limit: bounds[p],
+            },
+        );
+        theta[p] = 0.0;
+        free.retain(|&f| f != p);
+    }
+    j
+}
+
+/// Each parameter's typical size: its default's, at least 1e-6.
+fn typical_sizes(layout: &[(EffectKind, usize)]) -> Vec<f64> {
+    layout
+        .iter()
+        .map(|&(k, i)| k.params().get(i).map_or(1.0, |p| p.default.abs().max(1e-6)))
+        .collect()
+}
+
+/// Each parameter's plausible bound ([`plausible::bound`]).
+fn plausible_bounds(layout: &[(EffectKind, usize)]) -> Vec<f64> {
+    layout
+        .iter()
+        .map(|&(k, i)| plausible::bound(k, i))
+        .collect()
 }
 
 /// `effect.param`, as reports name a parameter.

@@ -12,7 +12,7 @@
 use super::fit::{self, Problem};
 use super::select::{self, Folds};
 use super::separation::Separation;
-use super::stats::LEVEL;
+use super::stats::{Test, LEVEL};
 use super::test_noise::TestNoise;
 use super::verdict::{Ambiguity, CandidateOut, ParamOut, Part, StepOut};
 use crate::error::{Error, ErrorKind, Result};
@@ -189,20 +189,7 @@ pub fn forward(
         let tried = scored.iter().filter(|s| s.fit.is_some()).count().max(1);
         let level = LEVEL / tried as f64;
         if steps.is_empty() {
-            candidates = scored
-                .iter()
-                .map(|s| CandidateOut {
-                    name: s.kind.name().into(),
-                    part: Part::All,
-                    explained: share_above_noise(cv0, s.cv_rms_mm, noise.rms_mm),
-                    cv_rms_mm: s.cv_rms_mm,
-                    bic: s.fit.as_ref().map(fit::Fit::bic),
-                    test: test_of(s, cur_rss, cur_free, level),
-                    params: s.fit.as_ref().map(params_out).unwrap_or_default(),
-                    selected: false,
-                    error: s.error.clone(),
-                })
-                .collect();
+            candidates = listed(&scored, cv0, noise, cur_rss, cur_free, level);
         }
         scored.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
         let joint_now = match joint {
@@ -236,15 +223,8 @@ pub fn forward(
             else {
                 break;
             };
-            steps.push(StepOut {
-                added: format!("{} + {}", pair[0].name(), pair[1].name()),
-                part: Part::All,
-                gap_before_mm: cur_cv,
-                gap_after_mm: pair_cv,
-                drop_pct: 100.0 * (1.0 - pair_cv / cur_cv.max(1e-300)),
-                runner_up: None,
-                test: Some(noise.nested_fit(cur_rss, cur_free, &pair_fit, LEVEL)),
-            });
+            let test = noise.nested_fit(cur_rss, cur_free, &pair_fit, LEVEL);
+            steps.push(pair_step(&pair, cur_cv, pair_cv, test));
             for k in pair {
                 selected.push(k);
                 pool.retain(|p| *p != k);
@@ -258,15 +238,8 @@ pub fn forward(
         let Some(best_fit) = best.fit.clone() else {
             break;
         };
-        steps.push(StepOut {
-            added: best.kind.name().into(),
-            part: Part::All,
-            gap_before_mm: cur_cv,
-            gap_after_mm: best.cv_rms_mm,
-            drop_pct: 100.0 * (1.0 - best.cv_rms_mm / cur_cv.max(1e-300)),
-            runner_up: runner.as_ref().map(|r| r.kind.name().to_string()),
-            test: test_of(&best, cur_rss, cur_free, level),
-        });
+        let test = test_of(&best, cur_rss, cur_free, level);
+        steps.push(best_step(&best, runner.as_ref(), cur_cv, test));
         if let Some(r) = runner {
             runners.push((best.kind, r));
         }
@@ -276,11 +249,66 @@ pub fn forward(
         (cur_rss, cur_free) = (best_fit.rss, best_fit.n_free);
         current_fit = Some(best_fit);
     }
+    swap_runners(
+        problem,
+        folds,
+        &runners,
+        &mut selected,
+        &mut cur_cv,
+        &mut steps,
+    );
+    backward(
+        problem,
+        folds,
+        base.len(),
+        noise,
+        &mut selected,
+        &mut steps,
+        &mut cur_cv,
+    )?;
+    let mut ambiguities = ambiguous_runners(problem, &all, &selected, runners, noise);
+    ambiguities.extend(unpassed_rivals(
+        problem,
+        &selected[base.len()..],
+        &selected,
+        &offered,
+        &ambiguities,
+        noise,
+    ));
+    // The final model must come from a converged fit: refit and propagate.
+    let fit = final_fit(problem, &all, &selected, current_fit.as_ref())?;
+    if let Some(f) = &fit {
+        mark_selected(&mut candidates, &selected[base.len()..], f);
+    }
+    Ok(Forward {
+        selected: selected[base.len()..].to_vec(),
+        cv0,
+        cv: cur_cv,
+        fit,
+        rss0,
+        free0,
+        steps,
+        candidates,
+        ambiguities,
+    })
+}
+
+/// A runner-up that passed at the same step, put in the place of the
+/// effect chosen: kept where the whole set then predicts held-out data
+/// better.
+fn swap_runners(
+    problem: &Problem,
+    folds: &Folds,
+    runners: &[(EffectKind, select::Scored)],
+    selected: &mut Vec<EffectKind>,
+    cur_cv: &mut f64,
+    steps: &mut [StepOut],
+) {
     // A runner-up that passed at the same step, put in the place of the
     // effect chosen: kept where the whole set then predicts held-out data
     // better (which of two near-collinear effects fits may only show with
     // what was added after them).
-    for (chosen, runner) in &runners {
+    for (chosen, runner) in runners {
         if selected.contains(&runner.kind) {
             continue;
         }
@@ -292,25 +320,40 @@ pub fn forward(
         let Ok(cv_alt) = select::cv_rms(problem, folds, &alt) else {
             continue;
         };
-        if cv_alt < cur_cv {
-            selected = alt;
-            cur_cv = cv_alt;
+        if cv_alt < *cur_cv {
+            *selected = alt;
+            *cur_cv = cv_alt;
             if let Some(step) = steps.iter_mut().find(|s| s.added == chosen.name()) {
                 step.added = runner.kind.name().into();
                 step.runner_up = Some(chosen.name().into());
             }
         }
     }
+}
+
+/// Backward elimination beyond the first `base_len` effects: the least
+/// significant of those not significant against the model without it is
+/// dropped, until none is.
+fn backward(
+    problem: &Problem,
+    folds: &Folds,
+    base_len: usize,
+    noise: &TestNoise,
+    selected: &mut Vec<EffectKind>,
+    steps: &mut Vec<StepOut>,
+    cur_cv: &mut f64,
+) -> Result<()> {
+    let all: Vec<usize> = (0..problem.rows.len()).collect();
     // Backward: an effect added early may have only stood in for those
     // added after it (a joint drift for a lag on a scaled expansion). Each
     // is tested against the model without it; the least significant that
     // is not significant is dropped, and the test repeats.
-    while selected.len() > base.len() + 1 {
-        let Ok(full) = fit::fit(problem, &all, &selected) else {
+    while selected.len() > base_len + 1 {
+        let Ok(full) = fit::fit(problem, &all, selected) else {
             break;
         };
         let mut weakest: Option<(f64, EffectKind)> = None;
-        for &k in &selected[base.len()..] {
+        for &k in &selected[base_len..] {
             let without: Vec<EffectKind> = selected.iter().copied().filter(|x| *x != k).collect();
             let Ok(f) = fit::fit(problem, &all, &without) else {
                 continue;
@@ -323,8 +366,20 @@ pub fn forward(
         let Some((_, k)) = weakest else { break };
         selected.retain(|x| *x != k);
         steps.retain(|s| s.added != k.name());
-        cur_cv = select::cv_rms(problem, folds, &selected)?;
+        *cur_cv = select::cv_rms(problem, folds, selected)?;
     }
+    Ok(())
+}
+
+/// Runners-up that the effect chosen adds nothing significant beyond: the
+/// data cannot tell the two apart.
+fn ambiguous_runners(
+    problem: &Problem,
+    all: &[usize],
+    selected: &[EffectKind],
+    runners: Vec<(EffectKind, select::Scored)>,
+    noise: &TestNoise,
+) -> Vec<Ambiguity> {
     // A runner-up that passed at the same step and that the effect chosen
     // adds nothing significant beyond: the data cannot tell the two apart,
     // and both are named as candidates.
@@ -348,7 +403,7 @@ pub fn forward(
         } else {
             continue;
         };
-        let mut with_runner = selected.clone();
+        let mut with_runner = selected.to_vec();
         with_runner.push(runner.kind);
         let swapped: Vec<EffectKind> = with_runner
             .iter()
@@ -356,14 +411,14 @@ pub fn forward(
             .filter(|k| *k != chosen)
             .collect();
         let (Ok(both), Ok(alone)) = (
-            fit::fit(problem, &all, &with_runner),
-            fit::fit(problem, &all, &swapped),
+            fit::fit(problem, all, &with_runner),
+            fit::fit(problem, all, &swapped),
         ) else {
             continue;
         };
         let beyond = noise.nested_fit(alone.rss, alone.n_free, &both, LEVEL);
         if !beyond.significant() {
-            let best_contribution = select::score_contribution(problem, &selected, chosen);
+            let best_contribution = select::score_contribution(problem, selected, chosen);
             ambiguities.push(Ambiguity {
                 pair: [chosen.name().into(), runner.kind.name().into()],
                 correlation: best_contribution
@@ -373,62 +428,110 @@ pub fn forward(
             });
         }
     }
-    ambiguities.extend(unpassed_rivals(
-        problem,
-        &selected[base.len()..],
-        &selected,
-        &offered,
-        &ambiguities,
-        noise,
-    ));
-    // The final model must come from a converged fit: refit and propagate.
-    let fit = if selected.is_empty() {
-        None
-    } else {
-        // From the selection's own converged fit (remembered from the
-        // backward pass), else from the last fit the forward pass made.
-        let converged = fit::fit(problem, &all, &selected).ok();
-        let start = converged
-            .as_ref()
-            .or(current_fit.as_ref())
-            .map(|f| f.effects.clone());
-        let reported = match &start {
-            Some(s) => fit::fit_plausible_from(problem, &all, &selected, s),
-            None => fit::fit_plausible(problem, &all, &selected),
-        };
-        // Where the reported fit creeps on without converging, the
-        // selection's converged fit with its implausible values held.
-        let reported = match (reported, &converged) {
-            (Err(e), Some(c)) if e.kind == ErrorKind::NoConvergence => {
-                Ok(fit::held_implausible(problem, &all, c))
-            }
-            (r, _) => r,
-        };
-        Some(reported.map_err(|e| {
-            if e.kind == ErrorKind::NoConvergence {
-                Error::new(
-                    ErrorKind::NoConvergence,
-                    format!("{}; no verdict", e.message),
-                )
-            } else {
-                e
-            }
-        })?)
-    };
-    if let Some(f) = &fit {
-        mark_selected(&mut candidates, &selected[base.len()..], f);
+    ambiguities
+}
+
+/// The selection's final fit, converged, with implausible values held;
+/// `None` where nothing is selected.
+fn final_fit(
+    problem: &Problem,
+    all: &[usize],
+    selected: &[EffectKind],
+    current_fit: Option<&fit::Fit>,
+) -> Result<Option<fit::Fit>> {
+    if selected.is_empty() {
+        return Ok(None);
     }
-    Ok(Forward {
-        selected: selected[base.len()..].to_vec(),
-        cv0,
-        cv: cur_cv,
-        fit,
-        rss0,
-        free0,
-        steps,
-        candidates,
-        ambiguities,
-    })
+    // From the selection's own converged fit (remembered from the
+    // backward pass), else from the last fit the forward pass made.
+    let converged = fit::fit(problem, all, selected).ok();
+    let start = converged
+        .as_ref()
+        .or(current_fit)
+        .map(|f| f.effects.clone());
+    let reported = match &start {
+        Some(s) => fit::fit_plausible_from(problem, all, selected, s),
+        None => fit::fit_plausible(problem, all, selected),
+    };
+    // Where the reported fit creeps on without converging, the
+    // selection's converged fit with its implausible values held.
+    let reported = match (reported, &converged) {
+        (Err(e), Some(c)) if e.kind == ErrorKind::NoConvergence => {
+            Ok(fit::held_implausible(problem, all, c))
+        }
+        (r, _) => r,
+    };
+    Ok(Some(reported.map_err(|e| {
+        if e.kind == ErrorKind::NoConvergence {
+            Error::new(
+                ErrorKind::NoConvergence,
+                format!("{}; no verdict", e.message),
+            )
+        } else {
+            e
+        }
+    })?))
+}
+
+/// Every candidate of the first step as reported: its held-out gap, its
+/// test against the base, its parameters.
+fn listed(
+    scored: &[select::Scored],
+    cv0: f64,
+    noise: &TestNoise,
+    cur_rss: f64,
+    cur_free: usize,
+    level: f64,
+) -> Vec<CandidateOut> {
+    scored
+        .iter()
+        .map(|s| CandidateOut {
+            name: s.kind.name().into(),
+            part: Part::All,
+            explained: share_above_noise(cv0, s.cv_rms_mm, noise.rms_mm),
+            cv_rms_mm: s.cv_rms_mm,
+            bic: s.fit.as_ref().map(fit::Fit::bic),
+            test: s
+                .fit
+                .as_ref()
+                .map(|f| noise.nested_fit(cur_rss, cur_free, f, level)),
+            params: s.fit.as_ref().map(params_out).unwrap_or_default(),
+            selected: false,
+            error: s.error.clone(),
+        })
+        .collect()
+}
+
+/// The step that adds the best candidate, with the runner-up that passed
+/// too.
+fn best_step(
+    best: &select::Scored,
+    runner: Option<&select::Scored>,
+    cur_cv: f64,
+    test: Option<Test>,
+) -> StepOut {
+    StepOut {
+        added: best.kind.name().into(),
+        part: Part::All,
+        gap_before_mm: cur_cv,
+        gap_after_mm: best.cv_rms_mm,
+        drop_pct: 100.0 * (1.0 - best.cv_rms_mm / cur_cv.max(1e-300)),
+        runner_up: runner.map(|r| r.kind.name().to_string()),
+        test,
+    }
+}
+
+/// The step that adds two effects together.
+fn pair_step(pair: &[EffectKind; 2], cur_cv: f64, pair_cv: f64, test: Test) -> StepOut {
+    StepOut {
+        added: format!("{} + {}", pair[0].name(), pair[1].name()),
+        part: Part::All,
+        gap_before_mm: cur_cv,
+        gap_after_mm: pair_cv,
+        drop_pct: 100.0 * (1.0 - pair_cv / cur_cv.max(1e-300)),
+        runner_up: None,
+        test: Some(test),
+    }
 }
 
 /// Ties with a thermal rival that did not pass on its own. A rival whose

@@ -459,28 +459,16 @@ fn limits(
     // as the diagnosis ended with them (a step removed).
     let mut found: Vec<crate::model::Effect> = final_problem.fixed[problem.fixed.len()..].to_vec();
     found.extend(last_effects.iter().cloned());
-    let detection_limits = detect::limits(
-        &Problem {
-            fixed: problem.fixed.clone(),
-            ..final_problem.clone()
-        },
-        &found,
-        tnoise,
-        two,
-    );
+    let judged = Problem {
+        fixed: problem.fixed.clone(),
+        ..final_problem.clone()
+    };
+    let detection_limits = detect::limits(&judged, &found, tnoise, two);
     // Named only what the data pin, above what they could reveal, and
     // again over resampled fits: of the effects the stages selected, the
     // others are said, not named.
     let unpinned = unpinned(stages);
-    let below = detect::below(
-        &Problem {
-            fixed: problem.fixed.clone(),
-            ..final_problem.clone()
-        },
-        &found,
-        tnoise,
-        two,
-    );
+    let below = detect::below(&judged, &found, tnoise, two);
     let stability: Vec<stability::Stability> =
         stages.iter().flat_map(|st| st.stability.clone()).collect();
     let not_named = NotNamed::of(&unpinned, &below, &stability);

@@ -22,7 +22,8 @@
 //! frame), [`mod@gap`] (gap statistics, noise level), [`fit`] (the fit of
 //! effects), [`select`] (folds, candidate scores), [`locate`] (where a gap
 //! lies, as typed [`finding`]s, each worded in one place), [`pipeline`]
-//! (the diagnosis and its verdict), [`verdict`] (the result as data),
+//! (the diagnosis and its verdict), `stages` (its stages and what they
+//! share), [`verdict`] (the result as data),
 //! [`prose`] (the result in sentences), [`instrument`] (noise levels and
 //! the ISO cube from `data/instrument.toml`), [`sanity`] (sets a diagnosis
 //! cannot mean anything on), [`arm`],
@@ -65,6 +66,7 @@ pub mod signature;
 pub mod simulate;
 pub mod square;
 pub mod stability;
+mod stages;
 pub mod stats;
 mod step;
 pub mod temps;

@@ -218,29 +218,8 @@ pub fn limits(
                 kind,
                 params: shape.params.iter().map(|v| v * m).collect(),
             };
-            // The largest displacement of the flange at the calibration
-            // pose over the rows' temperatures and times (a lag shows
-            // early, an expansion late); static effects at the cold start.
-            let lags = crate::model::LinkLags::new(&problem.history, std::slice::from_ref(&sized));
-            let at = |temps: [f64; 6], time: f64| {
-                let state = RowState {
-                    q: [0.0; 6],
-                    temps,
-                    lagged: lags.as_ref().map(|l| l.at(time)),
-                };
-                let a = predict(&problem.base, std::slice::from_ref(&sized), &state);
-                let b = predict(&problem.base, &[], &state);
-                (a.translation.vector - b.translation.vector).norm()
-            };
-            let flange_mm = if kind.is_thermal() {
-                problem
-                    .rows
-                    .iter()
-                    .map(|r| at(r.temps, r.time_min))
-                    .fold(0.0, f64::max)
-            } else {
-                at([problem.base.thermal.t_ref; 6], 0.0)
-            };
+            // The same measure as a fitted effect's ([`flange_size`]).
+            let flange_mm = flange_size(problem, &sized);
             out.push(DetectionLimit {
                 effect: kind,
                 flange_mm,

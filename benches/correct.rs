@@ -11,6 +11,12 @@
 //!   average and each run's peak resident memory on stderr. Set
 //!   `RAPIDTHERM_BENCH_TARGETS`, `RAPIDTHERM_BENCH_RUNS` and
 //!   `RAPIDTHERM_BENCH_SHAPES` (`cam,declared,array`) to change them.
+//!   Set `RAPIDTHERM_BENCH_REFERENCE` to another build of rapidtherm (an
+//!   earlier commit's `target/release/rapidtherm`) to run its `correct
+//!   --at 120` and `targets` in the same rounds, beside this build's, and
+//!   print this build's time over the reference's (the median of the
+//!   rounds' ratios): a change is judged against the code before it under
+//!   the same load, not against a number from another day.
 
 use criterion::{Criterion, Throughput};
 use rapidtherm::correct::{correct, Options, When};
@@ -123,6 +129,7 @@ fn end_to_end() {
         Err(_) => Shape::ALL.to_vec(),
     };
     let bin = env!("CARGO_BIN_EXE_rapidtherm");
+    let reference = std::env::var("RAPIDTHERM_BENCH_REFERENCE").ok();
     for shape in shapes {
         let dir = tempfile::tempdir().expect("temp dir");
         let input = dir.path().join(format!("{}.mod", shape.name()));
@@ -139,6 +146,7 @@ fn end_to_end() {
         let (inp, outp, cpp) = (input.as_os_str(), out.as_os_str(), copy.as_os_str());
         let mut all: [Vec<Ran>; 5] = Default::default();
         let (mut at_cp, mut start_at, mut rt_cp) = (Vec::new(), Vec::new(), Vec::new());
+        let mut against = AgainstReference::default();
         for _ in 0..rounds {
             let cp = run("cp", &[inp, cpp]);
             let at = run(
@@ -151,6 +159,14 @@ fn end_to_end() {
             );
             let runtime = run(bin, &[os("correct"), os("--runtime"), os("-o"), outp, inp]);
             let list = run(bin, &[os("targets"), inp]);
+            if let Some(old) = reference.as_deref() {
+                let old_at = run(
+                    old,
+                    &[os("correct"), os("--at"), os("120"), os("-o"), outp, inp],
+                );
+                let old_list = run(old, &[os("targets"), inp]);
+                against.push(&at, &old_at, &list, &old_list);
+            }
             at_cp.push(at.wall.as_secs_f64() / cp.wall.as_secs_f64());
             start_at.push(start.wall.as_secs_f64() / at.wall.as_secs_f64());
             rt_cp.push(runtime.wall.as_secs_f64() / cp.wall.as_secs_f64());
@@ -192,7 +208,41 @@ fn end_to_end() {
             list.1,
             list.2,
         );
+        if let Some(old) = reference.as_deref() {
+            against.print(shape.name(), old);
+        }
         black_box(&out);
+    }
+}
+
+/// This build's `correct --at 120` and `targets` over the reference
+/// build's, round by round (each ratio taken within one round, where both
+/// saw the same load).
+#[derive(Default)]
+struct AgainstReference {
+    at_wall: Vec<f64>,
+    at_cpu: Vec<f64>,
+    targets_wall: Vec<f64>,
+    targets_cpu: Vec<f64>,
+}
+
+impl AgainstReference {
+    fn push(&mut self, at: &Ran, old_at: &Ran, list: &Ran, old_list: &Ran) {
+        let ratio = |a: Duration, b: Duration| a.as_secs_f64() / b.as_secs_f64();
+        self.at_wall.push(ratio(at.wall, old_at.wall));
+        self.at_cpu.push(ratio(at.cpu, old_at.cpu));
+        self.targets_wall.push(ratio(list.wall, old_list.wall));
+        self.targets_cpu.push(ratio(list.cpu, old_list.cpu));
+    }
+
+    fn print(self, shape: &str, old: &str) {
+        eprintln!(
+            "{shape} shape, this build over the reference ({old}), medians of the rounds' ratios:\n  correct --at 120 -o OUT: wall {:.3}, CPU {:.3}\n  targets: wall {:.3}, CPU {:.3}",
+            median(self.at_wall),
+            median(self.at_cpu),
+            median(self.targets_wall),
+            median(self.targets_cpu),
+        );
     }
 }
 

@@ -35,7 +35,7 @@ use crate::rapid::rewrite::{apply_edits, statement_words, Edit};
 use crate::rapid::{Expr, Program, Storage, Target, TargetKind};
 use crate::resolve::monitoring::Monitor;
 use crate::resolve::{frames_named, uses_by_frames, Through, Usage};
-use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
+use crate::robot::frames::{flange_of_target, target_of_flange, ToolFrame, WobjData};
 use nalgebra::Isometry3;
 use std::collections::{BTreeMap, HashSet};
 use std::ops::Range;
@@ -163,7 +163,7 @@ fn landed(
     meant: &Meant,
     exact: &Isometry3<f64>,
     u: &Usage,
-    (tool, wobj): &(ToolData, WobjData),
+    (tool, wobj): &(ToolFrame, WobjData),
 ) -> Result<std::result::Result<(f64, f64), String>> {
     let Run { program, warm, .. } = run;
     let (cold, sent) = match u.through {

@@ -14,7 +14,7 @@ use crate::rapid::{Program, Target, TargetKind};
 use crate::resolve::monitoring::Monitor;
 use crate::resolve::{frames_for, target_pose};
 use crate::robot::conf::{quadrant_distance, RobConf};
-use crate::robot::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
+use crate::robot::frames::{flange_of_target, target_of_flange, ToolFrame, WobjData};
 use crate::robot::Joints;
 use nalgebra::{Isometry3, Vector3};
 
@@ -50,7 +50,7 @@ pub(super) fn corrected(
     run: &Run,
     target: &Target,
     meant: &Meant,
-    frames: (&ToolData, &WobjData),
+    frames: (&ToolFrame, &WobjData),
     names: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
@@ -85,7 +85,7 @@ pub(super) fn row(
     run: &Run,
     target: &Target,
     meant: &Meant,
-    (tool, wobj): (&ToolData, &WobjData),
+    (tool, wobj): (&ToolFrame, &WobjData),
     [tool_name, wobj_name]: [&str; 2],
     numbers: &Numbers,
     (rewritten, edits): (bool, Vec<Edit>),
@@ -172,7 +172,7 @@ pub(super) fn corrected_numbers(
     run: &Run,
     target: &Target,
     meant: &Meant,
-    (tool, wobj): (&ToolData, &WobjData),
+    (tool, wobj): (&ToolFrame, &WobjData),
     (exact, cold): (Option<Isometry3<f64>>, Option<Joints>),
 ) -> Result<Numbers> {
     let Run {
@@ -239,7 +239,7 @@ pub(super) fn corrected_numbers(
 fn in_world(
     run: &Run,
     pose: &Isometry3<f64>,
-    tool: &ToolData,
+    tool: &ToolFrame,
     wobj: &WobjData,
 ) -> Option<[f64; 3]> {
     let flange = flange_of_target(pose, tool, wobj).ok()?;
@@ -287,7 +287,7 @@ pub(super) fn solve(
     target: &Target,
     pose: &Isometry3<f64>,
     (conf, cold): (&RobConf, Option<Joints>),
-    (tool, wobj): (&ToolData, &WobjData),
+    (tool, wobj): (&ToolFrame, &WobjData),
     state: &State,
     moment: Moment,
 ) -> Result<Solution> {

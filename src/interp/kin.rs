@@ -7,7 +7,7 @@ use super::Value;
 use crate::error::{Error, Result};
 use crate::rapid;
 use crate::robot::frames::{flange_of_target, pose_from_rapid, pose_to_rapid, target_of_flange};
-use crate::robot::{RobConf, Robot, ToolData, WobjData};
+use crate::robot::{RobConf, Robot, ToolFrame, WobjData};
 use nalgebra::Isometry3;
 
 /// The arm `CalcJointT` and `CalcRobT` compute with, and where its base
@@ -129,7 +129,7 @@ fn no_load() -> Value {
 }
 
 /// A tooldata of the robot's frames (no load).
-pub fn tool_value(t: &ToolData) -> Value {
+pub fn tool_value(t: &ToolFrame) -> Value {
     let (trans, rot) = pose_to_rapid(&t.tframe);
     rec(
         "tooldata",
@@ -242,11 +242,11 @@ pub fn robtarget_parts(v: &Value) -> Result<(Isometry3<f64>, RobConf, [f64; 6])>
     Ok((pose, conf, array(field(v, "robtarget", 3)?)?))
 }
 
-pub fn tool_of(v: &Value) -> Result<ToolData> {
+pub fn tool_of(v: &Value) -> Result<ToolFrame> {
     let robhold = field(v, "tooldata", 0)?
         .boolean()
         .ok_or_else(|| Error::input("tooldata robhold is no bool"))?;
-    Ok(ToolData {
+    Ok(ToolFrame {
         robhold,
         tframe: pose_of(field(v, "tooldata", 1)?)?,
     })

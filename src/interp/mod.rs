@@ -186,7 +186,7 @@ impl Interp {
     /// RAPID's predefined data the module and programs name.
     fn predefined(&mut self) -> Result<()> {
         let tool0 = self.types.coerce_to(
-            kin::tool_value(&crate::robot::ToolData::tool0()),
+            kin::tool_value(&crate::robot::ToolFrame::tool0()),
             "tooldata",
         )?;
         let tool0 = match tool0 {

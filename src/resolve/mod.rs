@@ -11,7 +11,7 @@ use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::rapid::targets::TargetIndex;
 use crate::rapid::{self, Block, Expr, NoCase, Program, Target, TargetKind};
 use crate::robot::conf::RobConf;
-use crate::robot::frames::{pose_from_rapid, ToolData, WobjData};
+use crate::robot::frames::{pose_from_rapid, ToolFrame, WobjData};
 use nalgebra::Isometry3;
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -45,7 +45,7 @@ pub use uses::{UseRef, Uses};
 pub struct Frames {
     /// By lower-case name, hashed fast: each of a million targets looks
     /// its tool and work object up (SipHash was 2 % of a correction).
-    tools: foldhash::HashMap<String, ToolData>,
+    tools: foldhash::HashMap<String, ToolFrame>,
     wobjs: foldhash::HashMap<String, WobjData>,
 }
 
@@ -53,9 +53,9 @@ impl Frames {
     /// Convert every tooldata and wobjdata declaration of the program.
     pub fn of_program(program: &Program) -> Result<Frames> {
         let mut tools = foldhash::HashMap::default();
-        tools.insert("tool0".to_string(), ToolData::tool0());
+        tools.insert("tool0".to_string(), ToolFrame::tool0());
         for t in program.tools() {
-            let tool = ToolData::new(
+            let tool = ToolFrame::new(
                 t.robhold.value,
                 t.tframe_trans.each_ref().map(|n| n.value),
                 t.tframe_rot.each_ref().map(|n| n.value),
@@ -118,7 +118,7 @@ impl Frames {
     }
 
     /// The tooldata of this name (`tool0` when `None`).
-    pub fn tool(&self, name: Option<&str>) -> Option<&ToolData> {
+    pub fn tool(&self, name: Option<&str>) -> Option<&ToolFrame> {
         by_name(&self.tools, name.unwrap_or("tool0"))
     }
 
@@ -833,7 +833,7 @@ pub fn frames_of(
     frames: &Frames,
     index: usize,
     uses: Option<&Vec<Usage>>,
-) -> Result<(ToolData, WobjData, Option<String>, Option<String>)> {
+) -> Result<(ToolFrame, WobjData, Option<String>, Option<String>)> {
     let target = program.targets().at(index);
     let first = uses
         .and_then(|u| u.first())
@@ -849,7 +849,7 @@ pub fn frames_for(
     frames: &Frames,
     target: &Target,
     first: Option<(Option<&str>, Option<&str>)>,
-) -> Result<(ToolData, WobjData, Option<String>, Option<String>)> {
+) -> Result<(ToolFrame, WobjData, Option<String>, Option<String>)> {
     let (tool, wobj, tool_name, wobj_name) = frames_for_in(program, frames, target, first)?;
     Ok((
         tool.clone(),
@@ -886,7 +886,7 @@ pub fn frames_for_in<'f>(
 
 /// A target's tool and work object, and their names where written.
 pub type FramesFound<'f> = (
-    &'f ToolData,
+    &'f ToolFrame,
     &'f WobjData,
     Option<Cow<'f, str>>,
     Option<Cow<'f, str>>,
@@ -900,7 +900,7 @@ pub fn frames_named(
     target: &Target,
     tool_name: Option<&str>,
     wobj_name: Option<&str>,
-) -> Result<(ToolData, WobjData)> {
+) -> Result<(ToolFrame, WobjData)> {
     let (tool, wobj) = frames_named_in(program, frames, target, tool_name, wobj_name)?;
     Ok((tool.clone(), wobj.clone()))
 }
@@ -913,7 +913,7 @@ pub fn frames_named_in<'f>(
     target: &Target,
     tool_name: Option<&str>,
     wobj_name: Option<&str>,
-) -> Result<(&'f ToolData, &'f WobjData)> {
+) -> Result<(&'f ToolFrame, &'f WobjData)> {
     let unknown = |what: &str, data: &str, name: &str| {
         if is_plain_name(name) {
             located(

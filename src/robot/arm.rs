@@ -5,7 +5,7 @@
 
 use super::chain::{conf_of_axes, Chain};
 use super::conf::{CfxBits, RobConf};
-use super::frames::{flange_of_target, target_of_flange, ToolData, WobjData};
+use super::frames::{flange_of_target, target_of_flange, ToolFrame, WobjData};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions, Violation, LIMIT_EPS};
 use super::urdf::{self, IRB140_URDF};
 use super::{Joints, LinkScales, Opw};
@@ -387,7 +387,7 @@ impl Robot {
         &self,
         target: &Isometry3<f64>,
         conf: &RobConf,
-        tool: &ToolData,
+        tool: &ToolFrame,
         wobj: &WobjData,
     ) -> Result<Joints> {
         let flange = flange_of_target(target, tool, wobj)?;
@@ -398,7 +398,7 @@ impl Robot {
     pub fn target_of_joints(
         &self,
         q: &Joints,
-        tool: &ToolData,
+        tool: &ToolFrame,
         wobj: &WobjData,
     ) -> Result<Isometry3<f64>> {
         target_of_flange(&self.fk(q), tool, wobj)

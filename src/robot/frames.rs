@@ -52,33 +52,33 @@ pub fn pose_to_rapid(pose: &Isometry3<f64>) -> ([f64; 3], [f64; 4]) {
 /// RAPID `tooldata` (the kinematic part; the load does not move the TCP
 /// in this model).
 #[derive(Debug, Clone, PartialEq)]
-pub struct ToolData {
+pub struct ToolFrame {
     /// TRUE: the robot holds the tool.
     pub robhold: bool,
     /// TCP in the flange frame (robot-held), or in world (stationary).
     pub tframe: Isometry3<f64>,
 }
 
-impl ToolData {
+impl ToolFrame {
     /// `tool0`: the flange itself.
-    pub fn tool0() -> ToolData {
-        ToolData {
+    pub fn tool0() -> ToolFrame {
+        ToolFrame {
             robhold: true,
             tframe: Isometry3::identity(),
         }
     }
 
-    pub fn new(robhold: bool, trans: [f64; 3], rot: [f64; 4]) -> Result<ToolData> {
-        Ok(ToolData {
+    pub fn new(robhold: bool, trans: [f64; 3], rot: [f64; 4]) -> Result<ToolFrame> {
+        Ok(ToolFrame {
             robhold,
             tframe: pose_from_rapid(trans, rot)?,
         })
     }
 }
 
-impl Default for ToolData {
+impl Default for ToolFrame {
     fn default() -> Self {
-        ToolData::tool0()
+        ToolFrame::tool0()
     }
 }
 
@@ -144,11 +144,11 @@ enum Setup {
 
 /// Whether `tool` and `wobj` make a set-up the frames can be solved in:
 /// the error [`flange_of_target`] gives, without its pose.
-pub fn check_setup(tool: &ToolData, wobj: &WobjData) -> Result<()> {
+pub fn check_setup(tool: &ToolFrame, wobj: &WobjData) -> Result<()> {
     setup(tool, wobj).map(|_| ())
 }
 
-fn setup(tool: &ToolData, wobj: &WobjData) -> Result<Setup> {
+fn setup(tool: &ToolFrame, wobj: &WobjData) -> Result<Setup> {
     if !wobj.ufprog {
         let unit = if wobj.ufmec.is_empty() {
             String::new()
@@ -176,7 +176,7 @@ fn setup(tool: &ToolData, wobj: &WobjData) -> Result<Setup> {
 /// `wobj`.
 pub fn flange_of_target(
     target: &Isometry3<f64>,
-    tool: &ToolData,
+    tool: &ToolFrame,
     wobj: &WobjData,
 ) -> Result<Isometry3<f64>> {
     Ok(match setup(tool, wobj)? {
@@ -189,7 +189,7 @@ pub fn flange_of_target(
 /// reaches (the inverse of [`flange_of_target`]).
 pub fn target_of_flange(
     flange: &Isometry3<f64>,
-    tool: &ToolData,
+    tool: &ToolFrame,
     wobj: &WobjData,
 ) -> Result<Isometry3<f64>> {
     Ok(match setup(tool, wobj)? {

@@ -3,7 +3,7 @@
 use nalgebra::Isometry3;
 use rapidtherm::rapid::Program;
 use rapidtherm::resolve::{frames_of, target_pose, usages, Frames, Usage};
-use rapidtherm::robot::frames::{ToolData, WobjData};
+use rapidtherm::robot::frames::{ToolFrame, WobjData};
 use rapidtherm::robot::RobConf;
 use std::collections::HashMap;
 
@@ -12,7 +12,7 @@ use std::collections::HashMap;
 pub struct Meant {
     pub pose: Isometry3<f64>,
     pub conf: RobConf,
-    pub tool: ToolData,
+    pub tool: ToolFrame,
     pub wobj: WobjData,
 }
 

@@ -153,7 +153,7 @@ fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<Arg>)>
     {
         Some(t) => kin::declared_tool(t),
         None if tool.eq_ignore_ascii_case("tool0") => {
-            kin::tool_value(&rapidtherm::robot::ToolData::tool0())
+            kin::tool_value(&rapidtherm::robot::ToolFrame::tool0())
         }
         None => panic!("{}: tool {tool} not declared", c.id),
     };

@@ -5,13 +5,13 @@
 
 use nalgebra::{Isometry3, Quaternion, UnitQuaternion, Vector3};
 use rapidtherm::robot::frames::flange_of_target;
-use rapidtherm::robot::{RobConf, ToolData, WobjData};
+use rapidtherm::robot::{RobConf, ToolFrame, WobjData};
 
 /// 2,000 flange poses of those targets, each with its written robconf.
 pub fn flanges() -> Vec<(Isometry3<f64>, RobConf)> {
-    let tool = ToolData {
+    let tool = ToolFrame {
         tframe: Isometry3::translation(0.0, 0.0, 150.0),
-        ..ToolData::tool0()
+        ..ToolFrame::tool0()
     };
     let wobj = WobjData::wobj0();
     (0..2000)

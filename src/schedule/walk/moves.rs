@@ -14,7 +14,7 @@ pub(super) struct Goal<'a> {
     pub(super) speed: SpeedData,
     pub(super) t_override: Option<f64>,
     pub(super) conc: bool,
-    pub(super) frames: &'a Rc<(ToolData, WobjData)>,
+    pub(super) frames: &'a Rc<(ToolFrame, WobjData)>,
     pub(super) max_speed: [f64; 6],
 }
 
@@ -117,8 +117,8 @@ impl<'p> Walker<'p> {
         wobj: Option<&Expr>,
         frame: &mut Frame<'p>,
         line: u32,
-        settled: Option<&mut Option<Rc<(ToolData, WobjData)>>>,
-    ) -> Result<Rc<(ToolData, WobjData)>> {
+        settled: Option<&mut Option<Rc<(ToolFrame, WobjData)>>>,
+    ) -> Result<Rc<(ToolFrame, WobjData)>> {
         if let Some(Some(frames)) = settled.as_deref() {
             return Ok(frames.clone());
         }
@@ -156,7 +156,7 @@ impl<'p> Walker<'p> {
                         t.as_deref().unwrap_or("?")
                     ),
                 );
-                ToolData::tool0()
+                ToolFrame::tool0()
             }
         };
         let wobj = match self.frames.wobj(o.as_deref()) {

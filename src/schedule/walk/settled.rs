@@ -29,7 +29,7 @@ pub(super) struct Settled<'p> {
 #[derive(Default)]
 pub(super) struct Found<'p> {
     pub(super) speed: Option<SpeedData>,
-    pub(super) frames: Option<Rc<(ToolData, WobjData)>>,
+    pub(super) frames: Option<Rc<(ToolFrame, WobjData)>>,
     /// The declaration of the array the target indexes, where looked up
     /// ([`Walker::element_of`]).
     pub(super) array: Option<Option<&'p DataDecl>>,

@@ -4,7 +4,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
-use rapidtherm::diagnose::{diagnose, prepare, Options};
+use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions};
 use rapidtherm::model::Model;
 use rapidtherm::model::{Base, Effect, EffectKind};
 use rapidtherm::thermal::default_profile;
@@ -26,7 +26,7 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("diagnose");
     group.sample_size(10);
     group.bench_function("10000 rows, 8 candidates, 4-fold CV", |b| {
-        b.iter(|| diagnose(black_box(&prepared), &Options::default()).expect("diagnose"))
+        b.iter(|| diagnose(black_box(&prepared), &DiagnoseOptions::default()).expect("diagnose"))
     });
     group.finish();
 }

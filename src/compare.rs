@@ -83,11 +83,11 @@ pub struct Diff {
     /// Derived targets (expressions) are not compared: their values exist
     /// only at run time.
     pub derived: usize,
-    pub summary: Summary,
+    pub summary: CompareSummary,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Summary {
+pub struct CompareSummary {
     pub compared: usize,
     /// Targets whose position, orientation, robconf or external axes
     /// differ.
@@ -253,14 +253,14 @@ fn by_id<T>(items: &[T], id: impl Fn(&T) -> &String) -> HashMap<String, usize> {
     out
 }
 
-fn summarise(targets: &[TargetDelta]) -> Summary {
+fn summarise(targets: &[TargetDelta]) -> CompareSummary {
     let robtargets: Vec<&TargetDelta> = targets
         .iter()
         .filter(|t| t.kind == DataType::Robtarget)
         .collect();
     let n = robtargets.len();
     let sum_sq: f64 = robtargets.iter().map(|t| t.dist * t.dist).sum();
-    Summary {
+    CompareSummary {
         compared: targets.len(),
         changed: targets
             .iter()

@@ -6,7 +6,7 @@
 //! Only a gate passes or fails: on anything else `--format github|junit`
 //! is refused (exit 2) before any work is done.
 
-use super::ci_suite::{Case, Level, Suite};
+use super::ci_suite::{Case, GateLevel, Suite};
 use super::correct_words::{reason_words, shared_words};
 use super::Format;
 use rapidtherm::compare::{DataType, Diff, Gate, GateFailure};
@@ -86,7 +86,7 @@ pub fn refuse_outside_gate(format: ReportFormat, gate: bool) -> Result<()> {
 }
 
 /// One task `correct --check` checked.
-pub struct Checked<'a> {
+pub struct CheckedTask<'a> {
     /// The task's name in a backup; `None` for files given one by one.
     pub task: Option<String>,
     /// Its files, as named on the command line (or found in the backup).
@@ -95,7 +95,7 @@ pub struct Checked<'a> {
 }
 
 /// The report of `correct --check` in a CI format.
-pub fn check(format: ReportFormat, tasks: &[Checked], rule: &CheckRule) -> Result<String> {
+pub fn check(format: ReportFormat, tasks: &[CheckedTask], rule: &CheckRule) -> Result<String> {
     let mut suites: Vec<Suite> = Vec::new();
     let mut counts = [0usize; 3];
     let properties = check_properties(rule);
@@ -184,7 +184,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
             file: c.file.clone(),
             line: c.line,
             col: c.col,
-            level: if moves { Level::Error } else { Level::Pass },
+            level: if moves { GateLevel::Error } else { GateLevel::Pass },
             kind: "moves",
             title: format!("{} would move {} mm", c.id, mm(c.correction_norm_mm, 4)),
             message: format!(
@@ -204,7 +204,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
             file: d.file.clone(),
             line: d.line,
             col: 0,
-            level: Level::Pass,
+            level: GateLevel::Pass,
             kind: "derived",
             title: String::new(),
             message: String::new(),
@@ -217,7 +217,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
         let words = reason_words(l.reason, l.kind, &l.detail);
         let (level, title, message) = if cold {
             (
-                Level::Error,
+                GateLevel::Error,
                 format!("{} left cold ({code})", l.id),
                 format!(
                     "{} ({}) left cold [{code}]: {words} (accept with --accept {code})",
@@ -226,7 +226,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
             )
         } else if l.reason.leaves_target_cold() {
             (
-                Level::Skip,
+                GateLevel::Skip,
                 format!("{} left cold ({code}), accepted", l.id),
                 format!(
                     "{} ({}) left cold [{code}], accepted: {words}",
@@ -235,7 +235,7 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
             )
         } else {
             (
-                Level::Notice,
+                GateLevel::Notice,
                 format!("{} left alone ({code})", l.id),
                 format!("{} ({}) left alone [{code}]: {words}", l.id, l.kind),
             )
@@ -257,9 +257,9 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
         // Within the tolerance it passes as a correction that small does;
         // beyond it, only because the user accepted shared frames.
         let level = match u.residual_mm {
-            _ if off => Level::Error,
-            Some(r) if r <= rule.tolerance => Level::Notice,
-            _ => Level::Skip,
+            _ if off => GateLevel::Error,
+            Some(r) if r <= rule.tolerance => GateLevel::Notice,
+            _ => GateLevel::Skip,
         };
         let code = Reason::SharedFrames.code();
         cases.push(Case {
@@ -334,7 +334,11 @@ pub fn gate(
                 &b,
                 &t.id,
                 nb,
-                if fails { Level::Error } else { Level::Pass },
+                if fails {
+                    GateLevel::Error
+                } else {
+                    GateLevel::Pass
+                },
                 "moved",
                 title,
                 format!(
@@ -363,7 +367,7 @@ pub fn gate(
                         file: nb.to_string(),
                         line: 0,
                         col: 0,
-                        level: Level::Error,
+                        level: GateLevel::Error,
                         kind: "nothing-compared",
                         title: "no target in common".to_string(),
                         message: format!(
@@ -378,7 +382,7 @@ pub fn gate(
                 program,
                 id,
                 name,
-                Level::Error,
+                GateLevel::Error,
                 "only-in-one",
                 format!("{id} is only in {name}"),
                 format!("{id} is only in {name}, not in {other}: its change is unknown"),
@@ -400,7 +404,7 @@ pub fn gate(
                 file: String::new(),
                 line: 0,
                 col: 0,
-                level: Level::Error,
+                level: GateLevel::Error,
                 kind: "only-in-one",
                 title: u.clone(),
                 message: format!("{u}: its targets were not compared"),
@@ -460,7 +464,7 @@ fn located(
     places: &Places,
     id: &str,
     file: &str,
-    level: Level,
+    level: GateLevel,
     kind: &'static str,
     title: String,
     message: String,
@@ -517,10 +521,10 @@ fn github(gate: &str, suites: &[Suite], summary: &str) -> String {
     let mut out = String::new();
     for c in suites.iter().flat_map(|s| &s.cases) {
         let command = match c.level {
-            Level::Pass => continue,
-            Level::Notice => "notice",
-            Level::Skip => "warning",
-            Level::Error => "error",
+            GateLevel::Pass => continue,
+            GateLevel::Notice => "notice",
+            GateLevel::Skip => "warning",
+            GateLevel::Error => "error",
         };
         let mut properties = Vec::new();
         if !c.file.is_empty() {

@@ -5,7 +5,7 @@
 /// How a case fares at the gate, and how a CI system shows it; from the
 /// best to the worst.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Level {
+pub enum GateLevel {
     /// Passes; not annotated.
     Pass,
     /// Passes; worth a notice (a target nothing of the arm drifts in).
@@ -25,7 +25,7 @@ pub struct Case {
     /// 0: unknown.
     pub line: u32,
     pub col: u32,
-    pub level: Level,
+    pub level: GateLevel,
     /// Why it fails: the failure's type in JUnit.
     pub kind: &'static str,
     pub title: String,

@@ -14,7 +14,7 @@ use super::tasks;
 use super::unified_diff::unified_diff;
 use super::Format;
 use super::{write_stdout, Status};
-use rapidtherm::correct::check::{counts, CheckRule, Finding, FindingStatus};
+use rapidtherm::correct::check::{counts, CheckFinding, CheckRule, FindingStatus};
 use rapidtherm::correct::job::{self, moves_a_robot, CorrectedTask};
 use rapidtherm::correct::plan::{
     Action, ArmChoice, CorrectJob, CorrectPlan, Destination, ModelSource, RuntimePlan, TimeBasis,
@@ -24,7 +24,7 @@ use rapidtherm::error::{Error, Result};
 use rapidtherm::model::warm::Moment;
 use rapidtherm::model::Model;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
-use rapidtherm::schedule::Visit;
+use rapidtherm::schedule::WhichVisit;
 use rapidtherm::writes::{Checked, Made, Plan, Role};
 use std::path::{Path, PathBuf};
 
@@ -36,12 +36,12 @@ pub enum VisitArg {
     Last,
 }
 
-impl From<VisitArg> for Visit {
-    fn from(v: VisitArg) -> Visit {
+impl From<VisitArg> for WhichVisit {
+    fn from(v: VisitArg) -> WhichVisit {
         match v {
-            VisitArg::First => Visit::First,
-            VisitArg::Mean => Visit::Mean,
-            VisitArg::Last => Visit::Last,
+            VisitArg::First => WhichVisit::First,
+            VisitArg::Mean => WhichVisit::Mean,
+            VisitArg::Last => WhichVisit::Last,
         }
     }
 }
@@ -511,7 +511,7 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Res
         Action::Check(rule) | Action::Diff { check: Some(rule) } => Some(rule),
         _ => None,
     };
-    let found: Vec<Vec<Finding>> = runs
+    let found: Vec<Vec<CheckFinding>> = runs
         .iter()
         .map(|r| {
             rule.map(|rule| rule.findings(&r.outcome))
@@ -557,9 +557,9 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Res
             let list = match format.data() {
                 Some(format) => per_task(runs, &findings, format, named, "findings", check_list)?,
                 None => {
-                    let checked: Vec<ci_report::Checked> = runs
+                    let checked: Vec<ci_report::CheckedTask> = runs
                         .iter()
-                        .map(|r| ci_report::Checked {
+                        .map(|r| ci_report::CheckedTask {
                             task: named.then(|| r.task.label()),
                             files: r.inputs.iter().map(|(n, _)| n.as_str()).collect(),
                             outcome: &r.outcome,
@@ -658,9 +658,9 @@ struct Row {
 }
 
 impl Row {
-    fn of(f: &Finding) -> Row {
+    fn of(f: &CheckFinding) -> Row {
         match *f {
-            Finding::Moves(c) => Row {
+            CheckFinding::Moves(c) => Row {
                 id: c.id.clone(),
                 kind: c.kind,
                 file: c.file.clone(),
@@ -672,7 +672,7 @@ impl Row {
                 reason: None,
                 detail: String::new(),
             },
-            Finding::LeftAlone(l) => Row {
+            CheckFinding::LeftAlone(l) => Row {
                 id: l.id.clone(),
                 kind: l.kind,
                 file: l.file.clone(),
@@ -684,7 +684,7 @@ impl Row {
                 reason: Some(l.reason),
                 detail: reason_words(l.reason, l.kind, &l.detail),
             },
-            Finding::OtherUse(u) => Row {
+            CheckFinding::OtherUse(u) => Row {
                 id: u.id.clone(),
                 kind: u.kind,
                 file: u.file.clone(),
@@ -731,7 +731,7 @@ fn check_list(findings: &Vec<Row>, format: Format) -> Result<String> {
     })
 }
 
-fn check_verdict(findings: &[Finding], tolerance: f64) -> String {
+fn check_verdict(findings: &[CheckFinding], tolerance: f64) -> String {
     let (moves, cold, other_uses) = counts(findings);
     if findings.is_empty() {
         return format!("check: no target moves more than {tolerance} mm and none is left cold\n");

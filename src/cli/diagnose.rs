@@ -6,7 +6,7 @@ use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
 use rapidtherm::csv_table::CsvTable;
 use rapidtherm::diagnose::arm::Arm;
-use rapidtherm::diagnose::job::{self, Event, Host, OwnGeometry, Ran};
+use rapidtherm::diagnose::job::{self, DiagnoseEvent, DiagnoseHost, Diagnosed, OwnGeometry};
 use rapidtherm::diagnose::plan::{DiagnosePlan, Refused, RobotChoice, Which};
 use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::simulate::{
@@ -100,10 +100,10 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model> {
 /// messages.
 struct Messages;
 
-impl Host for Messages {
-    fn event(&mut self, event: Event) {
+impl DiagnoseHost for Messages {
+    fn event(&mut self, event: DiagnoseEvent) {
         match event {
-            Event::Arm { robot, choice } => {
+            DiagnoseEvent::Arm { robot, choice } => {
                 let from = match choice {
                     RobotChoice::Urdf(p) => {
                         format!("from the URDF file {}, chosen by --robot", p.display())
@@ -114,10 +114,10 @@ impl Host for Messages {
                 };
                 info!("arm {} ({from})", robot.name);
             }
-            Event::GeometryReplaced { arm, model } => {
+            DiagnoseEvent::GeometryReplaced { arm, model } => {
                 note!("the geometry of {arm} replaces the model's [robot] geometry ({model})")
             }
-            Event::Warning(w) => warning!("{w}"),
+            DiagnoseEvent::Warning(w) => warning!("{w}"),
         }
     }
 }
@@ -570,12 +570,12 @@ pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
     let cmd = command(args)?;
     let (plan, checked) = (&cmd.plan, &cmd.checked);
     let run = match job::run(plan, &mut Messages).map_err(|r| refused(r, cmd.robot.as_deref()))? {
-        Ran::Chain(d) => {
+        Diagnosed::Chain(d) => {
             let text = super::diagnose_chain::render(cmd.format, &d)?;
             write_stdout(text.as_bytes())?;
             return Ok(Status::Success);
         }
-        Ran::Effects(run) => run,
+        Diagnosed::Effects(run) => run,
     };
     let d = &run.diagnosis;
     if let Some(dir) = &cmd.plot {

@@ -5,7 +5,7 @@
 use super::messages::{self, info, note, warning};
 use rapidtherm::correct::job::{Event, Host};
 use rapidtherm::rapid::LaneTally;
-use rapidtherm::resolve::arm::{Arm, ChosenBy};
+use rapidtherm::resolve::arm::{ChosenBy, TaskArm};
 
 /// Says each event as the command line words it.
 #[derive(Default)]
@@ -92,7 +92,7 @@ fn say_lane(task: &str, files: &[String], tally: &LaneTally) {
 }
 
 /// Which arm a task moves and why, for `-v`.
-pub fn say_arm(task: &str, arm: &Arm) {
+pub fn say_arm(task: &str, arm: &TaskArm) {
     let from = match &arm.urdf {
         Some(file) => format!("from the URDF file {file}"),
         None => "from the catalogue".to_string(),

@@ -2,7 +2,7 @@
 //! task, a `<testcase>` per target, a `<failure>` where it fails the gate.
 //! The dialect Jenkins and GitLab read; `tests/junit/junit.xsd` pins it.
 
-use super::ci_suite::{Case, Level, Suite};
+use super::ci_suite::{Case, GateLevel, Suite};
 use quick_xml::events::{BytesDecl, BytesText, Event};
 use quick_xml::Writer;
 use rapidtherm::error::{Error, Result};
@@ -11,14 +11,14 @@ use std::collections::HashMap;
 /// The document: `<testsuites name="{gate}">` and a suite each.
 pub fn write(gate: &str, suites: &[Suite]) -> Result<String> {
     let merged: Vec<(&Suite, Vec<Target>)> = suites.iter().map(|s| (s, targets(s))).collect();
-    let count = |targets: &[Target], level: Level| -> usize {
+    let count = |targets: &[Target], level: GateLevel| -> usize {
         targets.iter().filter(|t| t.level == level).count()
     };
     let all: Vec<&Target> = merged.iter().flat_map(|(_, t)| t).collect();
     let total = all.len().to_string();
     let failures = all
         .iter()
-        .filter(|t| t.level == Level::Error)
+        .filter(|t| t.level == GateLevel::Error)
         .count()
         .to_string();
     let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
@@ -35,8 +35,8 @@ pub fn write(gate: &str, suites: &[Suite]) -> Result<String> {
         .write_inner_content(|w| {
             for (suite, targets) in &merged {
                 let tests = targets.len().to_string();
-                let failures = count(targets, Level::Error).to_string();
-                let skipped = count(targets, Level::Skip).to_string();
+                let failures = count(targets, GateLevel::Error).to_string();
+                let skipped = count(targets, GateLevel::Skip).to_string();
                 w.create_element("testsuite")
                     .with_attributes([
                         ("name", xml_safe(&suite.name).as_str()),
@@ -76,7 +76,7 @@ pub fn write(gate: &str, suites: &[Suite]) -> Result<String> {
 struct Target<'a> {
     name: &'a str,
     classname: &'a str,
-    level: Level,
+    level: GateLevel,
     cases: Vec<&'a Case>,
 }
 
@@ -110,7 +110,7 @@ fn testcase(w: &mut Writer<Vec<u8>>, t: &Target) -> std::io::Result<()> {
         (l, 0) => format!("{}:{l}: ", c.file),
         (l, col) => format!("{}:{l}:{col}: ", c.file),
     };
-    let of = |level: Level| -> Vec<&Case> {
+    let of = |level: GateLevel| -> Vec<&Case> {
         t.cases
             .iter()
             .copied()
@@ -121,15 +121,15 @@ fn testcase(w: &mut Writer<Vec<u8>>, t: &Target) -> std::io::Result<()> {
         ("name", xml_safe(t.name).as_str()),
         ("classname", xml_safe(t.classname).as_str()),
     ]);
-    if t.cases.iter().all(|c| c.level == Level::Pass) {
+    if t.cases.iter().all(|c| c.level == GateLevel::Pass) {
         element.write_empty()?;
         return Ok(());
     }
     element.write_inner_content(|w| {
         // The worst verdict is the test's; the message names every case at it.
         let (tag, worst) = match t.level {
-            Level::Error => ("failure", of(Level::Error)),
-            Level::Skip => ("skipped", of(Level::Skip)),
+            GateLevel::Error => ("failure", of(GateLevel::Error)),
+            GateLevel::Skip => ("skipped", of(GateLevel::Skip)),
             _ => ("", Vec::new()),
         };
         if !worst.is_empty() {
@@ -145,7 +145,7 @@ fn testcase(w: &mut Writer<Vec<u8>>, t: &Target) -> std::io::Result<()> {
                 ])
                 .write_text_content(BytesText::new(&xml_safe(&body)))?;
         }
-        let notes: String = of(Level::Notice)
+        let notes: String = of(GateLevel::Notice)
             .iter()
             .map(|c| format!("{}{}\n", at(c), c.message))
             .collect();

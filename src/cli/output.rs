@@ -335,7 +335,7 @@ impl FileSink<'_> {
 }
 
 impl rapidtherm::correct::job::Sink for FileSink<'_> {
-    fn create(&mut self, name: &str) -> Result<Box<dyn rapidtherm::correct::job::Output>> {
+    fn create(&mut self, name: &str) -> Result<Box<dyn rapidtherm::correct::job::OutputFile>> {
         let path = Path::new(name);
         if path == Path::new("-") {
             return Ok(Box::new(Stdout(Vec::new())));
@@ -368,7 +368,7 @@ impl Write for Pending {
     }
 }
 
-impl rapidtherm::correct::job::Output for Pending {
+impl rapidtherm::correct::job::OutputFile for Pending {
     fn restart(&mut self) -> std::io::Result<()> {
         self.file.restart()
     }
@@ -405,7 +405,7 @@ impl Write for DeviceOutput {
     }
 }
 
-impl rapidtherm::correct::job::Output for DeviceOutput {
+impl rapidtherm::correct::job::OutputFile for DeviceOutput {
     fn restart(&mut self) -> std::io::Result<()> {
         self.held.clear();
         Ok(())
@@ -433,7 +433,7 @@ impl Write for Stdout {
     }
 }
 
-impl rapidtherm::correct::job::Output for Stdout {
+impl rapidtherm::correct::job::OutputFile for Stdout {
     fn restart(&mut self) -> std::io::Result<()> {
         self.0.clear();
         Ok(())

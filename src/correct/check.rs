@@ -66,29 +66,29 @@ impl CheckRule {
 
     /// What fails the check in `outcome`: the targets that move, then
     /// those left cold, then the uses landing off.
-    pub fn findings<'o>(&self, outcome: &'o Outcome) -> Vec<Finding<'o>> {
+    pub fn findings<'o>(&self, outcome: &'o Outcome) -> Vec<CheckFinding<'o>> {
         let moves = outcome
             .corrections
             .iter()
             .filter(|c| self.moves(c))
-            .map(Finding::Moves);
+            .map(CheckFinding::Moves);
         let cold = outcome
             .left_alone
             .iter()
             .filter(|l| self.left_cold(l))
-            .map(Finding::LeftAlone);
+            .map(CheckFinding::LeftAlone);
         let off = outcome
             .shared
             .iter()
             .filter(|u| self.lands_off(u))
-            .map(Finding::OtherUse);
+            .map(CheckFinding::OtherUse);
         moves.chain(cold).chain(off).collect()
     }
 }
 
 /// One thing a check found.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Finding<'o> {
+pub enum CheckFinding<'o> {
     /// A target that would move more than the tolerance.
     Moves(&'o Correction),
     /// A target left cold for a reason not accepted.
@@ -118,28 +118,28 @@ impl FindingStatus {
     }
 }
 
-impl Finding<'_> {
+impl CheckFinding<'_> {
     pub fn status(&self) -> FindingStatus {
         match self {
-            Finding::Moves(_) => FindingStatus::Moves,
-            Finding::LeftAlone(_) => FindingStatus::LeftAlone,
-            Finding::OtherUse(_) => FindingStatus::OtherUse,
+            CheckFinding::Moves(_) => FindingStatus::Moves,
+            CheckFinding::LeftAlone(_) => FindingStatus::LeftAlone,
+            CheckFinding::OtherUse(_) => FindingStatus::OtherUse,
         }
     }
 
     /// The reason it is reported for (none for a target that moves).
     pub fn reason(&self) -> Option<Reason> {
         match self {
-            Finding::Moves(_) => None,
-            Finding::LeftAlone(l) => Some(l.reason),
-            Finding::OtherUse(_) => Some(Reason::SharedFrames),
+            CheckFinding::Moves(_) => None,
+            CheckFinding::LeftAlone(l) => Some(l.reason),
+            CheckFinding::OtherUse(_) => Some(Reason::SharedFrames),
         }
     }
 }
 
 /// How many findings of each status `findings` holds: (moves, left
 /// alone, other uses).
-pub fn counts(findings: &[Finding]) -> (usize, usize, usize) {
+pub fn counts(findings: &[CheckFinding]) -> (usize, usize, usize) {
     let of = |s| findings.iter().filter(|f| f.status() == s).count();
     (
         of(FindingStatus::Moves),

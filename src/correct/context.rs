@@ -122,15 +122,15 @@ impl<'a> Prepared<'a> {
 }
 
 /// What a run corrects with: the warm robot, the options, and what was
-/// made ahead of it ([`Ahead`]).
+/// made ahead of it ([`Precomputed`]).
 pub(crate) struct CorrectWith<'a, 'p> {
     pub warm: &'a WarmRobot,
     pub options: &'a Options,
-    pub ahead: Ahead<'p>,
+    pub ahead: Precomputed<'p>,
 }
 
 impl<'a, 'p> CorrectWith<'a, 'p> {
-    pub fn new(warm: &'a WarmRobot, options: &'a Options, ahead: Ahead<'p>) -> Self {
+    pub fn new(warm: &'a WarmRobot, options: &'a Options, ahead: Precomputed<'p>) -> Self {
         CorrectWith {
             warm,
             options,
@@ -140,7 +140,7 @@ impl<'a, 'p> CorrectWith<'a, 'p> {
 
     /// Nothing made ahead: the run makes all it needs.
     pub fn fresh(warm: &'a WarmRobot, options: &'a Options) -> Self {
-        CorrectWith::new(warm, options, Ahead::default())
+        CorrectWith::new(warm, options, Precomputed::default())
     }
 }
 
@@ -149,14 +149,14 @@ impl<'a, 'p> CorrectWith<'a, 'p> {
 /// fingerprint (beside the parse). What is missing, or was made for
 /// another program or other options, the run makes itself.
 #[derive(Default)]
-pub(crate) struct Ahead<'a> {
+pub(crate) struct Precomputed<'a> {
     pub prepared: Option<Result<Prepared<'a>>>,
     pub colds: Option<ColdPrints>,
     /// The cold joints the walk that timed the run found.
     pub cold_joints: Option<ColdJoints>,
 }
 
-impl<'a> Ahead<'a> {
+impl<'a> Precomputed<'a> {
     /// The run's set-up and its files' fingerprints: as made ahead where
     /// they fit, else made now (both on two cores where both are
     /// missing: a file of 100 MB takes a twentieth of a second to hash).
@@ -339,7 +339,7 @@ mod tests {
             source: ScheduleSource::Estimate(Box::new(opts)),
         });
         let own = correct(&program, &warm, &options, &mut |_, _| {}).expect("corrects");
-        let ahead = Ahead {
+        let ahead = Precomputed {
             prepared: None,
             colds: None,
             cold_joints: Some(joints),
@@ -413,7 +413,7 @@ mod tests {
                 CorrectWith::new(
                     &warm,
                     &at,
-                    Ahead {
+                    Precomputed {
                         prepared: Some(Ok(p)),
                         colds: None,
                         cold_joints: None,

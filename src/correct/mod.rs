@@ -58,7 +58,7 @@ mod writers;
 pub use edits::ORIENTATION_CHANGE_RAD;
 pub use outcome::{
     Correction, Derived, Fate, Frame, FramesUse, Kind, LeftAlone, MoveCounts, MoveFate, Outcome,
-    Reason, Residual, SharedUse, Split, Summary,
+    Reason, Residual, SharedUse, SplitTarget, Summary,
 };
 
 pub use options::{OnUntrusted, Options, ScheduleSource, When, ESTIMATE_ENCODING};

@@ -5,7 +5,7 @@ use super::When;
 use crate::error::{Error, Remedy, Result, Subject};
 use crate::model::Moment;
 use crate::rapid::Program;
-use crate::schedule::{Schedule, Visit};
+use crate::schedule::{Schedule, WhichVisit};
 use smallvec::SmallVec;
 
 /// The moments a target is reached: most are reached at one (every one
@@ -57,7 +57,7 @@ pub(super) fn moments_in(when: &When, index: usize, id: &str, joint: bool) -> Re
     }
 }
 
-pub(super) fn pick(moments: &[Moment], visit: Visit) -> Moment {
+pub(super) fn pick(moments: &[Moment], visit: WhichVisit) -> Moment {
     // One moment (every target of a run at a fixed moment): no list made.
     if let [Moment::Minute(t)] = moments {
         return Moment::Minute(visit.pick(&[*t]));

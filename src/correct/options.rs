@@ -4,7 +4,7 @@
 
 use crate::digest::Encoder;
 use crate::model::Moment;
-use crate::schedule::{EstimateOptions, IdleSpan, Schedule, Visit, SCHEDULE_ENCODING};
+use crate::schedule::{EstimateOptions, IdleSpan, Schedule, WhichVisit, SCHEDULE_ENCODING};
 
 /// When the targets are reached.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,7 +46,7 @@ pub enum ScheduleSource {
 pub struct Options {
     pub when: When,
     /// Which visit a target reached several times is corrected for.
-    pub visit: Visit,
+    pub visit: WhichVisit,
     /// Write numbers in place of a robtarget literal written with named
     /// constants or expressions (otherwise it is left alone and reported).
     pub expand_expressions: bool,
@@ -85,7 +85,7 @@ impl Options {
     pub fn new(when: When) -> Options {
         Options {
             when,
-            visit: Visit::Mean,
+            visit: WhichVisit::Mean,
             expand_expressions: false,
             model_label: "embedded default model, embedded IRB 140 arm".to_string(),
             base_frame: None,

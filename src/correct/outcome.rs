@@ -342,7 +342,7 @@ impl FramesUse {
 /// for another tool and work object, which the moves with that pair now
 /// name. The copy's correction is among the corrections, by its name.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Split {
+pub struct SplitTarget {
     pub id: String,
     /// The copy's name.
     pub copy: String,
@@ -392,7 +392,7 @@ pub struct Outcome {
     /// are corrected for, with what that leaves there.
     pub shared: Vec<SharedUse>,
     /// Targets split by tool and work object (only when asked for).
-    pub splits: Vec<Split>,
+    pub splits: Vec<SplitTarget>,
     /// The program was already corrected on this basis by an earlier run
     /// (its marker says so): nothing was done.
     pub already_corrected: Option<String>,

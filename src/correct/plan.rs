@@ -7,7 +7,7 @@
 use super::check::CheckRule;
 use crate::model::Moment;
 use crate::resolve::arm::{ArmSpec, Placing};
-use crate::schedule::Visit;
+use crate::schedule::WhichVisit;
 use std::path::PathBuf;
 
 /// What a `correct` run makes, each job with its own plan: the
@@ -44,7 +44,7 @@ impl CorrectJob {
 pub struct CorrectPlan {
     pub when: TimeBasis,
     /// Which visit a target reached several times is corrected for.
-    pub visit: Visit,
+    pub visit: WhichVisit,
     pub arms: ArmChoice,
     /// Write numbers in place of literals written with named constants or
     /// expressions.

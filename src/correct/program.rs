@@ -724,7 +724,7 @@ struct Early {
     /// By target: its row, then its copies'.
     rows: HashMap<usize, Vec<Correction>>,
     lines: Vec<crate::correct::SharedUse>,
-    splits: Vec<crate::correct::Split>,
+    splits: Vec<crate::correct::SplitTarget>,
     /// Edits beyond the numbers (copies, renamed arguments), by file.
     more: Vec<(usize, Edit)>,
     /// Why the copies could not be made, where they could not (said

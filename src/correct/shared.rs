@@ -28,14 +28,14 @@
 use super::context::Run;
 use super::derived::apply_with;
 use super::names::Names;
-use super::outcome::{Correction, FramesUse, SharedUse, Split};
+use super::outcome::{Correction, FramesUse, SharedUse, SplitTarget};
 use super::solve::{at_target, corrected, nearest_solution, prefix, Meant};
 use crate::error::{ErrorKind, Result};
 use crate::rapid::rewrite::{apply_edits, statement_words, Edit};
 use crate::rapid::{Expr, Program, Storage, Target, TargetKind};
 use crate::resolve::monitoring::Monitor;
 use crate::resolve::{frames_named, uses_by_frames, Through, Usage};
-use crate::robot::frames::{flange_of_target, target_of_flange, ToolFrame, WobjData};
+use crate::robot::frames::{flange_of_target, target_of_flange, ToolFrame, WobjFrames};
 use nalgebra::Isometry3;
 use std::collections::{BTreeMap, HashSet};
 use std::ops::Range;
@@ -163,7 +163,7 @@ fn landed(
     meant: &Meant,
     exact: &Isometry3<f64>,
     u: &Usage,
-    (tool, wobj): &(ToolFrame, WobjData),
+    (tool, wobj): &(ToolFrame, WobjFrames),
 ) -> Result<std::result::Result<(f64, f64), String>> {
     let Run { program, warm, .. } = run;
     let (cold, sent) = match u.through {
@@ -370,7 +370,7 @@ pub(super) struct Pending {
 /// the numbers (copy declarations, renamed move arguments), per file.
 pub(super) struct Shared {
     pub lines: Vec<SharedUse>,
-    pub splits: Vec<Split>,
+    pub splits: Vec<SplitTarget>,
     pub edits: Vec<(usize, Edit)>,
 }
 
@@ -450,7 +450,7 @@ pub(super) fn finish(
                 ));
             }
             let pair = &copy.uses[0];
-            out.splits.push(Split {
+            out.splits.push(SplitTarget {
                 id: original.id.clone(),
                 copy: new_name.clone(),
                 file: original.file.clone(),

@@ -14,7 +14,7 @@ use crate::rapid::{Program, Target, TargetKind};
 use crate::resolve::monitoring::Monitor;
 use crate::resolve::{frames_for, target_pose};
 use crate::robot::conf::{quadrant_distance, RobConf};
-use crate::robot::frames::{flange_of_target, target_of_flange, ToolFrame, WobjData};
+use crate::robot::frames::{flange_of_target, target_of_flange, ToolFrame, WobjFrames};
 use crate::robot::Joints;
 use nalgebra::{Isometry3, Vector3};
 
@@ -50,7 +50,7 @@ pub(super) fn corrected(
     run: &Run,
     target: &Target,
     meant: &Meant,
-    frames: (&ToolFrame, &WobjData),
+    frames: (&ToolFrame, &WobjFrames),
     names: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
@@ -85,7 +85,7 @@ pub(super) fn row(
     run: &Run,
     target: &Target,
     meant: &Meant,
-    (tool, wobj): (&ToolFrame, &WobjData),
+    (tool, wobj): (&ToolFrame, &WobjFrames),
     [tool_name, wobj_name]: [&str; 2],
     numbers: &Numbers,
     (rewritten, edits): (bool, Vec<Edit>),
@@ -172,7 +172,7 @@ pub(super) fn corrected_numbers(
     run: &Run,
     target: &Target,
     meant: &Meant,
-    (tool, wobj): (&ToolFrame, &WobjData),
+    (tool, wobj): (&ToolFrame, &WobjFrames),
     (exact, cold): (Option<Isometry3<f64>>, Option<Joints>),
 ) -> Result<Numbers> {
     let Run {
@@ -240,7 +240,7 @@ fn in_world(
     run: &Run,
     pose: &Isometry3<f64>,
     tool: &ToolFrame,
-    wobj: &WobjData,
+    wobj: &WobjFrames,
 ) -> Option<[f64; 3]> {
     let flange = flange_of_target(pose, tool, wobj).ok()?;
     let in_base = if tool.robhold {
@@ -287,7 +287,7 @@ pub(super) fn solve(
     target: &Target,
     pose: &Isometry3<f64>,
     (conf, cold): (&RobConf, Option<Joints>),
-    (tool, wobj): (&ToolFrame, &WobjData),
+    (tool, wobj): (&ToolFrame, &WobjFrames),
     state: &State,
     moment: Moment,
 ) -> Result<Solution> {

@@ -15,7 +15,7 @@ use crate::model::{Moment, State};
 use crate::rapid::{Expr, Storage, Target, TargetKind};
 use crate::resolve::{frames_for_in, target_pose, Through, Usage};
 use crate::robot::conf::RobConf;
-use crate::robot::frames::{check_setup, ToolFrame, WobjData};
+use crate::robot::frames::{check_setup, ToolFrame, WobjFrames};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use std::borrow::Cow;
 
@@ -36,7 +36,7 @@ pub(super) struct SolvedTarget<'r> {
     pub moment: Moment,
     pub state: State,
     /// The run's frames by those names.
-    pub frames: (&'r ToolFrame, &'r WobjData),
+    pub frames: (&'r ToolFrame, &'r WobjFrames),
     /// The tool's and work object's names as the report gives them.
     pub names: [Cow<'r, str>; 2],
     pub numbers: Numbers,
@@ -294,7 +294,7 @@ fn by_derived_uses(
     target: &Target,
     uses: Option<&Vec<Usage>>,
     meant: &Meant,
-    frames: (&ToolFrame, &WobjData),
+    frames: (&ToolFrame, &WobjFrames),
 ) -> Result<Option<Isometry3<f64>>> {
     let Meant {
         pose,

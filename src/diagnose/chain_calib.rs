@@ -180,22 +180,22 @@ fn small(t: &[f64], r_mrad: &[f64]) -> Isometry3<f64> {
 
 /// The chain, point and frame of a raw parameter vector, ready to predict.
 #[derive(Debug, Clone)]
-pub struct Geometry {
+pub struct ChainGeometry {
     chain: Chain,
     offsets: Joints,
     point: Vector3<f64>,
     frame: Isometry3<f64>,
 }
 
-impl Geometry {
-    pub fn of(nominal: &Nominal, x: &[f64]) -> Geometry {
+impl ChainGeometry {
+    pub fn of(nominal: &Nominal, x: &[f64]) -> ChainGeometry {
         let mut chain = nominal.chain.clone();
         for (j, joint) in chain.joints.iter_mut().enumerate() {
             let t = &x[ORIGIN + 3 * j..ORIGIN + 3 * j + 3];
             let r = &x[ORIGIN + 18 + 3 * j..ORIGIN + 18 + 3 * j + 3];
             joint.origin *= small(t, r);
         }
-        Geometry {
+        ChainGeometry {
             chain,
             offsets: std::array::from_fn(|j| x[OFFSET + j] * 1e-3),
             point: nominal.point + Vector3::new(x[POINT], x[POINT + 1], x[POINT + 2]),
@@ -228,7 +228,7 @@ impl Geometry {
 
 /// Measured minus predicted, per sample.
 pub fn gaps(nominal: &Nominal, x: &[f64], samples: &[Sample]) -> Vec<Vector3<f64>> {
-    let g = Geometry::of(nominal, x);
+    let g = ChainGeometry::of(nominal, x);
     samples
         .iter()
         .map(|s| s.position - g.predict(&s.q))
@@ -246,7 +246,10 @@ fn jacobian(nominal: &Nominal, x: &[f64], cols: &[usize], samples: &[Sample]) ->
         let mut down = x.to_vec();
         up[k] += H;
         down[k] -= H;
-        let (gu, gd) = (Geometry::of(nominal, &up), Geometry::of(nominal, &down));
+        let (gu, gd) = (
+            ChainGeometry::of(nominal, &up),
+            ChainGeometry::of(nominal, &down),
+        );
         for (i, s) in samples.iter().enumerate() {
             let d = (gu.predict(&s.q) - gd.predict(&s.q)) / (2.0 * H);
             for a in 0..3 {
@@ -411,7 +414,7 @@ pub struct Param {
 
 /// A fitted geometry.
 #[derive(Debug, Clone)]
-pub struct Fit {
+pub struct ChainFit {
     /// Raw parameter vector (dropped ones at zero).
     pub x: Vec<f64>,
     pub params: Vec<Param>,
@@ -422,9 +425,9 @@ pub struct Fit {
     pub sigma_mm: f64,
 }
 
-impl Fit {
-    pub fn geometry(&self, nominal: &Nominal) -> Geometry {
-        Geometry::of(nominal, &self.x)
+impl ChainFit {
+    pub fn geometry(&self, nominal: &Nominal) -> ChainGeometry {
+        ChainGeometry::of(nominal, &self.x)
     }
 }
 
@@ -459,7 +462,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Lm<'_> {
     }
 
     fn residuals(&self) -> Option<DVector<f64>> {
-        let g = Geometry::of(self.nominal, &self.x);
+        let g = ChainGeometry::of(self.nominal, &self.x);
         let mut r = DVector::zeros(3 * self.samples.len());
         for (i, s) in self.samples.iter().enumerate() {
             let d = g.predict(&s.q) - s.position;
@@ -475,11 +478,11 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Lm<'_> {
     }
 }
 
-/// Fit the raw parameters `kept` (others at zero) to `samples`, as they
+/// ChainFit the raw parameters `kept` (others at zero) to `samples`, as they
 /// are: standard errors from the covariance σ²(JᵀJ)⁻¹ where JᵀJ is
 /// positive definite, infinite where it is not (a direction the data leave
 /// free).
-pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<Fit> {
+pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<ChainFit> {
     let m = 3 * samples.len();
     if m <= kept.len() {
         return Err(Error::input(format!(
@@ -525,7 +528,7 @@ pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<Fit>
                 .map_or(f64::INFINITY, |c| (c[(i, i)] * sigma2).max(0.0).sqrt()),
         })
         .collect();
-    Ok(Fit {
+    Ok(ChainFit {
         x,
         params,
         rms_mm: (rss / samples.len() as f64).sqrt(),
@@ -537,7 +540,7 @@ pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<Fit>
 /// at zero, with why.
 #[derive(Debug, Clone)]
 pub struct Calibration {
-    pub fit: Fit,
+    pub fit: ChainFit,
     pub kept: Vec<usize>,
     pub dropped: Vec<Dropped>,
     /// Number of singular values of the kept columns, each scaled by its
@@ -549,7 +552,7 @@ pub struct Calibration {
     pub condition: f64,
 }
 
-/// Fit the parameters `id` keeps, then drop, one at a time and refitting,
+/// ChainFit the parameters `id` keeps, then drop, one at a time and refitting,
 /// the parameter furthest outside what a metrologist signs: a value beyond
 /// its plausible range, or a standard error (from the fit's own residual)
 /// above its resolution. What is left is reported with honest standard
@@ -617,7 +620,12 @@ pub fn calibrate(
 /// its parameter's resolution: a singular value counts when moving the
 /// parameters one resolution along its direction moves the data by more
 /// than the fit's residual noise.
-fn scaled_rank(nominal: &Nominal, samples: &[Sample], fit: &Fit, kept: &[usize]) -> (usize, f64) {
+fn scaled_rank(
+    nominal: &Nominal,
+    samples: &[Sample],
+    fit: &ChainFit,
+    kept: &[usize],
+) -> (usize, f64) {
     if kept.is_empty() {
         return (0, 1.0);
     }
@@ -643,7 +651,7 @@ pub fn start_frame(
         point,
         frame: Isometry3::identity(),
     };
-    let g = Geometry::of(&nominal, &[0.0; N_RAW]);
+    let g = ChainGeometry::of(&nominal, &[0.0; N_RAW]);
     let sim: Vec<Vector3<f64>> = samples.iter().map(|s| g.in_base(&s.q)).collect();
     let meas: Vec<Vector3<f64>> = samples.iter().map(|s| s.position).collect();
     kabsch(&sim, &meas).map_err(|f| {

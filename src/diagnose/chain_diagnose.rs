@@ -143,7 +143,11 @@ fn cross_validate(
     Ok((sq / n.max(1) as f64).sqrt())
 }
 
-fn residual_rows(nominal: &Nominal, fit: &chain_calib::Fit, data: &ChainData) -> Vec<ResidualRow> {
+fn residual_rows(
+    nominal: &Nominal,
+    fit: &chain_calib::ChainFit,
+    data: &ChainData,
+) -> Vec<ResidualRow> {
     let g = fit.geometry(nominal);
     let frame = nominal.frame.rotation
         * nalgebra::UnitQuaternion::from_scaled_axis(

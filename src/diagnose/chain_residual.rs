@@ -29,7 +29,7 @@ pub struct Share {
 }
 
 #[derive(Debug, Clone, Serialize)]
-pub struct PoseGap {
+pub struct ChainPoseGap {
     pub pose: String,
     pub gap_mm: f64,
 }
@@ -41,7 +41,7 @@ pub struct Remainder {
     /// Principal direction (robot base frame) and its share.
     pub dominant: [f64; 3],
     pub dominant_share: f64,
-    pub worst_poses: Vec<PoseGap>,
+    pub worst_poses: Vec<ChainPoseGap>,
     pub regions: Vec<Region>,
     /// The joint whose angle (two harmonics) explains most, and how much.
     pub joint: Option<Share>,
@@ -126,10 +126,10 @@ pub fn remainder(rows: &[ResidualRow]) -> Remainder {
 
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &b| gaps[b].norm().total_cmp(&gaps[a].norm()));
-    let worst_poses: Vec<PoseGap> = order
+    let worst_poses: Vec<ChainPoseGap> = order
         .iter()
         .take(5)
-        .map(|&i| PoseGap {
+        .map(|&i| ChainPoseGap {
             pose: rows[i].pose.clone(),
             gap_mm: gaps[i].norm(),
         })

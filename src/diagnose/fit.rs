@@ -291,7 +291,7 @@ impl Problem {
 
 /// A fitted parameter.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Param {
+pub struct FitParam {
     pub value: f64,
     /// Standard error; `None` when the data cannot identify the parameter
     /// (held at zero).
@@ -306,7 +306,7 @@ pub struct Param {
 pub struct Fit {
     pub effects: Vec<Effect>,
     /// Per effect, per parameter.
-    pub params: Vec<Vec<Param>>,
+    pub params: Vec<Vec<FitParam>>,
     pub rss: f64,
     /// Number of residuals.
     pub n_obs: usize,
@@ -872,8 +872,8 @@ fn params_of(
     sigma2: f64,
     theta: &[f64],
     held: &BTreeMap<usize, Unidentified>,
-) -> Vec<Vec<Param>> {
-    let mut params: Vec<Vec<Param>> = kinds
+) -> Vec<Vec<FitParam>> {
+    let mut params: Vec<Vec<FitParam>> = kinds
         .iter()
         .map(|k| Vec::with_capacity(k.params().len()))
         .collect();
@@ -887,7 +887,7 @@ fn params_of(
                 .filter(|s| s.is_finite())
         });
         if let Some(list) = params.get_mut(effect_index) {
-            list.push(Param {
+            list.push(FitParam {
                 value: theta[p],
                 stderr,
                 held: held.get(&p).cloned(),

@@ -4,13 +4,13 @@
 //! diagnosis, or the general chain's geometric calibration), runs it, and
 //! produces what the caller writes: the report's data, the model to save
 //! (as its file's text) and the plots. What happens on the way is told to
-//! the caller's [`Host`]; the caller renders and writes.
+//! the caller's [`DiagnoseHost`]; the caller renders and writes.
 
 use super::arm::Arm;
 use super::chain_calib::Sample;
 use super::chain_diagnose::{diagnose_chain, ChainData, ChainDiagnosis, ChainOptions, ChainSetup};
 use super::measurements::Measurements;
-use super::pipeline::{diagnose, Options};
+use super::pipeline::{diagnose, DiagnoseOptions};
 use super::plan::{DiagnosePlan, Refused, RobotChoice, Which};
 use super::prepare::{place_in_base, problem_of, Prepared};
 use super::temps::{as_said, ColdStart, TempOrigin, TempSource};
@@ -22,7 +22,7 @@ use std::path::Path;
 
 /// What the job tells its caller as it goes.
 #[derive(Debug)]
-pub enum Event<'a> {
+pub enum DiagnoseEvent<'a> {
     /// The arm `--robot` named was read.
     Arm {
         robot: &'a Robot,
@@ -35,8 +35,8 @@ pub enum Event<'a> {
 }
 
 /// The caller's side of a job.
-pub trait Host {
-    fn event(&mut self, event: Event);
+pub trait DiagnoseHost {
+    fn event(&mut self, event: DiagnoseEvent);
 }
 
 /// Where the nominal geometry comes from when it is not the model's.
@@ -72,7 +72,7 @@ pub fn setup(
     choice: Option<&RobotChoice>,
     model: &Model,
     model_file: bool,
-    host: &mut dyn Host,
+    host: &mut dyn DiagnoseHost,
 ) -> Result<Setup> {
     let Some(choice) = choice else {
         // A model fitted on another arm names it: that arm (read once),
@@ -106,7 +106,7 @@ pub fn setup(
             None,
         ),
     };
-    host.event(Event::Arm {
+    host.event(DiagnoseEvent::Arm {
         robot: &robot,
         choice,
     });
@@ -115,7 +115,7 @@ pub fn setup(
         || model.robot.catalogue.is_some();
     // A model naming an arm is replaced whole: its chain is not compared.
     if model_file && (model.robot.opw.as_ref() != arm.nominal.opw() || names_arm) {
-        host.event(Event::GeometryReplaced {
+        host.event(DiagnoseEvent::GeometryReplaced {
             arm: &arm.source,
             model: &model.robot.name,
         });
@@ -130,7 +130,7 @@ pub fn setup(
 
 /// What a diagnosis job produced.
 #[derive(Debug)]
-pub enum Ran {
+pub enum Diagnosed {
     Effects(Box<EffectRun>),
     Chain(Box<ChainDiagnosis>),
 }
@@ -156,7 +156,10 @@ fn read(path: &Path) -> Result<(String, Vec<u8>)> {
 }
 
 /// Run `plan`.
-pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran, Refused> {
+pub fn run(
+    plan: &DiagnosePlan,
+    host: &mut dyn DiagnoseHost,
+) -> std::result::Result<Diagnosed, Refused> {
     let mut model = match &plan.model {
         Some(p) => Model::load(p)?,
         None => Model::default(),
@@ -174,7 +177,7 @@ pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran,
     let (name, bytes) = read(&plan.data)?;
     let meas = Measurements::parse(&name, &bytes, &setup.arm.limits_deg)?;
     for w in &meas.warnings {
-        host.event(Event::Warning(w));
+        host.event(DiagnoseEvent::Warning(w));
     }
     let chain = match &plan.which {
         Which::Effects => false,
@@ -192,7 +195,7 @@ pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran,
                 let (name, bytes) = read(p)?;
                 let h = Measurements::parse(&name, &bytes, &setup.arm.limits_deg)?;
                 for w in &h.warnings {
-                    host.event(Event::Warning(w));
+                    host.event(DiagnoseEvent::Warning(w));
                 }
                 Some(chain_data(&h))
             }
@@ -212,7 +215,7 @@ pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran,
             holdout.as_ref(),
             &ChainOptions::default(),
         )?;
-        return Ok(Ran::Chain(Box::new(d)));
+        return Ok(Diagnosed::Chain(Box::new(d)));
     }
     if let Some((point, _)) = point {
         // Where the instrument measured: the diagnosis starts from it, and
@@ -221,10 +224,10 @@ pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran,
     }
     let mut prepared = problem_of(&meas, &model, &setup.arm)?;
     place_in_base(&mut prepared, &model, plan.register).map_err(Refused::Register)?;
-    let opts = Options {
+    let opts = DiagnoseOptions {
         noise_mm: plan.noise_mm,
         assume_cold_start: plan.assume_cold_start,
-        ..Options::default()
+        ..DiagnoseOptions::default()
     };
     let d = diagnose(&prepared, &opts)?;
     let plots = if plan.plot {
@@ -237,7 +240,7 @@ pub fn run(plan: &DiagnosePlan, host: &mut dyn Host) -> std::result::Result<Ran,
         (true, None) => Some(super::pipeline::diagnosed_model(&model, &d).to_toml()?),
         (false, _) => None,
     };
-    Ok(Ran::Effects(Box::new(EffectRun {
+    Ok(Diagnosed::Effects(Box::new(EffectRun {
         diagnosis: d,
         setup,
         model_toml,
@@ -302,12 +305,12 @@ pub fn gap_of(
     setup: &Setup,
     register: bool,
     cold_start: Option<ColdStart>,
-    host: &mut dyn Host,
+    host: &mut dyn DiagnoseHost,
 ) -> std::result::Result<Prepared, Refused> {
     let (name, bytes) = read(data)?;
     let meas = Measurements::parse(&name, &bytes, &setup.arm.limits_deg)?;
     for w in &meas.warnings {
-        host.event(Event::Warning(w));
+        host.event(DiagnoseEvent::Warning(w));
     }
     let mut prepared = problem_of(&meas, model, &setup.arm)?;
     // The diagnosis's rule (`temps::as_said`): a warm-up the file does not
@@ -315,7 +318,7 @@ pub fn gap_of(
     // said. So the gap of a saved model is the diagnosis's "after".
     let source = as_said(&mut prepared.problem, &prepared.temps, cold_start)?;
     if let TempOrigin::Profile(_) = &prepared.temps {
-        host.event(Event::Warning(&match source {
+        host.event(DiagnoseEvent::Warning(&match source {
             TempSource::AssumedColdStart { profile } => format!(
                 "{name}: no temperature columns; assumed, as asked: the session starts cold at its first row and follows the `{profile}` warm-up"
             ),

@@ -75,7 +75,7 @@ pub mod unidentified;
 pub mod verdict;
 
 pub use gap::{estimate_noise, gap, gap_stats, orientation_gap, GapStats, Noise, NoiseSource};
-pub use pipeline::{diagnose, diagnosed_model, Options};
+pub use pipeline::{diagnose, diagnosed_model, DiagnoseOptions};
 pub use prepare::{
     place_in_base, prepare, prepare_arm, problem_of, register_instrument, Prepared,
     RegisterFailure, Registration, Source,

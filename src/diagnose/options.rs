@@ -4,9 +4,9 @@
 
 use super::temps::ColdStart;
 
-/// Options of a diagnosis.
+/// DiagnoseOptions of a diagnosis.
 #[derive(Debug, Clone)]
-pub struct Options {
+pub struct DiagnoseOptions {
     /// Tracker noise per axis (mm, positive); `None`: estimate, else the
     /// instrument's default.
     pub noise_mm: Option<f64>,
@@ -21,20 +21,20 @@ pub struct Options {
     pub assume_cold_start: Option<ColdStart>,
 }
 
-impl Options {
+impl DiagnoseOptions {
     /// These options with the session said to start cold at its first row
     /// and follow `profile` (data without temperature columns).
-    pub fn with_cold_start(self, profile: ColdStart) -> Options {
-        Options {
+    pub fn with_cold_start(self, profile: ColdStart) -> DiagnoseOptions {
+        DiagnoseOptions {
             assume_cold_start: Some(profile),
             ..self
         }
     }
 }
 
-impl Default for Options {
+impl Default for DiagnoseOptions {
     fn default() -> Self {
-        Options {
+        DiagnoseOptions {
             noise_mm: None,
             folds: 4,
             max_effects: 3,

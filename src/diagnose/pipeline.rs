@@ -12,7 +12,7 @@ use super::joint_signature;
 use super::judge::{advise, combine, with_remainder};
 use super::listed::{has_place, is_origin_param};
 use super::locate;
-pub use super::options::Options;
+pub use super::options::DiagnoseOptions;
 use super::prepare::Prepared;
 use super::saved;
 use super::select;
@@ -59,7 +59,7 @@ fn repeats_over_time(problem: &Problem) -> bool {
 /// fixed: the static effects, tested on the poses' means and held out by
 /// pose where the poses are enough. Data without such repeats are judged in
 /// one stage over all effects.
-pub fn diagnose(prepared: &Prepared, opts: &Options) -> Result<Diagnosis> {
+pub fn diagnose(prepared: &Prepared, opts: &DiagnoseOptions) -> Result<Diagnosis> {
     let (as_said, temp_source) = as_said(prepared, opts)?;
     let problem = &as_said;
     let n = problem.rows.len();
@@ -416,7 +416,7 @@ fn saved_score(
     folds: &select::Folds,
     fitted: &[EffectEntry],
     two_stages: bool,
-    opts: &Options,
+    opts: &DiagnoseOptions,
 ) -> Result<Option<saved::Saved>> {
     Ok(match &prepared.source {
         Some(source) => Some(saved::score(
@@ -485,7 +485,7 @@ fn partial(verdict: &Verdict) -> Vec<String> {
 
 /// The problem with its temperatures as the data say them, refused where
 /// its rows are too few for a diagnosis.
-fn as_said(prepared: &Prepared, opts: &Options) -> Result<(Problem, temps::TempSource)> {
+fn as_said(prepared: &Prepared, opts: &DiagnoseOptions) -> Result<(Problem, temps::TempSource)> {
     // Without a source of temperatures every row is held at the reference
     // temperature: the model's profile would be a heating (of an IRB 140,
     // from a cold start at the first row) that the data do not show.
@@ -506,7 +506,7 @@ fn as_said(prepared: &Prepared, opts: &Options) -> Result<(Problem, temps::TempS
 fn measured_noise(
     problem: &Problem,
     gaps_before: &[nalgebra::Vector3<f64>],
-    opts: &Options,
+    opts: &DiagnoseOptions,
     all: &[usize],
 ) -> Result<(Noise, bool)> {
     let mut noise = noise_level(problem, gaps_before, opts.noise_mm)?;
@@ -536,7 +536,7 @@ fn fitted_effects(last: Option<&Forward>) -> Vec<crate::model::Effect> {
 }
 
 /// The held-out folds, refused where they are fewer than two.
-fn folds(problem: &Problem, opts: &Options) -> Result<select::Folds> {
+fn folds(problem: &Problem, opts: &DiagnoseOptions) -> Result<select::Folds> {
     let folds = select::make_folds(problem, opts.folds);
     if folds.folds.len() < 2 {
         return Err(Error::input(

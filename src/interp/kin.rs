@@ -7,7 +7,7 @@ use super::Value;
 use crate::error::{Error, Result};
 use crate::rapid;
 use crate::robot::frames::{flange_of_target, pose_from_rapid, pose_to_rapid, target_of_flange};
-use crate::robot::{RobConf, Robot, ToolFrame, WobjData};
+use crate::robot::{RobConf, Robot, ToolFrame, WobjFrames};
 use nalgebra::Isometry3;
 
 /// The arm `CalcJointT` and `CalcRobT` compute with, and where its base
@@ -138,7 +138,7 @@ pub fn tool_value(t: &ToolFrame) -> Value {
 }
 
 /// A wobjdata of the robot's frames.
-pub fn wobj_value(w: &WobjData) -> Value {
+pub fn wobj_value(w: &WobjFrames) -> Value {
     let (ut, ur) = pose_to_rapid(&w.uframe);
     let (ot, or) = pose_to_rapid(&w.oframe);
     rec(
@@ -252,13 +252,13 @@ pub fn tool_of(v: &Value) -> Result<ToolFrame> {
     })
 }
 
-pub fn wobj_of(v: &Value) -> Result<WobjData> {
+pub fn wobj_of(v: &Value) -> Result<WobjFrames> {
     let flag = |i| {
         field(v, "wobjdata", i)?
             .boolean()
             .ok_or_else(|| Error::input("wobjdata robhold/ufprog is no bool"))
     };
-    Ok(WobjData {
+    Ok(WobjFrames {
         robhold: flag(0)?,
         ufprog: flag(1)?,
         ufmec: field(v, "wobjdata", 2)?.string().unwrap_or("").to_string(),

@@ -70,7 +70,7 @@ impl Ops {
 
 /// An argument given to a routine from outside the program.
 #[derive(Debug, Clone)]
-pub enum Arg {
+pub enum CallArg {
     /// The next required parameter.
     Value(Value),
     /// An optional parameter by name (`\WObj:=...`).
@@ -199,7 +199,7 @@ impl Interp {
             }
             v => v,
         };
-        let wobj0 = kin::wobj_value(&crate::robot::WobjData::wobj0());
+        let wobj0 = kin::wobj_value(&crate::robot::WobjFrames::wobj0());
         let wobj0 = self.types.coerce_to(wobj0, "wobjdata")?;
         let load0 = self.types.default_of("loaddata")?;
         for (name, value) in [("tool0", tool0), ("wobj0", wobj0), ("load0", load0)] {
@@ -348,7 +348,7 @@ impl Interp {
     }
 
     /// Calls FUNC `name` with `args`: its value and what the call counted.
-    pub fn call_func(&mut self, name: &str, args: &[Arg]) -> Result<(Value, Ops)> {
+    pub fn call_func(&mut self, name: &str, args: &[CallArg]) -> Result<(Value, Ops)> {
         let before = self.ops;
         let (m, k) = self.routine_named(name, None)?;
         let v = self.invoke_outside(m, k, args)?;
@@ -357,27 +357,27 @@ impl Interp {
     }
 
     /// Calls PROC `name` with `args`: what the call counted.
-    pub fn call_proc(&mut self, name: &str, args: &[Arg]) -> Result<Ops> {
+    pub fn call_proc(&mut self, name: &str, args: &[CallArg]) -> Result<Ops> {
         let before = self.ops;
         let (m, k) = self.routine_named(name, None)?;
         self.invoke_outside(m, k, args)?;
         Ok(self.ops.since(&before))
     }
 
-    fn invoke_outside(&mut self, m: usize, k: usize, args: &[Arg]) -> Result<Option<Value>> {
+    fn invoke_outside(&mut self, m: usize, k: usize, args: &[CallArg]) -> Result<Option<Value>> {
         self.frames.clear();
         self.call_began = self.ops.statements;
         let program = self.program.clone();
         let routine = &program.modules[m].routines[k];
         let mut vars = HashMap::new();
         let mut positional = args.iter().filter_map(|a| match a {
-            Arg::Value(v) => Some(v),
-            Arg::Named(..) => None,
+            CallArg::Value(v) => Some(v),
+            CallArg::Named(..) => None,
         });
         for p in &routine.params {
             let given = if p.optional {
                 args.iter().find_map(|a| match a {
-                    Arg::Named(n, v) if n.eq_ignore_ascii_case(&p.name) => Some(v),
+                    CallArg::Named(n, v) if n.eq_ignore_ascii_case(&p.name) => Some(v),
                     _ => None,
                 })
             } else {

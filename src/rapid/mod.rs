@@ -69,7 +69,7 @@ mod values;
 mod view;
 pub mod visit;
 
-pub use lane::{Decline, Declined, Found, LaneTally, Part};
+pub use lane::{Decline, Declined, LaneTally, Part, StoppedAt};
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
 pub use parse::{parse, parse_files, parse_read, parse_sources, Reading};
 pub use program::Program;

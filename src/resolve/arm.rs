@@ -59,7 +59,7 @@ pub enum ChosenBy {
 
 /// The arm a task moves, and how the marker of a corrected file names it.
 #[derive(Debug, Clone)]
-pub struct Arm {
+pub struct TaskArm {
     pub robot: Robot,
     /// For the marker: "embedded IRB 140", a catalogue name, or a URDF
     /// file's fingerprint.
@@ -117,7 +117,7 @@ pub enum Placing {
 /// the robot stands, and which arm it is unless one was named (by
 /// `--robot` or a model file). Every such gap is one error, at its file
 /// and line.
-pub fn check_placement(task: &Task, arm: &Arm, placing: Placing) -> Result<()> {
+pub fn check_placement(task: &Task, arm: &TaskArm, placing: Placing) -> Result<()> {
     if placing == Placing::AcceptDefault {
         return Ok(());
     }
@@ -141,7 +141,7 @@ pub fn check_placement(task: &Task, arm: &Arm, placing: Placing) -> Result<()> {
 /// The arm of `task`: the one named for it (`TASK=ARM`), else the one
 /// named for all, else the robot type the backup's MOC.cfg names, else
 /// the embedded IRB 140.
-pub fn arm_for(task: &Task, specs: &[ArmSpec]) -> Result<Arm> {
+pub fn arm_for(task: &Task, specs: &[ArmSpec]) -> Result<TaskArm> {
     let own = specs.iter().rev().find(|s| {
         s.task
             .as_deref()
@@ -177,13 +177,13 @@ pub fn arm_for(task: &Task, specs: &[ArmSpec]) -> Result<Arm> {
 }
 
 /// The embedded IRB 140, the arm the thermal defaults were measured on.
-fn embedded_irb140() -> Result<Arm> {
+fn embedded_irb140() -> Result<TaskArm> {
     abb::find("irb140").map(catalogue_arm)
 }
 
-fn catalogue_arm(arm: &AbbArm) -> Arm {
+fn catalogue_arm(arm: &AbbArm) -> TaskArm {
     let is_irb140 = arm.is_embedded_irb140();
-    Arm {
+    TaskArm {
         robot: arm.robot(),
         label: if is_irb140 {
             "embedded IRB 140".to_string()
@@ -197,7 +197,7 @@ fn catalogue_arm(arm: &AbbArm) -> Arm {
 }
 
 /// The arm of a source: a catalogue arm, or a URDF file read.
-pub fn arm_of(source: &ArmSource) -> Result<Arm> {
+pub fn arm_of(source: &ArmSource) -> Result<TaskArm> {
     match source {
         ArmSource::Catalogue(arm) => Ok(catalogue_arm(arm)),
         ArmSource::Urdf(path) => {
@@ -213,10 +213,10 @@ pub fn arm_of(source: &ArmSource) -> Result<Arm> {
 }
 
 /// The arm of a URDF's text, fingerprinted by its bytes.
-fn urdf_arm(name: String, text: &str) -> Result<Arm> {
+fn urdf_arm(name: String, text: &str) -> Result<TaskArm> {
     let robot = Robot::from_urdf_str(&name, text)?;
     let is_irb140 = same_geometry_as_irb140(&robot);
-    Ok(Arm {
+    Ok(TaskArm {
         robot,
         label: fingerprint(text.as_bytes()),
         is_irb140,
@@ -230,7 +230,7 @@ fn urdf_arm(name: String, text: &str) -> Result<Arm> {
 /// `ROB1_6700_LeanID_2.65_220` has a variant word. `None` when no arm of
 /// the catalogue has that family, payload and reach (within 0.05 m: types
 /// write the reach to two decimals, designations to one or two).
-fn arm_of_robot_type(robot_type: &str) -> Option<Result<Arm>> {
+fn arm_of_robot_type(robot_type: &str) -> Option<Result<TaskArm>> {
     let parts: Vec<&str> = robot_type.split('_').skip(1).collect();
     let family = parts.first()?;
     let numbers: Vec<f64> = parts[1..].iter().filter_map(|p| p.parse().ok()).collect();

@@ -11,7 +11,7 @@ use crate::error::{Error, ErrorKind, Result, Subject};
 use crate::rapid::targets::TargetIndex;
 use crate::rapid::{self, Block, Expr, NoCase, Program, Target, TargetKind};
 use crate::robot::conf::RobConf;
-use crate::robot::frames::{pose_from_rapid, ToolFrame, WobjData};
+use crate::robot::frames::{pose_from_rapid, ToolFrame, WobjFrames};
 use nalgebra::Isometry3;
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -46,7 +46,7 @@ pub struct Frames {
     /// By lower-case name, hashed fast: each of a million targets looks
     /// its tool and work object up (SipHash was 2 % of a correction).
     tools: foldhash::HashMap<String, ToolFrame>,
-    wobjs: foldhash::HashMap<String, WobjData>,
+    wobjs: foldhash::HashMap<String, WobjFrames>,
 }
 
 impl Frames {
@@ -70,7 +70,7 @@ impl Frames {
             tools.insert(t.name.to_ascii_lowercase(), tool);
         }
         let mut wobjs = foldhash::HashMap::default();
-        wobjs.insert("wobj0".to_string(), WobjData::wobj0());
+        wobjs.insert("wobj0".to_string(), WobjFrames::wobj0());
         for w in program.wobjs() {
             let frame = |trans: &[rapid::Number; 3], rot: &[rapid::Number; 4]| {
                 (
@@ -78,7 +78,7 @@ impl Frames {
                     rot.each_ref().map(|n| n.value),
                 )
             };
-            let wobj = WobjData::new(
+            let wobj = WobjFrames::new(
                 w.robhold.value,
                 w.ufprog.value,
                 &w.ufmec,
@@ -123,7 +123,7 @@ impl Frames {
     }
 
     /// The wobjdata of this name (`wobj0` when `None`).
-    pub fn wobj(&self, name: Option<&str>) -> Option<&WobjData> {
+    pub fn wobj(&self, name: Option<&str>) -> Option<&WobjFrames> {
         by_name(&self.wobjs, name.unwrap_or("wobj0"))
     }
 }
@@ -833,7 +833,7 @@ pub fn frames_of(
     frames: &Frames,
     index: usize,
     uses: Option<&Vec<Usage>>,
-) -> Result<(ToolFrame, WobjData, Option<String>, Option<String>)> {
+) -> Result<(ToolFrame, WobjFrames, Option<String>, Option<String>)> {
     let target = program.targets().at(index);
     let first = uses
         .and_then(|u| u.first())
@@ -849,7 +849,7 @@ pub fn frames_for(
     frames: &Frames,
     target: &Target,
     first: Option<(Option<&str>, Option<&str>)>,
-) -> Result<(ToolFrame, WobjData, Option<String>, Option<String>)> {
+) -> Result<(ToolFrame, WobjFrames, Option<String>, Option<String>)> {
     let (tool, wobj, tool_name, wobj_name) = frames_for_in(program, frames, target, first)?;
     Ok((
         tool.clone(),
@@ -887,7 +887,7 @@ pub fn frames_for_in<'f>(
 /// A target's tool and work object, and their names where written.
 pub type FramesFound<'f> = (
     &'f ToolFrame,
-    &'f WobjData,
+    &'f WobjFrames,
     Option<Cow<'f, str>>,
     Option<Cow<'f, str>>,
 );
@@ -900,7 +900,7 @@ pub fn frames_named(
     target: &Target,
     tool_name: Option<&str>,
     wobj_name: Option<&str>,
-) -> Result<(ToolFrame, WobjData)> {
+) -> Result<(ToolFrame, WobjFrames)> {
     let (tool, wobj) = frames_named_in(program, frames, target, tool_name, wobj_name)?;
     Ok((tool.clone(), wobj.clone()))
 }
@@ -913,7 +913,7 @@ pub fn frames_named_in<'f>(
     target: &Target,
     tool_name: Option<&str>,
     wobj_name: Option<&str>,
-) -> Result<(&'f ToolFrame, &'f WobjData)> {
+) -> Result<(&'f ToolFrame, &'f WobjFrames)> {
     let unknown = |what: &str, data: &str, name: &str| {
         if is_plain_name(name) {
             located(

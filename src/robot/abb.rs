@@ -89,7 +89,7 @@ impl Axis3 {
 /// and the full citation (repository, path, commit; document and section).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Source {
+pub struct Citation {
     pub label: String,
     pub cite: String,
 }
@@ -98,14 +98,14 @@ pub struct Source {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct ArmSources {
     /// The OPW lengths.
-    pub geometry: Vec<Source>,
-    pub limits: Vec<Source>,
+    pub geometry: Vec<Citation>,
+    pub limits: Vec<Citation>,
     /// Empty when no source gives the axis speeds.
-    pub speeds: Vec<Source>,
+    pub speeds: Vec<Citation>,
     /// Payload and reach.
-    pub rating: Vec<Source>,
+    pub rating: Vec<Citation>,
     /// How the controller measures axis 3.
-    pub axis3: Vec<Source>,
+    pub axis3: Vec<Citation>,
 }
 
 /// One arm of the catalogue.
@@ -291,7 +291,7 @@ fn edit_distance(a: &str, b: &str) -> usize {
 #[serde(deny_unknown_fields)]
 struct FamilyFile {
     family: String,
-    sources: BTreeMap<String, Source>,
+    sources: BTreeMap<String, Citation>,
     arm: Vec<ArmFile>,
 }
 
@@ -355,11 +355,11 @@ pub fn load() -> Result<Vec<AbbArm>> {
 fn arm_of(
     file: &'static str,
     family: &str,
-    sources: &BTreeMap<String, Source>,
+    sources: &BTreeMap<String, Citation>,
     a: ArmFile,
 ) -> Result<AbbArm> {
     let bad = |msg: String| Error::input(format!("{file}: {}: {msg}", a.name));
-    let cite = |what: &str, keys: &[String], needed: bool| -> Result<Vec<Source>> {
+    let cite = |what: &str, keys: &[String], needed: bool| -> Result<Vec<Citation>> {
         if needed && keys.is_empty() {
             return Err(bad(format!("no source for its {what}")));
         }

@@ -5,7 +5,7 @@
 
 use super::chain::{conf_of_axes, Chain};
 use super::conf::{CfxBits, RobConf};
-use super::frames::{flange_of_target, target_of_flange, ToolFrame, WobjData};
+use super::frames::{flange_of_target, target_of_flange, ToolFrame, WobjFrames};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions, Violation, LIMIT_EPS};
 use super::urdf::{self, IRB140_URDF};
 use super::{Joints, LinkScales, Opw};
@@ -388,7 +388,7 @@ impl Robot {
         target: &Isometry3<f64>,
         conf: &RobConf,
         tool: &ToolFrame,
-        wobj: &WobjData,
+        wobj: &WobjFrames,
     ) -> Result<Joints> {
         let flange = flange_of_target(target, tool, wobj)?;
         self.ik_conf(&flange, conf)
@@ -399,7 +399,7 @@ impl Robot {
         &self,
         q: &Joints,
         tool: &ToolFrame,
-        wobj: &WobjData,
+        wobj: &WobjFrames,
     ) -> Result<Isometry3<f64>> {
         target_of_flange(&self.fk(q), tool, wobj)
     }

@@ -84,7 +84,7 @@ impl Default for ToolFrame {
 
 /// RAPID `wobjdata`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct WobjData {
+pub struct WobjFrames {
     /// TRUE: the robot holds the work object (stationary tool).
     pub robhold: bool,
     /// TRUE: fixed user frame. FALSE: moved by a mechanical unit.
@@ -95,10 +95,10 @@ pub struct WobjData {
     pub oframe: Isometry3<f64>,
 }
 
-impl WobjData {
+impl WobjFrames {
     /// `wobj0`: the world (= base) frame.
-    pub fn wobj0() -> WobjData {
-        WobjData {
+    pub fn wobj0() -> WobjFrames {
+        WobjFrames {
             robhold: false,
             ufprog: true,
             ufmec: String::new(),
@@ -113,8 +113,8 @@ impl WobjData {
         ufmec: &str,
         uframe: ([f64; 3], [f64; 4]),
         oframe: ([f64; 3], [f64; 4]),
-    ) -> Result<WobjData> {
-        Ok(WobjData {
+    ) -> Result<WobjFrames> {
+        Ok(WobjFrames {
             robhold,
             ufprog,
             ufmec: ufmec.to_string(),
@@ -129,9 +129,9 @@ impl WobjData {
     }
 }
 
-impl Default for WobjData {
+impl Default for WobjFrames {
     fn default() -> Self {
-        WobjData::wobj0()
+        WobjFrames::wobj0()
     }
 }
 
@@ -144,11 +144,11 @@ enum Setup {
 
 /// Whether `tool` and `wobj` make a set-up the frames can be solved in:
 /// the error [`flange_of_target`] gives, without its pose.
-pub fn check_setup(tool: &ToolFrame, wobj: &WobjData) -> Result<()> {
+pub fn check_setup(tool: &ToolFrame, wobj: &WobjFrames) -> Result<()> {
     setup(tool, wobj).map(|_| ())
 }
 
-fn setup(tool: &ToolFrame, wobj: &WobjData) -> Result<Setup> {
+fn setup(tool: &ToolFrame, wobj: &WobjFrames) -> Result<Setup> {
     if !wobj.ufprog {
         let unit = if wobj.ufmec.is_empty() {
             String::new()
@@ -177,7 +177,7 @@ fn setup(tool: &ToolFrame, wobj: &WobjData) -> Result<Setup> {
 pub fn flange_of_target(
     target: &Isometry3<f64>,
     tool: &ToolFrame,
-    wobj: &WobjData,
+    wobj: &WobjFrames,
 ) -> Result<Isometry3<f64>> {
     Ok(match setup(tool, wobj)? {
         Setup::RobotHeldTool => wobj.object_frame() * target * tool.tframe.inverse(),
@@ -190,7 +190,7 @@ pub fn flange_of_target(
 pub fn target_of_flange(
     flange: &Isometry3<f64>,
     tool: &ToolFrame,
-    wobj: &WobjData,
+    wobj: &WobjFrames,
 ) -> Result<Isometry3<f64>> {
     Ok(match setup(tool, wobj)? {
         Setup::RobotHeldTool => wobj.object_frame().inverse() * flange * tool.tframe,

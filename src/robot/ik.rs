@@ -437,14 +437,14 @@ pub struct Solutions {
     items: Vec<Solution>,
     len: usize,
     /// In branch order; empty (no allocation) in the common case.
-    dropped: Vec<Dropped>,
+    dropped: Vec<DroppedBranch>,
 }
 
 /// An arm branch of a pose that no turn of its axes brings within the
 /// joint limits: its joints (each wrapped into [-180°, 180°]), its
 /// robconf, and the first axis outside its limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Dropped {
+pub struct DroppedBranch {
     pub q: Joints,
     pub conf: RobConf,
     pub violation: Violation,
@@ -481,7 +481,7 @@ impl Solutions {
     }
     /// The arm branches left out: a joint outside its limits in every turn
     /// (set by a search for all solutions, not by one for a robconf).
-    pub fn dropped(&self) -> impl Iterator<Item = &Dropped> {
+    pub fn dropped(&self) -> impl Iterator<Item = &DroppedBranch> {
         self.dropped.iter()
     }
     pub(super) fn clear(&mut self) {
@@ -497,7 +497,7 @@ impl Solutions {
     }
     /// Record a branch left out (the numeric IK's; the closed form fills
     /// the slot of its branch).
-    pub(super) fn push_dropped(&mut self, d: Dropped) {
+    pub(super) fn push_dropped(&mut self, d: DroppedBranch) {
         // One per arm branch at most, as the closed form has eight.
         if self.dropped.len() < 8 {
             self.dropped.push(d);
@@ -641,7 +641,7 @@ impl OpwArm {
             } else {
                 *violation = first_violation(&q, limits);
                 if let (Some(v), None) = (*violation, keep) {
-                    out.push_dropped(Dropped {
+                    out.push_dropped(DroppedBranch {
                         q,
                         conf: conf(&q),
                         violation: v,

@@ -35,8 +35,8 @@ use super::arm::Robot;
 use super::chain::{conf_of_axes, Chain};
 use super::conf::{quadrant, quadrant_distance, quadrant_range, CfxBits, RobConf};
 use super::ik::{
-    wrap, Dropped, IkFailure, Limits, Solution, Solutions, Violation, CONF_TOLERANCE, LIMIT_EPS,
-    MAX_SOLUTIONS,
+    wrap, DroppedBranch, IkFailure, Limits, Solution, Solutions, Violation, CONF_TOLERANCE,
+    LIMIT_EPS, MAX_SOLUTIONS,
 };
 use super::{Joints, LinkScales};
 use crate::error::{Error, ErrorKind, Result};
@@ -154,7 +154,7 @@ impl Robot {
         for ((arm, s), t) in physical.iter().zip(&turns) {
             if t.iter().any(Vec::is_empty) {
                 if let Some(violation) = first_violation(s, t, &self.limits) {
-                    out.push_dropped(Dropped {
+                    out.push_dropped(DroppedBranch {
                         q: *s,
                         conf: *arm,
                         violation,

@@ -46,7 +46,7 @@ pub mod urdf_scan;
 
 pub use arm::{degrees_text, describe_violation, irb140_opw, Robot};
 pub use conf::RobConf;
-pub use frames::{ToolFrame, WobjData};
-pub use ik::{Dropped, Solution, Solutions, Violation};
+pub use frames::{ToolFrame, WobjFrames};
+pub use ik::{DroppedBranch, Solution, Solutions, Violation};
 pub use joints::Joints;
 pub use opw::{LinkScales, Opw, OPW_OFFSET_Q3};

@@ -12,7 +12,7 @@
 //! what the IK would give: the one computation, done once.
 
 use crate::rapid::Program;
-use crate::robot::frames::{ToolFrame, WobjData};
+use crate::robot::frames::{ToolFrame, WobjFrames};
 use crate::robot::Joints;
 use nalgebra::Isometry3;
 
@@ -24,7 +24,7 @@ pub struct ColdJoints {
     program: usize,
     /// The tool and work object of each pair the walk moved in, by
     /// number from 1.
-    pairs: Vec<(ToolFrame, WobjData)>,
+    pairs: Vec<(ToolFrame, WobjFrames)>,
     /// Per robtarget, by number: its joints and its pair's number (as a
     /// float; 0: none found). Zeros for every target at first, so that a
     /// program's targets the walk never reaches cost no memory.
@@ -35,7 +35,10 @@ pub struct ColdJoints {
 /// flange placed by one is the flange placed by the other. (`==` takes a
 /// quaternion and its negative as equal, and costs more than the IK it
 /// spares where a million targets ask.)
-pub(crate) fn same_frames(a: &(ToolFrame, WobjData), (tool, wobj): (&ToolFrame, &WobjData)) -> bool {
+pub(crate) fn same_frames(
+    a: &(ToolFrame, WobjFrames),
+    (tool, wobj): (&ToolFrame, &WobjFrames),
+) -> bool {
     let (t, w) = a;
     t.robhold == tool.robhold
         && same_pose(&t.tframe, &tool.tframe)
@@ -76,7 +79,7 @@ impl ColdJoints {
 
     pub(crate) fn new(
         program: &Program,
-        pairs: Vec<(ToolFrame, WobjData)>,
+        pairs: Vec<(ToolFrame, WobjFrames)>,
         entries: Vec<Slot>,
     ) -> ColdJoints {
         ColdJoints {
@@ -95,7 +98,7 @@ impl ColdJoints {
     /// Target `index`'s cold joints with robconf of its literal, flange
     /// placed by `tool` and `wobj`, where the walk found them in that
     /// very pair.
-    pub fn joints(&self, index: usize, tool: &ToolFrame, wobj: &WobjData) -> Option<Joints> {
+    pub fn joints(&self, index: usize, tool: &ToolFrame, wobj: &WobjFrames) -> Option<Joints> {
         let s = self.entries.get(index)?;
         let pair = s[6] as usize;
         let found = self.pairs.get(pair.checked_sub(1)?)?;

@@ -2,7 +2,7 @@
 //! the `target,time_min` CSV file of `docs/formats.md`, and which
 //! visit a correction is for.
 
-use super::names::{ProgramNames, TargetKind};
+use super::names::{ProgramNames, TargetType};
 use crate::csv_table::{Columns, CsvRow, CsvTable};
 use crate::digest::Encoder;
 use crate::error::{Error, Result};
@@ -11,20 +11,20 @@ use std::sync::{Arc, OnceLock};
 
 /// Which of a target's several visits its correction is computed for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Visit {
+pub enum WhichVisit {
     First,
     #[default]
     Mean,
     Last,
 }
 
-impl Visit {
+impl WhichVisit {
     /// The time chosen among `times` (which must not be empty).
     pub fn pick(self, times: &[f64]) -> f64 {
         match self {
-            Visit::First => times.iter().copied().fold(f64::INFINITY, f64::min),
-            Visit::Last => times.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            Visit::Mean => times.iter().sum::<f64>() / times.len() as f64,
+            WhichVisit::First => times.iter().copied().fold(f64::INFINITY, f64::min),
+            WhichVisit::Last => times.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            WhichVisit::Mean => times.iter().sum::<f64>() / times.len() as f64,
         }
     }
 }
@@ -390,8 +390,8 @@ impl Schedule {
         let typed = rows.visits.iter().any(|v| v.1.is_some());
         let (schedule, joints) = if typed {
             (
-                rows.build(|k| k != Some(TargetKind::Jointtarget)),
-                Some(rows.build(|k| k != Some(TargetKind::Robtarget))),
+                rows.build(|k| k != Some(TargetType::Jointtarget)),
+                Some(rows.build(|k| k != Some(TargetType::Robtarget))),
             )
         } else {
             (rows.build(|_| true), None)
@@ -454,7 +454,7 @@ const COLUMNS: Columns<'static> = Columns {
 struct Rows {
     table: CsvTable,
     target: usize,
-    visits: Vec<(usize, Option<TargetKind>, f64)>,
+    visits: Vec<(usize, Option<TargetType>, f64)>,
     idle: Vec<IdleSpan>,
     warnings: Vec<String>,
 }
@@ -462,7 +462,7 @@ struct Rows {
 impl Rows {
     /// The schedule of the visits whose kind `keep` takes, with the idle
     /// spans.
-    fn build(&self, keep: impl Fn(Option<TargetKind>) -> bool) -> Schedule {
+    fn build(&self, keep: impl Fn(Option<TargetType>) -> bool) -> Schedule {
         let mut schedule = Schedule::new();
         for &(r, kind, t) in &self.visits {
             if keep(kind) {
@@ -485,7 +485,7 @@ fn read_rows(file: &str, bytes: &[u8], names: Option<&ProgramNames>) -> Result<R
     // Each idle span with the row it came from, for the errors of the
     // checks that need every span and visit.
     let mut spans: Vec<(IdleSpan, usize)> = Vec::new();
-    let mut visits: Vec<(usize, Option<TargetKind>, f64)> = Vec::new();
+    let mut visits: Vec<(usize, Option<TargetType>, f64)> = Vec::new();
     let end_of = |row: &CsvRow| -> Result<Option<f64>> {
         match end {
             Some(e) if !field(row, end).is_empty() => table.number(row, e).map(Some),
@@ -528,7 +528,7 @@ fn read_rows(file: &str, bytes: &[u8], names: Option<&ProgramNames>) -> Result<R
                     r,
                 ));
             }
-            RowKind::Visit(target_kind) => {
+            RowKind::WhichVisit(target_kind) => {
                 if name.is_empty() {
                     return Err(Error::input("empty target identifier")
                         .at(table.field_location(row, target)));
@@ -585,14 +585,14 @@ fn read_rows(file: &str, bytes: &[u8], names: Option<&ProgramNames>) -> Result<R
 
 /// Whether the program's `names` hold `id` as a row of `kind` means it:
 /// of that kind, or, without a kind, of one kind only.
-fn check_name(names: &ProgramNames, id: &str, kind: Option<TargetKind>) -> Result<()> {
+fn check_name(names: &ProgramNames, id: &str, kind: Option<TargetType>) -> Result<()> {
     let shown = excerpt(id);
     match kind {
         Some(k) if names.has(k, id) => Ok(()),
         Some(k) => {
             let other = match k {
-                TargetKind::Robtarget => TargetKind::Jointtarget,
-                TargetKind::Jointtarget => TargetKind::Robtarget,
+                TargetType::Robtarget => TargetType::Jointtarget,
+                TargetType::Jointtarget => TargetType::Robtarget,
             };
             let mut why = format!(
                 "this row names {} `{shown}`, which the program does not have",
@@ -607,8 +607,8 @@ fn check_name(names: &ProgramNames, id: &str, kind: Option<TargetKind>) -> Resul
             Err(Error::input(why))
         }
         None => match (
-            names.has(TargetKind::Robtarget, id),
-            names.has(TargetKind::Jointtarget, id),
+            names.has(TargetType::Robtarget, id),
+            names.has(TargetType::Jointtarget, id),
         ) {
             (true, false) | (false, true) => Ok(()),
             (true, true) => Err(Error::input(format!(
@@ -639,7 +639,7 @@ fn field(row: &CsvRow, col: Option<usize>) -> &str {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum RowKind {
     /// A visit of a target, of the kind the row says (none: either).
-    Visit(Option<TargetKind>),
+    WhichVisit(Option<TargetType>),
     /// A span over which the robot stood.
     Idle,
 }
@@ -648,11 +648,11 @@ impl RowKind {
     fn parse(text: &str) -> Option<RowKind> {
         let t = text.trim();
         if t.is_empty() {
-            Some(RowKind::Visit(None))
+            Some(RowKind::WhichVisit(None))
         } else if t.eq_ignore_ascii_case("robtarget") {
-            Some(RowKind::Visit(Some(TargetKind::Robtarget)))
+            Some(RowKind::WhichVisit(Some(TargetType::Robtarget)))
         } else if t.eq_ignore_ascii_case("jointtarget") {
-            Some(RowKind::Visit(Some(TargetKind::Jointtarget)))
+            Some(RowKind::WhichVisit(Some(TargetType::Jointtarget)))
         } else if t.eq_ignore_ascii_case("idle") {
             Some(RowKind::Idle)
         } else {

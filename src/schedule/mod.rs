@@ -26,9 +26,9 @@ mod walk;
 
 pub use cold_joints::ColdJoints;
 pub use estimate::{estimate, estimate_with_joints, Estimate, EstimateOptions};
-pub use file::{encode_visits, IdleSpan, Schedule, ScheduleFile, Visit, SCHEDULE_ENCODING};
-pub use names::{ProgramNames, TargetKind};
-pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, SpeedData};
+pub use file::{encode_visits, IdleSpan, Schedule, ScheduleFile, WhichVisit, SCHEDULE_ENCODING};
+pub use names::{ProgramNames, TargetType};
+pub use timing::{joint_move_seconds, linear_move_seconds, predefined_speed, MoveSpeed};
 
 #[cfg(test)]
 mod tests {
@@ -54,7 +54,7 @@ mod tests {
         );
         let v100 = predefined_speed("v100").unwrap();
         assert_relative_eq!(linear_move_seconds(&a, &b, &v100), 5.0, epsilon = 1e-12);
-        let slow_ori = SpeedData { v_ori: 9.0, ..v100 };
+        let slow_ori = MoveSpeed { v_ori: 9.0, ..v100 };
         assert_relative_eq!(linear_move_seconds(&a, &b, &slow_ori), 10.0, epsilon = 1e-9);
     }
 
@@ -80,9 +80,9 @@ mod tests {
     #[test]
     fn visits_pick_first_mean_last() {
         let t = [40.0, 70.0, 55.0];
-        assert_eq!(Visit::First.pick(&t), 40.0);
-        assert_eq!(Visit::Last.pick(&t), 70.0);
-        assert_relative_eq!(Visit::Mean.pick(&t), 55.0);
+        assert_eq!(WhichVisit::First.pick(&t), 40.0);
+        assert_eq!(WhichVisit::Last.pick(&t), 70.0);
+        assert_relative_eq!(WhichVisit::Mean.pick(&t), 55.0);
     }
 
     #[test]

@@ -6,16 +6,16 @@ use crate::rapid::Program;
 
 /// Which of the program's name spaces a schedule row names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TargetKind {
+pub enum TargetType {
     Robtarget,
     Jointtarget,
 }
 
-impl TargetKind {
+impl TargetType {
     pub fn name(self) -> &'static str {
         match self {
-            TargetKind::Robtarget => "robtarget",
-            TargetKind::Jointtarget => "jointtarget",
+            TargetType::Robtarget => "robtarget",
+            TargetType::Jointtarget => "jointtarget",
         }
     }
 }
@@ -52,10 +52,10 @@ impl ProgramNames {
     }
 
     /// Whether the program has a target `id` of `kind`.
-    pub fn has(&self, kind: TargetKind, id: &str) -> bool {
+    pub fn has(&self, kind: TargetType, id: &str) -> bool {
         let set = match kind {
-            TargetKind::Robtarget => &self.robtargets,
-            TargetKind::Jointtarget => &self.jointtargets,
+            TargetType::Robtarget => &self.robtargets,
+            TargetType::Jointtarget => &self.jointtargets,
         };
         if id.bytes().any(|b| b.is_ascii_uppercase()) {
             set.contains(&id.to_ascii_lowercase())

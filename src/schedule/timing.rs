@@ -7,7 +7,7 @@ use nalgebra::Isometry3;
 /// RAPID `speeddata`: TCP speed (mm/s), reorientation speed (°/s), linear
 /// and rotational external-axis speeds.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpeedData {
+pub struct MoveSpeed {
     pub v_tcp: f64,
     pub v_ori: f64,
     pub v_leax: f64,
@@ -17,8 +17,8 @@ pub struct SpeedData {
 /// The predefined speeddata of the RAPID reference manual: `v5` … `v7000`
 /// are `[n, 500, 5000, 1000]`; `vmax` is the robot's maximum TCP speed,
 /// taken as 5000 mm/s for this family.
-pub fn predefined_speed(name: &str) -> Option<SpeedData> {
-    crate::rapid::builtins::predefined_speed(name).map(|s| SpeedData {
+pub fn predefined_speed(name: &str) -> Option<MoveSpeed> {
+    crate::rapid::builtins::predefined_speed(name).map(|s| MoveSpeed {
         v_tcp: s.v_tcp,
         v_ori: s.v_ori,
         v_leax: s.v_leax,
@@ -31,7 +31,7 @@ pub fn predefined_speed(name: &str) -> Option<SpeedData> {
 /// `v_tcp` and the reorientation at `v_ori`, as the controller does.
 /// Acceleration phases are ignored: at the minute scale of a warm-up they
 /// shift times by well under a second per move.
-pub fn linear_move_seconds(from: &Isometry3<f64>, to: &Isometry3<f64>, speed: &SpeedData) -> f64 {
+pub fn linear_move_seconds(from: &Isometry3<f64>, to: &Isometry3<f64>, speed: &MoveSpeed) -> f64 {
     let dist = (to.translation.vector - from.translation.vector).norm();
     let angle = from.rotation.angle_to(&to.rotation).to_degrees();
     seconds_for(dist, speed.v_tcp).max(seconds_for(angle, speed.v_ori))
@@ -46,7 +46,7 @@ pub fn joint_move_seconds(
     to: &Joints,
     max_speed_deg_s: &[f64; 6],
     tcp_distance_mm: f64,
-    speed: &SpeedData,
+    speed: &MoveSpeed,
 ) -> f64 {
     let axes = (0..6)
         .map(|i| seconds_for((to[i] - from[i]).abs().to_degrees(), max_speed_deg_s[i]))

@@ -3,7 +3,7 @@
 use nalgebra::Isometry3;
 use rapidtherm::rapid::Program;
 use rapidtherm::resolve::{frames_of, target_pose, usages, Frames, Usage};
-use rapidtherm::robot::frames::{ToolFrame, WobjData};
+use rapidtherm::robot::frames::{ToolFrame, WobjFrames};
 use rapidtherm::robot::RobConf;
 use std::collections::HashMap;
 
@@ -13,7 +13,7 @@ pub struct Meant {
     pub pose: Isometry3<f64>,
     pub conf: RobConf,
     pub tool: ToolFrame,
-    pub wobj: WobjData,
+    pub wobj: WobjFrames,
 }
 
 /// What a program means by its targets, looked up independently of the

@@ -7,7 +7,7 @@ use nalgebra::{Isometry3, UnitQuaternion};
 use rapidtherm::correct::job::warm_robot;
 use rapidtherm::correct::runtime::{module_text, ModuleOptions, RuntimeSpec};
 use rapidtherm::correct::{correct, Correction, Options, ScheduleSource, When};
-use rapidtherm::interp::{kin, Arg, Clock, Interp, Kinematics, Precision, Value};
+use rapidtherm::interp::{kin, CallArg, Clock, Interp, Kinematics, Precision, Value};
 use rapidtherm::model::warm::Moment;
 use rapidtherm::model::Model;
 use rapidtherm::rapid::{self, Program};
@@ -132,7 +132,7 @@ fn samples() -> Vec<Sample> {
 /// The module's call for a correction's target, as the rewrite writes
 /// it: `RtWarm(p, tool \WObj:=wobj)` (no `\WObj` for `wobj0`), or
 /// `RtWarmJ(j)`. `None` for a target that is no literal.
-fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<Arg>)> {
+fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<CallArg>)> {
     let program = &sample.program;
     let Some(tool) = &c.tool else {
         let j = program
@@ -143,7 +143,7 @@ fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<Arg>)>
             j.robax.each_ref().map(|n| n.value),
             j.extax.each_ref().map(|n| n.value),
         );
-        return Some(("RtWarmJ", vec![Arg::Value(v)]));
+        return Some(("RtWarmJ", vec![CallArg::Value(v)]));
     };
     let p = sample.literals.get(&c.id.to_ascii_lowercase())?.clone();
     let tool = match program
@@ -157,7 +157,7 @@ fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<Arg>)>
         }
         None => panic!("{}: tool {tool} not declared", c.id),
     };
-    let mut args = vec![Arg::Value(p), Arg::Value(tool)];
+    let mut args = vec![CallArg::Value(p), CallArg::Value(tool)];
     match c.wobj.as_deref() {
         None => {}
         Some(w) if w.eq_ignore_ascii_case("wobj0") => {}
@@ -167,7 +167,7 @@ fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<Arg>)>
                 .iter()
                 .find(|x| x.name.eq_ignore_ascii_case(w))
                 .unwrap_or_else(|| panic!("{}: wobj {w} not declared", c.id));
-            args.push(Arg::Named("WObj".into(), kin::declared_wobj(w)));
+            args.push(CallArg::Named("WObj".into(), kin::declared_wobj(w)));
         }
     }
     Some(("RtWarm", args))
@@ -263,7 +263,7 @@ fn against(
             .call_func(func, &args)
             .unwrap_or_else(|e| panic!("{} {}: {e:?}", sample.name, c.id));
         if let Some(precision) = cold {
-            let Arg::Value(given) = &args[0] else {
+            let CallArg::Value(given) = &args[0] else {
                 unreachable!()
             };
             let mut given = given.clone();

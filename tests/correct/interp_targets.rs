@@ -10,7 +10,7 @@ use rapidtherm::interp::{kin, Clock, Interp, Kinematics, Value};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::robot::frames::{pose_to_rapid, target_of_flange};
-use rapidtherm::robot::{Robot, ToolFrame, WobjData};
+use rapidtherm::robot::{Robot, ToolFrame, WobjFrames};
 
 const TOOL: &str = "[TRUE,[[0,0,150],[1,0,0,0]],[1.5,[0,0,60],[1,0,0,0],0,0,0]]";
 /// A conveyor's frame turned 30° about z: the drift is turned into it.
@@ -39,7 +39,7 @@ fn camera() -> ([f64; 3], [f64; 4], [f64; 4]) {
     let robot = Robot::irb140();
     let q = [15.0f64, 10.0, 20.0, 10.0, 50.0, 20.0].map(f64::to_radians);
     let tool = ToolFrame::new(true, [0.0, 0.0, 150.0], [1.0, 0.0, 0.0, 0.0]).unwrap();
-    let wobj = WobjData::new(
+    let wobj = WobjFrames::new(
         false,
         true,
         "",

@@ -13,7 +13,7 @@ use super::lanes::{self, held, program_with, same_both_ways, stmt, Stmt};
 use super::rapidtherm;
 use crate::ways;
 use proptest::prelude::*;
-use rapidtherm::correct::job::{self, Event, Host, Output as Written, Sink, Streaming};
+use rapidtherm::correct::job::{self, Event, Host, OutputFile as Written, Sink, Streaming};
 use rapidtherm::correct::plan::{
     Action, ArmChoice, CorrectPlan, Destination, ModelSource, TimeBasis,
 };
@@ -21,7 +21,7 @@ use rapidtherm::correct::{Options, ScheduleSource, When};
 use rapidtherm::model::warm::Moment;
 use rapidtherm::rapid::Program;
 use rapidtherm::robot::Robot;
-use rapidtherm::schedule::{estimate, EstimateOptions, Schedule, Visit};
+use rapidtherm::schedule::{estimate, EstimateOptions, Schedule, WhichVisit};
 use std::collections::HashMap;
 use std::process::Output;
 use std::sync::{Arc, Mutex};
@@ -205,7 +205,7 @@ fn job_run(
 ) -> (Streaming, String, Vec<u8>) {
     let plan = CorrectPlan {
         when,
-        visit: Visit::default(),
+        visit: WhichVisit::default(),
         arms: ArmChoice {
             model: ModelSource::Default,
             specs: Vec::new(),

@@ -10,7 +10,7 @@ use rand_distr::{Distribution, Normal};
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare, Diagnosis, Options};
+use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions, Diagnosis};
 use rapidtherm::model::chain::{fk_chain, Perturbation};
 use rapidtherm::model::Model;
 use rapidtherm::model::{Base, Effect, EffectKind, RowState};
@@ -42,7 +42,7 @@ fn run(meas: &Measurements) -> Diagnosis {
     let prepared = prepare(meas, &Model::default(), false).unwrap();
     let d = diagnose(
         &prepared,
-        &Options::default().with_cold_start(ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
     )
     .unwrap();
     if std::env::var_os("DIAG_VERBOSE").is_some() {

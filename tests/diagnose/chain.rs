@@ -159,7 +159,7 @@ fn synthetic_errors_are_found_again() {
     for (i, &k) in id.kept.iter().enumerate() {
         truth[k] = 0.3 * ((i as f64 * 1.7).sin()) * if k < 6 { 100.0 } else { 1.0 };
     }
-    let g = chain_calib::Geometry::of(&start, &truth);
+    let g = chain_calib::ChainGeometry::of(&start, &truth);
     let noisy: Vec<Sample> = poses[..300]
         .iter()
         .enumerate()
@@ -226,7 +226,7 @@ fn a_point_on_joint_6s_axis_leaves_its_zero_without_a_lever() {
     let truth: Vec<f64> = (0..chain_calib::N_RAW)
         .map(|k| 0.3 * ((k as f64 * 2.1).sin()) * if k < 6 { 50.0 } else { 1.0 })
         .collect();
-    let g = chain_calib::Geometry::of(&start, &truth);
+    let g = chain_calib::ChainGeometry::of(&start, &truth);
     let data = ChainData {
         samples: poses[..400]
             .iter()

@@ -30,7 +30,7 @@ use rapidtherm::diagnose::joint_signature::LimitShape;
 use rapidtherm::diagnose::locate::Where;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare, Advice, Diagnosis, Options, Part};
+use rapidtherm::diagnose::{diagnose, prepare, Advice, DiagnoseOptions, Diagnosis, Part};
 use rapidtherm::model::Model;
 use std::collections::BTreeMap;
 
@@ -172,7 +172,7 @@ fn run(spec: &SetSpec) -> rapidtherm::error::Result<Diagnosis> {
     let prepared = prepare(&meas, &Model::default(), true)?;
     diagnose(
         &prepared,
-        &Options::default().with_cold_start(ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
     )
 }
 

@@ -7,7 +7,7 @@ use rapidtherm::diagnose::fit::fit;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, gap, prepare, Options};
+use rapidtherm::diagnose::{diagnose, gap, prepare, DiagnoseOptions};
 use rapidtherm::error::ErrorKind;
 use rapidtherm::model::effects::GEOMETRY_ORIGINS_FROM;
 use rapidtherm::model::Model;
@@ -141,7 +141,11 @@ fn too_few_rows_is_a_clear_error() {
     let mut meas = data(vec![], false, 12);
     meas.rows.truncate(8);
     let p = prepare(&meas, &Model::default(), false).unwrap();
-    let e = diagnose(&p, &Options::default().with_cold_start(ColdStart::Irb140)).unwrap_err();
+    let e = diagnose(
+        &p,
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap_err();
     assert_eq!(e.kind, ErrorKind::Input);
     assert!(e.message.contains("too few measurements"), "{}", e.message);
     // A fit with more parameters than values refuses too.
@@ -159,14 +163,22 @@ fn a_model_with_effects_simulates_base_plus_effects() {
         13,
     );
     let p = prepare(&meas, &Model::default(), false).unwrap();
-    let d = diagnose(&p, &Options::default().with_cold_start(ColdStart::Irb140)).unwrap();
+    let d = diagnose(
+        &p,
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap();
     assert_eq!(d.verdict.labels(), vec!["joint-offset-drift"]);
     let model = rapidtherm::diagnose::diagnosed_model(&Model::default(), &d);
     let text = model.to_toml().unwrap();
     let model = Model::parse("m.toml", &text).unwrap();
     let p2 = prepare(&meas, &model, false).unwrap();
     assert!(gap(&p2).rms_mm < 0.02);
-    let d2 = diagnose(&p2, &Options::default().with_cold_start(ColdStart::Irb140)).unwrap();
+    let d2 = diagnose(
+        &p2,
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap();
     assert_eq!(d2.verdict.labels(), vec!["none"], "{:?}", d2.words());
 }
 
@@ -267,7 +279,11 @@ fn noisy_orientations_do_not_spoil_the_positions() {
             .map(|o| o * UnitQuaternion::from_scaled_axis(w));
     }
     let p = prepare(&meas, &Model::default(), false).unwrap();
-    let d = diagnose(&p, &Options::default().with_cold_start(ColdStart::Irb140)).unwrap();
+    let d = diagnose(
+        &p,
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap();
     // The drift named, nothing unexplained, and no static effect beyond
     // the frame and geometry: the poses' means, tested by F, carry the
     // drift's own fitting error at each pose's mean temperature, which a
@@ -314,7 +330,11 @@ fn registration_does_not_swallow_thermal_drift() {
     }
     let p = prepare(&meas, &Model::default(), true).unwrap();
     assert_eq!(p.registration.as_ref().unwrap().rows_used, 15);
-    let d = diagnose(&p, &Options::default().with_cold_start(ColdStart::Irb140)).unwrap();
+    let d = diagnose(
+        &p,
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
+    )
+    .unwrap();
     let labels = d.verdict.labels();
     assert_eq!(
         labels.first().map(String::as_str),

@@ -151,7 +151,7 @@ fn gravity_torques_come_from_the_urdf_inertials() {
 fn a_model_diagnosed_on_a_ur5_corrects_the_ur5() {
     use rapidtherm::diagnose::arm::Arm;
     use rapidtherm::diagnose::simulate::{random_poses, simulate_arm, SimSpec};
-    use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare_arm, Options};
+    use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare_arm, DiagnoseOptions};
     use rapidtherm::model::{Model, Moment, WarmRobot};
 
     let robot = ur5();
@@ -176,7 +176,7 @@ fn a_model_diagnosed_on_a_ur5_corrects_the_ur5() {
     let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
     let d = diagnose(
         &prepared,
-        &Options::default().with_cold_start(rapidtherm::diagnose::temps::ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(rapidtherm::diagnose::temps::ColdStart::Irb140),
     )
     .unwrap();
     let fitted = diagnosed_model(&model, &d);

@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector, Isometry3};
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare, Options};
+use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare, DiagnoseOptions};
 use rapidtherm::model::{predict, Base, Effect, EffectKind, RowState};
 use rapidtherm::model::{Model, Moment, WarmRobot};
 use rapidtherm::robot::Joints;
@@ -72,7 +72,7 @@ fn corrections_with_the_diagnosed_model_land_closer() {
         let prepared = prepare(&meas, &base_model, false).unwrap();
         let d = diagnose(
             &prepared,
-            &Options::default().with_cold_start(ColdStart::Irb140),
+            &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
         )
         .unwrap();
         let diagnosed = diagnosed_model(&base_model, &d);

@@ -9,7 +9,7 @@ use nalgebra::Isometry3;
 use rapidtherm::correct::{correct, Options, When};
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
 use rapidtherm::diagnose::simulate::{random_poses, simulate, SimSpec};
-use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare, Options as DiagnoseOptions};
+use rapidtherm::diagnose::{diagnose, diagnosed_model, prepare, DiagnoseOptions};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::model::{predict, Base, Effect, EffectKind, RowState};

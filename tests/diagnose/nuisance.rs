@@ -9,7 +9,7 @@ use super::world::{generate, DataSet, Effect, SetSpec};
 use nalgebra::Vector3;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare, Diagnosis, Options, Part};
+use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions, Diagnosis, Part};
 use rapidtherm::model::{EffectKind, Model};
 
 /// What a set holds, by the library's names; `outside`: an effect the
@@ -24,7 +24,7 @@ fn run(set: &DataSet) -> Diagnosis {
     let prepared = prepare(&meas, &Model::default(), true).unwrap();
     diagnose(
         &prepared,
-        &Options::default().with_cold_start(ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
     )
     .unwrap()
 }

@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 use rapidtherm::diagnose::arm::Arm as DiagArm;
 use rapidtherm::diagnose::measurements::Measurements;
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare_arm, Diagnosis, Options, Part};
+use rapidtherm::diagnose::{diagnose, prepare_arm, DiagnoseOptions, Diagnosis, Part};
 use rapidtherm::model::{EffectKind, Model};
 use rapidtherm::robot::Robot;
 use std::path::Path;
@@ -23,7 +23,7 @@ fn run(csv: &str) -> Diagnosis {
     let prepared = prepare_arm(&meas, &Model::default(), &arm, true).unwrap();
     diagnose(
         &prepared,
-        &Options::default().with_cold_start(ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
     )
     .unwrap()
 }

@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, gap, prepare, Options};
+use rapidtherm::diagnose::{diagnose, gap, prepare, DiagnoseOptions};
 use rapidtherm::model::Model;
 
 fn value() -> impl Strategy<Value = String> {
@@ -61,7 +61,7 @@ proptest! {
                 // With the cold start assumed, and with nothing assumed (no
                 // thermal candidate, a drift in time, the noise maybe not
                 // measured).
-                for opts in [Options::default().with_cold_start(ColdStart::Irb140), Options::default()] {
+                for opts in [DiagnoseOptions::default().with_cold_start(ColdStart::Irb140), DiagnoseOptions::default()] {
                     if let Ok(d) = diagnose(&p, &opts) {
                         prop_assert!(d.gap_after_mm.is_finite());
                         prop_assert!(d.noise.per_axis_mm.is_finite());
@@ -99,7 +99,10 @@ fn repeated_identical_rows_are_refused_and_one_pose_does_not_break_the_fits() {
     }
     let m = Measurements::parse("one.csv", text.as_bytes(), &IRB140_LIMITS_DEG).unwrap();
     let p = prepare(&m, &Model::default(), false).unwrap();
-    match diagnose(&p, &Options::default().with_cold_start(ColdStart::Irb140)) {
+    match diagnose(
+        &p,
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
+    ) {
         Ok(d) => assert!(d.gap_after_mm.is_finite() && d.gap_before_mm.is_finite()),
         Err(e) => assert!(!e.message.is_empty()),
     }

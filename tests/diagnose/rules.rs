@@ -12,7 +12,7 @@ use rapidtherm::diagnose::measurements::Measurements;
 use rapidtherm::diagnose::simulate::{random_poses, simulate_arm, SimSpec};
 use rapidtherm::diagnose::temps::{ColdStart, TempSource};
 use rapidtherm::diagnose::{
-    diagnose, prepare_arm, Advice, Diagnosis, NoiseSource, Options, Verdict,
+    diagnose, prepare_arm, Advice, DiagnoseOptions, Diagnosis, NoiseSource, Verdict,
 };
 use rapidtherm::model::{Effect, EffectKind, Model};
 use rapidtherm::robot::Robot;
@@ -97,7 +97,7 @@ fn a_drift_in_time_without_temperatures_is_no_thermal_effect() {
     }
     assert!(!meas.has_temps());
     let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
-    let d = diagnose(&prepared, &Options::default()).unwrap();
+    let d = diagnose(&prepared, &DiagnoseOptions::default()).unwrap();
     let s = summary(&d);
     assert_eq!(d.temperatures, TempSource::None, "{s}");
     assert!(
@@ -121,7 +121,7 @@ fn a_drift_in_time_without_temperatures_is_no_thermal_effect() {
     // says that assumption drove the temperatures.
     let d = diagnose(
         &prepared,
-        &Options::default().with_cold_start(ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
     )
     .unwrap();
     assert_eq!(
@@ -160,7 +160,7 @@ fn without_repeats_the_test_divides_by_the_residual_not_an_assumed_noise() {
         r.time_min = i as f64;
     }
     let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
-    let d = diagnose(&prepared, &Options::default()).unwrap();
+    let d = diagnose(&prepared, &DiagnoseOptions::default()).unwrap();
     let s = summary(&d);
     assert!(
         matches!(d.noise.source, NoiseSource::NotMeasured { .. }),
@@ -194,7 +194,7 @@ fn none_only_within_a_measured_noise() {
         r.time_min = i as f64;
     }
     let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
-    let d = diagnose(&prepared, &Options::default()).unwrap();
+    let d = diagnose(&prepared, &DiagnoseOptions::default()).unwrap();
     let s = summary(&d);
     assert!(
         !d.words()
@@ -206,9 +206,9 @@ fn none_only_within_a_measured_noise() {
     if d.verdict == Verdict::None {
         assert!(matches!(d.advice, Advice::NoiseNotMeasured { .. }), "{s}");
     }
-    let given = Options {
+    let given = DiagnoseOptions {
         noise_mm: Some(0.01),
-        ..Options::default()
+        ..DiagnoseOptions::default()
     };
     let d = diagnose(&prepared, &given).unwrap();
     let s = summary(&d);
@@ -229,15 +229,15 @@ fn none_only_within_a_measured_noise() {
 /// fitted.
 #[test]
 fn an_effect_the_data_cannot_pin_is_not_a_candidate() {
-    use rapidtherm::diagnose::fit::{Fit, Param};
+    use rapidtherm::diagnose::fit::{Fit, FitParam};
     use rapidtherm::diagnose::forward::{params_out, pinned};
     use rapidtherm::diagnose::unidentified::Unidentified;
-    let fitted = |v: f64| Param {
+    let fitted = |v: f64| FitParam {
         value: v,
         stderr: Some(5.0),
         held: None,
     };
-    let unresolved = |v: f64| Param {
+    let unresolved = |v: f64| FitParam {
         value: v,
         stderr: None,
         held: Some(Unidentified::Unresolved {
@@ -245,7 +245,7 @@ fn an_effect_the_data_cannot_pin_is_not_a_candidate() {
             limit: 60.0,
         }),
     };
-    let lag = |params: Vec<Param>| Fit {
+    let lag = |params: Vec<FitParam>| Fit {
         effects: vec![Effect {
             kind: EffectKind::ThermalLag,
             params: params.iter().map(|p| p.value).collect(),

@@ -9,7 +9,7 @@ use super::world::{generate, SetSpec};
 use rapidtherm::diagnose::fit::Problem;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare, Options, Part};
+use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions, Part};
 use rapidtherm::model::{EffectKind, Model};
 
 /// Whether the static stage of a set of `poses` poses was judged, and the
@@ -25,7 +25,7 @@ fn judged_and_rank(poses: usize) -> (bool, usize) {
     let prepared = prepare(&meas, &Model::default(), true).unwrap();
     let d = diagnose(
         &prepared,
-        &Options::default().with_cold_start(ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
     )
     .unwrap();
     let stage = d

@@ -8,7 +8,9 @@ use rand_chacha::ChaCha8Rng;
 use rapidtherm::diagnose::arm::Arm;
 use rapidtherm::diagnose::simulate::{random_poses, simulate_arm, SimSpec};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{self, diagnose as run_diagnosis, prepare, prepare_arm, Options};
+use rapidtherm::diagnose::{
+    self, diagnose as run_diagnosis, prepare, prepare_arm, DiagnoseOptions,
+};
 use rapidtherm::model::Model;
 use rapidtherm::model::{predict, Effect, EffectKind, RowState, ThermalExpansion};
 use rapidtherm::robot::{Joints, Robot};
@@ -169,7 +171,7 @@ pub fn finds_effect_on(robot: &Robot, effect: &str, param: &str, truth: f64) {
     let prepared = prepare_arm(&meas, &model, &arm, false).unwrap();
     let d = run_diagnosis(
         &prepared,
-        &Options::default().with_cold_start(ColdStart::Irb140),
+        &DiagnoseOptions::default().with_cold_start(ColdStart::Irb140),
     )
     .unwrap();
     let name = effect.split(':').next().unwrap();

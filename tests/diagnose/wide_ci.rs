@@ -51,7 +51,7 @@ const RATE: usize = 95;
 fn thermal_effects_of_poses_measured_once_are_judged_on_the_whole_gap() {
     use super::wide::world::{generate, Form, Spec};
     use rapidtherm::diagnose::measurements::Measurements;
-    use rapidtherm::diagnose::{diagnose, prepare_arm, Options};
+    use rapidtherm::diagnose::{diagnose, prepare_arm, DiagnoseOptions};
     use rapidtherm::model::{EffectKind, Model};
     for (kind, form, seed) in [
         (EffectKind::ThermalLag, 11, 48_017),
@@ -70,7 +70,7 @@ fn thermal_effects_of_poses_measured_once_are_judged_on_the_whole_gap() {
         let set = generate(&spec);
         let m = Measurements::parse("wide.csv", set.csv.as_bytes(), &set.arm.limits_deg).unwrap();
         let p = prepare_arm(&m, &Model::default(), &set.arm, !spec.form.registered).unwrap();
-        let d = diagnose(&p, &Options::default()).unwrap();
+        let d = diagnose(&p, &DiagnoseOptions::default()).unwrap();
         let labels = d.verdict.labels();
         assert!(
             labels.iter().any(|l| l == kind.name()),

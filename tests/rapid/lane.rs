@@ -269,7 +269,7 @@ fn generated_declarations_read_the_same_with_the_lane() {
 /// is no decline.
 #[test]
 fn a_declined_statement_is_counted_with_its_reason() {
-    use rapidtherm::rapid::{Decline, Found, Part};
+    use rapidtherm::rapid::{Decline, Part, StoppedAt};
     let lit = "[[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]";
     let cases: Vec<(String, Option<Decline>)> = vec![
         (format!("MoveL {lit}, v100, z1, tG;"), None),
@@ -279,20 +279,20 @@ fn a_declined_statement_is_counted_with_its_reason() {
         (
             "MoveL [[400+10,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tG;"
                 .into(),
-            Some(Decline::At(Part::Target, Found::Char(b'+'))),
+            Some(Decline::At(Part::Target, StoppedAt::Char(b'+'))),
         ),
         (
             "MoveL [[nX,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tG;"
                 .into(),
-            Some(Decline::At(Part::Target, Found::Name)),
+            Some(Decline::At(Part::Target, StoppedAt::Name)),
         ),
         (
             "MoveL Offs(p1,0,0,10), v100, z1, tG;".into(),
-            Some(Decline::At(Part::Target, Found::Char(b'('))),
+            Some(Decline::At(Part::Target, StoppedAt::Char(b'('))),
         ),
         (
             "MoveL p1,\n      v100, z1, tG;".into(),
-            Some(Decline::At(Part::Speed, Found::LineBreak)),
+            Some(Decline::At(Part::Speed, StoppedAt::LineBreak)),
         ),
         (
             "MoveL p1, v100, z1, tG\\TLoad:=load0;".into(),
@@ -300,11 +300,11 @@ fn a_declined_statement_is_counted_with_its_reason() {
         ),
         (
             "MoveL p1, v100, z1, tG\\WObj:=wT\\TLoad:=load0;".into(),
-            Some(Decline::At(Part::End, Found::Char(b'\\'))),
+            Some(Decline::At(Part::End, StoppedAt::Char(b'\\'))),
         ),
         (
             "MoveL\\Conc, p1, v100, z1, tG;".into(),
-            Some(Decline::At(Part::Instruction, Found::Char(b'\\'))),
+            Some(Decline::At(Part::Instruction, StoppedAt::Char(b'\\'))),
         ),
     ];
     for (statement, want) in cases {
@@ -328,11 +328,11 @@ fn a_declined_statement_is_counted_with_its_reason() {
         ),
         (
             "CONST robtarget pp{2,1} := [[[[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]],[[[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]]]];",
-            Decline::At(Part::ArraySize, Found::Char(b',')),
+            Decline::At(Part::ArraySize, StoppedAt::Char(b',')),
         ),
         (
             "CONST robtarget pq := [[400,0,300],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]] ! why\n ;",
-            Decline::At(Part::End, Found::Comment),
+            Decline::At(Part::End, StoppedAt::Comment),
         ),
     ] {
         let src = format!("MODULE m\n  {decl}\n  PROC main()\n  ENDPROC\nENDMODULE\n");

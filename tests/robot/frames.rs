@@ -9,7 +9,7 @@ use nalgebra::{Isometry3, Point3};
 use rapidtherm::error::ErrorKind;
 use rapidtherm::model::ThermalExpansion;
 use rapidtherm::robot::frames::{
-    flange_of_target, pose_from_rapid, pose_to_rapid, target_of_flange, ToolFrame, WobjData,
+    flange_of_target, pose_from_rapid, pose_to_rapid, target_of_flange, ToolFrame, WobjFrames,
 };
 use rapidtherm::robot::{RobConf, Robot};
 
@@ -22,8 +22,8 @@ fn torch() -> ToolFrame {
 
 /// `wobj1 := [FALSE,TRUE,"",[[600,-200,300],[0.7071,0,0,0.7071]],[[10,20,0],[0.9962,0,0,0.0872]]]`:
 /// a fixture turned 90° with an object frame turned 10° more.
-fn fixture() -> WobjData {
-    WobjData::new(
+fn fixture() -> WobjFrames {
+    WobjFrames::new(
         false,
         true,
         "",
@@ -36,10 +36,10 @@ fn fixture() -> WobjData {
 /// Stationary tool: a grinder fixed in the cell,
 /// `tool_st := [FALSE,[[700,100,400],[0,0.7071,0.7071,0]],...]`, and the
 /// part held by the robot, `wobj_part := [TRUE,TRUE,"",[[0,0,80],[1,0,0,0]],[[0,0,0],[1,0,0,0]]]`.
-fn grinder() -> (ToolFrame, WobjData) {
+fn grinder() -> (ToolFrame, WobjFrames) {
     (
         ToolFrame::new(false, [700.0, 100.0, 400.0], [0.0, 0.7071, 0.7071, 0.0]).unwrap(),
-        WobjData::new(
+        WobjFrames::new(
             true,
             true,
             "",
@@ -50,7 +50,7 @@ fn grinder() -> (ToolFrame, WobjData) {
     )
 }
 
-fn round_trip(target: &Isometry3<f64>, conf: RobConf, tool: &ToolFrame, wobj: &WobjData) -> f64 {
+fn round_trip(target: &Isometry3<f64>, conf: RobConf, tool: &ToolFrame, wobj: &WobjFrames) -> f64 {
     let robot = Robot::irb140();
     let flange = flange_of_target(target, tool, wobj).unwrap();
     let q = robot.ik_conf(&flange, &conf).unwrap();
@@ -97,12 +97,12 @@ fn stationary_tool_round_trips() {
 fn frames_compose_as_rapid_defines() {
     // tool0/wobj0: the target is the flange.
     let t = pose_from_rapid([500.0, 10.0, 600.0], [0.5, 0.5, 0.5, 0.5]).unwrap();
-    let f = flange_of_target(&t, &ToolFrame::tool0(), &WobjData::wobj0()).unwrap();
+    let f = flange_of_target(&t, &ToolFrame::tool0(), &WobjFrames::wobj0()).unwrap();
     assert!((f.translation.vector - t.translation.vector).norm() < 1e-12);
     // A tool 100 mm along the flange z: the flange is 100 mm back along
     // the target's z, which (identity target in a wobj at x = 600) is −z.
     let tool = ToolFrame::new(true, [0.0, 0.0, 100.0], [1.0, 0.0, 0.0, 0.0]).unwrap();
-    let wobj = WobjData::new(
+    let wobj = WobjFrames::new(
         false,
         true,
         "",

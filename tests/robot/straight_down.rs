@@ -5,7 +5,7 @@
 
 use nalgebra::{Isometry3, Quaternion, UnitQuaternion, Vector3};
 use rapidtherm::robot::frames::flange_of_target;
-use rapidtherm::robot::{RobConf, ToolFrame, WobjData};
+use rapidtherm::robot::{RobConf, ToolFrame, WobjFrames};
 
 /// 2,000 flange poses of those targets, each with its written robconf.
 pub fn flanges() -> Vec<(Isometry3<f64>, RobConf)> {
@@ -13,7 +13,7 @@ pub fn flanges() -> Vec<(Isometry3<f64>, RobConf)> {
         tframe: Isometry3::translation(0.0, 0.0, 150.0),
         ..ToolFrame::tool0()
     };
-    let wobj = WobjData::wobj0();
+    let wobj = WobjFrames::wobj0();
     (0..2000)
         .map(|i| {
             let (u, v) = (f64::from(i % 50) / 50.0, f64::from(i / 50) / 40.0);

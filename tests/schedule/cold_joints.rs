@@ -5,7 +5,7 @@
 
 use rapidtherm::rapid;
 use rapidtherm::resolve::{target_pose, Frames};
-use rapidtherm::robot::frames::{flange_of_target, ToolFrame, WobjData};
+use rapidtherm::robot::frames::{flange_of_target, ToolFrame, WobjFrames};
 use rapidtherm::robot::Robot;
 use rapidtherm::schedule::{estimate_with_joints, EstimateOptions};
 
@@ -36,7 +36,7 @@ fn each_literal_moved_to_has_the_joints_the_ik_gives() {
     let frames = Frames::of_program(&program).unwrap_or_else(|e| panic!("{e}"));
     let pen = frames.tool(Some("tPen")).cloned().expect("tPen");
     let table = frames.wobj(Some("wTable")).cloned().expect("wTable");
-    let (tool0, wobj0) = (ToolFrame::tool0(), WobjData::wobj0());
+    let (tool0, wobj0) = (ToolFrame::tool0(), WobjFrames::wobj0());
     let targets = program.targets();
     let mut checked = 0;
     for i in 0..targets.len() {

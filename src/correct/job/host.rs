@@ -5,7 +5,7 @@
 
 use crate::error::Result;
 use crate::rapid::{LaneTally, Warning};
-use crate::resolve::arm::Arm;
+use crate::resolve::arm::TaskArm;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -17,7 +17,7 @@ pub enum Event<'a> {
     /// The files a task reads.
     Reads { task: &'a str, files: &'a [PathBuf] },
     /// The arm a task moves, and what chose it.
-    Arm { task: &'a str, arm: &'a Arm },
+    Arm { task: &'a str, arm: &'a TaskArm },
     /// A remark of the reader on the input, at its place.
     Warning(&'a Warning),
     /// What the parse's fast lane began to read and left to the grammar,
@@ -60,12 +60,12 @@ pub trait Host {
 pub trait Sink {
     /// An output for the corrected version of `name` (an input file, or
     /// the one destination), filled as the job writes it and kept only
-    /// once [`Output::finish`]ed; dropped unfinished, it is thrown away.
-    fn create(&mut self, name: &str) -> Result<Box<dyn Output>>;
+    /// once [`OutputFile::finish`]ed; dropped unfinished, it is thrown away.
+    fn create(&mut self, name: &str) -> Result<Box<dyn OutputFile>>;
 }
 
 /// One corrected file being written.
-pub trait Output: std::io::Write + Send {
+pub trait OutputFile: std::io::Write + Send {
     /// Throw away what was written and start again.
     fn restart(&mut self) -> std::io::Result<()>;
     /// Keep what was written. `changed`: whether the program changes (a

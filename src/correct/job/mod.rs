@@ -16,13 +16,13 @@ mod shared;
 mod still;
 
 pub use corrected::{CorrectedTask, Inputs, Streaming};
-pub use host::{Event, Host, Output, Sink};
+pub use host::{Event, Host, OutputFile, Sink};
 pub use prepare::{checked_arm, load_model, model_label, warm_robot};
 pub use shared::refuse_files_of_two_tasks;
 pub use still::NO_ARM;
 
 use super::cold_prints::ColdPrints;
-use super::context::{Ahead, CorrectWith, Prepared};
+use super::context::{CorrectWith, Precomputed, Prepared};
 use super::plan::TimeBasis;
 use super::plan::{Action, CorrectPlan, Destination};
 use super::program::{correct_in_memory, correct_prepared};
@@ -195,7 +195,7 @@ fn correct_task(
     });
     // What a thread ended without, the run makes itself.
     let (when, notes, cold_joints) = when_notes?;
-    let ahead = Ahead {
+    let ahead = Precomputed {
         prepared,
         colds,
         cold_joints,
@@ -258,7 +258,7 @@ fn correct_streamed<'p>(
         outputs.push(sink.create(name)?);
     }
     let corrected = {
-        let mut buffered: Vec<std::io::BufWriter<&mut Box<dyn Output>>> = outputs
+        let mut buffered: Vec<std::io::BufWriter<&mut Box<dyn OutputFile>>> = outputs
             .iter_mut()
             .map(|o| std::io::BufWriter::with_capacity(1 << 20, o))
             .collect();

@@ -12,7 +12,7 @@ use crate::model::{Model, Moment, WarmRobot};
 use crate::rapid::task::Task;
 use crate::rapid::Program;
 use crate::resolve::arm::{
-    arm_for, arm_of, base_frame, check_placement, same_chain, Arm, ArmSource, ChosenBy,
+    arm_for, arm_of, base_frame, check_placement, same_chain, ArmSource, ChosenBy, TaskArm,
 };
 use crate::robot::Robot;
 use crate::schedule::{self, ColdJoints, EstimateOptions, Schedule};
@@ -51,7 +51,7 @@ pub fn checked_arm(
     task: &Task,
     model: &Model,
     host: &mut dyn Host,
-) -> Result<Arm> {
+) -> Result<TaskArm> {
     let arm = arm_for_model(plan, task, model)?;
     check_placement(task, &arm, plan.placing)?;
     host.event(Event::Arm {
@@ -77,7 +77,7 @@ pub fn checked_arm(
 /// names it: that arm where nothing else says which arm the task moves,
 /// else the arm said, which must be the same (the effects are written on
 /// that arm's joints: on another, they would move targets wrongly).
-fn arm_for_model(plan: &ArmChoice, task: &Task, model: &Model) -> Result<Arm> {
+fn arm_for_model(plan: &ArmChoice, task: &Task, model: &Model) -> Result<TaskArm> {
     let Some(source) = model_arm_source(model)? else {
         return arm_for(task, &plan.specs);
     };
@@ -227,7 +227,7 @@ pub fn warm_run(
     plan: &CorrectPlan,
     model: &Model,
     task: &Task,
-    arm: Arm,
+    arm: TaskArm,
     when: When,
     host: &mut dyn Host,
 ) -> Result<(String, WarmRobot, Options)> {

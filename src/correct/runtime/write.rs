@@ -104,7 +104,7 @@ fn put_file(
     name: &str,
     r: &RewrittenTask,
     f: usize,
-) -> Result<Box<dyn crate::correct::job::Output>> {
+) -> Result<Box<dyn crate::correct::job::OutputFile>> {
     let mut o = sink.create(name)?;
     let mut buffered = std::io::BufWriter::with_capacity(1 << 20, &mut o);
     r.write_file(f, &mut buffered)

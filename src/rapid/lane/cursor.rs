@@ -4,7 +4,7 @@
 //! an expression, a byte above 0x7F) is not its to read: it gives up, and
 //! the grammar reads the statement.
 
-use super::decline::Found;
+use super::decline::StoppedAt;
 use crate::rapid::{Number, PoseNumbers, RobTargetValue};
 
 /// Reads tokens from `p` on. Blanks are spaces and tabs, and line ends
@@ -61,28 +61,28 @@ impl<'a, 'm> Cursor<'a, 'm> {
 
     /// What stands at the reader's place, blanks skipped: why it stopped
     /// there (see [`Found`]).
-    pub fn found(&self) -> Found {
+    pub fn found(&self) -> StoppedAt {
         let s = self.s;
         let mut p = self.p;
         while matches!(s.get(p), Some(b' ' | b'\t')) {
             p += 1;
         }
         let Some(&b) = s.get(p) else {
-            return Found::EndOfText;
+            return StoppedAt::EndOfText;
         };
         match b {
-            b'!' => Found::Comment,
-            b'"' => Found::Text,
-            b'\r' | b'\n' => Found::LineBreak,
-            0x80.. => Found::NonAscii,
-            b'0'..=b'9' | b'.' => Found::Number,
+            b'!' => StoppedAt::Comment,
+            b'"' => StoppedAt::Text,
+            b'\r' | b'\n' => StoppedAt::LineBreak,
+            0x80.. => StoppedAt::NonAscii,
+            b'0'..=b'9' | b'.' => StoppedAt::Number,
             // A sign starting a number (not an operator after an operand).
             b'+' | b'-'
                 if s.get(p + 1)
                     .is_some_and(|c| c.is_ascii_digit() || *c == b'.')
                     && !after_operand(&s[..p]) =>
             {
-                Found::Number
+                StoppedAt::Number
             }
             b if b.is_ascii_alphabetic() => {
                 let end = s[p..]
@@ -91,14 +91,14 @@ impl<'a, 'm> Cursor<'a, 'm> {
                     .map_or(s.len(), |e| p + e);
                 let word = &s[p..end];
                 if !word.is_ascii() {
-                    Found::NonAscii
+                    StoppedAt::NonAscii
                 } else if std::str::from_utf8(word).is_ok_and(crate::rapid::reserved::is_reserved) {
-                    Found::ReservedWord
+                    StoppedAt::ReservedWord
                 } else {
-                    Found::Name
+                    StoppedAt::Name
                 }
             }
-            b => Found::Char(b),
+            b => StoppedAt::Char(b),
         }
     }
 

@@ -34,7 +34,7 @@ pub enum Part {
 
 /// What the lane found where it stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Found {
+pub enum StoppedAt {
     /// A `!` comment inside the statement.
     Comment,
     /// A string literal.
@@ -61,7 +61,7 @@ pub enum Found {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Decline {
     /// It found something it does not read in a part of the statement.
-    At(Part, Found),
+    At(Part, StoppedAt),
     /// An optional argument other than `\WObj`.
     OtherOptional,
     /// An array of jointtargets (the lane reads robtarget arrays only).
@@ -93,19 +93,19 @@ impl fmt::Display for Part {
     }
 }
 
-impl fmt::Display for Found {
+impl fmt::Display for StoppedAt {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Found::Comment => f.write_str("a comment"),
-            Found::Text => f.write_str("a string"),
-            Found::LineBreak => f.write_str("a line break"),
-            Found::NonAscii => f.write_str("a byte above 0x7F"),
-            Found::ReservedWord => f.write_str("a reserved word"),
-            Found::Name => f.write_str("a name"),
-            Found::Number => f.write_str("a number of a form or size it does not read"),
-            Found::Char(c) if c.is_ascii_graphic() => write!(f, "`{}`", char::from(*c)),
-            Found::Char(c) => write!(f, "`{}`", char::from(*c).escape_default()),
-            Found::EndOfText => f.write_str("the end of the file"),
+            StoppedAt::Comment => f.write_str("a comment"),
+            StoppedAt::Text => f.write_str("a string"),
+            StoppedAt::LineBreak => f.write_str("a line break"),
+            StoppedAt::NonAscii => f.write_str("a byte above 0x7F"),
+            StoppedAt::ReservedWord => f.write_str("a reserved word"),
+            StoppedAt::Name => f.write_str("a name"),
+            StoppedAt::Number => f.write_str("a number of a form or size it does not read"),
+            StoppedAt::Char(c) if c.is_ascii_graphic() => write!(f, "`{}`", char::from(*c)),
+            StoppedAt::Char(c) => write!(f, "`{}`", char::from(*c).escape_default()),
+            StoppedAt::EndOfText => f.write_str("the end of the file"),
         }
     }
 }

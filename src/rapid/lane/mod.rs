@@ -12,5 +12,5 @@ mod decline;
 mod statement;
 
 pub(crate) use cursor::{decimal_value, Cursor, Seen};
-pub use decline::{Decline, Declined, Found, LaneTally, Part};
+pub use decline::{Decline, Declined, LaneTally, Part, StoppedAt};
 pub(crate) use statement::{read_decl, read_move, LaneDecl, LaneMove, Value};

@@ -41,7 +41,7 @@ impl<'p> Walker<'p> {
     pub(super) fn check_rob(
         &mut self,
         rob: &Rob,
-        (flange, frames): (&Isometry3<f64>, &Rc<(ToolFrame, WobjData)>),
+        (flange, frames): (&Isometry3<f64>, &Rc<(ToolFrame, WobjFrames)>),
         call: &Call,
         frame: &Frame,
         s: &Statement,
@@ -114,7 +114,7 @@ impl<'p> Walker<'p> {
     /// (from 1) of the pair `frames` among those the walk moved in: what
     /// the joints found for it are kept under ([`crate::schedule::ColdJoints`]).
     /// `(0, 0)` for any other pose (derived, assigned, read at the move).
-    fn literal_pair(&mut self, rob: &Rob, frames: &Rc<(ToolFrame, WobjData)>) -> (u32, u32) {
+    fn literal_pair(&mut self, rob: &Rob, frames: &Rc<(ToolFrame, WobjFrames)>) -> (u32, u32) {
         // A value with a literal's number is that literal's pose and
         // robconf, as read (values are never changed in place).
         let literal = rob

@@ -34,7 +34,7 @@ use crate::rapid::{
 };
 use crate::resolve::{target_pose, Frames};
 use crate::robot::frames::{flange_of_target, target_of_flange};
-use crate::robot::{Joints, RobConf, Robot, ToolFrame, WobjData};
+use crate::robot::{Joints, RobConf, Robot, ToolFrame, WobjFrames};
 use nalgebra::{Isometry3, Vector3};
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
@@ -182,16 +182,16 @@ pub(super) struct Walker<'p> {
     /// next move naming them alike where no variable can shadow a name
     /// (see [`Walker::static_names`]): a CAM program names the same ones
     /// a million times.
-    pub(super) last_speed: Option<(NamesAt, SpeedData)>,
-    pub(super) last_frames: Option<(NamesAt, std::rc::Rc<(ToolFrame, WobjData)>)>,
+    pub(super) last_speed: Option<(NamesAt, MoveSpeed)>,
+    pub(super) last_frames: Option<(NamesAt, std::rc::Rc<(ToolFrame, WobjFrames)>)>,
     /// Flange poses whose reach is asked on another core, and the
     /// robconf of their targets; `None`: asked at each move.
     pub(super) deferred: Option<ReachAhead>,
     /// The pairs of tool and work object the deferred poses were placed
     /// by, by number from 1 ([`crate::schedule::ColdJoints`]).
-    pub(super) pairs: Vec<(ToolFrame, WobjData)>,
+    pub(super) pairs: Vec<(ToolFrame, WobjFrames)>,
     /// The last move's frames and their pair's number.
-    pub(super) last_pair: Option<(std::rc::Rc<(ToolFrame, WobjData)>, u32)>,
+    pub(super) last_pair: Option<(std::rc::Rc<(ToolFrame, WobjFrames)>, u32)>,
     /// Each robtarget's pose and robconf, read before the walk on every
     /// core ([`TargetPoses::read`]); empty: read as the walk meets them.
     pub(super) poses: std::sync::Arc<TargetPoses>,

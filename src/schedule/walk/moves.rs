@@ -11,10 +11,10 @@ use std::rc::Rc;
 #[derive(Clone, Copy)]
 pub(super) struct Goal<'a> {
     pub(super) kind: MotionKind,
-    pub(super) speed: SpeedData,
+    pub(super) speed: MoveSpeed,
     pub(super) t_override: Option<f64>,
     pub(super) conc: bool,
-    pub(super) frames: &'a Rc<(ToolFrame, WobjData)>,
+    pub(super) frames: &'a Rc<(ToolFrame, WobjFrames)>,
     pub(super) max_speed: [f64; 6],
 }
 
@@ -26,8 +26,8 @@ impl<'p> Walker<'p> {
         expr: Option<&Expr>,
         frame: &mut Frame<'p>,
         line: u32,
-        settled: Option<&mut Option<SpeedData>>,
-    ) -> Result<SpeedData> {
+        settled: Option<&mut Option<MoveSpeed>>,
+    ) -> Result<MoveSpeed> {
         if let Some(Some(speed)) = settled.as_deref() {
             return Ok(*speed);
         }
@@ -49,7 +49,7 @@ impl<'p> Walker<'p> {
             Value::Agg(items) => {
                 let n: Option<Vec<f64>> = items.iter().map(Value::num).collect();
                 match n.as_deref() {
-                    Some(&[v_tcp, v_ori, v_leax, v_reax]) => Some(SpeedData {
+                    Some(&[v_tcp, v_ori, v_leax, v_reax]) => Some(MoveSpeed {
                         v_tcp,
                         v_ori,
                         v_leax,
@@ -78,7 +78,7 @@ impl<'p> Walker<'p> {
                     _ => "speed known only at run time".to_string(),
                 };
                 self.note(frame, line, format!("{what}: taken as {FALLBACK_SPEED}"));
-                Ok(predefined_speed(FALLBACK_SPEED).unwrap_or(SpeedData {
+                Ok(predefined_speed(FALLBACK_SPEED).unwrap_or(MoveSpeed {
                     v_tcp: 1000.0,
                     v_ori: 500.0,
                     v_leax: 5000.0,
@@ -88,7 +88,7 @@ impl<'p> Walker<'p> {
         }
     }
 
-    pub(super) fn named_speed(&self, module: usize, name: &str) -> Option<SpeedData> {
+    pub(super) fn named_speed(&self, module: usize, name: &str) -> Option<MoveSpeed> {
         let module_name = self.program.modules.get(module).map(|m| m.name.clone());
         let mut matching = self
             .program
@@ -99,7 +99,7 @@ impl<'p> Walker<'p> {
             .clone()
             .find(|s| Some(&s.origin.module) == module_name.as_ref());
         own.or_else(|| matching.next())
-            .map(|s| SpeedData {
+            .map(|s| MoveSpeed {
                 v_tcp: s.v_tcp.value,
                 v_ori: s.v_ori.value,
                 v_leax: s.v_leax.value,
@@ -117,8 +117,8 @@ impl<'p> Walker<'p> {
         wobj: Option<&Expr>,
         frame: &mut Frame<'p>,
         line: u32,
-        settled: Option<&mut Option<Rc<(ToolFrame, WobjData)>>>,
-    ) -> Result<Rc<(ToolFrame, WobjData)>> {
+        settled: Option<&mut Option<Rc<(ToolFrame, WobjFrames)>>>,
+    ) -> Result<Rc<(ToolFrame, WobjFrames)>> {
         if let Some(Some(frames)) = settled.as_deref() {
             return Ok(frames.clone());
         }
@@ -171,7 +171,7 @@ impl<'p> Walker<'p> {
                         o.as_deref().unwrap_or("?")
                     ),
                 );
-                WobjData::wobj0()
+                WobjFrames::wobj0()
             }
         };
         let frames = Rc::new((tool, wobj));
@@ -193,8 +193,8 @@ impl<'p> Walker<'p> {
         [speed_data, v, t]: [Option<&Expr>; 3],
         frame: &mut Frame<'p>,
         line: u32,
-        settled: Option<&mut Option<SpeedData>>,
-    ) -> Result<(SpeedData, Option<f64>)> {
+        settled: Option<&mut Option<MoveSpeed>>,
+    ) -> Result<(MoveSpeed, Option<f64>)> {
         let mut speed = self.speed_of(speed_data, frame, line, settled)?;
         if let Some(v) = v {
             match self.eval(v, frame)?.num() {
@@ -548,7 +548,7 @@ impl<'p> Walker<'p> {
             Err(e) => return Err(self.unreachable(rob, call, frame, s, e)),
         };
         let from = self.current_joints().unwrap_or([0.0; 6]);
-        let v = SpeedData {
+        let v = MoveSpeed {
             v_tcp: f64::INFINITY,
             v_ori: f64::INFINITY,
             v_leax: 0.0,

@@ -28,8 +28,8 @@ pub(super) struct Settled<'p> {
 /// What a move's lookups found and keep, each where found.
 #[derive(Default)]
 pub(super) struct Found<'p> {
-    pub(super) speed: Option<SpeedData>,
-    pub(super) frames: Option<Rc<(ToolFrame, WobjData)>>,
+    pub(super) speed: Option<MoveSpeed>,
+    pub(super) frames: Option<Rc<(ToolFrame, WobjFrames)>>,
     /// The declaration of the array the target indexes, where looked up
     /// ([`Walker::element_of`]).
     pub(super) array: Option<Option<&'p DataDecl>>,

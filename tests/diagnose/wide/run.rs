@@ -7,7 +7,7 @@ use super::limit;
 use super::score::{right, Expected};
 use super::world::{generate, Class, Form, Spec};
 use rapidtherm::diagnose::measurements::Measurements;
-use rapidtherm::diagnose::{diagnose, prepare_arm, Diagnosis, Options, Part};
+use rapidtherm::diagnose::{diagnose, prepare_arm, DiagnoseOptions, Diagnosis, Part};
 use rapidtherm::model::{Effect, EffectKind, Model};
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -85,7 +85,7 @@ pub fn run_one(spec: &Spec) -> Record {
     let expected = Expected::of(spec.class, spec.form, rho, rho_drift);
     let result = Measurements::parse("wide.csv", set.csv.as_bytes(), &set.arm.limits_deg)
         .and_then(|m| prepare_arm(&m, &Model::default(), &set.arm, !spec.form.registered))
-        .and_then(|p| diagnose(&p, &Options::default()));
+        .and_then(|p| diagnose(&p, &DiagnoseOptions::default()));
     let (labels, ok, shrink, rho_report) = match result {
         Ok(d) => {
             let labels = d.verdict.labels();

@@ -7,15 +7,15 @@
 //! 1 %. Used by `saved.rs` (the seeded sets, the real UR5) and by the
 //! evaluation runner on every set (`--check-saved`).
 
-use rapidtherm::diagnose::job::{self, Event, Host, Ran};
+use rapidtherm::diagnose::job::{self, DiagnoseEvent, DiagnoseHost, Diagnosed};
 use rapidtherm::diagnose::plan::{DiagnosePlan, RobotChoice, Which};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 struct Quiet;
 
-impl Host for Quiet {
-    fn event(&mut self, _: Event) {}
+impl DiagnoseHost for Quiet {
+    fn event(&mut self, _: DiagnoseEvent) {}
 }
 
 fn plan(data: &Path, robot: Option<PathBuf>, register: bool) -> DiagnosePlan {
@@ -86,7 +86,7 @@ pub fn check(
     register: bool,
     dir: &Path,
 ) -> Result<(PathBuf, Checked), String> {
-    let Ran::Effects(run) = job::run(&plan(data, robot, register), &mut Quiet)
+    let Diagnosed::Effects(run) = job::run(&plan(data, robot, register), &mut Quiet)
         .map_err(|_| format!("{name}: the job failed"))?
     else {
         return Err(format!("{name}: not the effect diagnosis"));

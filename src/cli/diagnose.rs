@@ -14,7 +14,7 @@ use rapidtherm::diagnose::simulate::{
 };
 use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::unidentified::Unidentified;
-use rapidtherm::diagnose::{self, Diagnosis, Part, RegisterFailure};
+use rapidtherm::diagnose::{self, Diagnosis, RegisterFailure, ScoredIn};
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
@@ -634,7 +634,7 @@ fn candidate_rows(d: &Diagnosis, staged: bool) -> Vec<Vec<String>> {
     // Stage by stage (a stable sort keeps their order), best first.
     c.sort_by(|a, b| a.cv_rms_mm.total_cmp(&b.cv_rms_mm));
     if staged {
-        c.sort_by_key(|c| c.part == Part::Static);
+        c.sort_by_key(|c| c.part == ScoredIn::Static);
     }
     c.iter()
         .map(|c| {
@@ -695,13 +695,13 @@ fn diagnosis_table(d: &Diagnosis) -> String {
             .stages
             .iter()
             .map(|st| match st.part {
-                Part::OverTime => {
+                ScoredIn::OverTime => {
                     "over time with each pose's own offset fitted (held out by time span)"
                 }
-                Part::Absolute => {
+                ScoredIn::Absolute => {
                     "absolute on top of the static effects found (held out by pose and time)"
                 }
-                Part::Static | Part::All => {
+                ScoredIn::Static | ScoredIn::All => {
                     "static with the thermal effects found fitted (held out by pose and time)"
                 }
             })

@@ -405,7 +405,7 @@ fn duplicates(jac: &DMatrix<f64>, kept: &[usize], col: &DVector<f64>) -> Vec<usi
 
 /// A fitted parameter.
 #[derive(Debug, Clone, Serialize)]
-pub struct Param {
+pub struct ChainParam {
     pub name: String,
     pub unit: &'static str,
     pub value: f64,
@@ -417,7 +417,7 @@ pub struct Param {
 pub struct ChainFit {
     /// Raw parameter vector (dropped ones at zero).
     pub x: Vec<f64>,
-    pub params: Vec<Param>,
+    pub params: Vec<ChainParam>,
     /// RMS of the 3-D gap on the fitted samples, mm.
     pub rms_mm: f64,
     /// Residual standard deviation per axis, mm (the residual sum of
@@ -519,7 +519,7 @@ pub fn fit(nominal: &Nominal, samples: &[Sample], kept: &[usize]) -> Result<Chai
     let params = kept
         .iter()
         .enumerate()
-        .map(|(i, &k)| Param {
+        .map(|(i, &k)| ChainParam {
             name: defs[k].name.clone(),
             unit: defs[k].unit,
             value: x[k],

@@ -10,7 +10,7 @@
 //! [`crate::model::Geometry::Chain`]); without temperatures in the data
 //! (time only an order, not a warm-up) no thermal effect can be named.
 
-use super::chain_calib::{self, Dropped, Group, Nominal, Param, Sample, N_RAW};
+use super::chain_calib::{self, ChainParam, Dropped, Group, Nominal, Sample, N_RAW};
 use super::chain_finding::{named_words, ChainStage, ChainThermal};
 use super::chain_residual::{remainder, Remainder, ResidualRow};
 use super::gap::{gap_stats, GapStats};
@@ -77,7 +77,7 @@ pub struct ChainDiagnosis {
     /// spec (`tracker-frame`, `geometry-offset`).
     pub named: Vec<EffectKind>,
     pub thermal: ChainThermal,
-    pub parameters: Vec<Param>,
+    pub parameters: Vec<ChainParam>,
     pub dropped: Vec<Dropped>,
     /// Rank of the kept parameters' Jacobian columns, each scaled by its
     /// resolution, against the residual noise (counted: equal to their

@@ -14,7 +14,7 @@ use super::select::{self, Folds};
 use super::separation::Separation;
 use super::stats::{Test, LEVEL};
 use super::test_noise::TestNoise;
-use super::verdict::{Ambiguity, CandidateOut, ParamOut, Part, StepOut};
+use super::verdict::{Ambiguity, CandidateOut, ParamOut, ScoredIn, StepOut};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::EffectKind;
 
@@ -487,7 +487,7 @@ fn listed(
         .iter()
         .map(|s| CandidateOut {
             name: s.kind.name().into(),
-            part: Part::All,
+            part: ScoredIn::All,
             explained: share_above_noise(cv0, s.cv_rms_mm, noise.rms_mm),
             cv_rms_mm: s.cv_rms_mm,
             bic: s.fit.as_ref().map(fit::Fit::bic),
@@ -512,7 +512,7 @@ fn best_step(
 ) -> StepOut {
     StepOut {
         added: best.kind.name().into(),
-        part: Part::All,
+        part: ScoredIn::All,
         gap_before_mm: cur_cv,
         gap_after_mm: best.cv_rms_mm,
         drop_pct: 100.0 * (1.0 - best.cv_rms_mm / cur_cv.max(1e-300)),
@@ -525,7 +525,7 @@ fn best_step(
 fn pair_step(pair: &[EffectKind; 2], cur_cv: f64, pair_cv: f64, test: Test) -> StepOut {
     StepOut {
         added: format!("{} + {}", pair[0].name(), pair[1].name()),
-        part: Part::All,
+        part: ScoredIn::All,
         gap_before_mm: cur_cv,
         gap_after_mm: pair_cv,
         drop_pct: 100.0 * (1.0 - pair_cv / cur_cv.max(1e-300)),

@@ -77,10 +77,10 @@ pub mod verdict;
 pub use gap::{estimate_noise, gap, gap_stats, orientation_gap, GapStats, Noise, NoiseSource};
 pub use pipeline::{diagnose, diagnosed_model, DiagnoseOptions};
 pub use prepare::{
-    place_in_base, prepare, prepare_arm, problem_of, register_instrument, Prepared,
-    RegisterFailure, Registration, Source,
+    place_in_base, prepare, prepare_arm, problem_of, register_instrument, Prepared, PreparedFrom,
+    RegisterFailure, Registration,
 };
 pub use verdict::{
-    Advice, Ambiguity, CandidateOut, Diagnosis, NotNamed, NotNamedWhy, ParamOut, Part,
+    Advice, Ambiguity, CandidateOut, Diagnosis, NotNamed, NotNamedWhy, ParamOut, ScoredIn,
     StageSummary, StepOut, Verdict,
 };

@@ -22,7 +22,8 @@ use super::stats::LEVEL;
 use super::temps;
 use super::test_noise::TestNoise;
 use super::verdict::{
-    Ambiguity, CandidateOut, Diagnosis, NotNamed, ParamOut, Part, StageSummary, StepOut, Verdict,
+    Ambiguity, CandidateOut, Diagnosis, NotNamed, ParamOut, ScoredIn, StageSummary, StepOut,
+    Verdict,
 };
 use crate::error::{Error, Result};
 use crate::model::{EffectEntry, EffectKind, Model};
@@ -228,7 +229,7 @@ fn left_over_time(stages: &[Stage]) -> bool {
 
 /// Each stage in short: its part, its held-out gap before and after, what
 /// it selected, and its test of what is left.
-fn summaries(stages: &[Stage], parts: [Part; 2]) -> Vec<StageSummary> {
+fn summaries(stages: &[Stage], parts: [ScoredIn; 2]) -> Vec<StageSummary> {
     stages
         .iter()
         .zip(parts)
@@ -560,7 +561,7 @@ struct Reported {
 /// effects `out` (said, not named).
 fn report(
     stages: &[Stage],
-    parts: [Part; 2],
+    parts: [ScoredIn; 2],
     out: &[EffectKind],
     static_judged: bool,
     problem: &Problem,

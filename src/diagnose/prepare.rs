@@ -30,7 +30,7 @@ pub struct Prepared {
     /// What the data were prepared from, where they were prepared from
     /// measurements: a diagnosis builds the model it saves from them and
     /// scores that model on them as `gap --model` does.
-    pub source: Option<Arc<Source>>,
+    pub source: Option<Arc<PreparedFrom>>,
     /// Where the rows' temperatures came from: the data, or the model's
     /// heating (a record, or a profile from a cold start the data do not
     /// say; the diagnosis uses a profile only where the caller assumes it,
@@ -40,7 +40,7 @@ pub struct Prepared {
 
 /// The measurements, the model and the arm a [`Prepared`] was made of.
 #[derive(Debug, Clone)]
-pub struct Source {
+pub struct PreparedFrom {
     pub meas: Measurements,
     pub model: Model,
     pub arm: Arm,
@@ -196,7 +196,7 @@ pub fn problem_of(meas: &Measurements, model: &Model, arm: &Arm) -> Result<Prepa
         problem,
         pose_names,
         registration: None,
-        source: Some(Arc::new(Source {
+        source: Some(Arc::new(PreparedFrom {
             meas: meas.clone(),
             model: model.clone(),
             arm: arm.clone(),

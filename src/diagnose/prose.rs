@@ -6,7 +6,7 @@
 use super::finding::Finding;
 use super::gap::NoiseSource;
 use super::joint_signature::JointShape;
-use super::verdict::{Advice, Diagnosis, NotNamedWhy, Part, Verdict};
+use super::verdict::{Advice, Diagnosis, NotNamedWhy, ScoredIn, Verdict};
 use serde::Serializer;
 
 /// How the caller lets a user act on the advice, as phrases that fit in
@@ -111,10 +111,10 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             words.extend(whole_words(d, *remainder));
             for s in &d.steps {
                 let stage = match s.part {
-                    Part::OverTime => "Over time (each pose's own offset fitted), adding",
-                    Part::Absolute => "Over time (the static effects fitted), adding",
-                    Part::Static => "Static (the thermal effects fitted), adding",
-                    Part::All => "Adding",
+                    ScoredIn::OverTime => "Over time (each pose's own offset fitted), adding",
+                    ScoredIn::Absolute => "Over time (the static effects fitted), adding",
+                    ScoredIn::Static => "Static (the thermal effects fitted), adding",
+                    ScoredIn::All => "Adding",
                 };
                 let change = if s.drop_pct >= 0.0 {
                     format!("−{:.0} %", s.drop_pct)
@@ -195,7 +195,7 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
     if let Some(st) = d
         .stages
         .iter()
-        .find(|s| s.part == Part::Static && !s.judged)
+        .find(|s| s.part == ScoredIn::Static && !s.judged)
         .filter(|s| s.gap_after_mm > 1.5 * noise.rms_mm)
     {
         words.push(format!(

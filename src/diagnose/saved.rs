@@ -15,7 +15,7 @@ use super::arm::Arm;
 use super::fit::{fit_plausible, fit_plausible_from, Problem};
 use super::gap::{gap, GapStats};
 use super::measurements::Measurements;
-use super::prepare::{place_in_base, problem_of, Registration, Source};
+use super::prepare::{place_in_base, problem_of, PreparedFrom, Registration};
 use super::select::Folds;
 use super::temps::{as_said, ColdStart};
 use crate::error::Result;
@@ -52,7 +52,7 @@ pub struct SavedFold {
 /// stands alone), with `fitted` added and the instrument frame the data
 /// were placed by.
 pub fn saved_model(
-    source: &Source,
+    source: &PreparedFrom,
     registration: Option<&Registration>,
     fitted: &[EffectEntry],
 ) -> Model {
@@ -111,7 +111,7 @@ pub fn model_gap(
 /// where the diagnosis found the thermal effects first and the static
 /// ones with them held (each fold's fit then goes the same way).
 pub fn score(
-    source: &Source,
+    source: &PreparedFrom,
     registration: Option<&Registration>,
     problem: &Problem,
     folds: &Folds,

@@ -20,7 +20,7 @@ use super::stability;
 use super::stats::{Test, LEVEL};
 use super::step::{significant_step, step_of};
 use super::test_noise::TestNoise;
-use super::verdict::{Ambiguity, Part, Verdict};
+use super::verdict::{Ambiguity, ScoredIn, Verdict};
 use crate::error::Result;
 use crate::model::EffectKind;
 
@@ -390,7 +390,7 @@ impl Ctx<'_> {
             (
                 stages,
                 held,
-                [first, Part::Static],
+                [first, ScoredIn::Static],
                 knock,
                 quadratic,
                 searched,
@@ -399,7 +399,7 @@ impl Ctx<'_> {
             (
                 vec![self.one_stage(pool, width)?],
                 self.problem.clone(),
-                [Part::All, Part::All],
+                [ScoredIn::All, ScoredIn::All],
                 None,
                 None,
                 joint_signature::Searched::default(),
@@ -537,7 +537,7 @@ impl Ctx<'_> {
 pub(super) type AllStaged = (
     Vec<Stage>,
     Problem,
-    [Part; 2],
+    [ScoredIn; 2],
     Option<locate::Step>,
     Option<QuadraticGrowth>,
     joint_signature::Searched,
@@ -548,7 +548,7 @@ pub(super) type AllStaged = (
 type Staged = (
     Vec<Stage>,
     Problem,
-    Part,
+    ScoredIn,
     Option<locate::Step>,
     Option<QuadraticGrowth>,
     joint_signature::Searched,
@@ -562,7 +562,7 @@ type Staged = (
 /// data before the static stage).
 fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
     let problem = ctx.problem.clone();
-    let mut first = Part::OverTime;
+    let mut first = ScoredIn::OverTime;
     let all: Vec<usize> = (0..problem.rows.len()).collect();
     let centred = centred_of(&problem);
     let time_folds = select::make_folds(&centred, ctx.folds.folds.len());
@@ -636,7 +636,7 @@ fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
         thermal = absolute;
         held = held_abs;
         statics = statics_abs;
-        first = Part::Absolute;
+        first = ScoredIn::Absolute;
     }
     let (statics, searched) =
         sag_and_signature(ctx, &problem, &thermal, &held, &static_pool, statics)?;
@@ -645,7 +645,7 @@ fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
         .residuals(&[], &all)
         .len()
         .saturating_sub(centred.width() * ctx.n_poses + free + square_params);
-    let time_lof = (first == Part::OverTime).then(|| {
+    let time_lof = (first == ScoredIn::OverTime).then(|| {
         Test::lack_of_fit(
             rss,
             time_dof,
@@ -669,7 +669,7 @@ fn two_stages(ctx: &Ctx, pool: &[EffectKind]) -> Result<Staged> {
     // selected on: over time with each pose's own offset (time blocks left
     // out), or as the absolute pass saw them; the static effects with the
     // thermal ones held.
-    let thermal_on = if first == Part::OverTime {
+    let thermal_on = if first == ScoredIn::OverTime {
         &centred
     } else {
         &problem

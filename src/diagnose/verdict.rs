@@ -77,7 +77,7 @@ impl Serialize for Verdict {
 /// Which stage of a diagnosis scored an effect.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Part {
+pub enum ScoredIn {
     /// Each pose's own offset fitted, held out by time span.
     OverTime,
     /// Thermal effects on top of the static ones found, held out by pose
@@ -89,14 +89,14 @@ pub enum Part {
     All,
 }
 
-impl Part {
+impl ScoredIn {
     /// The name in reports and JSON.
     pub fn name(self) -> &'static str {
         match self {
-            Part::OverTime => "over-time",
-            Part::Absolute => "absolute",
-            Part::Static => "static",
-            Part::All => "all",
+            ScoredIn::OverTime => "over-time",
+            ScoredIn::Absolute => "absolute",
+            ScoredIn::Static => "static",
+            ScoredIn::All => "all",
         }
     }
 }
@@ -104,7 +104,7 @@ impl Part {
 /// One stage of a diagnosis and its held-out gap.
 #[derive(Debug, Clone, Serialize)]
 pub struct StageSummary {
-    pub part: Part,
+    pub part: ScoredIn,
     pub gap_before_mm: f64,
     pub gap_after_mm: f64,
     pub effects: Vec<String>,
@@ -156,7 +156,7 @@ pub struct ParamOut {
 pub struct CandidateOut {
     pub name: String,
     /// The stage that scored it ([`StageSummary::part`]).
-    pub part: Part,
+    pub part: ScoredIn,
     /// Share of the held-out mean-square gap above the noise that this
     /// effect alone removes.
     pub explained: f64,
@@ -173,7 +173,7 @@ pub struct CandidateOut {
 pub struct StepOut {
     pub added: String,
     /// The stage that added it ([`StageSummary::part`]).
-    pub part: Part,
+    pub part: ScoredIn,
     pub gap_before_mm: f64,
     pub gap_after_mm: f64,
     pub drop_pct: f64,

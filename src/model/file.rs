@@ -26,7 +26,7 @@
 
 use super::effects::{Effect, EffectKind};
 use super::expansion::ThermalExpansion;
-use super::file_place::{dotted, locate, Part};
+use super::file_place::{dotted, locate, KeyStep};
 use super::perturb::{Base, Geometry};
 use crate::error::{Error, ErrorKind, Location, Result};
 use crate::robot::{Opw, Robot};
@@ -197,7 +197,7 @@ pub struct EffectEntry {
 /// A value the TOML parser took and the model cannot use: its key path
 /// and what is wrong.
 struct Invalid {
-    at: Vec<Part>,
+    at: Vec<KeyStep>,
     message: String,
 }
 
@@ -306,7 +306,7 @@ fn check_format(file: &str, text: &str) -> Result<()> {
     let Some(v) = head.format else {
         return Ok(());
     };
-    let at = || locate(file, text, &[Part::Key("format")]);
+    let at = || locate(file, text, &[KeyStep::Key("format")]);
     match v.as_integer() {
         Some(n) if (1..=i64::from(FORMAT)).contains(&n) => Ok(()),
         Some(n) if n > i64::from(FORMAT) => Err(Error::input(format!(
@@ -428,8 +428,8 @@ impl Model {
 
     /// Every value the parser took and the model cannot use, by its key.
     fn validate(&self) -> std::result::Result<(), Invalid> {
-        use Part::Key;
-        let bad = |at: Vec<Part>, message: &str| {
+        use KeyStep::Key;
+        let bad = |at: Vec<KeyStep>, message: &str| {
             Err(Invalid {
                 at,
                 message: message.to_string(),
@@ -540,8 +540,8 @@ impl Model {
             );
         }
         for (i, entry) in self.effects.iter().enumerate() {
-            let at = |rest: Vec<Part>| {
-                let mut at = vec![Key("effects"), Part::Index(i)];
+            let at = |rest: Vec<KeyStep>| {
+                let mut at = vec![Key("effects"), KeyStep::Index(i)];
                 at.extend(rest);
                 at
             };
@@ -552,7 +552,7 @@ impl Model {
             for (key, value) in &entry.params {
                 if let Err(e) = effect.set(key, &value.to_string()) {
                     return Err(Invalid {
-                        at: at(vec![Key("params"), Part::Name(key.clone())]),
+                        at: at(vec![Key("params"), KeyStep::Name(key.clone())]),
                         message: e.message,
                     });
                 }
@@ -560,7 +560,7 @@ impl Model {
                 // them moves targets by centimetres.
                 if let Some(why) = super::plausible::implausible(kind, key, *value) {
                     return Err(Invalid {
-                        at: at(vec![Key("params"), Part::Name(key.clone())]),
+                        at: at(vec![Key("params"), KeyStep::Name(key.clone())]),
                         message: why,
                     });
                 }

@@ -7,7 +7,7 @@ use toml::de::{DeTable, DeValue};
 
 /// One step of a key path: a table key or an array index.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Part {
+pub enum KeyStep {
     Key(&'static str),
     Name(String),
     Index(usize),
@@ -15,13 +15,13 @@ pub enum Part {
 
 /// A key path as a reader writes it: `thermal.base.motors`,
 /// `effects[2].params.dk_base`.
-pub fn dotted(path: &[Part]) -> String {
+pub fn dotted(path: &[KeyStep]) -> String {
     let mut out = String::new();
     for p in path {
         match p {
-            Part::Key(k) => push_key(&mut out, k),
-            Part::Name(k) => push_key(&mut out, k),
-            Part::Index(i) => out.push_str(&format!("[{}]", i + 1)),
+            KeyStep::Key(k) => push_key(&mut out, k),
+            KeyStep::Name(k) => push_key(&mut out, k),
+            KeyStep::Index(i) => out.push_str(&format!("[{}]", i + 1)),
         }
     }
     out
@@ -37,24 +37,24 @@ fn push_key(out: &mut String, k: &str) {
 /// The place of the deepest part of `path` that the text has (the key
 /// itself, or the table that lacks it); the file's start when the text
 /// does not parse.
-pub fn locate(file: &str, text: &str, path: &[Part]) -> Location {
+pub fn locate(file: &str, text: &str, path: &[KeyStep]) -> Location {
     let at = DeTable::parse(text).ok().map_or(0, |root| {
         let mut best = 0;
         let mut table: Option<&DeTable> = Some(root.get_ref());
         let mut value: Option<&DeValue> = None;
         for part in path {
             let next = match (part, table, value) {
-                (Part::Key(_) | Part::Name(_), Some(t), _) => {
+                (KeyStep::Key(_) | KeyStep::Name(_), Some(t), _) => {
                     let want = match part {
-                        Part::Key(k) => *k,
-                        Part::Name(k) => k.as_str(),
-                        Part::Index(_) => unreachable!(),
+                        KeyStep::Key(k) => *k,
+                        KeyStep::Name(k) => k.as_str(),
+                        KeyStep::Index(_) => unreachable!(),
                     };
                     t.iter()
                         .find(|(k, _)| k.get_ref().as_ref() == want)
                         .map(|(k, v)| (k.span().start, v))
                 }
-                (Part::Index(i), _, Some(DeValue::Array(a))) => {
+                (KeyStep::Index(i), _, Some(DeValue::Array(a))) => {
                     a.get(*i).map(|v| (v.span().start, v))
                 }
                 _ => None,
@@ -80,24 +80,36 @@ mod tests {
 
     #[test]
     fn keys_tables_and_array_elements_are_found() {
-        let l = locate("m.toml", TEXT, &[Part::Key("thermal"), Part::Key("k0")]);
+        let l = locate(
+            "m.toml",
+            TEXT,
+            &[KeyStep::Key("thermal"), KeyStep::Key("k0")],
+        );
         assert_eq!((l.line, l.col), (4, 1));
         let l = locate(
             "m.toml",
             TEXT,
             &[
-                Part::Key("effects"),
-                Part::Index(1),
-                Part::Key("params"),
-                Part::Name("dk".into()),
+                KeyStep::Key("effects"),
+                KeyStep::Index(1),
+                KeyStep::Key("params"),
+                KeyStep::Name("dk".into()),
             ],
         );
         assert_eq!((l.line, l.col), (10, 1));
         // A key the file lacks: the deepest part it has.
-        let l = locate("m.toml", TEXT, &[Part::Key("thermal"), Part::Key("t_ref")]);
+        let l = locate(
+            "m.toml",
+            TEXT,
+            &[KeyStep::Key("thermal"), KeyStep::Key("t_ref")],
+        );
         assert_eq!(l.line, 3);
         assert_eq!(
-            dotted(&[Part::Key("effects"), Part::Index(1), Part::Key("params")]),
+            dotted(&[
+                KeyStep::Key("effects"),
+                KeyStep::Index(1),
+                KeyStep::Key("params")
+            ]),
             "effects[2].params"
         );
     }

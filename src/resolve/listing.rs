@@ -132,7 +132,11 @@ pub fn listing(format: ListFormat, several: bool, prog: &Program) -> String {
 /// The listing's rows, a chunk of targets at a time, and the lister that
 /// writes them ([`Lister::finish`]): a million targets make 150 MB of
 /// text, which a caller writes as it is put together.
-pub fn listing_parts(format: ListFormat, several: bool, prog: &Program) -> (Lister<'_>, Vec<Part>) {
+pub fn listing_parts(
+    format: ListFormat,
+    several: bool,
+    prog: &Program,
+) -> (Lister<'_>, Vec<ListingPart>) {
     let lister = Lister {
         prog,
         several,
@@ -148,7 +152,7 @@ pub fn listing_parts(format: ListFormat, several: bool, prog: &Program) -> (List
     // program's targets of a run made one at a time), put together in
     // order.
     let chunks = all.len().div_ceil(CHUNK);
-    let parts: Vec<Part> = (0..chunks)
+    let parts: Vec<ListingPart> = (0..chunks)
         .into_par_iter()
         .map(|c| {
             let mut slot = crate::rapid::targets::blank();
@@ -190,7 +194,7 @@ pub struct Lister<'p> {
 }
 
 /// Rows made so far (by one thread), in the format of the listing.
-pub enum Part {
+pub enum ListingPart {
     Table {
         rows: Rows,
         several_pairs: bool,
@@ -243,18 +247,18 @@ const CSV_HEADER: [&str; 28] = [
 ];
 
 impl Lister<'_> {
-    pub fn part(&self) -> Part {
+    pub fn part(&self) -> ListingPart {
         match self.format {
-            ListFormat::Table => Part::Table {
+            ListFormat::Table => ListingPart::Table {
                 rows: Rows::with_capacity(CHUNK, TABLE_HEADER.len(), CHUNK * ROW_BYTES),
                 several_pairs: false,
                 unused: false,
             },
-            ListFormat::Csv => Part::Csv {
+            ListFormat::Csv => ListingPart::Csv {
                 row: Rows::default(),
                 out: Box::new(csv::WriterBuilder::new().from_writer(Vec::new())),
             },
-            ListFormat::Json => Part::Json {
+            ListFormat::Json => ListingPart::Json {
                 out: Vec::new(),
                 items: 0,
             },
@@ -263,10 +267,10 @@ impl Lister<'_> {
 
     /// The row of target `t`, reached by the moves `uses`, its numbers
     /// written in `src`.
-    pub fn add(&self, part: &mut Part, t: &Target, uses: &[Use], src: &[u8]) {
+    pub fn add(&self, part: &mut ListingPart, t: &Target, uses: &[Use], src: &[u8]) {
         let prog = self.prog;
         match part {
-            Part::Table {
+            ListingPart::Table {
                 rows,
                 several_pairs,
                 unused,
@@ -328,7 +332,7 @@ impl Lister<'_> {
                 }
                 rows.end_row();
             }
-            Part::Csv { row, out } => {
+            ListingPart::Csv { row, out } => {
                 row.clear();
                 row.cell(&t.id);
                 row.cell(t.kind.as_str());
@@ -378,7 +382,7 @@ impl Lister<'_> {
                 // Writing to a Vec cannot fail.
                 let _ = out.write_record(row.row(0));
             }
-            Part::Json { out, items } => {
+            ListingPart::Json { out, items } => {
                 let item = json_item(prog, t, uses);
                 let text = serde_json::to_string_pretty(&item).unwrap_or_default();
                 if *items > 0 {
@@ -397,13 +401,13 @@ impl Lister<'_> {
     }
 
     /// Write the listing of the rows of `parts`, in order.
-    pub fn finish(&self, parts: Vec<Part>, out: &mut dyn Write) -> std::io::Result<()> {
+    pub fn finish(&self, parts: Vec<ListingPart>, out: &mut dyn Write) -> std::io::Result<()> {
         match self.format {
             ListFormat::Table => {
                 let mut tables = Vec::with_capacity(parts.len());
                 let (mut several, mut unused) = (false, false);
                 for p in parts {
-                    if let Part::Table {
+                    if let ListingPart::Table {
                         rows,
                         several_pairs,
                         unused: u,
@@ -431,7 +435,7 @@ impl Lister<'_> {
             ListFormat::Csv => {
                 out.write_all(render_csv(&CSV_HEADER, &[]).as_bytes())?;
                 for p in parts {
-                    if let Part::Csv { out: w, .. } = p {
+                    if let ListingPart::Csv { out: w, .. } = p {
                         out.write_all(&(*w).into_inner().unwrap_or_default())?;
                     }
                 }
@@ -439,7 +443,7 @@ impl Lister<'_> {
             ListFormat::Json => {
                 let mut first = true;
                 for p in parts {
-                    if let Part::Json { out: text, items } = p {
+                    if let ListingPart::Json { out: text, items } = p {
                         if items == 0 {
                             continue;
                         }

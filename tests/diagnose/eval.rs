@@ -30,7 +30,7 @@ use rapidtherm::diagnose::joint_signature::LimitShape;
 use rapidtherm::diagnose::locate::Where;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare, Advice, DiagnoseOptions, Diagnosis, Part};
+use rapidtherm::diagnose::{diagnose, prepare, Advice, DiagnoseOptions, Diagnosis, ScoredIn};
 use rapidtherm::model::Model;
 use std::collections::BTreeMap;
 
@@ -206,9 +206,9 @@ fn shrink(d: &Diagnosis, thermal: bool) -> Option<f64> {
     let n2 = d.noise.rms_mm.powi(2);
     let stage = d.stages.iter().find(|s| {
         if thermal {
-            s.part == Part::OverTime || s.part == Part::Absolute
+            s.part == ScoredIn::OverTime || s.part == ScoredIn::Absolute
         } else {
-            s.part == Part::Static
+            s.part == ScoredIn::Static
         }
     })?;
     let above = stage.gap_before_mm.powi(2) - n2;

@@ -9,7 +9,7 @@ use super::world::{generate, DataSet, Effect, SetSpec};
 use nalgebra::Vector3;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions, Diagnosis, Part};
+use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions, Diagnosis, ScoredIn};
 use rapidtherm::model::{EffectKind, Model};
 
 /// What a set holds, by the library's names; `outside`: an effect the
@@ -228,7 +228,7 @@ fn verdicts_hold_under_the_nuisance_of_real_measurements() {
         if let Some(s) = d
             .stages
             .iter()
-            .find(|s| s.part == Part::OverTime)
+            .find(|s| s.part == ScoredIn::OverTime)
             .filter(|_| thermal)
         {
             time_shrinks.push(excess(s.gap_before_mm, s.gap_after_mm));

@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 use rapidtherm::diagnose::arm::Arm as DiagArm;
 use rapidtherm::diagnose::measurements::Measurements;
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare_arm, DiagnoseOptions, Diagnosis, Part};
+use rapidtherm::diagnose::{diagnose, prepare_arm, DiagnoseOptions, Diagnosis, ScoredIn};
 use rapidtherm::model::{EffectKind, Model};
 use rapidtherm::robot::Robot;
 use std::path::Path;
@@ -82,7 +82,7 @@ fn a_ur5s_thermal_effects_are_named_under_real_nuisance() {
             && outside == labels.iter().any(|l| l == "unexplained");
         right += usize::from(ok);
         // Held-out shrink over time of the part that is not noise.
-        let over_time = d.stages.iter().find(|s| s.part == Part::OverTime);
+        let over_time = d.stages.iter().find(|s| s.part == ScoredIn::OverTime);
         let n2 = d.noise.rms_mm.powi(2);
         let shrink = over_time.map(|s| {
             1.0 - (s.gap_after_mm.powi(2) - n2).max(0.0) / (s.gap_before_mm.powi(2) - n2).max(1e-12)

@@ -9,7 +9,7 @@ use super::world::{generate, SetSpec};
 use rapidtherm::diagnose::fit::Problem;
 use rapidtherm::diagnose::measurements::{Measurements, IRB140_LIMITS_DEG};
 use rapidtherm::diagnose::temps::ColdStart;
-use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions, Part};
+use rapidtherm::diagnose::{diagnose, prepare, DiagnoseOptions, ScoredIn};
 use rapidtherm::model::{EffectKind, Model};
 
 /// Whether the static stage of a set of `poses` poses was judged, and the
@@ -31,7 +31,7 @@ fn judged_and_rank(poses: usize) -> (bool, usize) {
     let stage = d
         .stages
         .iter()
-        .find(|s| s.part == Part::Static)
+        .find(|s| s.part == ScoredIn::Static)
         .expect("a static stage");
     // The rank against the noise the diagnosis estimated, as it judges it.
     let tuned = Problem {

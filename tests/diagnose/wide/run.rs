@@ -7,7 +7,7 @@ use super::limit;
 use super::score::{right, Expected};
 use super::world::{generate, Class, Form, Spec};
 use rapidtherm::diagnose::measurements::Measurements;
-use rapidtherm::diagnose::{diagnose, prepare_arm, DiagnoseOptions, Diagnosis, Part};
+use rapidtherm::diagnose::{diagnose, prepare_arm, DiagnoseOptions, Diagnosis, ScoredIn};
 use rapidtherm::model::{Effect, EffectKind, Model};
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -66,10 +66,10 @@ pub struct Record {
 /// there is at the noise.
 fn shrink_of(d: &Diagnosis, thermal: bool) -> Option<f64> {
     let n2 = d.noise.rms_mm.powi(2);
-    let wanted = |p: Part| match p {
-        Part::OverTime | Part::Absolute => thermal,
-        Part::Static => !thermal,
-        Part::All => true,
+    let wanted = |p: ScoredIn| match p {
+        ScoredIn::OverTime | ScoredIn::Absolute => thermal,
+        ScoredIn::Static => !thermal,
+        ScoredIn::All => true,
     };
     let stage = d.stages.iter().find(|s| wanted(s.part))?;
     let above = stage.gap_before_mm.powi(2) - n2;

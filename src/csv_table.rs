@@ -106,11 +106,45 @@ fn shown(v: f64) -> String {
     }
 }
 
+/// What separates a file's fields, as its header shows it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Separator {
+    /// `,` with a decimal point: the dialect of `docs/formats.md`.
+    Comma,
+    /// `;` with a decimal comma or point: what Excel writes where the
+    /// comma is the decimal mark (much of Europe). Chosen where the header
+    /// has a semicolon and no comma.
+    Semicolon,
+}
+
+impl Separator {
+    /// The separator of a header line: `;` where it has one and no comma
+    /// (a comma header may not hold a semicolon's meaning, and a
+    /// one-column file is read as commas).
+    fn of_header(text: &str) -> Separator {
+        if text.contains(';') && !text.contains(',') {
+            Separator::Semicolon
+        } else {
+            Separator::Comma
+        }
+    }
+
+    fn char(self) -> char {
+        match self {
+            Separator::Comma => ',',
+            Separator::Semicolon => ';',
+        }
+    }
+}
+
 /// A parsed CSV file: header names and rows of raw fields, each row keeping
 /// the 1-based line it came from.
 #[derive(Debug, Clone)]
 pub struct CsvTable {
     pub file: String,
+    /// What separates its fields (and so whether a comma in a number is
+    /// its decimal mark).
+    pub separator: Separator,
     pub header: Vec<String>,
     header_line: usize,
     header_offset: usize,
@@ -144,11 +178,12 @@ impl CsvTable {
         }
         let mut known = columns.required.to_vec();
         known.extend(columns.optional);
-        table.warnings = table
+        let ignored: Vec<String> = table
             .unknown_columns(&known)
             .into_iter()
             .map(|c| format!("{file}: column `{}` ignored", excerpt(&c)))
             .collect();
+        table.warnings.extend(ignored);
         Ok(table)
     }
 
@@ -173,6 +208,7 @@ impl CsvTable {
         // numbers count comment and blank lines exactly; each line is one
         // record (quoted fields may hold commas, not line breaks).
         let mut header: Option<(Vec<String>, usize, usize)> = None;
+        let mut separator = Separator::Comma;
         let mut rows = Vec::new();
         let mut offset = 0;
         for (index, raw) in src.split_inclusive('\n').enumerate() {
@@ -189,7 +225,10 @@ impl CsvTable {
             if trimmed.is_empty() || trimmed.starts_with('#') {
                 continue;
             }
-            let fields = split_record(text)
+            if header.is_none() {
+                separator = Separator::of_header(text);
+            }
+            let fields = split_record(text, separator)
                 .map_err(|e| Error::input_at(file, line, 1, format!("malformed CSV: {e}")))?;
             if header.is_none() {
                 header = Some((
@@ -208,14 +247,23 @@ impl CsvTable {
         let (header, header_line, header_offset) =
             header.ok_or_else(|| Error::input_at(file, 1, 1, "empty file: no header row"))?;
         let units = header.iter().map(|h| Unit::of(h)).collect();
+        // Said, since it is a guess from the header: a reader of the
+        // output sees how its numbers were read.
+        let warnings = match separator {
+            Separator::Comma => Vec::new(),
+            Separator::Semicolon => vec![format!(
+                "{file}: fields separated by `;` (the header has no comma): a comma in a number is read as its decimal mark"
+            )],
+        };
         let table = CsvTable {
             file: file.to_string(),
+            separator,
             header,
             header_line,
             header_offset,
             rows,
             units,
-            warnings: Vec::new(),
+            warnings,
             src,
         };
         table.check_header()?;
@@ -260,7 +308,7 @@ impl CsvTable {
             );
             if row.fields.iter().all(|f| looks_numeric(f)) {
                 why.push_str(
-                    "; decimal commas? rapidtherm reads `20.5` (a comma separates fields), and a field split at its comma shifts every field after it",
+                    "; decimal commas? Under a header separated by commas rapidtherm reads `20.5`, and a field split at its comma shifts every field after it; a file separated by `;` may keep its decimal commas",
                 );
             }
             return Err(Error::input(why).at(self.field_location(row, m)));
@@ -307,8 +355,12 @@ impl CsvTable {
 
     /// Location of column `k` of the header.
     fn header_location(&self, k: usize) -> Location {
-        self.line_location(self.header_line, 0)
-            .with_offset_hint(&self.src, self.header_offset, k)
+        self.line_location(self.header_line, 0).with_offset_hint(
+            &self.src,
+            self.header_offset,
+            k,
+            self.separator,
+        )
     }
 
     /// Index of a column, matched without regard to case.
@@ -356,7 +408,7 @@ impl CsvTable {
     /// (`data/csv_columns.toml`).
     pub fn number(&self, row: &CsvRow, col: usize) -> Result<f64> {
         let text = self.text(row, col)?;
-        let v = match text.parse::<f64>() {
+        let v = match self.decimal_point(text).parse::<f64>() {
             Ok(v) if v.is_finite() => v,
             _ => {
                 return Err(Error::input(format!(
@@ -370,6 +422,19 @@ impl CsvTable {
         match self.units.get(col).copied().flatten() {
             Some(unit) => self.in_range(v, unit, row, col),
             None => Ok(v),
+        }
+    }
+
+    /// A number's text with a decimal point: a semicolon file's decimal
+    /// comma (`20,5`) made a point; a comma file's fields hold none.
+    fn decimal_point<'t>(&self, text: &'t str) -> std::borrow::Cow<'t, str> {
+        if self.separator == Separator::Semicolon
+            && text.matches(',').count() == 1
+            && !text.contains('.')
+        {
+            std::borrow::Cow::Owned(text.replacen(',', ".", 1))
+        } else {
+            std::borrow::Cow::Borrowed(text)
         }
     }
 
@@ -407,8 +472,12 @@ impl CsvTable {
     /// Location of field `col` of `row` (column = character position of the
     /// field's first character).
     pub fn field_location(&self, row: &CsvRow, col: usize) -> Location {
-        self.line_location(row.line, col)
-            .with_offset_hint(&self.src, row.offset, col)
+        self.line_location(row.line, col).with_offset_hint(
+            &self.src,
+            row.offset,
+            col,
+            self.separator,
+        )
     }
 
     fn line_location(&self, line: usize, _col: usize) -> Location {
@@ -456,14 +525,18 @@ fn looks_numeric(field: &str) -> bool {
 }
 
 /// One CSV line as trimmed fields, quotes removed.
-fn split_record(text: &str) -> std::result::Result<Vec<String>, csv::Error> {
+fn split_record(text: &str, separator: Separator) -> std::result::Result<Vec<String>, csv::Error> {
     // Numeric data lines have no quotes: split them directly, and leave
     // quoting rules to the csv crate (a reader per line costs ~20 µs).
     if !text.contains('"') {
-        return Ok(text.split(',').map(|f| f.trim().to_string()).collect());
+        return Ok(text
+            .split(separator.char())
+            .map(|f| f.trim().to_string())
+            .collect());
     }
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
+        .delimiter(separator.char() as u8)
         .flexible(true)
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
@@ -473,13 +546,25 @@ fn split_record(text: &str) -> std::result::Result<Vec<String>, csv::Error> {
 }
 
 trait WithOffsetHint {
-    fn with_offset_hint(self, src: &str, line_offset: usize, field: usize) -> Location;
+    fn with_offset_hint(
+        self,
+        src: &str,
+        line_offset: usize,
+        field: usize,
+        separator: Separator,
+    ) -> Location;
 }
 
 impl WithOffsetHint for Location {
     /// Set `col` to the start of field number `field` on the line starting at
-    /// `line_offset`, counting commas outside double quotes.
-    fn with_offset_hint(mut self, src: &str, line_offset: usize, field: usize) -> Location {
+    /// `line_offset`, counting separators outside double quotes.
+    fn with_offset_hint(
+        mut self,
+        src: &str,
+        line_offset: usize,
+        field: usize,
+        separator: Separator,
+    ) -> Location {
         let line = src[line_offset.min(src.len())..]
             .lines()
             .next()
@@ -494,7 +579,7 @@ impl WithOffsetHint for Location {
             }
             match c {
                 '"' => in_quotes = !in_quotes,
-                ',' if !in_quotes => {
+                c if c == separator.char() && !in_quotes => {
                     seen += 1;
                     col = i + 2;
                 }
@@ -513,6 +598,49 @@ mod tests {
     use super::*;
 
     const SAMPLE: &str = "# comment\ntime_min, t1_c ,extra\n\n0,7.0,a\n# mid\n5, x ,b\n";
+
+    /// What Excel writes where the comma is the decimal mark: `;` between
+    /// fields, `20,5` for twenty and a half.
+    const EUROPEAN: &str = "time_min;t1_c;note\n0;20,5;\"a;b\"\n2,5;21;x\n";
+
+    #[test]
+    fn a_semicolon_file_is_read_with_its_decimal_commas_and_said() {
+        let t = CsvTable::parse("eu.csv", EUROPEAN.as_bytes()).unwrap();
+        assert_eq!(t.separator, Separator::Semicolon);
+        assert_eq!(t.header, vec!["time_min", "t1_c", "note"]);
+        let numbers: Vec<(f64, f64)> = t
+            .rows
+            .iter()
+            .map(|r| (t.number(r, 0).unwrap(), t.number(r, 1).unwrap()))
+            .collect();
+        assert_eq!(numbers, vec![(0.0, 20.5), (2.5, 21.0)]);
+        assert_eq!(
+            t.text(&t.rows[0], 2).unwrap(),
+            "a;b",
+            "a quoted `;` is text"
+        );
+        assert_eq!(t.warnings.len(), 1, "{:?}", t.warnings);
+        assert!(t.warnings[0].contains("decimal mark"), "{:?}", t.warnings);
+    }
+
+    #[test]
+    fn a_semicolon_files_bad_number_is_located_at_its_own_field() {
+        let t = CsvTable::parse("eu.csv", b"time_min;t1_c\n0;20,5\n1;2,0,1\n").unwrap();
+        let e = t.number(&t.rows[1], 1).unwrap_err().to_string();
+        assert!(e.contains("eu.csv:3:3"), "{e}");
+        assert!(e.contains("`2,0,1` is not a finite number"), "{e}");
+    }
+
+    #[test]
+    fn a_comma_file_keeps_refusing_a_decimal_comma() {
+        let e = CsvTable::parse("h.csv", b"time_min,t1_c\n0,20,5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("decimal commas?"), "{e}");
+        let t = CsvTable::parse("h.csv", b"time_min,t1_c\n0,20.5\n").unwrap();
+        assert_eq!(t.separator, Separator::Comma);
+        assert!(t.warnings.is_empty());
+    }
 
     #[test]
     fn columns_by_name_and_comments_skipped() {

@@ -99,6 +99,9 @@ fn parse_models(names: &[String]) -> Result<Vec<ModelKind>> {
 fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
     let (name, bytes) = read_input(path)?;
     let record = HeatingRecord::parse(&name, &bytes)?;
+    for note in &record.reading_notes {
+        warning!("{note}");
+    }
     for col in &record.ignored_columns {
         warning!("{name}: ignoring unknown column `{col}`");
     }

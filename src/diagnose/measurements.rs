@@ -81,11 +81,13 @@ impl Measurements {
         known.extend(JOINT_COLS);
         known.extend(TEMP_COLS);
         known.extend(QUAT_COLS);
-        let warnings = table
-            .unknown_columns(&known)
-            .into_iter()
-            .map(|c| format!("{file}: column `{c}` ignored"))
-            .collect();
+        let mut warnings = table.warnings.clone();
+        warnings.extend(
+            table
+                .unknown_columns(&known)
+                .into_iter()
+                .map(|c| format!("{file}: column `{c}` ignored")),
+        );
         let mut rows = Vec::with_capacity(table.rows.len());
         for row in &table.rows {
             let mut q = [0.0; 6];

@@ -23,6 +23,9 @@ pub struct HeatingRecord {
     pub ambient: Option<Vec<f64>>,
     /// Extra columns, ignored (the caller shows the warning).
     pub ignored_columns: Vec<String>,
+    /// How the file was read where it was guessed (a `;` file's decimal
+    /// commas), for the caller to say.
+    pub reading_notes: Vec<String>,
     table: CsvTable,
     axis_col: [usize; 6],
 }
@@ -92,6 +95,7 @@ impl HeatingRecord {
             temps,
             ambient,
             ignored_columns,
+            reading_notes: table.warnings.clone(),
             table,
             axis_col,
         })

@@ -17,6 +17,40 @@ fn refused(src: &str) -> (usize, usize, String) {
     (loc.line, loc.col, e.message)
 }
 
+/// The reference recording as Excel writes it where the comma is the
+/// decimal mark (`;` between fields, `20,5`): the same numbers as the
+/// file with points, and the guess said.
+#[test]
+fn a_recording_written_the_european_way_reads_as_the_original() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/samples/heating_irb140_60pct.csv"
+    );
+    let original = std::fs::read_to_string(path).expect("the sample");
+    let european: String = original
+        .lines()
+        .map(|l| {
+            if l.starts_with('#') {
+                l.to_string()
+            } else {
+                l.replace(',', ";").replace('.', ",")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\r\n");
+    assert!(
+        european.contains(";20,"),
+        "the conversion made decimal commas"
+    );
+    let a = HeatingRecord::parse("rec.csv", original.as_bytes()).expect("the original");
+    let b = HeatingRecord::parse("rec.csv", european.as_bytes()).expect("read the European way");
+    assert_eq!(a.times, b.times);
+    assert_eq!(a.temps, b.temps);
+    assert!(a.reading_notes.is_empty(), "{:?}", a.reading_notes);
+    assert_eq!(b.reading_notes.len(), 1, "{:?}", b.reading_notes);
+    assert!(b.reading_notes[0].contains("decimal mark"));
+}
+
 #[test]
 fn decimal_commas_are_not_read_shifted() {
     // At minute 60, `20,5` was t1 = 20 and t2 = 5 (every field after it

@@ -145,7 +145,13 @@ pub fn discover(paths: &[PathBuf]) -> Result<Vec<Task>> {
 fn program_file(path: &Path) -> Result<Task> {
     let bytes = crate::input::read_path(path)?;
     let listed = pgf::modules(&path.display().to_string(), &bytes)?;
-    let dir = path.parent().unwrap_or(Path::new("."));
+    // A bare name (`Cell.pgf`, as RobotStudio users name a saved program)
+    // has the empty path as its parent: its modules lie in the current
+    // folder.
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
     let mut modules = Vec::new();
     for m in &listed {
         match find_listed(dir, m, path)? {

@@ -189,7 +189,9 @@ impl AtomicFile {
         // Made and listed at once: a signal finds every temporary file.
         let tmp = {
             let mut held = temporaries();
-            let tmp = builder.tempfile_in(&dir).map_err(|e| Error::io(&dir, &e))?;
+            let tmp = builder
+                .tempfile_in(&dir)
+                .map_err(|e| Error::io(&dir, &without_temporary_name(&e)))?;
             held.push(tmp.path().to_path_buf());
             tmp
         };
@@ -501,6 +503,16 @@ pub fn check_file(flag: &str, path: &Path) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// The reason a temporary file could not be made, without its name: the
+/// name (`.rapidtherm-FePMJu`) is no file of the user's, and the message
+/// already names the folder.
+fn without_temporary_name(e: &std::io::Error) -> std::io::Error {
+    match e.raw_os_error() {
+        Some(code) => std::io::Error::from_raw_os_error(code),
+        None => std::io::Error::from(e.kind()),
+    }
 }
 
 /// A file nobody may write (no write permission bit), or that this user

@@ -448,3 +448,19 @@ proptest! {
         prop_assert!(d.join("new.mod").is_file());
     }
 }
+
+/// `-o` into a folder that does not exist: refused naming the folder,
+/// and no temporary file's name (`nodir/.rapidtherm-FePMJu`) said, since
+/// it is no file of the user's (issue 49).
+#[test]
+fn an_output_in_a_missing_folder_names_the_folder_not_a_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("p.mod"), PROGRAM).unwrap();
+    let out = run(
+        dir.path(),
+        &["correct", "--at", "120", "-o", "nodir/x.mod", "p.mod"],
+    );
+    refused(&out, "nodir");
+    assert!(!stderr(&out).contains(".rapidtherm-"), "{}", stderr(&out));
+    assert!(!dir.path().join("nodir").exists());
+}

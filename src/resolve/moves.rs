@@ -8,7 +8,11 @@
 //! [`uses`]: super::uses
 
 use super::each_move::NOT_KEPT;
-use super::{MoveLookup, Reach, Reached, Refs, Through};
+use super::glob::glob_match;
+use super::refs::{access_pattern, describe, Reach, Reached, Refs};
+use super::statements::{routine_bodies, walk_items};
+use super::usage::Through;
+use super::usages::MoveLookup;
 use crate::rapid::{Expr, Listed, Program, StatementKind, TargetKind};
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -90,7 +94,7 @@ pub fn each_move_instruction_with<'p>(
     };
     // `jCalib{k}`, `cell.park`: the elements the access path can read.
     let joint_elements = |e: &Expr| -> Vec<usize> {
-        let Some(pattern) = super::access_pattern(e) else {
+        let Some(pattern) = access_pattern(e) else {
             return Vec::new();
         };
         program
@@ -99,7 +103,7 @@ pub fn each_move_instruction_with<'p>(
             .enumerate()
             .filter(|(_, j)| {
                 matches!(j.kind, TargetKind::ArrayElement | TargetKind::RecordField)
-                    && super::glob_match(&pattern, &j.id)
+                    && glob_match(&pattern, &j.id)
             })
             .map(|(i, _)| i)
             .collect()
@@ -161,8 +165,8 @@ pub fn each_move_instruction_with<'p>(
         let src = program.source(module.file);
         for routine in &module.routines {
             let scope = (module.name.as_ref(), routine.name.as_ref());
-            for body in super::routine_bodies(routine) {
-                super::walk_items(program, body, &mut |item| match item {
+            for body in routine_bodies(routine) {
+                walk_items(program, body, &mut |item| match item {
                     Listed::Statement(s) => {
                         let StatementKind::Call(call) = &s.kind else {
                             return;
@@ -247,8 +251,8 @@ pub fn each_move_instruction_with<'p>(
                             line: s.pos.line,
                             col: s.pos.col,
                             offset: s.pos.offset,
-                            tool: m.tool.map(|t| Cow::Owned(super::describe(t))),
-                            wobj: m.wobj.map(|w| Cow::Owned(super::describe(w))),
+                            tool: m.tool.map(|t| Cow::Owned(describe(t))),
+                            wobj: m.wobj.map(|w| Cow::Owned(describe(w))),
                             joints,
                             known: true,
                             points,

@@ -15,17 +15,6 @@ use std::path::{Path, PathBuf};
 /// settled moves and the interpreter's places are `impl` blocks of the
 /// walker and the interpreter, whose statement dispatch is to be shared.
 const KNOWN_CYCLES: &[&[&str]] = &[
-    &[
-        "src/resolve/calls.rs",
-        "src/resolve/dataflow.rs",
-        "src/resolve/each_move.rs",
-        "src/resolve/frame_vars.rs",
-        "src/resolve/mod.rs",
-        "src/resolve/moves.rs",
-        "src/resolve/params.rs",
-        "src/resolve/per_call.rs",
-        "src/resolve/uses.rs",
-    ],
     &["src/schedule/walk/mod.rs", "src/schedule/walk/settled.rs"],
     &["src/interp/mod.rs", "src/interp/place.rs"],
 ];

@@ -1,8 +1,17 @@
 //! Expressions and values in the walk: names, data, record paths,
 //! functions (Offs, RelTool, CRobT, user FUNCs) as far as timing needs.
 
-use super::*;
+use super::decls::Decl;
+use super::value::{Flow, Rob, Value};
+use super::walker::{with_lower, FastMap, Frame, Walker};
+use crate::error::Result;
 use crate::rapid::compare;
+use crate::rapid::{
+    self, BinaryOp, DataDecl, Expr, FunctionCall, NoCase, Routine, RoutineKind, UnaryOp,
+};
+use crate::resolve::target_pose;
+use crate::robot::frames::target_of_flange;
+use crate::schedule::bounds::{STACK_RED_ZONE, STACK_SEGMENT};
 
 impl<'p> Walker<'p> {
     pub(super) fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {

@@ -1,7 +1,11 @@
 //! FOR loops in the walk: a loop whose bounds the program fixes runs in
 //! full, its variable set in place at each turn; others run once.
 
-use super::*;
+use super::value::{Flow, Value};
+use super::walker::{Frame, Walker};
+use crate::error::{Error, ErrorKind, Remedy, Result};
+use crate::rapid::{Block, Expr, Statement};
+use crate::schedule::bounds::STEP_BUDGET;
 
 impl<'p> Walker<'p> {
     #[allow(clippy::too_many_arguments)]

@@ -4,7 +4,8 @@
 //! RAPID reference under its name (docs/runtime.md lists them).
 
 use super::kin::{self, pose_of};
-use super::{Interp, Value};
+use super::state::Interp;
+use super::value::Value;
 use crate::error::{Error, Result};
 use crate::rapid::{Expr, FunctionCall};
 use crate::robot::frames::pose_to_rapid;

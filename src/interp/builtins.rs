@@ -46,7 +46,7 @@ impl Interp {
                     .frames
                     .last()
                     .is_some_and(|f| f.vars.contains_key(&n.to_ascii_lowercase()));
-                return Ok(Some(Value::Bool(here)));
+                Ok(Some(Value::Bool(here)))
             }
             "strtoval" => {
                 let [s, out] = exprs[..] else {
@@ -57,13 +57,13 @@ impl Interp {
                     .string()
                     .ok_or_else(|| Error::input("StrToVal of no string"))?;
                 let p = self.place_of(out)?;
-                return Ok(Some(Value::Bool(match text.trim().parse::<f64>() {
+                Ok(Some(Value::Bool(match text.trim().parse::<f64>() {
                     Ok(v) if self.read(&p)?.num().is_some() => {
                         self.write(&p, Value::Num(v))?;
                         true
                     }
                     _ => false,
-                })));
+                })))
             }
             _ => Ok(None),
         }

@@ -105,116 +105,10 @@ impl<'p> Walker<'p> {
         }
         let name = call.name.to_ascii_lowercase();
         if call.late_bound {
-            let target = call
-                .name
-                .trim()
-                .trim_start_matches('%')
-                .trim_end_matches('%');
-            let target = target.trim();
-            let resolved = target
-                .strip_prefix('"')
-                .and_then(|t| t.strip_suffix('"'))
-                .and_then(|n| self.find_routine(frame.module, n));
-            return match resolved {
-                Some((mi, r)) => {
-                    let vars = self.bind(r, &call.args, frame)?;
-                    self.call_routine(mi, r, vars, line).map(|f| match f {
-                        Flow::Exit => Flow::Exit,
-                        _ => Flow::Normal,
-                    })
-                }
-                None => {
-                    self.note(
-                        frame,
-                        line,
-                        format!("late-bound call %{target}%: procedure known only at run time, taken as instantaneous"),
-                    );
-                    Ok(Flow::Normal)
-                }
-            };
+            return self.exec_late_bound(call, line, frame);
         }
-        match name.as_str() {
-            "waittime" => {
-                let secs = call
-                    .positional()
-                    .next()
-                    .map(|e| self.eval(e, frame))
-                    .transpose()?
-                    .and_then(|v| v.num());
-                match secs {
-                    Some(t) if t.is_finite() && t >= 0.0 => {
-                        if call.optional("InPos").is_some() {
-                            self.clock = self.clock.max(self.robot_free);
-                        }
-                        self.clock += t;
-                    }
-                    _ => self.note(
-                        frame,
-                        line,
-                        "WaitTime: time known only at run time, taken as 0 s",
-                    ),
-                }
-                return Ok(Flow::Normal);
-            }
-            "waituntil" | "waitdi" | "waitdo" | "waitai" | "waitao" | "waitgi" | "waitgo"
-            | "waitsynctask" | "waittestandset" | "waitload" | "waitsensor" | "waitwobj" => {
-                if call.optional("InPos").is_some() {
-                    self.clock = self.clock.max(self.robot_free);
-                }
-                self.note(
-                    frame,
-                    line,
-                    format!("{}: waits on a run-time condition, taken as 0 s", call.name),
-                );
-                return Ok(Flow::Normal);
-            }
-            // MultiMove: the task waits for the others at its
-            // synchronisation point, with its robot at rest (the
-            // instructions need a stop point before them); the other
-            // tasks' time is not modelled here.
-            "syncmoveon" | "syncmoveoff" | "syncmoveundo" | "syncmovesuspend"
-            | "syncmoveresume" => {
-                self.clock = self.clock.max(self.robot_free);
-                self.note(
-                    frame,
-                    line,
-                    format!(
-                        "{}: waits for the other motion tasks (MultiMove), taken as 0 s",
-                        call.name
-                    ),
-                );
-                return Ok(Flow::Normal);
-            }
-            "waitrob" => {
-                self.clock = self.clock.max(self.robot_free);
-                return Ok(Flow::Normal);
-            }
-            "velset" => {
-                let mut pos = call.positional();
-                let ov = pos.next().map(|e| self.eval(e, frame)).transpose()?;
-                let max = pos.next().map(|e| self.eval(e, frame)).transpose()?;
-                match (ov.and_then(|v| v.num()), max.and_then(|v| v.num())) {
-                    (Some(o), Some(m)) if o > 0.0 && m > 0.0 => self.velset = (o / 100.0, m),
-                    _ => self.note(
-                        frame,
-                        line,
-                        "VelSet: values known only at run time, ignored",
-                    ),
-                }
-                return Ok(Flow::Normal);
-            }
-            "stop" | "break" => {
-                self.note(
-                    frame,
-                    line,
-                    format!(
-                        "{}: the time until the operator restarts is not counted",
-                        call.name
-                    ),
-                );
-                return Ok(Flow::Normal);
-            }
-            _ => {}
+        if let Some(flow) = self.exec_timing(&name, call, line, frame)? {
+            return Ok(flow);
         }
         match self.find_routine(frame.module, &call.name) {
             Some((mi, r)) if r.kind == RoutineKind::Proc => {
@@ -238,5 +132,137 @@ impl<'p> Walker<'p> {
                 Ok(Flow::Normal)
             }
         }
+    }
+
+    /// A late-bound call (`%"proc"%`): the routine its name is written as,
+    /// where it is a string; otherwise taken as instantaneous, with a note.
+    fn exec_late_bound(
+        &mut self,
+        call: &'p Call,
+        line: u32,
+        frame: &mut Frame<'p>,
+    ) -> Result<Flow> {
+        let target = call
+            .name
+            .trim()
+            .trim_start_matches('%')
+            .trim_end_matches('%');
+        let target = target.trim();
+        let resolved = target
+            .strip_prefix('"')
+            .and_then(|t| t.strip_suffix('"'))
+            .and_then(|n| self.find_routine(frame.module, n));
+        match resolved {
+            Some((mi, r)) => {
+                let vars = self.bind(r, &call.args, frame)?;
+                self.call_routine(mi, r, vars, line).map(|f| match f {
+                    Flow::Exit => Flow::Exit,
+                    _ => Flow::Normal,
+                })
+            }
+            None => {
+                self.note(
+                    frame,
+                    line,
+                    format!("late-bound call %{target}%: procedure known only at run time, taken as instantaneous"),
+                );
+                Ok(Flow::Normal)
+            }
+        }
+    }
+
+    /// The instructions that take time without moving (waits, MultiMove
+    /// synchronisation, VelSet, stops): `None` for any other.
+    fn exec_timing(
+        &mut self,
+        name: &str,
+        call: &'p Call,
+        line: u32,
+        frame: &mut Frame<'p>,
+    ) -> Result<Option<Flow>> {
+        match name {
+            "waittime" => {
+                let secs = call
+                    .positional()
+                    .next()
+                    .map(|e| self.eval(e, frame))
+                    .transpose()?
+                    .and_then(|v| v.num());
+                match secs {
+                    Some(t) if t.is_finite() && t >= 0.0 => {
+                        if call.optional("InPos").is_some() {
+                            self.clock = self.clock.max(self.robot_free);
+                        }
+                        self.clock += t;
+                    }
+                    _ => self.note(
+                        frame,
+                        line,
+                        "WaitTime: time known only at run time, taken as 0 s",
+                    ),
+                }
+                return Ok(Some(Flow::Normal));
+            }
+            "waituntil" | "waitdi" | "waitdo" | "waitai" | "waitao" | "waitgi" | "waitgo"
+            | "waitsynctask" | "waittestandset" | "waitload" | "waitsensor" | "waitwobj" => {
+                if call.optional("InPos").is_some() {
+                    self.clock = self.clock.max(self.robot_free);
+                }
+                self.note(
+                    frame,
+                    line,
+                    format!("{}: waits on a run-time condition, taken as 0 s", call.name),
+                );
+                return Ok(Some(Flow::Normal));
+            }
+            // MultiMove: the task waits for the others at its
+            // synchronisation point, with its robot at rest (the
+            // instructions need a stop point before them); the other
+            // tasks' time is not modelled here.
+            "syncmoveon" | "syncmoveoff" | "syncmoveundo" | "syncmovesuspend"
+            | "syncmoveresume" => {
+                self.clock = self.clock.max(self.robot_free);
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "{}: waits for the other motion tasks (MultiMove), taken as 0 s",
+                        call.name
+                    ),
+                );
+                return Ok(Some(Flow::Normal));
+            }
+            "waitrob" => {
+                self.clock = self.clock.max(self.robot_free);
+                return Ok(Some(Flow::Normal));
+            }
+            "velset" => {
+                let mut pos = call.positional();
+                let ov = pos.next().map(|e| self.eval(e, frame)).transpose()?;
+                let max = pos.next().map(|e| self.eval(e, frame)).transpose()?;
+                match (ov.and_then(|v| v.num()), max.and_then(|v| v.num())) {
+                    (Some(o), Some(m)) if o > 0.0 && m > 0.0 => self.velset = (o / 100.0, m),
+                    _ => self.note(
+                        frame,
+                        line,
+                        "VelSet: values known only at run time, ignored",
+                    ),
+                }
+                return Ok(Some(Flow::Normal));
+            }
+            "stop" | "break" => {
+                self.note(
+                    frame,
+                    line,
+                    format!(
+                        "{}: the time until the operator restarts is not counted",
+                        call.name
+                    ),
+                );
+                return Ok(Some(Flow::Normal));
+            }
+            _ => {}
+        }
+        Ok(None)
     }
 }

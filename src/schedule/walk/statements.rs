@@ -2,6 +2,7 @@
 //! (assignments followed for robtargets, conditions known only at run
 //! time taken one way with a note), each counted against the budget.
 
+use super::for_loop::ForLoop;
 use super::value::{Flow, Value};
 use super::walker::{Frame, Walker};
 use crate::error::{Error, ErrorKind, Remedy, Result};
@@ -75,7 +76,16 @@ impl<'p> Walker<'p> {
                 to,
                 step,
                 body,
-            } => self.exec_for(var, from, to, step.as_deref(), body, s, frame),
+            } => {
+                let for_loop = ForLoop {
+                    var,
+                    from,
+                    to,
+                    step: step.as_deref(),
+                    body,
+                };
+                self.exec_for(for_loop, s, frame)
+            }
             StatementKind::While { cond, body } => match self.eval(cond, frame)?.boolean() {
                 Some(false) => Ok(Flow::Normal),
                 _ => {

@@ -4,7 +4,8 @@
 //! RAPID reference under its name (docs/runtime.md lists them).
 
 use super::kin::{self, pose_of};
-use super::{Interp, Value};
+use super::state::Interp;
+use super::value::Value;
 use crate::error::{Error, Result};
 use crate::rapid::{Expr, FunctionCall};
 use crate::robot::frames::pose_to_rapid;
@@ -16,9 +17,26 @@ impl Interp {
     pub(super) fn builtin(&mut self, c: &FunctionCall) -> Result<Option<Value>> {
         let name = c.name.to_ascii_lowercase();
         let exprs: Vec<&Expr> = c.positional().collect();
-        let switch = |s: &str| c.optional(s).is_some();
-        // Functions that read a parameter, not a value.
-        match name.as_str() {
+        if let Some(v) = self.of_parameter(&name, &exprs)? {
+            return Ok(Some(v));
+        }
+        let given = self.given(c, &exprs)?;
+        if let Some(v) = math(&name, &given)? {
+            return Ok(Some(v));
+        }
+        if let Some(v) = self.pose_function(&name, &given)? {
+            return Ok(Some(v));
+        }
+        if let Some(v) = self.clock_function(&name, &given)? {
+            return Ok(Some(v));
+        }
+        text_or_array(&name, &given)
+    }
+
+    /// Functions that read a parameter, not a value: `Present` and
+    /// `StrToVal` (which writes its datum); `None` for any other.
+    fn of_parameter(&mut self, name: &str, exprs: &[&Expr]) -> Result<Option<Value>> {
+        match name {
             "present" => {
                 let n = exprs
                     .first()
@@ -28,7 +46,7 @@ impl Interp {
                     .frames
                     .last()
                     .is_some_and(|f| f.vars.contains_key(&n.to_ascii_lowercase()));
-                return Ok(Some(Value::Bool(here)));
+                Ok(Some(Value::Bool(here)))
             }
             "strtoval" => {
                 let [s, out] = exprs[..] else {
@@ -39,18 +57,23 @@ impl Interp {
                     .string()
                     .ok_or_else(|| Error::input("StrToVal of no string"))?;
                 let p = self.place_of(out)?;
-                return Ok(Some(Value::Bool(match text.trim().parse::<f64>() {
+                Ok(Some(Value::Bool(match text.trim().parse::<f64>() {
                     Ok(v) if self.read(&p)?.num().is_some() => {
                         self.write(&p, Value::Num(v))?;
                         true
                     }
                     _ => false,
-                })));
+                })))
             }
-            _ => {}
+            _ => Ok(None),
         }
+    }
+
+    /// A built-in's arguments evaluated: the positional ones, then
+    /// `\WObj` and `\Dec` (whichever function it is).
+    fn given<'c>(&mut self, c: &'c FunctionCall, exprs: &[&Expr]) -> Result<Given<'c>> {
         let mut args = Vec::with_capacity(exprs.len());
-        for e in &exprs {
+        for e in exprs {
             args.push(self.eval(e)?);
         }
         let mut opt = |n: &str| -> Result<Option<Value>> {
@@ -66,52 +89,36 @@ impl Interp {
             Some(w) => w,
             None => self.global("wobj0").cloned().unwrap_or(Value::Num(0.0)),
         };
-        let num = |i: usize| -> Result<f64> {
-            args.get(i).and_then(Value::num).ok_or_else(|| {
-                Error::input(format!("`{}` needs a num as argument {}", c.name, i + 1))
-            })
-        };
-        let v = match name.as_str() {
-            "sin" => Value::Num(num(0)?.to_radians().sin()),
-            "cos" => Value::Num(num(0)?.to_radians().cos()),
-            "tan" => Value::Num(num(0)?.to_radians().tan()),
-            "asin" => Value::Num(num(0)?.asin().to_degrees()),
-            "acos" => Value::Num(num(0)?.acos().to_degrees()),
-            "atan" => Value::Num(num(0)?.atan().to_degrees()),
-            "atan2" => Value::Num(num(0)?.atan2(num(1)?).to_degrees()),
-            "exp" => Value::Num(num(0)?.exp()),
-            "sqrt" => Value::Num(num(0)?.sqrt()),
-            "abs" => Value::Num(num(0)?.abs()),
-            "pow" => Value::Num(num(0)?.powf(num(1)?)),
-            "round" | "trunc" => {
-                let k = 10f64.powi(dec.unwrap_or(0.0) as i32);
-                let x = num(0)? * k;
-                Value::Num(
-                    if name == "round" {
-                        x.round()
-                    } else {
-                        x.trunc()
-                    } / k,
-                )
-            }
+        Ok(Given {
+            call: c,
+            args,
+            wobj,
+            dec,
+        })
+    }
+
+    /// Poses and the robot's: `PoseMult`, `PoseInv`, `PoseVect`, `Offs`,
+    /// `CalcJointT`, `CalcRobT`.
+    fn pose_function(&self, name: &str, given: &Given) -> Result<Option<Value>> {
+        let v = match name {
             "posemult" => {
-                let p = pose_of(arg(&args, 0)?)? * pose_of(arg(&args, 1)?)?;
+                let p = pose_of(given.arg(0)?)? * pose_of(given.arg(1)?)?;
                 let (t, r) = pose_to_rapid(&p);
                 kin::pose(t, r)
             }
             "poseinv" => {
-                let (t, r) = pose_to_rapid(&pose_of(arg(&args, 0)?)?.inverse());
+                let (t, r) = pose_to_rapid(&pose_of(given.arg(0)?)?.inverse());
                 kin::pose(t, r)
             }
             "posevect" => {
-                let p = pose_of(arg(&args, 0)?)?;
-                let v = three(arg(&args, 1)?)?;
+                let p = pose_of(given.arg(0)?)?;
+                let v = three(given.arg(1)?)?;
                 let out = p * Point3::from(Vector3::from(v));
                 kin::pos([out.x, out.y, out.z])
             }
             "offs" => {
-                let mut p = arg(&args, 0)?.clone();
-                let d = [num(1)?, num(2)?, num(3)?];
+                let mut p = given.arg(0)?.clone();
+                let d = [given.num(1)?, given.num(2)?, given.num(3)?];
                 match &mut p {
                     Value::Rec(t, f) if &**t == "robtarget" => {
                         let old = three(&f[0])?;
@@ -123,66 +130,149 @@ impl Interp {
             }
             "calcjointt" => self
                 .kin
-                .calc_joint_t(arg(&args, 0)?, arg(&args, 1)?, &wobj)?,
-            "calcrobt" => self.kin.calc_rob_t(arg(&args, 0)?, arg(&args, 1)?, &wobj)?,
+                .calc_joint_t(given.arg(0)?, given.arg(1)?, &given.wobj)?,
+            "calcrobt" => self
+                .kin
+                .calc_rob_t(given.arg(0)?, given.arg(1)?, &given.wobj)?,
+            _ => return Ok(None),
+        };
+        Ok(Some(v))
+    }
+
+    /// The controller clock: `CDate`, `CTime`, `GetTime`.
+    fn clock_function(&self, name: &str, given: &Given) -> Result<Option<Value>> {
+        let v = match name {
             "cdate" => Value::Str(self.clock.date()),
             "ctime" => Value::Str(self.clock.time()),
             "gettime" => {
                 let (h, m, s) = self.clock.hms();
-                let v = if switch("Hour") {
+                let v = if given.switch("Hour") {
                     h
-                } else if switch("Min") {
+                } else if given.switch("Min") {
                     m
-                } else if switch("Sec") {
+                } else if given.switch("Sec") {
                     s
-                } else if switch("WDay") {
+                } else if given.switch("WDay") {
                     self.clock.weekday()
                 } else {
                     return Err(Error::input("GetTime needs \\WDay, \\Hour, \\Min or \\Sec"));
                 };
                 Value::Num(v as f64)
             }
-            "strpart" => {
-                let s = arg(&args, 0)?
-                    .string()
-                    .ok_or_else(|| Error::input("StrPart of no string"))?;
-                let (start, len) = (num(1)? as usize, num(2)? as usize);
-                let part = s
-                    .get(start.saturating_sub(1)..start.saturating_sub(1) + len)
-                    .ok_or_else(|| {
-                        Error::input(format!(
-                            "StrPart({s:?}, {start}, {len}) is outside the string"
-                        ))
-                    })?;
-                Value::Str(part.to_string())
-            }
-            "strlen" => Value::Num(
-                arg(&args, 0)?
-                    .string()
-                    .ok_or_else(|| Error::input("StrLen of no string"))?
-                    .chars()
-                    .count() as f64,
-            ),
-            "numtostr" => Value::Str(format!("{:.*}", num(1)?.max(0.0) as usize, num(0)?)),
-            "dim" => {
-                let mut a = arg(&args, 0)?;
-                for _ in 1..num(1)? as usize {
-                    a = match a {
-                        Value::Arr(x) => x
-                            .first()
-                            .ok_or_else(|| Error::input("Dim of an empty array"))?,
-                        _ => return Err(Error::input("Dim beyond the array's dimensions")),
-                    };
-                }
-                match a {
-                    Value::Arr(x) => Value::Num(x.len() as f64),
-                    _ => return Err(Error::input("Dim of no array")),
-                }
-            }
             _ => return Ok(None),
         };
         Ok(Some(v))
     }
+}
+
+/// A built-in's arguments, evaluated.
+struct Given<'c> {
+    call: &'c FunctionCall,
+    args: Vec<Value>,
+    /// `\WObj`, or `wobj0` where not given.
+    wobj: Value,
+    dec: Option<f64>,
+}
+
+impl Given<'_> {
+    fn num(&self, i: usize) -> Result<f64> {
+        self.args.get(i).and_then(Value::num).ok_or_else(|| {
+            Error::input(format!(
+                "`{}` needs a num as argument {}",
+                self.call.name,
+                i + 1
+            ))
+        })
+    }
+
+    fn arg(&self, i: usize) -> Result<&Value> {
+        arg(&self.args, i)
+    }
+
+    fn switch(&self, s: &str) -> bool {
+        self.call.optional(s).is_some()
+    }
+}
+
+/// The math (angles in degrees): `Sin` ... `Pow`, `Round`, `Trunc`.
+fn math(name: &str, given: &Given) -> Result<Option<Value>> {
+    let v = match name {
+        "sin" => Value::Num(given.num(0)?.to_radians().sin()),
+        "cos" => Value::Num(given.num(0)?.to_radians().cos()),
+        "tan" => Value::Num(given.num(0)?.to_radians().tan()),
+        "asin" => Value::Num(given.num(0)?.asin().to_degrees()),
+        "acos" => Value::Num(given.num(0)?.acos().to_degrees()),
+        "atan" => Value::Num(given.num(0)?.atan().to_degrees()),
+        "atan2" => Value::Num(given.num(0)?.atan2(given.num(1)?).to_degrees()),
+        "exp" => Value::Num(given.num(0)?.exp()),
+        "sqrt" => Value::Num(given.num(0)?.sqrt()),
+        "abs" => Value::Num(given.num(0)?.abs()),
+        "pow" => Value::Num(given.num(0)?.powf(given.num(1)?)),
+        "round" | "trunc" => {
+            let k = 10f64.powi(given.dec.unwrap_or(0.0) as i32);
+            let x = given.num(0)? * k;
+            Value::Num(
+                if name == "round" {
+                    x.round()
+                } else {
+                    x.trunc()
+                } / k,
+            )
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(v))
+}
+
+/// Strings and arrays: `StrPart`, `StrLen`, `NumToStr`, `Dim`.
+fn text_or_array(name: &str, given: &Given) -> Result<Option<Value>> {
+    let v = match name {
+        "strpart" => {
+            let s = given
+                .arg(0)?
+                .string()
+                .ok_or_else(|| Error::input("StrPart of no string"))?;
+            let (start, len) = (given.num(1)? as usize, given.num(2)? as usize);
+            let part = s
+                .get(start.saturating_sub(1)..start.saturating_sub(1) + len)
+                .ok_or_else(|| {
+                    Error::input(format!(
+                        "StrPart({s:?}, {start}, {len}) is outside the string"
+                    ))
+                })?;
+            Value::Str(part.to_string())
+        }
+        "strlen" => Value::Num(
+            given
+                .arg(0)?
+                .string()
+                .ok_or_else(|| Error::input("StrLen of no string"))?
+                .chars()
+                .count() as f64,
+        ),
+        "numtostr" => Value::Str(format!(
+            "{:.*}",
+            given.num(1)?.max(0.0) as usize,
+            given.num(0)?
+        )),
+        "dim" => {
+            let mut a = given.arg(0)?;
+            for _ in 1..given.num(1)? as usize {
+                a = match a {
+                    Value::Arr(x) => x
+                        .first()
+                        .ok_or_else(|| Error::input("Dim of an empty array"))?,
+                    _ => return Err(Error::input("Dim beyond the array's dimensions")),
+                };
+            }
+            match a {
+                Value::Arr(x) => Value::Num(x.len() as f64),
+                _ => return Err(Error::input("Dim of no array")),
+            }
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(v))
 }
 
 fn arg(args: &[Value], i: usize) -> Result<&Value> {

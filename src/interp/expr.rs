@@ -5,7 +5,8 @@
 use super::bounds::{STACK_RED_ZONE, STACK_SEGMENT};
 use super::kin;
 use super::place::Slot;
-use super::{Interp, Precision, Value};
+use super::state::{Interp, Precision};
+use super::value::Value;
 use crate::error::{Error, Result};
 use crate::rapid::compare;
 use crate::rapid::{BinaryOp, Expr, FunctionCall, RoutineKind, UnaryOp};

@@ -3,7 +3,7 @@
 //! (closed-form or numeric IK in the target's robconf, the tool and work
 //! object frames as `correct` takes them).
 
-use super::Value;
+use super::value::Value;
 use crate::error::{Error, Result};
 use crate::rapid;
 use crate::robot::frames::{flange_of_target, pose_from_rapid, pose_to_rapid, target_of_flange};

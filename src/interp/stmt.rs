@@ -5,7 +5,8 @@
 //! of the interpreter's).
 
 use super::place::Slot;
-use super::{Flow, Interp, Moved, Value};
+use super::state::{Flow, Interp, Moved};
+use super::value::Value;
 use crate::error::{Error, Result};
 use crate::rapid::{motion_signature, Block, Call, RoutineKind, Statement, StatementKind};
 

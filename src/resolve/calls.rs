@@ -4,7 +4,7 @@
 use crate::rapid::{Call, Program, StatementKind};
 use std::collections::HashMap;
 
-use super::walk_statements;
+use super::statements::{routine_bodies, walk_statements};
 
 /// Call `f` with every call of a procedure by its name, in program order.
 /// Returns `false` where some call by a name computed at run time
@@ -13,7 +13,7 @@ use super::walk_statements;
 pub(super) fn each_call(program: &Program, f: &mut dyn FnMut(&Call)) -> bool {
     let mut late_bound_with_arguments = false;
     for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in super::routine_bodies(routine) {
+        for body in routine_bodies(routine) {
             walk_statements(body, &mut |s| {
                 let StatementKind::Call(call) = &s.kind else {
                     return;

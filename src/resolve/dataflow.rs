@@ -11,7 +11,7 @@ use crate::rapid::constants::names_read;
 use crate::rapid::{Expr, Program, Routine, Statement, StatementKind};
 use std::collections::{HashMap, HashSet};
 
-use super::walk_statements;
+use super::statements::{routine_bodies, walk_statements};
 
 /// Where the run writes a robtarget variable.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,7 +52,7 @@ pub fn runtime_writes(program: &Program) -> HashMap<String, Write> {
         }
     };
     for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in super::routine_bodies(routine) {
+        for body in routine_bodies(routine) {
             walk_statements(body, &mut |s: &Statement| match &s.kind {
                 StatementKind::Assign { target, .. } => {
                     if let Some(root) = root_name(target) {
@@ -112,7 +112,7 @@ pub fn aliases(program: &Program) -> HashMap<String, Vec<String>> {
     let robtargets = robtarget_variables(program);
     let mut direct: HashMap<String, Vec<String>> = HashMap::new();
     for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in super::routine_bodies(routine) {
+        for body in routine_bodies(routine) {
             walk_statements(body, &mut |s: &Statement| {
                 let StatementKind::Assign { target, value } = &s.kind else {
                     return;

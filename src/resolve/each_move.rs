@@ -2,7 +2,9 @@
 //! the move is and what it moves with: what [`uses`](super::uses) goes
 //! through.
 
-use super::{describe, routine_bodies, walk_items, Reach, Reached, Refs, Through, Usage};
+use super::refs::{describe, Reach, Reached, Refs};
+use super::statements::{routine_bodies, walk_items};
+use super::usage::{Through, Usage};
 use crate::rapid::{Listed, Module, Program, Routine, StatementKind};
 
 /// Where a move is, and what it moves with.

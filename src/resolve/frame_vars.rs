@@ -18,7 +18,7 @@ use crate::rapid::{Expr, Program, StatementKind};
 use std::collections::HashMap;
 
 use super::per_call::{declared_frames, proc_calls};
-use super::walk_statements;
+use super::statements::{routine_bodies, walk_statements};
 
 /// For each tooldata or wobjdata variable declared without a value whose
 /// every assignment is a declared tool or work object (by name), those
@@ -82,7 +82,7 @@ fn assigned_variables(program: &Program) -> HashMap<String, Vec<String>> {
     // `None`: an assignment that does not settle it.
     let mut sources: HashMap<String, Option<Vec<String>>> = HashMap::new();
     for routine in program.modules.iter().flat_map(|m| &m.routines) {
-        for body in super::routine_bodies(routine) {
+        for body in routine_bodies(routine) {
             walk_statements(body, &mut |s| {
                 let StatementKind::Assign { target, value } = &s.kind else {
                     return;

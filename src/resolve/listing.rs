@@ -4,7 +4,9 @@
 //! jointtarget. As a table, CSV or JSON; made a chunk of targets at a time
 //! on every core.
 
-use super::{declared_derived_usages, uses, Usage, UseRef};
+use super::usage::Usage;
+use super::usages::{declared_derived_usages, uses};
+use super::uses::UseRef;
 use crate::rapid::{Number, Program, Target};
 use crate::report::{
     render_csv, render_table, shortest, shortest_of_literal_bytes, shortest_to_4_places,

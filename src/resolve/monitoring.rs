@@ -202,7 +202,7 @@ fn switches_off(program: &Program) -> bool {
     let mut off = false;
     for module in &program.modules {
         for routine in &module.routines {
-            super::walk_calls(&routine.body, &mut |call, _| {
+            super::statements::walk_calls(&routine.body, &mut |call, _| {
                 if switch_of(call).is_some_and(|(_, on)| !on) {
                     off = true;
                 }

@@ -67,3 +67,16 @@ pub fn walk_calls(statements: &Block, visit: &mut impl FnMut(&Call, u32)) {
         }
     });
 }
+
+/// A routine's statement lists: its body, and its backward, undo and
+/// error handlers.
+pub(super) fn routine_bodies(routine: &rapid::Routine) -> impl Iterator<Item = &Block> {
+    [
+        Some(&routine.body),
+        routine.backward.as_ref(),
+        routine.undo.as_ref(),
+        routine.error.as_ref().map(|(_, s)| s),
+    ]
+    .into_iter()
+    .flatten()
+}

@@ -11,7 +11,7 @@
 //! has no entry: its own move is its one use, read from the run when
 //! asked for.
 
-use super::{Through, Usage};
+use super::usage::{Through, Usage};
 use crate::rapid::Targets;
 use std::collections::HashMap;
 use std::ops::Range;

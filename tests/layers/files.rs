@@ -7,29 +7,6 @@ use super::rust_files;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// Cycles known and owned elsewhere, each exactly as found (its files,
-/// sorted): a change to one fails until it is written here anew or gone.
-/// Each stands in files that other work of issue 47 is rebuilding: the
-/// resolver's `mod.rs` (Frames, usages, references and a glob matcher that
-/// eight of its files import back) is to be split by idea, and the walk's
-/// settled moves and the interpreter's places are `impl` blocks of the
-/// walker and the interpreter, whose statement dispatch is to be shared.
-const KNOWN_CYCLES: &[&[&str]] = &[
-    &[
-        "src/resolve/calls.rs",
-        "src/resolve/dataflow.rs",
-        "src/resolve/each_move.rs",
-        "src/resolve/frame_vars.rs",
-        "src/resolve/mod.rs",
-        "src/resolve/moves.rs",
-        "src/resolve/params.rs",
-        "src/resolve/per_call.rs",
-        "src/resolve/uses.rs",
-    ],
-    &["src/schedule/walk/mod.rs", "src/schedule/walk/settled.rs"],
-    &["src/interp/mod.rs", "src/interp/place.rs"],
-];
-
 /// A file's code with comments, strings and character literals blanked
 /// out (kept as spaces, so that lines stay where they were), cut before its
 /// `#[cfg(test)]` module: what it imports to run.
@@ -571,9 +548,6 @@ fn no_files_of_a_folder_import_each_other_in_a_cycle() {
             .iter()
             .map(|f| f.strip_prefix(root).unwrap().display().to_string())
             .collect();
-        if KNOWN_CYCLES.iter().any(|k| k.iter().eq(names.iter())) {
-            continue;
-        }
         let edges: Vec<String> = cycle
             .iter()
             .flat_map(|f| {

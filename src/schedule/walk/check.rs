@@ -7,9 +7,14 @@
 //! ([`Walker::deferred`]) to be asked on another core as it goes, and only when
 //! a pose is out of reach is the walk taken again asking at each move.
 
-use super::*;
+use super::value::Rob;
+use super::walker::{Frame, Walker};
+use crate::error::{Error, ErrorKind};
+use crate::rapid::{Call, Statement};
 use crate::robot::describe_violation;
+use crate::robot::{Joints, ToolFrame, WobjFrames};
 use crate::schedule::cold_joints::same_frames;
+use nalgebra::Isometry3;
 use std::rc::Rc;
 
 /// Flange poses remembered as reachable (a target in a loop is checked

@@ -9,7 +9,8 @@
 //! later target "never reached"; the walk takes the branch that carries
 //! on instead, and says so.
 
-use super::*;
+use super::walker::Walker;
+use crate::rapid::{Block, RoutineKind, Statement, StatementKind};
 
 /// How deep the calls are followed: a procedure reached only deeper than
 /// this is taken as not ending the program (the walk then takes it).

@@ -1,8 +1,17 @@
 //! Expressions and values in the walk: names, data, record paths,
 //! functions (Offs, RelTool, CRobT, user FUNCs) as far as timing needs.
 
-use super::*;
+use super::decls::Decl;
+use super::value::{Flow, Rob, Value};
+use super::walker::{with_lower, FastMap, Frame, Walker};
+use crate::error::Result;
 use crate::rapid::compare;
+use crate::rapid::{
+    self, BinaryOp, DataDecl, Expr, FunctionCall, NoCase, Routine, RoutineKind, UnaryOp,
+};
+use crate::resolve::target_pose;
+use crate::robot::frames::target_of_flange;
+use crate::schedule::bounds::{STACK_RED_ZONE, STACK_SEGMENT};
 
 impl<'p> Walker<'p> {
     pub(super) fn eval(&mut self, e: &Expr, frame: &mut Frame<'p>) -> Result<Value> {
@@ -417,70 +426,11 @@ impl<'p> Walker<'p> {
     pub(super) fn call_value(&mut self, c: &FunctionCall, frame: &mut Frame<'p>) -> Result<Value> {
         let name = c.name.to_ascii_lowercase();
         let positional: Vec<&Expr> = c.positional().collect();
-        let optional = |n: &str| {
-            c.args.iter().find(|a| {
-                a.optional && a.name.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(n))
-            })
-        };
         let file = self.program.modules.get(frame.module).map_or(0, |m| m.file);
         let derived = self.derived_at.get(&(file, c.span.start)).copied();
         match name.as_str() {
-            "offs" | "reltool" => {
-                let mut vals = Vec::new();
-                for e in &positional {
-                    vals.push(self.eval(e, frame)?);
-                }
-                let (Some(Value::Rob(p)), Some(dx), Some(dy), Some(dz)) = (
-                    vals.first(),
-                    vals.get(1).and_then(Value::num),
-                    vals.get(2).and_then(Value::num),
-                    vals.get(3).and_then(Value::num),
-                ) else {
-                    return Ok(Value::Unknown);
-                };
-                let pose = if name == "offs" {
-                    rapid::builtins::offs(&p.pose, [dx, dy, dz])
-                } else {
-                    let mut rot = [0.0; 3];
-                    for (k, axis) in ["Rx", "Ry", "Rz"].iter().enumerate() {
-                        if let Some(a) = optional(axis).and_then(|a| a.value.as_ref()) {
-                            match self.eval(a, frame)?.num() {
-                                Some(v) => rot[k] = v,
-                                None => return Ok(Value::Unknown),
-                            }
-                        }
-                    }
-                    rapid::builtins::reltool(&p.pose, [dx, dy, dz], rot)
-                };
-                let bases = match p.id {
-                    Some(i) => vec![i],
-                    None => p.bases.clone(),
-                };
-                Ok(Value::Rob(Box::new(Rob {
-                    pose,
-                    conf: p.conf,
-                    id: None,
-                    derived,
-                    bases,
-                })))
-            }
-            "crobt" => {
-                let tool = optional("Tool").and_then(|a| a.value.as_ref());
-                let wobj = optional("WObj").and_then(|a| a.value.as_ref());
-                let frames = self.frame_names(tool, wobj, frame, 0, None)?;
-                Ok(
-                    match target_of_flange(&self.arm.flange, &frames.0, &frames.1) {
-                        Ok(pose) => Value::Rob(Box::new(Rob {
-                            pose,
-                            conf: self.arm.conf,
-                            id: None,
-                            derived,
-                            bases: Vec::new(),
-                        })),
-                        Err(_) => Value::Unknown,
-                    },
-                )
-            }
+            "offs" | "reltool" => self.derived_value(c, &name, derived, frame),
+            "crobt" => self.current_target(c, derived, frame),
             "cjointt" => Ok(match self.current_joints() {
                 Some(q) => Value::Joint(Box::new((q, None))),
                 None => Value::Unknown,
@@ -501,46 +451,7 @@ impl<'p> Walker<'p> {
                 }
                 None => Value::Unknown,
             }),
-            "dim" => {
-                let which = match positional.get(1) {
-                    Some(e) => self.eval(e, frame)?.num(),
-                    None => None,
-                };
-                let Some(n) = positional.first().and_then(|e| e.as_name()) else {
-                    return Ok(Value::Unknown);
-                };
-                let decl = frame
-                    .routine
-                    .and_then(|r| {
-                        r.data
-                            .iter()
-                            .find(|d| d.name.eq_ignore_ascii_case(n))
-                            .map(|d| (frame.module, d))
-                    })
-                    .or_else(|| {
-                        self.decls.get(&NoCase(n.as_bytes())).and_then(|l| {
-                            l.iter()
-                                .find(|(m, _)| *m == frame.module)
-                                .or_else(|| l.first())
-                                .and_then(|&(m, d)| match d {
-                                    Decl::Tree(d) => Some((m, d)),
-                                    Decl::Run { .. } => None,
-                                })
-                        })
-                    });
-                let (Some((m, d)), Some(k)) = (decl, which) else {
-                    return Ok(Value::Unknown);
-                };
-                let Some(dim) = (k >= 1.0).then(|| d.dims.get(k as usize - 1)).flatten() else {
-                    return Ok(Value::Unknown);
-                };
-                let mut f = Frame {
-                    module: m,
-                    routine: None,
-                    vars: FastMap::default(),
-                };
-                self.eval(dim, &mut f)
-            }
+            "dim" => self.dim_value(&positional, frame),
             "abs" | "sqrt" | "round" | "trunc" | "sin" | "cos" | "tan" => {
                 let x = match positional.first() {
                     Some(e) => self.eval(e, frame)?.num(),
@@ -561,23 +472,161 @@ impl<'p> Walker<'p> {
             }
             _ => match self.find_routine(frame.module, &c.name) {
                 Some((mi, r)) if r.kind == RoutineKind::Func => {
-                    let vars = self.bind(r, &c.args, frame)?;
-                    let v = match self.call_routine(mi, r, vars, r.pos.line)? {
-                        Flow::Return(v) => v,
-                        _ => Value::Unknown,
-                    };
-                    Ok(match v {
-                        Value::Rob(mut rob) if rob.id.is_none() => {
-                            rob.derived = derived.or(rob.derived);
-                            Value::Rob(rob)
-                        }
-                        v => v,
-                    })
+                    self.func_value(mi, r, c, derived, frame)
                 }
                 _ => Ok(Value::Unknown),
             },
         }
     }
+
+    /// `Offs` and `RelTool` of a robtarget the walk follows: the pose
+    /// moved, its bases kept, the derived target it is (by its place).
+    fn derived_value(
+        &mut self,
+        c: &FunctionCall,
+        name: &str,
+        derived: Option<usize>,
+        frame: &mut Frame<'p>,
+    ) -> Result<Value> {
+        let positional: Vec<&Expr> = c.positional().collect();
+        let optional = |n: &str| optional(c, n);
+        let mut vals = Vec::new();
+        for e in &positional {
+            vals.push(self.eval(e, frame)?);
+        }
+        let (Some(Value::Rob(p)), Some(dx), Some(dy), Some(dz)) = (
+            vals.first(),
+            vals.get(1).and_then(Value::num),
+            vals.get(2).and_then(Value::num),
+            vals.get(3).and_then(Value::num),
+        ) else {
+            return Ok(Value::Unknown);
+        };
+        let pose = if name == "offs" {
+            rapid::builtins::offs(&p.pose, [dx, dy, dz])
+        } else {
+            let mut rot = [0.0; 3];
+            for (k, axis) in ["Rx", "Ry", "Rz"].iter().enumerate() {
+                if let Some(a) = optional(axis).and_then(|a| a.value.as_ref()) {
+                    match self.eval(a, frame)?.num() {
+                        Some(v) => rot[k] = v,
+                        None => return Ok(Value::Unknown),
+                    }
+                }
+            }
+            rapid::builtins::reltool(&p.pose, [dx, dy, dz], rot)
+        };
+        let bases = match p.id {
+            Some(i) => vec![i],
+            None => p.bases.clone(),
+        };
+        Ok(Value::Rob(Box::new(Rob {
+            pose,
+            conf: p.conf,
+            id: None,
+            derived,
+            bases,
+        })))
+    }
+
+    /// `CRobT`: the robot's TCP where the walk left it, in the tool and
+    /// work object named.
+    fn current_target(
+        &mut self,
+        c: &FunctionCall,
+        derived: Option<usize>,
+        frame: &mut Frame<'p>,
+    ) -> Result<Value> {
+        let optional = |n: &str| optional(c, n);
+        let tool = optional("Tool").and_then(|a| a.value.as_ref());
+        let wobj = optional("WObj").and_then(|a| a.value.as_ref());
+        let frames = self.frame_names(tool, wobj, frame, 0, None)?;
+        Ok(
+            match target_of_flange(&self.arm.flange, &frames.0, &frames.1) {
+                Ok(pose) => Value::Rob(Box::new(Rob {
+                    pose,
+                    conf: self.arm.conf,
+                    id: None,
+                    derived,
+                    bases: Vec::new(),
+                })),
+                Err(_) => Value::Unknown,
+            },
+        )
+    }
+
+    /// `Dim`: an array's size as its declaration gives it.
+    fn dim_value(&mut self, positional: &[&Expr], frame: &mut Frame<'p>) -> Result<Value> {
+        let which = match positional.get(1) {
+            Some(e) => self.eval(e, frame)?.num(),
+            None => None,
+        };
+        let Some(n) = positional.first().and_then(|e| e.as_name()) else {
+            return Ok(Value::Unknown);
+        };
+        let decl = frame
+            .routine
+            .and_then(|r| {
+                r.data
+                    .iter()
+                    .find(|d| d.name.eq_ignore_ascii_case(n))
+                    .map(|d| (frame.module, d))
+            })
+            .or_else(|| {
+                self.decls.get(&NoCase(n.as_bytes())).and_then(|l| {
+                    l.iter()
+                        .find(|(m, _)| *m == frame.module)
+                        .or_else(|| l.first())
+                        .and_then(|&(m, d)| match d {
+                            Decl::Tree(d) => Some((m, d)),
+                            Decl::Run { .. } => None,
+                        })
+                })
+            });
+        let (Some((m, d)), Some(k)) = (decl, which) else {
+            return Ok(Value::Unknown);
+        };
+        let Some(dim) = (k >= 1.0).then(|| d.dims.get(k as usize - 1)).flatten() else {
+            return Ok(Value::Unknown);
+        };
+        let mut f = Frame {
+            module: m,
+            routine: None,
+            vars: FastMap::default(),
+        };
+        self.eval(dim, &mut f)
+    }
+
+    /// A FUNC of the program called: its value, a robtarget it makes
+    /// taken as the derived target the call is.
+    fn func_value(
+        &mut self,
+        mi: usize,
+        r: &'p Routine,
+        c: &FunctionCall,
+        derived: Option<usize>,
+        frame: &mut Frame<'p>,
+    ) -> Result<Value> {
+        let vars = self.bind(r, &c.args, frame)?;
+        let v = match self.call_routine(mi, r, vars, r.pos.line)? {
+            Flow::Return(v) => v,
+            _ => Value::Unknown,
+        };
+        Ok(match v {
+            Value::Rob(mut rob) if rob.id.is_none() => {
+                rob.derived = derived.or(rob.derived);
+                Value::Rob(rob)
+            }
+            v => v,
+        })
+    }
+}
+
+/// The optional argument `\n` of a call, where given.
+fn optional<'c>(c: &'c FunctionCall, n: &str) -> Option<&'c rapid::Arg> {
+    c.args
+        .iter()
+        .find(|a| a.optional && a.name.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(n)))
 }
 
 fn binary(op: BinaryOp, l: &Value, r: &Value) -> Value {

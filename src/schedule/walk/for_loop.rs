@@ -1,20 +1,36 @@
 //! FOR loops in the walk: a loop whose bounds the program fixes runs in
 //! full, its variable set in place at each turn; others run once.
 
-use super::*;
+use super::value::{Flow, Value};
+use super::walker::{Frame, Walker};
+use crate::error::{Error, ErrorKind, Remedy, Result};
+use crate::rapid::{Block, Expr, Statement};
+use crate::schedule::bounds::STEP_BUDGET;
+
+/// A FOR statement's parts: `FOR var FROM from TO to [STEP step] DO
+/// body ENDFOR`.
+pub(super) struct ForLoop<'p> {
+    pub(super) var: &'p str,
+    pub(super) from: &'p Expr,
+    pub(super) to: &'p Expr,
+    pub(super) step: Option<&'p Expr>,
+    pub(super) body: &'p Block,
+}
 
 impl<'p> Walker<'p> {
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn exec_for(
         &mut self,
-        var: &str,
-        from: &Expr,
-        to: &Expr,
-        step: Option<&Expr>,
-        body: &'p Block,
+        for_loop: ForLoop<'p>,
         s: &Statement,
         frame: &mut Frame<'p>,
     ) -> Result<Flow> {
+        let ForLoop {
+            var,
+            from,
+            to,
+            step,
+            body,
+        } = for_loop;
         let key = var.to_ascii_lowercase();
         let a = self.eval(from, frame)?.num();
         let b = self.eval(to, frame)?.num();

@@ -1,9 +1,18 @@
 //! Motion instructions in the walk: speeds, tools and work objects of a
 //! move, its goal on the nominal robot, and the time it takes.
 
-use super::settled::Found;
-use super::*;
+use super::settled::{Found, Settled, SettledSlot};
+use super::value::{Rob, Value};
+use super::walker::{Arm, Frame, NamesAt, Walker};
+use crate::error::{Error, ErrorKind, Result};
+use crate::rapid::{Call, Expr, Motion, MotionKind, MoveBatch, Statement, StatementKind};
+use crate::robot::frames::{flange_of_target, target_of_flange};
+use crate::robot::{Joints, ToolFrame, WobjFrames};
+use crate::schedule::bounds::FALLBACK_SPEED;
+use crate::schedule::timing::*;
+use nalgebra::{Isometry3, Vector3};
 use std::rc::Rc;
+use std::sync::Arc;
 
 /// How a move goes: its kind, speed (`\V` and VelSet applied), `\T`,
 /// `\Conc`, tool and work object, and the axes' top speeds (VelSet
@@ -767,5 +776,61 @@ fn name_key(e: Option<&Expr>) -> NameKey {
         None => Some(None),
         Some(Expr::Name(n)) => Some(Some(n.as_ptr())),
         Some(_) => None,
+    }
+}
+
+impl<'p> Walker<'p> {
+    /// Some name may now stand for something else: what statements
+    /// settled before is asked again.
+    pub(super) fn rescope(&mut self) {
+        self.scope += 1;
+    }
+
+    /// `call` run as a move with what it settled at its last turn in this
+    /// scope; `false` where it is not a motion instruction.
+    pub(super) fn exec_settled(
+        &mut self,
+        call: &'p Call,
+        s: &Statement,
+        frame: &mut Frame<'p>,
+    ) -> Result<bool> {
+        let key = std::ptr::from_ref(call);
+        let scope = self.scope;
+        // Boxed: taken out and put back at every move, moved as a pointer.
+        let kept = match self.last_settled.take() {
+            Some((k, st)) if k == key => Some(st),
+            other => {
+                if let Some((k, st)) = other {
+                    self.settled.insert(k, st);
+                }
+                self.settled.remove(&key)
+            }
+        };
+        let mut st = match kept {
+            Some(st) if st.scope == scope => st,
+            Some(mut st) => {
+                st.scope = scope;
+                st.found = Found::default();
+                st
+            }
+            None => match call.motion() {
+                Some(motion) => Box::new(Settled {
+                    scope,
+                    motion,
+                    found: Found::default(),
+                }),
+                None => return Ok(false),
+            },
+        };
+        let Settled { motion, found, .. } = &mut *st;
+        self.exec_move(call, motion, s, frame, Some(found))?;
+        // Settled in a scope that ended during the move (a FUNC called
+        // from an argument) is never taken again: scopes only grow. A move
+        // such a FUNC made left its own here: to the map with it.
+        if let Some((k, inner)) = self.last_settled.take() {
+            self.settled.insert(k, inner);
+        }
+        self.last_settled = Some((key, st));
+        Ok(true)
     }
 }

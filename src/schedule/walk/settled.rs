@@ -14,15 +14,17 @@
 //! since. Within one scope a statement runs in one routine and module,
 //! and its names find the same declarations.
 
-use super::*;
+use crate::rapid::{DataDecl, Motion};
+use crate::robot::{ToolFrame, WobjFrames};
+use crate::schedule::timing::MoveSpeed;
 use std::rc::Rc;
 
 /// What one move statement settled, in the scope it did.
 pub(super) struct Settled<'p> {
     /// [`Walker::scope`] when it was settled.
-    scope: u64,
-    motion: Motion<'p>,
-    found: Found<'p>,
+    pub(super) scope: u64,
+    pub(super) motion: Motion<'p>,
+    pub(super) found: Found<'p>,
 }
 
 /// What a move's lookups found and keep, each where found.
@@ -39,59 +41,3 @@ pub(super) struct Found<'p> {
 /// that are not statements of the program's tree (the fast lane's runs,
 /// whose statements are made anew for each move).
 pub(super) type SettledSlot<'a, 'p> = Option<&'a mut Found<'p>>;
-
-impl<'p> Walker<'p> {
-    /// Some name may now stand for something else: what statements
-    /// settled before is asked again.
-    pub(super) fn rescope(&mut self) {
-        self.scope += 1;
-    }
-
-    /// `call` run as a move with what it settled at its last turn in this
-    /// scope; `false` where it is not a motion instruction.
-    pub(super) fn exec_settled(
-        &mut self,
-        call: &'p Call,
-        s: &Statement,
-        frame: &mut Frame<'p>,
-    ) -> Result<bool> {
-        let key = std::ptr::from_ref(call);
-        let scope = self.scope;
-        // Boxed: taken out and put back at every move, moved as a pointer.
-        let kept = match self.last_settled.take() {
-            Some((k, st)) if k == key => Some(st),
-            other => {
-                if let Some((k, st)) = other {
-                    self.settled.insert(k, st);
-                }
-                self.settled.remove(&key)
-            }
-        };
-        let mut st = match kept {
-            Some(st) if st.scope == scope => st,
-            Some(mut st) => {
-                st.scope = scope;
-                st.found = Found::default();
-                st
-            }
-            None => match call.motion() {
-                Some(motion) => Box::new(Settled {
-                    scope,
-                    motion,
-                    found: Found::default(),
-                }),
-                None => return Ok(false),
-            },
-        };
-        let Settled { motion, found, .. } = &mut *st;
-        self.exec_move(call, motion, s, frame, Some(found))?;
-        // Settled in a scope that ended during the move (a FUNC called
-        // from an argument) is never taken again: scopes only grow. A move
-        // such a FUNC made left its own here: to the map with it.
-        if let Some((k, inner)) = self.last_settled.take() {
-            self.settled.insert(k, inner);
-        }
-        self.last_settled = Some((key, st));
-        Ok(true)
-    }
-}

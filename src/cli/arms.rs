@@ -8,7 +8,7 @@ use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::resolve::arm::{names_a_file, ArmSource, ArmSpec, Placing};
 use rapidtherm::robot::abb::{self, AbbArm};
 use rapidtherm::robot::Robot;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct ArmsArgs {
@@ -36,21 +36,48 @@ fn robot_arg(arg: &Path) -> Result<RobotArg<'_>> {
     })
 }
 
-/// The arm `--robot` gives (a URDF file or a catalogue name), or the
-/// embedded IRB 140 without it.
-pub fn load_robot(arg: Option<&Path>) -> Result<Robot> {
-    let (robot, from) = match arg {
-        None => (Robot::irb140(), "the embedded IRB 140, default".to_string()),
+/// The arm `--robot` gives, read from the command line: looked up in the
+/// catalogue (a name it lacks is a usage error before any input is read),
+/// a URDF file read when the arm is loaded.
+#[derive(Debug, Clone)]
+pub enum RobotPick {
+    /// No `--robot`: the embedded IRB 140.
+    Irb140,
+    Urdf(PathBuf),
+    /// `written`: the name as `--robot` gave it.
+    Catalogue {
+        arm: &'static AbbArm,
+        written: String,
+    },
+}
+
+/// `--robot` (a URDF file or a catalogue name), or the embedded IRB 140
+/// without it.
+pub fn robot_pick(arg: Option<&Path>) -> Result<RobotPick> {
+    Ok(match arg {
+        None => RobotPick::Irb140,
         Some(a) => match robot_arg(a)? {
-            RobotArg::File(p) => (
-                Robot::from_urdf_file(p)?,
-                format!("from the URDF file {}, chosen by --robot", p.display()),
-            ),
-            RobotArg::Name(n) => (
-                find_arm(n).map(AbbArm::robot)?,
-                format!("from the catalogue, chosen by --robot {n}"),
-            ),
+            RobotArg::File(p) => RobotPick::Urdf(p.to_path_buf()),
+            RobotArg::Name(n) => RobotPick::Catalogue {
+                arm: find_arm(n)?,
+                written: n.to_string(),
+            },
         },
+    })
+}
+
+/// The arm picked, its URDF file read.
+pub fn load_robot(pick: &RobotPick) -> Result<Robot> {
+    let (robot, from) = match pick {
+        RobotPick::Irb140 => (Robot::irb140(), "the embedded IRB 140, default".to_string()),
+        RobotPick::Urdf(p) => (
+            Robot::from_urdf_file(p)?,
+            format!("from the URDF file {}, chosen by --robot", p.display()),
+        ),
+        RobotPick::Catalogue { arm, written } => (
+            arm.robot(),
+            format!("from the catalogue, chosen by --robot {written}"),
+        ),
     };
     info!("arm {} ({from})", robot.name);
     Ok(robot)
@@ -110,7 +137,19 @@ fn number(v: f64) -> String {
     format!("{v}")
 }
 
-pub fn run_arms(args: ArmsArgs) -> Result<Status> {
+/// Everything `arms` does, read from its arguments once.
+pub struct ArmsCommand {
+    format: Format,
+}
+
+/// The plan of `arms`' arguments (clap has refused every wrong one).
+pub fn plan(args: ArmsArgs) -> Result<ArmsCommand> {
+    Ok(ArmsCommand {
+        format: args.format,
+    })
+}
+
+pub fn run_arms(cmd: ArmsCommand) -> Result<Status> {
     let arms = abb::catalogue();
     let header = [
         "name",
@@ -141,7 +180,7 @@ pub fn run_arms(args: ArmsArgs) -> Result<Status> {
             ]
         })
         .collect();
-    let text = match args.format {
+    let text = match cmd.format {
         Format::Table => {
             use Align::{Left, Right};
             render_table(&header, &[Left, Right, Right, Left, Left, Left], &rows)

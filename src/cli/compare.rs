@@ -63,7 +63,21 @@ fn shown(v: f64) -> String {
     }
 }
 
-pub fn run_diff(args: DiffArgs) -> Result<Status> {
+/// Everything `diff` does, read from its arguments once.
+pub struct DiffCommand {
+    a: PathBuf,
+    b: PathBuf,
+    format: ReportFormat,
+    gate: Option<Gate>,
+    /// The gate's angle is the default one for its distance (no
+    /// `--fail-above-deg`).
+    default_deg: bool,
+    pick: TaskPick,
+}
+
+/// The plan of `diff`'s arguments: every usage error is raised here,
+/// before any file is read.
+pub fn plan(args: DiffArgs) -> Result<DiffCommand> {
     let max_mm = threshold(args.fail_above, "--fail-above", "mm", max_limit_mm())?;
     let max_deg = threshold(
         args.fail_above_deg,
@@ -76,22 +90,32 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
         _ => Some(Gate::new(max_mm, max_deg)?),
     };
     ci_report::refuse_outside_gate(args.format, gate.is_some())?;
-    let pick = TaskPick {
-        tasks: args.task.clone(),
-    };
-    let ta = tasks::select(std::slice::from_ref(&args.a), &pick)?;
-    let tb = tasks::select(std::slice::from_ref(&args.b), &pick)?;
+    Ok(DiffCommand {
+        a: args.a,
+        b: args.b,
+        format: args.format,
+        gate,
+        default_deg: max_deg.is_none(),
+        pick: TaskPick { tasks: args.task },
+    })
+}
+
+pub fn run(cmd: DiffCommand) -> Result<Status> {
+    let gate = cmd.gate;
+    let pick = cmd.pick;
+    let ta = tasks::select(std::slice::from_ref(&cmd.a), &pick)?;
+    let tb = tasks::select(std::slice::from_ref(&cmd.b), &pick)?;
     let named = ta.iter().chain(&tb).any(|t| t.name.is_some());
     if !named {
-        let (na, ba) = read_input(&args.a)?;
-        let (nb, bb) = read_input(&args.b)?;
+        let (na, ba) = read_input(&cmd.a)?;
+        let (nb, bb) = read_input(&cmd.b)?;
         let a = rapid::parse(&na, &ba)?;
         let b = rapid::parse(&nb, &bb)?;
         let d = diff(&a, &b)?;
-        let text = match args.format.data() {
+        let text = match cmd.format.data() {
             Some(format) => render_diff(&d, format)?,
             None => ci_report::gate(
-                args.format,
+                cmd.format,
                 gate.as_ref(),
                 &[Compared {
                     task: None,
@@ -110,7 +134,7 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
         if failures.is_empty() {
             return Ok(Status::Success);
         }
-        messages::outcome_lines(&gate_message(&gate, max_deg.is_none(), &failures, &na, &nb));
+        messages::outcome_lines(&gate_message(&gate, cmd.default_deg, &failures, &na, &nb));
         return Ok(Status::Changes);
     }
     // Tasks pair by name; two single tasks pair whatever their names.
@@ -128,11 +152,11 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
     let unpaired: Vec<String> = ta
         .iter()
         .filter(|a| !pairs.iter().any(|(p, _)| std::ptr::eq(*p, *a)))
-        .map(|a| format!("task {} is only in {}", a.label(), args.a.display()))
+        .map(|a| format!("task {} is only in {}", a.label(), cmd.a.display()))
         .chain(
             tb.iter()
                 .filter(|b| !pairs.iter().any(|(_, q)| std::ptr::eq(*q, *b)))
-                .map(|b| format!("task {} is only in {}", b.label(), args.b.display())),
+                .map(|b| format!("task {} is only in {}", b.label(), cmd.b.display())),
         )
         .collect();
     let mut texts = Vec::new();
@@ -143,7 +167,7 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
         let (_, pa) = tasks::read(a)?;
         let (_, pb) = tasks::read(b)?;
         let d = diff(&pa, &pb)?;
-        if let Some(format) = args.format.data() {
+        if let Some(format) = cmd.format.data() {
             texts.push(render_diff(&d, format)?);
         }
         labels.push(a.label());
@@ -153,21 +177,21 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
                 message.push_str(&format!("task {}: ", a.label()));
                 message.push_str(&gate_message(
                     gate,
-                    max_deg.is_none(),
+                    cmd.default_deg,
                     &failures,
-                    &args.a.display().to_string(),
-                    &args.b.display().to_string(),
+                    &cmd.a.display().to_string(),
+                    &cmd.b.display().to_string(),
                 ));
             }
         }
-        if args.format.data().is_none() {
+        if cmd.format.data().is_none() {
             compared.push((pa, pb, d));
         }
     }
-    let text = match args.format.data() {
+    let text = match cmd.format.data() {
         Some(format) => tasks::join(format, Some(&labels), texts, "diff", &[])?,
         None => {
-            let (na, nb) = (args.a.display().to_string(), args.b.display().to_string());
+            let (na, nb) = (cmd.a.display().to_string(), cmd.b.display().to_string());
             let pairs: Vec<Compared> = labels
                 .iter()
                 .zip(&compared)
@@ -178,7 +202,7 @@ pub fn run_diff(args: DiffArgs) -> Result<Status> {
                     diff: d,
                 })
                 .collect();
-            ci_report::gate(args.format, gate.as_ref(), &pairs, &unpaired)?
+            ci_report::gate(cmd.format, gate.as_ref(), &pairs, &unpaired)?
         }
     };
     write_stdout(text.as_bytes())?;

@@ -123,7 +123,7 @@ pub struct CorrectArgs {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     #[command(flatten)]
-    pub pick: tasks::TaskPick,
+    pub pick: tasks::TaskArgs,
     #[command(flatten)]
     pub when: WhenArgs,
     /// With --schedule or --start: the minute for targets the schedule
@@ -265,7 +265,7 @@ pub fn model_source(path: Option<&Path>) -> ModelSource {
 /// Everything `correct` does, read from its arguments once: the library's
 /// plan of the job and what the command line does around it. Once it is
 /// made, the arguments are not read again.
-struct CorrectCommand {
+pub struct CorrectCommand {
     /// The programs, and the tasks of them to work on.
     files: Vec<PathBuf>,
     pick: tasks::TaskPick,
@@ -282,8 +282,9 @@ struct CorrectCommand {
 }
 
 /// The plan of the arguments: every usage error is raised here, before
-/// any input is read.
-fn plan(args: CorrectArgs) -> Result<CorrectCommand> {
+/// any input is read. The arguments are spent here: the run reads the
+/// plan alone.
+pub fn plan(args: CorrectArgs) -> Result<CorrectCommand> {
     if args.in_place && args.files.iter().any(|f| f == Path::new("-")) {
         return Err(Error::usage("--in-place cannot rewrite standard input"));
     }
@@ -375,7 +376,7 @@ fn plan(args: CorrectArgs) -> Result<CorrectCommand> {
     }
     Ok(CorrectCommand {
         files: args.files,
-        pick: args.pick,
+        pick: args.pick.into(),
         job,
         flag_inputs,
         force: args.force,
@@ -443,9 +444,7 @@ fn writes(cmd: &CorrectCommand, found: &[rapidtherm::rapid::task::Task]) -> Resu
     super::output::check(&w)
 }
 
-pub fn run_correct(args: CorrectArgs) -> Result<Status> {
-    // The arguments are spent here: what follows reads the plan alone.
-    let cmd = plan(args)?;
+pub fn run(cmd: CorrectCommand) -> Result<Status> {
     let found = tasks::select(&cmd.files, &cmd.pick)?;
     let checked = writes(&cmd, &found)?;
     let plan = match &cmd.job {

@@ -1,95 +1,23 @@
-//! `simulate`, `diagnose` and `gap`: argument parsing and printing only.
+//! `diagnose`: argument parsing and printing only; what `gap` and
+//! `simulate` share with it (the arm, the model, the job's messages).
 
 use super::diagnose_args::{parameter_table, DiagnoseArgs};
-use super::messages::{info, note, outcome, status, warning};
+use super::messages::{info, note, status, warning};
 use super::Format;
-use super::{read_input, write_output, write_stdout, Status};
-use rapidtherm::csv_table::CsvTable;
+use super::{write_stdout, Status};
 use rapidtherm::diagnose::arm::Arm;
 use rapidtherm::diagnose::job::{self, DiagnoseEvent, DiagnoseHost, Diagnosed, OwnGeometry};
 use rapidtherm::diagnose::plan::{DiagnosePlan, Refused, RobotChoice, Which};
 use rapidtherm::diagnose::prose::{self, Remedies};
-use rapidtherm::diagnose::simulate::{
-    iso_cube_poses, program_poses, random_poses, simulate_arm, SimSpec,
-};
-use rapidtherm::diagnose::temps::ColdStart;
 use rapidtherm::diagnose::unidentified::Unidentified;
 use rapidtherm::diagnose::{self, Diagnosis, RegisterFailure, ScoredIn};
 use rapidtherm::error::{Error, ErrorKind, Result};
-use rapidtherm::model::effects::Effect;
 use rapidtherm::model::Model;
 use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::writes::{Checked, Made, Plan, Role};
 use std::path::{Path, PathBuf};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum TempsSource {
-    /// Write t1_c..t6_c columns.
-    Measured,
-    /// Leave temperatures to the reader's heating profile.
-    Profile,
-}
-
-#[derive(clap::Args)]
-pub struct SimulateArgs {
-    /// Poses: `random:N` (uniform within the joint limits), `joints:FILE.csv`
-    /// (columns j1_deg..j6_deg, optional pose), `iso-cube` or `program:FILE`.
-    #[arg(long, default_value = "random:12")]
-    poses: String,
-    /// Minutes since the cold start: START:END:STEP or a comma list.
-    #[arg(long, default_value = "0:180:6")]
-    times: String,
-    /// An effect to add, `NAME[:param=value,...]` (repeatable).
-    #[arg(long = "effect", value_name = "NAME[:P=V,...]")]
-    effects: Vec<String>,
-    /// Tracker noise, mm per axis.
-    #[arg(long, default_value_t = 0.01)]
-    noise: f64,
-    /// Also write the measured orientation (qw, qx, qy, qz).
-    #[arg(long)]
-    orientation: bool,
-    /// Write motor temperatures, or leave them to the heating profile.
-    #[arg(long, value_enum, default_value_t = TempsSource::Profile)]
-    temps: TempsSource,
-    /// Random seed (poses and noise).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// The model the "real" robot departs from (default: nominal IRB 140).
-    #[arg(long)]
-    model: Option<PathBuf>,
-    /// An arm with an offset shoulder and a spherical wrist, by name
-    /// (`rapidtherm arms`) or URDF file; its lengths replace the model's
-    /// geometry.
-    #[arg(long, value_name = "NAME|FILE.urdf")]
-    robot: Option<PathBuf>,
-    /// Output CSV (`-`: standard output).
-    #[arg(short = 'o', long = "output", default_value = "-")]
-    output: PathBuf,
-}
-
-#[derive(clap::Args)]
-pub struct GapArgs {
-    /// Measurements CSV (`-`: standard input).
-    data: PathBuf,
-    #[arg(long)]
-    model: Option<PathBuf>,
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    format: Format,
-    /// First fit the rigid transform from the instrument's frame to the robot base.
-    #[arg(long)]
-    register: bool,
-    /// The arm, by name (`rapidtherm arms`) or URDF file.
-    #[arg(long, value_name = "NAME|FILE.urdf")]
-    robot: Option<PathBuf>,
-    /// Exit with status 1 when the RMS gap exceeds this many mm (a gate for scripts).
-    #[arg(long, value_name = "MM")]
-    fail_above: Option<f64>,
-    /// Data without temperature columns: assume the session starts cold at its first row and follows this warm-up (`irb140`); without it every row is held at the reference temperature, as the diagnosis holds them
-    #[arg(long, value_name = "PROFILE", value_parser = super::diagnose_args::cold_start)]
-    assume_cold_start: Option<ColdStart>,
-}
-
-fn load_model(path: &Option<PathBuf>) -> Result<Model> {
+pub(super) fn load_model(path: &Option<PathBuf>) -> Result<Model> {
     match path {
         Some(p) => super::correct::load_model(Some(p)),
         None => Ok(Model::default()),
@@ -98,7 +26,7 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model> {
 
 /// The host of a diagnosis job: its events as this command line's
 /// messages.
-struct Messages;
+pub(super) struct Messages;
 
 impl DiagnoseHost for Messages {
     fn event(&mut self, event: DiagnoseEvent) {
@@ -124,7 +52,7 @@ impl DiagnoseHost for Messages {
 
 /// `--robot` as the plan's arm: a URDF file, or a catalogue arm looked up
 /// now (a name it lacks is a usage error before any input is read).
-fn robot_choice(arg: &Option<PathBuf>) -> Result<Option<RobotChoice>> {
+pub(super) fn robot_choice(arg: &Option<PathBuf>) -> Result<Option<RobotChoice>> {
     let Some(p) = arg else {
         return Ok(None);
     };
@@ -138,7 +66,7 @@ fn robot_choice(arg: &Option<PathBuf>) -> Result<Option<RobotChoice>> {
 
 /// A refused job in this command line's words (`robot`: as `--robot`
 /// named the arm).
-fn refused(r: Refused, robot: Option<&Path>) -> Error {
+pub(super) fn refused(r: Refused, robot: Option<&Path>) -> Error {
     match r {
         Refused::Error(e) => e,
         Refused::Register(f) => register_error(f),
@@ -150,101 +78,6 @@ fn refused(r: Refused, robot: Option<&Path>) -> Error {
             Error::usage(format!("--point {link}: {}", error.message))
         }
     }
-}
-
-fn read_poses(spec: &str, seed: u64, setup: &job::Setup) -> Result<Vec<(String, [f64; 6])>> {
-    let limits = &setup.arm.limits_deg;
-    if let Some(n) = spec.strip_prefix("random:") {
-        let n: usize = n
-            .parse()
-            .ok()
-            .filter(|&n| n > 0 && n <= 100_000)
-            .ok_or_else(|| Error::usage(format!("--poses {spec}: N must be 1..100000")))?;
-        return Ok(random_poses(n, limits, seed));
-    }
-    if let Some(file) = spec.strip_prefix("joints:") {
-        let (name, bytes) = read_input(Path::new(file))?;
-        let table = CsvTable::parse(&name, &bytes)?;
-        let cols: Vec<usize> = (1..=6)
-            .map(|i| table.require(&format!("j{i}_deg")))
-            .collect::<Result<_>>()?;
-        let label = table.column("pose");
-        let mut out = Vec::new();
-        for (k, row) in table.rows.iter().enumerate() {
-            let mut q = [0.0; 6];
-            for i in 0..6 {
-                let v = table.number(row, cols[i])?;
-                let (lo, hi) = limits[i];
-                if v < lo || v > hi {
-                    return Err(Error::input(format!(
-                        "axis {} at {v}° is outside {lo}..{hi}°",
-                        i + 1
-                    ))
-                    .at(table.field_location(row, cols[i])));
-                }
-                q[i] = v.to_radians();
-            }
-            let name = match label {
-                Some(c) => table.text(row, c)?.to_string(),
-                None => format!("P{}", k + 1),
-            };
-            out.push((name, q));
-        }
-        if out.is_empty() {
-            return Err(Error::input(format!("{name}: no poses")));
-        }
-        return Ok(out);
-    }
-    if spec == "iso-cube" {
-        return iso_cube_poses(&setup.robot, &setup.arm.iso_cube()?);
-    }
-    if let Some(file) = spec.strip_prefix("program:") {
-        let (name, bytes) = read_input(Path::new(file))?;
-        let program = rapidtherm::rapid::parse(&name, &bytes)?;
-        return program_poses(&program, &setup.robot);
-    }
-    Err(Error::usage(format!(
-        "--poses `{spec}`: expected random:N, joints:FILE.csv, iso-cube or program:FILE"
-    )))
-}
-
-/// Parse `--times`: `START:END:STEP` (inclusive) or a comma list of
-/// minutes.
-fn parse_times(text: &str) -> Result<Vec<f64>> {
-    let bad = || {
-        Error::usage(format!(
-            "--times `{text}`: expected START:END:STEP or a comma list of minutes"
-        ))
-    };
-    let num = |s: &str| -> Result<f64> {
-        s.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(bad)
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    let times: Vec<f64> = match parts.as_slice() {
-        [a, b, c] => {
-            let (start, end, step) = (num(a)?, num(b)?, num(c)?);
-            if step <= 0.0 || end < start {
-                return Err(bad());
-            }
-            let n = ((end - start) / step + 1e-9).floor() as usize;
-            if n > 1_000_000 {
-                return Err(Error::usage("--times: too many times"));
-            }
-            (0..=n).map(|i| start + i as f64 * step).collect()
-        }
-        [list] => list.split(',').map(num).collect::<Result<_>>()?,
-        _ => return Err(bad()),
-    };
-    if times.is_empty() || times.iter().any(|&t| t < 0.0) || times.windows(2).any(|w| w[1] < w[0]) {
-        return Err(Error::usage(format!(
-            "--times `{text}`: minutes must be >= 0 and increasing"
-        )));
-    }
-    Ok(times)
 }
 
 /// The diagnosis's remedies, named by this command line's flags.
@@ -273,128 +106,6 @@ impl<'a> WithWords<'a> {
             diagnosis: d,
             words: prose::words(d, &remedies()),
         }
-    }
-}
-
-pub fn run_simulate(args: SimulateArgs) -> Result<Status> {
-    if !(args.noise.is_finite() && args.noise >= 0.0) {
-        return Err(Error::usage("--noise must be a finite number >= 0"));
-    }
-    // Every output checked before anything is read or written.
-    let poses_file = ["joints:", "program:"]
-        .iter()
-        .find_map(|p| args.poses.strip_prefix(p))
-        .map(Path::new);
-    let inputs: Vec<&Path> = poses_file
-        .into_iter()
-        .chain(args.model.as_deref())
-        .chain(args.robot.as_deref())
-        .collect();
-    super::output::check_file("-o", &args.output)?;
-    diagnose::simulate::check_noise(args.noise)?;
-    let mut writes = Plan::new(false);
-    for f in inputs {
-        writes.input(f);
-    }
-    writes.output("-o", &args.output, Role::Named);
-    let checked = super::output::check(&writes)?;
-    let model = load_model(&args.model)?;
-    let mut effects = model.effects()?;
-    for spec in &args.effects {
-        effects.push(Effect::parse_spec(spec)?);
-    }
-    let setup = job::setup(
-        robot_choice(&args.robot)?.as_ref(),
-        &model,
-        args.model.is_some(),
-        &mut Messages,
-    )?;
-    let spec = SimSpec {
-        base: setup.arm.base(&model),
-        poses: read_poses(&args.poses, args.seed, &setup)?,
-        times: parse_times(&args.times)?,
-        effects,
-        noise_mm: args.noise,
-        orientation: args.orientation,
-        measured_temps: args.temps == TempsSource::Measured,
-        seed: args.seed,
-    };
-    let profile = model.profile()?;
-    let meas = simulate_arm(&spec, &setup.arm.map, profile.as_ref())?;
-    write_output(&checked, &args.output, meas.to_csv().as_bytes())?;
-    Ok(Status::Success)
-}
-
-pub fn run_gap(args: GapArgs) -> Result<Status> {
-    // A usage error before any file is read.
-    if let Some(limit) = args.fail_above {
-        if !(limit.is_finite() && limit >= 0.0) {
-            return Err(Error::usage("--fail-above must be a number of mm >= 0"));
-        }
-    }
-    let robot = robot_choice(&args.robot)?;
-    let model = load_model(&args.model)?;
-    let setup = job::setup(robot.as_ref(), &model, args.model.is_some(), &mut Messages)?;
-    let prepared = job::gap_of(
-        &args.data,
-        &model,
-        &setup,
-        args.register,
-        args.assume_cold_start,
-        &mut Messages,
-    )
-    .map_err(|r| refused(r, args.robot.as_deref()))?;
-    let g = diagnose::gap(&prepared);
-    let text = match args.format {
-        Format::Json => {
-            let mut v = serde_json::json!({"rms_mm": g.rms_mm, "max_mm": g.max_mm, "n": g.n});
-            if let Some((rms, max)) = diagnose::orientation_gap(&prepared) {
-                v["rot_rms_mrad"] = rms.into();
-                v["rot_max_mrad"] = max.into();
-            }
-            if let Some(r) = &prepared.registration {
-                v["registration"] = serde_json::to_value(r).unwrap_or_default();
-            }
-            format!("{v}\n")
-        }
-        Format::Csv => render_csv(
-            &["rms_mm", "max_mm", "n"],
-            &[vec![
-                format!("{:.5}", g.rms_mm),
-                format!("{:.5}", g.max_mm),
-                g.n.to_string(),
-            ]],
-        ),
-        Format::Table => {
-            let mut s = String::new();
-            if let Some(r) = &prepared.registration {
-                s.push_str(&registration_words(r));
-            }
-            s.push_str(&format!(
-                "gap: {:.4} mm RMS, {:.4} mm max over {} rows\n",
-                g.rms_mm, g.max_mm, g.n
-            ));
-            if let Some((rms, max)) = diagnose::orientation_gap(&prepared) {
-                s.push_str(&format!(
-                    "orientation gap: {rms:.4} mrad RMS, {max:.4} mrad max\n"
-                ));
-            }
-            s
-        }
-    };
-    write_stdout(text.as_bytes())?;
-    match args.fail_above {
-        // A gap that is not a number never passes the gate: nothing was
-        // shown to be within it.
-        Some(limit) if g.rms_mm.is_nan() => {
-            outcome!("gap is not a number: it is not within {limit} mm");
-            Ok(Status::Changes)
-        }
-        Some(limit) if g.rms_mm > limit => {
-            outcome!("gap {:.4} mm RMS is above {limit} mm", g.rms_mm);
-            Ok(Status::Changes)
-        }
-        _ => Ok(Status::Success),
     }
 }
 
@@ -465,7 +176,7 @@ fn robot_json(arm: &Arm, from: &str) -> serde_json::Value {
     })
 }
 
-fn registration_words(r: &diagnose::Registration) -> String {
+pub(super) fn registration_words(r: &diagnose::Registration) -> String {
     format!(
         "instrument frame: translation ({:.3}, {:.3}, {:.3}) mm, rotation vector ({:.4}, {:.4}, {:.4})°, rigid-fit RMS {:.4} mm over {} rows\n",
         r.translation_mm[0],
@@ -481,7 +192,7 @@ fn registration_words(r: &diagnose::Registration) -> String {
 
 /// The diagnosis the arguments ask for, every usage error raised before
 /// any input is read.
-fn plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
+fn diagnose_plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
     if let Some(v) = args.noise {
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::usage("--noise must be a positive number of mm"));
@@ -541,7 +252,7 @@ fn plan(args: &DiagnoseArgs) -> Result<DiagnosePlan> {
 /// Everything `diagnose` does, read from its arguments once: the
 /// library's plan and what the command line does around it. Once it is
 /// made, the arguments are not read again.
-struct DiagnoseCommand {
+pub struct DiagnoseCommand {
     plan: DiagnosePlan,
     /// The outputs, checked against the inputs before any is read.
     checked: Checked,
@@ -552,8 +263,10 @@ struct DiagnoseCommand {
     save_model: Option<PathBuf>,
 }
 
-fn command(args: DiagnoseArgs) -> Result<DiagnoseCommand> {
-    let plan = plan(&args)?;
+/// The plan of `diagnose`'s arguments, its outputs checked: every usage
+/// error is raised here, before any input is read.
+pub fn plan(args: DiagnoseArgs) -> Result<DiagnoseCommand> {
+    let plan = diagnose_plan(&args)?;
     let checked = check_diagnose_outputs(&args)?;
     Ok(DiagnoseCommand {
         plan,
@@ -565,9 +278,7 @@ fn command(args: DiagnoseArgs) -> Result<DiagnoseCommand> {
     })
 }
 
-pub fn run_diagnose(args: DiagnoseArgs) -> Result<Status> {
-    // The arguments are spent here: what follows reads the plan alone.
-    let cmd = command(args)?;
+pub fn run(cmd: DiagnoseCommand) -> Result<Status> {
     let (plan, checked) = (&cmd.plan, &cmd.checked);
     let run = match job::run(plan, &mut Messages).map_err(|r| refused(r, cmd.robot.as_deref()))? {
         Diagnosed::Chain(d) => {
@@ -776,14 +487,6 @@ fn diagnosis_table(d: &Diagnosis) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn times_parse() {
-        assert_eq!(parse_times("0:12:6").unwrap(), vec![0.0, 6.0, 12.0]);
-        assert_eq!(parse_times("0,5,7.5").unwrap(), vec![0.0, 5.0, 7.5]);
-        assert!(parse_times("0:10:-1").is_err());
-        assert!(parse_times("5,1").is_err());
-    }
 
     #[test]
     fn register_failures_name_the_flag() {

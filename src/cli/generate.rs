@@ -29,26 +29,62 @@ pub struct ManArgs {
     force: bool,
 }
 
-pub fn run_completions(args: CompletionsArgs, mut cmd: clap::Command) -> Result<Status> {
+/// `completions`, read from its arguments once.
+pub struct CompletionsCommand {
+    shell: clap_complete::Shell,
+}
+
+/// The plan of `completions`' arguments (clap has refused every wrong
+/// one).
+pub fn plan_completions(args: CompletionsArgs) -> Result<CompletionsCommand> {
+    Ok(CompletionsCommand { shell: args.shell })
+}
+
+/// `man`, read from its arguments once.
+pub enum ManCommand {
+    /// The main page on standard output.
+    Print,
+    /// A page per command into `dir`.
+    Pages { dir: PathBuf, force: bool },
+}
+
+/// The plan of `man`'s arguments: the folder checked before anything is
+/// written.
+pub fn plan_man(args: ManArgs) -> Result<ManCommand> {
+    let Some(dir) = args.out_dir else {
+        return Ok(ManCommand::Print);
+    };
+    super::output::check_folder("--out-dir", &dir)?;
+    Ok(ManCommand::Pages {
+        dir,
+        force: args.force,
+    })
+}
+
+/// `cli`: the command line's own definition, which the script completes.
+pub fn run_completions(plan: CompletionsCommand, mut cli: clap::Command) -> Result<Status> {
     let mut script = Vec::new();
-    clap_complete::generate(args.shell, &mut cmd, "rapidtherm", &mut script);
+    clap_complete::generate(plan.shell, &mut cli, "rapidtherm", &mut script);
     write_stdout(&script)?;
     Ok(Status::Success)
 }
 
-pub fn run_man(args: ManArgs, cmd: clap::Command) -> Result<Status> {
+/// `cli`: the command line's own definition, which the pages describe.
+pub fn run_man(plan: ManCommand, cli: clap::Command) -> Result<Status> {
     // As clap_mangen::generate_to prepares it: subcommands named
     // `rapidtherm-correct`, no `help` subcommand page.
-    let mut cmd = cmd.disable_help_subcommand(true);
+    let mut cmd = cli.disable_help_subcommand(true);
     cmd.build();
-    let Some(dir) = args.out_dir else {
-        write_stdout(&page(&cmd)?)?;
-        return Ok(Status::Success);
+    let (dir, force) = match plan {
+        ManCommand::Print => {
+            write_stdout(&page(&cmd)?)?;
+            return Ok(Status::Success);
+        }
+        ManCommand::Pages { dir, force } => (dir, force),
     };
     let mut pages = Vec::new();
     collect(&cmd, &mut pages)?;
-    super::output::check_folder("--out-dir", &dir)?;
-    let mut writes = Plan::new(args.force);
+    let mut writes = Plan::new(force);
     let flag = format!("--out-dir {}", dir.display());
     for (name, _) in &pages {
         writes.output(&flag, &dir.join(name), Role::Made(Made::ManPage));

@@ -1,3 +1,7 @@
+//! `heating fit` and `heating eval`: heating curves fitted to recordings
+//! and evaluated. The arguments are read into a [`HeatingCommand`] (every
+//! usage error raised there) before any recording is read.
+
 use super::messages::warning;
 use super::Format;
 use super::{read_input, write_output, write_stdout, Status};
@@ -9,11 +13,11 @@ use rapidtherm::thermal::table::{render_fits_csv, render_fits_json, render_fits_
 use rapidtherm::thermal::{
     default_profile, FittedProfile, HeatingProfile, HeatingRecord, RecordedProfile,
 };
-use rapidtherm::writes::{Plan, Role};
+use rapidtherm::writes::{Checked, Plan, Role};
 use std::path::PathBuf;
 
 #[derive(clap::Subcommand)]
-pub enum HeatingCommand {
+pub enum HeatingArgs {
     /// Fit heating models to a recording (time_min,t1_c..t6_c): per-axis
     /// coefficients, R, R², mean relative error Ā, RMSE, max error, and the
     /// error on the last 20 % of the rows when fitted to the first 80 %.
@@ -72,11 +76,124 @@ pub struct EvalArgs {
     pub format: Format,
 }
 
+/// Everything `heating` does, read from its arguments once.
+pub enum HeatingCommand {
+    Fit(FitCommand),
+    Eval(EvalCommand),
+}
+
+/// The plan of `heating`'s arguments: every usage error is raised here,
+/// before any file is read.
+pub fn plan(args: HeatingArgs) -> Result<HeatingCommand> {
+    Ok(match args {
+        HeatingArgs::Fit(a) => HeatingCommand::Fit(plan_fit(a)?),
+        HeatingArgs::Eval(a) => HeatingCommand::Eval(plan_eval(a)?),
+    })
+}
+
 pub fn run(cmd: HeatingCommand) -> Result<Status> {
     match cmd {
-        HeatingCommand::Fit(a) => run_fit(a),
-        HeatingCommand::Eval(a) => run_eval(a),
+        HeatingCommand::Fit(c) => run_fit(c),
+        HeatingCommand::Eval(c) => run_eval(c),
     }
+}
+
+/// Where `heating fit --plot` puts its picture.
+enum PlotTo {
+    /// `-`: standard output, instead of the table.
+    Stdout,
+    File(PathBuf),
+}
+
+/// `heating fit`, read from its arguments once.
+pub struct FitCommand {
+    records: PathBuf,
+    models: Vec<ModelKind>,
+    /// Each once, in the order given.
+    axes: Vec<usize>,
+    pin_t0: Option<f64>,
+    plot: Option<PlotTo>,
+    format: Format,
+    /// The plot's file, checked against the recording.
+    checked: Checked,
+}
+
+fn plan_fit(a: FitArgs) -> Result<FitCommand> {
+    let mut writes = Plan::new(false);
+    writes.input(&a.records);
+    if let Some(plot) = &a.plot {
+        super::output::check_file("--plot", plot)?;
+        writes.output("--plot", plot, Role::Named);
+    }
+    let checked = super::output::check(&writes)?;
+    let models = parse_models(&a.model)?;
+    let mut axes: Vec<usize> = Vec::new();
+    for x in &a.axes {
+        if !axes.contains(x) {
+            axes.push(*x);
+        }
+    }
+    if let Some(bad) = axes.iter().find(|x| !(1..=6).contains(*x)) {
+        return Err(Error::usage(format!(
+            "--axes: axis {bad} does not exist (1..6)"
+        )));
+    }
+    Ok(FitCommand {
+        records: a.records,
+        models,
+        axes,
+        pin_t0: a.pin_t0,
+        plot: a.plot.map(|p| {
+            if p.as_os_str() == "-" {
+                PlotTo::Stdout
+            } else {
+                PlotTo::File(p)
+            }
+        }),
+        format: a.format,
+        checked,
+    })
+}
+
+/// Where `heating eval`'s temperatures come from.
+enum Temperatures {
+    /// The embedded default profile.
+    Default,
+    /// `--records`: a model of this kind fitted to the recording.
+    Fitted {
+        records: PathBuf,
+        kind: ModelKind,
+        pin_t0: Option<f64>,
+    },
+    /// `--measured`: the recording interpolated.
+    Measured { records: PathBuf, hold_ends: bool },
+}
+
+/// `heating eval`, read from its arguments once.
+pub struct EvalCommand {
+    at: Vec<f64>,
+    temps: Temperatures,
+    format: Format,
+}
+
+fn plan_eval(a: EvalArgs) -> Result<EvalCommand> {
+    let temps = match (a.records, a.measured) {
+        (Some(records), _) => Temperatures::Fitted {
+            records,
+            kind: a.model.parse()?,
+            pin_t0: a.pin_t0,
+        },
+        (None, Some(records)) => Temperatures::Measured {
+            records,
+            hold_ends: a.hold_ends,
+        },
+        (None, None) => Temperatures::Default,
+    };
+    Ok(EvalCommand {
+        at: a.at,
+        temps,
+        format: a.format,
+    })
 }
 
 fn parse_models(names: &[String]) -> Result<Vec<ModelKind>> {
@@ -114,31 +231,12 @@ fn read_record(path: &std::path::Path) -> Result<HeatingRecord> {
 /// (K0·α·380 mm·1 K ≈ 0.003 mm on the upper arm), less is not worth a word.
 const STEADY_WARN_C: f64 = 1.0;
 
-fn run_fit(a: FitArgs) -> Result<Status> {
-    let mut writes = Plan::new(false);
-    writes.input(&a.records);
-    if let Some(plot) = &a.plot {
-        super::output::check_file("--plot", plot)?;
-        writes.output("--plot", plot, Role::Named);
-    }
-    let checked = super::output::check(&writes)?;
-    let models = parse_models(&a.model)?;
-    let mut axes: Vec<usize> = Vec::new();
-    for x in &a.axes {
-        if !axes.contains(x) {
-            axes.push(*x);
-        }
-    }
-    if let Some(bad) = axes.iter().find(|x| !(1..=6).contains(*x)) {
-        return Err(Error::usage(format!(
-            "--axes: axis {bad} does not exist (1..6)"
-        )));
-    }
+fn run_fit(a: FitCommand) -> Result<Status> {
     let record = read_record(&a.records)?;
     let mut fits: Vec<AxisFit> = Vec::new();
     let mut failed = Vec::new();
-    for &axis in &axes {
-        for &kind in &models {
+    for &axis in &a.axes {
+        for &kind in &a.models {
             match fit_axis(&record, axis, kind, a.pin_t0) {
                 Ok(f) => fits.push(f),
                 // A fit that did not converge, or converged to a degenerate
@@ -196,9 +294,9 @@ fn run_fit(a: FitArgs) -> Result<Status> {
         Format::Json => render_fits_json(record.file(), record.len(), &fits),
     };
     match (&a.plot, svg) {
-        (Some(path), Some(svg)) if path.as_os_str() == "-" => write_stdout(svg.as_bytes())?,
-        (Some(path), Some(svg)) => {
-            write_output(&checked, path, svg.as_bytes())?;
+        (Some(PlotTo::Stdout), Some(svg)) => write_stdout(svg.as_bytes())?,
+        (Some(PlotTo::File(path)), Some(svg)) => {
+            write_output(&a.checked, path, svg.as_bytes())?;
             write_stdout(text.as_bytes())?;
         }
         _ => write_stdout(text.as_bytes())?,
@@ -223,21 +321,24 @@ fn warn_uncertain_forecasts(fitted: &FittedProfile, at: &[f64]) {
     }
 }
 
-fn run_eval(a: EvalArgs) -> Result<Status> {
-    let profile: Box<dyn HeatingProfile> = match (&a.records, &a.measured) {
-        (Some(path), _) => {
-            let record = read_record(path)?;
-            let kind: ModelKind = a.model.parse()?;
-            let fitted = FittedProfile::fit(&record, kind, a.pin_t0)?;
+fn run_eval(a: EvalCommand) -> Result<Status> {
+    let profile: Box<dyn HeatingProfile> = match &a.temps {
+        Temperatures::Fitted {
+            records,
+            kind,
+            pin_t0,
+        } => {
+            let record = read_record(records)?;
+            let fitted = FittedProfile::fit(&record, *kind, *pin_t0)?;
             warn_uncertain_forecasts(&fitted, &a.at);
             Box::new(fitted)
         }
-        (None, Some(path)) => {
-            let record = read_record(path)?;
+        Temperatures::Measured { records, hold_ends } => {
+            let record = read_record(records)?;
             let p = RecordedProfile::new(&record);
-            Box::new(if a.hold_ends { p.holding_ends() } else { p })
+            Box::new(if *hold_ends { p.holding_ends() } else { p })
         }
-        (None, None) => Box::new(default_profile()),
+        Temperatures::Default => Box::new(default_profile()),
     };
     let mut rows = Vec::new();
     for &t in &a.at {

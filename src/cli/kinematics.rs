@@ -7,16 +7,18 @@
 //! axis is outside its limits, so that a missing configuration is never a
 //! silent one.
 
+use super::arms::RobotPick;
 use super::messages::warning;
 use super::Format;
 use super::{write_stdout, Status};
+use nalgebra::Isometry3;
 use rapidtherm::correct::Frame;
 use rapidtherm::error::{Error, Result};
 use rapidtherm::model::ThermalExpansion;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
 use rapidtherm::robot::euler::euler_zyx_deg;
 use rapidtherm::robot::frames::{pose_from_rapid, pose_to_rapid};
-use rapidtherm::robot::{describe_violation, LinkScales, RobConf, Robot, Solutions};
+use rapidtherm::robot::{describe_violation, LinkScales, RobConf, Solutions};
 use rapidtherm::thermal::MotorTemps;
 use serde_json::json;
 use std::path::PathBuf;
@@ -83,19 +85,38 @@ fn six(values: &[f64], what: &str) -> Result<[f64; 6]> {
     Ok(arr)
 }
 
-impl ModelArgs {
-    fn robot(&self) -> Result<Robot> {
-        super::arms::load_robot(self.robot.as_deref())
-    }
+/// The arm `fk` and `ik` compute on, read from [`ModelArgs`].
+struct ArmPlan {
+    robot: RobotPick,
+    /// `--temps`: the warm arm's motor temperatures.
+    temps: Option<MotorTemps>,
+    /// `--thermal`: the expansion model's file (the default one without).
+    thermal: Option<PathBuf>,
+    format: Format,
+}
 
-    fn temps(&self) -> Result<Option<MotorTemps>> {
-        self.temps.as_deref().map(|t| six(t, "--temps")).transpose()
+impl ArmPlan {
+    /// Every usage error of the options, before any file is read.
+    fn of(args: ModelArgs) -> Result<ArmPlan> {
+        let temps = args
+            .temps
+            .as_deref()
+            .map(|t| six(t, "--temps"))
+            .transpose()?;
+        Ok(ArmPlan {
+            robot: super::arms::robot_pick(args.robot.as_deref())?,
+            temps,
+            thermal: args.thermal,
+            format: args.format,
+        })
     }
 
     /// The warm arm's segment scales at `--temps`, by the `--thermal`
     /// model (the default one without).
-    fn scales(&self, temps: Option<&MotorTemps>) -> Result<Option<LinkScales>> {
-        let Some(t) = temps else { return Ok(None) };
+    fn scales(&self) -> Result<Option<LinkScales>> {
+        let Some(t) = &self.temps else {
+            return Ok(None);
+        };
         let thermal = match &self.thermal {
             Some(path) => {
                 let text =
@@ -136,7 +157,16 @@ fn round(v: f64, decimals: i32) -> f64 {
 /// would not fit the controller's integers.
 const MAX_JOINT_DEG: f64 = 100_000.0;
 
-pub fn run_fk(args: FkArgs) -> Result<Status> {
+/// Everything `fk` does, read from its arguments once.
+pub struct FkCommand {
+    /// Degrees, ABB convention.
+    angles: [f64; 6],
+    arm: ArmPlan,
+}
+
+/// The plan of `fk`'s arguments: every usage error is raised here,
+/// before any file is read.
+pub fn plan_fk(args: FkArgs) -> Result<FkCommand> {
     let angles = six(&args.joints, "joint angles")?;
     if let Some(i) = (0..6).find(|&i| angles[i].abs() > MAX_JOINT_DEG) {
         return Err(Error::usage(format!(
@@ -145,18 +175,25 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
             angles[i]
         )));
     }
-    let q = angles.map(f64::to_radians);
-    let robot = args.model.robot()?;
-    let temps = args.model.temps()?;
+    Ok(FkCommand {
+        angles,
+        arm: ArmPlan::of(args.model)?,
+    })
+}
+
+pub fn run_fk(cmd: FkCommand) -> Result<Status> {
+    let q = cmd.angles.map(f64::to_radians);
+    let robot = super::arms::load_robot(&cmd.arm.robot)?;
+    let temps = cmd.arm.temps;
     for v in robot.outside_limits(&q) {
         warning!("{}", describe_violation(&v));
     }
     let conf = robot.conf_of(&q);
     let mut rows = vec![("nominal", robot.fk(&q))];
-    if let Some(s) = args.model.scales(temps.as_ref())? {
+    if let Some(s) = cmd.arm.scales()? {
         rows.push(("warm", robot.fk_scaled(&q, &s)));
     }
-    let out = match args.model.format {
+    let out = match cmd.arm.format {
         Format::Json => {
             let poses: Vec<_> = rows
                 .iter()
@@ -173,7 +210,7 @@ pub fn run_fk(args: FkArgs) -> Result<Status> {
                 })
                 .collect();
             let v = json!({
-                "joints_deg": args.joints,
+                "joints_deg": cmd.angles,
                 "temps_c": temps,
                 "robconf": [conf.cf1, conf.cf4, conf.cf6, conf.cfx],
                 "frame": Frame::BaseFlange.code(),
@@ -230,20 +267,45 @@ fn warn_dropped(solutions: &Solutions) {
     }
 }
 
-pub fn run_ik(args: IkArgs) -> Result<Status> {
+/// Everything `ik` does, read from its arguments once.
+pub struct IkCommand {
+    /// The flange in the base frame, its quaternion normalised.
+    pose: Isometry3<f64>,
+    /// `--conf`: only the solution of this robconf.
+    conf: Option<RobConf>,
+    arm: ArmPlan,
+}
+
+/// The plan of `ik`'s arguments: every usage error is raised here,
+/// before any file is read.
+pub fn plan_ik(args: IkArgs) -> Result<IkCommand> {
     let [x, y, z, q1, q2, q3, q4] = <[f64; 7]>::try_from(args.pose.as_slice())
         .map_err(|_| Error::usage("pose: x y z q1 q2 q3 q4 needed"))?;
     let pose = pose_from_rapid([x, y, z], [q1, q2, q3, q4])?;
-    let robot = args.model.robot()?;
-    let scales = args.model.scales(args.model.temps()?.as_ref())?;
-    let solutions: Vec<([f64; 6], RobConf)> = match &args.conf {
+    let conf = match &args.conf {
         Some(c) => {
             let [cf1, cf4, cf6, cfx] = <[i32; 4]>::try_from(c.as_slice())
                 .map_err(|_| Error::usage("--conf: four integers cf1,cf4,cf6,cfx needed"))?;
-            let conf = RobConf::new(cf1, cf4, cf6, cfx);
+            Some(RobConf::new(cf1, cf4, cf6, cfx))
+        }
+        None => None,
+    };
+    Ok(IkCommand {
+        pose,
+        conf,
+        arm: ArmPlan::of(args.model)?,
+    })
+}
+
+pub fn run_ik(cmd: IkCommand) -> Result<Status> {
+    let pose = cmd.pose;
+    let robot = super::arms::load_robot(&cmd.arm.robot)?;
+    let scales = cmd.arm.scales()?;
+    let solutions: Vec<([f64; 6], RobConf)> = match &cmd.conf {
+        Some(conf) => {
             let q = match &scales {
-                Some(s) => robot.ik_conf_scaled(&pose, &conf, s)?,
-                None => robot.ik_conf(&pose, &conf)?,
+                Some(s) => robot.ik_conf_scaled(&pose, conf, s)?,
+                None => robot.ik_conf(&pose, conf)?,
             };
             vec![(q, robot.conf_of(&q))]
         }
@@ -256,7 +318,7 @@ pub fn run_ik(args: IkArgs) -> Result<Status> {
             all.iter().map(|s| (s.q, s.conf)).collect()
         }
     };
-    let out = match args.model.format {
+    let out = match cmd.arm.format {
         Format::Json => {
             let list: Vec<_> = solutions
                 .iter()

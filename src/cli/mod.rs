@@ -21,6 +21,7 @@ mod diagnose_args;
 mod diagnose_chain;
 mod events;
 mod format;
+mod gap;
 mod generate;
 mod heating;
 mod io;
@@ -31,6 +32,7 @@ mod model;
 mod output;
 mod plot;
 mod schedule;
+mod simulate;
 mod targets;
 mod tasks;
 mod unified_diff;
@@ -66,7 +68,7 @@ enum Command {
     Ik(kinematics::IkArgs),
     /// Heating curves: fit recordings, evaluate profiles.
     #[command(subcommand)]
-    Heating(heating::HeatingCommand),
+    Heating(heating::HeatingArgs),
     /// Estimate when each target of a program is reached (CSV schedule).
     Schedule(schedule::ScheduleArgs),
     /// Rewrite a program's targets so that the warm robot reaches what the cold program meant.
@@ -75,13 +77,13 @@ enum Command {
     Diff(compare::DiffArgs),
     /// Show the model the simulation uses.
     #[command(subcommand)]
-    Model(model::ModelCommand),
+    Model(model::ModelArgs),
     /// Make simulated measurements ("real" data) with chosen effects and noise.
-    Simulate(diagnose::SimulateArgs),
+    Simulate(simulate::SimulateArgs),
     /// Diagnose the sim-to-real gap of measured positions.
     Diagnose(diagnose_args::DiagnoseArgs),
     /// RMS and max gap of a model on measured data.
-    Gap(diagnose::GapArgs),
+    Gap(gap::GapArgs),
     /// List the ABB arms `--robot` takes by name (payload, reach, where the numbers come from).
     Arms(arms::ArmsArgs),
     /// Print the shell completion script for bash, zsh, fish, elvish or powershell.
@@ -108,20 +110,23 @@ pub fn main() -> ExitCode {
     messages::init(&cli.messages);
     output::remove_temporaries_on_signals();
     let result = match cli.command {
-        Command::Targets(a) => targets::run(a),
-        Command::Fk(a) => kinematics::run_fk(a),
-        Command::Ik(a) => kinematics::run_ik(a),
-        Command::Heating(c) => heating::run(c),
-        Command::Schedule(a) => schedule::run_schedule(a),
-        Command::Correct(a) => correct::run_correct(a),
-        Command::Diff(a) => compare::run_diff(a),
-        Command::Model(c) => model::run_model(c),
-        Command::Simulate(a) => diagnose::run_simulate(a),
-        Command::Diagnose(a) => diagnose::run_diagnose(a),
-        Command::Gap(a) => diagnose::run_gap(a),
-        Command::Arms(a) => arms::run_arms(a),
-        Command::Completions(a) => generate::run_completions(a, Cli::command()),
-        Command::Man(a) => generate::run_man(a, Cli::command()),
+        Command::Targets(a) => targets::plan(a).and_then(targets::run),
+        Command::Fk(a) => kinematics::plan_fk(a).and_then(kinematics::run_fk),
+        Command::Ik(a) => kinematics::plan_ik(a).and_then(kinematics::run_ik),
+        Command::Heating(a) => heating::plan(a).and_then(heating::run),
+        Command::Schedule(a) => schedule::plan(a).and_then(schedule::run),
+        Command::Correct(a) => correct::plan(a).and_then(correct::run),
+        Command::Diff(a) => compare::plan(a).and_then(compare::run),
+        Command::Model(a) => model::plan(a).and_then(model::run),
+        Command::Simulate(a) => simulate::plan(a).and_then(simulate::run),
+        Command::Diagnose(a) => diagnose::plan(a).and_then(diagnose::run),
+        Command::Gap(a) => gap::plan(a).and_then(gap::run),
+        Command::Arms(a) => arms::plan(a).and_then(arms::run_arms),
+        Command::Completions(a) => generate::plan_completions(a)
+            .and_then(|plan| generate::run_completions(plan, Cli::command())),
+        Command::Man(a) => {
+            generate::plan_man(a).and_then(|plan| generate::run_man(plan, Cli::command()))
+        }
     };
     match result {
         Ok(Status::Success) => ExitCode::SUCCESS,

@@ -2,9 +2,12 @@
 //! reached, estimated by walking its entry routine (CSV on stdout, the
 //! choices made on stderr).
 use super::messages::{self, note, status};
+use super::tasks::TaskPick;
 use super::{write_output, Status};
 use rapidtherm::error::{Error, Result};
-use rapidtherm::resolve::arm::{arm_for, base_frame, check_placement, check_task_specs};
+use rapidtherm::resolve::arm::{
+    arm_for, base_frame, check_placement, check_task_specs, ArmSpec, Placing,
+};
 use rapidtherm::schedule::{estimate, Estimate, EstimateOptions};
 use rapidtherm::writes::{Plan, Role};
 use std::path::PathBuf;
@@ -17,7 +20,7 @@ pub struct ScheduleArgs {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     #[command(flatten)]
-    pub pick: super::tasks::TaskPick,
+    pub pick: super::tasks::TaskArgs,
     /// The arm (its axis speeds time the moves): a URDF file or an
     /// embedded arm's name. Default: the backup's robot type, else the
     /// embedded IRB 140.
@@ -41,40 +44,63 @@ pub struct ScheduleArgs {
     pub output: PathBuf,
 }
 
-pub fn run_schedule(args: ScheduleArgs) -> Result<Status> {
+/// Everything `schedule` does, read from its arguments once.
+pub struct ScheduleCommand {
+    files: Vec<PathBuf>,
+    pick: TaskPick,
+    /// `--robot`, a catalogue name looked up already.
+    specs: Vec<ArmSpec>,
+    placing: Placing,
+    start_min: f64,
+    entry: String,
+    cycles: u32,
+    output: PathBuf,
+}
+
+/// The plan of `schedule`'s arguments: every usage error is raised here,
+/// before any input is read.
+pub fn plan(args: ScheduleArgs) -> Result<ScheduleCommand> {
     if args.cycles == 0 {
         return Err(Error::usage("--cycles must be at least 1"));
     }
     super::output::check_file("-o", &args.output)?;
-    let specs = super::arms::arm_specs(args.robot.as_slice())?;
-    let task = super::tasks::one_motion_task(&args.files, &args.pick, "schedule")?;
+    Ok(ScheduleCommand {
+        specs: super::arms::arm_specs(args.robot.as_slice())?,
+        files: args.files,
+        pick: args.pick.into(),
+        placing: super::arms::placing(args.accept_default_placement),
+        start_min: args.start,
+        entry: args.entry,
+        cycles: args.cycles,
+        output: args.output,
+    })
+}
+
+pub fn run(cmd: ScheduleCommand) -> Result<Status> {
+    let task = super::tasks::one_motion_task(&cmd.files, &cmd.pick, "schedule")?;
     // The output checked against the task's files before they are read.
     let mut writes = Plan::new(false);
-    for f in args.files.iter().chain(&task.modules) {
+    for f in cmd.files.iter().chain(&task.modules) {
         writes.input(f);
     }
-    writes.output("-o", &args.output, Role::Named);
+    writes.output("-o", &cmd.output, Role::Named);
     let checked = super::output::check(&writes)?;
     // The program's errors are said before the arm's and the base's.
     let program = super::tasks::read(&task)?.1;
-    check_task_specs(&specs, std::slice::from_ref(&task))?;
-    let arm = arm_for(&task, &specs)?;
-    check_placement(
-        &task,
-        &arm,
-        super::arms::placing(args.accept_default_placement),
-    )?;
+    check_task_specs(&cmd.specs, std::slice::from_ref(&task))?;
+    let arm = arm_for(&task, &cmd.specs)?;
+    check_placement(&task, &arm, cmd.placing)?;
     super::events::say_arm(&task.label(), &arm);
     let opts = EstimateOptions {
-        entry: args.entry.clone(),
-        start_min: args.start,
-        cycles: args.cycles,
+        entry: cmd.entry.clone(),
+        start_min: cmd.start_min,
+        cycles: cmd.cycles,
         base_frame: base_frame(&task)?,
     };
     let started = std::time::Instant::now();
     let est = estimate(&program, &arm.robot, &opts)?;
     messages::took("walking the program", started);
-    write_output(&checked, &args.output, est.to_csv().as_bytes())?;
+    write_output(&checked, &cmd.output, est.to_csv().as_bytes())?;
     Ok(said(&est, &opts))
 }
 

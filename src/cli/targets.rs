@@ -1,6 +1,7 @@
 //! `rapidtherm targets FILE...`: every robtarget of RAPID programs. The
 //! listing is the library's (`resolve::listing`); this reads the tasks
-//! and writes it.
+//! and writes it, as the plan of the arguments says.
+use super::tasks::TaskPick;
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::error::Result;
@@ -17,7 +18,7 @@ pub struct TargetsArgs {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     #[command(flatten)]
-    pub pick: super::tasks::TaskPick,
+    pub pick: super::tasks::TaskArgs,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
@@ -35,14 +36,44 @@ fn list_format(f: Format) -> ListFormat {
     }
 }
 
-pub fn run(args: TargetsArgs) -> Result<Status> {
-    let tasks = super::tasks::select(&args.files, &args.pick)?;
+/// What `targets` lists.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Listed {
+    Robtargets,
+    /// `--joints`: the jointtargets.
+    Jointtargets,
+}
+
+/// Everything `targets` does, read from its arguments once.
+pub struct TargetsCommand {
+    files: Vec<PathBuf>,
+    pick: TaskPick,
+    format: Format,
+    listed: Listed,
+}
+
+/// The plan of `targets`' arguments (clap has refused every wrong one).
+pub fn plan(args: TargetsArgs) -> Result<TargetsCommand> {
+    Ok(TargetsCommand {
+        files: args.files,
+        pick: args.pick.into(),
+        format: args.format,
+        listed: if args.joints {
+            Listed::Jointtargets
+        } else {
+            Listed::Robtargets
+        },
+    })
+}
+
+pub fn run(cmd: TargetsCommand) -> Result<Status> {
+    let tasks = super::tasks::select(&cmd.files, &cmd.pick)?;
     let refs: Vec<&rapidtherm::rapid::task::Task> = tasks.iter().collect();
     let labels = super::tasks::labels(&refs);
-    let format = list_format(args.format);
+    let format = list_format(cmd.format);
     // One task's listing is written as it is put together: a million
     // targets make 150 MB of text, which need not be held whole first.
-    if let ([task], None, false) = (tasks.as_slice(), &labels, args.joints) {
+    if let ([task], None, Listed::Robtargets) = (tasks.as_slice(), &labels, cmd.listed) {
         let (inputs, prog) = super::tasks::read(task)?;
         let (lister, parts) = listing_parts(format, inputs.len() > 1, &prog);
         let mut out = std::io::BufWriter::with_capacity(1 << 20, std::io::stdout().lock());
@@ -53,18 +84,16 @@ pub fn run(args: TargetsArgs) -> Result<Status> {
     let mut texts = Vec::new();
     for task in &tasks {
         let (inputs, prog) = super::tasks::read(task)?;
-        texts.push(if args.joints {
-            joints(&prog, format)
-        } else {
-            listing(format, inputs.len() > 1, &prog)
+        texts.push(match cmd.listed {
+            Listed::Jointtargets => joints(&prog, format),
+            Listed::Robtargets => listing(format, inputs.len() > 1, &prog),
         });
     }
-    let key = if args.joints {
-        "jointtargets"
-    } else {
-        "targets"
+    let key = match cmd.listed {
+        Listed::Jointtargets => "jointtargets",
+        Listed::Robtargets => "targets",
     };
-    let out = super::tasks::join(args.format, labels.as_deref(), texts, key, &[])?;
+    let out = super::tasks::join(cmd.format, labels.as_deref(), texts, key, &[])?;
     write_stdout(out.as_bytes())?;
     Ok(Status::Success)
 }

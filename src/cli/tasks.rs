@@ -9,15 +9,29 @@ use rapidtherm::rapid::task::{self, Task};
 use rapidtherm::rapid::Program;
 use std::path::{Path, PathBuf};
 
-/// `--task`: the tasks of a backup (or of several task folders) to work
-/// on.
+/// `--task` as the command line takes it.
 #[derive(clap::Args, Debug, Clone, Default)]
-pub struct TaskPick {
+// The group keeps the name it had when this struct was the pick itself.
+#[group(id = "TaskPick")]
+pub struct TaskArgs {
     /// With a controller backup, task folders or program files: only this
     /// task (its controller name, e.g. T_ROB1, or its folder, e.g. TASK1);
     /// may be given several times. Default: every task.
     #[arg(long = "task", value_name = "NAME")]
     pub tasks: Vec<String>,
+}
+
+/// The tasks of a backup (or of several task folders) to work on, as a
+/// plan keeps them: every task when empty.
+#[derive(Debug, Clone, Default)]
+pub struct TaskPick {
+    pub tasks: Vec<String>,
+}
+
+impl From<TaskArgs> for TaskPick {
+    fn from(a: TaskArgs) -> TaskPick {
+        TaskPick { tasks: a.tasks }
+    }
 }
 
 /// The tasks `paths` stand for, narrowed to those `pick` names.

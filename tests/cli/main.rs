@@ -9,6 +9,7 @@ mod conventions;
 mod gate;
 mod hostile;
 mod outputs;
+mod plans;
 mod pre_commit_hook;
 mod transcripts;
 mod writes;

@@ -25,7 +25,7 @@ use std::path::PathBuf;
 
 /// Options shared by `fk` and `ik`.
 #[derive(clap::Args)]
-pub struct ModelArgs {
+pub struct ArmArgs {
     /// Motor temperatures of axes 1..6 (°C): use the warm (expanded) arm.
     #[arg(
         long,
@@ -53,7 +53,7 @@ pub struct FkArgs {
     #[arg(value_names = ["J1", "J2", "J3", "J4", "J5", "J6"], num_args = 6, required = true)]
     joints: Vec<f64>,
     #[command(flatten)]
-    model: ModelArgs,
+    model: ArmArgs,
 }
 
 #[derive(clap::Args)]
@@ -72,7 +72,7 @@ pub struct IkArgs {
     )]
     conf: Option<Vec<i32>>,
     #[command(flatten)]
-    model: ModelArgs,
+    model: ArmArgs,
 }
 
 fn six(values: &[f64], what: &str) -> Result<[f64; 6]> {
@@ -85,7 +85,7 @@ fn six(values: &[f64], what: &str) -> Result<[f64; 6]> {
     Ok(arr)
 }
 
-/// The arm `fk` and `ik` compute on, read from [`ModelArgs`].
+/// The arm `fk` and `ik` compute on, read from [`ArmArgs`].
 struct ArmPlan {
     robot: RobotPick,
     /// `--temps`: the warm arm's motor temperatures.
@@ -97,7 +97,7 @@ struct ArmPlan {
 
 impl ArmPlan {
     /// Every usage error of the options, before any file is read.
-    fn of(args: ModelArgs) -> Result<ArmPlan> {
+    fn of(args: ArmArgs) -> Result<ArmPlan> {
         let temps = args
             .temps
             .as_deref()

@@ -432,3 +432,5 @@ fn no_file_points_outside_the_repository() {
 mod files;
 #[path = "layers/lane.rs"]
 mod lane;
+#[path = "layers/long_fns.rs"]
+mod long_fns;

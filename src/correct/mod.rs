@@ -40,6 +40,7 @@ pub mod job;
 mod joints;
 mod marked;
 pub mod marker;
+mod marker_fields;
 mod moments;
 mod names;
 mod options;

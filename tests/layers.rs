@@ -432,5 +432,7 @@ fn no_file_points_outside_the_repository() {
 mod files;
 #[path = "layers/lane.rs"]
 mod lane;
+#[path = "layers/long_fns.rs"]
+mod long_fns;
 #[path = "layers/names.rs"]
 mod names;

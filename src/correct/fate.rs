@@ -12,7 +12,7 @@
 //! variables, or a name declared nowhere in the files read.
 
 use super::outcome::{Fate, Kind, LeftAlone, MoveCounts, MoveFate, Reason};
-use crate::rapid::{Expr, Program, Routine, TargetKind};
+use crate::rapid::{Expr, Program, Routine, TargetKind, Targets};
 use crate::resolve::{each_move_instruction_with, Frames, Move, MoveLookup, Point, Through};
 use std::collections::HashMap;
 
@@ -28,6 +28,70 @@ pub(super) struct Decided<'d> {
     pub frames: &'d Frames,
 }
 
+/// What every move's fate is read against, built once per run.
+struct Reading<'p, 'd> {
+    program: &'p Program,
+    decided: &'d Decided<'d>,
+    /// Jointtargets left alone, by (file, line, column).
+    left_joints: HashMap<(&'d str, u32, u32), Reason>,
+    /// Targets left alone, by lower-case name.
+    left_by_id: HashMap<String, Reason>,
+    declared: Declared,
+    assigned: HashMap<String, Vec<String>>,
+    targets: Targets<'p>,
+}
+
+/// The left-alone rows of target arguments that reach no target: one per
+/// name and reason, at the first move's place, with the count of moves.
+#[derive(Default)]
+struct Unread {
+    rows: Vec<LeftAlone>,
+    /// Each (lower-case name, reason)'s row and count of moves.
+    at: HashMap<(String, Reason), (usize, usize)>,
+}
+
+impl Unread {
+    /// One row per name and reason: the first move's place, with the
+    /// count of moves.
+    fn record(
+        &mut self,
+        program: &Program,
+        m: &Move,
+        text: String,
+        reason: Reason,
+        detail: String,
+    ) {
+        let key = (text.to_ascii_lowercase(), reason);
+        match self.at.get_mut(&key) {
+            Some(seen) => seen.1 += 1,
+            None => {
+                self.at.insert(key, (self.rows.len(), 1));
+                self.rows.push(LeftAlone {
+                    id: text,
+                    kind: Kind::Argument,
+                    file: program.file_name(m.file).to_string(),
+                    line: m.line,
+                    col: m.col,
+                    reason,
+                    detail,
+                    world_mm: None,
+                });
+            }
+        }
+    }
+
+    /// The rows, a name moved to more than once saying how often on its
+    /// one row.
+    fn finish(mut self) -> Vec<LeftAlone> {
+        for (k, n) in self.at.values() {
+            if *n > 1 {
+                self.rows[*k].detail.push_str(&format!(" ({n} moves)"));
+            }
+        }
+        self.rows
+    }
+}
+
 /// Every move instruction's fate (its rows where `rows`), their counts,
 /// and a left-alone row for each target argument that reaches no target
 /// (one per name and reason: the first move's place, with the count).
@@ -37,28 +101,31 @@ pub(super) fn fates<'p>(
     decided: &Decided,
     rows: bool,
 ) -> (Vec<MoveFate>, MoveCounts, Vec<LeftAlone>) {
-    let left_joints: HashMap<(&str, u32, u32), Reason> = decided
-        .others
-        .iter()
-        .map(|l| ((l.file.as_str(), l.line, l.col), l.reason))
-        .collect();
-    let left_by_id: HashMap<String, Reason> = decided
-        .others
-        .iter()
-        .map(|l| (l.id.to_ascii_lowercase(), l.reason))
-        .collect();
+    let reading = Reading {
+        program,
+        decided,
+        left_joints: decided
+            .others
+            .iter()
+            .map(|l| ((l.file.as_str(), l.line, l.col), l.reason))
+            .collect(),
+        left_by_id: decided
+            .others
+            .iter()
+            .map(|l| (l.id.to_ascii_lowercase(), l.reason))
+            .collect(),
+        declared: module_data(program),
+        assigned: crate::resolve::frame_variables(program),
+        targets: program.targets(),
+    };
     let routines: HashMap<(&str, &str), &Routine> = program
         .modules
         .iter()
         .flat_map(|m| m.routines.iter().map(move |r| ((&*m.name, &*r.name), r)))
         .collect();
-    let declared = module_data(program);
-    let assigned = crate::resolve::frame_variables(program);
-    let targets = program.targets();
     let mut out = Vec::new();
     let mut counts = MoveCounts::default();
-    let mut unread: Vec<LeftAlone> = Vec::new();
-    let mut unread_at: HashMap<(String, Reason), (usize, usize)> = HashMap::new();
+    let mut unread = Unread::default();
     // The routine of the last move: a million moves of a few routines
     // each look theirs up once.
     let mut last: Option<(*const str, *const str, Option<&Routine>)> = None;
@@ -75,27 +142,6 @@ pub(super) fn fates<'p>(
                 r
             }
         };
-        // One row per name and reason: the first move's place, with the
-        // count of moves.
-        let mut record = |text: String, reason: Reason, detail: String| {
-            let key = (text.to_ascii_lowercase(), reason);
-            match unread_at.get_mut(&key) {
-                Some(seen) => seen.1 += 1,
-                None => {
-                    unread_at.insert(key, (unread.len(), 1));
-                    unread.push(LeftAlone {
-                        id: text,
-                        kind: Kind::Argument,
-                        file: program.file_name(m.file).to_string(),
-                        line: m.line,
-                        col: m.col,
-                        reason,
-                        detail,
-                        world_mm: None,
-                    });
-                }
-            }
-        };
         let mut fate = Fate::Corrected;
         let mut names = Vec::new();
         if !m.known {
@@ -103,7 +149,9 @@ pub(super) fn fates<'p>(
                 .map(|p| argument_text(program, m.file, p))
                 .collect::<Vec<_>>()
                 .join(", ");
-            record(
+            unread.record(
+                program,
+                m,
                 text.clone(),
                 Reason::Instruction,
                 format!(
@@ -120,90 +168,9 @@ pub(super) fn fates<'p>(
         // what it does with them is unknown.
         let points: &[Point] = if m.known { &m.points } else { &[] };
         for p in points {
-            // The argument's text names a row or an unread name only: a
-            // streamed run keeps no rows, and a million moves need not
-            // copy it.
-            let text = || argument_text(program, m.file, p);
-            let reaches = if m.joints {
-                !p.jointtargets.is_empty()
-            } else {
-                !p.robtargets.is_empty()
-            };
-            let known = p
-                .expr
-                .and_then(Expr::as_name)
-                .or(p.name)
-                .and_then(|n| left_by_id.get(&n.to_ascii_lowercase()));
-            let f = if let (false, true, Some(&r)) = (reaches, m.joints, known) {
-                // Reported as a target already (a jointtarget written with
-                // expressions).
-                Fate::LeftAlone(r)
-            } else if !reaches {
-                let (reason, detail) =
-                    unread_reason(m, p, routine, &declared, decided.frames, &assigned);
-                record(text(), reason, detail);
-                Fate::LeftAlone(reason)
-            } else if m.joints {
-                let mut f = Fate::Corrected;
-                for &j in &p.jointtargets {
-                    let jt = &program.jointtargets()[j];
-                    let key = (
-                        program.file_name(jt.origin.file),
-                        jt.origin.pos.line,
-                        jt.origin.pos.col,
-                    );
-                    f = f.worst(match left_joints.get(&key) {
-                        Some(&r) => Fate::LeftAlone(r),
-                        None if jt.kind == TargetKind::Derived => Fate::Derived,
-                        None => Fate::Corrected,
-                    });
-                }
-                f
-            } else {
-                let parameter = p
-                    .expr
-                    .and_then(Expr::as_name)
-                    .or(p.name)
-                    .is_some_and(|n| routine.is_some_and(|r| is_parameter(r, n)));
-                let mut f = Fate::Corrected;
-                for (range, through) in &p.robtargets {
-                    for i in range.clone() {
-                        let one = match decided.robtargets.get(&i) {
-                            Some(&r) => Fate::LeftAlone(r),
-                            // A derived target is held one by one: a run's
-                            // (a million elements of an array a loop moves
-                            // to) is never made just to be told it is not.
-                            None if targets.kind(i) == Some(TargetKind::Derived)
-                                && targets
-                                    .one_by_one(i)
-                                    .is_some_and(|t| !t.written_with_expressions()) =>
-                            {
-                                Fate::Derived
-                            }
-                            // What a variable is assigned from carries it at
-                            // run time; what a settled parameter is passed
-                            // is the target itself.
-                            None if *through == Through::Variable && !parameter => Fate::Derived,
-                            // Reached through Offs/RelTool of it.
-                            None if matches!(through, Through::Derived(_)) => Fate::Derived,
-                            None => Fate::Corrected,
-                        };
-                        f = f.worst(one);
-                    }
-                }
-                f
-            };
-            // A parameter some call passes a name that reaches nothing:
-            // the move goes there at run time too.
-            let mut f = f;
-            for name in &p.unread_passed {
-                let (reason, detail) = passed_reason(name, &text(), m, program, &declared);
-                record(name.to_string(), reason, detail);
-                f = f.worst(Fate::LeftAlone(reason));
-            }
-            fate = fate.worst(f);
+            fate = fate.worst(reading.point(m, p, routine, &mut unread));
             if rows {
-                names.push(text());
+                names.push(argument_text(program, m.file, p));
             }
         }
         counts.add(fate);
@@ -219,13 +186,114 @@ pub(super) fn fates<'p>(
             });
         }
     });
-    // A name moved to more than once says how often, on its one row.
-    for (k, n) in unread_at.values() {
-        if *n > 1 {
-            unread[*k].detail.push_str(&format!(" ({n} moves)"));
+    (out, counts, unread.finish())
+}
+
+impl Reading<'_, '_> {
+    /// The fate of one target argument of a known move.
+    fn point(&self, m: &Move, p: &Point, routine: Option<&Routine>, unread: &mut Unread) -> Fate {
+        let program = self.program;
+        // The argument's text names a row or an unread name only: a
+        // streamed run keeps no rows, and a million moves need not
+        // copy it.
+        let text = || argument_text(program, m.file, p);
+        let reaches = if m.joints {
+            !p.jointtargets.is_empty()
+        } else {
+            !p.robtargets.is_empty()
+        };
+        let known = p
+            .expr
+            .and_then(Expr::as_name)
+            .or(p.name)
+            .and_then(|n| self.left_by_id.get(&n.to_ascii_lowercase()));
+        let f = if let (false, true, Some(&r)) = (reaches, m.joints, known) {
+            // Reported as a target already (a jointtarget written with
+            // expressions).
+            Fate::LeftAlone(r)
+        } else if !reaches {
+            let (reason, detail) = unread_reason(
+                m,
+                p,
+                routine,
+                &self.declared,
+                self.decided.frames,
+                &self.assigned,
+            );
+            unread.record(program, m, text(), reason, detail);
+            Fate::LeftAlone(reason)
+        } else if m.joints {
+            self.jointtargets(p)
+        } else {
+            self.robtargets(p, routine)
+        };
+        // A parameter some call passes a name that reaches nothing:
+        // the move goes there at run time too.
+        let mut f = f;
+        for name in &p.unread_passed {
+            let (reason, detail) = passed_reason(name, &text(), m, program, &self.declared);
+            unread.record(program, m, name.to_string(), reason, detail);
+            f = f.worst(Fate::LeftAlone(reason));
         }
+        f
     }
-    (out, counts, unread)
+
+    /// The worst fate of the jointtargets an argument reaches.
+    fn jointtargets(&self, p: &Point) -> Fate {
+        let program = self.program;
+        let mut f = Fate::Corrected;
+        for &j in &p.jointtargets {
+            let jt = &program.jointtargets()[j];
+            let key = (
+                program.file_name(jt.origin.file),
+                jt.origin.pos.line,
+                jt.origin.pos.col,
+            );
+            f = f.worst(match self.left_joints.get(&key) {
+                Some(&r) => Fate::LeftAlone(r),
+                None if jt.kind == TargetKind::Derived => Fate::Derived,
+                None => Fate::Corrected,
+            });
+        }
+        f
+    }
+
+    /// The worst fate of the robtargets an argument reaches.
+    fn robtargets(&self, p: &Point, routine: Option<&Routine>) -> Fate {
+        let targets = &self.targets;
+        let parameter = p
+            .expr
+            .and_then(Expr::as_name)
+            .or(p.name)
+            .is_some_and(|n| routine.is_some_and(|r| is_parameter(r, n)));
+        let mut f = Fate::Corrected;
+        for (range, through) in &p.robtargets {
+            for i in range.clone() {
+                let one = match self.decided.robtargets.get(&i) {
+                    Some(&r) => Fate::LeftAlone(r),
+                    // A derived target is held one by one: a run's
+                    // (a million elements of an array a loop moves
+                    // to) is never made just to be told it is not.
+                    None if targets.kind(i) == Some(TargetKind::Derived)
+                        && targets
+                            .one_by_one(i)
+                            .is_some_and(|t| !t.written_with_expressions()) =>
+                    {
+                        Fate::Derived
+                    }
+                    // What a variable is assigned from carries it at
+                    // run time; what a settled parameter is passed
+                    // is the target itself.
+                    None if *through == Through::Variable && !parameter => Fate::Derived,
+                    // Reached through Offs/RelTool of it.
+                    None if matches!(through, Through::Derived(_)) => Fate::Derived,
+                    None => Fate::Corrected,
+                };
+                f = f.worst(one);
+            }
+        }
+        f
+    }
 }
 
 /// Module data by lower-case name: (type, whether it has a value, line).

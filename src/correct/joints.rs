@@ -22,11 +22,12 @@
 use super::context::Run;
 use super::moments::{joint_moments_of, minute_of, pick};
 use super::outcome::{Correction, Frame, Kind, LeftAlone, Reason, Residual};
-use crate::error::{Error, ErrorKind, Result, Subject};
+use super::progress::Progress;
+use crate::error::{Error, ErrorKind, Location, Result, Subject};
 use crate::model::warm::{pose_error, wrap_near};
-use crate::model::State;
-use crate::rapid::rewrite::jointtarget_edits;
-use crate::rapid::{JointTarget, Storage};
+use crate::model::{Moment, State};
+use crate::rapid::rewrite::{jointtarget_edits, Edit};
+use crate::rapid::{JointTarget, Storage, TargetKind};
 use crate::robot::{degrees_text, Joints, Violation};
 use nalgebra::{Isometry3, Matrix6x5, Vector5, Vector6};
 
@@ -72,131 +73,204 @@ pub(super) fn correct_jointtarget(
     jt: &JointTarget,
 ) -> Result<JointSolved> {
     let Run {
-        program,
         warm,
         states,
         options,
         ..
     } = run;
-    let location = program.location(&jt.origin);
-    let located = |e: Error| {
-        e.about(Subject::JointTarget(jt.id.clone()))
-            .at(location.clone())
-    };
-    let leave = |reason: Reason, detail: String| {
-        JointSolved::LeftAlone(LeftAlone {
-            id: jt.id.clone(),
-            kind: Kind::JointTarget,
-            file: location.file.clone(),
-            line: jt.origin.pos.line,
-            col: jt.origin.pos.col,
-            reason,
-            detail,
-            world_mm: None,
-        })
+    let one = OneJoint {
+        run,
+        jt,
+        location: run.program.location(&jt.origin),
     };
     let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
-    let absent = degrees.iter().filter(|d| no_value(**d)).count();
-    if let Some(i) = (0..6).find(|&i| !no_value(degrees[i]) && !is_angle(degrees[i])) {
-        return Err(located(Error::input(format!(
-            "axis {} is {:e}: neither an angle nor 9E+09 (no value)",
-            i + 1,
-            degrees[i]
-        ))));
-    }
-    if absent == 6 {
-        return Ok(leave(
-            Reason::NoRobotAxes,
-            "its robot axes are all 9E+09 (a positioner's or external axes' target): no joint of the arm to correct".to_string(),
-        ));
-    }
-    if absent > 0 {
-        return Err(located(Error::input(format!(
-            "{absent} of its robot axes are 9E+09 and the others are angles: a jointtarget of the arm gives all six"
-        ))));
-    }
-    if matches!(jt.storage, Some(Storage::Var | Storage::Pers)) {
-        let name = jt.name.as_deref().unwrap_or_default().to_lowercase();
-        if let Some(w) = run.set.writes.get(&name) {
-            return Ok(leave(
-                Reason::Runtime,
-                format!(
-                    "{} is {} at run time ({} line {}): its declared value is not what the robot moves to",
-                    w.variable, w.how, w.routine, w.line
-                ),
-            ));
-        }
+    if let Some(left) = one.not_corrected(&degrees)? {
+        return Ok(left);
     }
     let q: Joints = degrees.map(f64::to_radians);
     let nominal = &warm.nominal;
     // Written beyond a limit, the controller refuses the move itself: its
     // joints are the truth, so no other configuration stands in for it.
     if let Some(v) = nominal.outside_limits(&q).first() {
-        return Err(located(beyond_limit(&nominal.name, v, "")));
+        return Err(one.located(beyond_limit(&nominal.name, v, "")));
     }
     let flange = nominal.fk(&q);
-    let moments = joint_moments_of(&options.when, index, &jt.id).map_err(located)?;
+    let moments = joint_moments_of(&options.when, index, &jt.id).map_err(|e| one.located(e))?;
     let moment = pick(&moments, options.visit);
-    let state = states.at(moment).map_err(located)?;
+    let state = states.at(moment).map_err(|e| one.located(e))?;
     let singular = degrees[4].abs() < SINGULAR_DEG;
     let mut q_warm = warm
         .joints_near(&flange, &q, singular, &state)
-        .map_err(located)?;
+        .map_err(|e| one.located(e))?;
     if singular {
         q_warm = keep_axis_4(run, &flange, &q, &q_warm, &state);
     }
-    let mut residual = None;
-    let r = pose_error(&flange, &warm.flange(&q_warm, &state));
-    let (position_mm, angle_deg) = (
-        r.fixed_rows::<3>(0).norm(),
-        r.fixed_rows::<3>(3).norm().to_degrees(),
-    );
-    if position_mm > 1e-6 || angle_deg > 1e-6 {
-        let rule = if singular {
-            "wrist singular (axis 5 at 0): axis 4 kept as written"
-        } else {
-            "the warm model's joints nearest the written ones reach no nearer"
-        };
-        residual = Some(Residual {
-            id: jt.id.clone(),
-            file: location.file.clone(),
-            line: jt.origin.pos.line,
-            position_mm,
-            angle_deg,
-            rule: rule.to_string(),
-        });
-    }
+    let residual = one.residual(&flange, &q_warm, &state, singular);
     // The warm arm needs an axis past its limit: the one refusal a
     // jointtarget can meet (no configuration boundary is one).
     if let Some(v) = nominal.outside_limits(&q_warm).first() {
-        return Err(located(beyond_limit(
+        return Err(one.located(beyond_limit(
             &nominal.name,
             v,
             " on the warm robot (written within its limits)",
         )));
     }
     if q_warm.iter().any(|x| !x.is_finite()) {
-        return Err(located(Error::new(
+        return Err(one.located(Error::new(
             ErrorKind::NoConvergence,
             "the warm joints are not finite numbers",
         )));
     }
-    let new_deg = q_warm.map(f64::to_degrees);
-    let drift = warm.flange(&q, &state).translation.vector - flange.translation.vector;
-    let src = program.source(jt.origin.file);
-    let edits = jointtarget_edits(src, jt, new_deg);
-    let dangle = degrees
-        .iter()
-        .zip(&new_deg)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
-    let corrected_flange = warm.nominal.fk(&q_warm);
-    let correction = corrected_flange.translation.vector - flange.translation.vector;
-    Ok(JointSolved::Corrected(
-        Box::new(Correction {
+    let row = one.row(&Solution {
+        degrees,
+        q,
+        flange,
+        q_warm,
+        moment,
+        state,
+    });
+    Ok(JointSolved::Corrected(Box::new(row), residual))
+}
+
+/// The jointtarget being corrected, and where it is written.
+struct OneJoint<'r, 'a> {
+    run: &'r Run<'a>,
+    jt: &'r JointTarget,
+    location: Location,
+}
+
+/// What the solve of one jointtarget found: its written joints (degrees
+/// and radians), the flange pose they mean, the warm joints that reach
+/// it, and the moment and state they were solved for.
+struct Solution {
+    degrees: [f64; 6],
+    q: Joints,
+    flange: Isometry3<f64>,
+    q_warm: Joints,
+    moment: Moment,
+    state: State,
+}
+
+impl OneJoint<'_, '_> {
+    /// An error about this jointtarget, at its place.
+    fn located(&self, e: Error) -> Error {
+        e.about(Subject::JointTarget(self.jt.id.clone()))
+            .at(self.location.clone())
+    }
+
+    /// This jointtarget left alone for `reason`.
+    fn leave(&self, reason: Reason, detail: String) -> JointSolved {
+        let jt = self.jt;
+        JointSolved::LeftAlone(LeftAlone {
             id: jt.id.clone(),
             kind: Kind::JointTarget,
-            file: location.file.clone(),
+            file: self.location.file.clone(),
+            line: jt.origin.pos.line,
+            col: jt.origin.pos.col,
+            reason,
+            detail,
+            world_mm: None,
+        })
+    }
+
+    /// The jointtarget left alone (no robot axes, or changed at run time)
+    /// or refused (axes that are no angles, or only some of them given),
+    /// on its written axes alone; None where it is to be solved.
+    fn not_corrected(&self, degrees: &[f64; 6]) -> Result<Option<JointSolved>> {
+        let (run, jt) = (self.run, self.jt);
+        let absent = degrees.iter().filter(|d| no_value(**d)).count();
+        if let Some(i) = (0..6).find(|&i| !no_value(degrees[i]) && !is_angle(degrees[i])) {
+            return Err(self.located(Error::input(format!(
+                "axis {} is {:e}: neither an angle nor 9E+09 (no value)",
+                i + 1,
+                degrees[i]
+            ))));
+        }
+        if absent == 6 {
+            return Ok(Some(self.leave(
+                Reason::NoRobotAxes,
+                "its robot axes are all 9E+09 (a positioner's or external axes' target): no joint of the arm to correct".to_string(),
+            )));
+        }
+        if absent > 0 {
+            return Err(self.located(Error::input(format!(
+                "{absent} of its robot axes are 9E+09 and the others are angles: a jointtarget of the arm gives all six"
+            ))));
+        }
+        if matches!(jt.storage, Some(Storage::Var | Storage::Pers)) {
+            let name = jt.name.as_deref().unwrap_or_default().to_lowercase();
+            if let Some(w) = run.set.writes.get(&name) {
+                return Ok(Some(self.leave(
+                    Reason::Runtime,
+                    format!(
+                        "{} is {} at run time ({} line {}): its declared value is not what the robot moves to",
+                        w.variable, w.how, w.routine, w.line
+                    ),
+                )));
+            }
+        }
+        Ok(None)
+    }
+
+    /// What of the flange pose the warm joints miss, where they miss it.
+    fn residual(
+        &self,
+        flange: &Isometry3<f64>,
+        q_warm: &Joints,
+        state: &State,
+        singular: bool,
+    ) -> Option<Residual> {
+        let jt = self.jt;
+        let r = pose_error(flange, &self.run.warm.flange(q_warm, state));
+        let (position_mm, angle_deg) = (
+            r.fixed_rows::<3>(0).norm(),
+            r.fixed_rows::<3>(3).norm().to_degrees(),
+        );
+        if position_mm > 1e-6 || angle_deg > 1e-6 {
+            let rule = if singular {
+                "wrist singular (axis 5 at 0): axis 4 kept as written"
+            } else {
+                "the warm model's joints nearest the written ones reach no nearer"
+            };
+            return Some(Residual {
+                id: jt.id.clone(),
+                file: self.location.file.clone(),
+                line: jt.origin.pos.line,
+                position_mm,
+                angle_deg,
+                rule: rule.to_string(),
+            });
+        }
+        None
+    }
+
+    /// The jointtarget's report row, with the edits of its new joints.
+    fn row(&self, s: &Solution) -> Correction {
+        let (run, jt) = (self.run, self.jt);
+        let (warm, program) = (run.warm, run.program);
+        let Solution {
+            degrees,
+            q,
+            flange,
+            q_warm,
+            moment,
+            ref state,
+        } = *s;
+        let new_deg = q_warm.map(f64::to_degrees);
+        let drift = warm.flange(&q, state).translation.vector - flange.translation.vector;
+        let src = program.source(jt.origin.file);
+        let edits = jointtarget_edits(src, jt, new_deg);
+        let dangle = degrees
+            .iter()
+            .zip(&new_deg)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let corrected_flange = warm.nominal.fk(&q_warm);
+        let correction = corrected_flange.translation.vector - flange.translation.vector;
+        Correction {
+            id: jt.id.clone(),
+            kind: Kind::JointTarget,
+            file: self.location.file.clone(),
             line: jt.origin.pos.line,
             col: jt.origin.pos.col,
             time_min: minute_of(moment),
@@ -225,9 +299,8 @@ pub(super) fn correct_jointtarget(
             order: (jt.origin.file, jt.origin.pos.offset),
             edits,
             file_index: jt.origin.file,
-        }),
-        residual,
-    ))
+        }
+    }
 }
 
 /// The warm joints with axis 4 at its written value: axis 6 takes over
@@ -325,4 +398,37 @@ fn beyond_limit(arm: &str, v: &Violation, whose: &str) -> Error {
         degrees_text(lo),
         degrees_text(hi)
     ))
+}
+
+/// The jointtargets' corrections, done before the robtargets' (their
+/// rows come after theirs in the report).
+#[derive(Default)]
+pub(super) struct JointCorrections {
+    pub rows: Vec<Correction>,
+    pub residuals: Vec<Residual>,
+    pub left: Vec<LeftAlone>,
+    pub errors: Vec<(usize, Error)>,
+    /// Edits of their numbers, by file.
+    pub edits: Vec<(usize, Edit)>,
+}
+
+pub(super) fn correct_joints(run: &Run, progress: &mut Progress) -> JointCorrections {
+    let mut j = JointCorrections::default();
+    for (index, jt) in run.program.jointtargets().iter().enumerate() {
+        if jt.kind == TargetKind::Derived {
+            continue;
+        }
+        progress.step();
+        match correct_jointtarget(run, index, jt) {
+            Ok(JointSolved::Corrected(c, r)) => {
+                j.edits
+                    .extend(c.edits.iter().map(|e| (c.file_index, e.clone())));
+                j.rows.push(*c);
+                j.residuals.extend(r);
+            }
+            Ok(JointSolved::LeftAlone(s)) => j.left.push(s),
+            Err(e) => j.errors.push((usize::MAX, e)),
+        }
+    }
+    j
 }

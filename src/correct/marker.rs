@@ -40,6 +40,8 @@
 //! run would write), on another it is refused, since the numbers in the
 //! file are no longer the cold ones the correction starts from.
 
+use super::marker_fields::canonical;
+pub use super::marker_fields::{Basis, BasisKind, MarkerModel, ModelArmKind, ModelUsed};
 use crate::error::{Error, Location};
 use crate::rapid::numprint::NumberPrint;
 use crate::rapid::rewrite::Edit;
@@ -58,10 +60,10 @@ pub const SEAL_VERSION: &str = "v2";
 pub struct Marker {
     pub version: String,
     /// When the targets were corrected for (`minute 120`, `steady state`,
-    /// `schedule sha256:…`).
-    pub basis: String,
+    /// `schedule v1 sha256:…`).
+    pub basis: Basis,
     /// The model and arm used.
-    pub model: String,
+    pub model: MarkerModel,
     /// `sha256:` and the first 16 hex digits of the cold original's bytes.
     pub cold: String,
     /// The run was asked to split targets moved to with several tools or
@@ -79,17 +81,6 @@ pub struct FoundMarker {
 }
 
 pub use crate::digest::fingerprint;
-
-/// A field as compared and sealed: ASCII case folded, every run of
-/// spaces one space, none at the ends (what a hand or an editor may
-/// change without changing what the marker says).
-fn canonical(field: &str) -> String {
-    field
-        .split_ascii_whitespace()
-        .collect::<Vec<_>>()
-        .join(" ")
-        .to_ascii_lowercase()
-}
 
 impl Marker {
     /// The comment line (without indentation or line end).
@@ -148,8 +139,8 @@ impl Marker {
         let need = |v: Option<String>, name: &str| v.ok_or(format!("it has no `{name}=`"));
         Ok(Marker {
             version,
-            basis: need(basis, "basis")?,
-            model: need(model, "model")?,
+            basis: Basis::parse(&need(basis, "basis")?),
+            model: MarkerModel::parse(&need(model, "model")?),
             cold: need(cold, "cold")?,
             split,
         })
@@ -162,8 +153,7 @@ impl Marker {
     /// for a split of a program corrected without one is told so (it
     /// cannot start from corrected numbers).
     pub fn same_correction(&self, other: &Marker) -> bool {
-        canonical(&self.basis) == canonical(&other.basis)
-            && canonical(&self.model) == canonical(&other.model)
+        self.basis.same(&other.basis) && self.model.same(&other.model)
     }
 
     /// The seal of this marker over a file's numbers (`print`, the
@@ -178,8 +168,8 @@ impl Marker {
         let split = if self.split { "split" } else { "first" };
         let fields = [
             canonical(&self.version),
-            canonical(&self.basis),
-            canonical(&self.model),
+            self.basis.canonical(),
+            self.model.canonical(),
             canonical(&self.cold),
             split.to_string(),
             print.to_string(),
@@ -562,8 +552,8 @@ pub fn for_run_printed(basis: &str, model: &str, split: bool, cold: String) -> M
     let clean = |s: &str| s.replace(['\n', '\r', ';'], " ");
     Marker {
         version: env!("CARGO_PKG_VERSION").to_string(),
-        basis: clean(basis),
-        model: clean(model),
+        basis: Basis::parse(&clean(basis)),
+        model: MarkerModel::parse(&clean(model)),
         cold,
         split,
     }

@@ -2,7 +2,7 @@
 //! of everything the fit's outcome depends on. Apart from the fit so that
 //! the fit stays one idea (and under the length a file may have).
 
-use super::fit::Problem;
+use super::fit_problem::Problem;
 use crate::model::EffectKind;
 use sha2::{Digest, Sha256};
 

@@ -100,6 +100,16 @@ fn rms(v: &[Vector3<f64>]) -> f64 {
     (v.iter().map(|g| g.norm_squared()).sum::<f64>() / v.len() as f64).sqrt()
 }
 
+/// The gaps being localised, with what counts as large.
+struct Gaps<'a> {
+    problem: &'a Problem,
+    /// One per row of `problem` (the first `gaps.len()` rows).
+    gaps: &'a [Vector3<f64>],
+    /// Their RMS, mm.
+    total: f64,
+    noise_rms: f64,
+}
+
 /// Localise `gaps` (one per row of `problem`, mm). `pose_names` labels pose
 /// ids; `noise_rms` (3-D RMS of noise, mm) sets what counts as large.
 pub fn locate(
@@ -112,38 +122,15 @@ pub fn locate(
     let n = gaps.len().min(rows.len());
     let total = rms(&gaps[..n]);
     let mut findings = Vec::new();
+    let g = Gaps {
+        problem,
+        gaps: &gaps[..n],
+        total,
+        noise_rms,
+    };
 
     // Over time.
-    let (tmin, tmax) = rows
-        .iter()
-        .take(n)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| {
-            (a.0.min(r.time_min), a.1.max(r.time_min))
-        });
-    let mut time_bins = Vec::new();
-    if n > 0 && tmax > tmin {
-        let nb = 6;
-        let width = (tmax - tmin) / nb as f64;
-        for b in 0..nb {
-            let lo = tmin + b as f64 * width;
-            let hi = if b + 1 == nb { tmax } else { lo + width };
-            let sel: Vec<Vector3<f64>> = (0..n)
-                .filter(|&i| {
-                    let t = rows[i].time_min;
-                    t >= lo && (t < hi || (b + 1 == nb && t <= hi))
-                })
-                .map(|i| gaps[i])
-                .collect();
-            if !sel.is_empty() {
-                time_bins.push(TimeBin {
-                    from_min: lo,
-                    to_min: hi,
-                    rms_mm: rms(&sel),
-                    n: sel.len(),
-                });
-            }
-        }
-    }
+    let time_bins = g.time_bins();
     let time_shape = time_shape(problem, &gaps[..n], &time_bins, noise_rms);
     let t_ref = problem.base.thermal.t_ref;
     let rise: Vec<f64> = rows
@@ -159,101 +146,9 @@ pub fn locate(
         }
     }
 
-    // Directions.
-    let mut mean = Vector3::zeros();
-    let mut second = Matrix3::zeros();
-    let mut sq = Vector3::zeros();
-    for g in &gaps[..n] {
-        mean += g;
-        second += g * g.transpose();
-        sq += g.component_mul(g);
-    }
-    let nf = n.max(1) as f64;
-    mean /= nf;
-    let eig = second.symmetric_eigen();
-    let (imax, lmax) =
-        eig.eigenvalues
-            .iter()
-            .copied()
-            .enumerate()
-            .fold(
-                (0, f64::NEG_INFINITY),
-                |a, (i, v)| if v > a.1 { (i, v) } else { a },
-            );
-    let mut dominant: Vector3<f64> = eig.eigenvectors.column(imax).into();
-    if dominant.dot(&mean) < 0.0 {
-        dominant = -dominant;
-    }
-    let trace = second.trace().max(1e-300);
-    let share = (lmax / trace).clamp(0.0, 1.0);
-    if share > 0.6 && total > 1.5 * noise_rms {
-        findings.push(Finding::Along {
-            direction: Principal::of(&dominant, &mean, (lmax / nf).max(0.0).sqrt()),
-            share,
-        });
-    }
-    let direction = Direction {
-        mean_mm: [mean.x, mean.y, mean.z],
-        rms_mm: [(sq.x / nf).sqrt(), (sq.y / nf).sqrt(), (sq.z / nf).sqrt()],
-        dominant: [dominant.x, dominant.y, dominant.z],
-        dominant_share: share,
-    };
-
-    // Poses.
-    let mut per_pose: BTreeMap<usize, Vec<Vector3<f64>>> = BTreeMap::new();
-    for i in 0..n {
-        per_pose.entry(rows[i].pose).or_default().push(gaps[i]);
-    }
-    let mut worst_poses: Vec<PoseGap> = per_pose
-        .iter()
-        .map(|(&p, v)| PoseGap {
-            pose: pose_names
-                .get(p)
-                .cloned()
-                .unwrap_or_else(|| format!("#{}", p + 1)),
-            rms_mm: rms(v),
-            n: v.len(),
-        })
-        .collect();
-    worst_poses.sort_by(|a, b| b.rms_mm.total_cmp(&a.rms_mm));
-    worst_poses.truncate(5);
-    if worst_poses.len() > 1 && total > 1.5 * noise_rms {
-        findings.push(Finding::LargestAt {
-            poses: worst_poses.iter().take(3).cloned().collect(),
-        });
-    }
-
-    // Workspace regions: reach and height split at their medians.
-    let nominal = &problem.base.nominal;
-    let flange: Vec<Vector3<f64>> = rows
-        .iter()
-        .take(n)
-        .map(|r| nominal.fk(&r.q).translation.vector)
-        .collect();
-    let reach: Vec<f64> = flange
-        .iter()
-        .map(|p| (p.x * p.x + p.y * p.y).sqrt())
-        .collect();
-    let height: Vec<f64> = flange.iter().map(|p| p.z).collect();
-    let mut regions = Vec::new();
-    for (split, vals) in [(Split::Reach, &reach), (Split::Height, &height)] {
-        let (what, lo_name, hi_name) = split.names();
-        let Some((med, [low, high])) = split_at_median(what, vals, lo_name, hi_name, &gaps[..n])
-        else {
-            continue;
-        };
-        let (rl, rh) = (low.rms_mm, high.rms_mm);
-        regions.extend([low, high]);
-        if total > 1.5 * noise_rms && (rh > 1.5 * rl || rl > 1.5 * rh) {
-            findings.push(Finding::LargerAt {
-                split,
-                upper: rh > rl,
-                median_mm: med,
-                larger_mm: rh.max(rl),
-                smaller_mm: rh.min(rl),
-            });
-        }
-    }
+    let direction = g.direction(&mut findings);
+    let worst_poses = g.worst_poses(pose_names, &mut findings);
+    let regions = g.regions(&mut findings);
 
     let joint = follow_joint(problem, &gaps[..n]);
     if let Some(j) = &joint {
@@ -276,6 +171,155 @@ pub fn locate(
         joint: joint.filter(|j| j.share > 0.3),
         step,
         findings,
+    }
+}
+
+impl Gaps<'_> {
+    /// The gaps' RMS in six bins of equal length over the times measured
+    /// (empty bins left out).
+    fn time_bins(&self) -> Vec<TimeBin> {
+        let (rows, gaps) = (&self.problem.rows, self.gaps);
+        let n = gaps.len();
+        let (tmin, tmax) = rows
+            .iter()
+            .take(n)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| {
+                (a.0.min(r.time_min), a.1.max(r.time_min))
+            });
+        let mut time_bins = Vec::new();
+        if n > 0 && tmax > tmin {
+            let nb = 6;
+            let width = (tmax - tmin) / nb as f64;
+            for b in 0..nb {
+                let lo = tmin + b as f64 * width;
+                let hi = if b + 1 == nb { tmax } else { lo + width };
+                let sel: Vec<Vector3<f64>> = (0..n)
+                    .filter(|&i| {
+                        let t = rows[i].time_min;
+                        t >= lo && (t < hi || (b + 1 == nb && t <= hi))
+                    })
+                    .map(|i| gaps[i])
+                    .collect();
+                if !sel.is_empty() {
+                    time_bins.push(TimeBin {
+                        from_min: lo,
+                        to_min: hi,
+                        rms_mm: rms(&sel),
+                        n: sel.len(),
+                    });
+                }
+            }
+        }
+        time_bins
+    }
+
+    /// The gaps' mean, RMS per axis and dominant direction; a finding
+    /// where one direction holds most of them.
+    fn direction(&self, findings: &mut Vec<Finding>) -> Direction {
+        let (gaps, total, noise_rms) = (self.gaps, self.total, self.noise_rms);
+        let n = gaps.len();
+        let mut mean = Vector3::zeros();
+        let mut second = Matrix3::zeros();
+        let mut sq = Vector3::zeros();
+        for g in gaps {
+            mean += g;
+            second += g * g.transpose();
+            sq += g.component_mul(g);
+        }
+        let nf = n.max(1) as f64;
+        mean /= nf;
+        let eig = second.symmetric_eigen();
+        let (imax, lmax) = eig.eigenvalues.iter().copied().enumerate().fold(
+            (0, f64::NEG_INFINITY),
+            |a, (i, v)| if v > a.1 { (i, v) } else { a },
+        );
+        let mut dominant: Vector3<f64> = eig.eigenvectors.column(imax).into();
+        if dominant.dot(&mean) < 0.0 {
+            dominant = -dominant;
+        }
+        let trace = second.trace().max(1e-300);
+        let share = (lmax / trace).clamp(0.0, 1.0);
+        if share > 0.6 && total > 1.5 * noise_rms {
+            findings.push(Finding::Along {
+                direction: Principal::of(&dominant, &mean, (lmax / nf).max(0.0).sqrt()),
+                share,
+            });
+        }
+        Direction {
+            mean_mm: [mean.x, mean.y, mean.z],
+            rms_mm: [(sq.x / nf).sqrt(), (sq.y / nf).sqrt(), (sq.z / nf).sqrt()],
+            dominant: [dominant.x, dominant.y, dominant.z],
+            dominant_share: share,
+        }
+    }
+
+    /// The five poses of the largest gaps (`pose_names` labels them); a
+    /// finding naming the first three where they stand out.
+    fn worst_poses(&self, pose_names: &[String], findings: &mut Vec<Finding>) -> Vec<PoseGap> {
+        let (rows, gaps) = (&self.problem.rows, self.gaps);
+        let n = gaps.len();
+        let mut per_pose: BTreeMap<usize, Vec<Vector3<f64>>> = BTreeMap::new();
+        for i in 0..n {
+            per_pose.entry(rows[i].pose).or_default().push(gaps[i]);
+        }
+        let mut worst_poses: Vec<PoseGap> = per_pose
+            .iter()
+            .map(|(&p, v)| PoseGap {
+                pose: pose_names
+                    .get(p)
+                    .cloned()
+                    .unwrap_or_else(|| format!("#{}", p + 1)),
+                rms_mm: rms(v),
+                n: v.len(),
+            })
+            .collect();
+        worst_poses.sort_by(|a, b| b.rms_mm.total_cmp(&a.rms_mm));
+        worst_poses.truncate(5);
+        if worst_poses.len() > 1 && self.total > 1.5 * self.noise_rms {
+            findings.push(Finding::LargestAt {
+                poses: worst_poses.iter().take(3).cloned().collect(),
+            });
+        }
+        worst_poses
+    }
+
+    /// Workspace regions: reach and height split at their medians; a
+    /// finding where one half's gaps are much larger.
+    fn regions(&self, findings: &mut Vec<Finding>) -> Vec<Region> {
+        let (rows, gaps) = (&self.problem.rows, self.gaps);
+        let (total, noise_rms) = (self.total, self.noise_rms);
+        let n = gaps.len();
+        let nominal = &self.problem.base.nominal;
+        let flange: Vec<Vector3<f64>> = rows
+            .iter()
+            .take(n)
+            .map(|r| nominal.fk(&r.q).translation.vector)
+            .collect();
+        let reach: Vec<f64> = flange
+            .iter()
+            .map(|p| (p.x * p.x + p.y * p.y).sqrt())
+            .collect();
+        let height: Vec<f64> = flange.iter().map(|p| p.z).collect();
+        let mut regions = Vec::new();
+        for (split, vals) in [(Split::Reach, &reach), (Split::Height, &height)] {
+            let (what, lo_name, hi_name) = split.names();
+            let Some((med, [low, high])) = split_at_median(what, vals, lo_name, hi_name, gaps)
+            else {
+                continue;
+            };
+            let (rl, rh) = (low.rms_mm, high.rms_mm);
+            regions.extend([low, high]);
+            if total > 1.5 * noise_rms && (rh > 1.5 * rl || rl > 1.5 * rh) {
+                findings.push(Finding::LargerAt {
+                    split,
+                    upper: rh > rl,
+                    median_mm: med,
+                    larger_mm: rh.max(rl),
+                    smaller_mm: rh.min(rl),
+                });
+            }
+        }
+        regions
     }
 }
 

@@ -20,7 +20,8 @@
 //!
 //! Files: [`mod@prepare`] (measurements + model → fit problem, instrument
 //! frame), [`mod@gap`] (gap statistics, noise level), [`fit`] (the fit of
-//! effects), [`select`] (folds, candidate scores), [`locate`] (where a gap
+//! effects; what it is fitted to in `fit_problem`, what it gives in
+//! `fitted`), [`select`] (folds, candidate scores), [`locate`] (where a gap
 //! lies, as typed [`finding`]s, each worded in one place), [`pipeline`]
 //! (the diagnosis and its verdict), `stages` (its stages and what they
 //! share), [`verdict`] (the result as data),
@@ -39,7 +40,9 @@ pub mod drift;
 pub mod finding;
 pub mod fit;
 mod fit_key;
+mod fit_problem;
 mod fit_steps;
+mod fitted;
 pub mod forward;
 pub mod gap;
 pub mod instrument;

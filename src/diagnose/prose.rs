@@ -53,7 +53,6 @@ pub fn serialize_noise_source<S: Serializer>(
 pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
     let gap = &d.gap;
     let noise = &d.noise;
-    let (cv0, cv) = (d.gap_before_mm, d.gap_after_mm);
     let mut words = Vec::new();
     words.push(format!(
         "Gap of the current model: {:.3} mm RMS (x {:.3}, y {:.3}, z {:.3}), {:.3} mm max over {} rows (noise {:.3} mm RMS, {}).",
@@ -70,6 +69,35 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
     if d.temperatures != super::temps::TempSource::Measured {
         words.push(d.temperatures.words());
     }
+    verdict_words(d, remedies, &mut words);
+    beyond_library_words(d, &mut words);
+    words.extend(not_named_words(d));
+    words.extend(stability_words(d));
+    words.extend(held_words(d));
+    words.push(advice(&d.advice, remedies));
+    words.extend(detection_words(d));
+    if let Some(limits) = joint_limit_words(d) {
+        words.push(limits);
+    }
+    for a in &d.ambiguities {
+        let why = match a.correlation {
+            Some(c) => format!("correlation {c:.2}"),
+            None => "the set scores alike on held-out data with either".to_string(),
+        };
+        words.push(format!(
+            "{} and {} are nearly indistinguishable on these poses ({why}): {}.",
+            a.pair[0],
+            a.pair[1],
+            a.separate_by.words()
+        ));
+    }
+    words
+}
+
+/// The verdict, and what the effects it names did, step by step.
+fn verdict_words(d: &Diagnosis, remedies: &Remedies, words: &mut Vec<String>) {
+    let noise = &d.noise;
+    let (cv0, cv) = (d.gap_before_mm, d.gap_after_mm);
     match &d.verdict {
         Verdict::None => match d.advice {
             Advice::NoiseNotMeasured { left_mm } => words.push(format!(
@@ -142,6 +170,13 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             }
         }
     }
+}
+
+/// What the library's effects do not hold: a drift over time, a growth
+/// with the square of the temperature rise, a joint's own shape, a static
+/// part left unattributed.
+fn beyond_library_words(d: &Diagnosis, words: &mut Vec<String>) {
+    let noise = &d.noise;
     if let Some(t) = &d.time_drift {
         words.push(t.words());
     }
@@ -203,44 +238,29 @@ pub fn words(d: &Diagnosis, remedies: &Remedies) -> Vec<String> {
             st.gap_after_mm, noise.rms_mm
         ));
     }
-    words.extend(not_named_words(d));
-    words.extend(stability_words(d));
-    words.extend(held_words(d));
-    words.push(advice(&d.advice, remedies));
-    if !d.detection_limits.is_empty() {
-        let list: Vec<String> = d
-            .detection_limits
-            .iter()
-            .map(|l| format!("{} above {:.3} mm", l.effect.name(), l.flange_mm))
-            .collect();
-        let named = !d.verdict.effects().is_empty();
-        words.push(format!(
-            "{} (at {:.0} %, with 90 % power, beyond the rest of what was found; the largest move of the flange at the calibration pose over these times): {}.",
-            if named {
-                "These poses, times and noise would have revealed"
-            } else {
-                "No effect named: nothing the data could have seen beyond these sizes"
-            },
-            100.0 * d.level,
-            list.join(", ")
-        ));
+}
+
+/// The sizes of the effects these data would have revealed.
+fn detection_words(d: &Diagnosis) -> Option<String> {
+    if d.detection_limits.is_empty() {
+        return None;
     }
-    if let Some(limits) = joint_limit_words(d) {
-        words.push(limits);
-    }
-    for a in &d.ambiguities {
-        let why = match a.correlation {
-            Some(c) => format!("correlation {c:.2}"),
-            None => "the set scores alike on held-out data with either".to_string(),
-        };
-        words.push(format!(
-            "{} and {} are nearly indistinguishable on these poses ({why}): {}.",
-            a.pair[0],
-            a.pair[1],
-            a.separate_by.words()
-        ));
-    }
-    words
+    let list: Vec<String> = d
+        .detection_limits
+        .iter()
+        .map(|l| format!("{} above {:.3} mm", l.effect.name(), l.flange_mm))
+        .collect();
+    let named = !d.verdict.effects().is_empty();
+    Some(format!(
+        "{} (at {:.0} %, with 90 % power, beyond the rest of what was found; the largest move of the flange at the calibration pose over these times): {}.",
+        if named {
+            "These poses, times and noise would have revealed"
+        } else {
+            "No effect named: nothing the data could have seen beyond these sizes"
+        },
+        100.0 * d.level,
+        list.join(", ")
+    ))
 }
 
 /// The effects the selection took and the verdict does not name, and why.

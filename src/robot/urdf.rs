@@ -60,34 +60,48 @@ fn read(file: &str, text: &str) -> Result<(urdf_rs::Robot, UrdfIndex)> {
     Ok((robot, index))
 }
 
-/// Parse a URDF text (`file` names it in messages).
-pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
-    let (robot, index) = read(file, text)?;
-    let bad = |msg: String| Error::input(format!("{file}: {msg}"));
-    let bad_joint = |name: &str, msg: String| Error::input(msg).at(index.joint(name));
-    let mut parent_joint: HashMap<&str, usize> = HashMap::new();
-    for (i, j) in robot.joints.iter().enumerate() {
-        if parent_joint.insert(j.child.link.as_str(), i).is_some() {
-            return Err(bad_joint(
-                &j.name,
-                format!(
-                    "link `{}` is the child of more than one joint (not a tree)",
-                    j.child.link
-                ),
-            ));
+/// The URDF's joints as a tree: which joint each link hangs from.
+struct Tree<'r> {
+    robot: &'r urdf_rs::Robot,
+    parent_joint: HashMap<&'r str, usize>,
+}
+
+/// Whether a joint is one of the arm's axes.
+fn movable(j: &urdf_rs::Joint) -> bool {
+    matches!(
+        j.joint_type,
+        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous
+    )
+}
+
+impl<'r> Tree<'r> {
+    /// The tree of `robot`'s joints, refused where a link has two parents.
+    fn new(robot: &'r urdf_rs::Robot, index: &UrdfIndex) -> Result<Self> {
+        let mut parent_joint: HashMap<&str, usize> = HashMap::new();
+        for (i, j) in robot.joints.iter().enumerate() {
+            if parent_joint.insert(j.child.link.as_str(), i).is_some() {
+                return Err(bad_joint(
+                    index,
+                    &j.name,
+                    format!(
+                        "link `{}` is the child of more than one joint (not a tree)",
+                        j.child.link
+                    ),
+                ));
+            }
         }
+        Ok(Tree {
+            robot,
+            parent_joint,
+        })
     }
-    let movable = |j: &urdf_rs::Joint| {
-        matches!(
-            j.joint_type,
-            urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous
-        )
-    };
-    // Joints from the root down to `tip`, or None on a cycle.
-    let path_to = |tip: &str| -> Option<Vec<usize>> {
+
+    /// Joints from the root down to `tip`, or None on a cycle.
+    fn path_to(&self, tip: &str) -> Option<Vec<usize>> {
+        let robot = self.robot;
         let mut path = Vec::new();
         let mut link = tip;
-        while let Some(&i) = parent_joint.get(link) {
+        while let Some(&i) = self.parent_joint.get(link) {
             if path.len() > robot.joints.len() {
                 return None;
             }
@@ -96,10 +110,15 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
         }
         path.reverse();
         Some(path)
-    };
-    let tip_name = if robot.links.iter().any(|l| l.name == "tool0") {
-        "tool0".to_string()
-    } else {
+    }
+
+    /// The flange link: `tool0`, or the one leaf reached through six
+    /// revolute joints.
+    fn tip_name(&self, file: &str) -> Result<String> {
+        let robot = self.robot;
+        if robot.links.iter().any(|l| l.name == "tool0") {
+            return Ok("tool0".to_string());
+        }
         let parents: Vec<&str> = robot
             .joints
             .iter()
@@ -111,31 +130,101 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
             .map(|l| l.name.as_str())
             .filter(|l| !parents.contains(l))
             .filter(|l| {
-                path_to(l)
+                self.path_to(l)
                     .is_some_and(|p| p.iter().filter(|&&i| movable(&robot.joints[i])).count() == 6)
             })
             .collect();
         match leaves.as_slice() {
-            [one] => one.to_string(),
-            [] => return Err(bad(
+            [one] => Ok(one.to_string()),
+            [] => Err(bad(
+                file,
                 "no link is reached through six revolute joints (a six-axis serial arm is needed)"
                     .into(),
             )),
-            many => {
-                return Err(bad(format!(
+            many => Err(bad(
+                file,
+                format!(
                     "several end links ({}); name the flange link `tool0`",
                     many.join(", ")
-                )))
+                ),
+            )),
+        }
+    }
+
+    /// Every link with a mass that one of the arm's joints moves (a branch
+    /// off the arm, or the base, is not the arm's load).
+    fn masses(&self, joints: &[ChainJoint; 6]) -> Vec<LinkMass> {
+        let robot = self.robot;
+        let mut masses = Vec::new();
+        for link in &robot.links {
+            let m = link.inertial.mass.value;
+            if !(m.is_finite() && m > 0.0) {
+                continue;
+            }
+            let Some(p) = self.path_to(&link.name) else {
+                continue;
+            };
+            let Some(last) = p.iter().rposition(|&i| movable(&robot.joints[i])) else {
+                continue;
+            };
+            let name = &robot.joints[p[last]].name;
+            let Some(k) = joints.iter().position(|j| &j.name == name) else {
+                continue;
+            };
+            let com = p[last + 1..].iter().fold(Isometry3::identity(), |t, &i| {
+                t * pose_of(&robot.joints[i].origin)
+            }) * pose_of(&link.inertial.origin);
+            let com = com.translation.vector;
+            if com.iter().all(|v| v.is_finite()) {
+                masses.push(LinkMass {
+                    joint: k,
+                    mass_kg: m,
+                    com,
+                });
             }
         }
-    };
-    let path = path_to(&tip_name).ok_or_else(|| bad("the joints form a cycle".into()))?;
-    let mut joints: Vec<ChainJoint> = Vec::with_capacity(6);
-    let mut limits: Vec<(f64, f64)> = Vec::with_capacity(6);
-    let mut speeds: Vec<f64> = Vec::with_capacity(6);
-    let mut pending = Isometry3::identity();
-    for &i in &path {
-        let j = &robot.joints[i];
+        masses
+    }
+}
+
+/// An error of the file as a whole.
+fn bad(file: &str, msg: String) -> Error {
+    Error::input(format!("{file}: {msg}"))
+}
+
+/// An error at a joint's element.
+fn bad_joint(index: &UrdfIndex, name: &str, msg: String) -> Error {
+    Error::input(msg).at(index.joint(name))
+}
+
+/// The axes met on the way from the root to the flange, with the fixed
+/// transforms not yet folded into an axis's origin.
+struct Axes {
+    joints: Vec<ChainJoint>,
+    limits: Vec<(f64, f64)>,
+    speeds: Vec<f64>,
+    pending: Isometry3<f64>,
+}
+
+impl Axes {
+    /// The axes of the joints of `path`, refused where a joint is not one
+    /// the model has.
+    fn along(robot: &urdf_rs::Robot, path: &[usize], index: &UrdfIndex) -> Result<Self> {
+        let mut axes = Axes {
+            joints: Vec::with_capacity(6),
+            limits: Vec::with_capacity(6),
+            speeds: Vec::with_capacity(6),
+            pending: Isometry3::identity(),
+        };
+        for &i in path {
+            axes.joint(&robot.joints[i], index)?;
+        }
+        Ok(axes)
+    }
+
+    /// One joint of the path: a fixed one folded into what follows, a
+    /// revolute one an axis.
+    fn joint(&mut self, j: &urdf_rs::Joint, index: &UrdfIndex) -> Result<()> {
         if let Some(m) = &j.mimic {
             // A joint that follows another is no axis of its own: taken
             // as one, the arm would move it freely.
@@ -149,13 +238,14 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
             .at(index.joint(&j.name)));
         }
         match &j.joint_type {
-            urdf_rs::JointType::Fixed => pending *= pose_of(&j.origin),
+            urdf_rs::JointType::Fixed => self.pending *= pose_of(&j.origin),
             urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
                 let axis = Vector3::from(j.axis.xyz.0);
                 let axis = Unit::try_new(axis, 1e-12)
                     .filter(|_| axis.iter().all(|v| v.is_finite()))
                     .ok_or_else(|| {
                         bad_joint(
+                            index,
                             &j.name,
                             format!("joint `{}` has a zero or invalid axis", j.name),
                         )
@@ -168,6 +258,7 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
                     let (lo, hi) = (j.limit.lower, j.limit.upper);
                     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
                         return Err(bad_joint(
+                            index,
                             &j.name,
                             format!(
                                 "revolute joint `{}` needs limits with lower < upper (got {lo} .. {hi})",
@@ -177,15 +268,15 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
                     }
                     (lo, hi)
                 };
-                joints.push(ChainJoint {
+                self.joints.push(ChainJoint {
                     name: j.name.clone(),
-                    origin: pending * pose_of(&j.origin),
+                    origin: self.pending * pose_of(&j.origin),
                     axis,
                 });
-                pending = Isometry3::identity();
-                limits.push(lim);
+                self.pending = Isometry3::identity();
+                self.limits.push(lim);
                 let v = j.limit.velocity;
-                speeds.push(if v.is_finite() && v > 0.0 {
+                self.speeds.push(if v.is_finite() && v > 0.0 {
                     v.to_degrees()
                 } else {
                     0.0
@@ -203,51 +294,42 @@ pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
                 .at(index.joint(&j.name)))
             }
         }
+        Ok(())
     }
+}
+
+/// Parse a URDF text (`file` names it in messages).
+pub fn parse(file: &str, text: &str) -> Result<UrdfArm> {
+    let (robot, index) = read(file, text)?;
+    let tree = Tree::new(&robot, &index)?;
+    let tip_name = tree.tip_name(file)?;
+    let path = tree
+        .path_to(&tip_name)
+        .ok_or_else(|| bad(file, "the joints form a cycle".into()))?;
+    let Axes {
+        joints,
+        limits,
+        speeds,
+        pending,
+    } = Axes::along(&robot, &path, &index)?;
     let n = joints.len();
     let joints: [ChainJoint; 6] = joints.try_into().map_err(|_| {
-        bad(format!(
-            "{n} revolute joints between the root and `{tip_name}`; a six-axis serial arm is needed"
-        ))
+        bad(
+            file,
+            format!(
+                "{n} revolute joints between the root and `{tip_name}`; a six-axis serial arm is needed"
+            ),
+        )
     })?;
     let finite = joints.iter().all(|j| {
         j.origin.translation.vector.iter().all(|v| v.is_finite())
             && j.origin.rotation.coords.iter().all(|v| v.is_finite())
     });
     if !finite {
-        return Err(bad("a joint origin is not finite".into()));
+        return Err(bad(file, "a joint origin is not finite".into()));
     }
     check_size(file, &joints, &pending, &index)?;
-    // Every link with a mass that one of the arm's joints moves (a branch
-    // off the arm, or the base, is not the arm's load).
-    let mut masses = Vec::new();
-    for link in &robot.links {
-        let m = link.inertial.mass.value;
-        if !(m.is_finite() && m > 0.0) {
-            continue;
-        }
-        let Some(p) = path_to(&link.name) else {
-            continue;
-        };
-        let Some(last) = p.iter().rposition(|&i| movable(&robot.joints[i])) else {
-            continue;
-        };
-        let name = &robot.joints[p[last]].name;
-        let Some(k) = joints.iter().position(|j| &j.name == name) else {
-            continue;
-        };
-        let com = p[last + 1..].iter().fold(Isometry3::identity(), |t, &i| {
-            t * pose_of(&robot.joints[i].origin)
-        }) * pose_of(&link.inertial.origin);
-        let com = com.translation.vector;
-        if com.iter().all(|v| v.is_finite()) {
-            masses.push(LinkMass {
-                joint: k,
-                mass_kg: m,
-                com,
-            });
-        }
-    }
+    let masses = tree.masses(&joints);
     Ok(UrdfArm {
         name: robot.name.clone(),
         chain: Chain {

@@ -380,7 +380,7 @@ proptest! {
             Edit::Respell | Edit::Added(false) => {
                 prop_assert_eq!(&distrust, &None, "{}", text);
                 let found = marker::find(&program).expect("a marker");
-                prop_assert_eq!(found.marker.basis.to_ascii_lowercase(), "minute 120");
+                prop_assert_eq!(found.marker.basis.to_string().to_ascii_lowercase(), "minute 120");
             }
             Edit::DeleteBoth => {
                 prop_assert_eq!(&distrust, &None);

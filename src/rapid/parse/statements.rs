@@ -371,17 +371,26 @@ impl FileParser<'_, '_> {
         self.call_joints.clear();
         let args = args
             .into_iter()
-            .map(|a| Arg {
-                value: a.value.map(|v| self.take_literals(v, &ctx)),
-                ..a
+            .map(|a| {
+                arg(
+                    a.optional,
+                    a.name,
+                    a.value.map(|v| self.take_literals(v, &ctx)),
+                )
             })
             .collect();
-        Ok(StatementKind::Call(Call {
+        let call = Call {
             name,
             late_bound,
             args,
             targets: std::mem::take(&mut self.call_targets),
             jointtargets: std::mem::take(&mut self.call_joints),
+        };
+        // A move the lane covers is made by the one constructor of moves,
+        // the lane's too.
+        Ok(StatementKind::Call(match MoveParts::of_call(&call) {
+            Some(parts) => parts.call(),
+            None => call,
         }))
     }
 
@@ -404,11 +413,7 @@ impl FileParser<'_, '_> {
                     _ => {}
                 }
             }
-            out.push(Arg {
-                optional,
-                name,
-                value,
-            });
+            out.push(arg(optional, name, value));
         }
         Ok(out)
     }

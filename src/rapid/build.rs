@@ -47,6 +47,7 @@ pub(crate) fn keyword_number(words: &[&str], word: &str) -> Option<usize> {
 
 /// The identifier of an inline (or assigned) literal: the routine (its
 /// prefix), `#`, its number in the routine from 1.
+#[inline]
 pub(crate) fn inline_id(prefix: &str, n: usize, id: &mut String) {
     id.clear();
     id.push_str(prefix);
@@ -56,6 +57,7 @@ pub(crate) fn inline_id(prefix: &str, n: usize, id: &mut String) {
 
 /// The identifier of a declared target: its name, with its element's
 /// index path where it is one of an array's (`arr{2,1}`).
+#[inline]
 pub(crate) fn declared_id(name: &str, index: &[usize], id: &mut String) {
     id.clear();
     id.push_str(name);
@@ -68,6 +70,27 @@ pub(crate) fn declared_id(name: &str, index: &[usize], id: &mut String) {
         }
         id.push('}');
     }
+}
+
+/// An identifier qualified with its module (`M1:pA`): where the same
+/// identifier is another module's too.
+pub(crate) fn qualified(module: &str, id: &str) -> String {
+    let mut out = id.to_string();
+    qualify(module, &mut out);
+    out
+}
+
+/// [`qualified`] in place.
+#[inline]
+pub(crate) fn qualify(module: &str, id: &mut String) {
+    id.insert(0, ':');
+    id.insert_str(0, module);
+}
+
+/// An identifier of a routine's own data (`r1/pA`): where its name is
+/// declared elsewhere too.
+pub(crate) fn in_routine(routine: &str, id: &str) -> String {
+    format!("{routine}/{id}")
 }
 
 /// The names of the instruction holding a literal: the instruction, its
@@ -105,6 +128,7 @@ pub(crate) struct Place<'a> {
 impl<'a> TargetParts<'a> {
     /// A literal in a routine's statement: inline in an instruction, or
     /// assigned to the variable `assigned_to`.
+    #[inline]
     pub fn inline(at: Place<'a>, pos: Pos, held: HeldBy<'a>, assigned_to: Option<&'a str>) -> Self {
         TargetParts {
             kind: match assigned_to {
@@ -123,6 +147,7 @@ impl<'a> TargetParts<'a> {
 
     /// The value of declaration `name` (`element`: one element of its
     /// array value).
+    #[inline]
     pub fn declared(
         at: Place<'a>,
         pos: Pos,
@@ -147,6 +172,7 @@ impl<'a> TargetParts<'a> {
 
     /// `t` made this target (its identifier and value are the caller's),
     /// its allocations kept where the same.
+    #[inline]
     pub fn fill(&self, t: &mut Target) {
         t.kind = self.kind;
         set_origin(&mut t.origin, self);
@@ -215,6 +241,7 @@ impl<'a> TargetParts<'a> {
 }
 
 /// A target's origin set in place (the names' `Arc`s kept where the same).
+#[inline]
 fn set_origin(o: &mut Origin, t: &TargetParts) {
     o.file = t.file;
     if !Arc::ptr_eq(&o.module, t.module) {
@@ -228,6 +255,7 @@ fn set_origin(o: &mut Origin, t: &TargetParts) {
 }
 
 /// Set a name, keeping the one it holds when it is the same.
+#[inline]
 fn renew(slot: &mut Option<Arc<str>>, name: Option<&Arc<str>>) {
     match (&*slot, name) {
         (Some(a), Some(b)) if Arc::ptr_eq(a, b) => {}
@@ -389,5 +417,138 @@ impl MoveParts {
             targets: self.targets,
             jointtargets: Vec::new(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn name(n: &str) -> Option<Expr> {
+        Some(Expr::Name(Arc::from(n)))
+    }
+
+    /// `MoveL <first>, v100, fine, tool0\WObj:=wobj1` as the grammar
+    /// reads it, its literal (if any) numbered 7.
+    fn move_l(first: Expr, wobj: Option<Arg>) -> Call {
+        let targets = match first {
+            Expr::Target(_) => vec![7],
+            _ => Vec::new(),
+        };
+        let mut args = vec![arg(false, None, Some(first))];
+        for n in ["v100", "fine", "tool0"] {
+            args.push(arg(false, None, name(n)));
+        }
+        args.extend(wobj);
+        Call {
+            name: Arc::from("MoveL"),
+            late_bound: false,
+            args,
+            targets,
+            jointtargets: Vec::new(),
+        }
+    }
+
+    fn wobj() -> Option<Arg> {
+        Some(arg(true, Some(Arc::from("WObj")), name("wobj1")))
+    }
+
+    #[test]
+    fn identifiers_are_written_as_the_module_docs_say() {
+        let mut id = String::from("old");
+        declared_id("pScan", &[2, 1], &mut id);
+        assert_eq!(id, "pScan{2,1}");
+        declared_id("pA", &[], &mut id);
+        assert_eq!(id, "pA");
+        inline_id("main", 3, &mut id);
+        assert_eq!(id, "main#3");
+        assert_eq!(qualified("M1", "pA"), "M1:pA");
+        assert_eq!(in_routine("r1", "arr{2}"), "r1/arr{2}");
+    }
+
+    #[test]
+    fn keywords_are_matched_whatever_their_case() {
+        let k = |words: &[&str], w| keyword_number(words, w);
+        assert_eq!(k(&SCOPE_WORDS, "local").map(scope), Some(Scope::Local));
+        assert_eq!(k(&SCOPE_WORDS, "Task").map(scope), Some(Scope::Task));
+        assert_eq!(k(&STORAGE_WORDS, "pers").map(storage), Some(Storage::Pers));
+        assert_eq!(
+            k(&STORAGE_WORDS, "CONST").map(storage),
+            Some(Storage::Const)
+        );
+        assert_eq!(k(&STORAGE_WORDS, "VAR").map(storage), Some(Storage::Var));
+        assert_eq!(k(&STORAGE_WORDS, "ALIAS"), None);
+    }
+
+    /// A plain move the grammar reads is made again, the same, by the
+    /// constructor the lane's moves are made by.
+    #[test]
+    fn a_plain_move_is_made_by_the_one_constructor() {
+        for call in [
+            move_l(Expr::Target(7), wobj()),
+            move_l(Expr::Target(7), None),
+            move_l(Expr::Name(Arc::from("pA")), wobj()),
+        ] {
+            let parts = MoveParts::of_call(&call).expect("a plain move");
+            assert_eq!(parts.call(), call);
+        }
+        let parts = MoveParts::of_call(&move_l(Expr::Name(Arc::from("pA")), wobj())).unwrap();
+        assert_eq!(parts.named.as_deref(), Some("pA"));
+        assert_eq!(parts.wobj.map(|w| w.1).as_deref(), Some("wobj1"));
+    }
+
+    /// Where the lane would not read the move, the grammar keeps its own
+    /// call: another optional argument, a late-bound name, an instruction
+    /// of another signature, a target that is no plain name.
+    #[test]
+    fn other_calls_are_not_moves() {
+        let conc = Some(arg(true, Some(Arc::from("Conc")), None));
+        assert!(MoveParts::of_call(&move_l(Expr::Target(7), conc)).is_none());
+        let mut late = move_l(Expr::Target(7), None);
+        late.late_bound = true;
+        assert!(MoveParts::of_call(&late).is_none());
+        let mut abs = move_l(Expr::Target(7), None);
+        abs.name = Arc::from("MoveAbsJ");
+        assert!(MoveParts::of_call(&abs).is_none());
+        let index = Expr::Index(Box::new((
+            Expr::Name(Arc::from("p")),
+            vec![Expr::Num(Number::new(1.0, 0..1))],
+        )));
+        assert!(MoveParts::of_call(&move_l(index, None)).is_none());
+    }
+
+    #[test]
+    fn a_target_filled_again_is_what_its_parts_say() {
+        let module: Arc<str> = Arc::from("M");
+        let routine: Arc<str> = Arc::from("main");
+        let tool: Arc<str> = Arc::from("tool0");
+        let place = Place {
+            file: 1,
+            module: &module,
+            routine: Some(&routine),
+        };
+        let pos = Pos::default();
+        let declared = TargetParts::declared(place, pos, "pS", Storage::Pers, true);
+        let mut t = declared.target("pS{1}".into(), None);
+        assert_eq!(t.kind, TargetKind::ArrayElement);
+        assert_eq!(
+            (t.name.as_deref(), t.storage),
+            (Some("pS"), Some(Storage::Pers))
+        );
+        let held = HeldBy {
+            instruction: None,
+            tool: Some(&tool),
+            wobj: None,
+        };
+        TargetParts::inline(place, pos, held, None).fill(&mut t);
+        assert_eq!(t.kind, TargetKind::Inline);
+        assert_eq!((t.name.as_deref(), t.storage), (None, None));
+        assert_eq!(t.tool.as_deref(), Some("tool0"));
+        TargetParts::inline(place, pos, HeldBy::default(), Some("p1")).fill(&mut t);
+        assert_eq!(
+            (t.kind, t.name.as_deref()),
+            (TargetKind::Assigned, Some("p1"))
+        );
+        assert_eq!(t.origin.routine.as_deref(), Some("main"));
     }
 }

@@ -8,7 +8,7 @@
 //! ([`Program::expanded`](super::Program::expanded)).
 
 use super::build::{
-    declaration, declared_id, inline_id, DeclParts, HeldBy, MoveParts, Place, TargetParts,
+    declaration, declared_id, inline_id, qualify, DeclParts, HeldBy, MoveParts, Place, TargetParts,
 };
 use super::lane::{Cursor, Seen};
 use super::place::pos_on;
@@ -316,8 +316,7 @@ impl DeclRun {
     fn id_of(&self, item: &DeclItem, name: &str, id: &mut String) {
         declared_id(name, &[], id);
         if item.qualified {
-            id.insert(0, ':');
-            id.insert_str(0, &self.module);
+            qualify(&self.module, id);
         }
     }
 

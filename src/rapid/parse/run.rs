@@ -3,6 +3,7 @@
 //! modules, source order.
 
 use super::*;
+use crate::rapid::build::{in_routine, qualified};
 use crate::rapid::targets::{Held, Segment};
 
 /// What the run declares itself, lower-case: its RECORD types (name:
@@ -300,21 +301,21 @@ impl Builder {
         for t in &mut self.prog.targets {
             if local(&t.origin, t.kind) && shadows(&t.name) {
                 if let Some(r) = &t.origin.routine {
-                    t.id = format!("{r}/{}", t.id);
+                    t.id = in_routine(r, &t.id);
                 }
             }
         }
         for t in &mut self.prog.jointtargets {
             if local(&t.origin, t.kind) && shadows(&t.name) {
                 if let Some(r) = &t.origin.routine {
-                    t.id = format!("{r}/{}", t.id);
+                    t.id = in_routine(r, &t.id);
                 }
             }
         }
         for a in &mut self.prog.runs.arrays {
             if let Some(r) = &a.routine {
                 if shadows(&Some(a.name.to_string())) {
-                    a.prefix = Arc::from(format!("{r}/{}", a.name));
+                    a.prefix = Arc::from(in_routine(r, &a.name));
                 }
             }
         }
@@ -535,11 +536,6 @@ fn qualify<T>(
         .filter(|(_, m)| m.len() > 1)
         .map(|(space, _)| space)
         .collect()
-}
-
-/// An identifier qualified with its module (`MainModule:main#3`).
-pub(in crate::rapid) fn qualified(module: &str, id: &str) -> String {
-    format!("{module}:{id}")
 }
 
 /// Sort by (file, offset) in place; returns old index -> new index. Most

@@ -3,7 +3,7 @@
 //! the file when asked for) rather than as a statement, a declaration
 //! and a target each: a program of a million moves holds a million of
 //! these. Each is made, on demand, into exactly what the grammar makes of
-//! it: one target at a time ([`Program::targets`](super::Program::targets)), one move at a time
+//! it, by the constructors the grammar makes it by (`build`): one target at a time ([`Program::targets`](super::Program::targets)), one move at a time
 //! ([`MoveRef`]), or the whole program
 //! ([`Program::expanded`](super::Program::expanded)).
 

@@ -44,6 +44,7 @@
 //! spans are those of the original bytes; names and strings are decoded
 //! from the original bytes (UTF-8 where valid, Latin-1 otherwise).
 mod bounds;
+mod build;
 pub mod builtins;
 pub mod constants;
 mod expand;

@@ -3,18 +3,20 @@
 //! the file when asked for) rather than as a statement, a declaration
 //! and a target each: a program of a million moves holds a million of
 //! these. Each is made, on demand, into exactly what the grammar makes of
-//! it: one target at a time ([`Program::targets`](super::Program::targets)), one move at a time
+//! it, by the constructors the grammar makes it by (`build`): one target at a time ([`Program::targets`](super::Program::targets)), one move at a time
 //! ([`MoveRef`]), or the whole program
 //! ([`Program::expanded`](super::Program::expanded)).
 
+use super::build::{
+    declaration, declared_id, inline_id, qualify, DeclParts, HeldBy, MoveParts, Place, TargetParts,
+};
 use super::lane::{Cursor, Seen};
 use super::place::pos_on;
 use super::source::Source;
-use super::syntax::{Arg, Call, DataDecl, Expr, Statement, StatementKind};
+use super::syntax::{DataDecl, Expr, Statement};
 use super::values::{
     Number, Origin, Pos, PoseNumbers, RobTargetValue, Scope, Storage, Target, TargetKind,
 };
-use std::fmt::Write as _;
 use std::sync::Arc;
 
 /// No name (a move without a work object).
@@ -177,10 +179,7 @@ impl MoveRun {
 
     /// The identifier of literal `k` into `id` (its numbers not read).
     pub fn id_into(&self, k: usize, id: &mut String) {
-        id.clear();
-        id.push_str(&self.prefix);
-        id.push('#');
-        id.push_str(itoa::Buffer::new().format(self.first as usize + k + 1));
+        inline_id(&self.prefix, self.first as usize + k + 1, id);
     }
 
     /// Literal `k` of the run into `t`, as the grammar makes it (its
@@ -195,21 +194,18 @@ impl MoveRun {
             return false;
         }
         self.id_into(k, &mut t.id);
-        t.kind = TargetKind::Inline;
-        set_origin(
-            &mut t.origin,
-            self.file,
-            &self.module,
-            Some(&self.routine),
-            pos_on(src, at, item.line),
-        );
-        t.name = None;
-        t.storage = None;
-        let name = |i: usize| runs.name(item.names[i]).cloned();
-        renew(&mut t.instruction, name(0));
-        renew(&mut t.tool, name(3));
-        renew(&mut t.wobj, name(5));
-        t.derived = None;
+        let name = |i: usize| runs.name(item.names[i]);
+        let held = HeldBy {
+            instruction: name(0),
+            tool: name(3),
+            wobj: name(5),
+        };
+        let place = Place {
+            file: self.file,
+            module: &self.module,
+            routine: Some(&self.routine),
+        };
+        TargetParts::inline(place, pos_on(src, at, item.line), held, None).fill(t);
         true
     }
 
@@ -228,36 +224,25 @@ impl MoveRun {
         let name = |i: usize| runs.name(item.names[i]).cloned();
         let literals = usize::from(self.literals);
         let first = self.base + m * literals;
-        let mut args = Vec::with_capacity(literals + 4);
-        let targets: Vec<usize> = (first..first + literals).collect();
-        for &i in &targets {
-            args.push(positional(Expr::Target(i)));
-        }
-        if literals == 0 {
-            let (at, len) = named_span(item);
-            let text = std::str::from_utf8(src.get(at..at + len)?).ok()?;
-            args.push(positional(Expr::Name(runs.intern_like(text))));
-        }
-        for i in [1, 2, 3] {
-            args.push(positional(Expr::Name(name(i)?)));
-        }
-        if let (Some(word), Some(w)) = (name(4), name(5)) {
-            args.push(Arg {
-                optional: true,
-                name: Some(word),
-                value: Some(Expr::Name(w)),
-            });
-        }
-        Some(Statement {
+        let named = match literals {
+            0 => {
+                let (at, len) = named_span(item);
+                let text = std::str::from_utf8(src.get(at..at + len)?).ok()?;
+                Some(runs.intern_like(text))
+            }
+            _ => None,
+        };
+        let parts = MoveParts {
             pos: pos_on(src, item.at as usize, item.line),
-            kind: StatementKind::Call(Call {
-                name: name(0)?,
-                late_bound: false,
-                args,
-                targets,
-                jointtargets: Vec::new(),
-            }),
-        })
+            instruction: name(0)?,
+            targets: (first..first + literals).collect(),
+            named,
+            speed: name(1)?,
+            zone: name(2)?,
+            tool: name(3)?,
+            wobj: name(4).zip(name(5)),
+        };
+        Some(parts.statement())
     }
 }
 
@@ -278,14 +263,6 @@ impl Runs {
             .find(|n| &***n == text)
             .cloned()
             .unwrap_or_else(|| Arc::from(text))
-    }
-}
-
-fn positional(value: Expr) -> Arg {
-    Arg {
-        optional: false,
-        name: None,
-        value: Some(value),
     }
 }
 
@@ -311,26 +288,13 @@ impl DeclRun {
             return false;
         };
         self.id_of(item, name, &mut t.id);
-        t.kind = TargetKind::Declared;
-        set_origin(
-            &mut t.origin,
-            self.file,
-            &self.module,
-            None,
-            pos_on(src, at, item.line),
-        );
-        match &mut t.name {
-            Some(n) => {
-                n.clear();
-                n.push_str(name);
-            }
-            None => t.name = Some(name.to_string()),
-        }
-        t.storage = Some(self.storage);
-        t.instruction = None;
-        t.tool = None;
-        t.wobj = None;
-        t.derived = None;
+        let place = Place {
+            file: self.file,
+            module: &self.module,
+            routine: None,
+        };
+        let pos = pos_on(src, at, item.line);
+        TargetParts::declared(place, pos, name, self.storage, false).fill(t);
         true
     }
 
@@ -350,11 +314,10 @@ impl DeclRun {
     /// The identifier of an item declared `name`: the name, qualified
     /// with the module where the run's identifiers are.
     fn id_of(&self, item: &DeclItem, name: &str, id: &mut String) {
-        id.clear();
+        declared_id(name, &[], id);
         if item.qualified {
-            let _ = write!(id, "{}:", self.module);
+            qualify(&self.module, id);
         }
-        id.push_str(name);
     }
 
     /// The declared name of an item.
@@ -367,16 +330,16 @@ impl DeclRun {
     /// `base + k`.
     pub fn declaration(&self, src: &[u8], k: usize) -> Option<DataDecl> {
         let item = self.items.get(k)?;
-        Some(DataDecl {
+        Some(declaration(DeclParts {
             scope: self.scope,
             storage: self.storage,
-            type_name: self.type_name.to_string(),
-            name: self.name_of(src, item)?.to_string(),
+            type_name: &self.type_name,
+            name: self.name_of(src, item)?,
             dims: Vec::new(),
             init: Some(Expr::Target(self.base + k)),
             pos: pos_on(src, item.at as usize, item.line),
             elements: None,
-        })
+        }))
     }
 }
 
@@ -390,11 +353,7 @@ impl ArrayRun {
 
     /// The identifier of element `k` into `id` (its numbers not read).
     pub fn id_into(&self, k: usize, id: &mut String) {
-        id.clear();
-        id.push_str(&self.prefix);
-        id.push('{');
-        id.push_str(itoa::Buffer::new().format(k + 1));
-        id.push('}');
+        declared_id(&self.prefix, &[k + 1], id);
     }
 
     /// Element `k` into `t`, as the grammar makes it.
@@ -406,51 +365,14 @@ impl ArrayRun {
             return false;
         }
         self.id_into(k, &mut t.id);
-        t.kind = TargetKind::ArrayElement;
-        set_origin(
-            &mut t.origin,
-            self.file,
-            &self.module,
-            self.routine.as_ref(),
-            pos_on(src, at as usize, line),
-        );
-        match &mut t.name {
-            Some(n) if **n == *self.name => {}
-            _ => t.name = Some(self.name.to_string()),
-        }
-        t.storage = Some(self.storage);
-        t.instruction = None;
-        t.tool = None;
-        t.wobj = None;
-        t.derived = None;
+        let place = Place {
+            file: self.file,
+            module: &self.module,
+            routine: self.routine.as_ref(),
+        };
+        let pos = pos_on(src, at as usize, line);
+        TargetParts::declared(place, pos, &self.name, self.storage, true).fill(t);
         true
-    }
-}
-
-/// A target's origin set in place (the names' `Arc`s kept where the same).
-fn set_origin(
-    o: &mut Origin,
-    file: usize,
-    module: &Arc<str>,
-    routine: Option<&Arc<str>>,
-    pos: Pos,
-) {
-    o.file = file;
-    if !Arc::ptr_eq(&o.module, module) {
-        o.module = module.clone();
-    }
-    match (routine, &o.routine) {
-        (Some(r), Some(have)) if Arc::ptr_eq(r, have) => {}
-        _ => o.routine = routine.cloned(),
-    }
-    o.pos = pos;
-}
-
-/// Set a name, keeping the one it holds when it is the same.
-fn renew(slot: &mut Option<Arc<str>>, name: Option<Arc<str>>) {
-    match (&*slot, &name) {
-        (Some(a), Some(b)) if Arc::ptr_eq(a, b) => {}
-        _ => *slot = name,
     }
 }
 

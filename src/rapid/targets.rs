@@ -379,7 +379,7 @@ impl<'p> TargetIndex<'p> {
             for (k, item) in run.items.iter().enumerate().filter(|(_, i)| i.qualified) {
                 if let Some(name) = run.name_of(src, item) {
                     qualified
-                        .entry(format!("{}:{name}", run.module).to_ascii_lowercase())
+                        .entry(super::build::qualified(&run.module, name).to_ascii_lowercase())
                         .or_insert(run.base + k);
                 }
             }

@@ -10,10 +10,11 @@
 //! through [`Program::module_data`] (each one) or
 //! [`Program::declaration_batches`] (a run's names and targets at once).
 
+use super::build::aggregate_of;
 use super::program::Program;
 use super::runs::{DeclRun, MoveRef, MoveRun, Runs};
 use super::source::Source;
-use super::syntax::{Aggregate, Block, DataDecl, Expr, Module, Statement};
+use super::syntax::{Block, DataDecl, Expr, Module, Statement};
 use super::values::{Pos, Scope};
 use std::borrow::Cow;
 use std::ops::Range;
@@ -243,10 +244,8 @@ impl Program {
             return Some(Cow::Borrowed(e));
         }
         let a = self.runs.arrays.get(d.elements?)?;
-        Some(Cow::Owned(Expr::Aggregate(Box::new(Aggregate {
-            items: self.elements_of(d)?.map(Expr::Target).collect(),
-            span: a.span.clone(),
-        }))))
+        let items = self.elements_of(d)?.map(Expr::Target).collect();
+        Some(Cow::Owned(aggregate_of(items, a.span.clone())))
     }
 
     /// The numbers of the targets of an array of robtarget literals the

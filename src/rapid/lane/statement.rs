@@ -10,7 +10,8 @@
 
 use super::cursor::{Cursor, Seen};
 use super::decline::{Decline, Part};
-use crate::rapid::{motion_signature, ArgAt, MotionKind, Scope, Storage};
+use crate::rapid::build::{leading_targets, scope, storage, SCOPE_WORDS, STORAGE_WORDS};
+use crate::rapid::{Scope, Storage};
 use std::ops::Range;
 
 /// A move the lane reads.
@@ -30,22 +31,6 @@ pub(crate) struct LaneMove {
     /// `\WObj:=name`: the argument's name as written, and the work
     /// object's.
     pub wobj: Option<(Range<usize>, Range<usize>)>,
-}
-
-/// How many robtarget arguments lead the positional arguments of a move
-/// instruction whose other arguments are exactly speed, zone and tool;
-/// `None` for any other instruction.
-fn leading_targets(name: &str) -> Option<usize> {
-    let sig = motion_signature(name)?;
-    let k = sig.robtargets.len();
-    let plain = matches!(
-        sig.kind,
-        MotionKind::Linear | MotionKind::Joint | MotionKind::Circular
-    ) && sig.robtargets.iter().enumerate().all(|(i, &at)| i == at)
-        && sig.speed == Some(ArgAt::Index(k))
-        && sig.zone == Some(ArgAt::Index(k + 1))
-        && sig.tool == Some(ArgAt::Index(k + 2));
-    plain.then_some(k)
 }
 
 /// The move starting at `at` of `src`, where the lane reads it (numbers'
@@ -187,16 +172,9 @@ pub(crate) fn read_decl<'a>(
     seen: &mut Seen<'a>,
 ) -> Result<Option<LaneDecl>, Decline> {
     let mut c = Cursor::form(src, at, seen);
-    let scope = match c.keyword(&["LOCAL", "TASK"]) {
-        Some(0) => Some(Scope::Local),
-        Some(_) => Some(Scope::Task),
-        None => None,
-    };
-    let storage = match c.keyword(&["CONST", "PERS", "VAR"]) {
-        Some(0) => Storage::Const,
-        Some(1) => Storage::Pers,
-        Some(_) => Storage::Var,
-        None => return Ok(None),
+    let scope = c.keyword(&SCOPE_WORDS).map(scope);
+    let Some(storage) = c.keyword(&STORAGE_WORDS).map(storage) else {
+        return Ok(None);
     };
     let Some(type_name) = c.name_as(false) else {
         return Ok(None);

@@ -10,35 +10,31 @@ impl FileParser<'_, '_> {
             let Some(decl) = pair.into_inner().next() else {
                 return Err(s.err(p.start, "expected a data declaration"));
             };
-            let mut d = DataDecl {
+            let (mut type_name, mut name) = (String::new(), String::new());
+            let mut d = DeclParts {
                 scope: None,
-                storage: Storage::Var,
-                type_name: String::new(),
-                name: String::new(),
+                // The grammar's storage and scope are of the keywords
+                // only; what else it matched is the last keyword's.
+                storage: storage(STORAGE_WORDS.len() - 1),
+                type_name: "",
+                name: "",
                 dims: Vec::new(),
                 init: None,
-                pos: Pos::default(),
+                pos: s.pos(p.start),
                 elements: None,
             };
             for c in decl.into_inner() {
                 match c.as_rule() {
                     Rule::scope => {
-                        d.scope = Some(if c.as_str().eq_ignore_ascii_case("LOCAL") {
-                            Scope::Local
-                        } else {
-                            Scope::Task
-                        })
+                        let k = keyword_number(&SCOPE_WORDS, c.as_str());
+                        d.scope = Some(scope(k.unwrap_or(SCOPE_WORDS.len() - 1)));
                     }
                     Rule::storage => {
-                        let t = c.as_str().to_ascii_uppercase();
-                        d.storage = match t.as_str() {
-                            "CONST" => Storage::Const,
-                            "PERS" => Storage::Pers,
-                            _ => Storage::Var,
-                        }
+                        let k = keyword_number(&STORAGE_WORDS, c.as_str());
+                        d.storage = storage(k.unwrap_or(STORAGE_WORDS.len() - 1));
                     }
-                    Rule::type_name => d.type_name = s.text(&c, p.start),
-                    Rule::identifier => d.name = s.text(&c, p.start),
+                    Rule::type_name => type_name = s.text(&c, p.start),
+                    Rule::identifier => name = s.text(&c, p.start),
                     Rule::dim => {
                         for e in c.into_inner() {
                             d.dims.push(s.expr(e, p.start)?);
@@ -52,9 +48,12 @@ impl FileParser<'_, '_> {
                     _ => {}
                 }
             }
-            Ok(d)
+            Ok(declaration(DeclParts {
+                type_name: &type_name,
+                name: &name,
+                ..d
+            }))
         })?;
-        d.pos = self.pos(p.start);
         let ty = d.type_name.to_ascii_lowercase();
         if let Some(init) = d.init.take() {
             let origin_pos = d.pos;
@@ -73,22 +72,31 @@ impl FileParser<'_, '_> {
         Ok(d)
     }
 
-    pub(super) fn origin(&self, offset: usize) -> Origin {
-        Origin {
+    /// Where what the parse reads now is: its file, module and routine.
+    pub(super) fn place(&self) -> Place<'_> {
+        Place {
             file: self.file,
-            module: self.module.clone(),
-            routine: self.routine.clone(),
-            pos: self.pos(offset),
+            module: &self.module,
+            routine: self.routine.as_ref(),
         }
     }
 
+    /// The target of declaration `d` (an element of its value: `element`)
+    /// whose value starts at `offset`.
+    pub(super) fn declared_parts<'s>(
+        &'s self,
+        d: &'s DataDecl,
+        offset: usize,
+        element: bool,
+    ) -> TargetParts<'s> {
+        let pos = self.pos(offset);
+        TargetParts::declared(self.place(), pos, &d.name, d.storage, element)
+    }
+
     pub(super) fn decl_id(name: &str, index: &[usize]) -> String {
-        if index.is_empty() {
-            name.to_string()
-        } else {
-            let ix: Vec<String> = index.iter().map(|i| i.to_string()).collect();
-            format!("{name}{{{}}}", ix.join(","))
-        }
+        let mut id = String::new();
+        declared_id(name, index, &mut id);
+        id
     }
 
     /// The elements of a declared array value of `dims` dimensions, each
@@ -133,23 +141,15 @@ impl FileParser<'_, '_> {
     /// One robtarget of a declaration (the whole value, or an element).
     fn declared_robtarget(&mut self, d: &DataDecl, e: Expr, index: &[usize]) -> Result<Expr> {
         let id = Self::decl_id(&d.name, index);
-        let kind = if index.is_empty() {
-            TargetKind::Declared
-        } else {
-            TargetKind::ArrayElement
-        };
         match &e {
             Expr::Aggregate(a) => match robtarget_shape(&a.items) {
                 Err(why) => Err(self
                     .err(a.span.start, format!("robtarget {id} is malformed: {why}"))
                     .with_note(ROBTARGET_FORM)),
                 Ok(Some(value)) => {
-                    let t = self.new_target(id, kind, a.span.start, Some(value));
-                    let t = Target {
-                        name: Some(d.name.clone()),
-                        storage: Some(d.storage),
-                        ..t
-                    };
+                    let element = !index.is_empty();
+                    let parts = self.declared_parts(d, a.span.start, element);
+                    let t = parts.target(id, Some(value));
                     Ok(Expr::Target(self.push_target(t)))
                 }
                 Ok(None) => {
@@ -174,35 +174,15 @@ impl FileParser<'_, '_> {
         e: &Expr,
         span: Range<usize>,
     ) {
-        let t = self.new_target(id, TargetKind::Derived, span.start, None);
+        let parts = TargetParts {
+            kind: TargetKind::Derived,
+            ..self.declared_parts(d, span.start, false)
+        };
         let t = Target {
-            name: Some(d.name.clone()),
-            storage: Some(d.storage),
-            derived: Some(Box::new(derivation(self.src, e, span))),
-            ..t
+            derived: Some(Box::new(derivation(self.src, e, span.clone()))),
+            ..parts.target(id, None)
         };
         self.push_target(t);
-    }
-
-    pub(super) fn new_target(
-        &mut self,
-        id: String,
-        kind: TargetKind,
-        offset: usize,
-        value: Option<RobTargetValue>,
-    ) -> Target {
-        Target {
-            id,
-            kind,
-            origin: self.origin(offset),
-            name: None,
-            storage: None,
-            value,
-            instruction: None,
-            tool: None,
-            wobj: None,
-            derived: None,
-        }
     }
 
     pub(super) fn push_target(&mut self, t: Target) -> usize {
@@ -233,24 +213,10 @@ impl FileParser<'_, '_> {
                     format!("jointtarget {id} is malformed: {why}"),
                 )
                 .with_note(JOINTTARGET_FORM)),
-            Ok(Some((robax, extax))) => {
-                let kind = if index.is_empty() {
-                    TargetKind::Declared
-                } else {
-                    TargetKind::ArrayElement
-                };
-                let j = JointTarget {
-                    id,
-                    kind,
-                    origin: self.origin(a.span.start),
-                    name: Some(d.name.clone()),
-                    storage: Some(d.storage),
-                    robax,
-                    extax,
-                    instruction: None,
-                    tool: None,
-                    wobj: None,
-                };
+            Ok(Some(numbers)) => {
+                let element = !index.is_empty();
+                let parts = self.declared_parts(d, a.span.start, element);
+                let j = parts.jointtarget(id, numbers);
                 self.b.prog.jointtargets.push(j);
                 Ok(Expr::JointTarget(self.b.prog.jointtargets.len() - 1))
             }
@@ -332,51 +298,44 @@ struct Literals<'p, 'a, 'b> {
     ctx: &'p InlineCtx,
 }
 
+impl Literals<'_, '_, '_> {
+    /// The identifier of the routine's literal number `n`.
+    fn inline_id(&self, n: usize) -> String {
+        let mut id = String::new();
+        inline_id(self.p.routine.as_deref().unwrap_or(""), n, &mut id);
+        id
+    }
+
+    /// The literal whose value starts at `offset`, held by the context's
+    /// instruction (or assigned to its variable).
+    fn parts(&self, offset: usize) -> TargetParts<'_> {
+        let held = HeldBy {
+            instruction: self.ctx.instruction.as_ref(),
+            tool: self.ctx.tool.as_ref(),
+            wobj: self.ctx.wobj.as_ref(),
+        };
+        let assigned = self.ctx.assigned_to.as_deref();
+        TargetParts::inline(self.p.place(), self.p.pos(offset), held, assigned)
+    }
+}
+
 impl VisitMut for Literals<'_, '_, '_> {
     fn visit_expr_mut(&mut self, e: &mut Expr) {
         match e {
             Expr::Aggregate(a) => {
                 if let Ok(Some(value)) = robtarget_shape(&a.items) {
                     self.p.inline_k += 1;
-                    let routine = self.p.routine.clone().unwrap_or_else(|| Arc::from(""));
-                    let id = format!("{}#{}", routine, self.p.inline_k);
-                    let kind = if self.ctx.assigned_to.is_some() {
-                        TargetKind::Assigned
-                    } else {
-                        TargetKind::Inline
-                    };
-                    let t = self.p.new_target(id, kind, a.span.start, Some(value));
-                    let t = Target {
-                        name: self.ctx.assigned_to.clone(),
-                        instruction: self.ctx.instruction.clone(),
-                        tool: self.ctx.tool.clone(),
-                        wobj: self.ctx.wobj.clone(),
-                        ..t
-                    };
+                    let id = self.inline_id(self.p.inline_k);
+                    let t = self.parts(a.span.start).target(id, Some(value));
                     let i = self.p.push_target(t);
                     self.p.call_targets.push(i);
                     *e = Expr::Target(i);
                     return;
                 }
-                if let Ok(Some((robax, extax))) = jointtarget_shape(&a.items) {
+                if let Ok(Some(numbers)) = jointtarget_shape(&a.items) {
                     self.p.joint_k += 1;
-                    let routine = self.p.routine.clone().unwrap_or_else(|| Arc::from(""));
-                    let j = JointTarget {
-                        id: format!("{}#{}", routine, self.p.joint_k),
-                        kind: if self.ctx.assigned_to.is_some() {
-                            TargetKind::Assigned
-                        } else {
-                            TargetKind::Inline
-                        },
-                        origin: self.p.origin(a.span.start),
-                        name: self.ctx.assigned_to.clone(),
-                        storage: None,
-                        robax,
-                        extax,
-                        instruction: self.ctx.instruction.clone(),
-                        tool: self.ctx.tool.clone(),
-                        wobj: self.ctx.wobj.clone(),
-                    };
+                    let id = self.inline_id(self.p.joint_k);
+                    let j = self.parts(a.span.start).jointtarget(id, numbers);
                     self.p.b.prog.jointtargets.push(j);
                     let i = self.p.b.prog.jointtargets.len() - 1;
                     self.p.call_joints.push(i);

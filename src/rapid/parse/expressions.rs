@@ -146,7 +146,7 @@ impl FileParser<'_, '_> {
                     .into_inner()
                     .map(|x| self.expr(x, base))
                     .collect::<Result<Vec<_>>>()?;
-                Expr::Aggregate(Box::new(Aggregate { items, span }))
+                aggregate_of(items, span)
             }
             Rule::function_call => {
                 let mut it = c.into_inner();

@@ -251,30 +251,20 @@ impl<'a> FileParser<'a, '_> {
         let Some((_, robax, extax)) = c.jointtarget() else {
             return Err(Decline::At(Part::Value, c.found()));
         };
-        let name = ascii(self.src, &d.name).to_string();
-        let j = JointTarget {
-            id: name.clone(),
-            kind: TargetKind::Declared,
-            origin: self.origin(lit),
-            name: Some(name.clone()),
-            storage: Some(d.storage),
-            robax,
-            extax,
-            instruction: None,
-            tool: None,
-            wobj: None,
-        };
+        let name = ascii(self.src, &d.name);
+        let parts = TargetParts::declared(self.place(), self.pos(lit), name, d.storage, false);
+        let j = parts.jointtarget(Self::decl_id(name, &[]), (robax, extax));
         self.b.prog.jointtargets.push(j);
-        m.data.push(DataDecl {
+        m.data.push(declaration(DeclParts {
             scope: d.scope,
             storage: d.storage,
-            type_name: ascii(self.src, &d.type_name).to_string(),
+            type_name: ascii(self.src, &d.type_name),
             name,
             dims: Vec::new(),
             init: Some(Expr::JointTarget(self.b.prog.jointtargets.len() - 1)),
             pos: self.pos(at),
             elements: None,
-        });
+        }));
         Ok(())
     }
 
@@ -311,16 +301,16 @@ impl<'a> FileParser<'a, '_> {
             lines,
             span,
         });
-        m.data.push(DataDecl {
+        m.data.push(declaration(DeclParts {
             scope: d.scope,
             storage: d.storage,
-            type_name: ascii(self.src, &d.type_name).to_string(),
-            name: name.to_string(),
+            type_name: ascii(self.src, &d.type_name),
+            name: &name,
             dims: vec![Expr::Num(Number::new(size.0 as f64, size.1.clone()))],
             init: None,
             elements: Some(r),
             pos: self.pos(at),
-        });
+        }));
         // The array's targets lie between the declarations before it and
         // after: those are another run's.
         self.open_decls = None;

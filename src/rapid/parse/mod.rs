@@ -13,6 +13,10 @@
 //! instruction table), `lane` (the fast lane's statements into runs),
 //! `run` (the whole-run pass) and `messages` (syntax errors).
 
+use super::build::{
+    aggregate_of, arg, declaration, declared_id, inline_id, keyword_number, scope, storage,
+    DeclParts, HeldBy, MoveParts, Place, TargetParts, SCOPE_WORDS, STORAGE_WORDS,
+};
 use super::lane::{read_decl, read_move, LaneDecl, Seen};
 use super::motion::{motion_signature, ArgAt};
 use super::place::{line_starts, pos_of};

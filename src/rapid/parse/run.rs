@@ -3,10 +3,38 @@
 //! modules, source order.
 
 use super::*;
+use crate::rapid::build::{in_routine, qualified};
 use crate::rapid::targets::{Held, Segment};
+
+/// What the run declares itself, lower-case: its RECORD types (name:
+/// components), its tooldata names, and the functions that return a
+/// robtarget (built-in and its own).
+struct RunKinds {
+    records: HashMap<String, Vec<(String, String)>>,
+    tools: HashSet<String>,
+    rt_funcs: HashSet<String>,
+}
 
 impl Builder {
     pub(super) fn finish(&mut self, inputs: &[(&str, &[u8])], lines: &[Vec<usize>]) -> Result<()> {
+        let kinds = self.declared_kinds();
+        let mut modules = std::mem::take(&mut self.prog.modules);
+        self.record_targets(&modules, &kinds.records, inputs, lines);
+        self.derived_targets(&mut modules, &kinds, inputs, lines);
+        self.keep_declared_bases(&modules);
+        // A routine's own data shadows a name declared elsewhere: its
+        // targets' identifiers carry the routine (`r1/pA`), so that each
+        // identifier stays one target's.
+        self.scope_routine_data();
+        self.unique_ids(&modules);
+        self.source_order(&mut modules);
+        self.prog.modules = modules;
+        self.number_targets();
+        Ok(())
+    }
+
+    /// The kinds of data the run declares itself.
+    fn declared_kinds(&self) -> RunKinds {
         let records: HashMap<String, Vec<(String, String)>> = self
             .prog
             .modules
@@ -37,10 +65,22 @@ impl Builder {
                 }
             }
         }
+        RunKinds {
+            records,
+            tools,
+            rt_funcs,
+        }
+    }
 
+    fn record_targets(
+        &mut self,
+        modules: &[Module],
+        records: &HashMap<String, Vec<(String, String)>>,
+        inputs: &[(&str, &[u8])],
+        lines: &[Vec<usize>],
+    ) {
         // Robtargets (and jointtargets) inside declared RECORD values.
-        let mut modules = std::mem::take(&mut self.prog.modules);
-        for m in &modules {
+        for m in modules {
             let src = inputs.get(m.file).map(|x| x.1).unwrap_or(&[]);
             let ls = lines.get(m.file).map(Vec::as_slice).unwrap_or(&[]);
             let decls = m.data.iter().map(|d| (d, None)).chain(
@@ -75,7 +115,7 @@ impl Builder {
                 }
                 let mut w = RecordWalk {
                     b: self,
-                    records: &records,
+                    records,
                     src,
                     lines: ls,
                     file: m.file,
@@ -86,15 +126,23 @@ impl Builder {
                 w.walk(init, &ty, d.dims.len(), d.name.clone(), 0);
             }
         }
+    }
 
+    fn derived_targets(
+        &mut self,
+        modules: &mut [Module],
+        kinds: &RunKinds,
+        inputs: &[(&str, &[u8])],
+        lines: &[Vec<usize>],
+    ) {
         // Derived targets written in routines, in source order.
-        for m in &mut modules {
+        for m in modules.iter_mut() {
             let src = inputs.get(m.file).map(|x| x.1).unwrap_or(&[]);
             let ls = lines.get(m.file).map(Vec::as_slice).unwrap_or(&[]);
             let mut d = DerivedWalk {
                 b: self,
-                rt_funcs: &rt_funcs,
-                tools: &tools,
+                rt_funcs: &kinds.rt_funcs,
+                tools: &kinds.tools,
                 src,
                 lines: ls,
                 file: m.file,
@@ -104,7 +152,9 @@ impl Builder {
             };
             d.visit_module_mut(m);
         }
+    }
 
+    fn keep_declared_bases(&mut self, modules: &[Module]) {
         // Bases of derived targets: only what names a robtarget of the run
         // (the runs' names among them, looked at only where a derived
         // target has a base to keep).
@@ -151,12 +201,9 @@ impl Builder {
                 }
             }
         }
+    }
 
-        // A routine's own data shadows a name declared elsewhere: its
-        // targets' identifiers carry the routine (`r1/pA`), so that each
-        // identifier stays one target's.
-        self.scope_routine_data();
-
+    fn unique_ids(&mut self, modules: &[Module]) {
         // Identifiers unique across modules, the runs' among them (their
         // name spaces counted only where the run has several modules).
         let extra = if modules.len() > 1 {
@@ -177,7 +224,9 @@ impl Builder {
         if !spaces.is_empty() {
             self.qualify_runs(&spaces);
         }
+    }
 
+    fn source_order(&mut self, modules: &mut [Module]) {
         // Source order, and the AST's indices follow.
         let tmap = sort_by_origin(&mut self.prog.targets, |t| &t.origin);
         let jmap = sort_by_origin(&mut self.prog.jointtargets, |t| &t.origin);
@@ -187,18 +236,11 @@ impl Builder {
         let identity = |map: &[usize]| map.iter().enumerate().all(|(i, &n)| i == n);
         if !identity(&tmap) || !identity(&jmap) {
             let mut remap = Remap { t: &tmap, j: &jmap };
-            for m in &mut modules {
+            for m in modules.iter_mut() {
                 remap.visit_module_mut(m);
             }
         }
-        self.prog.modules = modules;
-        self.number_targets();
-        Ok(())
     }
-
-    /// Give the targets of a routine's own data declarations whose name is
-    /// declared elsewhere too (in the module, the task, or another routine)
-    /// the routine in their identifier: `r1/pA` (`r1/arr{2}`).
     fn scope_routine_data(&mut self) {
         let local = |origin: &Origin, kind: TargetKind| {
             origin.routine.is_some()
@@ -259,21 +301,21 @@ impl Builder {
         for t in &mut self.prog.targets {
             if local(&t.origin, t.kind) && shadows(&t.name) {
                 if let Some(r) = &t.origin.routine {
-                    t.id = format!("{r}/{}", t.id);
+                    t.id = in_routine(r, &t.id);
                 }
             }
         }
         for t in &mut self.prog.jointtargets {
             if local(&t.origin, t.kind) && shadows(&t.name) {
                 if let Some(r) = &t.origin.routine {
-                    t.id = format!("{r}/{}", t.id);
+                    t.id = in_routine(r, &t.id);
                 }
             }
         }
         for a in &mut self.prog.runs.arrays {
             if let Some(r) = &a.routine {
                 if shadows(&Some(a.name.to_string())) {
-                    a.prefix = Arc::from(format!("{r}/{}", a.name));
+                    a.prefix = Arc::from(in_routine(r, &a.name));
                 }
             }
         }
@@ -494,11 +536,6 @@ fn qualify<T>(
         .filter(|(_, m)| m.len() > 1)
         .map(|(space, _)| space)
         .collect()
-}
-
-/// An identifier qualified with its module (`MainModule:main#3`).
-pub(in crate::rapid) fn qualified(module: &str, id: &str) -> String {
-    format!("{module}:{id}")
 }
 
 /// Sort by (file, offset) in place; returns old index -> new index. Most

@@ -90,138 +90,147 @@ impl FileParser<'_, '_> {
                     .unwrap_or_default();
                 Ok(StatementKind::Label(name))
             })?,
-            K::CompactIf => self.with_pair(Rule::compact_if, p, |s, pair| {
-                let mut it = pair.into_inner().filter(|c| c.as_rule() != Rule::kw_if);
-                let (Some(c), Some(st)) = (it.next(), it.next()) else {
-                    return Err(s.err(p.start, "expected a condition and a statement"));
-                };
-                let cond = s.expr(c, p.start)?;
-                let stpos = s.pos(p.start + st.as_span().start());
-                let then = s.simple(st, p.start)?;
-                Ok(StatementKind::CompactIf {
-                    cond,
-                    then: Box::new(Statement {
-                        pos: stpos,
-                        kind: then,
-                    }),
-                })
-            })?,
-            K::IfHead => {
-                let cond = self.head_exprs(Rule::if_head, p)?.remove(0);
-                let mut branches = vec![(cond, self.statements(depth + 1)?)];
-                let mut otherwise = None;
-                loop {
-                    match self.next()? {
-                        Some(q) if q.kind == K::ElseIf && otherwise.is_none() => {
-                            let c = self.head_exprs(Rule::elseif_head, &q)?.remove(0);
-                            branches.push((c, self.statements(depth + 1)?));
-                        }
-                        Some(q) if q.kind == K::Else && otherwise.is_none() => {
-                            self.with_pair(Rule::else_head, &q, |_, _| Ok(()))?;
-                            otherwise = Some(self.statements(depth + 1)?);
-                        }
-                        Some(q) if q.kind == K::EndIf => break,
-                        Some(q) => {
-                            let f = self.found(&q);
-                            let want = if otherwise.is_some() {
-                                "ENDIF"
-                            } else {
-                                "ELSEIF, ELSE or ENDIF"
-                            };
-                            return Err(self.err(q.start, format!("expected {want}, found {f}")));
-                        }
-                        None => {
-                            return Err(
-                                self.err(self.src.len(), "expected ENDIF, found end of file")
-                            )
-                        }
-                    }
-                }
-                StatementKind::If {
-                    branches,
-                    otherwise,
-                }
-            }
-            K::For => {
-                let (var, mut e) = self.with_pair(Rule::for_head, p, |s, pair| {
-                    let mut var: Arc<str> = Arc::from("");
-                    let mut es = Vec::new();
-                    for c in pair.into_inner() {
-                        match c.as_rule() {
-                            Rule::identifier => var = s.name(&c, p.start),
-                            Rule::expression => es.push(s.expr(c, p.start)?),
-                            _ => {}
-                        }
-                    }
-                    Ok((var, es))
-                })?;
-                let body = self.statements(depth + 1)?;
-                self.block_end(K::EndFor, "ENDFOR")?;
-                if e.len() < 2 {
-                    return Err(self.err(p.start, "expected FROM and TO"));
-                }
-                let step = if e.len() > 2 {
-                    e.pop().map(Box::new)
-                } else {
-                    None
-                };
-                let to = e.pop().unwrap_or(Expr::Bool(false));
-                let from = e.pop().unwrap_or(Expr::Bool(false));
-                StatementKind::For {
-                    var,
-                    from,
-                    to,
-                    step,
-                    body,
-                }
-            }
+            K::CompactIf => self.compact_if(p)?,
+            K::IfHead => self.if_statement(p, depth)?,
+            K::For => self.for_statement(p, depth)?,
             K::While => {
                 let cond = self.head_exprs(Rule::while_head, p)?.remove(0);
                 let body = self.statements(depth + 1)?;
                 self.block_end(K::EndWhile, "ENDWHILE")?;
                 StatementKind::While { cond, body }
             }
-            K::Test => {
-                let value = self.head_exprs(Rule::test_head, p)?.remove(0);
-                let mut cases = Vec::new();
-                let mut default = None;
-                loop {
-                    match self.next()? {
-                        Some(q) if q.kind == K::Case && default.is_none() => {
-                            let vals = self.head_exprs(Rule::case_head, &q)?;
-                            cases.push((vals, self.statements(depth + 1)?));
-                        }
-                        Some(q) if q.kind == K::Default && default.is_none() => {
-                            self.with_pair(Rule::default_head, &q, |_, _| Ok(()))?;
-                            default = Some(self.statements(depth + 1)?);
-                        }
-                        Some(q) if q.kind == K::EndTest => break,
-                        Some(q) => {
-                            let f = self.found(&q);
-                            return Err(self.err(
-                                q.start,
-                                format!("expected CASE, DEFAULT or ENDTEST, found {f}"),
-                            ));
-                        }
-                        None => {
-                            return Err(
-                                self.err(self.src.len(), "expected ENDTEST, found end of file")
-                            )
-                        }
-                    }
-                }
-                StatementKind::Test {
-                    value,
-                    cases,
-                    default,
-                }
-            }
+            K::Test => self.test_statement(p, depth)?,
             _ => {
                 let f = self.found(p);
                 return Err(self.err(p.start, format!("expected a statement, found {f}")));
             }
         };
         Ok(Statement { pos, kind })
+    }
+
+    /// `IF cond stmt;` on one line.
+    fn compact_if(&mut self, p: &Piece) -> Result<StatementKind> {
+        self.with_pair(Rule::compact_if, p, |s, pair| {
+            let mut it = pair.into_inner().filter(|c| c.as_rule() != Rule::kw_if);
+            let (Some(c), Some(st)) = (it.next(), it.next()) else {
+                return Err(s.err(p.start, "expected a condition and a statement"));
+            };
+            let cond = s.expr(c, p.start)?;
+            let stpos = s.pos(p.start + st.as_span().start());
+            let then = s.simple(st, p.start)?;
+            Ok(StatementKind::CompactIf {
+                cond,
+                then: Box::new(Statement {
+                    pos: stpos,
+                    kind: then,
+                }),
+            })
+        })
+    }
+
+    /// `IF ... ELSEIF ... ELSE ... ENDIF`, its head at `p`.
+    fn if_statement(&mut self, p: &Piece, depth: usize) -> Result<StatementKind> {
+        use PieceKind as K;
+        let cond = self.head_exprs(Rule::if_head, p)?.remove(0);
+        let mut branches = vec![(cond, self.statements(depth + 1)?)];
+        let mut otherwise = None;
+        loop {
+            match self.next()? {
+                Some(q) if q.kind == K::ElseIf && otherwise.is_none() => {
+                    let c = self.head_exprs(Rule::elseif_head, &q)?.remove(0);
+                    branches.push((c, self.statements(depth + 1)?));
+                }
+                Some(q) if q.kind == K::Else && otherwise.is_none() => {
+                    self.with_pair(Rule::else_head, &q, |_, _| Ok(()))?;
+                    otherwise = Some(self.statements(depth + 1)?);
+                }
+                Some(q) if q.kind == K::EndIf => break,
+                Some(q) => {
+                    let f = self.found(&q);
+                    let want = if otherwise.is_some() {
+                        "ENDIF"
+                    } else {
+                        "ELSEIF, ELSE or ENDIF"
+                    };
+                    return Err(self.err(q.start, format!("expected {want}, found {f}")));
+                }
+                None => return Err(self.err(self.src.len(), "expected ENDIF, found end of file")),
+            }
+        }
+        Ok(StatementKind::If {
+            branches,
+            otherwise,
+        })
+    }
+
+    /// `FOR var FROM a TO b [STEP c] DO ... ENDFOR`, its head at `p`.
+    fn for_statement(&mut self, p: &Piece, depth: usize) -> Result<StatementKind> {
+        use PieceKind as K;
+        let (var, mut e) = self.with_pair(Rule::for_head, p, |s, pair| {
+            let mut var: Arc<str> = Arc::from("");
+            let mut es = Vec::new();
+            for c in pair.into_inner() {
+                match c.as_rule() {
+                    Rule::identifier => var = s.name(&c, p.start),
+                    Rule::expression => es.push(s.expr(c, p.start)?),
+                    _ => {}
+                }
+            }
+            Ok((var, es))
+        })?;
+        let body = self.statements(depth + 1)?;
+        self.block_end(K::EndFor, "ENDFOR")?;
+        if e.len() < 2 {
+            return Err(self.err(p.start, "expected FROM and TO"));
+        }
+        let step = if e.len() > 2 {
+            e.pop().map(Box::new)
+        } else {
+            None
+        };
+        let to = e.pop().unwrap_or(Expr::Bool(false));
+        let from = e.pop().unwrap_or(Expr::Bool(false));
+        Ok(StatementKind::For {
+            var,
+            from,
+            to,
+            step,
+            body,
+        })
+    }
+
+    /// `TEST value CASE ... DEFAULT ... ENDTEST`, its head at `p`.
+    fn test_statement(&mut self, p: &Piece, depth: usize) -> Result<StatementKind> {
+        use PieceKind as K;
+        let value = self.head_exprs(Rule::test_head, p)?.remove(0);
+        let mut cases = Vec::new();
+        let mut default = None;
+        loop {
+            match self.next()? {
+                Some(q) if q.kind == K::Case && default.is_none() => {
+                    let vals = self.head_exprs(Rule::case_head, &q)?;
+                    cases.push((vals, self.statements(depth + 1)?));
+                }
+                Some(q) if q.kind == K::Default && default.is_none() => {
+                    self.with_pair(Rule::default_head, &q, |_, _| Ok(()))?;
+                    default = Some(self.statements(depth + 1)?);
+                }
+                Some(q) if q.kind == K::EndTest => break,
+                Some(q) => {
+                    let f = self.found(&q);
+                    return Err(self.err(
+                        q.start,
+                        format!("expected CASE, DEFAULT or ENDTEST, found {f}"),
+                    ));
+                }
+                None => return Err(self.err(self.src.len(), "expected ENDTEST, found end of file")),
+            }
+        }
+        Ok(StatementKind::Test {
+            value,
+            cases,
+            default,
+        })
     }
 
     /// The expressions of a block head (at least one).
@@ -362,17 +371,26 @@ impl FileParser<'_, '_> {
         self.call_joints.clear();
         let args = args
             .into_iter()
-            .map(|a| Arg {
-                value: a.value.map(|v| self.take_literals(v, &ctx)),
-                ..a
+            .map(|a| {
+                arg(
+                    a.optional,
+                    a.name,
+                    a.value.map(|v| self.take_literals(v, &ctx)),
+                )
             })
             .collect();
-        Ok(StatementKind::Call(Call {
+        let call = Call {
             name,
             late_bound,
             args,
             targets: std::mem::take(&mut self.call_targets),
             jointtargets: std::mem::take(&mut self.call_joints),
+        };
+        // A move the lane covers is made by the one constructor of moves,
+        // the lane's too.
+        Ok(StatementKind::Call(match MoveParts::of_call(&call) {
+            Some(parts) => parts.call(),
+            None => call,
         }))
     }
 
@@ -395,11 +413,7 @@ impl FileParser<'_, '_> {
                     _ => {}
                 }
             }
-            out.push(Arg {
-                optional,
-                name,
-                value,
-            });
+            out.push(arg(optional, name, value));
         }
         Ok(out)
     }

@@ -59,6 +59,17 @@ impl Program {
     pub fn jointtargets(&self) -> &[JointTarget] {
         &self.jointtargets
     }
+    /// Each jointtarget written as data (declared, an array's element;
+    /// not an inline literal), by its identifier in lower case (names are
+    /// case-insensitive), with its index in [`Program::jointtargets`]: what
+    /// a move naming one finds.
+    pub fn jointtargets_by_id(&self) -> impl Iterator<Item = (String, usize)> + '_ {
+        self.jointtargets
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| j.kind != super::values::TargetKind::Inline)
+            .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
+    }
     pub fn tools(&self) -> &[ToolData] {
         &self.tools
     }

@@ -119,13 +119,7 @@ impl<'a, 'p> Args<'a, 'p> {
     fn new(program: &'p Program, lookup: &'a MoveLookup<'p>) -> Args<'a, 'p> {
         let (index, aliases) = (&lookup.index, &lookup.aliases);
         let refs = Refs::new(program, index, aliases);
-        let joints: HashMap<String, usize> = program
-            .jointtargets()
-            .iter()
-            .enumerate()
-            .filter(|(_, j)| j.kind != TargetKind::Inline)
-            .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
-            .collect();
+        let joints: HashMap<String, usize> = program.jointtargets_by_id().collect();
         let procedures = (program.modules.iter())
             .flat_map(|m| &m.routines)
             .map(|r| r.name.to_ascii_lowercase())

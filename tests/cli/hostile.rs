@@ -59,7 +59,7 @@ pub(crate) fn snapshot(dir: &Path) -> BTreeMap<PathBuf, (String, u32)> {
 
 /// Run the binary in `dir` with a deadline; its exit code (`None`: killed
 /// by a signal or the deadline) and standard error.
-fn run(dir: &Path, args: &[String]) -> (Option<i32>, String, Duration) {
+pub(super) fn run(dir: &Path, args: &[String]) -> (Option<i32>, String, Duration) {
     let start = Instant::now();
     let mut child = Command::new(BIN)
         .args(args)

@@ -10,16 +10,10 @@
 //!   plan function and only the plan to its run.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_rapidtherm");
-
-/// Longest a usage error may take (a debug build on a busy machine); a
-/// run that opened a FIFO waits for ever.
-const DEADLINE: Duration = Duration::from_secs(30);
 
 /// One refused command line: its words and what its message says.
 struct Case {
@@ -205,40 +199,12 @@ fn listing(dir: &Path) -> BTreeMap<PathBuf, String> {
         .collect()
 }
 
-/// The run's exit code (`None`: past the deadline, killed) and standard
-/// error.
+/// The run's exit code (`None`: past the hostile inputs' deadline,
+/// killed, as a run blocked reading a FIFO is) and standard error.
 fn run(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
-    let start = Instant::now();
-    let mut child = Command::new(BIN)
-        .args(args)
-        .current_dir(dir)
-        .env("NO_COLOR", "1")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stderr = child.stderr.take().unwrap();
-    let reader = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        let _ = stderr.read_to_end(&mut s);
-        s
-    });
-    let code = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status.code();
-        }
-        if start.elapsed() > DEADLINE {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    (
-        code,
-        String::from_utf8_lossy(&reader.join().unwrap()).into_owned(),
-    )
+    let args: Vec<String> = args.iter().map(|a| a.to_string()).collect();
+    let (code, err, _) = super::hostile::run(dir, &args);
+    (code, err)
 }
 
 #[cfg(unix)]

@@ -177,14 +177,7 @@ impl<'p> Walker<'p> {
             .filter(|(_, t)| t.kind == TargetKind::Derived)
             .map(|(i, t)| ((t.origin.file, t.origin.pos.offset), i))
             .collect();
-        let joint_ids = program
-            .jointtargets()
-            .iter()
-            .enumerate()
-            .filter(|(_, j)| j.kind != TargetKind::Inline)
-            .map(|(i, j)| (j.id.to_ascii_lowercase(), i))
-            .collect();
-        let joint_ids: FastMap<String, usize> = joint_ids;
+        let joint_ids: FastMap<String, usize> = program.jointtargets_by_id().collect();
         let ids_scoped =
             target_ids.has_routine_scoped() || joint_ids.keys().any(|k| k.contains('/'));
         let ids_qualified = target_ids.has_qualified() || joint_ids.keys().any(|k| k.contains(':'));

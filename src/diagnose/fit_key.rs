@@ -1,6 +1,7 @@
 //! The key under which a fit is remembered ([`super::memo`]): the SHA-256
-//! of everything the fit's outcome depends on. Apart from the fit so that
-//! the fit stays one idea (and under the length a file may have).
+//! of everything the fit's outcome depends on. The memo's idea, not the
+//! fit's: a change to what a fit reads must change this key, and the two
+//! are reviewed side by side here.
 
 use super::fit_problem::Problem;
 use crate::model::EffectKind;

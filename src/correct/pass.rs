@@ -7,7 +7,7 @@
 
 use super::context::Run;
 use super::outcome::{Correction, LeftAlone};
-use super::solve::{row, written_in_world};
+use super::solve::{row, written_in_world, Rewrite};
 use super::splice::Splice;
 use super::target::{correct_robtarget, Solved};
 use crate::error::{Error, Result};
@@ -93,12 +93,14 @@ const CHUNK_BYTES_HINT: usize = 1 << 22;
 
 impl Pass<'_, '_> {
     /// Targets `targets` of the file `src`: the bytes of `span` with their
-    /// new numbers and the edits of `fixed` that fall in it.
+    /// new numbers and the edits of `fixed` that fall in it. `last`: the
+    /// file's last chunk, whose span runs to the file's end.
     pub fn chunk(
         &self,
         src: &[u8],
         targets: Range<usize>,
-        (span, last): (Range<usize>, bool),
+        span: Range<usize>,
+        last: bool,
         fixed: &[Edit],
     ) -> Result<Done> {
         let run = self.run;
@@ -210,7 +212,7 @@ impl Pass<'_, '_> {
                             found.frames,
                             [&found.names[0], &found.names[1]],
                             n,
-                            (rewritten, Vec::new()),
+                            Rewrite::unkept(rewritten),
                         );
                         if let Some(order) = found.order {
                             r.order = order;

@@ -266,7 +266,8 @@ fn correct_body<'p>(
         &tally,
         derived.len(),
         left_alone.len(),
-        (early.lines.len(), early.splits.len()),
+        early.lines.len(),
+        early.splits.len(),
     );
     summary.moves = move_counts;
     Ok(Corrected {
@@ -316,7 +317,8 @@ fn summary(
     tally: &Tally,
     derived: usize,
     left_alone: usize,
-    (shared, split): (usize, usize),
+    shared: usize,
+    split: usize,
 ) -> Summary {
     Summary {
         corrected: tally.corrected,

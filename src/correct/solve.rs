@@ -42,6 +42,47 @@ pub(super) struct Meant<'e> {
     pub state: State,
 }
 
+/// Whether a target's text changes, and the edits that change it where
+/// the caller keeps them (a pass over a million targets keeps none).
+pub(super) struct Rewrite {
+    pub changed: bool,
+    pub edits: Vec<Edit>,
+}
+
+impl Rewrite {
+    /// The edits kept: the text changes where there is one.
+    pub fn with(edits: Vec<Edit>) -> Rewrite {
+        Rewrite {
+            changed: !edits.is_empty(),
+            edits,
+        }
+    }
+
+    /// Only whether the text changes; the edits are written elsewhere.
+    pub fn unkept(changed: bool) -> Rewrite {
+        Rewrite {
+            changed,
+            edits: Vec::new(),
+        }
+    }
+}
+
+/// What is already known of a target's solve before it is made: its
+/// exact nominal pose (a base placed by its derived uses), and the cold
+/// joints of its meant pose in its frames (found by the walk that timed
+/// the run).
+pub(super) struct Known {
+    pub exact: Option<Isometry3<f64>>,
+    pub cold: Option<Joints>,
+}
+
+/// The robconf a pose is solved in, and its cold joints in it where
+/// already found.
+pub(super) struct InConf<'c> {
+    pub conf: &'c RobConf,
+    pub cold: Option<Joints>,
+}
+
 /// The correction of a target for one tool and work object (`names`, as
 /// the report gives them): the solve, or `exact` where it is already
 /// known (a base placed by its derived uses), the drift over the target's
@@ -54,7 +95,8 @@ pub(super) fn corrected(
     names: [&str; 2],
     exact: Option<Isometry3<f64>>,
 ) -> Result<Correction> {
-    let numbers = corrected_numbers(run, target, meant, frames, (exact, None))?;
+    let known = Known { exact, cold: None };
+    let numbers = corrected_numbers(run, target, meant, frames, known)?;
     let src = run.program.source(target.origin.file);
     let edits = edits_of(src, target, meant, &numbers);
     Ok(row(
@@ -64,7 +106,7 @@ pub(super) fn corrected(
         frames,
         names,
         &numbers,
-        (!edits.is_empty(), edits),
+        Rewrite::with(edits),
     ))
 }
 
@@ -88,7 +130,10 @@ pub(super) fn row(
     (tool, wobj): (&ToolFrame, &WobjFrames),
     [tool_name, wobj_name]: [&str; 2],
     numbers: &Numbers,
-    (rewritten, edits): (bool, Vec<Edit>),
+    Rewrite {
+        changed: rewritten,
+        edits,
+    }: Rewrite,
 ) -> Correction {
     let Numbers {
         exact,
@@ -173,7 +218,7 @@ pub(super) fn corrected_numbers(
     target: &Target,
     meant: &Meant,
     (tool, wobj): (&ToolFrame, &WobjFrames),
-    (exact, cold): (Option<Isometry3<f64>>, Option<Joints>),
+    Known { exact, cold }: Known,
 ) -> Result<Numbers> {
     let Run {
         program,
@@ -193,7 +238,7 @@ pub(super) fn corrected_numbers(
         run,
         target,
         pose,
-        (conf, cold),
+        InConf { conf, cold },
         (tool, wobj),
         state,
         *moment,
@@ -286,7 +331,7 @@ pub(super) fn solve(
     run: &Run,
     target: &Target,
     pose: &Isometry3<f64>,
-    (conf, cold): (&RobConf, Option<Joints>),
+    InConf { conf, cold }: InConf,
     (tool, wobj): (&ToolFrame, &WobjFrames),
     state: &State,
     moment: Moment,

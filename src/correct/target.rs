@@ -9,7 +9,9 @@ use super::expressions::Evaluated;
 use super::moments::{moments_of, pick};
 use super::outcome::{leave, Correction, LeftAlone, Reason};
 use super::shared::OtherPair;
-use super::solve::{at_target, corrected_numbers, edits_of, row, solve, Meant, Numbers};
+use super::solve::{
+    at_target, corrected_numbers, edits_of, row, solve, InConf, Known, Meant, Numbers, Rewrite,
+};
 use crate::error::{Error, ErrorKind, Result};
 use crate::model::{Moment, State};
 use crate::rapid::{Expr, Storage, Target, TargetKind};
@@ -68,7 +70,7 @@ impl SolvedTarget<'_> {
             self.frames,
             [&self.names[0], &self.names[1]],
             &self.numbers,
-            (!edits.is_empty(), edits),
+            Rewrite::with(edits),
         );
         if let Some(order) = self.order {
             c.order = order;
@@ -247,7 +249,7 @@ pub(super) fn correct_robtarget<'r>(
         (Some(_), Some(r)) => r.joints(index, tool, wobj),
         _ => None,
     };
-    let numbers = corrected_numbers(run, target, &meant, (tool, wobj), (exact, cold))?;
+    let numbers = corrected_numbers(run, target, &meant, (tool, wobj), Known { exact, cold })?;
     let Meant { moments, .. } = meant;
     Ok(Solved::Corrected(Box::new(SolvedTarget {
         evaluated,
@@ -329,7 +331,8 @@ fn by_derived_uses(
         let Some(meant) = super::derived::apply_with(call, pose, &eval) else {
             continue;
         };
-        let sol = solve(run, derived, &meant, (conf, None), frames, state, *moment)?;
+        let in_conf = InConf { conf, cold: None };
+        let sol = solve(run, derived, &meant, in_conf, frames, state, *moment)?;
         if let Some(base) = unapply_with(call, &sol.exact, &eval) {
             bases.push(base);
         }

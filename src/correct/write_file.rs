@@ -62,16 +62,33 @@ pub(super) fn write_files(
                 fixed.push(e.clone());
             }
         }
-        let file_changed = write_file(
-            pass,
-            (f, basis, &colds[f]),
-            fixed,
-            &mut **out,
-            (&mut *found, &mut *progress),
-        )?;
+        let file = OneFile {
+            index: f,
+            basis,
+            cold: &colds[f],
+        };
+        let findings = Findings {
+            found: &mut *found,
+            progress: &mut *progress,
+        };
+        let file_changed = write_file(pass, file, fixed, &mut **out, findings)?;
         changed.push(file_changed);
     }
     Ok(changed)
+}
+
+/// The file being written, by its index in the program, and what its
+/// marker says: the run's time basis and its cold original's fingerprint.
+struct OneFile<'a> {
+    index: usize,
+    basis: &'a str,
+    cold: &'a str,
+}
+
+/// Where the pass puts what it finds and how far it has come.
+struct Findings<'a, 'p> {
+    found: &'a mut Found,
+    progress: &'a mut Progress<'p>,
 }
 
 /// What every file's marker says: the run's time basis and each file's
@@ -88,10 +105,14 @@ pub(super) struct Marks<'a> {
 /// order as they come ([`in_order`]). Whether the file changes.
 fn write_file(
     pass: &Pass,
-    (f, basis, cold): (usize, &str, &str),
+    OneFile {
+        index: f,
+        basis,
+        cold,
+    }: OneFile,
     mut fixed: Vec<Edit>,
     out: &mut (dyn Write + Send),
-    (found, progress): (&mut Found, &mut Progress),
+    findings: Findings,
 ) -> Result<bool> {
     // Every byte up to the numbers' line goes through the fingerprint of
     // the numbers, the marker's proof: it is of what is written.
@@ -104,11 +125,15 @@ fn write_file(
     };
     let changed = write_numbers(
         pass,
-        (f, basis, cold),
+        OneFile {
+            index: f,
+            basis,
+            cold,
+        },
         &mut fixed,
         &mut printed,
         end,
-        (found, progress),
+        findings,
     )?;
     let Printed {
         out,
@@ -148,11 +173,15 @@ fn out_flush(out: &mut dyn Write) -> Result<()> {
 /// marker and the new numbers.
 fn write_numbers(
     pass: &Pass,
-    (f, basis, cold): (usize, &str, &str),
+    OneFile {
+        index: f,
+        basis,
+        cold,
+    }: OneFile,
     fixed: &mut Vec<Edit>,
     out: &mut Printed,
     end: usize,
-    (found, progress): (&mut Found, &mut Progress),
+    Findings { found, progress }: Findings,
 ) -> Result<bool> {
     let run = pass.run;
     let program = run.program;
@@ -205,10 +234,10 @@ fn write_numbers(
             let c = chunks[k].clone();
             let last = c.end >= hi;
             let to = if last { end } else { place(c.end) };
-            pass.chunk(src, c.clone(), (place(c.start)..to, last), fixed_ref)
+            pass.chunk(src, c.clone(), place(c.start)..to, last, fixed_ref)
         },
         |_, done| -> Result<()> {
-            let (c, steps) = put_out(out, done, (found, &pass.buffers))?;
+            let (c, steps) = put_out(out, done, found, &pass.buffers)?;
             changed |= c;
             progress.add(steps);
             Ok(())
@@ -240,7 +269,8 @@ fn first_where(n: usize, pred: impl Fn(usize) -> bool) -> usize {
 fn put_out(
     out: &mut Printed,
     done: Result<Done>,
-    (found, buffers): (&mut Found, &Buffers),
+    found: &mut Found,
+    buffers: &Buffers,
 ) -> Result<(bool, usize)> {
     let mut d = done?;
     out.chunk(&d.bytes, d.tokens.as_deref())

@@ -179,7 +179,9 @@ impl Pass<'_, '_> {
                             robtarget_changes(
                                 src,
                                 value,
-                                (new.into(), n.turned, None),
+                                new.into(),
+                                n.turned,
+                                None,
                                 &mut text,
                                 &mut put,
                             );

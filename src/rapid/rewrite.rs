@@ -139,7 +139,9 @@ pub fn robtarget_edits(
     robtarget_changes(
         src,
         value,
-        (trans, rot, robconf),
+        trans,
+        rot,
+        robconf,
         &mut buf,
         &mut |span, new| {
             out.push(Edit {
@@ -158,7 +160,9 @@ pub fn robtarget_edits(
 pub fn robtarget_changes(
     src: &[u8],
     value: &RobTargetValue,
-    (trans, rot, robconf): ([f64; 3], Option<[f64; 4]>, Option<[i32; 4]>),
+    trans: [f64; 3],
+    rot: Option<[f64; 4]>,
+    robconf: Option<[i32; 4]>,
     buf: &mut String,
     each: &mut dyn FnMut(Range<usize>, &[u8]),
 ) {

@@ -185,7 +185,7 @@ pub(crate) fn read_decl<'a>(
         _ => return Ok(None),
     };
     let mut part = Part::Name;
-    match decl_rest(&mut c, (scope, storage, type_name, joint), &mut part) {
+    match decl_rest(&mut c, scope, storage, type_name, joint, &mut part) {
         Ok(Some(d)) => Ok(Some(d)),
         Ok(None) => Err(Decline::At(part, c.found())),
         Err(why) => Err(why),
@@ -196,7 +196,10 @@ pub(crate) fn read_decl<'a>(
 /// `None` where the cursor stopped.
 fn decl_rest(
     c: &mut Cursor<'_, '_>,
-    (scope, storage, type_name, joint): (Option<Scope>, Storage, Range<usize>, bool),
+    scope: Option<Scope>,
+    storage: Storage,
+    type_name: Range<usize>,
+    joint: bool,
     part: &mut Part,
 ) -> Result<Option<LaneDecl>, Decline> {
     let read = |c: &mut Cursor<'_, '_>, part: &mut Part| -> Option<Result<LaneDecl, Decline>> {

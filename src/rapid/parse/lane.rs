@@ -142,7 +142,7 @@ impl<'a> FileParser<'a, '_> {
         )) = self.kept_ahead(at)
         {
             let type_name = ascii(self.src, &type_name);
-            self.join_decls(item, (scope, storage, type_name), m);
+            self.join_decls(item, scope, storage, type_name, m);
             self.b.prog.lane.read += 1;
             self.b.prog.lane.ahead += 1;
             self.peeked = None;
@@ -163,7 +163,7 @@ impl<'a> FileParser<'a, '_> {
                         elements,
                     },
                     _,
-                ) => self.declared_array(at, &d, (size, *open..*close + 1, elements), m),
+                ) => self.declared_array(at, &d, size, *open..*close + 1, elements, m),
             }?;
             Ok(Some(d.end))
         });
@@ -195,7 +195,7 @@ impl<'a> FileParser<'a, '_> {
     ) -> std::result::Result<(), Decline> {
         let item = decl_item(at, line, d, lit)?;
         let type_name = ascii(self.src, &d.type_name);
-        self.join_decls(item, (d.scope, d.storage, type_name), m);
+        self.join_decls(item, d.scope, d.storage, type_name, m);
         Ok(())
     }
 
@@ -204,7 +204,9 @@ impl<'a> FileParser<'a, '_> {
     fn join_decls(
         &mut self,
         item: DeclItem,
-        (scope, storage, type_name): (Option<Scope>, Storage, &str),
+        scope: Option<Scope>,
+        storage: Storage,
+        type_name: &str,
         m: &mut Module,
     ) {
         let runs = &mut self.b.prog.runs.decls;
@@ -274,11 +276,9 @@ impl<'a> FileParser<'a, '_> {
         &mut self,
         at: usize,
         d: &LaneDecl,
-        (size, span, elements): (
-            &(usize, std::ops::Range<usize>),
-            std::ops::Range<usize>,
-            &[usize],
-        ),
+        size: &(usize, std::ops::Range<usize>),
+        span: std::ops::Range<usize>,
+        elements: &[usize],
         m: &mut Module,
     ) -> std::result::Result<(), Decline> {
         let open = span.start;

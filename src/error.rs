@@ -53,6 +53,9 @@ pub enum Remedy {
     ListArms,
     /// A task's arm is not known from the backup: name it for the task.
     NameTheArm,
+    /// A pose the arm used cannot reach (reach or joint limits): a program
+    /// for another arm names that arm.
+    AnotherArm,
     /// An arm whose thermal behaviour is unknown: give a model file of it,
     /// or use the IRB 140's thermal defaults on its lengths.
     ModelOfTheArm,
@@ -85,6 +88,7 @@ impl Remedy {
             }
             Remedy::ListArms => " (the catalogue lists every name)",
             Remedy::NameTheArm => "; name the arm this task moves",
+            Remedy::AnotherArm => "; a program for another arm: name that arm",
             Remedy::ModelOfTheArm => {
                 "give a model file of this arm (its heating measured, or a heating recording in it), or use the IRB 140's thermal defaults on this arm's lengths"
             }

@@ -103,6 +103,9 @@ pub fn say_arm(task: &str, arm: &TaskArm) {
         ChosenBy::RobotType(rt) => {
             format!("chosen by the robot type {rt} of the backup's SYSPAR/MOC.cfg")
         }
+        ChosenBy::RobotTypeVariant { robot_type, .. } => {
+            format!("chosen by the robot type {robot_type} of the backup's SYSPAR/MOC.cfg")
+        }
         ChosenBy::Default => {
             "chosen by default (no --robot, and no backup configuration names a robot type)"
                 .to_string()
@@ -113,4 +116,15 @@ pub fn say_arm(task: &str, arm: &TaskArm) {
         "task {task}: arm {} ({}), {from}, {why}",
         arm.robot.name, arm.label
     );
+    if let ChosenBy::RobotTypeVariant {
+        robot_type,
+        variants,
+    } = &arm.chosen_by
+    {
+        note!(
+            "task {task}: the robot type {robot_type} of SYSPAR/MOC.cfg is taken as the {} ({} assumed not to change its geometry); another arm: --robot {task}=NAME|FILE.urdf",
+            arm.robot.name,
+            variants.join(", ")
+        );
+    }
 }

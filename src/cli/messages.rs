@@ -304,6 +304,9 @@ pub fn remedy(r: Remedy) -> &'static str {
         }
         Remedy::ListArms => " (`rapidtherm arms` lists every name)",
         Remedy::NameTheArm => "; give the arm with --robot TASK=NAME|FILE.urdf",
+        Remedy::AnotherArm => {
+            "; a program for another arm: name it with --robot (`rapidtherm arms` lists them)"
+        }
         Remedy::ModelOfTheArm => {
             "give a model file of this arm with --model FILE.toml (its heating measured, or a heating recording in it), or use the IRB 140's defaults on this arm's lengths with --irb140-thermal"
         }

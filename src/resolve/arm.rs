@@ -50,6 +50,14 @@ pub enum ChosenBy {
     TaskSpec { task: String, spec: String },
     /// The robot type of the backup's MOC.cfg.
     RobotType(String),
+    /// The robot type of the backup's MOC.cfg, a variant of a catalogue
+    /// arm (`ROB1_1200_0.9_5_TypeB`) taken as that arm: `variants` are the
+    /// type's words the catalogue has no arm of (`TypeB`), which the
+    /// caller must say were assumed not to change the geometry.
+    RobotTypeVariant {
+        robot_type: String,
+        variants: Vec<String>,
+    },
     /// Nothing named one: the embedded IRB 140.
     Default,
     /// The URDF file a model file names (its effects are written on that
@@ -121,7 +129,10 @@ pub fn check_placement(task: &Task, arm: &TaskArm, placing: Placing) -> Result<(
     if placing == Placing::AcceptDefault {
         return Ok(());
     }
-    let named = !matches!(arm.chosen_by, ChosenBy::Default | ChosenBy::RobotType(_));
+    let named = !matches!(
+        arm.chosen_by,
+        ChosenBy::Default | ChosenBy::RobotType(_) | ChosenBy::RobotTypeVariant { .. }
+    );
     let mut errors: Vec<Error> = task
         .gaps
         .iter()
@@ -159,21 +170,42 @@ pub fn arm_for(task: &Task, specs: &[ArmSpec]) -> Result<TaskArm> {
         ),
         (None, Some(s)) => (arm_of(&s.source)?, ChosenBy::Spec(s.written.clone())),
         (None, None) => match &task.robot_type {
-            Some(rt) => (
-                arm_of_robot_type(rt).ok_or_else(|| {
-                    Error::usage(format!(
-                        "task {}: the backup's SYSPAR/MOC.cfg says it moves a {rt}, which rapidtherm has no description of",
-                        task.label()
-                    ))
-                    .with_remedy(Remedy::NameTheArm)
-                })??,
-                ChosenBy::RobotType(rt.clone()),
-            ),
+            Some(rt) => arm_of_backup_type(task, rt)?,
             None => (embedded_irb140()?, ChosenBy::Default),
         },
     };
     arm.chosen_by = chosen_by;
     Ok(arm)
+}
+
+/// The arm of the robot type a task's MOC.cfg names, and how it was
+/// chosen; refused, with the catalogue arms nearest by reach and payload,
+/// where the catalogue has no arm of that type.
+fn arm_of_backup_type(task: &Task, rt: &str) -> Result<(TaskArm, ChosenBy)> {
+    match arm_of_robot_type(rt) {
+        Some((arm, variants)) if variants.is_empty() => Ok((arm, ChosenBy::RobotType(rt.into()))),
+        Some((arm, variants)) => Ok((
+            arm,
+            ChosenBy::RobotTypeVariant {
+                robot_type: rt.into(),
+                variants,
+            },
+        )),
+        None => {
+            let e = Error::usage(format!(
+                "task {}: the backup's SYSPAR/MOC.cfg says it moves a {rt}, which rapidtherm has no description of",
+                task.label()
+            ));
+            let e = match nearest_to_type(rt) {
+                Some(near) => e.with_note(format!(
+                    "nearest in the catalogue by reach and payload: {}",
+                    near.join(", ")
+                )),
+                None => e,
+            };
+            Err(e.with_remedy(Remedy::NameTheArm))
+        }
+    }
 }
 
 /// The embedded IRB 140, the arm the thermal defaults were measured on.
@@ -225,14 +257,30 @@ fn urdf_arm(name: String, text: &str) -> Result<TaskArm> {
     })
 }
 
-/// The catalogue arm of a controller robot type, as MOC.cfg writes it:
-/// `ROB1_140_0.81_6` is robot 1, an IRB 140 of 0.81 m reach and 6 kg;
-/// `ROB1_6700_LeanID_2.65_220` has a variant word. `None` when no arm of
-/// the catalogue has that family, payload and reach (within 0.05 m: types
-/// write the reach to two decimals, designations to one or two).
-fn arm_of_robot_type(robot_type: &str) -> Option<Result<TaskArm>> {
+/// Words of a robot type that name a version of an arm's build or
+/// protection rather than its lengths: ABB's Type A/B/C, Clean Room,
+/// Foundry Plus/Prime. rapidtherm has no source saying that each has its
+/// base arm's geometry: a type with one of these words is taken as its
+/// base arm, and the caller says so ([`ChosenBy::RobotTypeVariant`]).
+/// Any other word (`LeanID`, `ID`, `T`) may be another geometry and must
+/// be in the arm's name.
+const BUILD_VARIANTS: &[&str] = &[
+    "typea",
+    "typeb",
+    "typec",
+    "cleanroom",
+    "cr",
+    "foundryplus",
+    "foundryprime",
+    "fp",
+];
+
+/// A robot type's parts: family (`1200`), reach (m), payload (kg), and its
+/// words (`TypeB`), from MOC.cfg's `ROB1_1200_0.9_5_TypeB`: robot 1, an IRB
+/// 1200 of 0.9 m reach and 5 kg, type B.
+fn robot_type_parts(robot_type: &str) -> Option<(&str, f64, f64, Vec<&str>)> {
     let parts: Vec<&str> = robot_type.split('_').skip(1).collect();
-    let family = parts.first()?;
+    let family = *parts.first()?;
     let numbers: Vec<f64> = parts[1..].iter().filter_map(|p| p.parse().ok()).collect();
     let words: Vec<&str> = parts[1..]
         .iter()
@@ -242,12 +290,28 @@ fn arm_of_robot_type(robot_type: &str) -> Option<Result<TaskArm>> {
     let [reach, payload] = numbers[..] else {
         return None;
     };
-    let squash = |s: &str| -> String {
-        s.chars()
-            .filter(char::is_ascii_alphanumeric)
-            .flat_map(|c| c.to_lowercase())
-            .collect()
-    };
+    Some((family, reach, payload, words))
+}
+
+fn squash(s: &str) -> String {
+    s.chars()
+        .filter(char::is_ascii_alphanumeric)
+        .flat_map(|c| c.to_lowercase())
+        .collect()
+}
+
+/// The catalogue arm of a controller robot type, as MOC.cfg writes it:
+/// `ROB1_140_0.81_6` is robot 1, an IRB 140 of 0.81 m reach and 6 kg;
+/// `ROB1_6700_LeanID_2.65_220` has a variant word. `None` when no arm of
+/// the catalogue has that family, payload and reach (within 0.05 m: types
+/// write the reach to two decimals, designations to one or two). With the
+/// arm, the build variants ([`BUILD_VARIANTS`]) it was taken without.
+fn arm_of_robot_type(robot_type: &str) -> Option<(TaskArm, Vec<String>)> {
+    let (family, reach, payload, words) = robot_type_parts(robot_type)?;
+    let (build, words): (Vec<&str>, Vec<&str>) = words
+        .into_iter()
+        .partition(|w| BUILD_VARIANTS.contains(&squash(w).as_str()));
+    let build: Vec<String> = build.into_iter().map(str::to_string).collect();
     let want_family = squash(&format!("irb{family}"));
     let fits: Vec<&AbbArm> = abb::catalogue()
         .iter()
@@ -256,7 +320,7 @@ fn arm_of_robot_type(robot_type: &str) -> Option<Result<TaskArm>> {
         .filter(|a| words.iter().all(|w| squash(&a.name).contains(&squash(w))))
         .collect();
     match fits.as_slice() {
-        [one] => Some(Ok(catalogue_arm(one))),
+        [one] => Some((catalogue_arm(one), build)),
         // Some designations name a payload class, not the rated payload
         // (the IRB 2400-10 carries 12 kg): try the designation itself.
         [] if words.is_empty() => [
@@ -265,9 +329,30 @@ fn arm_of_robot_type(robot_type: &str) -> Option<Result<TaskArm>> {
         ]
         .iter()
         .find_map(|name| abb::find(name).ok())
-        .map(|arm| Ok(catalogue_arm(arm))),
+        .map(|arm| (catalogue_arm(arm), build)),
         _ => None,
     }
+}
+
+/// The three catalogue arms nearest a robot type by reach and payload
+/// (each as a fraction of the type's), its own family first; `None` when
+/// the type has no reach and payload to compare.
+fn nearest_to_type(robot_type: &str) -> Option<Vec<&'static str>> {
+    let (family, reach, payload, _) = robot_type_parts(robot_type)?;
+    if !(reach > 0.0 && payload > 0.0) {
+        return None;
+    }
+    let want_family = squash(&format!("irb{family}"));
+    let mut by: Vec<(bool, f64, &'static str)> = abb::catalogue()
+        .iter()
+        .map(|a| {
+            let d =
+                ((a.reach_m - reach) / reach).abs() + ((a.payload_kg - payload) / payload).abs();
+            (squash(&a.family) != want_family, d, a.name.as_str())
+        })
+        .collect();
+    by.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    Some(by.iter().take(3).map(|(_, _, n)| *n).collect())
 }
 
 /// The embedded thermal defaults were calibrated on the IRB 140: an arm of

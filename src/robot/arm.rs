@@ -9,7 +9,7 @@ use super::frames::{flange_of_target, target_of_flange, ToolFrame, WobjFrames};
 use super::ik::{IkFailure, Limits, OpwArm, Solutions, Violation, LIMIT_EPS};
 use super::urdf::{self, IRB140_URDF};
 use super::{Joints, LinkScales, Opw};
-use crate::error::{Error, ErrorKind, Result};
+use crate::error::{Error, ErrorKind, Remedy, Result};
 use nalgebra::Isometry3;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -290,9 +290,13 @@ impl Robot {
                 have.dedup();
                 Err(Error::new(
                     ErrorKind::Unreachable,
-                    format!("no solution with robconf {conf} within the joint limits"),
+                    format!(
+                        "no solution with robconf {conf} within the joint limits of the arm {}",
+                        self.name
+                    ),
                 )
-                .with_note(format!("reachable configurations: {}", have.join(" "))))
+                .with_note(format!("reachable configurations: {}", have.join(" ")))
+                .with_remedy(Remedy::AnotherArm))
             }
         }
     }
@@ -340,24 +344,29 @@ impl Robot {
         })
     }
 
+    /// Out of reach, `how` said (`the arm reaches …` naming this arm),
+    /// with the remedy of another arm's program.
+    pub(super) fn out_of_reach(&self, how: &str) -> Error {
+        let how = how.replacen(
+            "the arm reaches",
+            &format!("the arm {} reaches", self.name),
+            1,
+        );
+        Error::new(ErrorKind::Unreachable, format!("out of reach: {how}"))
+            .with_remedy(Remedy::AnotherArm)
+    }
+
     pub(super) fn failure(&self, f: IkFailure) -> Error {
         match f {
-            IkFailure::OutOfReach(r) if !(r.front.is_finite() && r.back.is_finite()) => {
-                Error::new(
-                    ErrorKind::Unreachable,
-                    format!(
-                        "out of reach: the wrist centre is too far to measure (a coordinate of astronomic size?); the arm reaches {:.3} to {:.3} mm",
-                        r.min, r.max
-                    ),
-                )
-            }
-            IkFailure::OutOfReach(r) => Error::new(
-                ErrorKind::Unreachable,
-                format!(
-                    "out of reach: the wrist centre is {:.3} mm from axis 2 facing it, {:.3} mm over the back; the arm reaches {:.3} to {:.3} mm",
-                    r.front, r.back, r.min, r.max
-                ),
-            ),
+            IkFailure::OutOfReach(r) if !(r.front.is_finite() && r.back.is_finite()) => self
+                .out_of_reach(&format!(
+                    "the wrist centre is too far to measure (a coordinate of astronomic size?); the arm reaches {:.3} to {:.3} mm",
+                    r.min, r.max
+                )),
+            IkFailure::OutOfReach(r) => self.out_of_reach(&format!(
+                "the wrist centre is {:.3} mm from axis 2 facing it, {:.3} mm over the back; the arm reaches {:.3} to {:.3} mm",
+                r.front, r.back, r.min, r.max
+            )),
             IkFailure::JointLimits(v) => {
                 let list: Vec<String> = v
                     .iter()
@@ -374,9 +383,10 @@ impl Robot {
                     .collect();
                 Error::new(
                     ErrorKind::Unreachable,
-                    "every solution violates a joint limit".to_string(),
+                    format!("every solution violates a joint limit of the arm {}", self.name),
                 )
                 .with_note(list.join("; "))
+                .with_remedy(Remedy::AnotherArm)
             }
         }
     }

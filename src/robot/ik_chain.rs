@@ -82,7 +82,8 @@ impl Robot {
         scales: Option<&LinkScales>,
     ) -> Result<Joints> {
         check_finite(pose, scales)?;
-        let mut search = Search::new(&self.chain, scales, pose)?;
+        let mut search =
+            Search::new(&self.chain, scales, pose).map_err(|how| self.out_of_reach(&how))?;
         let reference = reference(conf);
         if let Some(bits) = CfxBits::from_cfx(conf.cfx) {
             let (likely, rest) = search.first_round(&self.limits, &reference, bits);
@@ -130,7 +131,8 @@ impl Robot {
         scales: Option<&LinkScales>,
     ) -> Result<Solutions> {
         check_finite(pose, scales)?;
-        let mut search = Search::new(&self.chain, scales, pose)?;
+        let mut search =
+            Search::new(&self.chain, scales, pose).map_err(|how| self.out_of_reach(&how))?;
         let reference = [0.0; 6];
         search.run(&full_round(&self.limits, &reference));
         let mut physical: Vec<(RobConf, Joints)> =
@@ -186,13 +188,10 @@ impl Robot {
     /// limits of each solution found.
     fn chain_failure(&self, search: &Search) -> Error {
         if search.found.is_empty() {
-            return Error::new(
-                ErrorKind::Unreachable,
-                format!(
-                    "out of reach: no joint values put the flange at this pose (the numeric IK converged from none of its {} starting points); the arm reaches at most {:.3} mm from its base",
-                    search.starts, search.reach
-                ),
-            );
+            return self.out_of_reach(&format!(
+                "no joint values put the flange at this pose (the numeric IK converged from none of its {} starting points); the arm reaches at most {:.3} mm from its base",
+                search.starts, search.reach
+            ));
         }
         let mut violations: [Option<Violation>; 8] = [None; 8];
         for (slot, s) in violations.iter_mut().zip(&search.found) {
@@ -359,13 +358,13 @@ struct Search<'a> {
 }
 
 impl<'a> Search<'a> {
-    /// The search, or out of reach when the pose is farther from the base
-    /// than the arm stretches.
+    /// The search, or why the pose is out of reach when it is farther from
+    /// the base than the arm stretches.
     fn new(
         chain: &'a Chain,
         scales: Option<&LinkScales>,
         target: &Isometry3<f64>,
-    ) -> Result<Search<'a>> {
+    ) -> Result<Search<'a>, String> {
         let scale = scales.copied().unwrap_or([1.0; 4]);
         let (frames, flange) = chain.frames_scaled(&[0.0; 6], &scale);
         // The offset from each frame to the next, scaled, whatever the
@@ -385,10 +384,7 @@ impl<'a> Search<'a> {
                 "the flange is too far from the base to measure (a coordinate of astronomic size?)"
                     .to_string()
             };
-            return Err(Error::new(
-                ErrorKind::Unreachable,
-                format!("out of reach: {how}; the arm reaches at most {reach:.3} mm"),
-            ));
+            return Err(format!("{how}; the arm reaches at most {reach:.3} mm"));
         }
         Ok(Search {
             chain,

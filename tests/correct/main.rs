@@ -18,6 +18,7 @@ mod line_ends;
 mod marker;
 mod named;
 mod plot;
+mod robot_types;
 mod runtime;
 mod samples;
 mod seal;

@@ -464,7 +464,10 @@ fn every_solution_outside_the_limits() {
         robot.ik_conf(&pose, &RobConf::default()).unwrap_err(),
     ] {
         assert_eq!(e.kind, ErrorKind::Unreachable);
-        assert_eq!(e.message, "every solution violates a joint limit");
+        assert_eq!(
+            e.message,
+            "every solution violates a joint limit of the arm ur5"
+        );
         assert!(e.notes.join("").contains("axis 4 at"), "{:?}", e.notes);
     }
 }

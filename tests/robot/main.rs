@@ -12,6 +12,7 @@ mod ik_chain;
 mod ik_conf;
 mod kinematics;
 mod picks_back;
+mod refusals;
 mod robustness;
 mod straight_down;
 mod urdf;

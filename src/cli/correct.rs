@@ -501,14 +501,14 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Res
             );
         }
     }
-    let summaries = || -> String {
-        runs.iter()
-            .map(|r| heading(r) + &summary_text(&r.outcome))
-            .collect()
-    };
     let rule = match &plan.action {
         Action::Check(rule) | Action::Diff { check: Some(rule) } => Some(rule),
         _ => None,
+    };
+    let summaries = || -> String {
+        runs.iter()
+            .map(|r| heading(r) + &summary_text(&r.outcome, rule.is_some()))
+            .collect()
     };
     let found: Vec<Vec<CheckFinding>> = runs
         .iter()

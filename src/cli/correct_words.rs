@@ -44,11 +44,18 @@ pub fn reason_words(reason: Reason, kind: Kind, detail: &str) -> String {
 }
 
 /// The summary of a run, and a line for each target left alone, use
-/// with other frames, split and note.
-pub fn summary_text(outcome: &Outcome) -> String {
+/// with other frames, split and note. `checked`: the run is a check
+/// (`--check`), which writes nothing, so the summary says what a run
+/// that writes would do.
+pub fn summary_text(outcome: &Outcome, checked: bool) -> String {
     let s = &outcome.summary;
+    let (corrected, rewritten) = if checked {
+        ("would be corrected", "would be rewritten")
+    } else {
+        ("corrected", "rewritten")
+    };
     let mut text = format!(
-        "{} target(s) corrected ({} rewritten): max {} mm, RMS {} mm; largest drift {} mm",
+        "{} target(s) {corrected} ({} {rewritten}): max {} mm, RMS {} mm; largest drift {} mm",
         s.corrected,
         s.rewritten,
         mm(s.max_mm, 4),

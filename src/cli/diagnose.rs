@@ -2,7 +2,7 @@
 //! `simulate` share with it (the arm, the model, the job's messages).
 
 use super::diagnose_args::{parameter_table, DiagnoseArgs};
-use super::messages::{info, note, status, warning};
+use super::messages::{info, note, warning};
 use super::Format;
 use super::{write_stdout, Status};
 use rapidtherm::diagnose::arm::Arm;
@@ -294,12 +294,10 @@ pub fn run(cmd: DiagnoseCommand) -> Result<Status> {
         for (name, svg) in &run.plots {
             let path = dir.join(name);
             super::output::write_atomic(checked, &path, svg.as_bytes(), None)?;
-            status!("wrote {}", path.display());
         }
     }
     if let (Some(path), Some(text)) = (&cmd.save_model, &run.model_toml) {
         super::output::write_atomic(checked, path, text.as_bytes(), None)?;
-        status!("wrote {}", path.display());
     }
     let own = run.setup.own_geometry.map(OwnGeometry::name);
     let arm = &run.setup.arm;

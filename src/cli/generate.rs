@@ -3,7 +3,6 @@
 //! binary that prints them (`cargo install` installs a binary and nothing
 //! else; a build-time generation would leave them in the target folder).
 
-use super::messages::info;
 use super::{write_stdout, Status};
 use rapidtherm::error::{Error, Result};
 use rapidtherm::writes::{Made, Plan, Role};
@@ -94,7 +93,6 @@ pub fn run_man(plan: ManCommand, cli: clap::Command) -> Result<Status> {
     for (name, roff) in pages {
         let path = dir.join(name);
         super::output::write_atomic(&checked, &path, &roff, None)?;
-        info!("wrote {}", path.display());
     }
     Ok(Status::Success)
 }

@@ -4,6 +4,9 @@
 //! Only a path of the run's checked plan of writes
 //! ([`rapidtherm::writes`]) is written; a temporary file is removed on
 //! SIGINT, SIGTERM and SIGHUP ([`remove_temporaries_on_signals`]).
+//! Each file put in place is announced on standard error as `wrote PATH`
+//! (a summary line, hidden by `-q`), once it is there: a run that fails
+//! before announces nothing (docs/conventions.md).
 
 use rapidtherm::error::{Error, ErrorKind, Result};
 use rapidtherm::writes::{Checked, Plan};
@@ -27,7 +30,16 @@ pub fn write_atomic(
     }
     let mut f = AtomicFile::create(path, backup)?;
     f.write_all(bytes).map_err(|e| Error::io(path, &e))?;
-    f.commit()
+    f.commit()?;
+    announce(path);
+    Ok(())
+}
+
+/// `wrote PATH` on standard error, for a file just put in place. Only a
+/// file is announced: standard output and a device or pipe named as an
+/// output are no file the run leaves behind.
+fn announce(path: &Path) {
+    super::messages::status!("wrote {}", path.display());
 }
 
 /// Whether `path`, which must be in the checked plan, is a device or pipe
@@ -118,6 +130,9 @@ impl Write for Device {
 pub struct AtomicFile {
     /// The file replaced (a symbolic link's target: the link stays).
     path: std::path::PathBuf,
+    /// The path as the run named it (a symbolic link stays one), which
+    /// the `wrote` line names.
+    named: std::path::PathBuf,
     /// `None` once renamed into place.
     tmp: Option<tempfile::NamedTempFile>,
     backup: Option<std::path::PathBuf>,
@@ -150,6 +165,7 @@ impl AtomicFile {
 
     /// [`AtomicFile::create`], the backup's name not checked yet.
     fn unchecked(path: &Path, backup: Option<&str>) -> Result<AtomicFile> {
+        let named = path;
         if let Ok(meta) = std::fs::metadata(path) {
             if !meta.is_file() {
                 return Err(Error::new(
@@ -197,6 +213,7 @@ impl AtomicFile {
         };
         Ok(AtomicFile {
             path,
+            named: named.to_path_buf(),
             tmp: Some(tmp),
             backup,
             existing,
@@ -323,14 +340,18 @@ impl FileSink<'_> {
         }
     }
 
-    /// Put every finished file in place.
+    /// Put every finished file in place, in the order of their names (the
+    /// tasks finish in any order), each announced once it is there.
     pub fn commit(self) -> Result<()> {
-        let ready = match self.ready.lock() {
+        let mut ready = match self.ready.lock() {
             Ok(mut r) => std::mem::take(&mut *r),
             Err(_) => return Err(Error::new(ErrorKind::Io, "a file being written was lost")),
         };
+        ready.sort_by(|a, b| a.named.cmp(&b.named));
         for f in ready {
+            let named = f.named.clone();
             f.commit()?;
+            announce(&named);
         }
         Ok(())
     }

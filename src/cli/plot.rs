@@ -4,7 +4,6 @@
 //! written, and written last: a run that fails leaves the folder as it
 //! was.
 
-use super::messages::status;
 use super::output::write_atomic;
 use super::Inputs;
 use rapidtherm::correct::plot::{pictures, Picture};
@@ -96,7 +95,6 @@ pub fn write(checked: &Checked, dir: Option<&Path>, drawn: &[(PathBuf, String)])
     for (name, svg) in drawn {
         let path = dir.join(name);
         write_atomic(checked, &path, svg.as_bytes(), None)?;
-        status!("wrote {}", path.display());
     }
     Ok(())
 }

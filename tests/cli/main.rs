@@ -3,6 +3,7 @@
 //! the CI report formats against their specifications, and the pre-commit
 //! hook as pre-commit runs it. One binary, one link.
 
+mod announced;
 mod bare_names;
 mod ci_report;
 mod conventions;

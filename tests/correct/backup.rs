@@ -379,7 +379,7 @@ fn a_named_arm_makes_up_for_a_missing_robot_type_but_not_for_a_place() {
     // used the backup's base frame.
     assert_eq!(named.status.code(), Some(1), "{}", text(&named));
     assert!(
-        text(&named).contains("3 target(s) corrected"),
+        text(&named).contains("3 target(s) would be corrected"),
         "{}",
         text(&named)
     );

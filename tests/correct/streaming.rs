@@ -274,9 +274,10 @@ fn the_job_streams_what_it_corrects_in_memory() {
 
 /// What a run said on standard error, less the `-vv` timings.
 fn said(o: &Output) -> Vec<String> {
+    // `wrote FILE` names the file only the file run has.
     String::from_utf8_lossy(&o.stderr)
         .lines()
-        .filter(|l| !l.starts_with("info:"))
+        .filter(|l| !l.starts_with("info:") && !l.starts_with("wrote "))
         .map(str::to_string)
         .collect()
 }

@@ -92,7 +92,7 @@ fn an_external_axis_changed_fails_the_gate() {
 }
 
 /// `from` copied into `to`, folders and files.
-fn copy_tree(from: &Path, to: &Path) {
+pub(super) fn copy_tree(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();
     for e in std::fs::read_dir(from).unwrap() {
         let e = e.unwrap();

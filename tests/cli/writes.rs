@@ -6,6 +6,7 @@
 //! name; a lock refuses a second run on a file; a signal leaves no
 //! temporary file. Each case runs the binary as a user would.
 
+use super::gate::copy_tree;
 use super::hostile::snapshot;
 use super::outputs::{refused, run, stderr};
 use proptest::prelude::*;
@@ -199,19 +200,6 @@ fn a_module_named_as_a_cells_system_module_leaves_it() {
         "SYSMOD/user.sys exists and is not a module rapidtherm wrote",
     );
     assert_eq!(snapshot(&bk), before);
-}
-
-fn copy_tree(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let target = to.join(e.file_name());
-        if e.path().is_dir() {
-            copy_tree(&e.path(), &target);
-        } else {
-            std::fs::copy(e.path(), target).unwrap();
-        }
-    }
 }
 
 /// The run's exit within `limit`, else killed (`None`).

@@ -53,3 +53,20 @@ impl<'a> Meanings<'a> {
         }
     }
 }
+
+/// `from` copied into `to`, folders and files (a backup to change in a
+/// temporary folder).
+// The diagnosis's tests, which share this file, copy no backup.
+#[allow(dead_code)]
+pub fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_tree(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), target).unwrap();
+        }
+    }
+}

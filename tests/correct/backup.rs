@@ -3,25 +3,13 @@
 //! task, tools in `user.sys`, a run-time placeholder, a 20,000-element
 //! robtarget array, conditional arguments, `1THEN`, `MODULE 1_T_ROB2`).
 
+use super::common::copy_tree;
 use super::rapidtherm;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
 fn sample() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("samples/backup_multimove")
-}
-
-fn copy_tree(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let target = to.join(e.file_name());
-        if e.path().is_dir() {
-            copy_tree(&e.path(), &target);
-        } else {
-            std::fs::copy(e.path(), target).unwrap();
-        }
-    }
 }
 
 /// Every file of a tree, by path relative to its root, with its bytes.

@@ -3,6 +3,7 @@
 //! catalogue lacks is refused naming the nearest arms. Expectations worked
 //! by hand from data/arms/*.toml.
 
+use super::common::copy_tree;
 use super::rapidtherm;
 use rapidtherm::rapid::task::Task;
 use rapidtherm::resolve::arm::{arm_for, ChosenBy};
@@ -84,17 +85,4 @@ fn a_backup_of_a_variant_says_what_it_assumed() {
         err.contains("the robot type ROB1_1200_0.9_5_TypeB of SYSPAR/MOC.cfg is taken as the IRB 1200-5/0.9 (TypeB assumed not to change its geometry)"),
         "{err}"
     );
-}
-
-fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let target = to.join(e.file_name());
-        if e.path().is_dir() {
-            copy_tree(&e.path(), &target);
-        } else {
-            std::fs::copy(e.path(), target).unwrap();
-        }
-    }
 }

@@ -188,19 +188,6 @@ fn the_module_is_read_by_the_projects_grammar() {
         .all(|d| d.scope == Some(rapidtherm::rapid::Scope::Task)));
 }
 
-fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let target = to.join(e.file_name());
-        if e.file_type().unwrap().is_dir() {
-            copy_dir(&e.path(), &target);
-        } else {
-            std::fs::copy(e.path(), &target).unwrap();
-        }
-    }
-}
-
 fn root() -> std::path::PathBuf {
     std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -295,7 +282,7 @@ fn runtime_rewrites_only_the_moves_and_writes_the_module_beside() {
 fn runtime_on_a_backup_changes_only_moves_and_adds_the_module_to_each_motion_task() {
     let dir = tempfile::tempdir().unwrap();
     let backup = dir.path().join("backup");
-    copy_dir(&root().join("samples/backup_multimove"), &backup);
+    super::common::copy_tree(&root().join("samples/backup_multimove"), &backup);
     let out = super::rapidtherm(
         &["correct", "backup", "--runtime", "--in-place"],
         dir.path(),

@@ -79,6 +79,7 @@ pub(super) fn write_files(
 
 /// The file being written, by its index in the program, and what its
 /// marker says: the run's time basis and its cold original's fingerprint.
+#[derive(Clone, Copy)]
 struct OneFile<'a> {
     index: usize,
     basis: &'a str,
@@ -105,15 +106,16 @@ pub(super) struct Marks<'a> {
 /// order as they come ([`in_order`]). Whether the file changes.
 fn write_file(
     pass: &Pass,
-    OneFile {
-        index: f,
-        basis,
-        cold,
-    }: OneFile,
+    file: OneFile,
     mut fixed: Vec<Edit>,
     out: &mut (dyn Write + Send),
     findings: Findings,
 ) -> Result<bool> {
+    let OneFile {
+        index: f,
+        basis,
+        cold,
+    } = file;
     // Every byte up to the numbers' line goes through the fingerprint of
     // the numbers, the marker's proof: it is of what is written.
     let src = pass.run.program.source(f);
@@ -123,18 +125,7 @@ fn write_file(
         print: NumberPrint::new(),
         held: Vec::with_capacity(PRINT_PIECE),
     };
-    let changed = write_numbers(
-        pass,
-        OneFile {
-            index: f,
-            basis,
-            cold,
-        },
-        &mut fixed,
-        &mut printed,
-        end,
-        findings,
-    )?;
+    let changed = write_numbers(pass, file, &mut fixed, &mut printed, end, findings)?;
     let Printed {
         out,
         mut print,

@@ -13,18 +13,21 @@ fn rapidtherm(args: &[&str]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
-/// The subcommands `rapidtherm --help` lists (but `help`).
-fn subcommands() -> Vec<String> {
-    let help = rapidtherm(&["--help"]);
-    let names: Vec<String> = help
-        .lines()
+/// The commands a `--help` text lists under `Commands:` (but `help`).
+pub(super) fn listed_commands(help: &str) -> Vec<String> {
+    help.lines()
         .skip_while(|l| !l.starts_with("Commands:"))
         .skip(1)
         .take_while(|l| l.starts_with("  "))
         .filter_map(|l| l.split_whitespace().next())
         .filter(|n| *n != "help")
         .map(str::to_string)
-        .collect();
+        .collect()
+}
+
+/// The subcommands `rapidtherm --help` lists (but `help`).
+fn subcommands() -> Vec<String> {
+    let names = listed_commands(&rapidtherm(&["--help"]));
     assert!(
         names.len() >= 12 && names.iter().any(|n| n == "correct"),
         "{names:?}"

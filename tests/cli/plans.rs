@@ -241,15 +241,7 @@ fn every_usage_error_comes_before_any_file_is_read_or_written() {
 fn every_command_has_a_usage_case() {
     let help = |args: &[&str]| -> Vec<String> {
         let out = Command::new(BIN).args(args).output().unwrap();
-        String::from_utf8_lossy(&out.stdout)
-            .lines()
-            .skip_while(|l| !l.starts_with("Commands:"))
-            .skip(1)
-            .take_while(|l| l.starts_with("  "))
-            .filter_map(|l| l.split_whitespace().next())
-            .filter(|n| *n != "help")
-            .map(str::to_string)
-            .collect()
+        super::conventions::listed_commands(&String::from_utf8_lossy(&out.stdout))
     };
     let mut commands: Vec<String> = Vec::new();
     for top in help(&["--help"]) {

@@ -1,10 +1,14 @@
 //! The project runs what it writes: the controller module of `correct
 //! --runtime`, executed by the project's own RAPID interpreter
 //! (`interp`), agrees with the static correction (`correct
-//! --at`, `correct --schedule`) on every sample's every target.
+//! --at`, `correct --schedule`) on every sample's every target, by the
+//! module's table (the path the rewrite gives every target the program
+//! names) and by its slower path (the controller's joints, for targets
+//! made at run time).
 
 use nalgebra::{Isometry3, UnitQuaternion};
 use rapidtherm::correct::job::warm_robot;
+use rapidtherm::correct::runtime::table::{Rows, Table};
 use rapidtherm::correct::runtime::{module_text, ModuleOptions, RuntimeSpec};
 use rapidtherm::correct::{correct, Correction, Options, ScheduleSource, When};
 use rapidtherm::interp::{kin, CallArg, Clock, Interp, Kinematics, Precision, Value};
@@ -17,21 +21,21 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 /// The module `correct --runtime` writes for the embedded IRB 140 and
-/// model, its base frame turned by `base` in the world.
-pub(super) fn module(base: UnitQuaternion<f64>) -> String {
+/// model, its base frame turned by `base` in the world, with `rows`.
+pub(super) fn module(base: UnitQuaternion<f64>, rows: &Rows) -> String {
     let spec = RuntimeSpec::new(&Robot::irb140(), &Model::default(), base).unwrap();
     let opts = ModuleOptions {
         name: "RtWarm".into(),
         version: "test".into(),
         heating_source: "the embedded default".into(),
+        model: "the embedded default".into(),
     };
-    module_text(&spec, &opts)
+    module_text(&spec, rows, &opts)
 }
 
-/// An interpreter holding the module of a robot standing at `base` in
-/// the world, its clock at `start`.
-fn interp(base: Isometry3<f64>, start: Clock) -> Interp {
-    let text = module(base.rotation);
+/// An interpreter holding `text`, the module of a robot standing at
+/// `base` in the world, its clock at `start`.
+fn interp_with(text: &str, base: Isometry3<f64>, start: Clock) -> Interp {
     let mut kin = Kinematics::new(Robot::irb140());
     kin.base = base;
     let mut i = Interp::load(&[("RtWarm.sys", text.as_bytes())], kin).unwrap();
@@ -54,8 +58,8 @@ struct Sample {
     program: Program,
     base: Option<Isometry3<f64>>,
     /// The robtarget literals by lower-case identifier (a CAM program's
-    /// thousands looked up once each).
-    literals: HashMap<String, Value>,
+    /// thousands looked up once each), with their number in the program.
+    literals: HashMap<String, (usize, Value)>,
 }
 
 impl Sample {
@@ -63,7 +67,8 @@ impl Sample {
         let literals = program
             .targets()
             .iter()
-            .filter_map(|t| {
+            .enumerate()
+            .filter_map(|(n, t)| {
                 let v = t.value.as_ref()?;
                 let p = kin::robtarget(
                     v.trans_values(),
@@ -71,7 +76,7 @@ impl Sample {
                     v.robconf_values(),
                     v.extax_values(),
                 );
-                Some((t.id.to_ascii_lowercase(), p))
+                Some((t.id.to_ascii_lowercase(), (n, p)))
             })
             .collect();
         Sample {
@@ -80,6 +85,10 @@ impl Sample {
             base,
             literals,
         }
+    }
+
+    fn base(&self) -> Isometry3<f64> {
+        self.base.unwrap_or_else(Isometry3::identity)
     }
 }
 
@@ -98,6 +107,7 @@ fn samples() -> Vec<Sample> {
         "deburr_mixed_eol.modx",
         "inspection_bom.prg",
         "process_lib.sys",
+        "stationary_glue.mod",
     ] {
         let bytes = std::fs::read(root().join("samples").join(name)).unwrap();
         out.push(Sample::new(
@@ -129,23 +139,85 @@ fn samples() -> Vec<Sample> {
     out
 }
 
-/// The module's call for a correction's target, as the rewrite writes
-/// it: `RtWarm(p, tool \WObj:=wobj)` (no `\WObj` for `wobj0`), or
-/// `RtWarmJ(j)`. `None` for a target that is no literal.
-fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<CallArg>)> {
+/// A sample's module loaded, with the table's row of each corrected
+/// target (by identifier, tool and work object; jointtargets by
+/// identifier), as the rewrite numbers them.
+struct Loaded {
+    interp: Interp,
+    rows: HashMap<(String, Option<String>, Option<String>), usize>,
+}
+
+/// The module for `sample` (its table holding every target `want`
+/// names), loaded, its clock at `start`.
+fn load(sample: &Sample, want: &[Correction], start: Clock) -> Loaded {
+    let robot = Robot::irb140();
+    let base = sample.base();
+    let spec = RuntimeSpec::new(&robot, &Model::default(), base.rotation).unwrap();
+    let mut table = Table::new(&sample.program, &robot, &spec, &base);
+    let mut rows = HashMap::new();
+    for c in want {
+        let id = c.id.to_ascii_lowercase();
+        let row = match &c.tool {
+            Some(tool) => {
+                let Some((n, _)) = sample.literals.get(&id) else {
+                    continue;
+                };
+                table.robtarget_row(*n, Some(tool), c.wobj.as_deref())
+            }
+            None => {
+                let Some(j) = sample
+                    .program
+                    .jointtargets()
+                    .iter()
+                    .position(|j| j.id.eq_ignore_ascii_case(&c.id))
+                else {
+                    continue;
+                };
+                table.jointtarget_row(j)
+            }
+        };
+        if let Some(r) = row {
+            rows.insert((id, c.tool.clone(), c.wobj.clone()), r);
+        }
+    }
+    let text = module(base.rotation, &table.rows);
+    Loaded {
+        interp: interp_with(&text, base, start),
+        rows,
+    }
+}
+
+/// The module's calls for a correction's target, as the rewrite writes
+/// them: `RtWarmT(p, row, tool \WObj:=wobj)` (no `\WObj` for `wobj0`) and
+/// `RtWarm(p, tool \WObj:=wobj)`; `RtWarmJT(j, row)` for a jointtarget
+/// (its slower path, `RtWarmJ`, is the controller's configuration's,
+/// held to its own rule in tests/correct/interp_controller.rs). Empty
+/// for a target that is no literal.
+fn calls_for(sample: &Sample, loaded: &Loaded, c: &Correction) -> Vec<(&'static str, Vec<CallArg>)> {
     let program = &sample.program;
+    let id = c.id.to_ascii_lowercase();
+    let row = loaded.rows.get(&(id.clone(), c.tool.clone(), c.wobj.clone()));
     let Some(tool) = &c.tool else {
-        let j = program
+        let Some(j) = program
             .jointtargets()
             .iter()
-            .find(|j| j.id.eq_ignore_ascii_case(&c.id))?;
+            .find(|j| j.id.eq_ignore_ascii_case(&c.id))
+        else {
+            return Vec::new();
+        };
         let v = kin::jointtarget(
             j.robax.each_ref().map(|n| n.value),
             j.extax.each_ref().map(|n| n.value),
         );
-        return Some(("RtWarmJ", vec![CallArg::Value(v)]));
+        let row = *row.expect("every jointtarget has a row");
+        return vec![(
+            "RtWarmJT",
+            vec![CallArg::Value(v), CallArg::Value(Value::Num(row as f64))],
+        )];
     };
-    let p = sample.literals.get(&c.id.to_ascii_lowercase())?.clone();
+    let Some((_, p)) = sample.literals.get(&id) else {
+        return Vec::new();
+    };
     let tool = match program
         .tools()
         .iter()
@@ -157,20 +229,32 @@ fn call_for(sample: &Sample, c: &Correction) -> Option<(&'static str, Vec<CallAr
         }
         None => panic!("{}: tool {tool} not declared", c.id),
     };
-    let mut args = vec![CallArg::Value(p), CallArg::Value(tool)];
-    match c.wobj.as_deref() {
-        None => {}
-        Some(w) if w.eq_ignore_ascii_case("wobj0") => {}
+    let wobj = match c.wobj.as_deref() {
+        None => None,
+        Some(w) if w.eq_ignore_ascii_case("wobj0") => None,
         Some(w) => {
             let w = program
                 .wobjs()
                 .iter()
                 .find(|x| x.name.eq_ignore_ascii_case(w))
                 .unwrap_or_else(|| panic!("{}: wobj {w} not declared", c.id));
-            args.push(CallArg::Named("WObj".into(), kin::declared_wobj(w)));
+            Some(CallArg::Named("WObj".into(), kin::declared_wobj(w)))
         }
+    };
+    let mut out = Vec::new();
+    if let Some(&r) = row {
+        let mut args = vec![
+            CallArg::Value(p.clone()),
+            CallArg::Value(Value::Num(r as f64)),
+            CallArg::Value(tool.clone()),
+        ];
+        args.extend(wobj.clone());
+        out.push(("RtWarmT", args));
     }
-    Some(("RtWarm", args))
+    let mut args = vec![CallArg::Value(p.clone()), CallArg::Value(tool)];
+    args.extend(wobj);
+    out.push(("RtWarm", args));
+    out
 }
 
 /// How far the interpreter's answer is from the static correction: (mm,
@@ -210,16 +294,27 @@ fn at(m: Moment) -> (When, f64) {
     (When::At(m), horizon)
 }
 
-/// Runs the module for `minutes` of continuous running: a correction
-/// every `step` minutes (any target: each brings the state to now).
+/// A call of the module that corrects nothing of interest: it brings
+/// the state to now where the last update is older than the module's
+/// update period (10 s), as every move's call does.
+fn touch(i: &mut Interp) {
+    let j = kin::jointtarget([0.0, 0.0, 0.0, 0.0, 30.0, 0.0], [9e9; 6]);
+    i.call_func(
+        "RtWarmJT",
+        &[CallArg::Value(j), CallArg::Value(Value::Num(1.0))],
+    )
+    .unwrap();
+}
+
+/// Runs the module for `minutes` of continuous running: a move every
+/// `step` minutes (at least the update period, so that each brings the
+/// state to now), the last at the end.
 fn run_for(i: &mut Interp, minutes: f64, step: f64) {
-    let end = i.clock().plus(minutes);
-    while i.clock().plus(step).minutes() <= end.minutes() + 1e-9 {
+    let steps = (minutes / step).round() as usize;
+    for _ in 0..steps {
         i.advance(step);
-        i.call_proc("RtWarmUpdate", &[]).unwrap();
+        touch(i);
     }
-    i.set_clock(end);
-    i.call_proc("RtWarmUpdate", &[]).unwrap();
 }
 
 /// The worst of several misses.
@@ -228,6 +323,8 @@ struct Worst {
     mm: f64,
     deg: f64,
     targets: usize,
+    /// Of those, by the table.
+    by_table: usize,
 }
 
 impl Worst {
@@ -235,17 +332,18 @@ impl Worst {
         self.mm = self.mm.max(other.mm);
         self.deg = self.deg.max(other.deg);
         self.targets += other.targets;
+        self.by_table += other.by_table;
     }
 }
 
 /// The interpreter's corrections of every corrected target of `sample`
-/// at the state it holds, against the static path's `want`, each within
-/// `limit` (mm and degrees).
+/// at the state it holds, by each of the module's paths, against the
+/// static path's `want`, each within `limit` (mm and degrees).
 /// At minute 0 (`cold`: the precision the interpreter keeps), each
 /// robtarget comes back as it went in (as that precision holds it), bit
-/// for bit, and each jointtarget to 1e-9° (single precision: `limit`).
+/// for bit, and each jointtarget too.
 fn against(
-    i: &mut Interp,
+    loaded: &mut Loaded,
     sample: &Sample,
     want: &[Correction],
     limit: f64,
@@ -256,50 +354,42 @@ fn against(
         if c.exact.is_none() && c.tool.is_some() {
             continue;
         }
-        let Some((func, args)) = call_for(sample, c) else {
-            continue;
-        };
-        let (got, _) = i
-            .call_func(func, &args)
-            .unwrap_or_else(|e| panic!("{} {}: {e:?}", sample.name, c.id));
-        if let Some(precision) = cold {
-            let CallArg::Value(given) = &args[0] else {
-                unreachable!()
-            };
-            let mut given = given.clone();
-            if precision == Precision::Single {
-                given.to_single();
-            }
-            let (g, n) = (given.numbers(), got.numbers());
-            if func == "RtWarm" {
-                assert_eq!(n, g, "{} {}: minute 0 moves it", sample.name, c.id);
-            } else {
-                // A jointtarget goes through its flange position and back:
-                // in single precision a coordinate holds ~1e-4 mm, its
-                // joints ~1e-5°.
-                let tol = match precision {
-                    Precision::Double => 1e-9,
-                    Precision::Single => limit,
+        for (func, args) in calls_for(sample, loaded, c) {
+            let (got, _) = loaded
+                .interp
+                .call_func(func, &args)
+                .unwrap_or_else(|e| panic!("{} {} {func}: {e:?}", sample.name, c.id));
+            if let Some(precision) = cold {
+                let CallArg::Value(given) = &args[0] else {
+                    unreachable!()
                 };
-                for k in 0..6 {
-                    let d = (n[k] - g[k]).abs();
-                    assert!(d < tol, "{} {}: {d}°", sample.name, c.id);
+                let mut given = given.clone();
+                if precision == Precision::Single {
+                    given.to_single();
                 }
+                assert_eq!(
+                    got.numbers(),
+                    given.numbers(),
+                    "{} {} {func}: minute 0 moves it",
+                    sample.name,
+                    c.id
+                );
             }
+            let (d, a) = miss(&got, c);
+            assert!(
+                d <= limit && a <= limit,
+                "{} {} {func} ({:?}): {d} mm, {a} deg",
+                sample.name,
+                c.id,
+                c.time_min
+            );
+            w.add(Worst {
+                mm: d,
+                deg: a,
+                targets: 1,
+                by_table: usize::from(func.ends_with('T')),
+            });
         }
-        let (d, a) = miss(&got, c);
-        assert!(
-            d <= limit && a <= limit,
-            "{} {} ({:?}): {d} mm, {a} deg",
-            sample.name,
-            c.id,
-            c.time_min
-        );
-        w.add(Worst {
-            mm: d,
-            deg: a,
-            targets: 1,
-        });
     }
     w
 }
@@ -316,26 +406,27 @@ fn continuous(precision: Precision, limit: f64) -> Vec<(Moment, Worst)> {
         .map(|m| (m, Worst::default()))
         .collect();
     for sample in samples() {
-        let mut i = interp(sample.base.unwrap_or_else(Isometry3::identity), start());
-        i.set_precision(precision).unwrap();
+        let (when, horizon) = at(Moment::Minute(60.0));
+        let mut loaded = load(&sample, &corrected(&sample, when, horizon), start());
+        loaded.interp.set_precision(precision).unwrap();
         // The day's first correction: a cold arm.
-        i.call_proc("RtWarmUpdate", &[]).unwrap();
+        touch(&mut loaded.interp);
         let mut now = 0.0;
         for (m, w) in &mut worst {
             match *m {
                 Moment::Minute(t) => {
-                    // A correction every 3 s for the first ten minutes
-                    // (the update's series branch), every minute after.
-                    run_for(&mut i, t - now, if t <= 10.0 { 0.05 } else { 1.0 });
+                    // A move every 12 s for the first ten minutes (the
+                    // update's series branch), every minute after.
+                    run_for(&mut loaded.interp, t - now, if t <= 10.0 { 0.2 } else { 1.0 });
                     now = t;
                 }
                 // Two days more: the steady state.
-                Moment::Steady => run_for(&mut i, 2880.0, 4.0),
+                Moment::Steady => run_for(&mut loaded.interp, 2880.0, 4.0),
             }
             let (when, horizon) = at(*m);
             let want = corrected(&sample, when, horizon);
             let cold = (*m == Moment::Minute(0.0)).then_some(precision);
-            w.add(against(&mut i, &sample, &want, limit, cold));
+            w.add(against(&mut loaded, &sample, &want, limit, cold));
         }
     }
     worst
@@ -343,16 +434,15 @@ fn continuous(precision: Precision, limit: f64) -> Vec<(Moment, Worst)> {
 
 #[test]
 fn the_interpreter_runs_the_module_as_correct_at_corrects_every_sample() {
-    let t0 = std::time::Instant::now();
     let worst = continuous(Precision::Double, 1e-3);
     for (m, w) in &worst {
         eprintln!(
-            "{m}: {:.2e} mm, {:.2e} deg, {} targets",
-            w.mm, w.deg, w.targets
+            "{m}: {:.2e} mm, {:.2e} deg, {} calls ({} by the table)",
+            w.mm, w.deg, w.targets, w.by_table
         );
         assert!(w.targets > 100, "{m}: {} targets compared", w.targets);
+        assert!(w.by_table > 100, "{m}: {} by the table", w.by_table);
     }
-    eprintln!("{:?}", t0.elapsed());
 }
 
 const IDLE_SCHEDULE: &str = "target,time_min,kind,end_min\n,120,idle,180\n";
@@ -363,18 +453,18 @@ const IDLE_SCHEDULE: &str = "target,time_min,kind,end_min\n,120,idle,180\n";
 fn with_a_stop(precision: Precision, limit: f64) -> Worst {
     let mut worst = Worst::default();
     for sample in samples() {
-        let mut i = interp(sample.base.unwrap_or_else(Isometry3::identity), start());
+        let (when, horizon) = at(Moment::Minute(60.0));
+        let mut loaded = load(&sample, &corrected(&sample, when, horizon), start());
+        let i = &mut loaded.interp;
         i.set_precision(precision).unwrap();
-        i.call_proc("RtWarmUpdate", &[]).unwrap();
-        run_for(&mut i, 120.0, 1.0);
-        let warm = i.global("rtX").unwrap().clone();
+        touch(i);
+        run_for(i, 120.0, 1.0);
         i.restart().unwrap();
-        assert_eq!(i.global("rtX"), Some(&warm), "PERS data outlive a restart");
         i.advance(60.0);
         // The first correction after the stop, at minute 180: a gap longer
         // than the module's stop gap, so the arm cooled.
-        i.call_proc("RtWarmUpdate", &[]).unwrap();
-        run_for(&mut i, 30.0, 1.0);
+        touch(i);
+        run_for(i, 30.0, 1.0);
         let when = When::Schedule {
             schedule: Schedule::read("idle.csv", IDLE_SCHEDULE.as_bytes()).unwrap(),
             joints: None,
@@ -382,7 +472,7 @@ fn with_a_stop(precision: Precision, limit: f64) -> Worst {
             source: ScheduleSource::File,
         };
         let want = corrected(&sample, when, 210.0);
-        worst.add(against(&mut i, &sample, &want, limit, None));
+        worst.add(against(&mut loaded, &sample, &want, limit, None));
     }
     worst
 }
@@ -413,29 +503,37 @@ fn in_the_controllers_single_precision_the_module_stays_within_a_micrometre() {
     eprintln!("single profile: {:.2e} mm, {:.2e} deg", w.mm, w.deg);
 }
 
-/// Operations per call (expression nodes, statements, built-in calls):
-/// the module's cost on the controller, as docs/runtime.md states it.
+/// The most operations a move's call by the table may cost (expression
+/// nodes, statements, built-in calls, as the interpreter counts them):
+/// the budget of issue 48, with no CalcJointT.
+const TABLE_BUDGET: u64 = 100;
+
+/// Operations per call: the module's cost on the controller, as
+/// docs/runtime.md states it.
 #[test]
 fn the_operations_per_call_are_counted() {
-    let sample = &samples()[0];
-    let want = corrected(sample, When::At(Moment::Minute(60.0)), 60.0);
-    let mut i = interp(Isometry3::identity(), start());
-    i.call_proc("RtWarmUpdate", &[]).unwrap();
-    run_for(&mut i, 60.0, 1.0);
+    let sample = samples()
+        .into_iter()
+        .find(|s| s.name == "fixtures.mod")
+        .unwrap();
+    let want = corrected(&sample, When::At(Moment::Minute(60.0)), 60.0);
+    let mut loaded = load(&sample, &want, start());
+    touch(&mut loaded.interp);
+    run_for(&mut loaded.interp, 60.0, 1.0);
     let mut seen = std::collections::BTreeMap::new();
     for c in &want {
-        let Some((func, args)) = call_for(sample, c) else {
-            continue;
-        };
-        // A correction 3 s after the last: the state is carried forward.
-        i.advance(0.05);
-        let (_, ops) = i.call_func(func, &args).unwrap();
-        let kind = match (func, args.len()) {
-            ("RtWarm", 3) => "RtWarm \\WObj",
-            ("RtWarm", _) => "RtWarm",
-            _ => "RtWarmJ",
-        };
-        seen.insert(kind, ops);
+        for (func, args) in calls_for(&sample, &loaded, c) {
+            // A move 1 s after the last: within the update period, the
+            // state as it is.
+            loaded.interp.advance(1.0 / 60.0);
+            let (_, ops) = loaded.interp.call_func(func, &args).unwrap();
+            let wobj = if args.len() > 3 || (func == "RtWarm" && args.len() > 2) {
+                " \\WObj"
+            } else {
+                ""
+            };
+            seen.insert(format!("{func}{wobj}"), ops);
+        }
     }
     for (k, ops) in &seen {
         eprintln!(
@@ -446,17 +544,22 @@ fn the_operations_per_call_are_counted() {
             ops.builtins
         );
     }
-    assert_eq!(seen.len(), 3, "{seen:?}");
-    // Bringing the state to now, alone.
-    i.advance(0.05);
-    let update = i.call_proc("RtWarmUpdate", &[]).unwrap();
-    eprintln!("RtWarmUpdate: {} operations", update.total());
-    assert!(update.total() < seen["RtWarmJ"].total());
-    // A call in the same second as the last advances nothing: cheaper.
-    let c = want.iter().find(|c| c.tool.is_some()).unwrap();
-    let (func, args) = call_for(sample, c).unwrap();
-    let (_, again) = i.call_func(func, &args).unwrap();
-    assert!(again.total() < seen["RtWarm"].total().min(seen["RtWarm \\WObj"].total()));
+    for k in ["RtWarmT", "RtWarmT \\WObj", "RtWarmJT"] {
+        let ops = seen.get(k).unwrap_or_else(|| panic!("{k} not called: {seen:?}"));
+        assert!(ops.total() <= TABLE_BUDGET, "{k}: {ops:?}");
+    }
+    // The call that brings the state to now (once per update period).
+    loaded.interp.advance(0.2);
+    let j = kin::jointtarget([0.0, 0.0, 0.0, 0.0, 30.0, 0.0], [9e9; 6]);
+    let (_, update) = loaded
+        .interp
+        .call_func(
+            "RtWarmJT",
+            &[CallArg::Value(j), CallArg::Value(Value::Num(1.0))],
+        )
+        .unwrap();
+    eprintln!("RtWarmJT with the update: {} operations", update.total());
+    assert!(update.total() > seen["RtWarmJT"].total());
 }
 
 /// The interpreter reads a program as the reader reads it, the fast lane

@@ -141,37 +141,40 @@ fn the_first_order_correction_is_right_to_far_below_a_micrometre() {
 }
 
 #[test]
-fn the_module_is_read_by_the_projects_grammar() {
+fn the_module_is_read_by_the_projects_grammar_and_adds_only_its_five_names() {
     let s = spec(&Robot::irb140());
     let opts = ModuleOptions {
-        name: "RtWarm".into(),
+        name: "ThWarm".into(),
         version: "test".into(),
         heating_source: "the embedded default".into(),
+        model: "the embedded default".into(),
     };
-    let text = module_text(&s, &opts);
+    let text = module_text(&s, &Default::default(), &opts);
     assert!(text.ends_with("ENDMODULE\r\n"));
     assert!(!text.replace("\r\n", "").contains('\n'), "CRLF throughout");
-    let program = rapidtherm::rapid::parse("RtWarm.sys", text.as_bytes()).unwrap();
+    let program = rapidtherm::rapid::parse("ThWarm.sys", text.as_bytes()).unwrap();
     assert!(program.warnings.is_empty(), "{:?}", program.warnings);
     assert_eq!(program.source(0), text.as_bytes());
     let m = &program.modules[0];
-    assert_eq!(&*m.name, "RtWarm");
+    assert_eq!(&*m.name, "ThWarm");
     assert!(m
         .attributes
         .iter()
         .any(|a| a.eq_ignore_ascii_case("SYSMODULE")));
-    for r in [
-        "RtWarm",
-        "RtWarmJ",
-        "RtWarmReset",
-        "RtWarmUpdate",
-        "RtDrift",
-        "RtDays",
-        "RtNow",
-        "RtAdvance",
-    ] {
-        assert!(m.routines.iter().any(|x| &*x.name == r), "{r} missing");
-    }
+    // What the rewritten program calls is defined under the chosen name
+    // (issue 48: `--runtime-module ThWarm` wrote calls of ThWarm(...)
+    // while the functions stayed RtWarm); nothing else is global, so the
+    // module cannot clash with a name of the task (ABB RAPID overview:
+    // a LOCAL routine or datum is seen in its own module only).
+    let mut global: Vec<&str> = m
+        .routines
+        .iter()
+        .filter(|r| !r.local)
+        .map(|r| &*r.name)
+        .collect();
+    global.sort_unstable();
+    assert_eq!(global, ["ThWarm", "ThWarmJ", "ThWarmJT", "ThWarmReset", "ThWarmT"]);
+    assert!(m.data.iter().all(|d| d.scope == Some(rapidtherm::rapid::Scope::Local)));
     // The state is PERS, the arm's numbers CONST.
     let pers: Vec<&str> = m
         .data
@@ -179,13 +182,17 @@ fn the_module_is_read_by_the_projects_grammar() {
         .filter(|d| d.storage == rapidtherm::rapid::Storage::Pers)
         .map(|d| d.name.as_str())
         .collect();
-    assert_eq!(pers, ["rtX", "rtDay", "rtMinute"], "{pers:?}");
-    // Task-local: the robots of a MultiMove system warm apart.
-    assert!(m
-        .data
-        .iter()
-        .filter(|d| d.storage == rapidtherm::rapid::Storage::Pers)
-        .all(|d| d.scope == Some(rapidtherm::rapid::Scope::Task)));
+    assert_eq!(pers, ["rtX", "rtKnown", "rtDay", "rtMinute"], "{pers:?}");
+    // Numbers as the controller keeps them: none longer than a float's
+    // shortest form (issue 48: literals of 20 digits).
+    for word in text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '.' || c == '-')) {
+        let mantissa = word.split('E').next().unwrap_or("");
+        let significant = mantissa.trim_start_matches(['-', '0', '.']);
+        let digits = significant.chars().filter(char::is_ascii_digit).count();
+        if word.starts_with(|c: char| c.is_ascii_digit() || c == '-') {
+            assert!(digits <= 9, "{word}");
+        }
+    }
 }
 
 fn root() -> std::path::PathBuf {

@@ -3,7 +3,8 @@
 //! its files with every move wrapped in the module's function. Every task
 //! is tried before anything is written.
 
-use super::rewrite::{move_insertions, write_rewritten, Insertions, MoveTally};
+use super::rewrite::{move_insertions, write_rewritten, Insertions, MoveTally, Route};
+use super::table::Table;
 use super::{module_text, ModuleOptions, RuntimeSpec};
 use crate::correct::job::{checked_arm, load_model, model_label, moves_a_robot, read_task};
 use crate::correct::job::{Event, Host, Inputs};
@@ -13,7 +14,7 @@ use crate::error::{Error, Errors, Result};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::task::Task;
 use crate::resolve::arm::base_frame;
-use nalgebra::UnitQuaternion;
+use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
 
 /// The marker's basis of a run-time rewrite: the module's name, so that
@@ -136,8 +137,8 @@ fn rewrite_task(
 ) -> Result<RewrittenTask> {
     let module = plan.module.as_str();
     let arm = checked_arm(&plan.arms, &task, model, host)?;
-    let base = base_frame(&task)?.map_or(UnitQuaternion::identity(), |f| f.rotation);
-    let spec = RuntimeSpec::new(&arm.robot, model, base)?;
+    let base = base_frame(&task)?.unwrap_or_else(Isometry3::identity);
+    let spec = RuntimeSpec::new(&arm.robot, model, base.rotation)?;
     let label = model_label(&plan.arms.model, &arm.label)?;
     let opts = ModuleOptions {
         name: module.to_string(),
@@ -147,8 +148,8 @@ fn rewrite_task(
             ModelSource::Named(n) => format!("the embedded model {n}"),
             ModelSource::Default => "the embedded default (IRB 140, 60 % speed)".to_string(),
         },
+        model: label.clone(),
     };
-    let text = module_text(&spec, &opts).into_bytes();
     let (inputs, program) = read_task(&task, host)?;
     let wanted = marker::for_run(&basis(module), &label, false, b"");
     if let Some(u) = marker::untrusted(&program) {
@@ -161,7 +162,12 @@ fn rewrite_task(
             return Err(marker::refuse(&program, f, &wanted));
         }
     }
-    let (calls, tally) = move_insertions(&program, module);
+    let mut table = Table::new(&program, &arm.robot, &spec, &base);
+    let (calls, tally) = move_insertions(&program, module, &mut |m, k| match table.row(m, k) {
+        Some(r) => Route::Table(r),
+        None => Route::Slow,
+    });
+    let text = module_text(&spec, &table.rows, &opts).into_bytes();
     let mut rewrites = Vec::with_capacity(program.files.len());
     for (f, calls) in calls.into_iter().enumerate() {
         if calls.is_empty() {

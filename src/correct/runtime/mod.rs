@@ -8,11 +8,13 @@
 //! arm and heating curves; [`job`] runs it on tasks and [`write`] puts
 //! what it made where the plan says.
 
+pub mod body;
 pub mod job;
 pub mod mirror;
 pub mod module;
 pub mod rewrite;
 pub mod spec;
+pub mod table;
 pub mod write;
 
 pub use module::{module_text, ModuleOptions};

@@ -34,6 +34,58 @@ pub struct MoveTally {
     /// Move instructions of no robot (MoveExtJ), or written so that the
     /// rewrite cannot find their arguments (a late-bound call): left.
     pub left: usize,
+    /// Of those wrapped, the ones the module's table knows (a lookup on
+    /// the controller); the rest take the slower path (`CalcJointT`).
+    pub table: usize,
+    /// Target arguments left as written, each with its reason (a target
+    /// read back from the robot is where the warm robot already is).
+    pub unwrapped: Vec<Unwrapped>,
+}
+
+/// A move's target argument the rewrite leaves as written, and why.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Unwrapped {
+    pub file: usize,
+    pub line: u32,
+    pub col: u32,
+    pub reason: String,
+}
+
+/// How one target argument of a move is corrected on the controller.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Route {
+    /// By the module's table, row `n` (from 1).
+    Table(usize),
+    /// By the slower path: the controller's joints of the target.
+    Slow,
+    /// Not at all, for this reason.
+    Leave(String),
+}
+
+/// The module's four correcting functions, by the module's name `n`.
+struct Funcs {
+    rob: String,
+    rob_table: String,
+    joint: String,
+    joint_table: String,
+}
+
+impl Funcs {
+    fn new(n: &str) -> Funcs {
+        Funcs {
+            rob: n.to_string(),
+            rob_table: format!("{n}T"),
+            joint: format!("{n}J"),
+            joint_table: format!("{n}JT"),
+        }
+    }
+
+    /// Whether `written` already calls one of them.
+    fn wraps(&self, written: &str) -> bool {
+        [&self.rob, &self.rob_table, &self.joint, &self.joint_table]
+            .iter()
+            .any(|f| calls(written, f))
+    }
 }
 
 /// One file's insertions, held compactly: a million moves are two
@@ -79,29 +131,39 @@ impl Insertions {
 }
 
 /// The insertions that wrap every move of `program` (by file), and the
-/// tally. `func` is the module's robtarget function; its jointtarget
-/// function is `func` and `J`.
-pub fn move_insertions(program: &Program, func: &str) -> (Vec<Insertions>, MoveTally) {
+/// tally. `func` is the module's name (its functions `func`, `funcT`,
+/// `funcJ`, `funcJT`); `route` says how each move's target argument
+/// (its point number) is corrected.
+pub fn move_insertions(
+    program: &Program,
+    func: &str,
+    route: &mut dyn FnMut(&Move, usize) -> Route,
+) -> (Vec<Insertions>, MoveTally) {
     let mut out: Vec<Insertions> = vec![Insertions::default(); program.files.len()];
     let mut known: Vec<HashMap<Vec<u8>, u32>> = vec![HashMap::new(); program.files.len()];
     let mut tally = MoveTally::default();
-    let joint_func = format!("{func}J");
+    let funcs = Funcs::new(func);
     each_move_instruction(program, &mut |m: &Move| {
         let src = program.source(m.file);
-        let Some(found) = wrap(src, m, func, &joint_func) else {
+        let Some(found) = wrap(src, m, &funcs, route) else {
             tally.left += 1;
             return;
         };
         for w in found {
             match w {
                 Wrap::Already => tally.already += 1,
-                Wrap::Edit(e) => {
-                    // Each argument is two insertions: its call opened
-                    // before it and closed after it.
-                    if e.new.ends_with(b"(") {
-                        tally.wrapped += 1;
+                Wrap::Left(reason) => tally.unwrapped.push(Unwrapped {
+                    file: m.file,
+                    line: m.line,
+                    col: m.col,
+                    reason,
+                }),
+                Wrap::Edit(open, close, by_table) => {
+                    tally.wrapped += 1;
+                    tally.table += usize::from(by_table);
+                    for e in [open, close] {
+                        out[m.file].push(e.span.start, &e.new, &mut known[m.file]);
                     }
-                    out[m.file].push(e.span.start, &e.new, &mut known[m.file]);
                 }
             }
         }
@@ -162,12 +224,20 @@ pub fn write_rewritten(
 
 enum Wrap {
     Already,
-    Edit(Edit),
+    Left(String),
+    /// The call opened before the argument and closed after it, and
+    /// whether by the table.
+    Edit(Edit, Edit, bool),
 }
 
 /// The wraps of one move's target arguments; `None` where the move moves
 /// no robot or its arguments cannot be read from its text.
-fn wrap(src: &[u8], m: &Move, func: &str, joint_func: &str) -> Option<Vec<Wrap>> {
+fn wrap(
+    src: &[u8],
+    m: &Move,
+    funcs: &Funcs,
+    route: &mut dyn FnMut(&Move, usize) -> Route,
+) -> Option<Vec<Wrap>> {
     let sig = motion_signature(m.instruction)?;
     sig.tool?;
     let args = arguments(src, m.offset)?;
@@ -179,35 +249,48 @@ fn wrap(src: &[u8], m: &Move, func: &str, joint_func: &str) -> Option<Vec<Wrap>>
         ArgAt::FromEnd(k) => positional.len().checked_sub(k)?,
     };
     let tool = text(src, positional.get(tool_at)?.head.clone());
-    let wobj = args
-        .iter()
-        .find_map(|a| a.wobj.clone())
-        .map(|r| text(src, r));
-    let (places, name) = if sig.robtargets.is_empty() {
-        (sig.jointtargets, joint_func)
+    // The work object as the move gives it: `\WObj:=w`, or passed on
+    // from the routine's own optional parameter, `\WObj?W`.
+    let wobj = args.iter().find_map(|a| a.wobj.clone()).map(|(r, passed)| {
+        let w = text(src, r);
+        if passed {
+            format!(" \\WObj?{w}")
+        } else {
+            format!(" \\WObj:={w}")
+        }
+    });
+    let joints = sig.robtargets.is_empty();
+    let places = if joints {
+        sig.jointtargets
     } else {
-        (sig.robtargets, func)
+        sig.robtargets
     };
     let mut out = Vec::new();
-    for &i in places {
+    for (k, &i) in places.iter().enumerate() {
         let head = positional.get(i)?.head.clone();
         let written = text(src, head.clone());
-        if calls(&written, name) {
+        if funcs.wraps(&written) {
             out.push(Wrap::Already);
             continue;
         }
+        let frames = format!("{tool}{}", wobj.as_deref().unwrap_or(""));
         // Two insertions, before and after the argument: its own bytes are
         // not copied (a CAM program's million inline targets).
-        let close = if sig.robtargets.is_empty() {
-            ")".to_string()
-        } else {
-            match &wobj {
-                Some(w) => format!(", {tool} \\WObj:={w})"),
-                None => format!(", {tool})"),
+        let (name, close, by_table) = match (route(m, k), joints) {
+            (Route::Leave(reason), _) => {
+                out.push(Wrap::Left(reason));
+                continue;
             }
+            (Route::Table(r), false) => (&funcs.rob_table, format!(", {r}, {frames})"), true),
+            (Route::Table(r), true) => (&funcs.joint_table, format!(", {r})"), true),
+            (Route::Slow, false) => (&funcs.rob, format!(", {frames})"), false),
+            (Route::Slow, true) => (&funcs.joint, ")".to_string(), false),
         };
-        out.push(Wrap::Edit(insert(head.start, format!("{name}("))));
-        out.push(Wrap::Edit(insert(head.end, close)));
+        out.push(Wrap::Edit(
+            insert(head.start, format!("{name}(")),
+            insert(head.end, close),
+            by_table,
+        ));
     }
     Some(out)
 }
@@ -240,8 +323,9 @@ struct Arg {
     /// The argument's expression, trimmed, up to its first optional
     /// argument.
     head: Range<usize>,
-    /// The value of a `\WObj:=` among its optional arguments.
-    wobj: Option<Range<usize>>,
+    /// The value of a `\WObj:=` among its optional arguments, or the
+    /// parameter a `\WObj?` passes on (`true`).
+    wobj: Option<(Range<usize>, bool)>,
 }
 
 /// The arguments of the instruction at `offset` (its name first), up to
@@ -319,8 +403,16 @@ fn split_optional(src: &[u8], r: Range<usize>) -> Arg {
         let t = &src[part.clone()];
         if t.len() > 4 && t[..4].eq_ignore_ascii_case(b"wobj") {
             let rest = &src[part.start + 4..part.end];
-            if let Some(p) = rest.windows(2).position(|w| w == b":=") {
-                wobj = Some(trim(src, part.start + 4 + p + 2..part.end));
+            let after = rest.iter().position(|b| !b.is_ascii_whitespace());
+            match after.map(|p| (p, rest[p])) {
+                Some((p, b'?')) => {
+                    wobj = Some((trim(src, part.start + 4 + p + 1..part.end), true));
+                }
+                _ => {
+                    if let Some(p) = rest.windows(2).position(|w| w == b":=") {
+                        wobj = Some((trim(src, part.start + 4 + p + 2..part.end), false));
+                    }
+                }
             }
         }
     }
@@ -349,7 +441,7 @@ mod tests {
 
     fn rewrite(text: &str) -> (String, MoveTally) {
         let program = crate::rapid::parse("t.mod", text.as_bytes()).unwrap();
-        let (ins, tally) = move_insertions(&program, "RtWarm");
+        let (ins, tally) = move_insertions(&program, "RtWarm", &mut |_, _| Route::Slow);
         let mut out = text.as_bytes().to_vec();
         let places: Vec<(usize, &[u8])> = ins[0].iter().collect();
         for (at, t) in places.into_iter().rev() {

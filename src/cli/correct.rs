@@ -212,11 +212,14 @@ pub struct CorrectArgs {
     /// state through running and stopped spans and corrects any target
     /// when the program reaches it, and rewrite every move to call it.
     /// The declarations keep their cold numbers; no --at, --schedule or
-    /// --start (docs/runtime.md).
-    #[arg(long, group = "when", conflicts_with_all = ["default_time", "check", "split_shared", "expand_expressions", "plot"])]
+    /// --start (docs/runtime.md). With --check: the CI gate, exit 1 unless
+    /// every move calls the module and the module beside is the one this
+    /// version writes for the program and model.
+    #[arg(long, group = "when", conflicts_with_all = ["default_time", "split_shared", "expand_expressions", "plot"])]
     pub runtime: bool,
-    /// With --runtime: the module's name (a RAPID identifier); its
-    /// jointtarget function is NAME and `J`.
+    /// With --runtime: the module's name (a RAPID identifier of at most
+    /// 27 characters); its global routines are NAME, NAMEJ, NAMET, NAMEJT
+    /// and NAMEReset, every other name of it is LOCAL.
     #[arg(long, value_name = "NAME", default_value = "RtWarm")]
     pub runtime_module: String,
     /// Replace a file this run names itself (the --runtime module, a

@@ -28,6 +28,9 @@ pub fn check_module(module: &str, action: &Action) -> Result<()> {
 }
 
 pub fn run(plan: &RuntimePlan, found: Vec<Task>, checked: &Checked) -> Result<Status> {
+    if let Action::Check(_) = plan.action {
+        return gate(plan, found);
+    }
     let runs = job::run(plan, found, &mut EventMessages::default())?;
     for r in &runs {
         let t = &r.tally;
@@ -82,5 +85,37 @@ pub fn run(plan: &RuntimePlan, found: Vec<Task>, checked: &Checked) -> Result<St
             })
         }
         Action::Check(_) | Action::Report => Ok(Status::Success),
+    }
+}
+
+/// `--runtime --check`: each finding a line on standard output (`task:
+/// what` where the run has several tasks or a named one), the verdict on
+/// standard error; exit 1 when anything is found.
+fn gate(plan: &RuntimePlan, found: Vec<Task>) -> Result<Status> {
+    let named = found.len() > 1 || found.iter().any(|t| t.name.is_some());
+    let findings =
+        rapidtherm::correct::runtime::gate::gate(plan, found, &mut EventMessages::default())?;
+    let mut text = String::new();
+    for f in &findings {
+        if named {
+            text.push_str(&format!("task {}: ", f.task));
+        }
+        text.push_str(&f.what);
+        text.push('\n');
+    }
+    write_stdout(text.as_bytes())?;
+    if findings.is_empty() {
+        messages::lines(&format!(
+            "check: every move calls {} and the module beside is the one this version writes\n",
+            plan.module
+        ));
+        Ok(Status::Success)
+    } else {
+        messages::lines(&format!(
+            "check: {} finding(s) for the controller module {}\n",
+            findings.len(),
+            plan.module
+        ));
+        Ok(Status::Changes)
     }
 }

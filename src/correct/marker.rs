@@ -202,6 +202,19 @@ enum Line {
 
 /// rapidtherm's lines of a file: (the line's number, from 1; the line).
 fn lines_of(src: &[u8]) -> Vec<(usize, Line)> {
+    own_lines(src).into_iter().map(|(n, _, l)| (n, l)).collect()
+}
+
+/// The byte spans of rapidtherm's own lines of a file (its marker and
+/// its seal, each line with its line end): what a rewrite added, and
+/// what giving the cold original back takes out.
+pub fn own_line_spans(src: &[u8]) -> Vec<std::ops::Range<usize>> {
+    own_lines(src).into_iter().map(|(_, r, _)| r).collect()
+}
+
+/// rapidtherm's lines of a file: each one's number, span (its line end
+/// included) and what it is.
+fn own_lines(src: &[u8]) -> Vec<(usize, std::ops::Range<usize>, Line)> {
     let mut out = Vec::new();
     let mut done_line = usize::MAX;
     let mut counted = (0, 1);
@@ -224,7 +237,8 @@ fn lines_of(src: &[u8]) -> Vec<(usize, Line)> {
         let (from, n) = counted;
         let n = n + crate::error::breaks_in(src, from..start);
         counted = (start, n);
-        out.push((n, line));
+        let next = crate::error::next_line_start(src, end).unwrap_or(src.len());
+        out.push((n, start..next, line));
     }
     out
 }
@@ -279,6 +293,14 @@ pub fn find(program: &Program) -> Option<FoundMarker> {
                 Line::Marker(Ok(marker)) => Some(FoundMarker { marker, file, line }),
                 _ => None,
             })
+    })
+}
+
+/// The cold original's fingerprint the first marker of a file records.
+pub fn cold_fingerprint(src: &[u8]) -> Option<String> {
+    lines_of(src).into_iter().find_map(|(_, l)| match l {
+        Line::Marker(Ok(m)) => Some(m.cold),
+        _ => None,
     })
 }
 

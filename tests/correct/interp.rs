@@ -193,10 +193,16 @@ fn load(sample: &Sample, want: &[Correction], start: Clock) -> Loaded {
 /// (its slower path, `RtWarmJ`, is the controller's configuration's,
 /// held to its own rule in tests/correct/interp_controller.rs). Empty
 /// for a target that is no literal.
-fn calls_for(sample: &Sample, loaded: &Loaded, c: &Correction) -> Vec<(&'static str, Vec<CallArg>)> {
+fn calls_for(
+    sample: &Sample,
+    loaded: &Loaded,
+    c: &Correction,
+) -> Vec<(&'static str, Vec<CallArg>)> {
     let program = &sample.program;
     let id = c.id.to_ascii_lowercase();
-    let row = loaded.rows.get(&(id.clone(), c.tool.clone(), c.wobj.clone()));
+    let row = loaded
+        .rows
+        .get(&(id.clone(), c.tool.clone(), c.wobj.clone()));
     let Some(tool) = &c.tool else {
         let Some(j) = program
             .jointtargets()
@@ -417,7 +423,11 @@ fn continuous(precision: Precision, limit: f64) -> Vec<(Moment, Worst)> {
                 Moment::Minute(t) => {
                     // A move every 12 s for the first ten minutes (the
                     // update's series branch), every minute after.
-                    run_for(&mut loaded.interp, t - now, if t <= 10.0 { 0.2 } else { 1.0 });
+                    run_for(
+                        &mut loaded.interp,
+                        t - now,
+                        if t <= 10.0 { 0.2 } else { 1.0 },
+                    );
                     now = t;
                 }
                 // Two days more: the steady state.
@@ -545,7 +555,9 @@ fn the_operations_per_call_are_counted() {
         );
     }
     for k in ["RtWarmT", "RtWarmT \\WObj", "RtWarmJT"] {
-        let ops = seen.get(k).unwrap_or_else(|| panic!("{k} not called: {seen:?}"));
+        let ops = seen
+            .get(k)
+            .unwrap_or_else(|| panic!("{k} not called: {seen:?}"));
         assert!(ops.total() <= TABLE_BUDGET, "{k}: {ops:?}");
     }
     // The call that brings the state to now (once per update period).

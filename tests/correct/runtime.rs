@@ -173,8 +173,14 @@ fn the_module_is_read_by_the_projects_grammar_and_adds_only_its_five_names() {
         .map(|r| &*r.name)
         .collect();
     global.sort_unstable();
-    assert_eq!(global, ["ThWarm", "ThWarmJ", "ThWarmJT", "ThWarmReset", "ThWarmT"]);
-    assert!(m.data.iter().all(|d| d.scope == Some(rapidtherm::rapid::Scope::Local)));
+    assert_eq!(
+        global,
+        ["ThWarm", "ThWarmJ", "ThWarmJT", "ThWarmReset", "ThWarmT"]
+    );
+    assert!(m
+        .data
+        .iter()
+        .all(|d| d.scope == Some(rapidtherm::rapid::Scope::Local)));
     // The state is PERS, the arm's numbers CONST.
     let pers: Vec<&str> = m
         .data

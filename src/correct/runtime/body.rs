@@ -19,7 +19,7 @@ const BODY: &str = r#"
         rtX{a,k} := 0;
       ENDFOR
     ENDFOR
-    rtKnown := TRUE;
+    rtKnown := FALSE;
     rtOn := FALSE;
     ErrWrite \I, "@N: reset", "The heating state was set to a cold arm by @NReset.";
   ENDPROC
@@ -142,22 +142,22 @@ const BODY: &str = r#"
     VAR num dt;
     rtNow day, minute;
     wall := (day - rtDay) * 1440 + (minute - rtMinute);
+    dt := 0;
+    IF rtOn THEN
+      dt := rtElapsed() / 60;
+    ENDIF
     IF NOT rtKnown THEN
       dt := 0;
       ErrWrite \I, "@N: cold start", "No heating state was kept: the corrections start from a cold arm." \RL2:="@NReset sets the state to a cold arm at any time.";
     ELSEIF rtOn THEN
-      dt := ClkRead(rtClk) / 60;
       IF Abs(wall - dt) > rtJump THEN
-        ErrWrite \I, "@N: clock jumped", "The date and time moved " + NumToStr(wall, 1) + " min in " + NumToStr(dt, 1) + " min of running." \RL2:="The time that passed is taken.";
+        ErrWrite \W, "@N: clock jumped", "The date and time moved " + NumToStr(wall, 1) + " min in " + NumToStr(dt, 1) + " min of running." \RL2:="The time that passed is taken.";
       ENDIF
+    ELSEIF wall < 0 THEN
+      ErrWrite \W, "@N: clock behind", "The date and time are " + NumToStr(-wall, 1) + " min before the last correction." \RL2:="No time is taken to have passed.";
     ELSE
       dt := wall;
-      IF dt < 0 THEN
-        ErrWrite \I, "@N: clock behind", "The date and time are " + NumToStr(-dt, 1) + " min before the last correction." \RL2:="No time is taken to have passed.";
-        dt := 0;
-      ELSE
-        ErrWrite \I, "@N: started", "The heating state was kept; " + NumToStr(dt, 1) + " min since the last correction.";
-      ENDIF
+      ErrWrite \I, "@N: started", "The heating state was kept; " + NumToStr(dt, 1) + " min since the last correction.";
     ENDIF
     IF dt > rtStopGap THEN
       ErrWrite \I, "@N: robot stood", "No correction for " + NumToStr(dt, 1) + " min: the arm cooled for that time.";
@@ -174,14 +174,28 @@ const BODY: &str = r#"
     rtGrowth;
   ENDPROC
 
+  ! Seconds on the running clock since the last update. A clock run past
+  ! what it holds (ClkRead: ERR_OVERFLOW after about 49 days without a
+  ! correction) counts as not running: the date and time take over.
+  LOCAL FUNC num rtElapsed()
+    RETURN ClkRead(rtClk);
+  ERROR
+    IF ERRNO = ERR_OVERFLOW THEN
+      rtOn := FALSE;
+      RETURN 0;
+    ENDIF
+    RAISE;
+  ENDFUNC
+
   ! The state brought to now where the last update is older than rtEvery
   ! seconds (a clock that is not running: since loading or a P-start).
   LOCAL PROC rtFresh()
-    IF NOT rtOn THEN
-      rtUpdate;
-    ELSEIF ClkRead(rtClk) >= rtEvery THEN
-      rtUpdate;
+    VAR num since;
+    IF rtOn THEN
+      since := rtElapsed();
+      IF rtOn AND since < rtEvery RETURN;
     ENDIF
+    rtUpdate;
   ENDPROC
 
   ! The warm flange's move at joints j, in the world frame, mm.
@@ -236,6 +250,12 @@ const BODY: &str = r#"
       RETURN PoseVect(r, v);
     ENDIF
     IF Present(WObj) THEN
+      IF NOT WObj.ufprog THEN
+        ! A user frame a mechanical unit moves (coordinated motion): its
+        ! turn at the move is not known here.
+        ErrWrite "@N: target as written", "Its work object moves with " + WObj.ufmec + ":" \RL2:="coordinated motion is not corrected.";
+        RETURN [0, 0, 0];
+      ENDIF
       r := PoseMult(PoseMult(WObj.uframe, WObj.oframe), C_PROGDISP.pdisp);
     ELSE
       r := C_PROGDISP.pdisp;
@@ -268,7 +288,7 @@ const BODY: &str = r#"
     RETURN out;
   ERROR
     IF ERRNO = ERR_ROBLIMIT OR ERRNO = ERR_OUTSIDE_REACH THEN
-      ErrWrite \W, "@N: target as written", "The controller finds no joints for it in its configuration:" \RL2:="it is moved to as written.";
+      ErrWrite "@N: target as written", "The controller finds no joints for it in its configuration:" \RL2:="it is moved to as written.";
       RETURN p;
     ENDIF
     RAISE;
@@ -313,13 +333,13 @@ const BODY: &str = r#"
     out := CalcJointT(p, tool0);
     out.extax := j.extax;
     IF NOT rtNear(out, j) THEN
-      ErrWrite \W, "@N: joints as written", "Its warm joints lie in another configuration:" \RL2:="it is moved to as written.";
+      ErrWrite "@N: joints as written", "Its warm joints lie in another configuration:" \RL2:="it is moved to as written.";
       RETURN j;
     ENDIF
     RETURN out;
   ERROR
     IF ERRNO = ERR_ROBLIMIT OR ERRNO = ERR_OUTSIDE_REACH THEN
-      ErrWrite \W, "@N: joints as written", "The controller finds no joints for it in its configuration:" \RL2:="it is moved to as written.";
+      ErrWrite "@N: joints as written", "The controller finds no joints for it in its configuration:" \RL2:="it is moved to as written.";
       RETURN j;
     ENDIF
     RAISE;

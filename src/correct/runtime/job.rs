@@ -13,6 +13,7 @@ use crate::correct::plan::{ModelSource, RuntimePlan};
 use crate::error::{Error, Errors, Result};
 use crate::rapid::rewrite::Edit;
 use crate::rapid::task::Task;
+use crate::rapid::Program;
 use crate::resolve::arm::base_frame;
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
@@ -129,19 +130,29 @@ pub fn run(
     Ok(runs)
 }
 
-fn rewrite_task(
+/// What a task's module is made of: its arm, the spec of the module and
+/// where the robot stands, the model's label for the marker, the module's
+/// options.
+pub(super) struct Made {
+    arm: crate::robot::Robot,
+    spec: RuntimeSpec,
+    base: Isometry3<f64>,
+    pub(super) label: String,
+    opts: ModuleOptions,
+}
+
+pub(super) fn made(
     plan: &RuntimePlan,
     model: &crate::model::Model,
-    task: Task,
+    task: &Task,
     host: &mut dyn Host,
-) -> Result<RewrittenTask> {
-    let module = plan.module.as_str();
-    let arm = checked_arm(&plan.arms, &task, model, host)?;
-    let base = base_frame(&task)?.unwrap_or_else(Isometry3::identity);
+) -> Result<Made> {
+    let arm = checked_arm(&plan.arms, task, model, host)?;
+    let base = base_frame(task)?.unwrap_or_else(Isometry3::identity);
     let spec = RuntimeSpec::new(&arm.robot, model, base.rotation)?;
     let label = model_label(&plan.arms.model, &arm.label)?;
     let opts = ModuleOptions {
-        name: module.to_string(),
+        name: plan.module.clone(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         heating_source: match &plan.arms.model {
             ModelSource::File(p) => format!("the model file {}", p.display()),
@@ -150,8 +161,59 @@ fn rewrite_task(
         },
         model: label.clone(),
     };
+    Ok(Made {
+        arm: arm.robot,
+        spec,
+        base,
+        label,
+        opts,
+    })
+}
+
+impl Made {
+    /// The insertions that wrap `program`'s moves, the tally, and the
+    /// module with the table they number.
+    pub(super) fn wrapped(&self, program: &Program) -> (Vec<Insertions>, MoveTally, Vec<u8>) {
+        let mut table = Table::new(program, &self.arm, &self.spec, &self.base);
+        let (calls, tally) = move_insertions(program, &self.opts.name, &mut |m, k| match table
+            .row(m, k)
+        {
+            Some(r) => Route::Table(r),
+            None => Route::Slow,
+        });
+        let text = module_text(&self.spec, &table.rows, &self.opts).into_bytes();
+        (calls, tally, text)
+    }
+
+    /// The module of a program a former run rewrote: the one its cold
+    /// original gets (the table numbers the cold program's targets), so
+    /// that a second run writes the same module.
+    pub(super) fn module_of_rewritten(&self, program: &Program) -> Result<Vec<u8>> {
+        let cold = super::unwrap::cold_original(program, &self.opts.name)?;
+        let names: Vec<&str> = (0..program.files.len())
+            .map(|f| program.file_name(f))
+            .collect();
+        let files: Vec<(&str, &[u8])> = names
+            .iter()
+            .zip(&cold)
+            .map(|(n, b)| (*n, b.as_slice()))
+            .collect();
+        let cold = crate::rapid::parse_files(&files)?;
+        Ok(self.wrapped(&cold).2)
+    }
+}
+
+fn rewrite_task(
+    plan: &RuntimePlan,
+    model: &crate::model::Model,
+    task: Task,
+    host: &mut dyn Host,
+) -> Result<RewrittenTask> {
+    let module = plan.module.as_str();
+    let made = made(plan, model, &task, host)?;
+    let label = &made.label;
     let (inputs, program) = read_task(&task, host)?;
-    let wanted = marker::for_run(&basis(module), &label, false, b"");
+    let wanted = marker::for_run(&basis(module), label, false, b"");
     if let Some(u) = marker::untrusted(&program) {
         return Err(marker::refuse_untrusted(&program, &u));
     }
@@ -162,12 +224,10 @@ fn rewrite_task(
             return Err(marker::refuse(&program, f, &wanted));
         }
     }
-    let mut table = Table::new(&program, &arm.robot, &spec, &base);
-    let (calls, tally) = move_insertions(&program, module, &mut |m, k| match table.row(m, k) {
-        Some(r) => Route::Table(r),
-        None => Route::Slow,
-    });
-    let text = module_text(&spec, &table.rows, &opts).into_bytes();
+    let (calls, tally, mut text) = made.wrapped(&program);
+    if found.is_some() {
+        text = made.module_of_rewritten(&program)?;
+    }
     let mut rewrites = Vec::with_capacity(program.files.len());
     for (f, calls) in calls.into_iter().enumerate() {
         if calls.is_empty() {
@@ -187,7 +247,7 @@ fn rewrite_task(
         // The marker, with the cold file's fingerprint, under the module
         // header; the numbers' fingerprint goes above the last ENDMODULE
         // as the file is written.
-        let m = marker::for_run(&basis(module), &label, false, program.source(f));
+        let m = marker::for_run(&basis(module), label, false, program.source(f));
         rewrites.push(Some(FileRewrite {
             calls,
             marker: marker::insert(&program, f, &m),
@@ -197,7 +257,7 @@ fn rewrite_task(
     let already = found.is_some() && tally.wrapped == 0;
     Ok(RewrittenTask {
         task,
-        arm: arm.robot.name.clone(),
+        arm: made.arm.name.clone(),
         inputs,
         rewrites,
         module: (super::module::module_file(module), text),

@@ -9,12 +9,14 @@
 //! what it made where the plan says.
 
 pub mod body;
+pub mod gate;
 pub mod job;
 pub mod mirror;
 pub mod module;
 pub mod rewrite;
 pub mod spec;
 pub mod table;
+pub mod unwrap;
 pub mod write;
 
 pub use module::{module_text, ModuleOptions};

@@ -117,7 +117,10 @@ pub fn module_text(spec: &RuntimeSpec, table: &Rows, opts: &ModuleOptions) -> St
     ] {
         line(&format!("  LOCAL CONST num {n} := {};", num(v)));
     }
-    line(&format!("  LOCAL CONST num rtSign{{6}} := {};", list(spec.signs)));
+    line(&format!(
+        "  LOCAL CONST num rtSign{{6}} := {};",
+        list(spec.signs)
+    ));
     line(&format!(
         "  LOCAL CONST num rtOffset{{6}} := {};",
         list(spec.offsets_deg)
@@ -140,8 +143,12 @@ pub fn module_text(spec: &RuntimeSpec, table: &Rows, opts: &ModuleOptions) -> St
         "  LOCAL CONST num rtT0{{6}} := {};",
         list(spec.curves.iter().map(|c| c.t0))
     ));
-    line(&format!("  LOCAL CONST num rtRise{{6,{MAX_TERMS}}} := {rises};"));
-    line(&format!("  LOCAL CONST num rtTau{{6,{MAX_TERMS}}} := {taus};"));
+    line(&format!(
+        "  LOCAL CONST num rtRise{{6,{MAX_TERMS}}} := {rises};"
+    ));
+    line(&format!(
+        "  LOCAL CONST num rtTau{{6,{MAX_TERMS}}} := {taus};"
+    ));
     line("  ! Longer than this (min) between two corrections: the robot stood, and cooled.");
     line(&format!(
         "  LOCAL CONST num rtStopGap := {};",
@@ -149,8 +156,14 @@ pub fn module_text(spec: &RuntimeSpec, table: &Rows, opts: &ModuleOptions) -> St
     ));
     line("  ! The state is brought to now at most every rtEvery seconds of running; the");
     line("  ! controller's clock moving rtJump minutes more or less than that: a jump.");
-    line(&format!("  LOCAL CONST num rtEvery := {};", num(UPDATE_EVERY_S)));
-    line(&format!("  LOCAL CONST num rtJump := {};", num(CLOCK_JUMP_MIN)));
+    line(&format!(
+        "  LOCAL CONST num rtEvery := {};",
+        num(UPDATE_EVERY_S)
+    ));
+    line(&format!(
+        "  LOCAL CONST num rtJump := {};",
+        num(CLOCK_JUMP_MIN)
+    ));
     line("  ! The robot's base frame in the world (its rotation: a drift is a direction).");
     line(&format!(
         "  LOCAL CONST orient rtBaseRot := [{},{},{},{}];",

@@ -63,7 +63,7 @@ pub enum Route {
 }
 
 /// The module's four correcting functions, by the module's name `n`.
-struct Funcs {
+pub(super) struct Funcs {
     rob: String,
     rob_table: String,
     joint: String,
@@ -71,7 +71,7 @@ struct Funcs {
 }
 
 impl Funcs {
-    fn new(n: &str) -> Funcs {
+    pub(super) fn new(n: &str) -> Funcs {
         Funcs {
             rob: n.to_string(),
             rob_table: format!("{n}T"),
@@ -81,7 +81,7 @@ impl Funcs {
     }
 
     /// Whether `written` already calls one of them.
-    fn wraps(&self, written: &str) -> bool {
+    pub(super) fn wraps(&self, written: &str) -> bool {
         [&self.rob, &self.rob_table, &self.joint, &self.joint_table]
             .iter()
             .any(|f| calls(written, f))
@@ -317,12 +317,12 @@ fn text(src: &[u8], r: Range<usize>) -> String {
 }
 
 /// One comma-separated argument of an instruction.
-struct Arg {
+pub(super) struct Arg {
     /// Starts with `\` (an optional argument on its own).
-    optional: bool,
+    pub(super) optional: bool,
     /// The argument's expression, trimmed, up to its first optional
     /// argument.
-    head: Range<usize>,
+    pub(super) head: Range<usize>,
     /// The value of a `\WObj:=` among its optional arguments, or the
     /// parameter a `\WObj?` passes on (`true`).
     wobj: Option<(Range<usize>, bool)>,
@@ -332,7 +332,7 @@ struct Arg {
 /// its `;`: split at the commas outside brackets, parentheses and
 /// strings. `None` where the statement does not end (a damaged file the
 /// parser took anyway) or starts with no name.
-fn arguments(src: &[u8], offset: usize) -> Option<Vec<Arg>> {
+pub(super) fn arguments(src: &[u8], offset: usize) -> Option<Vec<Arg>> {
     let mut i = offset;
     let name_end = src[i..]
         .iter()

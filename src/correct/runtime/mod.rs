@@ -13,6 +13,7 @@ pub mod gate;
 pub mod job;
 pub mod mirror;
 pub mod module;
+pub mod names;
 pub mod rewrite;
 pub mod spec;
 pub mod table;

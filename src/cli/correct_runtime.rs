@@ -18,7 +18,7 @@ use rapidtherm::writes::Checked;
 /// The uses of the flag the rest of the plan cannot see: a module name
 /// RAPID reads, and somewhere to put the module.
 pub fn check_module(module: &str, action: &Action) -> Result<()> {
-    rapidtherm::correct::runtime::module::check_module_name(module)?;
+    rapidtherm::correct::runtime::names::check_module_name(module)?;
     if *action == Action::Write(Destination::Stdout) {
         return Err(Error::usage(
             "--runtime writes a module beside the program: give -o FILE, --in-place or --diff, not standard output",
@@ -46,9 +46,21 @@ pub fn run(plan: &RuntimePlan, found: Vec<Task>, checked: &Checked) -> Result<St
             ));
         }
         messages::lines(&format!(
-            "{task}{} target argument(s) call {} ({} already did); {} move(s) of no robot left alone\n",
-            t.wrapped, plan.module, t.already, t.left
+            "{task}{} target argument(s) call {} ({} already did): {} by the module's table, {} by its slower path (the controller's CalcJointT: targets made or indexed at run time); {} move(s) of no robot left alone\n",
+            t.wrapped,
+            plan.module,
+            t.already,
+            t.table,
+            t.wrapped - t.table,
+            t.left
         ));
+        for u in &t.unwrapped {
+            let file = r.inputs.get(u.file).map_or("", |(n, _)| n.as_str());
+            messages::lines(&format!(
+                "{task}{file}:{}:{}: left as written: {}\n",
+                u.line, u.col, u.reason
+            ));
+        }
     }
     match &plan.action {
         Action::Write(dest) => {

@@ -12,5 +12,6 @@ mod hostile;
 mod outputs;
 mod plans;
 mod pre_commit_hook;
+mod runtime_gate;
 mod transcripts;
 mod writes;

@@ -3,6 +3,7 @@
 //! its files with every move wrapped in the module's function. Every task
 //! is tried before anything is written.
 
+use super::from_robot::FromRobot;
 use super::rewrite::{move_insertions, write_rewritten, Insertions, MoveTally, Route};
 use super::table::Table;
 use super::{module_text, ModuleOptions, RuntimeSpec};
@@ -175,11 +176,17 @@ impl Made {
     /// module with the table they number.
     pub(super) fn wrapped(&self, program: &Program) -> (Vec<Insertions>, MoveTally, Vec<u8>) {
         let mut table = Table::new(program, &self.arm, &self.spec, &self.base);
-        let (calls, tally) = move_insertions(program, &self.opts.name, &mut |m, k| match table
-            .row(m, k)
-        {
-            Some(r) => Route::Table(r),
-            None => Route::Slow,
+        let from_robot = FromRobot::new(program);
+        let (calls, tally) = move_insertions(program, &self.opts.name, &mut |m, k| {
+            if let Some(why) = from_robot.why(m, k) {
+                return Route::Leave(format!(
+                    "a reading of the robot, where the corrected robot already is ({why})"
+                ));
+            }
+            match table.row(m, k) {
+                Some(r) => Route::Table(r),
+                None => Route::Slow,
+            }
         });
         let text = module_text(&self.spec, &table.rows, &self.opts).into_bytes();
         (calls, tally, text)
@@ -213,6 +220,7 @@ fn rewrite_task(
     let made = made(plan, model, &task, host)?;
     let label = &made.label;
     let (inputs, program) = read_task(&task, host)?;
+    super::names::check_program_names(&program, module)?;
     let wanted = marker::for_run(&basis(module), label, false, b"");
     if let Some(u) = marker::untrusted(&program) {
         return Err(marker::refuse_untrusted(&program, &u));

@@ -233,23 +233,7 @@ pub const UPDATE_EVERY_S: f64 = 10.0;
 /// hand, a summer time, a time sync).
 pub const CLOCK_JUMP_MIN: f64 = 1.0;
 
-/// Whether `name` can name the module: a RAPID name (a letter, then
-/// letters, digits or `_`) of at most 31 characters, since its jointtarget
-/// function adds a `J` and RAPID names are at most 32. A usage error
-/// otherwise, raised while the plan is made, before anything is read.
 /// The file the module named `name` is written to.
 pub fn module_file(name: &str) -> String {
     format!("{name}.sys")
-}
-
-pub fn check_module_name(name: &str) -> crate::error::Result<()> {
-    let ok = name.len() <= 31
-        && name.bytes().next().is_some_and(|b| b.is_ascii_alphabetic())
-        && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
-    if ok {
-        return Ok(());
-    }
-    Err(crate::error::Error::usage(format!(
-        "--runtime-module `{name}`: a RAPID name (a letter, then letters, digits or _; at most 31, its jointtarget function adds a J)"
-    )))
 }

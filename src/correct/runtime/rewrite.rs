@@ -469,4 +469,30 @@ mod tests {
         assert_eq!(again, out, "a second run changes nothing");
         assert_eq!((tally.wrapped, tally.already), (0, 7));
     }
+
+    #[test]
+    fn a_work_object_passed_on_is_passed_on_and_the_table_gives_its_row() {
+        // Before: `\WObj?W` was dropped, the drift computed in wobj0.
+        let text = "MODULE M\n  PROC glue(robtarget p \\wobjdata W)\n    MoveL p, v100, fine, tGun \\WObj?W;\n    MoveAbsJ jHome, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
+        let program = crate::rapid::parse("t.mod", text.as_bytes()).unwrap();
+        let (ins, tally) = move_insertions(&program, "ThWarm", &mut |m, _| {
+            if m.joints {
+                Route::Table(3)
+            } else {
+                Route::Slow
+            }
+        });
+        let mut out = text.as_bytes().to_vec();
+        let places: Vec<(usize, &[u8])> = ins[0].iter().collect();
+        for (at, t) in places.into_iter().rev() {
+            out.splice(at..at, t.iter().copied());
+        }
+        let out = String::from_utf8(out).unwrap();
+        assert!(
+            out.contains("MoveL ThWarm(p, tGun \\WObj?W), v100, fine, tGun \\WObj?W;"),
+            "{out}"
+        );
+        assert!(out.contains("MoveAbsJ ThWarmJT(jHome, 3), v100"), "{out}");
+        assert_eq!((tally.wrapped, tally.table), (2, 1));
+    }
 }

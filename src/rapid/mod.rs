@@ -74,9 +74,6 @@ pub use lane::{Decline, Declined, LaneTally, Part, StoppedAt};
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
 pub use parse::{parse, parse_files, parse_read, parse_sources, Reading};
 pub use program::Program;
-/// The grammar's reserved words, for the tests of names outside it.
-#[cfg(test)]
-pub(crate) use reserved::RESERVED;
 pub use runs::MoveRef;
 pub use source::Source;
 pub use syntax::{

@@ -8,7 +8,7 @@
 
 use nalgebra::{Isometry3, UnitQuaternion};
 use rapidtherm::correct::job::warm_robot;
-use rapidtherm::correct::runtime::table::{Rows, Table};
+use rapidtherm::correct::runtime::table::{Table, TableRows};
 use rapidtherm::correct::runtime::{module_text, ModuleOptions, RuntimeSpec};
 use rapidtherm::correct::{correct, Correction, Options, ScheduleSource, When};
 use rapidtherm::interp::{kin, CallArg, Clock, Interp, Kinematics, Precision, Value};
@@ -22,7 +22,7 @@ use std::path::PathBuf;
 
 /// The module `correct --runtime` writes for the embedded IRB 140 and
 /// model, its base frame turned by `base` in the world, with `rows`.
-pub(super) fn module(base: UnitQuaternion<f64>, rows: &Rows) -> String {
+pub(super) fn module(base: UnitQuaternion<f64>, rows: &TableRows) -> String {
     let spec = RuntimeSpec::new(&Robot::irb140(), &Model::default(), base).unwrap();
     let opts = ModuleOptions {
         name: "RtWarm".into(),

@@ -5,7 +5,7 @@
 //! lists each).
 
 use super::spec::{RuntimeSpec, MAX_TERMS};
-use super::table::Rows;
+use super::table::TableRows;
 
 /// What the user may choose of the module.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -66,7 +66,7 @@ fn rows_text(rows: &[String], zero: &str) -> (usize, String) {
 /// The whole module, CRLF line ends as RobotStudio writes them: the
 /// arm's numbers, the table of the program's targets, the state, and the
 /// routines (`super::body`).
-pub fn module_text(spec: &RuntimeSpec, table: &Rows, opts: &ModuleOptions) -> String {
+pub fn module_text(spec: &RuntimeSpec, table: &TableRows, opts: &ModuleOptions) -> String {
     let g = &spec.geom;
     let terms = |f: &dyn Fn(usize, usize) -> f64| {
         let rows: Vec<String> = (0..6)
@@ -173,6 +173,41 @@ pub fn module_text(spec: &RuntimeSpec, table: &Rows, opts: &ModuleOptions) -> St
         num(b.k)
     ));
     line("");
+    line(table_text(table).trim_end_matches("\r\n"));
+    line("");
+    line("  ! The state, kept through program restarts and power failures (PERS):");
+    line("  ! each motion task (each robot of a MultiMove system) keeps its own. Loaded");
+    line("  ! again, the module starts from these values: a cold arm, said.");
+    line(&format!(
+        "  LOCAL PERS num rtX{{6,{MAX_TERMS}}} := {};",
+        terms(&|_, _| 0.0)
+    ));
+    line("  ! Whether a state is kept; the day (since 2000-01-01, negative before) and");
+    line("  ! the minute of the day of the last update.");
+    line("  LOCAL PERS bool rtKnown := FALSE;");
+    line("  LOCAL PERS num rtDay := 0;");
+    line("  LOCAL PERS num rtMinute := 0;");
+    line("  ! Since loading or a P-start: whether rtClk runs (the time since the last");
+    line("  ! update), and each link's growth now.");
+    line("  LOCAL VAR bool rtOn := FALSE;");
+    line("  LOCAL VAR clock rtClk;");
+    for e in ["rtE1", "rtE2", "rtE3", "rtE4"] {
+        line(&format!("  LOCAL VAR num {e} := 0;"));
+    }
+    s.push_str(&super::body::routines(&opts.name));
+    s.push_str("ENDMODULE\r\n");
+    s
+}
+
+/// The table's lines: per target the program names, the drift of its
+/// cold joints per unit growth of each link; per jointtarget, the change
+/// of its axes.
+fn table_text(table: &TableRows) -> String {
+    let mut s = String::new();
+    let mut line = |text: &str| {
+        s.push_str(text);
+        s.push_str("\r\n");
+    };
     line("  ! The table: per target the program names, the drift (mm, world frame) of its");
     line("  ! cold joints per unit growth of each link; per jointtarget, the change of");
     line("  ! axes 1-3 (rtGa) and 4-6 (rtGb), degrees per unit growth.");
@@ -197,28 +232,6 @@ pub fn module_text(spec: &RuntimeSpec, table: &Rows, opts: &ModuleOptions) -> St
     line(&format!("  LOCAL CONST pos rtGa{{{m},4}} := {text};"));
     let (_, text) = rows_text(&half(1), zero4);
     line(&format!("  LOCAL CONST pos rtGb{{{m},4}} := {text};"));
-    line("");
-    line("  ! The state, kept through program restarts and power failures (PERS):");
-    line("  ! each motion task (each robot of a MultiMove system) keeps its own. Loaded");
-    line("  ! again, the module starts from these values: a cold arm, said.");
-    line(&format!(
-        "  LOCAL PERS num rtX{{6,{MAX_TERMS}}} := {};",
-        terms(&|_, _| 0.0)
-    ));
-    line("  ! Whether a state is kept; the day (since 2000-01-01, negative before) and");
-    line("  ! the minute of the day of the last update.");
-    line("  LOCAL PERS bool rtKnown := FALSE;");
-    line("  LOCAL PERS num rtDay := 0;");
-    line("  LOCAL PERS num rtMinute := 0;");
-    line("  ! Since loading or a P-start: whether rtClk runs (the time since the last");
-    line("  ! update), and each link's growth now.");
-    line("  LOCAL VAR bool rtOn := FALSE;");
-    line("  LOCAL VAR clock rtClk;");
-    for e in ["rtE1", "rtE2", "rtE3", "rtE4"] {
-        line(&format!("  LOCAL VAR num {e} := 0;"));
-    }
-    s.push_str(&super::body::routines(&opts.name));
-    s.push_str("ENDMODULE\r\n");
     s
 }
 

@@ -49,7 +49,7 @@ pub type JointRow = [[f64; 6]; 4];
 /// The module's rows: robtargets' and jointtargets', numbered from 1 in
 /// the order the rewrite asked for them.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Rows {
+pub struct TableRows {
     pub robtargets: Vec<DriftRow>,
     pub jointtargets: Vec<JointRow>,
 }
@@ -61,7 +61,7 @@ pub struct Table<'p> {
     spec: &'p RuntimeSpec,
     base: UnitQuaternion<f64>,
     frames: Option<Frames>,
-    pub rows: Rows,
+    pub rows: TableRows,
     /// Row (from 1) of each (target, tool, work object) already asked.
     rob_rows: HashMap<(usize, String, String), Option<usize>>,
     joint_rows: HashMap<usize, Option<usize>>,
@@ -87,7 +87,7 @@ impl<'p> Table<'p> {
             spec,
             base: base_pose.rotation,
             frames,
-            rows: Rows::default(),
+            rows: TableRows::default(),
             rob_rows: HashMap::new(),
             joint_rows: HashMap::new(),
         }

@@ -89,6 +89,7 @@ impl Interp {
             module: m,
             routine: Some((m, k)),
             vars,
+            handling: None,
         });
         let program = self.program.clone();
         let out = self.run_body(m, &program.modules[m].routines[k]);

@@ -133,6 +133,11 @@ const ERRORS: &str = r#"MODULE M
   ERROR (ERR_OUTOFBND)
     RETURN -2;
   ENDFUNC
+  FUNC num unknown()
+    RETURN Foo(1);
+  ERROR
+    RETURN -9;
+  ENDFUNC
   FUNC num badHandler()
     RETURN 1 / 0;
   ERROR
@@ -193,6 +198,10 @@ fn error_handlers_return_retry_trynext_and_raise_as_the_manual_says() {
         .unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unreachable);
     assert_eq!(e.location.as_ref().unwrap().line, 42, "{e:?}");
+    // What the interpreter does not run is no RAPID error: no handler
+    // takes it (that call's unhandled error left behind neither).
+    let e = i.call_func("unknown", &[]).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unsupported, "{e:?}");
 
     // RAISE 7 in the body: the routine's own handler, ERRNO 7.
     i.set_global("log", Value::Num(0.0)).unwrap();

@@ -16,13 +16,24 @@ use nalgebra::Isometry3;
 pub struct Kinematics {
     pub robot: Robot,
     pub base: Isometry3<f64>,
+    /// How far (rad) an axis may stand outside the quadrant a robtarget
+    /// writes and still count as in it, for CalcJointT: the arithmetic's
+    /// noise ([`QUADRANT_EDGE`]) as on the controller; the static path's
+    /// half a degree (`ik_conf`) to run a module as it corrects.
+    pub quadrant_edge: f64,
 }
+
+/// An axis on a quadrant's edge within the arithmetic's noise (rad; a
+/// controller in single precision resolves no finer) is on either side:
+/// a joint taught at exactly 0° is in cf 0 and cf -1 alike.
+pub const QUADRANT_EDGE: f64 = 1e-6;
 
 impl Kinematics {
     pub fn new(robot: Robot) -> Kinematics {
         Kinematics {
             robot,
             base: Isometry3::identity(),
+            quadrant_edge: QUADRANT_EDGE,
         }
     }
 
@@ -56,7 +67,7 @@ impl Kinematics {
         let flange = flange_of_target(&pose, tool, wobj)?;
         let q = self.robot.ik_conf(&(self.base.inverse() * flange), &conf)?;
         let got = self.robot.conf_of(&q);
-        if !in_quadrants(&q, &got, &conf) {
+        if !in_quadrants(&q, &got, &conf, self.quadrant_edge) {
             return Err(Error::new(
                 ErrorKind::Unreachable,
                 format!(
@@ -107,20 +118,15 @@ impl Kinematics {
     }
 }
 
-/// An axis on a quadrant's edge within the arithmetic's noise (rad; a
-/// controller in single precision resolves no finer) is on either side:
-/// a joint taught at exactly 0° is in cf 0 and cf -1 alike.
-const EDGE: f64 = 1e-6;
-
 /// Whether joints `q` (robconf `got`) lie in the quadrants of `want`:
-/// cfx the same, axes 1, 4 and 6 each in its cf's quadrant (to [`EDGE`]).
-fn in_quadrants(q: &[f64; 6], got: &RobConf, want: &RobConf) -> bool {
+/// cfx the same, axes 1, 4 and 6 each in its cf's quadrant (to `edge`).
+fn in_quadrants(q: &[f64; 6], got: &RobConf, want: &RobConf, edge: f64) -> bool {
     use crate::robot::conf::quadrant_distance;
     got == want
         || (got.cfx == want.cfx
-            && quadrant_distance(q[0], want.cf1) <= EDGE
-            && quadrant_distance(q[3], want.cf4) <= EDGE
-            && quadrant_distance(q[5], want.cf6) <= EDGE)
+            && quadrant_distance(q[0], want.cf1) <= edge
+            && quadrant_distance(q[3], want.cf4) <= edge
+            && quadrant_distance(q[5], want.cf6) <= edge)
 }
 
 /// An external axis offset by `by`; an axis not in use (9E9) stays so.

@@ -273,6 +273,11 @@ fn calc_joint_t_takes_the_written_configuration_exactly() {
     assert!(close(&back[..6], &q, 1e-6), "{back:?}");
     let p0 = with_conf(&p, [c[7], 0.0, c[9], c[10]]);
     assert_eq!(func(&mut i, "tryJoint", &arg(&p0)), Value::Num(1.0));
+    // The static path's half a degree, asked for: taken.
+    let mut lenient = Kinematics::new(Robot::irb140());
+    lenient.quadrant_edge = 0.5f64.to_radians();
+    let mut l = Interp::load(&[("m.mod", KIN.as_bytes())], lenient).unwrap();
+    assert_eq!(func(&mut l, "tryJoint", &arg(&p0)), Value::Num(0.0));
 
     let far = kin::robtarget(
         [3000.0, 0.0, 500.0],

@@ -83,6 +83,11 @@ impl Interp {
         let v = self.eval(e)?;
         match v.num() {
             Some(n) if n >= 1.0 && n.fract() == 0.0 => Ok(n as usize - 1),
+            // Below the first element: out of bounds, as past the last.
+            Some(n) if n.fract() == 0.0 => {
+                let e = Error::input(format!("index {n} is outside the array"));
+                Err(self.raise(ERR_OUTOFBND, e))
+            }
             _ => Err(Error::input(format!(
                 "index {v:?} is not a whole number from 1"
             ))),

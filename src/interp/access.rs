@@ -3,6 +3,7 @@
 //! (a value stored at the controller's precision).
 
 use super::place::{Place, Root, Slot, Step};
+use super::raised::ERR_OUTOFBND;
 use super::state::{Interp, Precision};
 use super::value::Value;
 use crate::error::{Error, Result};
@@ -64,6 +65,10 @@ impl Interp {
                 for i in idx {
                     let i = self.index_of(i)?;
                     p.path.push(Step::Index(i));
+                    if self.read(&p).is_err() {
+                        let e = Error::input(format!("index {} is outside the array", i + 1));
+                        return Err(self.raise(ERR_OUTOFBND, e));
+                    }
                 }
                 Ok(p)
             }
@@ -78,6 +83,11 @@ impl Interp {
         let v = self.eval(e)?;
         match v.num() {
             Some(n) if n >= 1.0 && n.fract() == 0.0 => Ok(n as usize - 1),
+            // Below the first element: out of bounds, as past the last.
+            Some(n) if n.fract() == 0.0 => {
+                let e = Error::input(format!("index {n} is outside the array"));
+                Err(self.raise(ERR_OUTOFBND, e))
+            }
             _ => Err(Error::input(format!(
                 "index {v:?} is not a whole number from 1"
             ))),

@@ -30,7 +30,25 @@ impl Interp {
         if let Some(v) = self.clock_function(&name, &given)? {
             return Ok(Some(v));
         }
+        if let Some(v) = self.robot_function(&name, &given)? {
+            return Ok(Some(v));
+        }
         text_or_array(&name, &given)
+    }
+
+    /// The robot's: `CalcJointT`, `CalcRobT` (with the active program
+    /// displacement), `CRobT`, `CJointT`; and `ClkRead`.
+    fn robot_function(&mut self, name: &str, given: &Given) -> Result<Option<Value>> {
+        let v = match name {
+            "calcjointt" | "calcrobt" => {
+                self.calc(name, given.arg(0)?, given.arg(1)?, &given.wobj)?
+            }
+            "crobt" => self.c_rob_t(given.tool.clone(), given.wobj_given.clone())?,
+            "cjointt" => self.c_joint_t()?,
+            "clkread" => self.clock_read(given.arg(0)?, given.switch("HighRes"))?,
+            _ => return Ok(None),
+        };
+        Ok(Some(v))
     }
 
     /// Functions that read a parameter, not a value: `Present` and
@@ -76,29 +94,34 @@ impl Interp {
         for e in exprs {
             args.push(self.eval(e)?);
         }
+        // An optional argument passed on from a parameter the caller left
+        // out (`\WObj?W`) is not given.
         let mut opt = |n: &str| -> Result<Option<Value>> {
             let given = c.optional(n);
             match given.and_then(|a| a.value.as_ref()) {
+                Some(e) if self.absent_argument(e) => Ok(None),
                 Some(e) => Ok(Some(self.eval(e)?)),
                 None => Ok(None),
             }
         };
-        let wobj = opt("WObj")?;
+        let wobj_given = opt("WObj")?;
+        let tool = opt("Tool")?;
         let dec = opt("Dec")?.and_then(|v| v.num());
-        let wobj = match wobj {
-            Some(w) => w,
+        let wobj = match &wobj_given {
+            Some(w) => w.clone(),
             None => self.global("wobj0").cloned().unwrap_or(Value::Num(0.0)),
         };
         Ok(Given {
             call: c,
             args,
             wobj,
+            wobj_given,
+            tool,
             dec,
         })
     }
 
-    /// Poses and the robot's: `PoseMult`, `PoseInv`, `PoseVect`, `Offs`,
-    /// `CalcJointT`, `CalcRobT`.
+    /// Poses: `PoseMult`, `PoseInv`, `PoseVect`, `Offs`.
     fn pose_function(&self, name: &str, given: &Given) -> Result<Option<Value>> {
         let v = match name {
             "posemult" => {
@@ -128,12 +151,6 @@ impl Interp {
                 }
                 p
             }
-            "calcjointt" => self
-                .kin
-                .calc_joint_t(given.arg(0)?, given.arg(1)?, &given.wobj)?,
-            "calcrobt" => self
-                .kin
-                .calc_rob_t(given.arg(0)?, given.arg(1)?, &given.wobj)?,
             _ => return Ok(None),
         };
         Ok(Some(v))
@@ -153,7 +170,12 @@ impl Interp {
                 } else if given.switch("Sec") {
                     s
                 } else if given.switch("WDay") {
-                    self.clock.weekday()
+                    // The RAPID reference (GetTime): 1 to 7, Monday to
+                    // Sunday.
+                    match self.clock.weekday() {
+                        0 => 7,
+                        d => d,
+                    }
                 } else {
                     return Err(Error::input("GetTime needs \\WDay, \\Hour, \\Min or \\Sec"));
                 };
@@ -171,6 +193,8 @@ struct Given<'c> {
     args: Vec<Value>,
     /// `\WObj`, or `wobj0` where not given.
     wobj: Value,
+    wobj_given: Option<Value>,
+    tool: Option<Value>,
     dec: Option<f64>,
 }
 

@@ -34,6 +34,8 @@ impl Interp {
         args: &[CallArg],
     ) -> Result<Option<Value>> {
         self.frames.clear();
+        // A RAPID error a call left unhandled is no error of this one's.
+        self.raised = None;
         self.call_began = self.ops.statements;
         let program = self.program.clone();
         let routine = &program.modules[m].routines[k];
@@ -60,6 +62,7 @@ impl Interp {
         }
         let out = self.run_routine(m, k, vars);
         self.frames.clear();
+        self.raised = None;
         out
     }
 
@@ -89,6 +92,7 @@ impl Interp {
             module: m,
             routine: Some((m, k)),
             vars,
+            handling: None,
         });
         let program = self.program.clone();
         let out = self.run_body(m, &program.modules[m].routines[k]);

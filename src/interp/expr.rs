@@ -5,6 +5,7 @@
 use super::bounds::{STACK_RED_ZONE, STACK_SEGMENT};
 use super::kin;
 use super::place::Slot;
+use super::raised::ERR_DIVZERO;
 use super::state::{Interp, Precision};
 use super::value::Value;
 use crate::error::{Error, Result};
@@ -65,6 +66,11 @@ impl Interp {
                 let l = self.eval(l)?;
                 // RAPID evaluates both sides (no short cut), as here.
                 let r = self.eval(r)?;
+                if matches!(op, BinaryOp::Div | BinaryOp::IntDiv | BinaryOp::Mod)
+                    && r == Value::Num(0.0)
+                {
+                    return Err(self.raise(ERR_DIVZERO, Error::input("division by zero")));
+                }
                 binary(*op, l, r)?
             }
             Expr::Target(i) => {
@@ -148,6 +154,12 @@ impl Interp {
                 })?)
             };
             let Some(arg) = arg else { continue };
+            // An optional parameter passed on that its caller did not get
+            // (`\WObj?W`) is absent here too: `Present` follows the
+            // caller's.
+            if p.optional && arg.value.as_ref().is_some_and(|e| self.absent_argument(e)) {
+                continue;
+            }
             let key = p.name.to_ascii_lowercase();
             let by_ref = p
                 .access
@@ -155,16 +167,7 @@ impl Interp {
                 .is_some_and(|a| !a.eq_ignore_ascii_case("IN"));
             let slot = match &arg.value {
                 None => Slot::Value(Value::Bool(true)),
-                Some(e) if by_ref => {
-                    // An optional parameter passed on that its caller did
-                    // not get is absent here too.
-                    if let Some(n) = e.as_name() {
-                        if self.absent_optional(n) {
-                            continue;
-                        }
-                    }
-                    Slot::Ref(self.place_of(e)?)
-                }
+                Some(e) if by_ref => Slot::Ref(self.place_of(e)?),
                 Some(e) => {
                     let v = self.eval(e)?;
                     Slot::Value(self.param_value(p, v)?)
@@ -179,6 +182,12 @@ impl Interp {
             )));
         }
         Ok(vars)
+    }
+
+    /// Whether `e` names an optional parameter of the running routine that
+    /// its caller left out (an argument passed on as `\WObj?W`).
+    pub(super) fn absent_argument(&self, e: &Expr) -> bool {
+        e.as_name().is_some_and(|n| self.absent_optional(n))
     }
 
     /// Whether `name` is an optional parameter of the running routine that

@@ -4,7 +4,7 @@
 //! object frames as `correct` takes them).
 
 use super::value::Value;
-use crate::error::{Error, Result};
+use crate::error::{Error, ErrorKind, Result};
 use crate::rapid;
 use crate::robot::frames::{flange_of_target, pose_from_rapid, pose_to_rapid, target_of_flange};
 use crate::robot::{RobConf, Robot, ToolFrame, WobjFrames};
@@ -16,35 +16,91 @@ use nalgebra::Isometry3;
 pub struct Kinematics {
     pub robot: Robot,
     pub base: Isometry3<f64>,
+    /// How far (rad) an axis may stand outside the quadrant a robtarget
+    /// writes and still count as in it, for CalcJointT: the arithmetic's
+    /// noise ([`QUADRANT_EDGE`]) as on the controller; the static path's
+    /// half a degree (`ik_conf`) to run a module as it corrects.
+    pub quadrant_edge: f64,
 }
+
+/// An axis on a quadrant's edge within the arithmetic's noise (rad; a
+/// controller in single precision resolves no finer) is on either side:
+/// a joint taught at exactly 0° is in cf 0 and cf -1 alike.
+pub const QUADRANT_EDGE: f64 = 1e-6;
 
 impl Kinematics {
     pub fn new(robot: Robot) -> Kinematics {
         Kinematics {
             robot,
             base: Isometry3::identity(),
+            quadrant_edge: QUADRANT_EDGE,
         }
     }
 
-    /// `CalcJointT`: the joints (degrees, with the target's external axes)
-    /// that put `tool` at `target` in `wobj`, in the target's robconf.
-    pub fn calc_joint_t(&self, target: &Value, tool: &Value, wobj: &Value) -> Result<Value> {
+    /// `CalcJointT`: the joints (degrees, with the target's external axes
+    /// and `eoffs` added) that put `tool` at `target` in `wobj` (its
+    /// object frame displaced already: [`Interp::displaced`]), in the
+    /// target's configuration.
+    ///
+    /// As the RAPID reference (CalcJointT) says, the configuration written
+    /// in the robtarget is the one used, whatever ConfL/ConfJ say: a
+    /// solution with axes 1, 4 and 6 in the cf1, cf4, cf6 quadrants and
+    /// the cfx case, exactly (the project's `ik_conf` takes a solution a
+    /// half a degree outside a quadrant too, which the controller does
+    /// not; an axis on a quadrant's edge, to the arithmetic's noise, counts
+    /// for both quadrants); none
+    /// there is ERR_ROBLIMIT, a pose out of reach ERR_OUTSIDE_REACH (the
+    /// error's kind and words tell which: [`Interp::raise_from_robot`]).
+    /// Stationary tools (tool robhold FALSE, wobj robhold TRUE) as the
+    /// frames take them ([`flange_of_target`]).
+    ///
+    /// [`Interp::displaced`]: super::Interp
+    /// [`Interp::raise_from_robot`]: super::Interp
+    pub fn calc_joint_t_in(
+        &self,
+        target: &Value,
+        tool: &ToolFrame,
+        wobj: &WobjFrames,
+        eoffs: &[f64; 6],
+    ) -> Result<Value> {
         let (pose, conf, extax) = robtarget_parts(target)?;
-        let flange = flange_of_target(&pose, &tool_of(tool)?, &wobj_of(wobj)?)?;
+        let flange = flange_of_target(&pose, tool, wobj)?;
         let q = self.robot.ik_conf(&(self.base.inverse() * flange), &conf)?;
+        let got = self.robot.conf_of(&q);
+        if !in_quadrants(&q, &got, &conf, self.quadrant_edge) {
+            return Err(Error::new(
+                ErrorKind::Unreachable,
+                format!(
+                    "no solution in the robtarget's configuration {conf} (the nearest has {got})"
+                ),
+            ));
+        }
+        let extax = std::array::from_fn(|i| offset(extax[i], eoffs[i]));
         Ok(jointtarget(q.map(f64::to_degrees), extax))
     }
 
-    /// `CalcRobT`: the robtarget of `tool` in `wobj` at joints `j`, with
-    /// the robconf of those joints.
-    pub fn calc_rob_t(&self, j: &Value, tool: &Value, wobj: &Value) -> Result<Value> {
+    /// `CalcJointT` without a program displacement.
+    pub fn calc_joint_t(&self, target: &Value, tool: &Value, wobj: &Value) -> Result<Value> {
+        self.calc_joint_t_in(target, &tool_of(tool)?, &wobj_of(wobj)?, &[0.0; 6])
+    }
+
+    /// `CalcRobT`: the robtarget of `tool` in `wobj` (displaced already)
+    /// at joints `j`, with the robconf of those joints and the external
+    /// axes less `eoffs`.
+    pub fn calc_rob_t_in(
+        &self,
+        j: &Value,
+        tool: &ToolFrame,
+        wobj: &WobjFrames,
+        eoffs: &[f64; 6],
+    ) -> Result<Value> {
         let n = j.numbers();
         if n.len() != 12 {
             return Err(Error::input("CalcRobT of a value that is no jointtarget"));
         }
         let q: [f64; 6] = std::array::from_fn(|i| n[i].to_radians());
         let flange = self.base * self.robot.fk(&q);
-        let target = target_of_flange(&flange, &tool_of(tool)?, &wobj_of(wobj)?)?;
+        let target = target_of_flange(&flange, tool, wobj)?;
         let c = self.robot.conf_of(&q);
         let conf = [c.cf1, c.cf4, c.cf6, c.cfx].map(f64::from);
         let (trans, rot) = pose_to_rapid(&target);
@@ -52,8 +108,33 @@ impl Kinematics {
             trans,
             rot,
             conf,
-            std::array::from_fn(|i| n[6 + i]),
+            std::array::from_fn(|i| offset(n[6 + i], -eoffs[i])),
         ))
+    }
+
+    /// `CalcRobT` without a program displacement.
+    pub fn calc_rob_t(&self, j: &Value, tool: &Value, wobj: &Value) -> Result<Value> {
+        self.calc_rob_t_in(j, &tool_of(tool)?, &wobj_of(wobj)?, &[0.0; 6])
+    }
+}
+
+/// Whether joints `q` (robconf `got`) lie in the quadrants of `want`:
+/// cfx the same, axes 1, 4 and 6 each in its cf's quadrant (to `edge`).
+fn in_quadrants(q: &[f64; 6], got: &RobConf, want: &RobConf, edge: f64) -> bool {
+    use crate::robot::conf::quadrant_distance;
+    got == want
+        || (got.cfx == want.cfx
+            && quadrant_distance(q[0], want.cf1) <= edge
+            && quadrant_distance(q[3], want.cf4) <= edge
+            && quadrant_distance(q[5], want.cf6) <= edge)
+}
+
+/// An external axis offset by `by`; an axis not in use (9E9) stays so.
+fn offset(axis: f64, by: f64) -> f64 {
+    if axis.abs() >= 9e8 {
+        axis
+    } else {
+        axis + by
     }
 }
 

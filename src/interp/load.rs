@@ -8,7 +8,7 @@ use super::kin::{self, Kinematics};
 use super::state::{Frame, Global, Interp, Ops, Precision};
 use super::value::{Types, Value};
 use crate::error::{Error, Result};
-use crate::rapid::{self, DataDecl, Storage};
+use crate::rapid::{self, DataDecl, Program, Storage};
 use std::collections::HashMap;
 use std::rc::Rc;
 
@@ -17,28 +17,7 @@ impl Interp {
     /// every datum initialised, the clock at 2000-01-01.
     pub fn load(files: &[(&str, &[u8])], kin: Kinematics) -> Result<Interp> {
         let program = rapid::parse_files(files)?;
-        let mut types = Types::default();
-        let mut routines: HashMap<String, Vec<(usize, usize)>> = HashMap::new();
-        for (m, module) in program.modules.iter().enumerate() {
-            for r in &module.records {
-                types.add_record(
-                    &r.name,
-                    r.components
-                        .iter()
-                        .map(|(t, n)| (n.clone(), t.clone()))
-                        .collect(),
-                );
-            }
-            for (a, of) in &module.aliases {
-                types.add_alias(a, of);
-            }
-            for (k, r) in module.routines.iter().enumerate() {
-                routines
-                    .entry(r.name.to_ascii_lowercase())
-                    .or_default()
-                    .push((m, k));
-            }
-        }
+        let (types, routines) = index(&program);
         let mut interp = Interp {
             program: Rc::new(program),
             types,
@@ -53,6 +32,14 @@ impl Interp {
             step_budget: bounds::STEP_BUDGET,
             moves: Vec::new(),
             at: None,
+            raised: None,
+            uptime: 0.0,
+            commanded: None,
+            messages: Vec::new(),
+            files: files
+                .iter()
+                .map(|(n, b)| (n.to_string(), b.to_vec()))
+                .collect(),
         };
         interp.predefined()?;
         interp.init_data(true)?;
@@ -78,6 +65,8 @@ impl Interp {
         let wobj0 = kin::wobj_value(&crate::robot::WobjFrames::wobj0());
         let wobj0 = self.types.coerce_to(wobj0, "wobjdata")?;
         let load0 = self.types.default_of("loaddata")?;
+        self.predefined_errors();
+        self.predefined_progdisp();
         for (name, value) in [("tool0", tool0), ("wobj0", wobj0), ("load0", load0)] {
             self.globals.insert(
                 name.into(),
@@ -95,8 +84,16 @@ impl Interp {
     /// Initialises the modules' data from their declarations: every datum
     /// at a load, all but `PERS` ones at a program restart.
     pub(super) fn init_data(&mut self, with_pers: bool) -> Result<()> {
+        self.init_modules(with_pers, None)
+    }
+
+    /// [`Interp::init_data`] of module `only` where given.
+    pub(super) fn init_modules(&mut self, with_pers: bool, only: Option<usize>) -> Result<()> {
         let program = self.program.clone();
         for (m, module) in program.modules.iter().enumerate() {
+            if only.is_some_and(|o| o != m) {
+                continue;
+            }
             // Every declaration in source order, those the fast lane
             // holds together too.
             for d in program.module_data(module) {
@@ -108,6 +105,7 @@ impl Interp {
                     module: m,
                     routine: None,
                     vars: HashMap::new(),
+                    handling: None,
                 });
                 let value = self.declared_value(&d);
                 self.frames.pop();
@@ -156,9 +154,40 @@ impl Interp {
     }
 
     /// A program restart (PP to Main): every `VAR` and `CONST` datum set
-    /// from its declaration again, `PERS` data kept, nothing running.
+    /// from its declaration again, `PERS` data kept, nothing running, the
+    /// program displacement off (the RAPID reference, PDispOff: off when
+    /// a program starts from the beginning).
     pub fn restart(&mut self) -> Result<()> {
         self.frames.clear();
+        self.progdisp_off();
         self.init_data(false)
     }
+}
+
+/// The record types, aliases and routines (by lower-case name) of a
+/// program.
+pub(super) fn index(program: &Program) -> (Types, HashMap<String, Vec<(usize, usize)>>) {
+    let mut types = Types::default();
+    let mut routines: HashMap<String, Vec<(usize, usize)>> = HashMap::new();
+    for (m, module) in program.modules.iter().enumerate() {
+        for r in &module.records {
+            types.add_record(
+                &r.name,
+                r.components
+                    .iter()
+                    .map(|(t, n)| (n.clone(), t.clone()))
+                    .collect(),
+            );
+        }
+        for (a, of) in &module.aliases {
+            types.add_alias(a, of);
+        }
+        for (k, r) in module.routines.iter().enumerate() {
+            routines
+                .entry(r.name.to_ascii_lowercase())
+                .or_default()
+                .push((m, k));
+        }
+    }
+    (types, routines)
 }

@@ -18,22 +18,36 @@
 //! (`load`), routine calls (`calls`), places that can be written (`place`)
 //! and their reading and writing (`access`), expressions (`expr`),
 //! statements (`stmt`), built-in functions (`builtins`) and the robot's
-//! (`kin`).
+//! (`kin`); RAPID's error recovery (`errors`), the built-in instructions
+//! (`instructions`: `messages`, `stopwatch`, `progdisp`), the robot's
+//! commanded position (`robot`) and the controller's restarts
+//! (`restarts`).
 
 mod access;
 mod bounds;
 mod builtins;
 mod calls;
 pub mod clock;
+mod commanded;
+mod errors;
 mod expr;
+mod instructions;
 pub mod kin;
 mod load;
+mod messages;
 mod place;
+mod progdisp;
+mod raised;
+mod restarts;
+mod robot;
 mod state;
 mod stmt;
+mod stopwatch;
+mod told;
 pub mod value;
 
 pub use clock::Clock;
 pub use kin::Kinematics;
 pub use state::{CallArg, Interp, Moved, Ops, Precision};
+pub use told::{MessageKind, OperatorMessage};
 pub use value::{Types, Value};

@@ -4,8 +4,11 @@
 //! (precision, clock, data, the step budget).
 
 use super::clock::Clock;
+use super::commanded::Commanded;
 use super::kin::Kinematics;
 use super::place::Slot;
+use super::raised::Raised;
+use super::told::OperatorMessage;
 use super::value::{Types, Value};
 use crate::error::{Error, ErrorKind, Result};
 use crate::rapid::{Pos, Program, Routine, Storage};
@@ -76,6 +79,8 @@ pub(super) struct Frame {
     /// initialisation.
     pub(super) routine: Option<(usize, usize)>,
     pub(super) vars: HashMap<String, Slot>,
+    /// The RAPID error its ERROR handler is handling, while it runs.
+    pub(super) handling: Option<f64>,
 }
 
 /// What a statement leaves the routine to do.
@@ -83,6 +88,9 @@ pub(super) enum Flow {
     Normal,
     Return(Option<Value>),
     Exit,
+    /// An ERROR handler's RETRY and TRYNEXT.
+    Retry,
+    TryNext,
 }
 
 /// Routines nest deeper than this: an error, not a stack overflow.
@@ -109,6 +117,18 @@ pub struct Interp {
     pub(super) moves: Vec<Moved>,
     /// The statement being executed: (file, place), for errors.
     pub(super) at: Option<(usize, Pos)>,
+    /// The RAPID error on its way to a handler, if the error returned is
+    /// one.
+    pub(super) raised: Option<Raised>,
+    /// The controller's monotonic time (s) since the load: what its
+    /// stopwatches (`clock` data) count; [`Interp::advance`] moves it,
+    /// [`Interp::set_clock`] (the wall clock an operator sets) does not.
+    pub(super) uptime: f64,
+    /// Where the robot was last sent.
+    pub(super) commanded: Option<Commanded>,
+    pub(super) messages: Vec<OperatorMessage>,
+    /// The files loaded (name, bytes), for a module's reload.
+    pub(super) files: Vec<(String, Vec<u8>)>,
 }
 
 impl Interp {
@@ -118,9 +138,11 @@ impl Interp {
     pub fn clock(&self) -> Clock {
         self.clock
     }
-    /// Moves the clock on by `minutes` (nothing runs).
+    /// Moves the clock on by `minutes` (nothing runs): the wall clock and
+    /// the controller's own time, which its `clock` data count.
     pub fn advance(&mut self, minutes: f64) {
         self.clock.advance(minutes);
+        self.uptime += minutes * 60.0;
     }
     pub fn set_precision(&mut self, precision: Precision) -> Result<()> {
         self.precision = precision;

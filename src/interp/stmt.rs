@@ -13,8 +13,7 @@ use crate::rapid::{motion_signature, Block, Call, RoutineKind, Statement, Statem
 /// Instructions that change nothing the interpreter models: run as no
 /// operation (their arguments are not evaluated).
 const NO_EFFECT: &[&str] = &[
-    "TPWrite", "TPErase", "ErrWrite", "WaitTime", "Stop", "Break", "ConfL", "ConfJ", "SingArea",
-    "AccSet", "VelSet",
+    "TPErase", "WaitTime", "Stop", "Break", "ConfL", "ConfJ", "SingArea", "AccSet", "VelSet",
 ];
 
 impl Interp {
@@ -28,7 +27,7 @@ impl Interp {
                     "a move whose file no longer reads as it was read",
                 ));
             };
-            match self.exec(file, &s)? {
+            match self.exec_handled(file, &s)? {
                 Flow::Normal => {}
                 other => return Ok(other),
             }
@@ -36,7 +35,7 @@ impl Interp {
         Ok(Flow::Normal)
     }
 
-    fn exec(&mut self, file: usize, s: &Statement) -> Result<Flow> {
+    pub(super) fn exec(&mut self, file: usize, s: &Statement) -> Result<Flow> {
         self.ops.statements += 1;
         self.at = Some((file, s.pos));
         if self.ops.statements - self.call_began > self.step_budget {
@@ -113,6 +112,15 @@ impl Interp {
                 return Ok(Flow::Return(v));
             }
             StatementKind::Exit => return Ok(Flow::Exit),
+            StatementKind::Raise(n) => return self.exec_raise(n.as_ref()),
+            StatementKind::Retry | StatementKind::TryNext
+                if self.frames.last().is_some_and(|f| f.handling.is_some()) =>
+            {
+                return Ok(match s.kind {
+                    StatementKind::Retry => Flow::Retry,
+                    _ => Flow::TryNext,
+                })
+            }
             StatementKind::Call(c) => return self.exec_call(c),
             other => {
                 let what = format!("{other:?}");
@@ -195,6 +203,7 @@ impl Interp {
                     targets.push(self.eval(e)?);
                 }
             }
+            self.command(c, &targets)?;
             self.moves.push(Moved {
                 instruction: c.name.to_string(),
                 targets,
@@ -202,6 +211,9 @@ impl Interp {
             return Ok(Flow::Normal);
         }
         if NO_EFFECT.iter().any(|n| n.eq_ignore_ascii_case(&c.name)) {
+            return Ok(Flow::Normal);
+        }
+        if self.instruction(c)? {
             return Ok(Flow::Normal);
         }
         Err(self.unsupported(format!("the instruction `{}`", c.name)))

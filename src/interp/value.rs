@@ -56,9 +56,12 @@ impl Value {
         }
     }
     /// Every num rounded to single precision (the controller's `num`).
+    /// A `clock`'s inner state is the controller's own (its reads are
+    /// nums, rounded where they are stored).
     pub fn to_single(&mut self) {
         match self {
             Value::Num(v) => *v = f64::from(*v as f32),
+            Value::Rec(t, _) if &**t == "clock" => {}
             Value::Rec(_, items) | Value::Arr(items) => items.iter_mut().for_each(Value::to_single),
             Value::Bool(_) | Value::Str(_) => {}
         }
@@ -127,6 +130,15 @@ const BUILTIN_RECORDS: &[(&str, &[(&str, &str)])] = &[
     (
         "jointtarget",
         &[("robax", "robjoint"), ("extax", "extjoint")],
+    ),
+    ("progdisp", &[("pdisp", "pose"), ("eoffs", "extjoint")]),
+    // A stopwatch (`VAR clock`): its components are not RAPID's (a
+    // program cannot read them) but the interpreter's: whether it runs,
+    // the controller's time (s) it was started at, and the seconds it
+    // counted before.
+    (
+        "clock",
+        &[("running", "bool"), ("since", "num"), ("counted", "num")],
     ),
     (
         "loaddata",

@@ -12,6 +12,7 @@ mod cli;
 mod data_rules;
 mod idle;
 mod interp;
+mod interp_controller;
 mod interp_targets;
 mod lanes;
 mod line_ends;

@@ -74,6 +74,8 @@ pub use lane::{Decline, Declined, LaneTally, Part, StoppedAt};
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
 pub use parse::{parse, parse_files, parse_read, parse_sources, Reading};
 pub use program::Program;
+/// The grammar's reserved words, for the checks of names outside it.
+pub(crate) use reserved::RESERVED;
 pub use runs::MoveRef;
 pub use source::Source;
 pub use syntax::{

@@ -11,6 +11,7 @@
 pub mod job;
 pub mod mirror;
 pub mod module;
+pub mod names;
 pub mod rewrite;
 pub mod spec;
 pub mod write;

@@ -8,6 +8,7 @@
 //! arm and heating curves; [`job`] runs it on tasks and [`write`] puts
 //! what it made where the plan says.
 
+pub mod from_robot;
 pub mod job;
 pub mod mirror;
 pub mod module;

@@ -253,15 +253,23 @@ mod tests {
     #[test]
     fn the_file_reads_and_holds_the_manuals_names() {
         let f = names_file().expect("data/rapid/names.toml reads");
-        let lower = |v: &[String]| -> Vec<String> {
-            v.iter().map(|s| s.to_ascii_lowercase()).collect()
-        };
+        let lower =
+            |v: &[String]| -> Vec<String> { v.iter().map(|s| s.to_ascii_lowercase()).collect() };
         let has = |v: &[String], n: &str| lower(v).contains(&n.to_ascii_lowercase());
         // Instructions and functions of the reference manual.
-        for n in ["MoveL", "MoveJ", "MoveAbsJ", "SearchL", "TPWrite", "ErrWrite"] {
+        for n in [
+            "MoveL", "MoveJ", "MoveAbsJ", "SearchL", "TPWrite", "ErrWrite",
+        ] {
             assert!(has(&f.instructions, n), "{n}");
         }
-        for n in ["CalcJointT", "CalcRobT", "CRobT", "CJointT", "Offs", "CDate"] {
+        for n in [
+            "CalcJointT",
+            "CalcRobT",
+            "CRobT",
+            "CJointT",
+            "Offs",
+            "CDate",
+        ] {
             assert!(has(&f.functions, n), "{n}");
         }
         for n in ["robtarget", "jointtarget", "tooldata", "num", "pose"] {
@@ -301,7 +309,10 @@ mod tests {
             ("Tune", "TuneReset"),
         ] {
             let m = usage(n);
-            assert!(m.contains(&format!("routine {word} would be named {word}")), "{m}");
+            assert!(
+                m.contains(&format!("routine {word} would be named {word}")),
+                "{m}"
+            );
         }
     }
 
@@ -345,7 +356,11 @@ mod tests {
             .collect();
         assert_eq!(
             at,
-            [(2, "t.mod".into()), (4, "t.mod".into()), (6, "t.mod".into())]
+            [
+                (2, "t.mod".into()),
+                (4, "t.mod".into()),
+                (6, "t.mod".into())
+            ]
         );
         let text: String = all.iter().map(|e| e.message.clone()).collect();
         for n in ["rtwarmt", "RtWarmJ", "RTWARMRESET"] {
@@ -367,7 +382,8 @@ mod tests {
         let j = program("MODULE RtWarmJ\nENDMODULE\n");
         assert!(check_program_names(&j, "RtWarm").is_err());
         // Names beside the public ones are free: the module's own are LOCAL.
-        let free = program("MODULE Cell\n  PERS num rtX := 0;\n  PROC RtWarmUp()\n  ENDPROC\nENDMODULE\n");
+        let free =
+            program("MODULE Cell\n  PERS num rtX := 0;\n  PROC RtWarmUp()\n  ENDPROC\nENDMODULE\n");
         assert!(check_program_names(&free, "RtWarm").is_ok());
     }
 }

@@ -74,7 +74,9 @@ pub use lane::{Decline, Declined, LaneTally, Part, StoppedAt};
 pub use motion::{motion_signature, ArgAt, Motion, MotionKind, MotionSignature};
 pub use parse::{parse, parse_files, parse_read, parse_sources, Reading};
 pub use program::Program;
-/// The grammar's reserved words, for the checks of names outside it.
+/// The grammar's reserved words, which the list of RAPID's own names
+/// (`correct::runtime::names`) is held equal to.
+#[cfg_attr(not(test), allow(unused_imports))]
 pub(crate) use reserved::RESERVED;
 pub use runs::MoveRef;
 pub use source::Source;

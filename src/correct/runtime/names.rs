@@ -290,6 +290,28 @@ mod tests {
     }
 
     #[test]
+    fn every_listed_name_is_a_rapid_name_listed_once() {
+        let f = names_file().unwrap();
+        let all: Vec<&String> = [
+            &f.reserved,
+            &f.keywords,
+            &f.instructions,
+            &f.functions,
+            &f.data_types,
+            &f.predefined,
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        let mut seen = std::collections::HashSet::new();
+        for n in &all {
+            assert!(is_rapid_name(n) && n.len() <= MAX_RAPID_NAME, "{n}");
+            assert!(seen.insert(n.to_ascii_lowercase()), "{n} is listed twice");
+        }
+        assert_eq!(table().len(), all.len());
+    }
+
+    #[test]
     fn names_rapid_gives_meaning_to_are_refused_any_case() {
         assert!(usage("MoveL").contains("MoveL, a RAPID instruction"));
         assert!(usage("movel").contains("MoveL, a RAPID instruction"));

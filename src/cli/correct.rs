@@ -436,6 +436,12 @@ fn writes(cmd: &CorrectCommand, found: &[rapidtherm::rapid::task::Task]) -> Resu
             {
                 w.output(&flag, &m, Role::Made(Made::RuntimeModule));
             }
+            // The backup's list of the modules a restore loads.
+            for b in
+                rapidtherm::correct::runtime::write::backinfo_paths(dest, &motion, &runtime.module)
+            {
+                w.output("--in-place", &b, Role::InPlace);
+            }
         }
     }
     if let Some(dir) = &cmd.plot {

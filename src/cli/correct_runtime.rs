@@ -88,6 +88,14 @@ pub fn run(plan: &RuntimePlan, found: Vec<Task>, checked: &Checked) -> Result<St
                     &r.module.1,
                 ));
             }
+            // The backup's list of the modules a restore loads, with them.
+            for f in write::backinfo_rewrites(&runs)? {
+                text.extend(unified_diff(
+                    &f.path.display().to_string(),
+                    &f.before,
+                    &f.after,
+                ));
+            }
             let changed = !text.is_empty();
             write_stdout(&text)?;
             Ok(if changed {

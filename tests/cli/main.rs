@@ -4,6 +4,7 @@
 //! hook as pre-commit runs it. One binary, one link.
 
 mod announced;
+mod backinfo;
 mod bare_names;
 mod ci_report;
 mod conventions;

@@ -189,6 +189,12 @@ impl Scopes {
     }
 }
 
+/// Whether a move's arguments may call a reading function themselves
+/// (a move of the fast lane's runs has names and literals only).
+fn mentions_read_back(mv: &Move) -> bool {
+    mv.points.iter().any(|p| p.expr.is_some())
+}
+
 /// The datum an assignment's target writes: `p`, `p.trans`, `arr{i}`
 /// all write `p` (or `arr`), in part.
 fn root_name(e: &Expr) -> Option<&str> {
@@ -227,6 +233,11 @@ impl FromRobot {
     /// Why target argument `point` of `mv` is a reading of the robot, or
     /// `None` where it is not (a taught or computed target to correct).
     pub fn why(&self, mv: &Move, point: usize) -> Option<FromRobotReason> {
+        // Most programs read nothing back: a million moves asked for
+        // nothing.
+        if self.is_empty() && !mentions_read_back(mv) {
+            return None;
+        }
         let p = mv.points.get(point)?;
         match (p.expr, p.name) {
             (Some(e), _) => self.why_expr(e, mv.module, mv.routine, mv.file, mv.line),
@@ -646,6 +657,32 @@ mod tests {
             r[0].2.as_deref(),
             Some("pHere: the robot's position read by CRobT at line 5")
         );
+    }
+
+    #[test]
+    fn global_data_is_one_datum_across_modules_and_a_local_one_hides_it() {
+        let data = "MODULE Data\n  PERS robtarget pHome := [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\nENDMODULE\n";
+        let teach = "MODULE Teach\n  PROC here()\n    pHome := CRobT();\n  ENDPROC\nENDMODULE\n";
+        let cell = "MODULE Cell\n  PROC main()\n    MoveJ pHome, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
+        let other = "MODULE Other\n  LOCAL PERS robtarget pHome := [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC go()\n    MoveJ pHome, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n";
+        let files = [
+            ("data.mod", data.as_bytes()),
+            ("teach.mod", teach.as_bytes()),
+            ("cell.mod", cell.as_bytes()),
+            ("other.mod", other.as_bytes()),
+        ];
+        let program = crate::rapid::parse_files(&files).unwrap();
+        let from = FromRobot::new(&program);
+        let mut got = Vec::new();
+        each_move_instruction(&program, &mut |mv| {
+            got.push((mv.module.to_string(), from.why(mv, 0)));
+        });
+        let cell = &got[0];
+        assert_eq!(cell.0, "Cell");
+        let why = cell.1.as_ref().expect("the global pHome is read back");
+        assert_eq!((why.file.as_str(), why.line), ("teach.mod", 3));
+        // Other's own LOCAL pHome is another datum: taught.
+        assert_eq!(got[1], ("Other".to_string(), None));
     }
 
     #[test]

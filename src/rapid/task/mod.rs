@@ -22,6 +22,7 @@
 //! for the layers that know arms.
 
 pub mod backinfo;
+pub mod backinfo_entry;
 pub mod cfg;
 pub mod contradiction;
 pub mod pgf;

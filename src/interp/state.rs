@@ -168,19 +168,22 @@ impl Interp {
     }
     /// A module datum's value (a global one, or the first module's).
     pub fn global(&self, name: &str) -> Option<&Value> {
-        self.globals
-            .get(&name.to_ascii_lowercase())
-            .and_then(|g| g.first())
+        let slots = self.globals.get(&name.to_ascii_lowercase())?;
+        slots
+            .iter()
+            .find(|g| !g.local)
+            .or_else(|| slots.first())
             .map(|g| &g.value)
     }
     /// Sets a module datum (as a program or an operator would), coerced to
     /// its type.
     pub fn set_global(&mut self, name: &str, value: Value) -> Result<()> {
-        let g = self
+        let slots = self
             .globals
             .get_mut(&name.to_ascii_lowercase())
-            .and_then(|g| g.first_mut())
             .ok_or_else(|| Error::input(format!("no datum `{name}`")))?;
+        let k = slots.iter().position(|g| !g.local).unwrap_or(0);
+        let g = &mut slots[k];
         let mut v = self.types.coerce(value, &g.value)?;
         if self.precision == Precision::Single {
             v.to_single();

@@ -705,6 +705,8 @@ fn the_modules_expressions_locals_and_conditional_arguments() {
     assert_eq!(num(&mut i, "corner"), 9.0);
     assert_eq!(num(&mut i, "getA"), 11.0);
     assert_eq!(num(&mut i, "getB"), 1100.0);
+    // From outside, the global datum (B's), not A's LOCAL one.
+    assert_eq!(i.global("k"), Some(&Value::Num(100.0)));
     assert!(i
         .call_func("f", &[])
         .is_ok_and(|(v, _)| v == Value::Num(1000.0)));

@@ -6,17 +6,18 @@
 
 use nalgebra::Isometry3;
 use rapidtherm::correct::{correct, Options, When};
-use rapidtherm::interp::{kin, Clock, Interp, Kinematics, Value};
+use rapidtherm::interp::{kin, CallArg, Clock, Interp, Kinematics, Value};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::robot::frames::{pose_to_rapid, target_of_flange};
 use rapidtherm::robot::{Robot, ToolFrame, WobjFrames};
 
-const TOOL: &str = "[TRUE,[[0,0,150],[1,0,0,0]],[1.5,[0,0,60],[1,0,0,0],0,0,0]]";
+pub(super) const TOOL: &str = "[TRUE,[[0,0,150],[1,0,0,0]],[1.5,[0,0,60],[1,0,0,0],0,0,0]]";
 /// A conveyor's frame turned 30° about z: the drift is turned into it.
-const WOBJ: &str = "[FALSE,TRUE,\"\",[[300,100,200],[0.965926,0,0,0.258819]],[[0,0,0],[1,0,0,0]]]";
+pub(super) const WOBJ: &str =
+    "[FALSE,TRUE,\"\",[[300,100,200],[0.965926,0,0,0.258819]],[[0,0,0],[1,0,0,0]]]";
 
-fn lit(trans: [f64; 3], rot: [f64; 4], conf: [f64; 4]) -> String {
+pub(super) fn lit(trans: [f64; 3], rot: [f64; 4], conf: [f64; 4]) -> String {
     format!(
         "[[{},{},{}],[{},{},{},{}],[{},{},{},{}],[9E9,9E9,9E9,9E9,9E9,9E9]]",
         trans[0],
@@ -35,7 +36,7 @@ fn lit(trans: [f64; 3], rot: [f64; 4], conf: [f64; 4]) -> String {
 
 /// Where the camera sees the part: a target the arm reaches with margin
 /// on every quadrant, in the conveyor's frame.
-fn camera() -> ([f64; 3], [f64; 4], [f64; 4]) {
+pub(super) fn camera() -> ([f64; 3], [f64; 4], [f64; 4]) {
     let robot = Robot::irb140();
     let q = [15.0f64, 10.0, 20.0, 10.0, 50.0, 20.0].map(f64::to_radians);
     let tool = ToolFrame::new(true, [0.0, 0.0, 150.0], [1.0, 0.0, 0.0, 0.0]).unwrap();
@@ -98,10 +99,20 @@ fn run_time_targets_are_corrected_as_the_static_path_corrects_their_numbers() {
     )
     .unwrap();
     i.set_clock(Clock::at(2026, 11, 27, 6, 0, 0));
-    i.call_proc("RtWarmUpdate", &[]).unwrap();
+    // A move a minute for an hour (a jointtarget the table holds: each
+    // call brings the state to now).
+    let touch = |i: &mut Interp| {
+        let j = kin::jointtarget([0.0, 0.0, 0.0, 0.0, 30.0, 0.0], [9e9; 6]);
+        i.call_func(
+            "RtWarmJT",
+            &[CallArg::Value(j), CallArg::Value(Value::Num(1.0))],
+        )
+        .unwrap();
+    };
+    touch(&mut i);
     for _ in 0..60 {
         i.advance(1.0);
-        i.call_proc("RtWarmUpdate", &[]).unwrap();
+        touch(&mut i);
     }
     i.set_global("pCam", kin::robtarget(trans, rot, conf, [9e9; 6]))
         .unwrap();

@@ -13,6 +13,7 @@ mod data_rules;
 mod idle;
 mod interp;
 mod interp_controller;
+mod interp_rules;
 mod interp_targets;
 mod lanes;
 mod line_ends;

@@ -269,6 +269,9 @@ const BODY: &str = r#"
   ! four products and a turn into its frame.
   FUNC robtarget @NT(robtarget p, num r, PERS tooldata t \PERS wobjdata WObj)
     VAR robtarget out;
+    ! Under a program displacement the arm stands elsewhere than the row's
+    ! joints: the controller's joints, by the slower path.
+    IF C_PROGDISP.pdisp.rot.q1 < 1 OR C_PROGDISP.pdisp.trans.x <> 0 OR C_PROGDISP.pdisp.trans.y <> 0 OR C_PROGDISP.pdisp.trans.z <> 0 RETURN @N(p, t \WObj?WObj);
     rtFresh;
     out := p;
     out.trans := p.trans + rtShift(rtE1 * rtD{r,1} + rtE2 * rtD{r,2} + rtE3 * rtD{r,3} + rtE4 * rtD{r,4}, p, t \WObj?WObj);

@@ -288,7 +288,10 @@ mod tests {
         // Each one a word the grammar will not take as a datum's name.
         for w in &f.reserved {
             let text = format!("MODULE M\n  VAR num {w} := 1;\nENDMODULE\n");
-            assert!(crate::rapid::parse("t.mod", text.as_bytes()).is_err(), "{w}");
+            assert!(
+                crate::rapid::parse("t.mod", text.as_bytes()).is_err(),
+                "{w}"
+            );
         }
     }
 

@@ -334,3 +334,64 @@ fn a_run_time_jointtarget_across_a_quadrant_goes_as_written_and_is_said() {
         assert!(moved < 1.0, "{got:?}");
     }
 }
+
+const ARRAYS: &str = "MODULE Cell\r
+  PERS tooldata tGrip := TOOL;\r
+  PERS wobjdata wConv := WOBJ;\r
+  CONST robtarget pA := PA;\r
+  CONST jointtarget jEdge{3} := [[[10,20,15,90,45,-90],[9E9,9E9,9E9,9E9,9E9,9E9]],[[5,10,20,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],[[-30,15,10,180,30,90],[9E9,9E9,9E9,9E9,9E9,9E9]]];\r
+  PROC main()\r
+    FOR k FROM 1 TO 3 DO\r
+      MoveAbsJ jEdge{k}, v1000, fine, tool0;\r
+    ENDFOR\r
+  ENDPROC\r
+ENDMODULE\r
+";
+
+// Before: jointtargets went through CalcJointT in their written joints'
+// configuration, and the warm solution of one on a quadrant boundary
+// (axis 4 at 90°, axis 5 at 0, axis 6 at -90°) lies just across it: a
+// program stop. An array's elements indexed at run time now find their
+// rows in the table: the static path's warm joints, nearest the written
+// ones, no configuration involved.
+#[test]
+fn jointtargets_on_quadrant_boundaries_get_the_static_paths_warm_joints() {
+    let (mut i, text, _, _) = rewritten(ARRAYS, start());
+    assert!(
+        text.contains("MoveAbsJ RtWarmJT(jEdge{k}, k), v1000"),
+        "{text}"
+    );
+    touch(&mut i);
+    run_for(&mut i, 120);
+    i.call_proc("main", &[]).unwrap();
+    let (trans, rot, conf) = camera();
+    let program = ARRAYS
+        .replace("TOOL", TOOL)
+        .replace("WOBJ", WOBJ)
+        .replace("PA", &lit(trans, rot, conf));
+    let program = rapidtherm::rapid::parse("cell.mod", program.as_bytes()).unwrap();
+    let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 120.0).unwrap();
+    let want = correct(
+        &program,
+        &warm,
+        &Options::new(When::At(Moment::Minute(120.0))),
+        &mut |_, _| {},
+    )
+    .unwrap()
+    .corrections;
+    let moved = i.moves();
+    assert_eq!(moved.len(), 3);
+    for (k, m) in moved.iter().enumerate() {
+        let id = format!("jEdge{{{}}}", k + 1);
+        let c = want
+            .iter()
+            .find(|c| c.id == id)
+            .unwrap_or_else(|| panic!("{id}"));
+        let got = m.targets[0].numbers();
+        let worst = (0..6)
+            .map(|a| (got[a] - c.corrected[a]).abs())
+            .fold(0.0, f64::max);
+        assert!(c.dangle_deg > 1e-3, "{id}: a warm arm's correction");
+        assert!(worst < 1e-3, "{id}: {worst}°");
+    }
+}

@@ -183,10 +183,7 @@ impl Made {
                     "a reading of the robot, where the corrected robot already is ({why})"
                 ));
             }
-            match table.row(m, k) {
-                Some(r) => Route::Table(r),
-                None => Route::Slow,
-            }
+            table.row(m, k).unwrap_or(Route::Slow)
         });
         let text = module_text(&self.spec, &table.rows, &self.opts).into_bytes();
         (calls, tally, text)

@@ -56,10 +56,38 @@ pub struct Unwrapped {
 pub enum Route {
     /// By the module's table, row `n` (from 1).
     Table(usize),
+    /// An element of a one-dimensional array indexed at run time
+    /// (`pCorner{i}`): by the table, element `k`'s row being `n - 1 + k`.
+    TableArray(usize),
     /// By the slower path: the controller's joints of the target.
     Slow,
     /// Not at all, for this reason.
     Leave(String),
+    /// By the table, the row an expression gives (made of a
+    /// [`Route::TableArray`] by the rewrite).
+    Index(String),
+}
+
+/// The index of a one-dimensional array's element as written
+/// (`pCorner{i + 1}` → `i + 1`); `None` for anything else (a record's
+/// field after it, two dimensions, a call).
+fn array_index(written: &str) -> Option<&str> {
+    let open = written.find('{')?;
+    let name = written[..open].trim_end();
+    let plain = name.bytes().next().is_some_and(|b| b.is_ascii_alphabetic())
+        && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
+    let index = written[open + 1..].strip_suffix('}')?;
+    let (mut depth, mut ok) = (0i32, plain);
+    for b in index.bytes() {
+        match b {
+            b'(' | b'[' | b'{' => depth += 1,
+            b')' | b']' | b'}' => depth -= 1,
+            b',' if depth == 0 => ok = false,
+            _ => {}
+        }
+        ok &= depth >= 0;
+    }
+    (ok && depth == 0 && !index.trim().is_empty()).then_some(index.trim())
 }
 
 /// The module's four correcting functions, by the module's name `n`.
@@ -276,11 +304,24 @@ fn wrap(
         let frames = format!("{tool}{}", wobj.as_deref().unwrap_or(""));
         // Two insertions, before and after the argument: its own bytes are
         // not copied (a CAM program's million inline targets).
-        let (name, close, by_table) = match (route(m, k), joints) {
+        let mut route = route(m, k);
+        if let Route::TableArray(first) = route {
+            // The row is the element's: the index expression, as written,
+            // added to the array's first row.
+            route = match array_index(&written) {
+                Some(index) if first == 1 => Route::Index(index.to_string()),
+                Some(index) => Route::Index(format!("{} + {index}", first - 1)),
+                None => Route::Slow,
+            };
+        }
+        let (name, close, by_table) = match (route, joints) {
             (Route::Leave(reason), _) => {
                 out.push(Wrap::Left(reason));
                 continue;
             }
+            (Route::TableArray(_), _) => unreachable!("made an index above"),
+            (Route::Index(r), false) => (&funcs.rob_table, format!(", {r}, {frames})"), true),
+            (Route::Index(r), true) => (&funcs.joint_table, format!(", {r})"), true),
             (Route::Table(r), false) => (&funcs.rob_table, format!(", {r}, {frames})"), true),
             (Route::Table(r), true) => (&funcs.joint_table, format!(", {r})"), true),
             (Route::Slow, false) => (&funcs.rob, format!(", {frames})"), false),

@@ -16,6 +16,7 @@
 //! involved, so a warm solution across a quadrant boundary is no matter.
 
 use super::mirror::drift_base;
+use super::rewrite::Route;
 use super::spec::RuntimeSpec;
 use crate::model::warm::pose_error;
 use crate::rapid::Program;
@@ -93,24 +94,59 @@ impl<'p> Table<'p> {
         }
     }
 
-    /// The row (from 1) for point `k` of move `m`, `None` where the move's
-    /// target is not one the program names directly with its frames (a
-    /// run-time target, `Offs(...)`, a parameter) or the table is full.
-    pub fn row(&mut self, m: &Move, k: usize) -> Option<usize> {
+    /// How point `k` of move `m` is found in the table: its row (from 1),
+    /// or an array's first row where the move indexes it at run time;
+    /// `None` where the move's target is not one the program names
+    /// directly with its frames (a run-time target, `Offs(...)`, a
+    /// parameter) or the table is full.
+    pub fn row(&mut self, m: &Move, k: usize) -> Option<Route> {
         let point = m.points.get(k)?;
         if m.joints {
-            let [j] = point.jointtargets[..] else {
-                return None;
+            return match point.jointtargets[..] {
+                [j] => self.jointtarget_row(j).map(Route::Table),
+                [] => None,
+                ref all => self
+                    .consecutive(all.len(), &mut |t, n| t.jointtarget_row(all[n]))
+                    .map(Route::TableArray),
             };
-            return self.jointtarget_row(j);
         }
-        let [(ref range, Through::Direct)] = point.robtargets[..] else {
-            return None;
-        };
-        if range.len() != 1 {
-            return None;
+        // The targets the argument names directly, in order: one, or an
+        // array's elements one after another (indexed at run time).
+        let mut targets = Vec::new();
+        for (range, through) in &point.robtargets {
+            if *through != Through::Direct {
+                return None;
+            }
+            targets.extend(range.clone());
         }
-        self.robtarget_row(range.start, m.tool.as_deref(), m.wobj.as_deref())
+        let (tool, wobj) = (m.tool.as_deref(), m.wobj.as_deref());
+        match targets[..] {
+            [] => None,
+            [i] => self.robtarget_row(i, tool, wobj).map(Route::Table),
+            _ if targets.windows(2).all(|w| w[1] == w[0] + 1) => self
+                .consecutive(targets.len(), &mut |t, n| {
+                    t.robtarget_row(targets[n], tool, wobj)
+                })
+                .map(Route::TableArray),
+            _ => None,
+        }
+    }
+
+    /// The first of `n` rows that `row` makes one after another (element
+    /// by element); `None` where one cannot be made or they do not follow
+    /// each other (an element asked before, alone).
+    fn consecutive(
+        &mut self,
+        n: usize,
+        row: &mut dyn FnMut(&mut Self, usize) -> Option<usize>,
+    ) -> Option<usize> {
+        let first = row(self, 0)?;
+        for k in 1..n {
+            if row(self, k)? != first + k {
+                return None;
+            }
+        }
+        Some(first)
     }
 
     /// The row of robtarget `i` of the program moved to in `tool` and

@@ -238,7 +238,7 @@ fn writable_parameters(program: &Program) -> HashMap<String, Vec<usize>> {
 
 /// The variable an assignment or argument writes: `p` of `p`,
 /// `p.trans.x`, `arr{i}`.
-fn root_name(e: &Expr) -> Option<&str> {
+pub fn root_name(e: &Expr) -> Option<&str> {
     match e {
         Expr::Name(n) => Some(n),
         Expr::Index(b) => root_name(&b.0),

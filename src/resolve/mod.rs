@@ -25,6 +25,7 @@ mod usage;
 mod usages;
 mod uses;
 
+pub use dataflow::root_name;
 pub use frame_vars::frame_variables;
 pub use frames::{
     frames_for, frames_for_in, frames_named, frames_named_in, frames_of, robconf_of, target_pose,

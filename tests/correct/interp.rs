@@ -303,7 +303,7 @@ fn at(m: Moment) -> (When, f64) {
 /// A call of the module that corrects nothing of interest: it brings
 /// the state to now where the last update is older than the module's
 /// update period (10 s), as every move's call does.
-fn touch(i: &mut Interp) {
+pub(super) fn touch(i: &mut Interp) {
     let j = kin::jointtarget([0.0, 0.0, 0.0, 0.0, 30.0, 0.0], [9e9; 6]);
     i.call_func(
         "RtWarmJT",

@@ -5,9 +5,10 @@
 //! the module: the static correction of the same numbers (`correct
 //! --at`), or what the manual says the controller does.
 
+use super::interp::touch;
 use super::interp_targets::{camera, lit, TOOL, WOBJ};
-use rapidtherm::correct::{correct, Options, When};
-use rapidtherm::interp::{kin, CallArg, Clock, Interp, Kinematics, MessageKind, Value};
+use rapidtherm::correct::{correct, Correction, Options, When};
+use rapidtherm::interp::{kin, Clock, Interp, Kinematics, MessageKind, Value};
 use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::robot::Robot;
@@ -45,17 +46,6 @@ fn rewritten(program: &str, start: Clock) -> (Interp, String, String, Vec<u8>) {
     )
 }
 
-/// A call of the module that moves nothing of interest and brings its
-/// state to now (the table's row 1 exists in every module).
-fn touch(i: &mut Interp) {
-    let j = kin::jointtarget([0.0, 0.0, 0.0, 0.0, 30.0, 0.0], [9e9; 6]);
-    i.call_func(
-        "RtWarmJT",
-        &[CallArg::Value(j), CallArg::Value(Value::Num(1.0))],
-    )
-    .unwrap();
-}
-
 /// `minutes` of running, a move a minute.
 fn run_for(i: &mut Interp, minutes: usize) {
     for _ in 0..minutes {
@@ -72,17 +62,21 @@ fn static_pose(t: f64, wobj: &str) -> nalgebra::Isometry3<f64> {
         "MODULE Fixed\r\n  CONST robtarget pA := {};\r\n  PERS tooldata tGrip := {TOOL};\r\n  PERS wobjdata wConv := {wobj};\r\n  PROC main()\r\n    MoveL pA, v100, fine, tGrip\\WObj:=wConv;\r\n  ENDPROC\r\nENDMODULE\r\n",
         lit(trans, rot, conf)
     );
-    let program = rapidtherm::rapid::parse("fixed.mod", fixed.as_bytes()).unwrap();
+    statically(&fixed, t)[0].exact.unwrap()
+}
+
+/// What `correct --at t` makes of `program`'s targets.
+pub(super) fn statically(program: &str, t: f64) -> Vec<Correction> {
+    let program = rapidtherm::rapid::parse("fixed.mod", program.as_bytes()).unwrap();
     let warm = WarmRobot::new(Robot::irb140(), &Model::default(), t.max(1.0)).unwrap();
-    let want = correct(
+    correct(
         &program,
         &warm,
         &Options::new(When::At(Moment::Minute(t))),
         &mut |_, _| {},
     )
     .unwrap()
-    .corrections;
-    want[0].exact.unwrap()
+    .corrections
 }
 
 /// How far a moved target is from a pose (mm, degrees).
@@ -369,16 +363,7 @@ fn jointtargets_on_quadrant_boundaries_get_the_static_paths_warm_joints() {
         .replace("TOOL", TOOL)
         .replace("WOBJ", WOBJ)
         .replace("PA", &lit(trans, rot, conf));
-    let program = rapidtherm::rapid::parse("cell.mod", program.as_bytes()).unwrap();
-    let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 120.0).unwrap();
-    let want = correct(
-        &program,
-        &warm,
-        &Options::new(When::At(Moment::Minute(120.0))),
-        &mut |_, _| {},
-    )
-    .unwrap()
-    .corrections;
+    let want = statically(&program, 120.0);
     let moved = i.moves();
     assert_eq!(moved.len(), 3);
     for (k, m) in moved.iter().enumerate() {

@@ -5,10 +5,7 @@
 //! interpreter refuses, and keeps across a restart.
 
 use nalgebra::Isometry3;
-use rapidtherm::correct::{correct, Options, When};
-use rapidtherm::interp::{kin, CallArg, Clock, Interp, Kinematics, Value};
-use rapidtherm::model::warm::{Moment, WarmRobot};
-use rapidtherm::model::Model;
+use rapidtherm::interp::{kin, Clock, Interp, Kinematics, Value};
 use rapidtherm::robot::frames::{pose_to_rapid, target_of_flange};
 use rapidtherm::robot::{Robot, ToolFrame, WobjFrames};
 
@@ -99,20 +96,11 @@ fn run_time_targets_are_corrected_as_the_static_path_corrects_their_numbers() {
     )
     .unwrap();
     i.set_clock(Clock::at(2026, 11, 27, 6, 0, 0));
-    // A move a minute for an hour (a jointtarget the table holds: each
-    // call brings the state to now).
-    let touch = |i: &mut Interp| {
-        let j = kin::jointtarget([0.0, 0.0, 0.0, 0.0, 30.0, 0.0], [9e9; 6]);
-        i.call_func(
-            "RtWarmJT",
-            &[CallArg::Value(j), CallArg::Value(Value::Num(1.0))],
-        )
-        .unwrap();
-    };
-    touch(&mut i);
+    // A move a minute for an hour: each call brings the state to now.
+    super::interp::touch(&mut i);
     for _ in 0..60 {
         i.advance(1.0);
-        touch(&mut i);
+        super::interp::touch(&mut i);
     }
     i.set_global("pCam", kin::robtarget(trans, rot, conf, [9e9; 6]))
         .unwrap();
@@ -130,16 +118,7 @@ fn run_time_targets_are_corrected_as_the_static_path_corrects_their_numbers() {
         lit(a, rot, conf),
         lit(b, rot, conf)
     );
-    let program = rapidtherm::rapid::parse("fixed.mod", fixed.as_bytes()).unwrap();
-    let warm = WarmRobot::new(Robot::irb140(), &Model::default(), 60.0).unwrap();
-    let want = correct(
-        &program,
-        &warm,
-        &Options::new(When::At(Moment::Minute(60.0))),
-        &mut |_, _| {},
-    )
-    .unwrap()
-    .corrections;
+    let want = super::interp_rules::statically(&fixed, 60.0);
     for (id, got) in [("pA", &moved[0].targets[0]), ("pB", &moved[1].targets[0])] {
         let c = want.iter().find(|c| c.id == id).unwrap();
         let exact = c.exact.unwrap();

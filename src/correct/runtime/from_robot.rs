@@ -22,7 +22,7 @@
 
 use crate::rapid::visit::{walk_expr, walk_function_call, Visit};
 use crate::rapid::{Call, Expr, FunctionCall, Program, Routine, RoutineKind, Scope, StatementKind};
-use crate::resolve::{walk_statements, Move};
+use crate::resolve::{root_name, walk_statements, Move};
 use std::collections::{HashMap, HashSet};
 
 /// Functions that return the robot's position or joints now.
@@ -193,17 +193,6 @@ impl Scopes {
 /// (a move of the fast lane's runs has names and literals only).
 fn mentions_read_back(mv: &Move) -> bool {
     mv.points.iter().any(|p| p.expr.is_some())
-}
-
-/// The datum an assignment's target writes: `p`, `p.trans`, `arr{i}`
-/// all write `p` (or `arr`), in part.
-fn root_name(e: &Expr) -> Option<&str> {
-    match e {
-        Expr::Name(n) => Some(n),
-        Expr::Index(b) => root_name(&b.0),
-        Expr::Component(b) => root_name(&b.0),
-        _ => None,
-    }
 }
 
 impl FromRobot {

@@ -206,7 +206,7 @@ impl<'p> Table<'p> {
         let jt = self.program.jointtargets().get(j)?;
         let degrees: [f64; 6] = jt.robax.each_ref().map(|n| n.value);
         // A positioner's jointtarget (9E+09) or no angle: nothing to move.
-        if degrees.iter().any(|v| !(v.abs() < 1e6)) {
+        if degrees.iter().any(|v| !v.is_finite() || v.abs() >= 1e6) {
             return None;
         }
         let q: Joints = degrees.map(f64::to_radians);

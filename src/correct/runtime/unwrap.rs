@@ -69,8 +69,8 @@ pub fn cold_original(program: &Program, module: &str) -> Result<Vec<Vec<u8>>> {
 fn first_argument(src: &[u8], call: Range<usize>) -> Option<Range<usize>> {
     let open = call.start + src[call.clone()].iter().position(|&b| b == b'(')? + 1;
     let (mut depth, mut in_str) = (0i32, false);
-    for i in open..call.end {
-        match src[i] {
+    for (i, &b) in src.iter().enumerate().take(call.end).skip(open) {
+        match b {
             b'"' => in_str = !in_str,
             _ if in_str => {}
             b'(' | b'[' | b'{' => depth += 1,

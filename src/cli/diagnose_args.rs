@@ -16,7 +16,9 @@ pub(super) fn cold_start(s: &str) -> Result<ColdStart, String> {
 pub struct DiagnoseArgs {
     /// Measurements CSV (`-`: standard input).
     pub data: PathBuf,
-    /// The current model (default: nominal IRB 140 with the base thermal model).
+    /// The current model (default: the embedded default model that
+    /// `rapidtherm model show` prints: the nominal IRB 140, its link
+    /// expansion calibrated to the papers' FEA drift; docs/model.md).
     #[arg(long)]
     pub model: Option<PathBuf>,
     /// Tracker noise, mm per axis (default: estimated from repeated poses;

@@ -76,13 +76,13 @@ pub fn run_man(plan: ManCommand, cli: clap::Command) -> Result<Status> {
     cmd.build();
     let (dir, force) = match plan {
         ManCommand::Print => {
-            write_stdout(&page(&cmd)?)?;
+            write_stdout(&page(&cmd, "")?)?;
             return Ok(Status::Success);
         }
         ManCommand::Pages { dir, force } => (dir, force),
     };
     let mut pages = Vec::new();
-    collect(&cmd, &mut pages)?;
+    collect(&cmd, "", &mut pages)?;
     let mut writes = Plan::new(force);
     let flag = format!("--out-dir {}", dir.display());
     for (name, _) in &pages {
@@ -97,22 +97,29 @@ pub fn run_man(plan: ManCommand, cli: clap::Command) -> Result<Status> {
     Ok(Status::Success)
 }
 
-/// One command's page, in roff.
-fn page(cmd: &clap::Command) -> Result<Vec<u8>> {
+/// One command's page, in roff: clap's sections, then its EXIT STATUS and
+/// EXAMPLES (`path`: the command below `rapidtherm`, empty for the top).
+fn page(cmd: &clap::Command, path: &str) -> Result<Vec<u8>> {
     let mut roff = Vec::new();
     clap_mangen::Man::new(cmd.clone())
         .render(&mut roff)
         .map_err(|e| Error::io(std::path::Path::new("<man page>"), &e))?;
+    roff.extend(super::examples::man_sections(path).into_bytes());
     Ok(roff)
 }
 
 /// The page of `cmd` and of every visible subcommand below it, with their
 /// file names.
-fn collect(cmd: &clap::Command, out: &mut Vec<(String, Vec<u8>)>) -> Result<()> {
+fn collect(cmd: &clap::Command, path: &str, out: &mut Vec<(String, Vec<u8>)>) -> Result<()> {
     let name = cmd.get_display_name().unwrap_or_else(|| cmd.get_name());
-    out.push((format!("{name}.1"), page(cmd)?));
+    out.push((format!("{name}.1"), page(cmd, path)?));
     for sub in cmd.get_subcommands().filter(|s| !s.is_hide_set()) {
-        collect(sub, out)?;
+        let below = if path.is_empty() {
+            sub.get_name().to_string()
+        } else {
+            format!("{path} {}", sub.get_name())
+        };
+        collect(sub, &below, out)?;
     }
     Ok(())
 }

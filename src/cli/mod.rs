@@ -20,6 +20,7 @@ mod diagnose;
 mod diagnose_args;
 mod diagnose_chain;
 mod events;
+mod examples;
 mod format;
 mod gap;
 mod generate;
@@ -96,7 +97,14 @@ pub fn main() -> ExitCode {
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     // Before parsing: clap's own errors and help follow --color too.
     messages::set_color(messages::color_before_parsing(&args));
-    let cli = Cli::parse_from(args);
+    // Every command's help ends with its examples and exit statuses.
+    let cli = match examples::annotate(Cli::command())
+        .try_get_matches_from(args)
+        .and_then(|m| <Cli as clap::FromArgMatches>::from_arg_matches(&m))
+    {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
     // clap sees the conflict only when both flags are on the same side
     // of the subcommand.
     if cli.messages.quiet && cli.messages.verbose > 0 {

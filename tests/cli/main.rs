@@ -9,6 +9,7 @@ mod bare_names;
 mod ci_report;
 mod conventions;
 mod gate;
+mod help_examples;
 mod hostile;
 mod outputs;
 mod plans;

@@ -380,3 +380,52 @@ fn jointtargets_on_quadrant_boundaries_get_the_static_paths_warm_joints() {
         assert!(worst < 1e-3, "{id}: {worst}°");
     }
 }
+
+// Before: hour and minute were separate GetTime reads, so a call across
+// hh:00 read an hour early and the next counted a 60-minute stop. The
+// manual's CTime gives "HH:MM:SS" in one reading, and a date read before
+// and after it tells a midnight between: one moment's day and time.
+#[test]
+fn the_clock_is_read_once_per_update() {
+    let (_, _, _, module) = rewritten(CELL, start());
+    let text = String::from_utf8(module).unwrap();
+    let now = &text[text.find("LOCAL PROC rtNow").unwrap()..];
+    let now = &now[..now.find("ENDPROC").unwrap()];
+    assert!(!text.contains("GetTime"), "no reading in parts");
+    // The time once, the date before and after it; both again only where
+    // midnight came between.
+    let body: Vec<&str> = now.lines().map(str::trim).collect();
+    let at = |s: &str| body.iter().position(|l| *l == s).unwrap_or(usize::MAX);
+    let (d1, t1, check) = (
+        at("date := CDate();"),
+        at("time := CTime();"),
+        at("IF CDate() <> date THEN"),
+    );
+    assert!(d1 < t1 && t1 < check && check != usize::MAX, "{now}");
+    assert_eq!(now.matches("CTime()").count(), 2, "{now}");
+}
+
+// A power failure keeps VAR and PERS data (RAPID overview, Initiating
+// data); whether a running clock counts the time off the manual does not
+// say. The module takes the running clock's time and says so: the
+// operator resets a warm arm after a long power failure.
+#[test]
+fn a_power_failure_keeps_the_state_and_is_said() {
+    let (mut i, _, _, _) = rewritten(CELL, start());
+    touch(&mut i);
+    run_for(&mut i, 60);
+    i.power_fail(30.0);
+    run_for(&mut i, 1);
+    let jumped = i
+        .messages()
+        .iter()
+        .find(|m| m.kind == MessageKind::Warning && m.header == "RtWarm: clock jumped")
+        .unwrap_or_else(|| panic!("{:?}", i.messages()));
+    assert!(
+        jumped.reasons.iter().any(|r| r.contains("power failure")),
+        "{jumped:?}"
+    );
+    i.call_proc("main", &[]).unwrap();
+    let (d, _) = off(&i.moves()[0].targets[0], &static_pose(61.0, WOBJ));
+    assert!(d < 1e-3, "{d} mm");
+}

@@ -151,7 +151,7 @@ const BODY: &str = r#"
       ErrWrite \I, "@N: cold start", "No heating state was kept: the corrections start from a cold arm." \RL2:="@NReset sets the state to a cold arm at any time.";
     ELSEIF rtOn THEN
       IF Abs(wall - dt) > rtJump THEN
-        ErrWrite \W, "@N: clock jumped", "The date and time moved " + NumToStr(wall, 1) + " min in " + NumToStr(dt, 1) + " min of running." \RL2:="The time that passed is taken.";
+        ErrWrite \W, "@N: clock jumped", "The date and time moved " + NumToStr(wall, 1) + " min in " + NumToStr(dt, 1) + " min of running." \RL2:="A clock set, or a power failure: the running clock's time is taken.";
       ENDIF
     ELSEIF wall < 0 THEN
       ErrWrite \W, "@N: clock behind", "The date and time are " + NumToStr(-wall, 1) + " min before the last correction." \RL2:="No time is taken to have passed.";

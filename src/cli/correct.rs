@@ -63,6 +63,9 @@ pub enum AcceptArg {
     Parameter,
     /// Moves to targets declared in none of the files read.
     Undeclared,
+    /// Moves with a tooldata or wobjdata declared PERS without a value
+    /// (another task or module sets it).
+    SetElsewhere,
     /// Moves by an instruction rapidtherm does not know (an option's).
     Instruction,
     /// Moves to a target with another tool or work object than the one it
@@ -79,6 +82,7 @@ impl From<AcceptArg> for Reason {
             AcceptArg::Coordinated => Reason::Coordinated,
             AcceptArg::Parameter => Reason::Parameter,
             AcceptArg::Undeclared => Reason::Undeclared,
+            AcceptArg::SetElsewhere => Reason::SetElsewhere,
             AcceptArg::Instruction => Reason::Instruction,
             AcceptArg::SharedFrames => Reason::SharedFrames,
         }

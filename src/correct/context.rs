@@ -69,6 +69,8 @@ pub(crate) struct Prepared<'a> {
     /// (routine, parameter), lower case: a target moved to with one is
     /// left alone.
     pub unsettled_frames: HashSet<(String, String)>,
+    /// Data the program reaches by name at run time (`GetDataVal`).
+    pub by_name: crate::resolve::ByName,
     pub constants: Constants<'a>,
     /// Every function call of the program by where it starts.
     pub calls: HashMap<usize, &'a FunctionCall>,
@@ -106,6 +108,7 @@ impl<'a> Prepared<'a> {
             unmonitored,
             writes: runtime_writes(program),
             unsettled_frames: crate::resolve::unsettled_frame_parameters(program),
+            by_name: crate::resolve::ByName::of(program),
             constants: Constants::of(program),
             calls: calls_by_offset(program),
             expressions: Expressions::of(program),

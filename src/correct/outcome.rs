@@ -189,6 +189,10 @@ pub enum Reason {
     /// A move's target is declared in none of the files read (another
     /// module of the task).
     Undeclared,
+    /// Moved to with a tooldata or wobjdata declared PERS without a value
+    /// (`PERS wobjdata wConv;`): another task or module sets it at run
+    /// time, so its frames are the run's.
+    SetElsewhere,
     /// Moved to (for all anyone can tell) by an instruction the reader
     /// does not know: an option's (`Search_Groove`), or a procedure of a
     /// module not read. What it does with its targets is unknown.
@@ -214,6 +218,7 @@ impl Reason {
             Reason::NoRobotAxes => "no-robot-axes",
             Reason::Parameter => "parameter",
             Reason::Undeclared => "undeclared",
+            Reason::SetElsewhere => "set-elsewhere",
             Reason::Instruction => "instruction",
             Reason::NotMotionTask => "not-motion-task",
             Reason::SharedFrames => "shared-frames",

@@ -115,6 +115,9 @@ fn left_alone(run: &Run, index: usize, target: &Target) -> Option<LeftAlone> {
         }
     }
     if target.kind != TargetKind::Inline && !run.set.uses.contains(index) {
+        if let Some(why) = run.set.by_name.why(&target.id) {
+            return Some(leave(program, target, Reason::Runtime, why));
+        }
         return Some(leave(
             program,
             target,
@@ -197,6 +200,21 @@ pub(super) fn correct_robtarget<'r>(
             pc
         }
     };
+    // Frames another task or module sets at run time: the run's.
+    let named = match first {
+        Some(f) => [f.tool(), f.wobj()],
+        None => [target.tool.as_deref(), target.wobj.as_deref()],
+    };
+    for (what, name) in ["tooldata", "wobjdata"].into_iter().zip(named) {
+        if let Some(name) = name.filter(|n| frames.set_elsewhere(n)) {
+            return Ok(Solved::LeftAlone(leave(
+                program,
+                target,
+                Reason::SetElsewhere,
+                format!("its {what} `{name}` is PERS data declared without a value: another task or module sets it at run time"),
+            )));
+        }
+    }
     // The names of the first move to it (borrowed from the run), else
     // the target's own.
     let (tool, wobj, tool_name, wobj_name) =

@@ -18,6 +18,10 @@ pub struct Frames {
     /// its tool and work object up (SipHash was 2 % of a correction).
     tools: foldhash::HashMap<String, ToolFrame>,
     wobjs: foldhash::HashMap<String, WobjFrames>,
+    /// Tooldata and wobjdata declared PERS without a value (`PERS
+    /// wobjdata wConv;`), by lower-case name: another task or module sets
+    /// them at run time.
+    elsewhere: foldhash::HashSet<String>,
 }
 
 impl Frames {
@@ -65,7 +69,29 @@ impl Frames {
             })?;
             wobjs.insert(w.name.to_ascii_lowercase(), wobj);
         }
-        Ok(Frames { tools, wobjs })
+        let mut elsewhere = foldhash::HashSet::default();
+        for m in &program.modules {
+            for d in program.module_data(m) {
+                let frame_type = d.type_name.eq_ignore_ascii_case("tooldata")
+                    || d.type_name.eq_ignore_ascii_case("wobjdata");
+                if frame_type && d.storage == rapid::Storage::Pers && !d.has_value() {
+                    elsewhere.insert(d.name.to_ascii_lowercase());
+                }
+            }
+        }
+        Ok(Frames {
+            tools,
+            wobjs,
+            elsewhere,
+        })
+    }
+
+    /// Whether the tooldata or wobjdata `name` is declared PERS without a
+    /// value, and none of the files read gives it one: set elsewhere at
+    /// run time.
+    pub fn set_elsewhere(&self, name: &str) -> bool {
+        let n = name.to_ascii_lowercase();
+        self.elsewhere.contains(&n) && !self.tools.contains_key(&n) && !self.wobjs.contains_key(&n)
     }
 
     /// The same frames for a robot whose base stands at `base` in the

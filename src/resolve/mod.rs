@@ -8,6 +8,7 @@
 //! `robot` and the shared `error`; never `model`, `schedule` or the jobs.
 
 pub mod arm;
+mod by_name;
 mod calls;
 pub mod dataflow;
 mod each_move;
@@ -25,6 +26,7 @@ mod usage;
 mod usages;
 mod uses;
 
+pub use by_name::ByName;
 pub use dataflow::root_name;
 pub use frame_vars::frame_variables;
 pub use frames::{

@@ -19,6 +19,7 @@ mod lanes;
 mod line_ends;
 mod marker;
 mod named;
+mod named_elsewhere;
 mod plot;
 mod robot_types;
 mod runtime;

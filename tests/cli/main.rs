@@ -11,6 +11,7 @@ mod conventions;
 mod gate;
 mod hostile;
 mod outputs;
+mod plain_task_folder;
 mod plans;
 mod pre_commit_hook;
 mod runtime_gate;

@@ -7,6 +7,7 @@ mod announced;
 mod backinfo;
 mod bare_names;
 mod ci_report;
+mod ci_snippets;
 mod conventions;
 mod gate;
 mod hostile;

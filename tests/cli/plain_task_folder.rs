@@ -52,7 +52,9 @@ fn a_task_folder_without_backinfo_or_syspar_is_read_as_its_modules() {
     for named in ["RAPID/TASK1", "RAPID", "."] {
         let o = run(
             at,
-            &["correct", named, "--at", "60", "--check", "--accept", "unused"],
+            &[
+                "correct", named, "--at", "60", "--check", "--accept", "unused",
+            ],
         );
         let said = stderr(&o);
         assert_eq!(o.status.code(), Some(1), "{named}: {said}");
@@ -132,11 +134,7 @@ fn a_folder_with_backinfo_or_syspar_keeps_the_backups_rules() {
                 "the backup has no SYSPAR/MOC.cfg",
             ],
         ),
-        (
-            "syspar",
-            "",
-            &["the backup has no BACKINFO/backinfo.txt"],
-        ),
+        ("syspar", "", &["the backup has no BACKINFO/backinfo.txt"]),
         (
             "BACKINFO",
             "backinfo.txt",

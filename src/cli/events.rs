@@ -21,7 +21,11 @@ impl Host for EventMessages {
                 let files: Vec<String> = files.iter().map(|m| m.display().to_string()).collect();
                 info!("task {task}: reads {}", files.join(", "));
             }
-            Event::Arm { task, arm } => say_arm(task, arm),
+            Event::Arm {
+                task,
+                arm,
+                not_a_backup,
+            } => say_arm(task, arm, not_a_backup),
             Event::Warning(w) => messages::warning_at(w),
             Event::Lane { task, files, tally } => say_lane(task, files, tally),
             Event::ThermalModel {
@@ -92,7 +96,7 @@ fn say_lane(task: &str, files: &[String], tally: &LaneTally) {
 }
 
 /// Which arm a task moves and why, for `-v`.
-pub fn say_arm(task: &str, arm: &TaskArm) {
+pub fn say_arm(task: &str, arm: &TaskArm, not_a_backup: Option<&std::path::Path>) {
     let from = match &arm.urdf {
         Some(file) => format!("from the URDF file {file}"),
         None => "from the catalogue".to_string(),
@@ -116,6 +120,17 @@ pub fn say_arm(task: &str, arm: &TaskArm) {
         "task {task}: arm {} ({}), {from}, {why}",
         arm.robot.name, arm.label
     );
+    // A task folder under `RAPID/` without the backup's configuration is
+    // read as modules (issue 49); a user who copied part of a backup would
+    // otherwise not know that the arm and its place are defaults. Said
+    // only where an arm is taken, and only when nothing named it.
+    if let (ChosenBy::Default, Some(root)) = (&arm.chosen_by, not_a_backup) {
+        note!(
+            "task {task}: read as a task folder, not a controller backup ({} holds neither BACKINFO nor SYSPAR): its arm is the {} at the world origin, by default; another arm: --robot {task}=NAME|FILE.urdf",
+            root.display(),
+            arm.robot.name
+        );
+    }
     if let ChosenBy::RobotTypeVariant {
         robot_type,
         variants,

@@ -90,7 +90,7 @@ pub fn run(cmd: ScheduleCommand) -> Result<Status> {
     check_task_specs(&cmd.specs, std::slice::from_ref(&task))?;
     let arm = arm_for(&task, &cmd.specs)?;
     check_placement(&task, &arm, cmd.placing)?;
-    super::events::say_arm(&task.label(), &arm);
+    super::events::say_arm(&task.label(), &arm, task.not_a_backup.as_deref());
     let opts = EstimateOptions {
         entry: cmd.entry.clone(),
         start_min: cmd.start_min,

@@ -20,6 +20,7 @@ fn task_of_type(robot_type: &str) -> Task {
         base_moved_by: None,
         notes: Vec::new(),
         gaps: Vec::new(),
+        not_a_backup: None,
     }
 }
 

@@ -293,3 +293,31 @@ fn a_folder_with_a_non_ascii_name_is_read_past() {
     let tasks = discover(&[bk]).unwrap();
     assert_eq!(tasks.len(), 3);
 }
+
+/// A folder holding `RAPID/` but neither `BACKINFO/` nor `SYSPAR/` (a
+/// repository of programs) is not a backup missing its parts: its task
+/// folders have no gaps and say which folder was taken for no backup.
+/// With an empty `SYSPAR/` beside, it is a backup, and lacks its files.
+#[test]
+fn rapid_without_backinfo_or_syspar_is_no_backup() {
+    let dir = tempfile::tempdir().unwrap();
+    let progmod = dir.path().join("RAPID/TASK1/PROGMOD");
+    std::fs::create_dir_all(&progmod).unwrap();
+    std::fs::write(progmod.join("m.mod"), "MODULE m\nENDMODULE\n").unwrap();
+    for named in [
+        dir.path().to_path_buf(),
+        dir.path().join("RAPID"),
+        dir.path().join("RAPID/TASK1"),
+    ] {
+        let tasks = discover(std::slice::from_ref(&named)).unwrap();
+        assert_eq!(tasks.len(), 1, "{}", named.display());
+        assert!(tasks[0].gaps.is_empty(), "{:?}", gap_texts(&tasks[0]));
+        assert_eq!(tasks[0].name.as_deref(), Some("TASK1"));
+        assert_eq!(tasks[0].not_a_backup.as_deref(), Some(dir.path()));
+        assert_eq!(file_names(&tasks[0]), ["PROGMOD/m.mod"]);
+    }
+    std::fs::create_dir(dir.path().join("SYSPAR")).unwrap();
+    let tasks = discover(&[dir.path().join("RAPID/TASK1")]).unwrap();
+    assert_eq!(tasks[0].not_a_backup, None);
+    assert_eq!(gap_texts(&tasks[0]).len(), 3, "{:?}", gap_texts(&tasks[0]));
+}

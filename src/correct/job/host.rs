@@ -6,7 +6,7 @@
 use crate::error::Result;
 use crate::rapid::{LaneTally, Warning};
 use crate::resolve::arm::TaskArm;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Something a job has to say, as data.
@@ -16,8 +16,15 @@ pub enum Event<'a> {
     TaskNote(&'a str),
     /// The files a task reads.
     Reads { task: &'a str, files: &'a [PathBuf] },
-    /// The arm a task moves, and what chose it.
-    Arm { task: &'a str, arm: &'a TaskArm },
+    /// The arm a task moves, and what chose it; `not_a_backup`: the
+    /// folder that would have been the task's backup but holds neither
+    /// BACKINFO nor SYSPAR (`Task::not_a_backup`), so that an arm taken by
+    /// default can be said to be no backup's.
+    Arm {
+        task: &'a str,
+        arm: &'a TaskArm,
+        not_a_backup: Option<&'a Path>,
+    },
     /// A remark of the reader on the input, at its place.
     Warning(&'a Warning),
     /// What the parse's fast lane began to read and left to the grammar,

@@ -57,6 +57,7 @@ pub fn checked_arm(
     host.event(Event::Arm {
         task: &task.label(),
         arm: &arm,
+        not_a_backup: task.not_a_backup.as_deref(),
     });
     if plan.model == ModelSource::Default && !arm.is_irb140 && !plan.irb140_thermal {
         let whose = match &task.name {

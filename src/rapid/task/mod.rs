@@ -13,7 +13,11 @@
 //!   folder: every `TASKn` folder. The backup's `BACKINFO/backinfo.txt`
 //!   gives each folder's task name and load order, `SYSPAR/SYS.cfg` which
 //!   tasks move a robot and through which mechanical unit group,
-//!   `SYSPAR/MOC.cfg` which robot type that group's robot is;
+//!   `SYSPAR/MOC.cfg` which robot type that group's robot is. A folder is
+//!   a backup only when it holds `BACKINFO/` or `SYSPAR/`: a repository
+//!   that keeps just `RAPID/TASK1` (as cell engineers version their
+//!   programs) has no configuration to miss, and its task folders are read
+//!   as folders of modules ([`Task::not_a_backup`] says where);
 //! - any other folder: the RAPID modules in it (or the program file, if it
 //!   holds exactly one).
 //!
@@ -61,6 +65,12 @@ pub struct Task {
     /// What a backup's configuration should have said of this task's robot
     /// and did not (empty for tasks not read from a backup).
     pub gaps: Vec<Gap>,
+    /// The folder that would be this task's controller backup (it holds
+    /// `RAPID/`) but holds neither `BACKINFO/` nor `SYSPAR/`: the task was
+    /// read as a folder of modules, and no configuration says which robot
+    /// it moves or where that robot stands. `None` for a task of a backup
+    /// and for folders no backup was looked for in.
+    pub not_a_backup: Option<PathBuf>,
 }
 
 impl Task {
@@ -75,6 +85,7 @@ impl Task {
             base_moved_by: None,
             notes: Vec::new(),
             gaps: Vec::new(),
+            not_a_backup: None,
         }
     }
 
@@ -175,6 +186,9 @@ fn program_file(path: &Path) -> Result<Task> {
 #[derive(Default)]
 struct Backup {
     root: PathBuf,
+    /// `root` holds `RAPID/` but neither `BACKINFO/` nor `SYSPAR/`: not a
+    /// backup, and nothing of one is missing.
+    plain: bool,
     tasks: Option<Vec<BackTask>>,
     sys: Option<Cfg>,
     moc: Option<Cfg>,
@@ -186,11 +200,21 @@ impl Backup {
     /// The backup whose root is `root` (a folder holding `RAPID/`). A part
     /// it lacks is a gap of every task, not an error: a backup copied by
     /// hand still lists its targets; what needs the placement refuses.
+    ///
+    /// A folder with neither `BACKINFO/` nor `SYSPAR/` is no backup (a
+    /// repository of programs keeps `RAPID/TASK1` alone): read plain, with
+    /// no gaps. A backup needs only one of the two to keep the rules, so
+    /// one cut short still has its gaps named.
     fn read(root: &Path) -> Result<Backup> {
         let mut backup = Backup {
             root: root.to_path_buf(),
             ..Backup::default()
         };
+        let is_dir = |part: &str| find_ci(root, part).is_some_and(|p| p.is_dir());
+        if !is_dir("BACKINFO") && !is_dir("SYSPAR") {
+            backup.plain = true;
+            return Ok(backup);
+        }
         let mut text = |part: BackupPart| -> Result<Option<(PathBuf, String)>> {
             match find_ci(root, part.path()) {
                 Some(p) if p.is_file() => {
@@ -632,6 +656,13 @@ fn task_folder(dir: &Path, backup: &Backup) -> Result<Task> {
         base_moved_by: placed.base_moved_by,
         notes,
         gaps: placed.gaps,
+        not_a_backup: backup.plain.then(|| {
+            if backup.root.as_os_str().is_empty() {
+                PathBuf::from(".")
+            } else {
+                backup.root.clone()
+            }
+        }),
     })
 }
 
@@ -661,7 +692,14 @@ fn find_ci(dir: &Path, rel: &str) -> Option<PathBuf> {
             here = exact;
             continue;
         }
-        let found = std::fs::read_dir(&here).ok()?.find_map(|e| {
+        // The empty path (the parent of a relative `RAPID`) is the
+        // current folder, which `read_dir` does not take by that name.
+        let listed = if here.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            here.as_path()
+        };
+        let found = std::fs::read_dir(listed).ok()?.find_map(|e| {
             let e = e.ok()?;
             e.file_name()
                 .to_string_lossy()

@@ -13,10 +13,10 @@ use rapidtherm::model::warm::{Moment, WarmRobot};
 use rapidtherm::model::Model;
 use rapidtherm::robot::Robot;
 
-/// `program` (with `TOOL`, `WOBJ` and the camera's `PA` filled in)
+/// `program` (with `TOOL`, `WOBJ` and the camera's target `PA` filled in)
 /// rewritten by `correct --runtime`, and the module it wrote: loaded,
 /// the clock at `start`, and the run's report.
-fn rewritten(program: &str, start: Clock) -> (Interp, String, String, Vec<u8>) {
+pub(super) fn rewritten(program: &str, start: Clock) -> (Interp, String, String, Vec<u8>) {
     let (trans, rot, conf) = camera();
     let text = program
         .replace("TOOL", TOOL)

@@ -69,18 +69,8 @@ ENDMODULE\r
 
 #[test]
 fn run_time_targets_are_corrected_as_the_static_path_corrects_their_numbers() {
-    let dir = tempfile::tempdir().unwrap();
-    let cell = CELL.replace("TOOL", TOOL).replace("WOBJ", WOBJ);
-    std::fs::write(dir.path().join("cell.mod"), &cell).unwrap();
-    std::fs::create_dir(dir.path().join("warm")).unwrap();
-    let out = super::rapidtherm(
-        &["correct", "cell.mod", "--runtime", "-o", "warm/cell.mod"],
-        dir.path(),
-    );
-    super::assert_exit(&out, 0);
-    let rewritten = std::fs::read(dir.path().join("warm/cell.mod")).unwrap();
-    let module = std::fs::read(dir.path().join("warm/RtWarm.sys")).unwrap();
-    let text = String::from_utf8_lossy(&rewritten);
+    let (mut i, text, _, _) =
+        super::interp_rules::rewritten(CELL, Clock::at(2026, 11, 27, 6, 0, 0));
     assert!(
         text.contains("MoveL RtWarm(p, tGrip \\WObj:=wConv)"),
         "{text}"
@@ -90,12 +80,6 @@ fn run_time_targets_are_corrected_as_the_static_path_corrects_their_numbers() {
     // What the camera saw, and the offsets it measured.
     let (trans, rot, conf) = camera();
     let (dx, dy) = (12.5, -7.25);
-    let mut i = Interp::load(
-        &[("RtWarm.sys", &module), ("cell.mod", &rewritten)],
-        Kinematics::new(Robot::irb140()),
-    )
-    .unwrap();
-    i.set_clock(Clock::at(2026, 11, 27, 6, 0, 0));
     // A move a minute for an hour: each call brings the state to now.
     super::interp::touch(&mut i);
     for _ in 0..60 {

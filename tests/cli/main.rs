@@ -15,6 +15,7 @@ mod hostile;
 mod outputs;
 mod plain_task_folder;
 mod plans;
+mod readme_tour;
 mod pre_commit_hook;
 mod runtime_gate;
 mod transcripts;

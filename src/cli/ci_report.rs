@@ -284,8 +284,10 @@ fn check_cases(outcome: &Outcome, rule: &CheckRule, counts: &mut [usize; 3]) -> 
     // moves' targets still pass the check: a passing case each, at the
     // move, so that the report counts what was checked (not tests="0").
     if outcome.already_corrected.is_some() {
-        let mut seen: HashSet<(String, String)> =
-            cases.iter().map(|c| (c.name.clone(), c.file.clone())).collect();
+        let mut seen: HashSet<(String, String)> = cases
+            .iter()
+            .map(|c| (c.name.clone(), c.file.clone()))
+            .collect();
         for m in &outcome.moves {
             if seen.insert((m.target.clone(), m.file.clone())) {
                 cases.push(Case {

@@ -63,7 +63,10 @@ fn hostname() -> String {
 /// suites' times add up to it.
 pub fn write(gate: &str, suites: &[Suite]) -> Result<String> {
     start_clock();
-    let (started, at) = START.get().copied().unwrap_or((Instant::now(), SystemTime::now()));
+    let (started, at) = START
+        .get()
+        .copied()
+        .unwrap_or((Instant::now(), SystemTime::now()));
     let elapsed = format!("{:.3}", started.elapsed().as_secs_f64());
     let stamp = timestamp(at);
     let host = xml_safe(&hostname());

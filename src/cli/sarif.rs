@@ -14,11 +14,17 @@ const SCHEMA: &str = "https://json.schemastore.org/sarif-2.1.0.json";
 /// What each kind of finding means, for the rule's short description.
 fn rule_words(kind: &str) -> String {
     match kind {
-        "moves" => "a target would move more than the tolerance if the program were corrected now".into(),
-        "moved" => "a target moved more than the gate, or its robconf or external axes changed".into(),
+        "moves" => {
+            "a target would move more than the tolerance if the program were corrected now".into()
+        }
+        "moved" => {
+            "a target moved more than the gate, or its robconf or external axes changed".into()
+        }
         "only-in-one" => "a target (or task) is in one program only".into(),
         "nothing-compared" => "the two programs have no target in common".into(),
-        "shared-frames" => "a target is moved to with another tool or work object than it is corrected for".into(),
+        "shared-frames" => {
+            "a target is moved to with another tool or work object than it is corrected for".into()
+        }
         reason => format!("a target is left cold: {reason} (docs/correct.md)"),
     }
 }

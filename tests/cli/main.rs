@@ -10,6 +10,7 @@ mod ci_report;
 mod conventions;
 mod gate;
 mod hostile;
+mod json_schemas;
 mod outputs;
 mod plans;
 mod pre_commit_hook;

@@ -214,7 +214,7 @@ mod tests {
             "correction_mm": [-0.06999999999999318, 0.1234567891],
             "temps_c": [16.582051100763938],
             "dangle_deg": 6.708982531212105e-16,
-            "original": [99.95059336324971, 0.0, 0.0, 0.70710678118654757, 0.0, 0.0, 0.7071067811865476],
+            "original": [99.95059336324971, 0.0, 0.0, 0.1234567894999, 0.0, 0.0, 0.99],
             "tau_min": 12.041999999999,
             "nested": [{"x_mm": -1e-9}],
             "extax": [9e9],
@@ -229,7 +229,7 @@ mod tests {
         assert_eq!(back["nested"][0]["x_mm"].to_string(), "0.0");
         // A pose: millimetres, then a quaternion.
         assert_eq!(back["original"][0], 99.950593);
-        assert_eq!(back["original"][3], 0.707106781);
+        assert_eq!(back["original"][3], 0.123456789);
         // Minutes are not a unit rounded here.
         assert_eq!(back["tau_min"], 12.041999999999);
         assert_eq!(back["extax"][0], 9e9);

@@ -2,7 +2,7 @@
 //! task, a `<testcase>` per target (per file for a task of a backup), a
 //! `<failure>` where it fails the gate. Valid under the Apache Ant JUnit
 //! schema that Jenkins, GitLab and most readers follow
-//! (`tests/data/ant-junit.xsd`, docs/ci.md): every suite has its
+//! (`tests/data/ant-junit/JUnit.xsd`, docs/ci.md): every suite has its
 //! timestamp, host name, time, properties, system-out and system-err, and
 //! every case its time.
 

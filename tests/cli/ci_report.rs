@@ -2,7 +2,7 @@
 //! --check` and `diff --fail-above`): every GitHub line parses as a
 //! workflow command and says what it should, file names and messages
 //! escaped; every JUnit report is valid under the Apache Ant JUnit schema,
-//! `tests/data/ant-junit.xsd` (read and applied by `tests/junit/xsd.rs`:
+//! `tests/data/ant-junit/JUnit.xsd` (read and applied by `tests/junit/xsd.rs`:
 //! no system tool needed) and its counts add up; every SARIF log has the
 //! fields SARIF 2.1.0 requires.
 
@@ -263,7 +263,7 @@ fn validate(xml: &str) -> Result<(), String> {
         .validate(xml)
 }
 
-const SCHEMA: &str = "tests/data/ant-junit.xsd";
+const SCHEMA: &str = "tests/data/ant-junit/JUnit.xsd";
 
 /// Counts of one element as its attributes say and as its children are.
 #[derive(Debug, Default, PartialEq)]

@@ -1,5 +1,5 @@
 //! A validator for the XML Schema subset that the Apache Ant JUnit schema
-//! (`tests/data/ant-junit.xsd`) is written in, so that the JUnit reports
+//! (`tests/data/ant-junit/JUnit.xsd`) is written in, so that the JUnit reports
 //! are checked against the schema file itself with nothing but Rust (no
 //! xmllint on the machine, no validator crate in the registry offline).
 //!

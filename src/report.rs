@@ -4,6 +4,8 @@
 //! A foundation: imports nothing of the library. Which format a run prints
 //! is the CLI's choice.
 
+pub mod json;
+
 /// Column alignment in the table format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Align {

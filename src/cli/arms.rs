@@ -3,7 +3,7 @@
 
 use super::messages::info;
 use super::{write_stdout, Format, Status};
-use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::error::{Error, Result};
 use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::resolve::arm::{names_a_file, ArmSource, ArmSpec, Placing};
 use rapidtherm::robot::abb::{self, AbbArm};
@@ -186,12 +186,7 @@ pub fn run_arms(cmd: ArmsCommand) -> Result<Status> {
             render_table(&header, &[Left, Right, Right, Left, Left, Left], &rows)
         }
         Format::Csv => render_csv(&header, &rows),
-        Format::Json => {
-            let mut s = serde_json::to_string_pretty(arms)
-                .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write JSON: {e}")))?;
-            s.push('\n');
-            s
-        }
+        Format::Json => rapidtherm::report::json::rows("arms", "arms", arms)?,
     };
     write_stdout(text.as_bytes())?;
     Ok(Status::Success)

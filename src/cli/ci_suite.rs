@@ -36,5 +36,8 @@ pub struct Case {
 pub struct Suite {
     pub name: String,
     pub properties: Vec<(String, String)>,
+    /// A task of a backup (or a task folder): JUnit writes a test case per
+    /// file, not per target (a backup has tens of thousands of targets).
+    pub per_file: bool,
     pub cases: Vec<Case>,
 }

@@ -189,7 +189,7 @@ pub fn run(cmd: DiffCommand) -> Result<Status> {
         }
     }
     let text = match cmd.format.data() {
-        Some(format) => tasks::join(format, Some(&labels), texts, "diff", &[])?,
+        Some(format) => tasks::join(format, Some(&labels), texts, &[])?,
         None => {
             let (na, nb) = (cmd.a.display().to_string(), cmd.b.display().to_string());
             let pairs: Vec<Compared> = labels
@@ -311,9 +311,7 @@ fn render_diff(d: &Diff, format: Format) -> Result<String> {
         })
         .collect();
     Ok(match format {
-        Format::Json => {
-            serde_json::to_string_pretty(d).map_err(|e| Error::input(e.to_string()))? + "\n"
-        }
+        Format::Json => rapidtherm::report::json::document("diff", d)?,
         Format::Csv => render_csv(&header, &rows),
         Format::Table => {
             let mut align = vec![Align::Left, Align::Left];

@@ -552,7 +552,6 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Res
                     &findings,
                     Format::Table,
                     named,
-                    "findings",
                     check_list,
                 )?);
                 messages::lines(&verdict(rule));
@@ -567,7 +566,7 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Res
         Action::Check(rule) => {
             messages::lines(&summaries());
             let list = match format.data() {
-                Some(format) => per_task(runs, &findings, format, named, "findings", check_list)?,
+                Some(format) => per_task(runs, &findings, format, named, check_list)?,
                 None => {
                     let checked: Vec<ci_report::CheckedTask> = runs
                         .iter()
@@ -597,7 +596,7 @@ fn emit(plan: &CorrectPlan, format: ReportFormat, runs: &[CorrectedTask]) -> Res
             let format = format.data().unwrap_or_default();
             let outcomes: Vec<&Outcome> = runs.iter().map(|r| &r.outcome).collect();
             write_stdout(
-                per_task(runs, &outcomes, format, named, "report", |o, f| {
+                per_task(runs, &outcomes, format, named, |o, f| {
                     super::correct_report::report(o, f)
                 })?
                 .as_bytes(),
@@ -624,7 +623,6 @@ fn per_task<T>(
     items: &[T],
     format: Format,
     named: bool,
-    key: &str,
     render: impl Fn(&T, Format) -> Result<String>,
 ) -> Result<String> {
     let texts = items
@@ -642,13 +640,7 @@ fn per_task<T>(
         Format::Table => &labels_shown,
         _ => &labels,
     };
-    tasks::join(
-        format,
-        named.then_some(shown.as_slice()),
-        texts,
-        key,
-        &extra,
-    )
+    tasks::join(format, named.then_some(shown.as_slice()), texts, &extra)
 }
 
 /// One line of `--check`'s list, as its table, CSV and JSON show it.
@@ -660,6 +652,8 @@ struct Row {
     line: u32,
     col: u32,
     status: FindingStatus,
+    /// The length of the correction (a vector in `correct`'s JSON).
+    #[serde(rename = "correction_norm_mm")]
     correction_mm: Option<f64>,
     /// For `other-use`: how far off the TCP lands there (`None` in JSON
     /// where only the run time knows).
@@ -729,9 +723,7 @@ fn check_list(findings: &Vec<Row>, format: Format) -> Result<String> {
         })
         .collect();
     Ok(match format {
-        Format::Json => {
-            serde_json::to_string_pretty(findings).map_err(|e| Error::input(e.to_string()))? + "\n"
-        }
+        Format::Json => rapidtherm::report::json::rows("correct-check", "findings", findings)?,
         Format::Csv => render_csv(&header, &rows),
         Format::Table if rows.is_empty() => String::new(),
         Format::Table => {

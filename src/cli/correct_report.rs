@@ -6,7 +6,7 @@
 use super::correct_words::{reason_words, shared_words};
 use super::Format;
 use rapidtherm::correct::{Frame, Outcome};
-use rapidtherm::error::{Error, Result};
+use rapidtherm::error::Result;
 use rapidtherm::report::{mm, render_csv, render_table, Align};
 
 /// The report's columns. The table's names carry their units; CSV keeps
@@ -62,9 +62,7 @@ pub fn report(outcome: &Outcome, format: Format) -> Result<String> {
             .map_or("steady".to_string(), |t| format!("{t:.2}"))
     };
     Ok(match format {
-        Format::Json => {
-            serde_json::to_string_pretty(outcome).map_err(|e| Error::input(e.to_string()))? + "\n"
-        }
+        Format::Json => rapidtherm::report::json::document("correct", outcome)?,
         Format::Csv => {
             let rows: Vec<Vec<String>> = outcome
                 .corrections

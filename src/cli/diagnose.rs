@@ -11,7 +11,7 @@ use rapidtherm::diagnose::plan::{DiagnosePlan, Refused, RobotChoice, Which};
 use rapidtherm::diagnose::prose::{self, Remedies};
 use rapidtherm::diagnose::unidentified::Unidentified;
 use rapidtherm::diagnose::{self, Diagnosis, RegisterFailure, ScoredIn};
-use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::error::{Error, Result};
 use rapidtherm::model::Model;
 use rapidtherm::report::{render_csv, render_table, Align};
 use rapidtherm::writes::{Checked, Made, Plan, Role};
@@ -303,10 +303,8 @@ pub fn run(cmd: DiagnoseCommand) -> Result<Status> {
     let arm = &run.setup.arm;
     let text = match cmd.format {
         Format::Json => {
-            let json_err = |e: serde_json::Error| {
-                Error::new(ErrorKind::Input, format!("cannot write JSON: {e}"))
-            };
-            let v = if let Some(from) = own {
+            use rapidtherm::report::json::document;
+            if let Some(from) = own {
                 // Flattened so the diagnosis keeps its field order.
                 #[derive(serde::Serialize)]
                 struct WithRobot<'a> {
@@ -314,15 +312,16 @@ pub fn run(cmd: DiagnoseCommand) -> Result<Status> {
                     #[serde(flatten)]
                     diagnosis: WithWords<'a>,
                 }
-                serde_json::to_string_pretty(&WithRobot {
-                    robot: robot_json(arm, from),
-                    diagnosis: WithWords::of(d),
-                })
-                .map_err(json_err)?
+                document(
+                    "diagnose",
+                    &WithRobot {
+                        robot: robot_json(arm, from),
+                        diagnosis: WithWords::of(d),
+                    },
+                )?
             } else {
-                serde_json::to_string_pretty(&WithWords::of(d)).map_err(json_err)?
-            };
-            format!("{v}\n")
+                document("diagnose", &WithWords::of(d))?
+            }
         }
         Format::Csv => candidate_csv(d),
         Format::Table => {

@@ -6,17 +6,13 @@ use super::diagnose_args::parameter_table;
 use super::Format;
 use rapidtherm::diagnose::chain_calib::{Dropped, Unidentified};
 use rapidtherm::diagnose::chain_diagnose::ChainDiagnosis;
-use rapidtherm::error::{Error, ErrorKind, Result};
+use rapidtherm::error::Result;
 use rapidtherm::report::{render_csv, render_table, Align};
 
 /// The general chain's calibration report, in the format asked for.
 pub fn render(format: Format, d: &ChainDiagnosis) -> Result<String> {
     Ok(match format {
-        Format::Json => {
-            let v = serde_json::to_string_pretty(d)
-                .map_err(|e| Error::new(ErrorKind::Input, format!("cannot write JSON: {e}")))?;
-            format!("{v}\n")
-        }
+        Format::Json => rapidtherm::report::json::document("diagnose-chain", d)?,
         Format::Csv => render_csv(
             &[
                 "stage",

@@ -116,7 +116,7 @@ fn render(format: Format, g: &GapStats, prepared: &Prepared) -> String {
             if let Some(r) = &prepared.registration {
                 v["registration"] = serde_json::to_value(r).unwrap_or_default();
             }
-            format!("{v}\n")
+            rapidtherm::report::json::document("gap", &v).unwrap_or_default()
         }
         Format::Csv => render_csv(
             &["rms_mm", "max_mm", "n"],

@@ -356,9 +356,7 @@ fn run_eval(a: EvalCommand) -> Result<Status> {
             for &t in &a.at {
                 out.push(serde_json::json!({"time_min": t, "temps_c": profile.temps_at(t)?}));
             }
-            let mut s = serde_json::to_string_pretty(&out).unwrap_or_default();
-            s.push('\n');
-            s
+            rapidtherm::report::json::rows("heating-eval", "rows", &out)?
         }
     };
     write_stdout(text.as_bytes())?;

@@ -138,19 +138,6 @@ fn deg(v: f64) -> String {
     mm(v, 4)
 }
 
-/// A number for JSON, rounded far below any physical meaning (1e-9 mm,
-/// 1e-9°, 1e-12 in a quaternion) so that libm's last bits do not reach the
-/// output; −0 printed as 0.
-fn round(v: f64, decimals: i32) -> f64 {
-    let f = 10f64.powi(decimals);
-    let r = (v * f).round() / f;
-    if r == 0.0 {
-        0.0
-    } else {
-        r
-    }
-}
-
 /// Largest joint angle `fk` takes, degrees: beyond any arm's travel (an
 /// independent axis 6 turns a few hundred times at most), so a larger
 /// number is a typing or unit mistake, and its robconf (quarter turns)
@@ -201,11 +188,11 @@ pub fn run_fk(cmd: FkCommand) -> Result<Status> {
                     let (t, r) = pose_to_rapid(pose);
                     json!({
                         "model": model,
-                        "x_mm": round(t[0], 9),
-                        "y_mm": round(t[1], 9),
-                        "z_mm": round(t[2], 9),
-                        "q": r.map(|v| round(v, 12)),
-                        "euler_zyx_deg": euler_zyx_deg(&pose.rotation).map(|v| round(v, 9)),
+                        "x_mm": t[0],
+                        "y_mm": t[1],
+                        "z_mm": t[2],
+                        "q": r,
+                        "euler_zyx_deg": euler_zyx_deg(&pose.rotation),
                     })
                 })
                 .collect();
@@ -216,7 +203,7 @@ pub fn run_fk(cmd: FkCommand) -> Result<Status> {
                 "frame": Frame::BaseFlange.code(),
                 "poses": poses,
             });
-            format!("{v:#}\n")
+            rapidtherm::report::json::document("fk", &v)?
         }
         format => {
             let header = [
@@ -324,7 +311,7 @@ pub fn run_ik(cmd: IkCommand) -> Result<Status> {
                 .iter()
                 .map(|(q, c)| {
                     json!({
-                        "joints_deg": q.map(|v| round(v.to_degrees(), 9)),
+                        "joints_deg": q.map(|v| v.to_degrees()),
                         "robconf": [c.cf1, c.cf4, c.cf6, c.cfx],
                     })
                 })
@@ -332,13 +319,13 @@ pub fn run_ik(cmd: IkCommand) -> Result<Status> {
             let (t, r) = pose_to_rapid(&pose);
             let asked = json!({
                 "frame": Frame::BaseFlange.code(),
-                "x_mm": round(t[0], 9),
-                "y_mm": round(t[1], 9),
-                "z_mm": round(t[2], 9),
-                "q": r.map(|v| round(v, 12)),
-                "euler_zyx_deg": euler_zyx_deg(&pose.rotation).map(|v| round(v, 9)),
+                "x_mm": t[0],
+                "y_mm": t[1],
+                "z_mm": t[2],
+                "q": r,
+                "euler_zyx_deg": euler_zyx_deg(&pose.rotation),
             });
-            format!("{:#}\n", json!({ "pose": asked, "solutions": list }))
+            rapidtherm::report::json::document("ik", &json!({ "pose": asked, "solutions": list }))?
         }
         format => {
             let header = ["j1", "j2", "j3", "j4", "j5", "j6", "robconf"];

@@ -32,6 +32,7 @@ mod messages;
 mod model;
 mod output;
 mod plot;
+mod sarif;
 mod schedule;
 mod simulate;
 mod targets;
@@ -94,6 +95,7 @@ enum Command {
 }
 
 pub fn main() -> ExitCode {
+    junit::start_clock();
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     // Before parsing: clap's own errors and help follow --color too.
     messages::set_color(messages::color_before_parsing(&args));

@@ -89,11 +89,7 @@ pub fn run(cmd: TargetsCommand) -> Result<Status> {
             Listed::Robtargets => listing(format, inputs.len() > 1, &prog),
         });
     }
-    let key = match cmd.listed {
-        Listed::Jointtargets => "jointtargets",
-        Listed::Robtargets => "targets",
-    };
-    let out = super::tasks::join(cmd.format, labels.as_deref(), texts, key, &[])?;
+    let out = super::tasks::join(cmd.format, labels.as_deref(), texts, &[])?;
     write_stdout(out.as_bytes())?;
     Ok(Status::Success)
 }

@@ -72,13 +72,13 @@ pub fn read(task: &Task) -> Result<(Inputs, Program)> {
 
 /// Renderings of several tasks as one output: as it is when `labels` is
 /// `None` (files given one by one: one unnamed task); otherwise a heading
-/// before each table, a leading `task` column in CSV, and a JSON array of
-/// `{"task": …, key: …}` (plus `extra` fields per task).
+/// before each table, a leading `task` column in CSV, and in JSON one
+/// document whose `tasks` are `{"task": …, <the task's own fields>}`
+/// (plus `extra` fields per task).
 pub fn join(
     format: super::Format,
     labels: Option<&[String]>,
     texts: Vec<String>,
-    key: &str,
     extra: &[Vec<(&str, String)>],
 ) -> Result<String> {
     let Some(labels) = labels else {
@@ -112,20 +112,36 @@ pub fn join(
             }
         }
         super::Format::Json => {
+            // Each task's document (`{"schema": …, fields}`) becomes an
+            // entry of `tasks`, its fields beside the task's name, under
+            // the one schema of the command.
             let mut all = Vec::new();
+            let mut schema = None;
             for (k, (label, text)) in labels.iter().zip(&texts).enumerate() {
                 let value: serde_json::Value =
                     serde_json::from_str(text).map_err(|e| Error::input(e.to_string()))?;
+                let serde_json::Value::Object(mut fields) = value else {
+                    return Err(Error::input(format!(
+                        "the JSON of task {label} is no object"
+                    )));
+                };
+                let command = fields
+                    .remove("schema")
+                    .and_then(|s| s.as_str().map(str::to_string));
                 let mut entry = serde_json::Map::new();
                 entry.insert("task".into(), label.clone().into());
                 for (name, v) in extra.get(k).into_iter().flatten() {
                     entry.insert((*name).into(), v.clone().into());
                 }
-                entry.insert(key.into(), value);
+                entry.append(&mut fields);
                 all.push(serde_json::Value::Object(entry));
+                schema = schema.or(command);
             }
-            out =
-                serde_json::to_string_pretty(&all).map_err(|e| Error::input(e.to_string()))? + "\n";
+            let doc = serde_json::json!({
+                "schema": schema.unwrap_or_default(),
+                "tasks": all,
+            });
+            out = rapidtherm::report::json::to_string(&doc)? + "\n";
         }
     }
     Ok(out)

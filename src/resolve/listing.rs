@@ -386,7 +386,7 @@ impl Lister<'_> {
             }
             ListingPart::Json { out, items } => {
                 let item = json_item(prog, t, uses);
-                let text = serde_json::to_string_pretty(&item).unwrap_or_default();
+                let text = crate::report::json::to_string(&item).unwrap_or_default();
                 if *items > 0 {
                     out.extend_from_slice(b",\n");
                 }
@@ -394,7 +394,7 @@ impl Lister<'_> {
                     if k > 0 {
                         out.push(b'\n');
                     }
-                    out.extend_from_slice(b"  ");
+                    out.extend_from_slice(b"    ");
                     out.extend_from_slice(line.as_bytes());
                 }
                 *items += 1;
@@ -449,12 +449,23 @@ impl Lister<'_> {
                         if items == 0 {
                             continue;
                         }
-                        out.write_all(if first { b"[\n" } else { b",\n" })?;
+                        if first {
+                            let schema = crate::report::json::schema_name("targets");
+                            write!(out, "{{\n  \"schema\": \"{schema}\",\n  \"targets\": [\n")?;
+                        } else {
+                            out.write_all(b",\n")?;
+                        }
                         out.write_all(&text)?;
                         first = false;
                     }
                 }
-                out.write_all(if first { b"[]\n" } else { b"\n]\n" })?;
+                if first {
+                    let empty: [u8; 0] = [];
+                    let doc = crate::report::json::rows("targets", "targets", &empty[..]);
+                    out.write_all(doc.unwrap_or_default().as_bytes())?;
+                } else {
+                    out.write_all(b"\n  ]\n}\n")?;
+                }
             }
         }
         Ok(())
@@ -612,9 +623,7 @@ pub fn joints(prog: &Program, format: ListFormat) -> String {
                     })
                 })
                 .collect();
-            let mut s = serde_json::to_string_pretty(&items).unwrap_or_default();
-            s.push('\n');
-            s
+            crate::report::json::rows("targets-joints", "jointtargets", &items).unwrap_or_default()
         }
     }
 }

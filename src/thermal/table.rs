@@ -173,7 +173,8 @@ fn metrics_json(m: &Metrics) -> Value {
     })
 }
 
-/// Full results as JSON (numbers at full precision).
+/// Full results as JSON (`rapidtherm.heating-fit/1`): temperatures to
+/// 1e-3 °C, the rest at full precision (`report::json`).
 pub fn render_fits_json(file: &str, rows: usize, fits: &[AxisFit]) -> String {
     let fits: Vec<Value> = fits
         .iter()
@@ -226,9 +227,7 @@ pub fn render_fits_json(file: &str, rows: usize, fits: &[AxisFit]) -> String {
         "coefficients_order": "constant first, in minutes (x); scaled: s = (2x - t_lo - t_hi)/(t_hi - t_lo)",
         "fits": fits,
     });
-    let mut s = serde_json::to_string_pretty(&doc).unwrap_or_default();
-    s.push('\n');
-    s
+    crate::report::json::document("heating-fit", &doc).unwrap_or_default()
 }
 
 #[cfg(test)]

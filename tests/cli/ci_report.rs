@@ -1,9 +1,10 @@
 //! The CI reports of the two gates (`--format github|junit` of `correct
 //! --check` and `diff --fail-above`): every GitHub line parses as a
 //! workflow command and says what it should, file names and messages
-//! escaped; every JUnit report is valid under `tests/junit/junit.xsd`
-//! (read and applied by `tests/junit/xsd.rs`: no system tool needed) and
-//! its counts add up.
+//! escaped; every JUnit report is valid under the Apache Ant JUnit schema,
+//! `tests/data/ant-junit/JUnit.xsd` (read and applied by `tests/junit/xsd.rs`:
+//! no system tool needed) and its counts add up; every SARIF log has the
+//! fields SARIF 2.1.0 requires.
 
 #[path = "../junit/xsd.rs"]
 mod xsd;
@@ -262,7 +263,7 @@ fn validate(xml: &str) -> Result<(), String> {
         .validate(xml)
 }
 
-const SCHEMA: &str = "tests/junit/junit.xsd";
+const SCHEMA: &str = "tests/data/ant-junit/JUnit.xsd";
 
 /// Counts of one element as its attributes say and as its children are.
 #[derive(Debug, Default, PartialEq)]
@@ -272,8 +273,8 @@ struct Counts {
     skipped: usize,
 }
 
-/// The counts of each `<testsuite>` and of `<testsuites>` (skipped
-/// not counted there): said, and found.
+/// The counts of each `<testsuite>` and their sums (the Ant schema's
+/// `<testsuites>` has none of its own): said, and found.
 fn counts(xml: &str) -> Vec<(Counts, Counts)> {
     let mut reader = Reader::from_str(xml);
     let mut out = Vec::new();
@@ -286,21 +287,18 @@ fn counts(xml: &str) -> Vec<(Counts, Counts)> {
     loop {
         match reader.read_event().unwrap() {
             Event::Start(e) | Event::Empty(e) => match e.name().as_ref() {
-                b"testsuites" => {
-                    total.0 = Counts {
-                        tests: attr(&e, "tests"),
-                        failures: attr(&e, "failures"),
-                        skipped: 0,
-                    }
+                b"testsuite" => {
+                    total.0.tests += attr(&e, "tests");
+                    total.0.failures += attr(&e, "failures");
+                    out.push((
+                        Counts {
+                            tests: attr(&e, "tests"),
+                            failures: attr(&e, "failures"),
+                            skipped: attr(&e, "skipped"),
+                        },
+                        Counts::default(),
+                    ))
                 }
-                b"testsuite" => out.push((
-                    Counts {
-                        tests: attr(&e, "tests"),
-                        failures: attr(&e, "failures"),
-                        skipped: attr(&e, "skipped"),
-                    },
-                    Counts::default(),
-                )),
                 b"testcase" => {
                     out.last_mut().unwrap().1.tests += 1;
                     total.1.tests += 1;
@@ -309,13 +307,20 @@ fn counts(xml: &str) -> Vec<(Counts, Counts)> {
                     out.last_mut().unwrap().1.failures += 1;
                     total.1.failures += 1;
                 }
-                b"skipped" => out.last_mut().unwrap().1.skipped += 1,
+                b"skipped" => {
+                    out.last_mut().unwrap().1.skipped += 1;
+                    total.1.skipped += 1;
+                }
                 _ => {}
             },
             Event::Eof => break,
             _ => {}
         }
     }
+    total.0.skipped = total
+        .1
+        .skipped
+        .min(out.iter().map(|(s, _)| s.skipped).sum());
     out.push(total);
     out
 }
@@ -373,8 +378,10 @@ fn junit_reports_are_valid_and_add_up() {
                 "120",
                 "--check",
             ],
+            // A case per file in a backup: T_ROB2's three targets that
+            // move are in its one module.
             1,
-            3,
+            1,
         ),
         (
             &[
@@ -432,17 +439,35 @@ fn the_schema_bites() {
         "junit",
     ]);
     assert!(validate(&r.stdout).is_ok());
-    // A failure that does not say why, and a suite without its counts.
-    let broken = r.stdout.replacen(" type=\"moves\"", "", 1);
-    assert!(validate(&broken).is_err());
-    let broken = r.stdout.replacen(" skipped=\"0\"", "", 1);
-    assert!(validate(&broken).is_err());
+    // A failure that does not say what, a suite without its count of
+    // failures, its time, its host or its timestamp, a case without its
+    // time: each refused by the Ant schema.
+    for (element, attribute) in [
+        ("failure", "type"),
+        ("testsuite", "failures"),
+        ("testsuite", "hostname"),
+        ("testsuite", "timestamp"),
+        ("testsuite", "time"),
+        ("testcase", "time"),
+    ] {
+        let re = regex::Regex::new(&format!(r#"(<{element} [^>]*?) {attribute}="[^"]*""#)).unwrap();
+        assert!(re.is_match(&r.stdout), "{element} {attribute}");
+        let broken = re.replace(&r.stdout, "$1");
+        assert!(
+            validate(&broken).is_err(),
+            "accepted <{element}> without {attribute}:\n{broken}"
+        );
+    }
+    // A timestamp with a time zone: the Ant schema's pattern has none.
+    let host = r.stdout.find("\" hostname=").unwrap();
+    let zoned = format!("{}Z{}", &r.stdout[..host], &r.stdout[host..]);
+    assert!(validate(&zoned).is_err(), "a zoned timestamp accepted");
     // What xmllint would also refuse: a count that is not a number, an
     // attribute the schema does not declare, an empty name, an element
     // it does not know, and children out of order.
     for (from, to) in [
         (" failures=\"", " failures=\"x"),
-        ("<testsuites ", "<testsuites color=\"red\" "),
+        ("<testsuite ", "<testsuite color=\"red\" "),
         ("<testcase name=\"", "<testcase name=\"\" was=\""),
         ("<testcase ", "<bogus/><testcase "),
     ] {
@@ -471,11 +496,174 @@ fn the_validator_reads_only_what_it_understands() {
     assert!(xsd::Schema::parse(&schema).is_ok());
     let grown = schema.replacen(
         "<xs:minLength value=\"1\"/>",
-        "<xs:minLength value=\"1\"/><xs:pattern value=\"[a-z]+\"/>",
+        "<xs:minLength value=\"1\"/><xs:maxLength value=\"9\"/>",
         1,
     );
     let e = xsd::Schema::parse(&grown)
         .err()
-        .expect("xs:pattern refused");
-    assert!(e.contains("xs:pattern"), "{e}");
+        .expect("xs:maxLength refused");
+    assert!(e.contains("xs:maxLength"), "{e}");
+}
+
+/// An already-corrected program is checked, not empty: its targets are
+/// passing test cases (it was `tests="0"`).
+#[test]
+fn an_already_corrected_program_has_its_cases() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cell.mod");
+    std::fs::copy("tests/cmd/correct_data/cell.mod", &file).unwrap();
+    let file = file.to_str().unwrap();
+    let r = run(&["correct", file, "--at", "60", "--in-place"]);
+    assert_eq!(r.code, 0);
+    let r = run(&[
+        "correct", file, "--at", "60", "--check", "--format", "junit",
+    ]);
+    assert_eq!(r.code, 0, "{}", r.stdout);
+    validate(&r.stdout).unwrap();
+    // cell.mod moves to p10, p20 and one inline target.
+    assert!(
+        r.stdout.contains(" tests=\"3\" failures=\"0\""),
+        "{}",
+        r.stdout
+    );
+    for name in ["p10", "p20", "main#1"] {
+        assert!(
+            r.stdout.contains(&format!("<testcase name=\"{name}\"")),
+            "{name}"
+        );
+    }
+}
+
+/// A task of a backup is a suite with a test case per module file, not
+/// per target (the backup's ScanPath.mod alone has 20 000 targets).
+#[test]
+fn a_backup_has_a_case_per_file() {
+    let r = run(&[
+        "correct",
+        "samples/backup_multimove",
+        "--task",
+        "T_ROB1",
+        "--at",
+        "60",
+        "--check",
+        "--format",
+        "junit",
+    ]);
+    assert_eq!(r.code, 1);
+    validate(&r.stdout).unwrap();
+    let cases: Vec<&str> = r
+        .stdout
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("<testcase name=\""))
+        .map(|l| &l[..l.find('"').unwrap()])
+        .collect();
+    let mut files: Vec<String> = std::fs::read_dir("samples/backup_multimove/RAPID/TASK1/PROGMOD")
+        .unwrap()
+        .map(|e| {
+            format!(
+                "samples/backup_multimove/RAPID/TASK1/PROGMOD/{}",
+                e.unwrap().file_name().to_str().unwrap()
+            )
+        })
+        .collect();
+    files.sort();
+    let mut found: Vec<String> = cases.iter().map(|c| c.to_string()).collect();
+    found.sort();
+    found.dedup();
+    assert_eq!(found.len(), cases.len(), "a file twice: {cases:?}");
+    assert!(
+        found.iter().all(|c| files.contains(c)),
+        "{found:?} not among {files:?}"
+    );
+    // A message names three targets and counts the rest.
+    assert!(
+        r.stdout.contains("more\" type=\"moves\""),
+        "no count of the rest"
+    );
+}
+
+/// The SARIF 2.1.0 fields a code-scanning upload needs (OASIS SARIF
+/// 2.1.0: sarifLog.version and runs; run.tool.driver.name; result.message
+/// .text; physicalLocation.artifactLocation.uri; region lines from 1).
+#[test]
+fn sarif_logs_have_the_required_fields() {
+    for (args, code, errors) in [
+        (
+            vec![
+                "correct",
+                "tests/cmd/correct_data/cell.mod",
+                "--at",
+                "60",
+                "--check",
+            ],
+            1,
+            3,
+        ),
+        (
+            vec![
+                "correct",
+                "tests/cmd/correct_data/cell.mod",
+                "--at",
+                "0",
+                "--check",
+            ],
+            0,
+            0,
+        ),
+        (
+            vec![
+                "diff",
+                "tests/cmd/correct_data/cell.mod",
+                "tests/cmd/correct_data/cell_at60.mod",
+                "--fail-above",
+                "0.05",
+            ],
+            1,
+            3,
+        ),
+    ] {
+        let mut args = args.clone();
+        args.extend(["--format", "sarif"]);
+        let r = run(&args);
+        assert_eq!(r.code, code, "{args:?}");
+        let log: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+        assert_eq!(log["version"], "2.1.0");
+        let run0 = &log["runs"][0];
+        assert_eq!(run0["tool"]["driver"]["name"], "rapidtherm");
+        let rules: Vec<&str> = run0["tool"]["driver"]["rules"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["id"].as_str().unwrap())
+            .collect();
+        let results = run0["results"].as_array().unwrap();
+        let mut failing = 0;
+        for res in results {
+            let rule = res["ruleId"].as_str().unwrap();
+            assert!(
+                rules.contains(&rule),
+                "{rule} not among the rules {rules:?}"
+            );
+            let level = res["level"].as_str().unwrap();
+            assert!(["error", "warning", "note"].contains(&level), "{level}");
+            failing += usize::from(level == "error");
+            assert!(!res["message"]["text"].as_str().unwrap().is_empty());
+            let place = &res["locations"][0]["physicalLocation"];
+            let uri = place["artifactLocation"]["uri"].as_str().unwrap();
+            assert!(uri.starts_with("tests/cmd/correct_data/cell"), "{uri}");
+            assert!(place["region"]["startLine"].as_u64().unwrap() >= 1);
+            assert!(place["region"]["startColumn"].as_u64().unwrap() >= 1);
+        }
+        assert_eq!(failing, errors, "{args:?}\n{}", r.stdout);
+    }
+    // Outside a gate, refused as the other CI formats are.
+    let r = run(&[
+        "correct",
+        "tests/cmd/correct_data/cell.mod",
+        "--at",
+        "60",
+        "--format",
+        "sarif",
+    ]);
+    assert_eq!(r.code, 2);
 }

@@ -12,6 +12,7 @@ mod conventions;
 mod gate;
 mod help_examples;
 mod hostile;
+mod json_schemas;
 mod outputs;
 mod plain_task_folder;
 mod plans;

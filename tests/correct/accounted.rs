@@ -190,9 +190,10 @@ fn program_files(root: &Path) -> Vec<PathBuf> {
 
 /// The moves a report names, by file: (line, column).
 fn reported(json: &serde_json::Value) -> Vec<(String, u32, u32)> {
-    let reports: Vec<&serde_json::Value> = match json {
-        serde_json::Value::Array(runs) => runs.iter().map(|r| &r["report"]).collect(),
-        one => vec![one],
+    // A backup: `{"schema", "tasks": [{"task", <one report's fields>}]}`.
+    let reports: Vec<&serde_json::Value> = match json["tasks"].as_array() {
+        Some(runs) => runs.iter().collect(),
+        None => vec![json],
     };
     reports
         .iter()

@@ -334,7 +334,8 @@ fn every_ci_example_of_the_docs_runs_on_a_repository_of_rapid_task1_alone() {
     for s in &others {
         check_other(s);
     }
-    assert_eq!(others.len(), 2, "{others:?}");
+    // The console transcript, the diff, the SARIF log.
+    assert_eq!(others.len(), 3, "{others:?}");
     // The pinned rev resolves to this version's tag (`v` and the crate's
     // version: the tag the release is made with, docs/development.md).
     assert!(!revs.is_empty(), "the pre-commit example pins no rev");
@@ -357,10 +358,18 @@ fn check_other(s: &Snippet) {
             assert_eq!(o.status.code(), Some(1), "{}\n{}", s.line, said(&o));
             let stdout = String::from_utf8_lossy(&o.stdout);
             let prompt = format!("$ {}", s.line);
-            let block = blocks()
+            // A `console` transcript shows its output; an `sh` example
+            // (the SARIF one, its log redirected to a file) shows none:
+            // its output is a SARIF 2.1.0 log.
+            let Some(block) = blocks()
                 .into_iter()
                 .find(|b| b.lines.iter().any(|l| l.trim() == prompt))
-                .expect("its block");
+            else {
+                let log: serde_json::Value = serde_json::from_str(&stdout)
+                    .unwrap_or_else(|e| panic!("{}: {e}\n{stdout}", s.line));
+                assert_eq!(log["version"], "2.1.0", "{}", s.line);
+                return;
+            };
             for shown in block
                 .lines
                 .iter()

@@ -16,6 +16,10 @@ use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+/// Rows below which a pass over them stays on one core: a flange pose is
+/// about a microsecond, a hand-off between threads some tens.
+const PARALLEL_ROWS: usize = 512;
+
 /// One row ready for fitting: joints, resolved motor temperatures, measured
 /// pose (already in the robot base frame).
 #[derive(Debug, Clone)]
@@ -217,18 +221,30 @@ impl Problem {
         rows: &[usize],
         lagged: Option<&[[MotorTemps; 4]]>,
     ) -> Vec<nalgebra::Isometry3<f64>> {
+        use rayon::prelude::*;
         let free = RowFree::new(all);
-        rows.iter()
-            .filter_map(|&i| self.rows.get(i))
+        let present: Vec<&Row> = rows.iter().filter_map(|&i| self.rows.get(i)).collect();
+        let one = |k: usize, r: &Row| {
+            let state = RowState {
+                q: r.q,
+                temps: r.temps,
+                lagged: lagged.and_then(|l| l.get(k).copied()),
+            };
+            crate::model::predict_with(&self.base, all, &free, &state)
+        };
+        // Every residual of every fit passes here (a finite-difference
+        // Jacobian is one pass per parameter): the rows are independent, so
+        // they are spread over the cores, in blocks large enough that the
+        // hand-off costs nothing beside the chains, and gathered in order
+        // (the numbers are the serial ones, bit for bit).
+        if present.len() < PARALLEL_ROWS {
+            return present.iter().enumerate().map(|(k, r)| one(k, r)).collect();
+        }
+        present
+            .par_iter()
             .enumerate()
-            .map(|(k, r)| {
-                let state = RowState {
-                    q: r.q,
-                    temps: r.temps,
-                    lagged: lagged.and_then(|l| l.get(k).copied()),
-                };
-                crate::model::predict_with(&self.base, all, &free, &state)
-            })
+            .with_min_len(PARALLEL_ROWS / 2)
+            .map(|(k, r)| one(k, r))
             .collect()
     }
 

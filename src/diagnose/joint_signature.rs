@@ -10,11 +10,11 @@
 //! with its size from the fit (never from the located gap).
 
 use super::fit::Problem;
-use super::signature::{hcat, lstsq};
+use super::signature::{hcat, lstsq, LsqFactor};
 use super::stats::{detectable_noncentrality, Test, LEVEL, POWER};
 use super::test_noise::TestNoise;
 use crate::model::EffectKind;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use serde::Serialize;
 
 /// Most cycles per turn tried: gears and encoders of robot axes show their
@@ -118,8 +118,8 @@ pub struct Searched {
 /// size depends on its phase; the limit is its worst phase's, the least
 /// eigenvalue of the columns' Gram matrix beyond the calibration (what the
 /// calibration cannot take up of any phase).
-fn limit(base: &DMatrix<f64>, cols: &[DVector<f64>], noise: &TestNoise, level: f64) -> f64 {
-    let own = |v: &DVector<f64>| lstsq(base, v).1;
+fn limit(base: Option<&LsqFactor>, cols: &[DVector<f64>], noise: &TestNoise, level: f64) -> f64 {
+    let own = |v: &DVector<f64>| base.map_or_else(|| v.norm_squared(), |f| f.solve(v).1);
     let least = match cols {
         [c] => own(c),
         [s, c] => {
@@ -225,12 +225,16 @@ fn search(
     let level = level / tried.len().max(1) as f64;
     // Each signature's limit, in the size the report gives (a backlash's
     // play is twice the fitted coefficient).
+    // The calibration's design factored once for all of them, and the
+    // signatures taken on the cores at once (in order).
+    use rayon::prelude::*;
+    let factor = LsqFactor::new(&base);
     let limits = tried
-        .iter()
+        .par_iter()
         .map(|(axis, shape, cols)| JointLimit {
             axis: axis + 1,
             shape: LimitShape::from(*shape),
-            amplitude_mrad: limit(&base, cols, noise, level)
+            amplitude_mrad: limit(factor.as_ref(), cols, noise, level)
                 * if matches!(shape, JointShape::Backlash { .. }) {
                     2.0
                 } else {
@@ -239,8 +243,11 @@ fn search(
         })
         .collect();
     let mut best: Option<(f64, JointSignature, Vec<DVector<f64>>)> = None;
-    for (axis, shape, cols) in tried {
-        let (coef, rss_full) = lstsq(&hcat(&base, &cols), &r);
+    let solved: Vec<(DVector<f64>, f64)> = tried
+        .par_iter()
+        .map(|(_, _, cols)| lstsq(&hcat(&base, cols), &r))
+        .collect();
+    for ((axis, shape, cols), (coef, rss_full)) in tried.into_iter().zip(solved) {
         let test = Test::nested(
             rss_model,
             rss_full,

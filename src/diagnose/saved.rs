@@ -132,29 +132,43 @@ pub fn score(
             kinds.push(e.kind);
         }
     }
+    // The folds are independent: fitted and scored on the cores at once,
+    // pooled afterwards in the folds' order (the first fold's error in
+    // that order reported).
+    use rayon::prelude::*;
+    let per_fold: Vec<Result<(SavedFold, Vec<f64>)>> = folds
+        .folds
+        .par_iter()
+        .map(|(train, test)| {
+            let entries = if kinds.is_empty() {
+                Vec::new()
+            } else {
+                fold_fit(problem, train, &kinds, &start, staged)?
+            };
+            let fold_model = saved_model(source, registration, &entries);
+            let (fold_back, fold_arm) =
+                read_back(&fold_model, "a held-out fold's model", &source.arm)?;
+            let held = Measurements {
+                rows: test.iter().map(|&i| source.meas.rows[i].clone()).collect(),
+                warnings: Vec::new(),
+                file: source.meas.file.clone(),
+            };
+            let (g, fold_gaps) = model_gap(&held, &fold_back, &fold_arm, cold_start)?;
+            let fold = SavedFold {
+                model: fold_model,
+                lines: held.rows.iter().map(|r| r.line).collect(),
+                gap: g,
+            };
+            Ok((fold, fold_gaps.iter().map(|g| g.norm_squared()).collect()))
+        })
+        .collect();
     let mut out = Vec::new();
     let (mut sum, mut count) = (0.0, 0usize);
-    for (train, test) in &folds.folds {
-        let entries = if kinds.is_empty() {
-            Vec::new()
-        } else {
-            fold_fit(problem, train, &kinds, &start, staged)?
-        };
-        let fold_model = saved_model(source, registration, &entries);
-        let (fold_back, fold_arm) = read_back(&fold_model, "a held-out fold's model", &source.arm)?;
-        let held = Measurements {
-            rows: test.iter().map(|&i| source.meas.rows[i].clone()).collect(),
-            warnings: Vec::new(),
-            file: source.meas.file.clone(),
-        };
-        let (g, fold_gaps) = model_gap(&held, &fold_back, &fold_arm, cold_start)?;
-        sum += fold_gaps.iter().map(|g| g.norm_squared()).sum::<f64>();
-        count += fold_gaps.len();
-        out.push(SavedFold {
-            model: fold_model,
-            lines: held.rows.iter().map(|r| r.line).collect(),
-            gap: g,
-        });
+    for fold in per_fold {
+        let (fold, squares) = fold?;
+        sum += squares.iter().sum::<f64>();
+        count += squares.len();
+        out.push(fold);
     }
     Ok(Saved {
         model,

@@ -100,19 +100,72 @@ pub(crate) fn rss_after(a: &DMatrix<f64>, r: &DVector<f64>) -> f64 {
 /// squares. Columns are scaled to unit norm (the parameters' units differ
 /// by orders), and directions the data cannot tell apart are left out.
 pub(crate) fn lstsq(a: &DMatrix<f64>, r: &DVector<f64>) -> (DVector<f64>, f64) {
-    if a.ncols() == 0 {
-        return (DVector::zeros(0), r.norm_squared());
+    match LsqFactor::new(a) {
+        Some(f) => f.solve(r),
+        None => (DVector::zeros(a.ncols()), r.norm_squared()),
     }
-    let norms: Vec<f64> = a.column_iter().map(|c| c.norm().max(1e-300)).collect();
-    let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, c| a[(i, c)] / norms[c]);
-    let svd = scaled.clone().svd(true, true);
-    let smax = svd.singular_values.max();
-    match svd.solve(r, 1e-9 * smax) {
-        Ok(x) => {
-            let rss = (r - &scaled * &x).norm_squared();
-            (DVector::from_fn(x.len(), |c, _| x[c] / norms[c]), rss)
+}
+
+/// A tall design `a` factored once for least squares on it: its columns
+/// scaled to unit norm, a Householder QR of those, and the SVD of the
+/// small triangle R. The scaled design's singular values and right
+/// vectors are R's (`a = Q·R`, Q orthonormal), so a solve cut at the same
+/// singular values gives the coefficients of an SVD of the whole design
+/// to rounding; but the SVD of a 6,000 × 50 design built its 6,000 × 50
+/// left vectors by Givens rotations, and was half of a diagnosis (the
+/// joint signatures' detection limits, one solve per column on one
+/// calibration's design).
+pub(crate) struct LsqFactor {
+    scaled: DMatrix<f64>,
+    norms: Vec<f64>,
+    qr: nalgebra::linalg::QR<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    svd: Option<nalgebra::linalg::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+}
+
+impl LsqFactor {
+    /// `None` for a design without columns.
+    pub(crate) fn new(a: &DMatrix<f64>) -> Option<LsqFactor> {
+        if a.ncols() == 0 {
+            return None;
         }
-        Err(_) => (DVector::zeros(a.ncols()), r.norm_squared()),
+        let norms: Vec<f64> = a.column_iter().map(|c| c.norm().max(1e-300)).collect();
+        let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, c| a[(i, c)] / norms[c]);
+        // A design wider than tall (never one of the fits here) keeps
+        // the SVD of the whole.
+        let qr = scaled.clone().qr();
+        let svd = (a.nrows() >= a.ncols()).then(|| qr.r().svd(true, true));
+        Some(LsqFactor {
+            scaled,
+            norms,
+            qr,
+            svd,
+        })
+    }
+
+    /// The coefficients of `r` on the design and the residual sum of
+    /// squares (all zero and `r`'s own where the solve fails).
+    pub(crate) fn solve(&self, r: &DVector<f64>) -> (DVector<f64>, f64) {
+        let x = match &self.svd {
+            Some(svd) => {
+                let mut qtr = r.clone();
+                self.qr.q_tr_mul(&mut qtr);
+                let top = qtr.rows(0, self.scaled.ncols()).into_owned();
+                let smax = svd.singular_values.max();
+                svd.solve(&top, 1e-9 * smax)
+            }
+            None => {
+                let svd = self.scaled.clone().svd(true, true);
+                let smax = svd.singular_values.max();
+                svd.solve(r, 1e-9 * smax)
+            }
+        };
+        match x {
+            Ok(x) => {
+                let rss = (r - &self.scaled * &x).norm_squared();
+                (DVector::from_fn(x.len(), |c, _| x[c] / self.norms[c]), rss)
+            }
+            Err(_) => (DVector::zeros(self.scaled.ncols()), r.norm_squared()),
+        }
     }
 }
 

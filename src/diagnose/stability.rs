@@ -93,26 +93,39 @@ pub fn of(problem: &Problem, found: &[Effect], noise: &TestNoise, seed: u64) -> 
     }
     let kinds: Vec<EffectKind> = found.iter().map(|e| e.kind).collect();
     let sets = resamples(problem, RESAMPLES, seed);
+    // The resamples are independent: fitted on the cores at once, each
+    // giving which effects its tests name (counted afterwards, in order).
+    use rayon::prelude::*;
+    let per_set: Vec<Option<Vec<bool>>> = sets
+        .par_iter()
+        .map(|rows| {
+            let full = fit::fit_from(problem, rows, &kinds, found).ok()?;
+            Some(
+                kinds
+                    .iter()
+                    .map(|k| {
+                        let without: Vec<EffectKind> =
+                            kinds.iter().copied().filter(|x| x != k).collect();
+                        let (rss0, free0) = if without.is_empty() {
+                            (problem.residuals(&[], rows).norm_squared(), 0)
+                        } else {
+                            match fit::fit_from(problem, rows, &without, found) {
+                                Ok(f) => (f.rss, f.n_free),
+                                Err(_) => return false,
+                            }
+                        };
+                        noise.nested_fit(rss0, free0, &full, LEVEL).significant()
+                    })
+                    .collect(),
+            )
+        })
+        .collect();
     let mut named = vec![0usize; kinds.len()];
     let mut done = 0usize;
-    for rows in &sets {
-        let Ok(full) = fit::fit_from(problem, rows, &kinds, found) else {
-            continue;
-        };
+    for hits in per_set.into_iter().flatten() {
         done += 1;
-        for (i, k) in kinds.iter().enumerate() {
-            let without: Vec<EffectKind> = kinds.iter().copied().filter(|x| x != k).collect();
-            let (rss0, free0) = if without.is_empty() {
-                (problem.residuals(&[], rows).norm_squared(), 0)
-            } else {
-                match fit::fit_from(problem, rows, &without, found) {
-                    Ok(f) => (f.rss, f.n_free),
-                    Err(_) => continue,
-                }
-            };
-            if noise.nested_fit(rss0, free0, &full, LEVEL).significant() {
-                named[i] += 1;
-            }
+        for (n, hit) in named.iter_mut().zip(hits) {
+            *n += usize::from(hit);
         }
     }
     if done == 0 {

@@ -28,7 +28,10 @@ pub(super) fn command_lines(markdown: &str) -> Vec<(Vec<String>, i32)> {
         }
         let (command, comment) = t.split_once(" #").unwrap_or((t, ""));
         let exit = if comment.contains("exit 1") { 1 } else { 0 };
-        out.push((command.split_whitespace().map(str::to_string).collect(), exit));
+        out.push((
+            command.split_whitespace().map(str::to_string).collect(),
+            exit,
+        ));
     }
     out
 }
@@ -47,7 +50,10 @@ fn every_readme_command_runs_on_the_repositorys_files() {
             // earlier line wrote (no placeholder like `cell.mod`).
             if w.contains('/') && !w.starts_with('-') && !w.ends_with('/') {
                 let made_before = !w.starts_with("samples/") && !w.starts_with("tests/");
-                assert!(made_before || root().join(w).exists(), "{w} is not in the repository");
+                assert!(
+                    made_before || root().join(w).exists(),
+                    "{w} is not in the repository"
+                );
             }
         }
         let out = Command::new(env!("CARGO_BIN_EXE_rapidtherm"))

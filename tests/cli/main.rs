@@ -9,6 +9,7 @@ mod bare_names;
 mod ci_report;
 mod ci_snippets;
 mod conventions;
+mod docs_commands;
 mod gate;
 mod help_examples;
 mod hostile;

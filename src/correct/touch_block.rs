@@ -249,10 +249,11 @@ mod tests {
         let p = s.find("[[2]]").unwrap();
         let q = s.find("[[5]]").unwrap();
         let mark = s.find("  ! mark").unwrap();
+        let own_lines = std::iter::once(mark..mark + 9).collect::<Vec<_>>();
         let out = give_back(
             warm,
             &[(p..p + 5, &b"[[1.0]]"[..]), (q..q + 5, &b"[[4]]"[..])],
-            &[mark..mark + 9],
+            &own_lines,
         );
         assert_eq!(
             out,

@@ -13,8 +13,11 @@
 //!   `RAPIDTHERM_BENCH_ROWS` (`2000,10000,100000`),
 //!   `RAPIDTHERM_BENCH_RUNS` (3 rounds by default) and
 //!   `RAPIDTHERM_BENCH_TEMPS=measured` (the motor temperatures written as
-//!   columns instead of left to the heating profile) to change them, and
-//!   `RAPIDTHERM_BENCH_CRITERION=0` to skip the in-memory part.
+//!   columns instead of left to the heating profile) to change them,
+//!   `RAPIDTHERM_BENCH_ROBOT` (a robot name or a URDF file, given as
+//!   `--robot` to `simulate`, `gap` and `diagnose`; the IRB 140 by
+//!   default) for another arm, and `RAPIDTHERM_BENCH_CRITERION=0` to skip
+//!   the in-memory part.
 
 use criterion::Criterion;
 use rapidtherm::diagnose::measurements::IRB140_LIMITS_DEG;
@@ -94,6 +97,11 @@ fn run(program: &str, args: &[&OsStr]) -> Ran {
     }
 }
 
+/// The arguments as the `&OsStr`s [`run`] takes.
+fn refs(args: &[std::ffi::OsString]) -> Vec<&OsStr> {
+    args.iter().map(|a| a.as_os_str()).collect()
+}
+
 fn median<T: PartialOrd + Copy>(mut v: Vec<T>) -> T {
     v.sort_by(|a, b| a.partial_cmp(b).expect("no NaN"));
     v[v.len() / 2]
@@ -115,6 +123,19 @@ fn end_to_end() {
         .collect();
     let rounds: usize = env_or("RAPIDTHERM_BENCH_RUNS", 3);
     let temps = std::env::var("RAPIDTHERM_BENCH_TEMPS").unwrap_or_else(|_| "profile".into());
+    let robot = std::env::var("RAPIDTHERM_BENCH_ROBOT").ok();
+    // `--robot R` for each command where an arm is asked for.
+    let robot_args: Vec<&OsStr> = match &robot {
+        Some(r) => vec![OsStr::new("--robot"), OsStr::new(r.as_str())],
+        None => Vec::new(),
+    };
+    let with_robot = |args: &[&'static OsStr], rest: &[&OsStr]| -> Vec<std::ffi::OsString> {
+        args.iter()
+            .chain(robot_args.iter())
+            .chain(rest.iter())
+            .map(|a| a.to_os_string())
+            .collect()
+    };
     let bin = env!("CARGO_BIN_EXE_rapidtherm");
     let os = OsStr::new;
     for rows in sizes {
@@ -124,10 +145,9 @@ fn end_to_end() {
         let dir = tempfile::tempdir().expect("temp dir");
         let data = dir.path().join(format!("sim_{rows}.csv"));
         let times = format!("0:{}:1", visits - 1);
-        let made = run(
-            bin,
+        let sim = with_robot(
+            &[os("simulate")],
             &[
-                os("simulate"),
                 os("--poses"),
                 os("random:50"),
                 os("--times"),
@@ -140,12 +160,22 @@ fn end_to_end() {
                 data.as_os_str(),
             ],
         );
+        let made = run(bin, &refs(&sim));
         black_box(made.wall);
         let size_mb = std::fs::metadata(&data).map(|m| m.len()).unwrap_or(0) as f64 / 1e6;
         let (mut gaps, mut diags, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..rounds {
-            let g = run(bin, &[os("gap"), os("-q"), data.as_os_str()]);
-            let d = run(bin, &[os("diagnose"), os("-q"), data.as_os_str()]);
+            let g = run(
+                bin,
+                &refs(&with_robot(&[os("gap")], &[os("-q"), data.as_os_str()])),
+            );
+            let d = run(
+                bin,
+                &refs(&with_robot(
+                    &[os("diagnose")],
+                    &[os("-q"), data.as_os_str()],
+                )),
+            );
             ratios.push(d.wall.as_secs_f64() / g.wall.as_secs_f64());
             gaps.push(g);
             diags.push(d);
@@ -160,7 +190,8 @@ fn end_to_end() {
         };
         let (g, d) = (summary(&gaps), summary(&diags));
         eprintln!(
-            "{visits} visits of 50 poses ({} rows, {size_mb:.2} MB, temperatures {temps}), medians of {rounds}, load average {}:\n  gap {:.3} s, CPU {:.3} s, peak {:.0} MB\n  diagnose {:.2} s = {:.0} x gap (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.1} x the file",
+            "{} arm, {visits} visits of 50 poses ({} rows, {size_mb:.2} MB, temperatures {temps}), medians of {rounds}, load average {}:\n  gap {:.3} s, CPU {:.3} s, peak {:.0} MB\n  diagnose {:.2} s = {:.0} x gap (median of the rounds' ratios), CPU {:.2} s, peak {:.0} MB = {:.1} x the file",
+            robot.as_deref().unwrap_or("IRB 140"),
             visits * 50,
             load.split_whitespace().take(3).collect::<Vec<_>>().join(" "),
             g.0,

@@ -59,7 +59,6 @@ mod solve;
 mod splice;
 mod tail;
 mod target;
-pub mod touch_block;
 mod write_file;
 mod writers;
 

@@ -95,10 +95,11 @@ fn words(line: &str) -> Vec<&str> {
 }
 
 /// The files a `rapidtherm` line reads: its arguments that look like
-/// paths (a folder, a file with an extension), except those an option
-/// writes to or a redirection names.
+/// paths (a folder, a file with an extension), except the values of the
+/// options that name what a run writes (an output, a module's name) and
+/// what a redirection names.
 fn inputs<'a>(words: &[&'a str]) -> Vec<&'a str> {
-    const WRITES: [&str; 8] = [
+    const NOT_READ: [&str; 8] = [
         "-o",
         "--out",
         "--out-dir",
@@ -115,8 +116,13 @@ fn inputs<'a>(words: &[&'a str]) -> Vec<&'a str> {
             skip = false;
             continue;
         }
-        if WRITES.contains(w) || w.starts_with('>') || w.starts_with("2>") {
-            skip = !w.starts_with("2>&") && (w.len() <= 2 || WRITES.contains(w));
+        if NOT_READ.contains(w) {
+            skip = true;
+            continue;
+        }
+        // `> file` names the next word; `>file` and `2>&1` name none.
+        if w.starts_with('>') || w.starts_with("2>") {
+            skip = *w == ">" || *w == "2>";
             continue;
         }
         let pathlike = !w.starts_with('-')
